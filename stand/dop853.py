@@ -1,0 +1,212 @@
+"""Compiled Dormand-Prince 8(5,3) stepping loop with exact sampling by dense output.
+
+The coefficients, error estimator and step-size control are those of
+``scipy.integrate.solve_ivp(method="DOP853")`` (Hairer, Norsett & Wanner,
+*Solving ODEs I*, section II.10); the loop itself runs in numba so that a step
+costs a few right-hand-side evaluations and no Python.  Output is written only
+at the requested sample times (7th-order dense output), never for every
+internal step, so memory does not grow with the number of steps.
+
+Angles get an error scale capped at ``cap`` (pi) instead of their magnitude:
+an angle's accuracy requirement does not relax because it has turned many
+times.
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy.integrate._ivp import dop853_coefficients as _co
+
+from ._jit import njit
+
+N_STAGES = _co.N_STAGES  # 12
+A = np.ascontiguousarray(_co.A, dtype=float)  # (16, 16)
+B = np.ascontiguousarray(_co.B, dtype=float)  # (12,)
+C = np.ascontiguousarray(_co.C, dtype=float)  # (16,)
+E3 = np.ascontiguousarray(_co.E3, dtype=float)  # (13,)
+E5 = np.ascontiguousarray(_co.E5, dtype=float)  # (13,)
+D = np.ascontiguousarray(_co.D, dtype=float)  # (4, 16)
+
+SAFETY = 0.9
+MIN_FACTOR = 0.2
+MAX_FACTOR = 10.0
+ERROR_EXPONENT = -1.0 / 8.0
+
+# status codes returned by :func:`dop853_loop`
+REACHED_END = 0
+STEP_BUDGET = 1
+STEP_TOO_SMALL = -1
+NOT_FINITE = -2
+
+# stats vector layout
+N_ACCEPTED, N_REJECTED, N_FEV = 0, 1, 2
+
+
+@njit(cache=True)
+def _stage_state(y, K, s, h, out):
+    n = y.shape[0]
+    for i in range(n):
+        acc = 0.0
+        for k in range(s):
+            acc += A[s, k] * K[k, i]
+        out[i] = y[i] + h * acc
+
+
+@njit(cache=True)
+def dop853_loop(rhs, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_step,
+                sample_dt, k_next, out, stats, max_steps):
+    """Advance from ``t`` to ``t_end`` writing samples ``k*sample_dt`` into ``out``.
+
+    Parameters
+    ----------
+    rhs : compiled function ``rhs(t, y, dy, sp, wt, prog)``
+    sp, wt, prog : ndarray
+        Model parameters passed through to ``rhs``.
+    t : float
+        Current time; ``y`` (state) and ``f`` (= rhs at (t, y)) are updated in place.
+    h_abs : float
+        Step size to try first.
+    cap : ndarray
+        Per-component cap of the magnitude used in the error scale
+        (inf = ordinary relative error, pi for angles).
+    sample_dt : float
+        Sampling interval; sample k is at time ``k*sample_dt``.
+    k_next : int
+        Index of the next sample to write (its time is > the previous t).
+    out : ndarray (n_samples, n)
+        Sample buffer.
+    stats : ndarray of int64
+        Accepted steps, rejected steps, rhs evaluations (incremented).
+    max_steps : int
+        Maximum accepted + rejected steps in this call.
+
+    Returns
+    -------
+    status, t, h_abs, k_next
+    """
+    n = y.shape[0]
+    n_samples = out.shape[0]
+    K = np.empty((16, n))
+    yy = np.empty(n)
+    y_new = np.empty(n)
+    F = np.empty((7, n))
+    steps = 0
+    nonfinite = False
+    while t < t_end:
+        if steps >= max_steps:
+            return STEP_BUDGET, t, h_abs, k_next
+        min_step = 10.0 * abs(np.nextafter(t, np.inf) - t)
+        if h_abs > max_step:
+            h_abs = max_step
+        accepted = False
+        rejected = False
+        h = h_abs
+        t_new = t
+        while not accepted:
+            if h_abs < min_step:
+                if nonfinite:
+                    return NOT_FINITE, t, h_abs, k_next
+                return STEP_TOO_SMALL, t, h_abs, k_next
+            h = h_abs
+            t_new = t + h
+            if t_new > t_end:
+                t_new = t_end
+            h = t_new - t
+            # the 12 stages
+            for i in range(n):
+                K[0, i] = f[i]
+            for s in range(1, N_STAGES):
+                _stage_state(y, K, s, h, yy)
+                rhs(t + C[s] * h, yy, K[s], sp, wt, prog)
+            for i in range(n):
+                acc = 0.0
+                for k in range(N_STAGES):
+                    acc += B[k] * K[k, i]
+                y_new[i] = y[i] + h * acc
+            rhs(t_new, y_new, K[N_STAGES], sp, wt, prog)
+            stats[N_FEV] += N_STAGES
+            steps += 1
+            # error estimate (scipy's DOP853._estimate_error_norm)
+            e5 = 0.0
+            e3 = 0.0
+            finite = True
+            for i in range(n):
+                mag = max(abs(y[i]), abs(y_new[i]))
+                if mag > cap[i]:
+                    mag = cap[i]
+                sc = atol + rtol * mag
+                a5 = 0.0
+                a3 = 0.0
+                for k in range(N_STAGES + 1):
+                    a5 += E5[k] * K[k, i]
+                    a3 += E3[k] * K[k, i]
+                a5 /= sc
+                a3 /= sc
+                e5 += a5 * a5
+                e3 += a3 * a3
+                if not np.isfinite(y_new[i]):
+                    finite = False
+            if not finite or not np.isfinite(e5) or not np.isfinite(e3):
+                err = np.inf
+                nonfinite = True
+            elif e5 == 0.0 and e3 == 0.0:
+                err = 0.0
+            else:
+                err = h * e5 / np.sqrt((e5 + 0.01 * e3) * n)
+            if err < 1.0:
+                if err == 0.0:
+                    factor = MAX_FACTOR
+                else:
+                    factor = min(MAX_FACTOR, SAFETY * err ** ERROR_EXPONENT)
+                if rejected:
+                    factor = min(1.0, factor)
+                h_abs *= factor
+                accepted = True
+                nonfinite = False
+                stats[N_ACCEPTED] += 1
+            else:
+                if np.isfinite(err):
+                    h_abs *= max(MIN_FACTOR, SAFETY * err ** ERROR_EXPONENT)
+                else:
+                    h_abs *= MIN_FACTOR
+                rejected = True
+                stats[N_REJECTED] += 1
+                if steps >= max_steps:
+                    return STEP_BUDGET, t, h_abs, k_next
+        # dense output for the samples inside (t, t_new]
+        if k_next < n_samples and k_next * sample_dt <= t_new:
+            for s in range(N_STAGES + 1, 16):
+                _stage_state(y, K, s, h, yy)
+                rhs(t + C[s] * h, yy, K[s], sp, wt, prog)
+            stats[N_FEV] += 3
+            for i in range(n):
+                dyi = y_new[i] - y[i]
+                F[0, i] = dyi
+                F[1, i] = h * K[0, i] - dyi
+                F[2, i] = 2.0 * dyi - h * (K[N_STAGES, i] + K[0, i])
+                for r in range(4):
+                    acc = 0.0
+                    for k in range(16):
+                        acc += D[r, k] * K[k, i]
+                    F[3 + r, i] = h * acc
+            while k_next < n_samples and k_next * sample_dt <= t_new:
+                ts = k_next * sample_dt
+                if ts == t_new:
+                    for i in range(n):
+                        out[k_next, i] = y_new[i]
+                else:
+                    x = (ts - t) / h
+                    for i in range(n):
+                        v = 0.0
+                        for r in range(6, -1, -1):
+                            v += F[r, i]
+                            if (6 - r) % 2 == 0:
+                                v *= x
+                            else:
+                                v *= 1.0 - x
+                        out[k_next, i] = v + y[i]
+                k_next += 1
+        t = t_new
+        for i in range(n):
+            y[i] = y_new[i]
+            f[i] = K[N_STAGES, i]
+    return REACHED_END, t, h_abs, k_next

@@ -1,0 +1,313 @@
+"""Planar rotor with n weights: the corrected equations of motion, fixed frame.
+
+Dimensionless form of the corrected (5.4), (5.7), (5.10) (digest ch5 sections
+0.2 and 2.3; equivalently the corrected (5.16) for non-identical weights).
+Time tau = omega_1 t, displacements xi = x/L, eta = y/L (L = r* with weights),
+' = d/dtau, phi the angle of the rotor's reference mark, phi + beta the angle of
+its heavy side, phi_j = phi + alpha_j the weights' absolute angles::
+
+    xi''  + d11 xi' + d12 eta' + k11 xi + k12 eta
+          = sum eps_j (phi_j'' sin phi_j + phi_j'^2 cos phi_j)
+            + eps0 (phi'' sin(phi+beta) + phi'^2 cos(phi+beta))
+    eta'' + d21 xi' + d22 eta' + k21 xi + k22 eta
+          = sum eps_j (phi_j'^2 sin phi_j - phi_j'' cos phi_j)
+            + eps0 (phi'^2 sin(phi+beta) - phi'' cos(phi+beta))
+    phi_j'' + h_j (phi_j' - phi') - mu_j (xi'' sin phi_j - eta'' cos phi_j) = 0
+    phi''   + h0 phi' + sum nu_j (phi' - phi_j')
+            - mu0 (xi'' sin(phi+beta) - eta'' cos(phi+beta)) = m_rot   (free rotor)
+
+The signs are the corrected ones: '+phi_j'^2 cos' in the xi equation (printed
+'-' in (5.16)-(5.36)), '+Me(...)' in the y equation (printed '-' in (5.7)), and
+the drag reaction nu_j = H_j/(omega_1 J_0) (printed inverted in (5.16)).
+
+The equations are linear in the accelerations and the weights couple only
+through the shaft: eliminating phi_j'' leaves a 2x2 (3x3 with a free rotor)
+Schur complement, so one right-hand-side evaluation costs O(n).  The state is
+``[xi, eta, alpha_1..alpha_n, (phi), xi', eta', alpha_1'..alpha_n', (phi')]``
+with weight angles relative to the rotor, so that a balanced weight has a
+bounded state whatever the number of revolutions.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._jit import njit
+from .programme import build_table, breakpoints, programme_kinematics, rotor_kinematics
+from .scene import Scene, SpeedDrive
+from .structure import PlanarStructure
+from .weights import EPS, H, MU, NU, weight_table
+
+# layout of the scalar parameter vector ``sp``
+D11, D12, D21, D22, K11, K12, K21, K22 = range(8)
+EPS0, BETA, MU0, H0, FREE, MODEL, MROT, C1, C2, WTARGET = range(8, 18)
+COAST_T0, COAST_T, COAST_R0, COAST_PHI0 = range(18, 22)
+N_SP = 22
+DRIVE_MODELS = {"constant": 0, "speed_feedback": 1, "angle_feedback": 2}
+
+
+@dataclass(frozen=True)
+class PlanarModel:
+    """Everything the compiled right-hand side needs, plus the SI scales.
+
+    Attributes
+    ----------
+    n : int               number of weights
+    free : bool           rotor speed is a state (torque drive)
+    sp : ndarray          scalar parameters (layout constants above)
+    wt : ndarray (n, 4)   weight table, :func:`stand.weights.weight_table`
+    prog : ndarray (k, 3) speed programme ``[tau, R, phi]`` (prescribed speed)
+    omega_1 : float       time scale [rad/s]
+    length : float        length scale L [m]
+    structure : PlanarStructure
+    """
+
+    n: int
+    free: bool
+    sp: np.ndarray
+    wt: np.ndarray
+    prog: np.ndarray
+    omega_1: float
+    length: float
+    structure: PlanarStructure
+
+    @property
+    def nq(self) -> int:
+        return 2 + self.n + (1 if self.free else 0)
+
+    @property
+    def size(self) -> int:
+        return 2 * self.nq
+
+    def breakpoints(self) -> np.ndarray:
+        """Dimensionless times where the prescribed acceleration jumps."""
+        if self.free:
+            return np.zeros(0)
+        return breakpoints(self.prog, self.sp[COAST_T0])
+
+    def angle_mask(self) -> np.ndarray:
+        """True for state components that are angles (error scale capped)."""
+        mask = np.zeros(self.size, bool)
+        mask[2:self.nq] = True
+        return mask
+
+    def rotor(self, tau: np.ndarray, y: np.ndarray):
+        """Rotor angle [rad] and dimensionless speed at samples ``tau``."""
+        if self.free:
+            return y[:, self.nq - 1], y[:, 2 * self.nq - 1]
+        phi = np.empty_like(tau)
+        R = np.empty_like(tau)
+        sp = self.sp
+        for i, t in enumerate(tau):
+            phi[i], R[i], _ = rotor_kinematics(t, self.prog, sp[COAST_T0], sp[COAST_T],
+                                               sp[COAST_R0], sp[COAST_PHI0])
+        return phi, R
+
+
+def build_planar_model(scene: Scene) -> PlanarModel:
+    """Make the dimensionless model of a scene."""
+    st = PlanarStructure.from_scene(scene)
+    w1 = st.natural_frequency
+    L = scene.length_scale
+    Ms = st.total_mass
+    free = scene.drive.kind == "torque"
+    J0 = st.rotor_inertia if free else None
+    sp = np.zeros(N_SP)
+    Dn = st.damping / (w1 * Ms)
+    Kn = st.stiffness / (Ms * w1 ** 2)
+    sp[D11], sp[D12], sp[D21], sp[D22] = Dn.ravel()
+    sp[K11], sp[K12], sp[K21], sp[K22] = Kn.ravel()
+    sp[EPS0] = st.unbalance / (Ms * L)
+    sp[BETA] = st.unbalance_angle
+    sp[COAST_T0] = np.inf
+    sp[COAST_T] = 1.0
+    d = scene.drive
+    if free:
+        sp[FREE] = 1.0
+        sp[MU0] = st.unbalance * L / J0
+        sp[H0] = d.rotor_drag / (w1 * J0)
+        sp[MODEL] = DRIVE_MODELS[d.model]
+        sp[MROT] = d.torque / (J0 * w1 ** 2)
+        sp[C1] = d.c1 / (J0 * w1)
+        sp[C2] = d.c2 / (J0 * w1 ** 2)
+        sp[WTARGET] = d.target_speed / w1
+        prog = np.zeros((1, 3))
+    else:
+        assert isinstance(d, SpeedDrive)
+        pr = np.asarray(d.programme, float)
+        prog = build_table(pr[:, 0] * w1, pr[:, 1] / w1)
+        if d.coast_down_start is not None:
+            tc = d.coast_down_start * w1
+            phic, Rc, _ = programme_kinematics(tc, prog)
+            sp[COAST_T0] = tc
+            sp[COAST_T] = d.coast_down_time_constant * w1
+            sp[COAST_R0] = Rc
+            sp[COAST_PHI0] = phic
+    wt = weight_table(scene.balancer, Ms, L, w1, J0)
+    return PlanarModel(n=scene.balancer.count, free=free, sp=sp, wt=wt, prog=prog,
+                       omega_1=w1, length=L, structure=st)
+
+
+def initial_state(scene: Scene, model: PlanarModel) -> np.ndarray:
+    """Dimensionless initial state from the scene's initial conditions."""
+    nq, n, L, w1 = model.nq, model.n, model.length, model.omega_1
+    y = np.zeros(2 * nq)
+    ini = scene.initial
+    y[0], y[1] = ini.x / L, ini.y / L
+    y[nq], y[nq + 1] = ini.vx / (L * w1), ini.vy / (L * w1)
+    if n:
+        y[2:2 + n] = scene.balancer.initial_angles
+        y[nq + 2:nq + 2 + n] = np.asarray(scene.balancer.initial_speeds, float) / w1
+    if model.free:
+        y[2 * nq - 1] = scene.drive.initial_speed / w1
+    return y
+
+
+@njit(cache=True)
+def drive_torque(tau, phi, dphi, sp):
+    """Dimensionless drive torque m_rot = M_rot / (J_0 omega_1^2), models 1-3."""
+    model = sp[MODEL]
+    if model == 0.0:
+        return sp[MROT]
+    m = sp[C1] * (sp[WTARGET] - dphi)
+    if model == 2.0:
+        m += sp[C2] * (sp[WTARGET] * tau - phi)
+    return m
+
+
+@njit(cache=True)
+def rhs_planar(tau, y, dy, sp, wt, prog):
+    """Right-hand side, O(n): writes dy/dtau into ``dy``."""
+    n = wt.shape[0]
+    free = sp[FREE] != 0.0
+    nq = 2 + n + (1 if free else 0)
+    xi = y[0]
+    eta = y[1]
+    dxi = y[nq]
+    deta = y[nq + 1]
+    if free:
+        phi = y[nq - 1]
+        dphi = y[2 * nq - 1]
+        ddphi = 0.0
+    else:
+        phi, dphi, ddphi = rotor_kinematics(tau, prog, sp[COAST_T0], sp[COAST_T],
+                                            sp[COAST_R0], sp[COAST_PHI0])
+    th = phi + sp[BETA]
+    s0 = math.sin(th)
+    c0 = math.cos(th)
+    eps0 = sp[EPS0]
+    w2 = dphi * dphi
+    # forces on the shaft that do not depend on the unknown accelerations
+    b1 = -(sp[D11] * dxi + sp[D12] * deta + sp[K11] * xi + sp[K12] * eta) + eps0 * w2 * c0
+    b2 = -(sp[D21] * dxi + sp[D22] * deta + sp[K21] * xi + sp[K22] * eta) + eps0 * w2 * s0
+    a11 = 1.0
+    a12 = 0.0
+    a22 = 1.0
+    b3 = 0.0
+    for j in range(n):
+        aj = phi + y[2 + j]
+        da = y[nq + 2 + j]
+        wj = dphi + da
+        sj = math.sin(aj)
+        cj = math.cos(aj)
+        e = wt[j, EPS]
+        em = e * wt[j, MU]
+        g = -wt[j, H] * da
+        a11 -= em * sj * sj
+        a12 += em * sj * cj
+        a22 -= em * cj * cj
+        b1 += e * (wj * wj * cj + sj * g)
+        b2 += e * (wj * wj * sj - cj * g)
+        b3 += wt[j, NU] * da
+    if free:
+        # 3x3 Schur complement: unknowns (xi'', eta'', phi'')
+        a13 = -eps0 * s0
+        a23 = eps0 * c0
+        mu0 = sp[MU0]
+        a31 = -mu0 * s0
+        a32 = mu0 * c0
+        b3 += drive_torque(tau, phi, dphi, sp) - sp[H0] * dphi
+        det = (a11 * (a22 - a23 * a32) - a12 * (a12 - a23 * a31)
+               + a13 * (a12 * a32 - a22 * a31))
+        x1 = (b1 * (a22 - a23 * a32) - a12 * (b2 - a23 * b3) + a13 * (b2 * a32 - a22 * b3)) / det
+        x2 = (a11 * (b2 - a23 * b3) - b1 * (a12 - a23 * a31) + a13 * (a12 * b3 - b2 * a31)) / det
+        ddphi = b3 - a31 * x1 - a32 * x2
+    else:
+        b1 += eps0 * s0 * ddphi
+        b2 -= eps0 * c0 * ddphi
+        det = a11 * a22 - a12 * a12
+        x1 = (b1 * a22 - a12 * b2) / det
+        x2 = (a11 * b2 - a12 * b1) / det
+    for i in range(nq):
+        dy[i] = y[nq + i]
+    dy[nq] = x1
+    dy[nq + 1] = x2
+    for j in range(n):
+        aj = phi + y[2 + j]
+        ddj = -wt[j, H] * y[nq + 2 + j] + wt[j, MU] * (x1 * math.sin(aj) - x2 * math.cos(aj))
+        dy[nq + 2 + j] = ddj - ddphi
+    if free:
+        dy[2 * nq - 1] = ddphi
+
+
+def rhs_planar_numpy(tau, y, sp, wt, prog):
+    """Reference right-hand side: the full (n+2)- or (n+3)-system by ``numpy.linalg.solve``.
+
+    Same equations as :func:`rhs_planar` written literally (no elimination);
+    used to check the compiled path and as the benchmark peer.
+    """
+    n = wt.shape[0]
+    free = sp[FREE] != 0.0
+    nq = 2 + n + (1 if free else 0)
+    xi, eta, dxi, deta = y[0], y[1], y[nq], y[nq + 1]
+    alpha, dalpha = y[2:2 + n], y[nq + 2:nq + 2 + n]
+    if free:
+        phi, dphi = y[nq - 1], y[2 * nq - 1]
+        ddphi_known = None
+    else:
+        phi, dphi, ddphi_known = rotor_kinematics(tau, prog, sp[COAST_T0], sp[COAST_T],
+                                                  sp[COAST_R0], sp[COAST_PHI0])
+    pj = phi + alpha
+    wj = dphi + dalpha
+    s, c = np.sin(pj), np.cos(pj)
+    th = phi + sp[BETA]
+    s0, c0 = np.sin(th), np.cos(th)
+    eps, mu, hh, nu = wt[:, EPS], wt[:, MU], wt[:, H], wt[:, NU]
+    m = n + 2 + (1 if free else 0)
+    A = np.zeros((m, m))
+    b = np.zeros(m)
+    # unknowns: phi_1''..phi_n'', xi'', eta'', (phi'')
+    A[np.arange(n), np.arange(n)] = 1.0
+    A[np.arange(n), n] = -mu * s
+    A[np.arange(n), n + 1] = mu * c
+    b[:n] = -hh * dalpha
+    A[n, :n] = -eps * s
+    A[n, n] = 1.0
+    b[n] = (-(sp[D11] * dxi + sp[D12] * deta + sp[K11] * xi + sp[K12] * eta)
+            + np.sum(eps * wj ** 2 * c) + sp[EPS0] * dphi ** 2 * c0)
+    A[n + 1, :n] = eps * c
+    A[n + 1, n + 1] = 1.0
+    b[n + 1] = (-(sp[D21] * dxi + sp[D22] * deta + sp[K21] * xi + sp[K22] * eta)
+                + np.sum(eps * wj ** 2 * s) + sp[EPS0] * dphi ** 2 * s0)
+    if free:
+        A[n, n + 2] = -sp[EPS0] * s0
+        A[n + 1, n + 2] = sp[EPS0] * c0
+        A[n + 2, n] = -sp[MU0] * s0
+        A[n + 2, n + 1] = sp[MU0] * c0
+        A[n + 2, n + 2] = 1.0
+        b[n + 2] = drive_torque(tau, phi, dphi, sp) - sp[H0] * dphi + np.sum(nu * dalpha)
+    else:
+        b[n] += sp[EPS0] * ddphi_known * s0
+        b[n + 1] -= sp[EPS0] * ddphi_known * c0
+    acc = np.linalg.solve(A, b)
+    ddphi = acc[n + 2] if free else ddphi_known
+    dy = np.empty_like(y)
+    dy[:nq] = y[nq:]
+    dy[nq] = acc[n]
+    dy[nq + 1] = acc[n + 1]
+    dy[nq + 2:nq + 2 + n] = acc[:n] - ddphi
+    if free:
+        dy[2 * nq - 1] = ddphi
+    return dy

@@ -1,0 +1,71 @@
+"""Prescribed rotor kinematics: piecewise-linear speed programme and coast-down.
+
+All quantities are dimensionless: time tau = omega_1 t, speed R = omega/omega_1,
+angle phi in rad (book (5.15), (5.28)).  The programme table has rows
+``[tau_k, R_k, phi_k]`` where ``phi_k`` is the rotor angle at ``tau_k``
+(phi(0) = 0).  Before the first node the speed is ``R_0``; after the last one it
+is held.  An optional exponential coast-down starting at ``tau_c`` overrides
+the programme: R(tau) = R_c exp(-(tau - tau_c)/T).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._jit import njit
+
+
+def build_table(times: np.ndarray, speeds: np.ndarray) -> np.ndarray:
+    """Programme table ``[tau_k, R_k, phi_k]`` from node times and speeds.
+
+    Parameters
+    ----------
+    times : ndarray
+        Node times, dimensionless, strictly increasing, ``>= 0``.
+    speeds : ndarray
+        Node speeds, dimensionless.
+    """
+    times = np.asarray(times, dtype=float)
+    speeds = np.asarray(speeds, dtype=float)
+    phi = np.empty_like(times)
+    phi[0] = speeds[0] * times[0]  # constant speed R_0 before the first node
+    for k in range(1, len(times)):
+        phi[k] = phi[k - 1] + 0.5 * (speeds[k] + speeds[k - 1]) * (times[k] - times[k - 1])
+    return np.column_stack([times, speeds, phi])
+
+
+@njit(cache=True)
+def programme_kinematics(tau, prog):
+    """(phi, R, dR/dtau) of the piecewise-linear programme at ``tau``."""
+    k = prog.shape[0]
+    if tau <= prog[0, 0]:
+        return prog[0, 2] + prog[0, 1] * (tau - prog[0, 0]), prog[0, 1], 0.0
+    if tau >= prog[k - 1, 0]:
+        return prog[k - 1, 2] + prog[k - 1, 1] * (tau - prog[k - 1, 0]), prog[k - 1, 1], 0.0
+    i = np.searchsorted(prog[:, 0], tau, side="right") - 1
+    dt = tau - prog[i, 0]
+    a = (prog[i + 1, 1] - prog[i, 1]) / (prog[i + 1, 0] - prog[i, 0])
+    return prog[i, 2] + prog[i, 1] * dt + 0.5 * a * dt * dt, prog[i, 1] + a * dt, a
+
+
+@njit(cache=True)
+def rotor_kinematics(tau, prog, coast_t0, coast_T, coast_R0, coast_phi0):
+    """Rotor angle, speed and acceleration (phi, phi', phi'') at ``tau``.
+
+    ``coast_t0 = inf`` disables the coast-down.
+    """
+    if tau >= coast_t0:
+        x = (tau - coast_t0) / coast_T
+        ex = math.exp(-x)
+        R = coast_R0 * ex
+        return coast_phi0 + coast_R0 * coast_T * (1.0 - ex), R, -R / coast_T
+    return programme_kinematics(tau, prog)
+
+
+def breakpoints(prog: np.ndarray, coast_t0: float) -> np.ndarray:
+    """Times where phi'' jumps: integration restarts there for accuracy."""
+    pts = list(prog[:, 0])
+    if np.isfinite(coast_t0):
+        pts = [p for p in pts if p < coast_t0] + [coast_t0]
+    return np.array(sorted(set(p for p in pts if p > 0.0)))

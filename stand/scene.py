@@ -1,0 +1,351 @@
+"""The scene: one experiment on the virtual stand, in SI units.
+
+These dataclasses are what the rest of the stand consumes.  They are built
+from TOML files by :func:`stand.scene_file.load_scene` (which validates every
+field) or directly in code.  Units are SI everywhere here: kg, m, s, rad,
+rad/s, N/m, N*s/m, N*m*s.  Conversions from rev/s and degrees happen once, in
+the scene-file reader.
+
+The map to the book's dimensionless parameters (Filimonikhin 2004, (5.12)-(5.15);
+shared physics digest ch5 section 2.2) is :func:`dimensionless` and its inverse
+:func:`stand.scene_file.scene_from_dimensionless`.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Optional, Union
+
+import numpy as np
+
+
+class SceneError(ValueError):
+    """A scene is invalid.  The message names the key, the value and the unit."""
+
+
+@dataclass(frozen=True)
+class Rotor:
+    """Rigid rotor (disk) carried by the shaft.
+
+    Parameters
+    ----------
+    mass : float
+        M, mass of all rotating parts except the correction weights [kg].
+    eccentricity : float
+        e, distance of the rotor's centre of mass from the shaft axis [m].
+    unbalance_angle : float
+        Angle of the heavy side from the rotor's reference mark (keyphasor) [rad].
+    inertia : float or None
+        J_C, moment of inertia about the rotor's own central axis [kg*m^2].
+        Needed only when the speed is not prescribed (torque drive).
+    """
+
+    mass: float
+    eccentricity: float = 0.0
+    unbalance_angle: float = 0.0
+    inertia: Optional[float] = None
+
+    @property
+    def unbalance(self) -> float:
+        """Static unbalance M*e [kg*m]."""
+        return self.mass * self.eccentricity
+
+    @property
+    def inertia_about_shaft(self) -> Optional[float]:
+        """J_0 = J_C + M e^2 [kg*m^2] (book, after (5.9))."""
+        if self.inertia is None:
+            return None
+        return self.inertia + self.mass * self.eccentricity ** 2
+
+
+@dataclass(frozen=True)
+class Supports:
+    """Linear viscoelastic supports of the shaft point K, (5.1).
+
+    X and Y are fixed axes; stiffness [N/m], damping [N*s/m].
+    """
+
+    stiffness_x: float
+    stiffness_y: float
+    damping_x: float = 0.0
+    damping_y: float = 0.0
+
+
+@dataclass(frozen=True)
+class Balancer:
+    """Correction weights (CWs) in one plane: balls or pendulums.
+
+    Arrays have one entry per weight.
+
+    Parameters
+    ----------
+    type : {"balls", "pendulums", "none"}
+    mass : ndarray
+        m_j [kg].
+    radius : ndarray
+        l_j [m]: track radius (balls, distance from the shaft axis to the
+        ball centre) or pendulum length (pivot to centre of mass).
+    drag : ndarray
+        Viscous resistance to motion relative to the rotor.  Balls: force
+        coefficient c_b [N*s/m] on the speed along the track; pendulums:
+        moment coefficient H_j [N*m*s].
+    inertia : ndarray
+        J_j, moment of inertia about the shaft axis [kg*m^2].  Point balls:
+        m_j l_j^2 (the book neglects ball spin, digest ch5 section 1).
+    initial_angles : ndarray
+        Initial angles relative to the rotor's reference mark [rad].
+    initial_speeds : ndarray
+        Initial speeds relative to the rotor [rad/s].
+    """
+
+    type: str = "none"
+    mass: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    radius: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    drag: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    inertia: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    initial_angles: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    initial_speeds: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    @property
+    def count(self) -> int:
+        return int(np.size(self.mass))
+
+    @property
+    def capacity(self) -> float:
+        """Balancing capacity S = sum m_j l_j [kg*m] (2.1)."""
+        return float(np.sum(self.mass * self.radius))
+
+    @property
+    def moment_drag(self) -> np.ndarray:
+        """H_j: moment coefficient about the shaft axis [N*m*s].
+
+        Balls: H_j = c_b l_j^2 (digest ch5 section 1: the book's (5.9) mixes
+        the force and moment conventions; we use the moment one throughout).
+        """
+        if self.type == "balls":
+            return self.drag * self.radius ** 2
+        return np.asarray(self.drag, dtype=float)
+
+
+@dataclass(frozen=True)
+class SpeedDrive:
+    """Prescribed rotor speed (drive model 4 of the book).
+
+    Parameters
+    ----------
+    programme : ndarray, shape (k, 2)
+        Piecewise-linear speed programme: columns time [s] and speed [rad/s].
+        Before the first point the speed is the first value; after the last
+        point it is held constant (unless a coast-down starts).
+    coast_down_start : float or None
+        Time [s] from which the speed decays exponentially,
+        omega(t) = omega(t0) exp(-(t - t0)/T).
+    coast_down_time_constant : float or None
+        T [s] of the exponential coast-down.
+    rotor_drag : float
+        H_0 [N*m*s]; has no effect on the motion when the speed is prescribed.
+    """
+
+    programme: np.ndarray
+    coast_down_start: Optional[float] = None
+    coast_down_time_constant: Optional[float] = None
+    rotor_drag: float = 0.0
+    kind: str = "speed"
+
+
+@dataclass(frozen=True)
+class TorqueDrive:
+    """Drive torque on a free rotor, the book's models 1-3 (section 5.1.1).
+
+    model "constant":        M_rot = torque
+    model "speed_feedback":  M_rot = c1 (omega - phi')
+    model "angle_feedback":  M_rot = c1 (omega - phi') + c2 (omega t - phi)
+
+    Parameters
+    ----------
+    torque : float  [N*m]
+    c1 : float      [N*m*s]
+    c2 : float      [N*m] (per radian)
+    target_speed : float
+        omega [rad/s].
+    rotor_drag : float
+        H_0 [N*m*s], drag on the rotor's rotation.
+    initial_speed : float
+        Rotor speed at t = 0 [rad/s].
+    """
+
+    model: str = "constant"
+    torque: float = 0.0
+    c1: float = 0.0
+    c2: float = 0.0
+    target_speed: float = 0.0
+    rotor_drag: float = 0.0
+    initial_speed: float = 0.0
+    kind: str = "torque"
+
+
+Drive = Union[SpeedDrive, TorqueDrive]
+
+
+@dataclass(frozen=True)
+class RunSettings:
+    """How to integrate.
+
+    Parameters
+    ----------
+    duration : float
+        Simulated time [s].
+    sample_rate : float
+        Output samples per second [Hz] (exact sampling via dense output).
+    rtol, atol : float
+        Tolerances applied to the dimensionless state (shaft displacement in
+        units of the length scale r*, angles in rad, speeds in units of
+        omega_1); see docs/scene.md.
+    method : str
+        "auto" (default), "DOP853" (compiled explicit), "Radau" or "BDF"
+        (stiff, scipy with a compiled right-hand side), "numpy-DOP853"
+        (pure-numpy reference path, slow).
+    max_steps : int
+        Step budget; the run stops with a clear message when exceeded.
+    """
+
+    duration: float
+    sample_rate: float
+    rtol: float = 1e-8
+    atol: float = 1e-10
+    method: str = "auto"
+    max_steps: int = 50_000_000
+
+
+@dataclass(frozen=True)
+class InitialState:
+    """Initial shaft state: displacement [m] and velocity [m/s]."""
+
+    x: float = 0.0
+    y: float = 0.0
+    vx: float = 0.0
+    vy: float = 0.0
+
+
+@dataclass(frozen=True)
+class Scene:
+    """One experiment: rotor, supports, balancer, drive, run settings."""
+
+    rotor: Rotor
+    supports: Supports
+    balancer: Balancer
+    drive: Drive
+    run: RunSettings
+    initial: InitialState = InitialState()
+    name: str = ""
+    text: str = ""  #: the original TOML text, stored in recordings
+
+    @property
+    def total_mass(self) -> float:
+        """M_Sigma = M + sum m_j [kg]."""
+        return self.rotor.mass + float(np.sum(self.balancer.mass))
+
+    @property
+    def natural_frequency(self) -> float:
+        """omega_1 = sqrt(c_x / M_Sigma) [rad/s], (5.12)."""
+        return float(np.sqrt(self.supports.stiffness_x / self.total_mass))
+
+    @property
+    def length_scale(self) -> float:
+        """L [m] used to make displacements dimensionless.
+
+        r* = S / M_Sigma (5.13) when there are weights; otherwise the rotor's
+        static unbalance M e / M_Sigma; otherwise 1 mm.
+        """
+        S = self.balancer.capacity
+        if S > 0:
+            return S / self.total_mass
+        if self.rotor.unbalance > 0:
+            return self.rotor.unbalance / self.total_mass
+        return 1e-3
+
+
+@dataclass(frozen=True)
+class Dimensionless:
+    """The book's dimensionless parameters (5.14), (5.19)-(5.20).
+
+    Attributes
+    ----------
+    n : int
+    R_m : float        sum m_j / M_Sigma
+    Rt : float         R~_m = (1/(2 M_Sigma)) sum m_j^2 l_j^2 / J_j  (5.88)
+    e0 : float         M e / S (unbalance in units of the capacity); nan if S = 0
+    e : ndarray        e_j = m_j l_j / S
+    j : ndarray        j_j = m_j l_j l* / J_j
+    h : ndarray        h_j = H_j / (omega_1 J_j)
+    H_x, H_y : float   support damping / (omega_1 M_Sigma)  (= 2 zeta)
+    R_omega2 : float   sqrt(c_y / c_x)
+    h0 : float or nan  H_0 / (J_0 omega_1)
+    j0 : float or nan  M e l* / J_0
+    omega_1 : float    [rad/s]
+    r_star : float     S / M_Sigma [m]
+    l_star : float     sum m_j l_j / sum m_j [m]
+    """
+
+    n: int
+    R_m: float
+    Rt: float
+    e0: float
+    e: np.ndarray
+    j: np.ndarray
+    h: np.ndarray
+    H_x: float
+    H_y: float
+    R_omega2: float
+    h0: float
+    j0: float
+    omega_1: float
+    r_star: float
+    l_star: float
+
+    @property
+    def H(self) -> float:
+        """Isotropic support damping H (= H_x)."""
+        return self.H_x
+
+
+def dimensionless(scene: Scene) -> Dimensionless:
+    """Map a scene to the book's dimensionless parameters, (5.12)-(5.14), (5.88).
+
+    Inverse: :func:`stand.scene_file.scene_from_dimensionless`.
+    """
+    b, r, s = scene.balancer, scene.rotor, scene.supports
+    Ms = scene.total_mass
+    w1 = scene.natural_frequency
+    S = b.capacity
+    n = b.count
+    m, l, J = (np.asarray(a, dtype=float) for a in (b.mass, b.radius, b.inertia))
+    msum = float(np.sum(m))
+    l_star = S / msum if msum > 0 else float("nan")
+    r_star = S / Ms if S > 0 else float("nan")
+    if n:
+        e = m * l / S
+        j = m * l * l_star / J
+        h = b.moment_drag / (w1 * J)
+        Rt = float(np.sum(m ** 2 * l ** 2 / J)) / (2.0 * Ms)
+    else:
+        e = j = h = np.zeros(0)
+        Rt = 0.0
+    J0 = r.inertia_about_shaft
+    drag0 = getattr(scene.drive, "rotor_drag", 0.0)
+    return Dimensionless(
+        n=n,
+        R_m=msum / Ms,
+        Rt=Rt,
+        e0=r.unbalance / S if S > 0 else float("nan"),
+        e=e,
+        j=j,
+        h=h,
+        H_x=s.damping_x / (w1 * Ms),
+        H_y=s.damping_y / (w1 * Ms),
+        R_omega2=float(np.sqrt(s.stiffness_y / s.stiffness_x)),
+        h0=drag0 / (J0 * w1) if J0 else float("nan"),
+        j0=r.unbalance * l_star / J0 if (J0 and n) else float("nan"),
+        omega_1=w1,
+        r_star=r_star,
+        l_star=l_star,
+    )

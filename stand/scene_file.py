@@ -1,0 +1,568 @@
+"""Scene files: TOML in, validated :class:`stand.scene.Scene` out.
+
+The schema is documented field by field in ``docs/scene.md``.  Every problem
+raises :class:`stand.scene.SceneError` with one message that names the key as
+a dotted path, the offending value and the expected unit, e.g.
+``balancer.mass = -0.045: must be > 0 (kg)``.  No key is ignored silently.
+
+Units in the file are SI except: angles in degrees, rotor and weight speeds in
+rev/s.  They are converted here, once (to rad and rad/s).
+"""
+from __future__ import annotations
+
+import dataclasses
+import difflib
+import math
+import numbers
+from pathlib import Path
+from typing import Any, Callable, Mapping, Optional, Union
+
+import numpy as np
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python < 3.11
+    import tomli as tomllib
+
+from .scene import (
+    Balancer,
+    InitialState,
+    Rotor,
+    RunSettings,
+    Scene,
+    SceneError,
+    SpeedDrive,
+    Supports,
+    TorqueDrive,
+)
+
+__all__ = ["load_scene", "parse_scene", "scene_from_dimensionless", "MAX_SAMPLES"]
+
+TWO_PI = 2.0 * math.pi
+DEG = math.pi / 180.0
+MAX_SAMPLES = 5e7  #: largest duration * sample_rate accepted (memory)
+METHODS = ("auto", "DOP853", "Radau", "BDF", "LSODA", "numpy-DOP853")
+
+TABLES = ("scene", "rotor", "supports", "balancer", "drive", "run", "initial", "dimensionless")
+SCENE_KEYS = ("name", "description")
+ROTOR_KEYS = ("mass", "eccentricity", "unbalance_angle", "inertia")
+SUPPORT_KEYS = ("stiffness", "stiffness_x", "stiffness_y", "damping", "damping_x", "damping_y")
+BALANCER_KEYS = ("type", "count", "mass", "radius", "drag", "inertia",
+                 "initial_angles", "initial_speeds")
+SPEED_KEYS = ("type", "programme", "programme_dimensionless", "coast_down", "rotor_drag")
+TORQUE_KEYS = ("type", "model", "rotor_drag", "initial_speed")
+TORQUE_MODEL_KEYS = {
+    "constant": ("torque",),
+    "speed_feedback": ("c1", "target_speed"),
+    "angle_feedback": ("c1", "c2", "target_speed"),
+}
+RUN_KEYS = ("duration", "sample_rate", "rtol", "atol", "method", "max_steps")
+INITIAL_KEYS = ("x", "y", "vx", "vy")
+DIMENSIONLESS_KEYS = ("n", "Rt", "h", "H", "e0", "R_omega2", "unbalance_angle",
+                      "initial_angles", "natural_frequency", "total_mass",
+                      "track_radius", "rotor_inertia")
+
+_REQUIRED = object()
+
+
+# ---------------------------------------------------------------- messages
+def _fmt(value: Any) -> str:
+    """A value as the user wrote it (TOML spelling), shortened if long."""
+    if isinstance(value, (bool, np.bool_)):
+        text = "true" if value else "false"
+    elif isinstance(value, str):
+        text = '"' + value.replace('"', '\\"') + '"'
+    elif isinstance(value, float):
+        text = repr(value) if math.isfinite(value) else str(value)
+    elif isinstance(value, (list, tuple)):
+        text = "[" + ", ".join(_fmt(v) for v in value) + "]"
+    elif isinstance(value, Mapping):
+        text = "{" + ", ".join(f"{k} = {_fmt(v)}" for k, v in value.items()) + "}"
+    else:
+        text = str(value)
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+def _kind(value: Any) -> str:
+    """TOML name of a value's type, for messages."""
+    if isinstance(value, (bool, np.bool_)):
+        return "a boolean"
+    if isinstance(value, str):
+        return "a string"
+    if isinstance(value, (list, tuple)):
+        return "an array"
+    if isinstance(value, Mapping):
+        return "a table"
+    return f"a {type(value).__name__}"
+
+
+def _suggest(word: str, valid) -> str:
+    lower = {v.lower(): v for v in valid}
+    close = difflib.get_close_matches(word.lower(), list(lower), n=1, cutoff=0.6)
+    return f"did you mean {lower[close[0]]!r}? " if close else ""
+
+
+def _number(name: str, value: Any, unit: str, *, gt=None, ge=None, lt=None) -> float:
+    """Check one number; return it as float."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise SceneError(f"{name} = {_fmt(value)}: must be a number ({unit}), not {_kind(value)}")
+    x = float(value)
+    if not math.isfinite(x):
+        raise SceneError(f"{name} = {_fmt(value)}: must be finite ({unit})")
+    for bound, ok, sign in ((gt, x > (gt or 0), ">"), (ge, x >= (ge or 0), ">="),
+                            (lt, x < (lt or 0), "<")):
+        if bound is not None and not ok:
+            raise SceneError(f"{name} = {_fmt(value)}: must be {sign} {_fmt(bound)} ({unit})")
+    return x
+
+
+class _Table:
+    """One TOML table with its dotted path; typed getters with messages."""
+
+    def __init__(self, data: Any, path: str):
+        if not isinstance(data, Mapping):
+            raise SceneError(f"{path} = {_fmt(data)}: must be a table [{path}], not {_kind(data)}")
+        self.data, self.path = data, path
+
+    def name(self, key: str) -> str:
+        return f"{self.path}.{key}"
+
+    def __contains__(self, key: str) -> bool:
+        return key in self.data
+
+    def allow(self, keys, why: Optional[Callable[[str], Optional[str]]] = None) -> None:
+        """Reject every key not in ``keys``; ``why(key)`` may explain the rejection."""
+        for key in self.data:
+            if key in keys:
+                continue
+            reason = why(key) if why else None
+            if reason:
+                raise SceneError(reason)
+            raise SceneError(f"unknown key {self.name(key)}: {_suggest(key, keys)}"
+                             f"valid keys in [{self.path}]: {', '.join(keys)}")
+
+    def _get(self, key: str, default: Any, what: str) -> Any:
+        if key in self.data:
+            return self.data[key]
+        if default is _REQUIRED:
+            raise SceneError(f"{self.name(key)}: missing required key ({what})")
+        return default
+
+    def number(self, key: str, unit: str, default: Any = _REQUIRED, **bounds) -> Any:
+        value = self._get(key, default, unit)
+        if key not in self.data:
+            return value
+        return _number(self.name(key), value, unit, **bounds)
+
+    def integer(self, key: str, minimum: int = 1, default: Any = _REQUIRED) -> int:
+        value = self._get(key, default, "integer")
+        if key in self.data:
+            if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+                raise SceneError(f"{self.name(key)} = {_fmt(value)}: must be an integer, "
+                                 f"not {_kind(value)}")
+            if value < minimum:
+                raise SceneError(f"{self.name(key)} = {_fmt(value)}: must be >= {minimum}")
+        return int(value)
+
+    def string(self, key: str, choices=None, default: Any = _REQUIRED) -> str:
+        what = "one of " + ", ".join(f'"{c}"' for c in choices) if choices else "string"
+        value = self._get(key, default, what)
+        if key in self.data:
+            if not isinstance(value, str):
+                raise SceneError(f"{self.name(key)} = {_fmt(value)}: must be a string "
+                                 f"({what}), not {_kind(value)}")
+            if choices and value not in choices:
+                raise SceneError(f"{self.name(key)} = {_fmt(value)}: {_suggest(value, choices)}"
+                                 f"must be {what}")
+        return value
+
+    def per_weight(self, key: str, count: int, count_key: str, unit: str,
+                   default: Any = _REQUIRED, scalar: bool = True, **bounds) -> Any:
+        """A number per weight: a list of ``count`` numbers, or one number for all."""
+        name = self.name(key)
+        value = self._get(key, default, unit)
+        if key not in self.data:
+            return None if value is None else np.full(count, float(value))
+        if isinstance(value, (list, tuple)):
+            if len(value) != count:
+                raise SceneError(f"{name} = {_fmt(value)}: expected {count} values (one per "
+                                 f"weight, {count_key} = {count}), got {len(value)}")
+            return np.array([_number(f"{name}[{i}]", v, unit, **bounds)
+                             for i, v in enumerate(value)])
+        if not scalar:
+            raise SceneError(f"{name} = {_fmt(value)}: must be a list of {count} numbers ({unit})")
+        return np.full(count, _number(name, value, unit, **bounds))
+
+
+# ---------------------------------------------------------------- tables
+def _rotor(t: _Table) -> Rotor:
+    t.allow(ROTOR_KEYS)
+    return Rotor(
+        mass=t.number("mass", "kg", gt=0),
+        eccentricity=t.number("eccentricity", "m", 0.0, ge=0),
+        unbalance_angle=t.number("unbalance_angle", "deg", 0.0) * DEG,
+        inertia=t.number("inertia", "kg*m^2", None, gt=0),
+    )
+
+
+def _supports(t: _Table) -> Supports:
+    t.allow(SUPPORT_KEYS)
+    values = {}
+    for what, unit, bounds in (("stiffness", "N/m", {"gt": 0}), ("damping", "N*s/m", {"ge": 0})):
+        both = t.number(what, unit, None, **bounds)
+        for axis in ("x", "y"):
+            key = f"{what}_{axis}"
+            if both is not None and key in t:
+                raise SceneError(f"{t.name(what)} and {t.name(key)} are both given: use either "
+                                 f"{what} (both axes) or {what}_x and {what}_y")
+            if both is not None:
+                values[key] = both
+            elif what == "stiffness" and key not in t:
+                raise SceneError(f"{t.name(key)}: missing required key ({unit}); give "
+                                 f"stiffness_x and stiffness_y, or stiffness for both axes")
+            else:
+                values[key] = t.number(key, unit, 0.0, **bounds)
+    return Supports(**values)
+
+
+def _balancer(t: _Table) -> Balancer:
+    t.allow(BALANCER_KEYS)
+    kind = t.string("type", ("balls", "pendulums", "none"))
+    if kind == "none":
+        t.allow(("type",), lambda k: f"{t.name(k)} = {_fmt(t.data[k])}: not allowed with "
+                                     f'balancer.type = "none" (only type is allowed)')
+        return Balancer()
+    t.allow([k for k in BALANCER_KEYS if kind == "pendulums" or k != "inertia"],
+            lambda k: f"{t.name(k)} = {_fmt(t.data[k])}: not allowed for balls (point "
+                      f"masses: the inertia about the shaft is m l^2)")
+    n = t.integer("count", minimum=1)
+    count_key = t.name("count")
+    m = t.per_weight("mass", n, count_key, "kg", gt=0)
+    l = t.per_weight("radius", n, count_key, "m", gt=0)
+    drag_unit = "N*s/m" if kind == "balls" else "N*m*s"
+    drag = t.per_weight("drag", n, count_key, drag_unit, 0.0, ge=0)
+    point = m * l ** 2
+    J = point
+    if kind == "pendulums":
+        J = t.per_weight("inertia", n, count_key, "kg*m^2", None, gt=0)
+        if J is None:
+            J = point
+        for i in np.flatnonzero(J < point * (1.0 - 1e-12)):
+            name = t.name("inertia") + (f"[{i}]" if isinstance(t.data["inertia"], list) else "")
+            raise SceneError(f"{name} = {_fmt(float(J[i]))}: must be >= m l^2 = "
+                             f"{float(point[i]):.6g} (kg*m^2, inertia about the shaft axis; "
+                             f"parallel-axis theorem)")
+    angles = t.per_weight("initial_angles", n, count_key, "deg", None, scalar=False)
+    if angles is None:
+        angles = 360.0 * np.arange(n) / n
+    speeds = t.per_weight("initial_speeds", n, count_key, "rev/s", 0.0)
+    return Balancer(type=kind, mass=m, radius=l, drag=drag, inertia=np.asarray(J, float),
+                    initial_angles=angles * DEG, initial_speeds=speeds * TWO_PI)
+
+
+def _programme(t: _Table, key: str, w1: float) -> np.ndarray:
+    """[[t, speed], ...] -> ndarray (k, 2) in s and rad/s."""
+    name, value = t.name(key), t.data[key]
+    dimless = key == "programme_dimensionless"
+    units = ("tau = omega_1 t", "R_omega = omega/omega_1") if dimless else ("s", "rev/s")
+    if not isinstance(value, (list, tuple)) or not value:
+        raise SceneError(f"{name} = {_fmt(value)}: must be a non-empty list of "
+                         f"[time ({units[0]}), speed ({units[1]})] pairs")
+    rows = []
+    for i, pair in enumerate(value):
+        if not isinstance(pair, (list, tuple)) or len(pair) != 2:
+            raise SceneError(f"{name}[{i}] = {_fmt(pair)}: must be a "
+                             f"[time ({units[0]}), speed ({units[1]})] pair")
+        time = _number(f"{name}[{i}][0]", pair[0], units[0], ge=0)
+        speed = _number(f"{name}[{i}][1]", pair[1], units[1], ge=0)
+        if rows and time <= rows[-1][0]:
+            raise SceneError(f"{name}[{i}][0] = {_fmt(pair[0])}: times must be strictly "
+                             f"increasing ({units[0]}); the previous time is {_fmt(rows[-1][0])}")
+        rows.append((time, speed))
+    prog = np.array(rows, dtype=float)
+    if dimless:
+        prog[:, 0] /= w1
+        prog[:, 1] *= w1
+    else:
+        prog[:, 1] *= TWO_PI
+    return prog
+
+
+def _drive(t: _Table, w1: float):
+    t.allow(SPEED_KEYS + TORQUE_KEYS + ("torque", "c1", "c2", "target_speed"))
+    kind = t.string("type", ("speed", "torque"))
+    other = "torque" if kind == "speed" else "speed"
+    if kind == "speed":
+        t.allow(SPEED_KEYS, lambda k: f"{t.name(k)} = {_fmt(t.data[k])}: only valid with "
+                                      f'drive.type = "{other}"')
+        given = [k for k in ("programme", "programme_dimensionless") if k in t]
+        if len(given) != 1:
+            raise SceneError(f"{t.name('programme')}: give exactly one of drive.programme "
+                             f"[[t (s), speed (rev/s)], ...] and drive.programme_dimensionless "
+                             f"[[tau, R_omega], ...] (got {len(given)})")
+        start = T = None
+        if "coast_down" in t:
+            cd = _Table(t.data["coast_down"], t.name("coast_down"))
+            cd.allow(("start", "time_constant"))
+            start = cd.number("start", "s", gt=0)
+            T = cd.number("time_constant", "s", gt=0)
+        return SpeedDrive(programme=_programme(t, given[0], w1), coast_down_start=start,
+                          coast_down_time_constant=T,
+                          rotor_drag=t.number("rotor_drag", "N*m*s", 0.0, ge=0))
+    model = t.string("model", tuple(TORQUE_MODEL_KEYS))
+    used = TORQUE_MODEL_KEYS[model]
+
+    def why(k):
+        if k in SPEED_KEYS:
+            return f'{t.name(k)} = {_fmt(t.data[k])}: only valid with drive.type = "speed"'
+        users = [m for m, keys in TORQUE_MODEL_KEYS.items() if k in keys]
+        return (f'{t.name(k)} = {_fmt(t.data[k])}: not used by drive.model = "{model}" '
+                f"(used by: {', '.join(users)})")
+
+    t.allow(TORQUE_KEYS + used, why)
+    get = {
+        "torque": lambda: t.number("torque", "N*m"),
+        "c1": lambda: t.number("c1", "N*m*s", ge=0),
+        "c2": lambda: t.number("c2", "N*m/rad", ge=0),
+        "target_speed": lambda: t.number("target_speed", "rev/s", ge=0) * TWO_PI,
+    }
+    return TorqueDrive(model=model, **{k: get[k]() for k in used},
+                       rotor_drag=t.number("rotor_drag", "N*m*s", 0.0, ge=0),
+                       initial_speed=t.number("initial_speed", "rev/s", 0.0, ge=0) * TWO_PI)
+
+
+def _run(t: _Table) -> RunSettings:
+    t.allow(RUN_KEYS)
+    run = RunSettings(
+        duration=t.number("duration", "s", gt=0),
+        sample_rate=t.number("sample_rate", "Hz", gt=0),
+        rtol=t.number("rtol", "relative tolerance", 1e-8, gt=0, lt=0.1),
+        atol=t.number("atol", "absolute tolerance, dimensionless state", 1e-10, gt=0),
+        method=t.string("method", METHODS, "auto"),
+        max_steps=t.integer("max_steps", 1, 50_000_000),
+    )
+    samples = run.duration * run.sample_rate
+    if samples > MAX_SAMPLES:
+        raise SceneError(f"run.duration * run.sample_rate = {run.duration:g} s * "
+                         f"{run.sample_rate:g} Hz = {samples:.3g} samples: more than "
+                         f"{MAX_SAMPLES:.0e} (memory); shorten run.duration or lower "
+                         f"run.sample_rate")
+    return run
+
+
+def _initial(t: _Table) -> InitialState:
+    t.allow(INITIAL_KEYS)
+    units = {"x": "m", "y": "m", "vx": "m/s", "vy": "m/s"}
+    return InitialState(**{k: t.number(k, u, 0.0) for k, u in units.items()})
+
+
+def _dimensionless_params(t: _Table, angle_unit: str) -> dict:
+    """Validated [dimensionless] values (angles still in ``angle_unit``)."""
+    t.allow(DIMENSIONLESS_KEYS)
+    n = t.integer("n", minimum=1)
+    return dict(
+        n=n,
+        Rt=t.number("Rt", "dimensionless, R~_m, 0 < Rt < 0.5", gt=0, lt=0.5),
+        h=t.number("h", "dimensionless", ge=0),
+        H=t.number("H", "dimensionless", ge=0),
+        e0=t.number("e0", "dimensionless", ge=0),
+        R_omega2=t.number("R_omega2", "dimensionless", 1.0, gt=0),
+        unbalance_angle=t.number("unbalance_angle", angle_unit, 0.0),
+        initial_angles=t.per_weight("initial_angles", n, t.name("n"), angle_unit, None,
+                                    scalar=False),
+        natural_frequency=t.number("natural_frequency", "Hz", 1.0 / TWO_PI, gt=0),
+        total_mass=t.number("total_mass", "kg", 1.0, gt=0),
+        track_radius=t.number("track_radius", "m", 1.0, gt=0),
+        rotor_inertia=t.number("rotor_inertia", "kg*m^2", None, gt=0),
+    )
+
+
+# ---------------------------------------------------------------- public
+def scene_from_dimensionless(n, Rt, h, H, e0, *, drive, run, R_omega2=1.0,
+                             unbalance_angle=0.0, natural_frequency=1.0 / TWO_PI,
+                             total_mass=1.0, track_radius=1.0, initial_angles=None,
+                             initial=None, rotor_inertia=None, name="") -> Scene:
+    """Build a ball-balancer scene from the book's dimensionless parameters.
+
+    Identical point balls (j = 1) on one track, supports with equal damping;
+    the inverse of :func:`stand.scene.dimensionless` (5.12)-(5.14), (5.19)-(5.20).
+
+    Parameters
+    ----------
+    n : int
+        Number of balls.
+    Rt : float
+        R~_m = n m / (2 M_Sigma), 0 < Rt < 0.5.
+    h : float
+        Ball drag h = H_j / (omega_1 J_j) = c_b / (omega_1 m).
+    H : float
+        Support damping H = H_x / (omega_1 M_Sigma) (= 2 zeta); H_y = H_x.
+    e0 : float
+        Rotor unbalance in units of the capacity, M e / (n m l).
+    drive : SpeedDrive or TorqueDrive
+        In SI units.
+    run : RunSettings
+    R_omega2 : float
+        sqrt(c_y / c_x).
+    unbalance_angle : float
+        Heavy side from the reference mark [rad].
+    natural_frequency : float
+        omega_1 / (2 pi) [Hz]; the default makes tau = t in seconds.
+    total_mass : float
+        M_Sigma [kg].
+    track_radius : float
+        l [m].
+    initial_angles : array_like or None
+        Ball angles from the reference mark [rad]; default evenly spaced.
+    initial : InitialState or None
+    rotor_inertia : float or None
+        J_C [kg*m^2]; required with a torque drive.
+    name : str
+
+    Returns
+    -------
+    Scene
+
+    Raises
+    ------
+    SceneError
+        A parameter is out of range, or a torque drive lacks rotor_inertia.
+    """
+    raw = dict(n=n, Rt=Rt, h=h, H=H, e0=e0, R_omega2=R_omega2,
+               unbalance_angle=unbalance_angle, natural_frequency=natural_frequency,
+               total_mass=total_mass, track_radius=track_radius,
+               initial_angles=None if initial_angles is None else list(initial_angles),
+               rotor_inertia=rotor_inertia)
+    p = _dimensionless_params(_Table({k: v for k, v in raw.items() if v is not None},
+                                     "dimensionless"), "rad")
+    if isinstance(drive, TorqueDrive) and p["rotor_inertia"] is None:
+        raise SceneError("dimensionless.rotor_inertia: missing; required with a torque "
+                         "drive (kg*m^2, rotor inertia about its own centre of mass)")
+    n, Ms, l = p["n"], p["total_mass"], p["track_radius"]
+    w1 = TWO_PI * p["natural_frequency"]
+    m = 2.0 * p["Rt"] * Ms / n            # R_m = 2 Rt (j = 1)
+    M = Ms - n * m
+    c_x = Ms * w1 ** 2
+    damping = p["H"] * w1 * Ms
+    angles = p["initial_angles"]
+    if angles is None:
+        angles = TWO_PI * np.arange(n) / n
+    return Scene(
+        rotor=Rotor(mass=M, eccentricity=p["e0"] * n * m * l / M,
+                    unbalance_angle=p["unbalance_angle"], inertia=p["rotor_inertia"]),
+        supports=Supports(stiffness_x=c_x, stiffness_y=p["R_omega2"] ** 2 * c_x,
+                          damping_x=damping, damping_y=damping),
+        balancer=Balancer(type="balls", mass=np.full(n, m), radius=np.full(n, l),
+                          drag=np.full(n, p["h"] * w1 * m), inertia=np.full(n, m * l ** 2),
+                          initial_angles=np.asarray(angles, float), initial_speeds=np.zeros(n)),
+        drive=drive,
+        run=run,
+        initial=initial if initial is not None else InitialState(),
+        name=name,
+    )
+
+
+def parse_scene(data: Mapping, text: str = "") -> Scene:
+    """Validate a parsed TOML document and build the :class:`Scene`.
+
+    Parameters
+    ----------
+    data : mapping
+        As returned by ``tomllib.loads``.
+    text : str
+        Original TOML text, stored in ``Scene.text``.
+
+    Raises
+    ------
+    SceneError
+        One message naming the offending key, its value and the expected unit.
+    """
+    if not isinstance(data, Mapping):
+        raise SceneError(f"a scene must be a table of tables, not {_kind(data)}")
+    for key in data:
+        if key not in TABLES:
+            raise SceneError(f"unknown table [{key}]: {_suggest(key, TABLES)}"
+                             f"valid tables: {', '.join(TABLES)}")
+    tables = {key: _Table(value, key) for key, value in data.items()}
+    physical = [k for k in ("rotor", "supports", "balancer") if k in tables]
+    if "dimensionless" in tables and physical:
+        raise SceneError(f"[dimensionless] cannot be combined with [{physical[0]}]: a "
+                         f"[dimensionless] scene defines rotor, supports and balancer itself")
+    for key in ("drive", "run") + (() if "dimensionless" in tables else ("rotor", "supports")):
+        if key not in tables:
+            raise SceneError(f"missing table [{key}] (required)")
+
+    name = ""
+    if "scene" in tables:
+        tables["scene"].allow(SCENE_KEYS)
+        name = tables["scene"].string("name", default="")
+        tables["scene"].string("description", default="")
+    run = _run(tables["run"])
+    initial = _initial(tables["initial"]) if "initial" in tables else InitialState()
+
+    if "dimensionless" in tables:
+        p = _dimensionless_params(tables["dimensionless"], "deg")
+        p["unbalance_angle"] *= DEG
+        if p["initial_angles"] is not None:
+            p["initial_angles"] = p["initial_angles"] * DEG
+        drive = _drive(tables["drive"], TWO_PI * p["natural_frequency"])
+        return dataclasses.replace(
+            scene_from_dimensionless(**p, drive=drive, run=run, initial=initial),
+            name=name, text=text)
+
+    rotor = _rotor(tables["rotor"])
+    supports = _supports(tables["supports"])
+    balancer = _balancer(tables["balancer"]) if "balancer" in tables else Balancer()
+    w1 = math.sqrt(supports.stiffness_x / (rotor.mass + float(np.sum(balancer.mass))))
+    drive = _drive(tables["drive"], w1)
+    if isinstance(drive, TorqueDrive) and rotor.inertia is None:
+        raise SceneError("rotor.inertia: missing; required with a torque drive "
+                         '(drive.type = "torque") (kg*m^2, about the rotor\'s own centre of mass)')
+    return Scene(rotor=rotor, supports=supports, balancer=balancer, drive=drive, run=run,
+                 initial=initial, name=name, text=text)
+
+
+def load_scene(source: Union[str, Path]) -> Scene:
+    """Read a scene from a TOML file, or from TOML text.
+
+    Parameters
+    ----------
+    source : str or pathlib.Path
+        A path, or TOML text if it is a ``str`` containing a newline.
+
+    Returns
+    -------
+    Scene
+        With ``text`` the original TOML and ``name`` from ``[scene] name``,
+        else the file stem (empty for TOML text).
+
+    Raises
+    ------
+    SceneError
+        Missing or unreadable file, TOML syntax error, or an invalid scene; for
+        files the message starts with the file name.
+    """
+    if isinstance(source, str) and "\n" in source:
+        text, label, stem = source, "", ""
+    else:
+        path = Path(source)
+        label, stem = f"{path}: ", path.stem
+        try:
+            text = path.read_text(encoding="utf-8")
+        except FileNotFoundError:
+            raise SceneError(f"scene file not found: {path}") from None
+        except UnicodeDecodeError as exc:
+            raise SceneError(f"{label}not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+        except OSError as exc:
+            raise SceneError(f"cannot read scene file {path}: {exc.strerror}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"{label or '<string>: '}TOML syntax error: {exc}") from None
+    try:
+        scene = parse_scene(data, text=text)
+    except SceneError as exc:
+        if label:
+            raise SceneError(f"{label}{exc}") from None
+        raise
+    return scene if scene.name else dataclasses.replace(scene, name=stem)

@@ -1,0 +1,384 @@
+"""Run a scene: integrate the planar model and return a sampled trajectory.
+
+One entry point, :func:`simulate`, shaped like ``scipy.integrate.solve_ivp``:
+``method=`` by name, a result with ``status``/``message``/``nfev``... plus SI
+arrays with units.  Methods:
+
+* ``"DOP853"`` -- compiled explicit 8th-order Runge-Kutta (:mod:`stand.dop853`),
+  the default for ordinary scenes;
+* ``"Radau"``, ``"BDF"``, ``"LSODA"`` -- scipy's implicit/switching solvers on
+  the compiled right-hand side with a compiled finite-difference Jacobian; "auto"
+  picks Radau when the scene is stiff (large weight drag, h >> R_omega);
+* ``"numpy-DOP853"`` -- scipy's DOP853 on the pure-numpy right-hand side that
+  solves the full linear system: the slow reference path for checking.
+"""
+from __future__ import annotations
+
+import json
+import math
+import time as _time
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from ._jit import njit
+from .dop853 import (NOT_FINITE, REACHED_END, STEP_BUDGET, STEP_TOO_SMALL,
+                     dop853_loop)
+from .planar import (D11, D22, H0, K22, WTARGET, PlanarModel, build_planar_model,
+                     initial_state, rhs_planar, rhs_planar_numpy)
+from .scene import Scene, SceneError
+from .weights import EPS, H, MU
+
+METHODS = ("auto", "DOP853", "Radau", "BDF", "LSODA", "numpy-DOP853")
+#: a scene is stiff when its fastest decay rate exceeds this many times its
+#: fastest oscillation (explicit methods would be limited by stability, not accuracy)
+STIFFNESS_RATIO = 30.0
+CHUNK_STEPS = 200_000
+
+
+@dataclass
+class SolverStats:
+    """Solver statistics, as a ``solve_ivp`` result carries them."""
+
+    method: str
+    rtol: float
+    atol: float
+    n_steps: int = 0
+    n_rejected: int = 0
+    nfev: int = 0
+    njev: int = 0
+    nlu: int = 0
+    wall_time: float = 0.0
+    status: int = 0
+    message: str = ""
+    success: bool = True
+    stiffness_ratio: float = 0.0
+    method_reason: str = ""
+
+    def to_json(self) -> str:
+        return json.dumps(asdict(self))
+
+
+@dataclass
+class Trajectory:
+    """Sampled motion of the stand, SI units.
+
+    Attributes
+    ----------
+    t : ndarray (N,)                time [s]
+    x, y : ndarray (N,)             shaft displacement [m]
+    rotor_angle : ndarray (N,)      angle of the reference mark [rad]
+    rotor_speed : ndarray (N,)      [rad/s]
+    weight_angle : ndarray (N, n)   absolute weight angles [rad]
+    weight_speed : ndarray (N, n)   absolute weight speeds [rad/s]
+    stats : SolverStats
+    scene : Scene
+    """
+
+    t: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    rotor_angle: np.ndarray
+    rotor_speed: np.ndarray
+    weight_angle: np.ndarray
+    weight_speed: np.ndarray
+    stats: SolverStats
+    scene: Scene
+    state: np.ndarray = field(repr=False, default=None)  #: dimensionless samples
+
+    UNITS = {"t": "s", "x": "m", "y": "m", "rotor_angle": "rad", "rotor_speed": "rad/s",
+             "weight_angle": "rad", "weight_speed": "rad/s"}
+
+    @property
+    def success(self) -> bool:
+        return self.stats.success
+
+    @property
+    def relative_angle(self) -> np.ndarray:
+        """Weight angles relative to the rotor's reference mark, wrapped to (-pi, pi] [rad]."""
+        a = self.weight_angle - self.rotor_angle[:, None]
+        return np.angle(np.exp(1j * a))
+
+    def residual_unbalance(self) -> np.ndarray:
+        """Total unbalance rotor + weights, complex, in the rotor frame [kg*m].
+
+        psi = M e e^{i beta} + sum m_j l_j e^{i alpha_j}  ((5.76)-(5.77) times S).
+        """
+        r, b = self.scene.rotor, self.scene.balancer
+        psi = np.full(self.t.shape, r.unbalance * np.exp(1j * r.unbalance_angle), complex)
+        if b.count:
+            psi = psi + np.sum(b.mass * b.radius * np.exp(1j * (self.weight_angle - self.rotor_angle[:, None])), axis=1)
+        return psi
+
+    def whirl_radius(self) -> np.ndarray:
+        """|r_K| = sqrt(x^2 + y^2) [m]."""
+        return np.hypot(self.x, self.y)
+
+    def summary(self, window: float | None = None) -> dict:
+        """Final state for reports and ``stand run --json``.
+
+        Parameters
+        ----------
+        window : float, optional
+            Averaging window at the end of the run [s]; default: the last rotor
+            revolution (or the last 5 % of the run when the rotor is at rest).
+        """
+        N = len(self.t)
+        out = {"solver": asdict(self.stats)}
+        if N == 0:
+            out["final"] = None
+            return out
+        if window is None:
+            w = abs(self.rotor_speed[-1])
+            window = 2 * np.pi / w if w > 0 else 0.05 * self.t[-1]
+        sel = self.t >= self.t[-1] - window
+        S = self.scene.balancer.capacity
+        psi = abs(self.residual_unbalance()[-1])
+        rel = np.degrees(self.relative_angle[-1]) if self.scene.balancer.count else np.zeros(0)
+        out["final"] = {
+            "time_s": float(self.t[-1]),
+            "rotor_speed_rev_per_s": float(self.rotor_speed[-1] / (2 * np.pi)),
+            "residual_unbalance": float(psi / S) if S > 0 else None,
+            "residual_unbalance_g_mm": float(psi * 1e6),
+            "capacity_g_mm": float(S * 1e6),
+            "weights_relative_angle_deg": [float(a) for a in rel],
+            "whirl_radius_m": float(np.mean(self.whirl_radius()[sel])),
+            "whirl_radius_last_m": float(self.whirl_radius()[-1]),
+        }
+        return out
+
+
+@njit(cache=True)
+def _jac_fd(rhs, t, y, f0, sp, wt, prog, J):
+    n = y.shape[0]
+    yy = y.copy()
+    df = np.empty(n)
+    for i in range(n):
+        dh = 1.5e-8 * max(1.0, abs(y[i]))
+        yy[i] = y[i] + dh
+        rhs(t, yy, df, sp, wt, prog)
+        for k in range(n):
+            J[k, i] = (df[k] - f0[k]) / dh
+        yy[i] = y[i]
+
+
+def stiffness(model: PlanarModel) -> float:
+    """Ratio of the fastest decay rate to the fastest oscillation frequency.
+
+    Decay rates: weight drag h_j / (1 - eps_j mu_j), support damping, rotor
+    drag; oscillation: 1 (omega_1), sqrt(k22), the largest rotor speed.
+    """
+    sp, wt = model.sp, model.wt
+    rates = [sp[D11], sp[D22], abs(sp[H0])]
+    if model.n:
+        rates.append(float(np.max(wt[:, H] / np.maximum(1.0 - wt[:, EPS] * wt[:, MU], 1e-12))))
+    speed = max(1.0, math.sqrt(abs(sp[K22])), float(np.max(np.abs(model.prog[:, 1]))),
+                abs(sp[WTARGET]))
+    return max(rates) / speed
+
+
+def choose_method(model: PlanarModel, requested: str) -> tuple[str, float, str]:
+    ratio = stiffness(model)
+    if requested != "auto":
+        return requested, ratio, "requested"
+    if ratio > STIFFNESS_RATIO:
+        return "Radau", ratio, f"stiff: fastest decay rate / fastest frequency = {ratio:.3g} > {STIFFNESS_RATIO:g}"
+    return "DOP853", ratio, f"non-stiff: fastest decay rate / fastest frequency = {ratio:.3g} <= {STIFFNESS_RATIO:g}"
+
+
+def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
+             atol: float | None = None, progress: bool = False) -> Trajectory:
+    """Integrate a scene.
+
+    Parameters
+    ----------
+    scene : Scene
+    method : str, optional
+        Overrides ``scene.run.method``; one of :data:`METHODS`.
+    rtol, atol : float, optional
+        Override the scene's tolerances (dimensionless state, see docs/scene.md).
+    progress : bool
+        Show a progress bar (stderr) when the run lasts more than ~2 s.
+
+    Returns
+    -------
+    Trajectory
+        ``stats.status`` is 0 on success, negative on failure (non-finite state,
+        step size collapse, step budget); what was computed until then is kept.
+    """
+    run = scene.run
+    method = method or run.method
+    if method not in METHODS:
+        raise SceneError(f"run.method = {method!r}: must be one of {', '.join(METHODS)}")
+    rtol = run.rtol if rtol is None else rtol
+    atol = run.atol if atol is None else atol
+    model = build_planar_model(scene)
+    method, ratio, reason = choose_method(model, method)
+    w1 = model.omega_1
+    tau_end = run.duration * w1
+    n_samples = int(math.floor(run.duration * run.sample_rate + 1e-9)) + 1
+    dts = w1 / run.sample_rate
+    y0 = initial_state(scene, model)
+    out = np.full((n_samples, model.size), np.nan)
+    out[0] = y0
+    stats = SolverStats(method=method, rtol=rtol, atol=atol, stiffness_ratio=ratio, method_reason=reason)
+    t0 = _time.perf_counter()
+    if method == "DOP853":
+        k = _run_dop853(model, y0, tau_end, rtol, atol, dts, out, stats, run.max_steps, progress)
+    else:
+        k = _run_scipy(model, y0, tau_end, rtol, atol, dts, out, stats, method)
+    stats.wall_time = _time.perf_counter() - t0
+    return _trajectory(scene, model, out[:k], dts, stats)
+
+
+def _segments(model: PlanarModel, tau_end: float) -> list[float]:
+    bp = [b for b in model.breakpoints() if b < tau_end]
+    return bp + [tau_end]
+
+
+def _run_dop853(model, y0, tau_end, rtol, atol, dts, out, stats, max_steps, progress):
+    sp, wt, prog = model.sp, model.wt, model.prog
+    cap = np.where(model.angle_mask(), np.pi, np.inf)
+    y = y0.copy()
+    f = np.empty_like(y)
+    rhs_planar(0.0, y, f, sp, wt, prog)
+    st = np.zeros(3, np.int64)
+    st[2] = 1
+    h = _initial_step(model, y, f, rtol, atol, cap)
+    t = 0.0
+    k_next = 1
+    bar = _progress_bar(tau_end / model.omega_1) if progress else None
+    status = REACHED_END
+    for seg_end in _segments(model, tau_end):
+        while t < seg_end:
+            budget = min(CHUNK_STEPS, max_steps - int(st[0] + st[1]))
+            if budget <= 0:
+                status = STEP_BUDGET
+                break
+            status, t, h, k_next = dop853_loop(rhs_planar, sp, wt, prog, t, y, f, h, seg_end, rtol,
+                                               atol, cap, np.inf, dts, k_next, out, st, budget)
+            if bar is not None:
+                bar.update(t / model.omega_1 - bar.n)
+            if status not in (REACHED_END, STEP_BUDGET):
+                break
+        if t < seg_end:
+            break
+        if seg_end < tau_end:  # restart the derivative after a kink of the programme
+            rhs_planar(t, y, f, sp, wt, prog)
+            st[2] += 1
+    if bar is not None:
+        bar.close()
+    stats.n_steps, stats.n_rejected, stats.nfev = int(st[0]), int(st[1]), int(st[2])
+    t_s = t / model.omega_1
+    if t >= tau_end:
+        stats.status, stats.success, stats.message = 0, True, "The solver successfully reached the end of the integration interval."
+    elif status == STEP_BUDGET or status == REACHED_END:
+        stats.status, stats.success = -3, False
+        stats.message = f"Step budget run.max_steps = {max_steps} exhausted at t = {t_s:.6g} s; samples up to there are kept."
+    elif status == NOT_FINITE:
+        stats.status, stats.success = -2, False
+        stats.message = (f"Non-finite state at t = {t_s:.6g} s (the motion diverged or a parameter is "
+                         "non-physical); samples up to there are kept.")
+    else:
+        stats.status, stats.success = -1, False
+        stats.message = (f"Step size collapsed at t = {t_s:.6g} s (required step below the time "
+                         "resolution; the problem may be stiff: try run.method = \"Radau\"); samples up to there are kept.")
+    return k_next
+
+
+def _initial_step(model, y, f, rtol, atol, cap):
+    """scipy's ``select_initial_step`` (Hairer's algorithm) with the capped scale."""
+    mag = np.minimum(np.abs(y), cap)
+    scale = atol + mag * rtol
+    nrm = lambda v: float(np.linalg.norm(v) / math.sqrt(v.size))
+    d0, d1 = nrm(y / scale), nrm(f / scale)
+    h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
+    y1 = y + h0 * f
+    f1 = np.empty_like(y)
+    rhs_planar(h0, y1, f1, model.sp, model.wt, model.prog)
+    d2 = nrm((f1 - f) / scale) / h0
+    h1 = max(1e-6, h0 * 1e-3) if (d1 <= 1e-15 and d2 <= 1e-15) else (0.01 / max(d1, d2)) ** (1 / 8)
+    return min(100 * h0, h1)
+
+
+def _progress_bar(total_s):
+    try:
+        from tqdm import tqdm
+    except ImportError:  # pragma: no cover
+        return None
+    return tqdm(total=total_s, unit="s", delay=2.0, desc="simulating", leave=False,
+                bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} s [{elapsed}<{remaining}]")
+
+
+def _run_scipy(model, y0, tau_end, rtol, atol, dts, out, stats, method):
+    sp, wt, prog = model.sp, model.wt, model.prog
+    n_samples = out.shape[0]
+    if method == "numpy-DOP853":
+        fun = lambda t, y: rhs_planar_numpy(t, y, sp, wt, prog)
+        kw = {"method": "DOP853"}
+    else:
+        def fun(t, y):
+            dy = np.empty_like(y)
+            rhs_planar(t, y, dy, sp, wt, prog)
+            return dy
+
+        def jac(t, y):
+            f0 = np.empty_like(y)
+            rhs_planar(t, y, f0, sp, wt, prog)
+            J = np.empty((y.size, y.size))
+            _jac_fd(rhs_planar, t, y, f0, sp, wt, prog, J)
+            return J
+
+        kw = {"method": method, "jac": jac}
+    y = y0.copy()
+    t = 0.0
+    k_next = 1
+    atol_v = np.full(y.size, atol)
+    for seg_end in _segments(model, tau_end):
+        ts = np.arange(k_next, n_samples) * dts
+        ts = ts[ts <= seg_end]
+        t_eval = ts if (ts.size and ts[-1] == seg_end) else np.append(ts, seg_end)
+        with np.errstate(all="ignore"):
+            sol = solve_ivp(fun, (t, seg_end), y, t_eval=t_eval, rtol=rtol, atol=atol_v, **kw)
+        stats.nfev += int(sol.nfev)
+        stats.njev += int(sol.njev)
+        stats.nlu += int(sol.nlu)
+        m = min(ts.size, sol.y.shape[1])
+        out[k_next:k_next + m] = sol.y[:, :m].T
+        k_next += m
+        if sol.status != 0 or not np.all(np.isfinite(sol.y)):
+            bad = ~np.all(np.isfinite(out[:k_next]), axis=1)
+            if bad.any():
+                k_next = int(np.argmax(bad))
+            t_stop = sol.t[-1] / model.omega_1 if sol.t.size else t / model.omega_1
+            stats.status, stats.success = -1, False
+            stats.message = f"{method} stopped at t = {t_stop:.6g} s: {sol.message}; samples up to there are kept."
+            return k_next
+        t = seg_end
+        y = sol.y[:, -1].copy()
+    stats.status, stats.success = 0, True
+    stats.message = "The solver successfully reached the end of the integration interval."
+    return k_next
+
+
+def _trajectory(scene: Scene, model: PlanarModel, out: np.ndarray, dts: float,
+                stats: SolverStats) -> Trajectory:
+    N = out.shape[0]
+    tau = np.arange(N) * dts
+    nq, n, L, w1 = model.nq, model.n, model.length, model.omega_1
+    phi, R = model.rotor(tau, out)
+    alpha = out[:, 2:2 + n]
+    dalpha = out[:, nq + 2:nq + 2 + n]
+    return Trajectory(
+        t=tau / w1,
+        x=out[:, 0] * L,
+        y=out[:, 1] * L,
+        rotor_angle=np.asarray(phi, float).copy(),
+        rotor_speed=np.asarray(R, float) * w1,
+        weight_angle=phi[:, None] + alpha,
+        weight_speed=(R[:, None] + dalpha) * w1,
+        stats=stats,
+        scene=scene,
+        state=out,
+    )
