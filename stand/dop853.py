@@ -17,6 +17,7 @@ import numpy as np
 from scipy.integrate._ivp import dop853_coefficients as _co
 
 from ._jit import njit
+from .kernels import rhs
 
 N_STAGES = _co.N_STAGES  # 12
 A = np.ascontiguousarray(_co.A, dtype=float)  # (16, 16)
@@ -52,13 +53,14 @@ def _stage_state(y, K, s, h, out):
 
 
 @njit(cache=True)
-def dop853_loop(rhs, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_step,
+def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_step,
                 sample_dt, k_next, out, stats, max_steps):
     """Advance from ``t`` to ``t_end`` writing samples ``k*sample_dt`` into ``out``.
 
     Parameters
     ----------
-    rhs : compiled function ``rhs(t, y, dy, sp, wt, prog)``
+    kind : int
+        Model kind for :func:`stand.kernels.rhs`.
     sp, wt, prog : ndarray
         Model parameters passed through to ``rhs``.
     t : float
@@ -116,13 +118,13 @@ def dop853_loop(rhs, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_s
                 K[0, i] = f[i]
             for s in range(1, N_STAGES):
                 _stage_state(y, K, s, h, yy)
-                rhs(t + C[s] * h, yy, K[s], sp, wt, prog)
+                rhs(kind, t + C[s] * h, yy, K[s], sp, wt, prog)
             for i in range(n):
                 acc = 0.0
                 for k in range(N_STAGES):
                     acc += B[k] * K[k, i]
                 y_new[i] = y[i] + h * acc
-            rhs(t_new, y_new, K[N_STAGES], sp, wt, prog)
+            rhs(kind, t_new, y_new, K[N_STAGES], sp, wt, prog)
             stats[N_FEV] += N_STAGES
             steps += 1
             # error estimate (scipy's DOP853._estimate_error_norm)
@@ -176,7 +178,7 @@ def dop853_loop(rhs, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_s
         if k_next < n_samples and k_next * sample_dt <= t_new:
             for s in range(N_STAGES + 1, 16):
                 _stage_state(y, K, s, h, yy)
-                rhs(t + C[s] * h, yy, K[s], sp, wt, prog)
+                rhs(kind, t + C[s] * h, yy, K[s], sp, wt, prog)
             stats[N_FEV] += 3
             for i in range(n):
                 dyi = y_new[i] - y[i]

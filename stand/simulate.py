@@ -28,6 +28,7 @@ from .dop853 import (NOT_FINITE, REACHED_END, STEP_BUDGET, STEP_TOO_SMALL,
 from .planar import (D11, D22, H0, K22, WTARGET, PlanarModel, build_planar_model,
                      initial_state, rhs_planar, rhs_planar_numpy)
 from .scene import Scene, SceneError
+from .kernels import PLANAR, rhs
 from .weights import EPS, H, MU
 
 METHODS = ("auto", "DOP853", "Radau", "BDF", "LSODA", "numpy-DOP853")
@@ -150,14 +151,14 @@ class Trajectory:
 
 
 @njit(cache=True)
-def _jac_fd(rhs, t, y, f0, sp, wt, prog, J):
+def _jac_fd(kind, t, y, f0, sp, wt, prog, J):
     n = y.shape[0]
     yy = y.copy()
     df = np.empty(n)
     for i in range(n):
         dh = 1.5e-8 * max(1.0, abs(y[i]))
         yy[i] = y[i] + dh
-        rhs(t, yy, df, sp, wt, prog)
+        rhs(kind, t, yy, df, sp, wt, prog)
         for k in range(n):
             J[k, i] = (df[k] - f0[k]) / dh
         yy[i] = y[i]
@@ -256,7 +257,7 @@ def _run_dop853(model, y0, tau_end, rtol, atol, dts, out, stats, max_steps, prog
             if budget <= 0:
                 status = STEP_BUDGET
                 break
-            status, t, h, k_next = dop853_loop(rhs_planar, sp, wt, prog, t, y, f, h, seg_end, rtol,
+            status, t, h, k_next = dop853_loop(PLANAR, sp, wt, prog, t, y, f, h, seg_end, rtol,
                                                atol, cap, np.inf, dts, k_next, out, st, budget)
             if bar is not None:
                 bar.update(t / model.omega_1 - bar.n)
@@ -327,7 +328,7 @@ def _run_scipy(model, y0, tau_end, rtol, atol, dts, out, stats, method):
             f0 = np.empty_like(y)
             rhs_planar(t, y, f0, sp, wt, prog)
             J = np.empty((y.size, y.size))
-            _jac_fd(rhs_planar, t, y, f0, sp, wt, prog, J)
+            _jac_fd(PLANAR, t, y, f0, sp, wt, prog, J)
             return J
 
         kw = {"method": method, "jac": jac}
