@@ -18,6 +18,10 @@ from typing import Optional, Union
 import numpy as np
 
 
+#: integration methods accepted by ``run.method`` and :func:`stand.simulate.simulate`
+METHODS = ("auto", "DOP853", "Radau", "BDF", "LSODA", "numpy-DOP853")
+
+
 class SceneError(ValueError):
     """A scene is invalid.  The message names the key, the value and the unit."""
 

@@ -25,6 +25,7 @@ except ModuleNotFoundError:  # Python < 3.11
     import tomli as tomllib
 
 from .scene import (
+    METHODS,
     Balancer,
     InitialState,
     Rotor,
@@ -41,7 +42,6 @@ __all__ = ["load_scene", "parse_scene", "scene_from_dimensionless", "MAX_SAMPLES
 TWO_PI = 2.0 * math.pi
 DEG = math.pi / 180.0
 MAX_SAMPLES = 5e7  #: largest duration * sample_rate accepted (memory)
-METHODS = ("auto", "DOP853", "Radau", "BDF", "LSODA", "numpy-DOP853")
 
 TABLES = ("scene", "rotor", "supports", "balancer", "drive", "run", "initial", "dimensionless")
 SCENE_KEYS = ("name", "description")

@@ -27,11 +27,10 @@ from .dop853 import (NOT_FINITE, REACHED_END, STEP_BUDGET, STEP_TOO_SMALL,
                      dop853_loop)
 from .planar import (D11, D22, H0, K22, WTARGET, PlanarModel, build_planar_model,
                      initial_state, rhs_planar, rhs_planar_numpy)
-from .scene import Scene, SceneError
+from .scene import METHODS, Scene, SceneError
 from .kernels import PLANAR, rhs
 from .weights import EPS, H, MU
 
-METHODS = ("auto", "DOP853", "Radau", "BDF", "LSODA", "numpy-DOP853")
 #: a scene is stiff when its fastest decay rate exceeds this many times its
 #: fastest oscillation (explicit methods would be limited by stability, not accuracy)
 STIFFNESS_RATIO = 30.0

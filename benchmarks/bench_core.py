@@ -1,0 +1,362 @@
+#!/usr/bin/env python
+"""Core performance benchmark of the stand's compiled integrator (a script, not a test).
+
+Everything is measured in one run on this machine and printed as plain text,
+then as markdown tables for the README:
+
+(a) ``stand.simulate(method="DOP853")`` (compiled Dormand-Prince 8(5,3) with the
+    O(n) compiled right-hand side) against ``scipy.integrate.solve_ivp(method=
+    "DOP853")`` on the plain-numpy right-hand side that solves the full (n+2)
+    linear system (``stand.planar.rhs_planar_numpy``);
+(b) the same problem against a compiled LSODA: numbalsoda's C++ LSODA calling a
+    numba ``cfunc`` wrapper of ``stand.planar.rhs_planar`` (plus two clearly
+    labelled extra peers: numbalsoda's Fortran DOP853 on the same cfunc, and
+    scipy's ``odeint`` -- Fortran LSODA calling the compiled RHS through Python);
+(c) the cost per rotor revolution for n = 2, 8, 32, 64 weights.
+
+Problem (a)/(b): n = 2 identical balls, Rt = 0.01, h = 0.5, H = 0.1, e0 = 0.3,
+constant prescribed speed R_omega = 3, balls starting at +-2 rad from the
+reference mark (they balance the rotor), 1000 revolutions, 2 samples per
+revolution, rtol 1e-8 / atol 1e-10 for every solver.  Errors: max abs error of
+the shaft position (xi, eta) at the samples against our DOP853 at rtol 1e-13 /
+atol 1e-15.  Numba compile time is excluded (every solver is warmed up with the
+exact call it is timed with); compiled runs are timed best of ``--repeats``.
+
+Run:  python benchmarks/bench_core.py            (about half a minute)
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import platform
+import sys
+import time
+from importlib import metadata
+
+import numpy as np
+
+try:  # run from a checkout without ``pip install -e .``
+    import stand  # noqa: F401
+except ImportError:  # pragma: no cover
+    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+from numba import njit
+from scipy.integrate import odeint, solve_ivp
+
+from stand.planar import build_planar_model, initial_state, rhs_planar, rhs_planar_numpy
+from stand.scene import RunSettings, SpeedDrive
+from stand.scene_file import scene_from_dimensionless
+from stand.simulate import simulate
+
+# ---------------------------------------------------------------- the problem
+R_OMEGA = 3.0                     # rad/s = dimensionless (omega_1 = 1 rad/s)
+PHYS = dict(Rt=0.01, h=0.5, H=0.1, e0=0.3)
+ANGLES_2 = (2.0, -2.0)            # rad from the reference mark: the balls balance
+SAMPLES_PER_REV = 2
+RTOL, ATOL = 1e-8, 1e-10
+REF_RTOL, REF_ATOL = 1e-13, 1e-15
+REVS_A = 1000
+REVS_C = 200
+NS_C = (2, 8, 32, 64)
+CLUMP_SPREAD = 0.05               # rad, half-width of each starting clump in (c)
+MXSTEP = 1_000_000                # per output interval, numbalsoda / odeint
+
+
+def make_scene(n: int, revs: float, angles) -> object:
+    """n identical balls, constant speed R_OMEGA, ``revs`` revolutions."""
+    duration = revs * 2.0 * math.pi / R_OMEGA
+    run = RunSettings(duration=duration, sample_rate=SAMPLES_PER_REV * R_OMEGA / (2.0 * math.pi),
+                      rtol=RTOL, atol=ATOL, method="DOP853")
+    return scene_from_dimensionless(n, drive=SpeedDrive(programme=np.array([[0.0, R_OMEGA]])),
+                                    run=run, initial_angles=angles, **PHYS)
+
+
+def clumped_angles(n: int) -> np.ndarray:
+    """n/2 balls around each of the two n = 2 starting angles (spread +-CLUMP_SPREAD).
+
+    Total ball mass is fixed by Rt, so the shaft sees (almost) the same
+    transient for every n: the cost difference is the per-weight cost.
+    """
+    g = n // 2
+    off = np.linspace(-CLUMP_SPREAD, CLUMP_SPREAD, g) if g > 1 else np.zeros(1)
+    return np.concatenate([ANGLES_2[0] + off, ANGLES_2[1] + off])
+
+
+def sample_times(scene, model, count: int) -> np.ndarray:
+    """Dimensionless sample times, exactly as ``simulate`` places them."""
+    return np.arange(count) * (model.omega_1 / scene.run.sample_rate)
+
+
+def best_of(fn, repeats: int):
+    """Best wall time of ``repeats`` calls and the last result."""
+    best, res = math.inf, None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        res = fn()
+        best = min(best, time.perf_counter() - t0)
+    return best, res
+
+
+def shaft_error(states: np.ndarray, ref: np.ndarray) -> float:
+    """Max abs error of (xi, eta) over the samples (inf if a solver stopped early)."""
+    if states.shape[0] != ref.shape[0] or not np.all(np.isfinite(states[:, :2])):
+        return math.inf
+    return float(np.max(np.abs(states[:, :2] - ref[:, :2])))
+
+
+def version(dist: str) -> str:
+    try:
+        return metadata.version(dist)
+    except metadata.PackageNotFoundError:
+        return "not installed"
+
+
+# ------------------------------------------------------------ our simulator
+def run_ours(scene, rtol=RTOL, atol=ATOL):
+    tr = simulate(scene, method="DOP853", rtol=rtol, atol=atol)
+    if not tr.success:
+        raise RuntimeError(f"stand DOP853 failed: {tr.stats.message}")
+    return tr
+
+
+def time_ours(scene, repeats):
+    """Best whole ``simulate()`` call and best integration-only time (stats.wall_time)."""
+    run_ours(make_scene(scene.balancer.count, 2, scene.balancer.initial_angles))  # warm-up
+    best_total, best_int, tr = math.inf, math.inf, None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        tr = run_ours(scene)
+        best_total = min(best_total, time.perf_counter() - t0)
+        best_int = min(best_int, tr.stats.wall_time)
+    return best_total, best_int, tr
+
+
+@njit(cache=False)
+def _rhs_loop(k, y, sp, wt, prog):
+    dy = np.empty_like(y)
+    acc = 0.0
+    for i in range(k):
+        y[0] = 1e-3 * (i % 7)
+        rhs_planar(0.37 * i, y, dy, sp, wt, prog)
+        acc += dy[y.shape[0] - 1]
+    return acc
+
+
+def rhs_only_ns(model, y0) -> float:
+    """Time of one compiled RHS call alone [ns] (numba loop, no stepper)."""
+    y = y0.copy()
+    _rhs_loop(10, y, model.sp, model.wt, model.prog)
+    k = max(20_000, int(2e7 / (50 + 40 * model.n)))
+    best, _ = best_of(lambda: _rhs_loop(k, y, model.sp, model.wt, model.prog), 3)
+    return best / k * 1e9
+
+
+# ------------------------------------------------------------------ peers
+def run_numpy_dop853(model, y0, tau):
+    sp, wt, prog = model.sp, model.wt, model.prog
+    sol = solve_ivp(lambda t, y: rhs_planar_numpy(t, y, sp, wt, prog), (0.0, tau[-1]), y0,
+                    method="DOP853", t_eval=tau, rtol=RTOL, atol=ATOL)
+    return sol.y.T, int(sol.nfev)
+
+
+def run_odeint(model, y0, tau):
+    sp, wt, prog = model.sp, model.wt, model.prog
+
+    def f(t, y):
+        dy = np.empty_like(y)
+        rhs_planar(t, y, dy, sp, wt, prog)
+        return dy
+
+    ys, info = odeint(f, y0, tau, rtol=RTOL, atol=ATOL, tfirst=True, mxstep=MXSTEP,
+                      full_output=True)
+    if info["message"] != "Integration successful.":
+        ys = ys[:0]
+    return ys, int(info["nfe"][-1])
+
+
+HDR = 4  # data header: n, len(sp), rows of prog, RHS-call counter
+
+
+def pack_model(model) -> np.ndarray:
+    """sp, wt, prog (and a call counter) in one float array for numbalsoda's ``data``."""
+    return np.concatenate([[model.n, model.sp.size, model.prog.shape[0], 0.0],
+                           model.sp, model.wt.ravel(), model.prog.ravel()]).astype(np.float64)
+
+
+def make_numbalsoda():
+    """(lsoda, dop853, cfunc address) or raise ImportError/Exception with the reason."""
+    from numba import carray, cfunc
+    from numbalsoda import dop853, lsoda, lsoda_sig
+
+    @cfunc(lsoda_sig)
+    def rhs_cfunc(t, u, du, p):
+        hdr = carray(p, (HDR,))
+        n = int(hdr[0])
+        nsp = int(hdr[1])
+        k = int(hdr[2])
+        d = carray(p, (HDR + nsp + 4 * n + 3 * k,))
+        d[3] += 1.0
+        sp = d[HDR:HDR + nsp]
+        wt = d[HDR + nsp:HDR + nsp + 4 * n].reshape((n, 4))
+        prog = d[HDR + nsp + 4 * n:].reshape((k, 3))
+        m = 2 * (2 + n)
+        rhs_planar(t, carray(u, (m,)), carray(du, (m,)), sp, wt, prog)
+
+    return lsoda, dop853, rhs_cfunc.address
+
+
+def run_numbalsoda(solver, addr, data, y0, tau, rtol=RTOL, atol=ATOL):
+    data[3] = 0.0
+    ys, ok = solver(addr, y0.copy(), tau, data=data, rtol=rtol, atol=atol, mxstep=MXSTEP)
+    return (ys if ok else ys[:0]), int(data[3])
+
+
+# ------------------------------------------------------------------ report
+def fmt_ms(s: float) -> str:
+    return f"{s * 1e3:.3g} ms" if s < 10 else f"{s:.3g} s"
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--repeats", type=int, default=7, help="timing repeats of compiled runs (best of)")
+    ap.add_argument("--numpy-repeats", type=int, default=2, help="timing repeats of the numpy peer")
+    args = ap.parse_args(argv)
+    t_start = time.perf_counter()
+
+    print("autobalancer-stand core benchmark")
+    print(f"python {platform.python_version()} on {platform.machine()} ({os.cpu_count()} cores), "
+          f"numpy {np.__version__}, scipy {version('scipy')}, numba {version('numba')}, "
+          f"numbalsoda {version('numbalsoda')}")
+    print(f"problem: n = 2 balls, Rt = {PHYS['Rt']}, h = {PHYS['h']}, H = {PHYS['H']}, e0 = {PHYS['e0']}, "
+          f"constant R_omega = {R_OMEGA:g}, balls start at {ANGLES_2} rad, {REVS_A} rev, "
+          f"{SAMPLES_PER_REV} samples/rev, rtol {RTOL:g} atol {ATOL:g} for every solver")
+    print("timings exclude numba compilation (warm-up with the same call); compiled runs best of "
+          f"{args.repeats}, numpy peer best of {args.numpy_repeats}\n")
+
+    # ---------------- reference
+    scene = make_scene(2, REVS_A, ANGLES_2)
+    model = build_planar_model(scene)
+    y0 = initial_state(scene, model)
+    run_ours(make_scene(2, 2, ANGLES_2), REF_RTOL, REF_ATOL)
+    t_ref, ref_tr = best_of(lambda: run_ours(scene, REF_RTOL, REF_ATOL), 1)
+    ref = ref_tr.state
+    tau = sample_times(scene, model, ref.shape[0])
+    fin = ref_tr.summary()["final"]
+    print(f"reference: stand DOP853 rtol {REF_RTOL:g} atol {REF_ATOL:g}: {fmt_ms(t_ref)}, "
+          f"{ref_tr.stats.nfev} RHS evals, {ref.shape[0]} samples; max |xi, eta| = "
+          f"{np.max(np.abs(ref[:, :2])):.3g}; final residual unbalance {fin['residual_unbalance']:.2g} "
+          f"of capacity (balanced), balls at {[round(a, 2) for a in fin['weights_relative_angle_deg']]} deg")
+    ref12 = run_ours(scene, 1e-12, 1e-14).state
+    print(f"  reference check: |ref - stand DOP853 @ rtol 1e-12| = {shaft_error(ref12, ref):.2g}")
+
+    # ---------------- (a)
+    print("\n(a) stand DOP853 (compiled) vs scipy solve_ivp DOP853 + numpy RHS (full linear system)")
+    t_ours, t_ours_int, tr = time_ours(scene, args.repeats)
+    err_ours = shaft_error(tr.state, ref)
+    nfev_ours = tr.stats.nfev
+    run_numpy_dop853(model, y0, tau[:5])  # warm-up
+    t_np, (ys_np, nfev_np) = best_of(lambda: run_numpy_dop853(model, y0, tau), args.numpy_repeats)
+    err_np = shaft_error(ys_np, ref)
+    speedup = t_np / t_ours
+    print(f"  stand DOP853      : {fmt_ms(t_ours)} whole simulate() call ({fmt_ms(t_ours_int)} integration "
+          f"only), {nfev_ours} RHS evals, {tr.stats.n_steps} steps, max err {err_ours:.3g}")
+    print(f"  scipy DOP853+numpy: {fmt_ms(t_np)} (full {REVS_A} rev, no scaling), {nfev_np} RHS evals, "
+          f"max err {err_np:.3g}")
+    ok_a = speedup >= 30 and err_ours <= 1.01 * err_np
+    print(f"  speed-up {speedup:.0f}x (whole call; {t_np / t_ours_int:.0f}x integration only), "
+          f"error ratio ours/scipy {err_ours / err_np:.3f} -> goal >= 30x at equal or smaller error "
+          f"(within 1 %): {'MET' if ok_a else 'NOT MET'}")
+
+    # ---------------- (b)
+    print("\n(b) compiled LSODA peer (same problem, same sample times, rtol/atol as above)")
+    rows_b = []
+    try:
+        lsoda, nb_dop853, addr = make_numbalsoda()
+    except Exception as exc:  # ImportError, or a broken build
+        reason = f"numbalsoda unavailable ({type(exc).__name__}: {exc})"
+        print(f"  numbalsoda LSODA: skipped: {reason}")
+        rows_b.append(("numbalsoda LSODA (C++)", None, None, None, f"skipped: {reason}"))
+    else:
+        data = pack_model(model)
+        for label, solver in (("numbalsoda LSODA (C++)", lsoda),
+                              ("extra: numbalsoda DOP853 (Fortran)", nb_dop853)):
+            run_numbalsoda(solver, addr, data, y0, tau[:5])  # warm-up, same signature
+            t, (ys, nfev) = best_of(lambda: run_numbalsoda(solver, addr, data, y0, tau), args.repeats)
+            err = shaft_error(ys, ref)
+            rows_b.append((label, t, nfev, err, ""))
+            print(f"  {label:36s}: {fmt_ms(t)}, {nfev} RHS evals, max err {err:.3g}; "
+                  f"stand DOP853 / it = {t_ours / t:.2f} (whole call), {t_ours_int / t:.2f} (integration)")
+        ys_nbref, _ = run_numbalsoda(nb_dop853, addr, data, y0, tau, REF_RTOL, REF_ATOL)
+        print(f"  reference check: |ref - numbalsoda DOP853 @ rtol {REF_RTOL:g}| = "
+              f"{shaft_error(ys_nbref, ref):.2g} (independent implementation)")
+    run_odeint(model, y0, tau[:5])
+    t_ode, (ys_ode, nfev_ode) = best_of(lambda: run_odeint(model, y0, tau), max(1, args.repeats // 2))
+    err_ode = shaft_error(ys_ode, ref)
+    label_ode = "extra: scipy odeint (Fortran LSODA, RHS via Python)"
+    rows_b.append((label_ode, t_ode, nfev_ode, err_ode, ""))
+    print(f"  {label_ode}: {fmt_ms(t_ode)}, {nfev_ode} RHS evals, max err {err_ode:.3g}")
+    t_lsoda = rows_b[0][1]
+    if t_lsoda is not None:
+        ok_b = t_ours <= 1.5 * t_lsoda
+        print(f"  goal stand DOP853 <= 1.5x numbalsoda LSODA time: {t_ours / t_lsoda:.2f}x "
+              f"-> {'MET' if ok_b else 'NOT MET'}")
+
+    # ---------------- (c)
+    print(f"\n(c) cost per revolution vs number of weights (identical balls, same Rt so same total "
+          f"ball mass, constant R_omega = {R_OMEGA:g}, {REVS_C} rev, rtol {RTOL:g}; balls start in two "
+          f"clumps of n/2 around {ANGLES_2} rad, +-{CLUMP_SPREAD} rad; time = integration only, "
+          f"best of {args.repeats})")
+    rows_c = []
+    for n in NS_C:
+        sc = make_scene(n, REVS_C, clumped_angles(n))
+        _, t_int, trn = time_ours(sc, args.repeats)
+        m = build_planar_model(sc)
+        ns_rhs = rhs_only_ns(m, initial_state(sc, m))
+        res = trn.summary()["final"]["residual_unbalance"]
+        rows_c.append((n, t_int / REVS_C, trn.stats.nfev / REVS_C, t_int / trn.stats.nfev, ns_rhs, res))
+    base = rows_c[0][1]
+    for n, tpr, fpr, tpf, ns_rhs, res in rows_c:
+        print(f"  n = {n:3d}: {tpr * 1e6:7.2f} us/rev, {fpr:6.1f} RHS evals/rev, "
+              f"{tpf * 1e9:6.0f} ns per RHS eval incl. stepper ({ns_rhs:5.0f} ns RHS alone), "
+              f"time(n)/time(2) = {tpr / base:5.2f} vs n/2 = {n / 2:g}, final residual unbalance {res:.1g}")
+    ok_c = all(tpr / base <= max(1.0, n / 2) for n, tpr, *_ in rows_c)
+    print(f"  goal growth no faster than linear: {'MET' if ok_c else 'NOT MET'}")
+
+    # ---------------- markdown
+    print("\n---- markdown (paste into README) ----\n")
+    print(f"Problem: 2 balls, Rt = {PHYS['Rt']}, h = {PHYS['h']}, H = {PHYS['H']}, e0 = {PHYS['e0']}, "
+          f"constant R_omega = {R_OMEGA:g}, {REVS_A} revolutions, {SAMPLES_PER_REV} samples/rev, "
+          f"rtol {RTOL:g} / atol {ATOL:g}; error = max |Δξ|, |Δη| at the samples vs stand DOP853 at "
+          f"rtol {REF_RTOL:g} / atol {REF_ATOL:g}. Python {platform.python_version()}, "
+          f"{os.cpu_count()} cores; numba compile time excluded.\n")
+    print("| solver | RHS | wall time | RHS evals | max error (ξ, η) | time / stand DOP853 |")
+    print("|---|---|---:|---:|---:|---:|")
+    print(f"| **stand DOP853** (`simulate`, whole call) | compiled O(n) | {fmt_ms(t_ours)} | {nfev_ours} | "
+          f"{err_ours:.2g} | 1 |")
+    print(f"| stand DOP853, integration only | compiled O(n) | {fmt_ms(t_ours_int)} | {nfev_ours} | "
+          f"{err_ours:.2g} | {t_ours_int / t_ours:.2f} |")
+    print(f"| scipy `solve_ivp` DOP853 | numpy, full linear system | {fmt_ms(t_np)} | {nfev_np} | "
+          f"{err_np:.2g} | {t_np / t_ours:.0f} |")
+    rhs_b = {"numbalsoda LSODA (C++)": "numba cfunc",
+             "extra: numbalsoda DOP853 (Fortran)": "numba cfunc",
+             label_ode: "compiled, called from Python"}
+    for label, t, nfev, err, note in rows_b:
+        if t is None:
+            print(f"| {label} | - | {note} | - | - | - |")
+        else:
+            print(f"| {label} | {rhs_b[label]} | {fmt_ms(t)} | {nfev} | {err:.2g} | {t / t_ours:.2f} |")
+    print(f"\nScaling: stand DOP853, identical balls (same total mass), constant R_omega = {R_OMEGA:g}, "
+          f"{REVS_C} revolutions, rtol {RTOL:g}, integration time only.\n")
+    print("| n | time / rev | RHS evals / rev | time / RHS eval (incl. stepper) | RHS alone | "
+          "time(n) / time(2) | n / 2 |")
+    print("|---:|---:|---:|---:|---:|---:|---:|")
+    for n, tpr, fpr, tpf, ns_rhs, _ in rows_c:
+        print(f"| {n} | {tpr * 1e6:.1f} µs | {fpr:.1f} | {tpf * 1e9:.0f} ns | {ns_rhs:.0f} ns | "
+              f"{tpr / base:.2f} | {n / 2:g} |")
+    print(f"\n(total benchmark run time {time.perf_counter() - t_start:.0f} s)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,79 @@
+"""Rotating-frame Jacobian at a main motion vs the book's characteristic polynomial.
+
+Oracles: digest ch5 section 4.1 and test T2 of section 8.3 -- the corrected
+model linearised at a balanced state has the roots of (5.90) as eigenvalues
+(n = 2), and for n = 3 the 8 roots plus 0 (motion along the family) and -h.
+"""
+import numpy as np
+import pytest
+
+from stand.planar import build_planar_model
+from stand.rotating import main_motion_state, rotating_jacobian, rotating_rhs
+from stand.scene import RunSettings, SpeedDrive
+from stand.scene_file import scene_from_dimensionless
+
+
+def charpoly_main(W, Rt, h, H, d):
+    """Roots of (5.90) (digest Appendix A, verified symbolically there)."""
+    k = 1 - d * d
+    a = [Rt**2 * W**8 * k, 2 * h * Rt * W**4 * (W**2 - 1),
+         ((W**2 - 1)**2 + H**2 * W**2) * h**2 + 2 * Rt * W**4 * (W**2 - 1 + 3 * h * H) + 4 * Rt**2 * W**6 * k,
+         2 * (((W**2 - 1)**2 + H**2 * W**2 + Rt * W**2 * (6 + W**2)) * h + 3 * Rt * W**4 * H + (W**2 + 1) * h**2 * H),
+         (W**2 - 1)**2 + (H**2 + 2 * h**2 + 4 * h * H) * W**2 + h**2 * H**2 + 2 * h**2 + 4 * h * H
+         + 2 * Rt * W**2 * (W**2 + 6 + 2 * h * H) + 6 * Rt**2 * W**4 * k,
+         2 * (h * (2 - Rt) * (W**2 + 1) + H * ((1 + 2 * Rt) * W**2 + 1) + h * H * (h + H)),
+         2 * (1 - Rt) * (W**2 + 1 + H * h) + (h + H)**2 + 4 * Rt**2 * W**2 * k,
+         2 * (h + H) * (1 - Rt), 1 - 2 * Rt + Rt**2 * k]
+    return np.roots(a[::-1])
+
+
+def _model(n, W, Rt, h, H, e0):
+    sc = scene_from_dimensionless(n, Rt, h, H, e0, drive=SpeedDrive(np.array([[0.0, W]])),
+                                  run=RunSettings(1.0, 1.0))
+    return build_planar_model(sc)
+
+
+def _match(ev, ref, tol):
+    ev = list(ev)
+    for r in ref:
+        i = int(np.argmin(np.abs(np.array(ev) - r)))
+        assert abs(ev[i] - r) < tol, (r, ev[i])
+        ev.pop(i)
+    return ev
+
+
+def test_T2_two_balls_eigenvalues():
+    W, Rt, h, H, a = 2.3, 0.04, 0.3, 0.2, 0.6
+    e0 = np.cos(a)  # balls at pi +- a balance e0 = cos a
+    m = _model(2, W, Rt, h, H, e0)
+    z = main_motion_state(m, [np.pi + a, np.pi - a])
+    assert np.max(np.abs(rotating_rhs(m, W, z))) < 1e-14  # an equilibrium (5.50)
+    ev = np.linalg.eigvals(rotating_jacobian(m, W, z))
+    printed = [-0.19663 + 0.62607j, -0.11933 + 0.36842j, -0.10419 + 1.29253j, -0.1008 + 3.2967j]
+    ref = printed + [np.conj(p) for p in printed]
+    _match(ev, ref, 1e-4)  # the digest quotes 5 digits
+    d = abs(np.cos(2 * a))  # d = |cos(alpha1 - alpha2)| for n = 2
+    # central differences: error ~ step^2 * |f'''| -> 1e-7 on the eigenvalues
+    _match(ev, charpoly_main(W, Rt, h, H, d), 1e-6)
+
+
+@pytest.mark.parametrize("W", [1.5, 3.0, 7.0])
+def test_three_balls_roots_plus_zero_and_minus_h(W):
+    Rt, h, H = 0.04, 0.3, 0.2
+    # a balanced configuration of 3 equal balls for e0 = 0.5 (5.50):
+    # sum e^{i alpha_j} = -3 e0; put ball 1 at pi and choose alpha_2 so that the
+    # remainder has unit length, then ball 3 closes the polygon.
+    from scipy.optimize import brentq
+    e0 = 0.5
+    f = lambda a2: abs(-3 * e0 - np.exp(1j * np.pi) - np.exp(1j * a2)) - 1
+    a2 = brentq(f, 0.5, np.pi, xtol=1e-15)
+    a3 = np.angle(-3 * e0 - np.exp(1j * np.pi) - np.exp(1j * a2))
+    alphas = [np.pi, a2, a3]
+    m = _model(3, W, Rt, h, H, e0)
+    z = main_motion_state(m, alphas)
+    # equilibrium up to the root-finder's angle error times R^2
+    assert np.max(np.abs(rotating_rhs(m, W, z))) < 1e-12 * W ** 2
+    ev = np.linalg.eigvals(rotating_jacobian(m, W, z))
+    d = abs(np.mean(np.exp(2j * np.array(alphas))))  # (5.88) for identical point balls
+    rest = _match(ev, charpoly_main(W, Rt, h, H, d), 1e-6)
+    assert sorted(rest, key=lambda x: x.real) == pytest.approx([-h, 0.0], abs=1e-6)
