@@ -42,7 +42,7 @@ NOT_FINITE = -2
 N_ACCEPTED, N_REJECTED, N_FEV = 0, 1, 2
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always", error_model="numpy")
 def _stage_state(y, K, s, h, out):
     n = y.shape[0]
     for i in range(n):
@@ -52,7 +52,7 @@ def _stage_state(y, K, s, h, out):
         out[i] = y[i] + h * acc
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_step,
                 sample_dt, k_next, out, stats, max_steps):
     """Advance from ``t`` to ``t_end`` writing samples ``k*sample_dt`` into ``out``.

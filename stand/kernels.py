@@ -12,7 +12,7 @@ from .planar import rhs_planar
 PLANAR = 0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always", error_model="numpy")
 def rhs(kind, t, y, dy, sp, wt, prog):
     """Evaluate the right-hand side of model ``kind`` into ``dy``."""
     if kind == PLANAR:

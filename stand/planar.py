@@ -97,13 +97,7 @@ class PlanarModel:
         """Rotor angle [rad] and dimensionless speed at samples ``tau``."""
         if self.free:
             return y[:, self.nq - 1], y[:, 2 * self.nq - 1]
-        phi = np.empty_like(tau)
-        R = np.empty_like(tau)
-        sp = self.sp
-        for i, t in enumerate(tau):
-            phi[i], R[i], _ = rotor_kinematics(t, self.prog, sp[COAST_T0], sp[COAST_T],
-                                               sp[COAST_R0], sp[COAST_PHI0])
-        return phi, R
+        return rotor_kinematics_many(np.asarray(tau, float), self.prog, self.sp)
 
 
 def build_planar_model(scene: Scene) -> PlanarModel:
@@ -165,7 +159,18 @@ def initial_state(scene: Scene, model: PlanarModel) -> np.ndarray:
     return y
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
+def rotor_kinematics_many(tau, prog, sp):
+    """Rotor angle and speed of the prescribed programme at many times."""
+    phi = np.empty_like(tau)
+    R = np.empty_like(tau)
+    for i in range(tau.shape[0]):
+        phi[i], R[i], _ = rotor_kinematics(tau[i], prog, sp[COAST_T0], sp[COAST_T],
+                                           sp[COAST_R0], sp[COAST_PHI0])
+    return phi, R
+
+
+@njit(cache=True, error_model="numpy")
 def drive_torque(tau, phi, dphi, sp):
     """Dimensionless drive torque m_rot = M_rot / (J_0 omega_1^2), models 1-3."""
     model = sp[MODEL]
@@ -177,7 +182,7 @@ def drive_torque(tau, phi, dphi, sp):
     return m
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always", error_model="numpy")
 def rhs_planar(tau, y, dy, sp, wt, prog):
     """Right-hand side, O(n): writes dy/dtau into ``dy``."""
     n = wt.shape[0]
@@ -215,6 +220,9 @@ def rhs_planar(tau, y, dy, sp, wt, prog):
         e = wt[j, EPS]
         em = e * wt[j, MU]
         g = -wt[j, H] * da
+        # keep sin/cos for the second pass in the output slots not yet written
+        dy[2 + j] = sj
+        dy[nq + 2 + j] = cj
         a11 -= em * sj * sj
         a12 += em * sj * cj
         a22 -= em * cj * cj
@@ -240,14 +248,15 @@ def rhs_planar(tau, y, dy, sp, wt, prog):
         det = a11 * a22 - a12 * a12
         x1 = (b1 * a22 - a12 * b2) / det
         x2 = (a11 * b2 - a12 * b1) / det
+    for j in range(n):
+        sj = dy[2 + j]
+        cj = dy[nq + 2 + j]
+        ddj = -wt[j, H] * y[nq + 2 + j] + wt[j, MU] * (x1 * sj - x2 * cj)
+        dy[nq + 2 + j] = ddj - ddphi
     for i in range(nq):
         dy[i] = y[nq + i]
     dy[nq] = x1
     dy[nq + 1] = x2
-    for j in range(n):
-        aj = phi + y[2 + j]
-        ddj = -wt[j, H] * y[nq + 2 + j] + wt[j, MU] * (x1 * math.sin(aj) - x2 * math.cos(aj))
-        dy[nq + 2 + j] = ddj - ddphi
     if free:
         dy[2 * nq - 1] = ddphi
 

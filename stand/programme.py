@@ -35,7 +35,7 @@ def build_table(times: np.ndarray, speeds: np.ndarray) -> np.ndarray:
     return np.column_stack([times, speeds, phi])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def programme_kinematics(tau, prog):
     """(phi, R, dR/dtau) of the piecewise-linear programme at ``tau``."""
     k = prog.shape[0]
@@ -49,7 +49,7 @@ def programme_kinematics(tau, prog):
     return prog[i, 2] + prog[i, 1] * dt + 0.5 * a * dt * dt, prog[i, 1] + a * dt, a
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rotor_kinematics(tau, prog, coast_t0, coast_T, coast_R0, coast_phi0):
     """Rotor angle, speed and acceleration (phi, phi', phi'') at ``tau``.
 
