@@ -37,6 +37,7 @@ REACHED_END = 0
 STEP_BUDGET = 1
 STEP_TOO_SMALL = -1
 NOT_FINITE = -2
+DIVERGED = -4
 
 # stats vector layout
 N_ACCEPTED, N_REJECTED, N_FEV = 0, 1, 2
@@ -54,7 +55,7 @@ def _stage_state(y, K, s, h, out):
 
 @njit(cache=True, error_model="numpy")
 def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_step,
-                sample_dt, k_next, out, stats, max_steps):
+                sample_dt, k_next, out, stats, max_steps, limit):
     """Advance from ``t`` to ``t_end`` writing samples ``k*sample_dt`` into ``out``.
 
     Parameters
@@ -80,6 +81,8 @@ def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_
         Accepted steps, rejected steps, rhs evaluations (incremented).
     max_steps : int
         Maximum accepted + rejected steps in this call.
+    limit : float
+        Stop with ``DIVERGED`` when an accepted state has a component beyond it.
 
     Returns
     -------
@@ -208,7 +211,12 @@ def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_
                         out[k_next, i] = v + y[i]
                 k_next += 1
         t = t_new
+        big = False
         for i in range(n):
             y[i] = y_new[i]
             f[i] = K[N_STAGES, i]
+            if abs(y_new[i]) > limit:
+                big = True
+        if big:
+            return DIVERGED, t, h_abs, k_next
     return REACHED_END, t, h_abs, k_next

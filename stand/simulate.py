@@ -20,10 +20,9 @@ import time as _time
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from ._jit import njit
-from .dop853 import (NOT_FINITE, REACHED_END, STEP_BUDGET, STEP_TOO_SMALL,
+from .dop853 import (DIVERGED, NOT_FINITE, REACHED_END, STEP_BUDGET, STEP_TOO_SMALL,
                      dop853_loop)
 from .planar import (D11, D22, H0, K22, WTARGET, PlanarModel, build_planar_model,
                      initial_state, rhs_planar, rhs_planar_numpy)
@@ -35,6 +34,10 @@ from .weights import EPS, H, MU
 #: fastest oscillation (explicit methods would be limited by stability, not accuracy)
 STIFFNESS_RATIO = 30.0
 CHUNK_STEPS = 200_000
+#: a dimensionless state component beyond this (1e12 r*, rad or omega_1) means divergence
+DIVERGENCE_LIMIT = 1e12
+_DIVERGED = ("State diverged (|state| > 1e12 in units of r*, rad, omega_1: the motion is unbounded, "
+             "e.g. negative damping or a non-physical parameter)")
 
 
 @dataclass
@@ -227,7 +230,7 @@ def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
     if method == "DOP853":
         k = _run_dop853(model, y0, tau_end, rtol, atol, dts, out, stats, run.max_steps, progress)
     else:
-        k = _run_scipy(model, y0, tau_end, rtol, atol, dts, out, stats, method)
+        k = _run_scipy(model, y0, tau_end, rtol, atol, dts, out, stats, method, run.max_steps)
     stats.wall_time = _time.perf_counter() - t0
     return _trajectory(scene, model, out[:k], dts, stats)
 
@@ -257,7 +260,8 @@ def _run_dop853(model, y0, tau_end, rtol, atol, dts, out, stats, max_steps, prog
                 status = STEP_BUDGET
                 break
             status, t, h, k_next = dop853_loop(PLANAR, sp, wt, prog, t, y, f, h, seg_end, rtol,
-                                               atol, cap, np.inf, dts, k_next, out, st, budget)
+                                               atol, cap, np.inf, dts, k_next, out, st, budget,
+                                               DIVERGENCE_LIMIT)
             if bar is not None:
                 bar.update(t / model.omega_1 - bar.n)
             if status not in (REACHED_END, STEP_BUDGET):
@@ -276,6 +280,9 @@ def _run_dop853(model, y0, tau_end, rtol, atol, dts, out, stats, max_steps, prog
     elif status == STEP_BUDGET or status == REACHED_END:
         stats.status, stats.success = -3, False
         stats.message = f"Step budget run.max_steps = {max_steps} exhausted at t = {t_s:.6g} s; samples up to there are kept."
+    elif status == DIVERGED:
+        stats.status, stats.success = -2, False
+        stats.message = f"{_DIVERGED} at t = {t_s:.6g} s; samples up to there are kept."
     elif status == NOT_FINITE:
         stats.status, stats.success = -2, False
         stats.message = (f"Non-finite state at t = {t_s:.6g} s (the motion diverged or a parameter is "
@@ -311,16 +318,35 @@ def _progress_bar(total_s):
                 bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} s [{elapsed}<{remaining}]")
 
 
-def _run_scipy(model, y0, tau_end, rtol, atol, dts, out, stats, method):
+class _NonFinite(Exception):
+    pass
+
+
+def _run_scipy(model, y0, tau_end, rtol, atol, dts, out, stats, method, max_steps):
+    """Step one of scipy's ``OdeSolver`` classes, sampling by its dense output.
+
+    Stepping the solver object (rather than calling ``solve_ivp``) keeps the
+    samples computed before a failure, honours the step budget and checks each
+    step for non-finite or diverged states.
+    """
+    from scipy.integrate import BDF, DOP853, LSODA, Radau
+
     sp, wt, prog = model.sp, model.wt, model.prog
     n_samples = out.shape[0]
     if method == "numpy-DOP853":
-        fun = lambda t, y: rhs_planar_numpy(t, y, sp, wt, prog)
-        kw = {"method": "DOP853"}
+        def fun(t, y):
+            dy = rhs_planar_numpy(t, y, sp, wt, prog)
+            if not np.all(np.isfinite(dy)):
+                raise _NonFinite(t)
+            return dy
+
+        cls, kw = DOP853, {}
     else:
         def fun(t, y):
             dy = np.empty_like(y)
             rhs_planar(t, y, dy, sp, wt, prog)
+            if not np.all(np.isfinite(dy)):
+                raise _NonFinite(t)
             return dy
 
         def jac(t, y):
@@ -330,35 +356,63 @@ def _run_scipy(model, y0, tau_end, rtol, atol, dts, out, stats, method):
             _jac_fd(PLANAR, t, y, f0, sp, wt, prog, J)
             return J
 
-        kw = {"method": method, "jac": jac}
+        cls = {"Radau": Radau, "BDF": BDF, "LSODA": LSODA}[method]
+        kw = {"jac": jac}
     y = y0.copy()
     t = 0.0
     k_next = 1
+    steps = 0
     atol_v = np.full(y.size, atol)
+    fail = None
     for seg_end in _segments(model, tau_end):
-        ts = np.arange(k_next, n_samples) * dts
-        ts = ts[ts <= seg_end]
-        t_eval = ts if (ts.size and ts[-1] == seg_end) else np.append(ts, seg_end)
-        with np.errstate(all="ignore"):
-            sol = solve_ivp(fun, (t, seg_end), y, t_eval=t_eval, rtol=rtol, atol=atol_v, **kw)
-        stats.nfev += int(sol.nfev)
-        stats.njev += int(sol.njev)
-        stats.nlu += int(sol.nlu)
-        m = min(ts.size, sol.y.shape[1])
-        out[k_next:k_next + m] = sol.y[:, :m].T
-        k_next += m
-        if sol.status != 0 or not np.all(np.isfinite(sol.y)):
-            bad = ~np.all(np.isfinite(out[:k_next]), axis=1)
-            if bad.any():
-                k_next = int(np.argmax(bad))
-            t_stop = sol.t[-1] / model.omega_1 if sol.t.size else t / model.omega_1
-            stats.status, stats.success = -1, False
-            stats.message = f"{method} stopped at t = {t_stop:.6g} s: {sol.message}; samples up to there are kept."
-            return k_next
+        try:
+            with np.errstate(all="ignore"):
+                solver = cls(fun, t, y, seg_end, rtol=rtol, atol=atol_v, **kw)
+                while solver.status == "running":
+                    if steps >= max_steps:
+                        fail = (-3, f"Step budget run.max_steps = {max_steps} exhausted")
+                        break
+                    msg = solver.step()
+                    steps += 1
+                    if solver.status == "failed":
+                        fail = (-1, f"{method} failed: {msg}")
+                        break
+                    if not np.all(np.isfinite(solver.y)):
+                        fail = (-2, "Non-finite state (the motion diverged or a parameter is non-physical)")
+                        break
+                    if np.max(np.abs(solver.y)) > DIVERGENCE_LIMIT:
+                        fail = (-2, _DIVERGED)
+                        break
+                    if k_next < n_samples and k_next * dts <= solver.t:
+                        dense = solver.dense_output()
+                        k_end = min(n_samples, int(np.floor(solver.t / dts * (1 + 1e-15))) + 1)
+                        ts = np.arange(k_next, k_end) * dts
+                        ts = ts[ts <= solver.t]
+                        if ts.size:
+                            out[k_next:k_next + ts.size] = np.atleast_2d(dense(ts)).T
+                            k_next += ts.size
+        except _NonFinite:
+            fail = (-2, "Non-finite right-hand side (the motion diverged or a parameter is non-physical)")
+        except (ValueError, np.linalg.LinAlgError) as exc:
+            fail = (-1, f"{method} failed: {exc}")
+        stats.nfev += int(solver.nfev) if "solver" in locals() else 0
+        stats.njev += int(getattr(solver, "njev", 0)) if "solver" in locals() else 0
+        stats.nlu += int(getattr(solver, "nlu", 0)) if "solver" in locals() else 0
+        if fail is not None:
+            break
         t = seg_end
-        y = sol.y[:, -1].copy()
-    stats.status, stats.success = 0, True
-    stats.message = "The solver successfully reached the end of the integration interval."
+        y = solver.y.copy()
+    stats.n_steps = steps
+    if fail is None:
+        stats.status, stats.success = 0, True
+        stats.message = "The solver successfully reached the end of the integration interval."
+    else:
+        good = np.all(np.isfinite(out[:k_next]), axis=1)
+        if not good.all():
+            k_next = int(np.argmin(good))
+        t_stop = (solver.t if "solver" in locals() else t) / model.omega_1
+        stats.status, stats.success = fail[0], False
+        stats.message = f"{fail[1]} at t = {t_stop:.6g} s; samples up to there are kept."
     return k_next
 
 
