@@ -1,0 +1,78 @@
+"""Classify the motion regime at the end of a simulated run.
+
+Regimes (digest ch5 section 0.1 and ch2_ch3 section 7.2 item 3):
+
+* ``"main"``   -- weights fixed relative to the rotor and the rotor balanced
+  (residual unbalance small compared with the capacity, or, beyond capacity,
+  the weights together on the light side: "maximally balanced");
+* ``"side"``   -- weights fixed relative to the rotor, rotor left unbalanced;
+* ``"quasi-periodic"`` -- weights slip relative to the rotor at a steady mean
+  speed Omega (stuck balls), close to the natural frequency;
+* ``"transient"`` -- none of the above within the window (still settling).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass
+class Regime:
+    """Outcome of :func:`classify`.
+
+    Attributes
+    ----------
+    name : str
+        "main", "side", "quasi-periodic", "transient" or "no weights".
+    residual : float
+        Final |psi| / S (total unbalance in units of the capacity).
+    weight_speed : ndarray
+        Mean absolute weight speeds over the window, in units of omega_1.
+    rotor_speed : float
+        Mean rotor speed over the window, in units of omega_1.
+    spread : float
+        Largest change of a weight's angle relative to the rotor over the window [rad].
+    """
+
+    name: str
+    residual: float
+    weight_speed: np.ndarray
+    rotor_speed: float
+    spread: float
+
+
+def classify(traj, window: float = 0.2, sync_tol: float = 1e-3, balance_tol: float = 1e-2) -> Regime:
+    """Classify the last ``window`` fraction of a :class:`stand.simulate.Trajectory`.
+
+    Parameters
+    ----------
+    window : float
+        Fraction of the run (at the end) to examine.
+    sync_tol : float
+        Weights are synchronous when their mean speed relative to the rotor is
+        below ``sync_tol`` times the rotor speed.
+    balance_tol : float
+        "main" when |psi|/S < balance_tol (within capacity) or when, beyond
+        capacity, |psi|/S is within balance_tol of e0 - 1.
+    """
+    sc = traj.scene
+    w1 = sc.natural_frequency
+    sel = traj.t >= traj.t[0] + (1 - window) * (traj.t[-1] - traj.t[0])
+    rotor = float(np.mean(traj.rotor_speed[sel])) / w1
+    S = sc.balancer.capacity
+    if sc.balancer.count == 0 or S == 0:
+        return Regime("no weights", float("nan"), np.zeros(0), rotor, 0.0)
+    ws = np.mean(traj.weight_speed[sel], axis=0) / w1
+    rel = traj.weight_angle[sel] - traj.rotor_angle[sel, None]
+    spread = float(np.max(np.ptp(rel, axis=0)))
+    psi = float(abs(traj.residual_unbalance()[-1])) / S
+    e0 = sc.rotor.unbalance / S
+    sync = np.all(np.abs(ws - rotor) < sync_tol * max(abs(rotor), 1e-12))
+    if sync:
+        target = max(e0 - 1.0, 0.0)
+        name = "main" if abs(psi - target) < balance_tol else "side"
+    else:
+        slow = np.all(ws < rotor) and np.ptp(ws) < 1e-3 * max(abs(rotor), 1e-12)
+        name = "quasi-periodic" if slow else "transient"
+    return Regime(name, psi, ws, rotor, spread)
