@@ -2,6 +2,7 @@
 
     stand run SCENE.toml -o RUN.h5 [--json] [--method M] [--no-progress]
     stand accuracy SCENE.toml [--json] [--rtols 1e-4,1e-6,...] [--methods DOP853,Radau]
+    stand theory SCENE.toml [--json] [--plot MAP.png] [--max-speed REV_PER_S]
 
 Exit codes: 0 success; 1 the simulation stopped early (what was computed is
 still written); 2 invalid input (scene, arguments, files).
@@ -81,6 +82,43 @@ def _cmd_accuracy(args) -> int:
     return 0
 
 
+def _cmd_theory(args) -> int:
+    from .scene_file import load_scene
+    from .theory.speedmap import plot_speed_map, scene_theory
+
+    scene = load_scene(args.scene)
+    if args.plot and not Path(args.plot).resolve().parent.exists():
+        raise FileNotFoundError(f"plot directory {str(Path(args.plot).parent)!r} does not exist")
+    th = scene_theory(scene, R_max=args.max_speed * 2 * np.pi / scene.natural_frequency
+                      if args.max_speed else None)
+    if args.plot:
+        plot_speed_map(th, args.plot)
+    doc = th.to_dict()
+    if args.json:
+        print(json.dumps(_jsonable(doc), indent=2))
+        return 0
+    f0 = doc["natural_frequency_hz"]
+    print(f"{scene.name}: natural frequency f0 = {f0:.4g} Hz; operating speed {doc['operating_speed_hz']:.4g} rev/s")
+    print("stable motions by speed band:")
+    for b in doc["stable_bands"]:
+        print(f"  {b['from_hz']:9.4g} - {b['to_hz']:9.4g} rev/s  ({b['R_from']:.4g}-{b['R_to']:.4g} f0): "
+              + (", ".join(b["motions"]) or "nothing stable"))
+    print("critical speeds:")
+    for c in doc["critical_speeds_hz"]:
+        print(f"  {c['hz']:9.4g} rev/s ({c['R']:.5g} f0): {c['motion']} {c['kind']} stability [{c['source']}]")
+    q = doc["qp"]
+    if q.get("escape_speed_hz"):
+        print(f"stuck balls (quasi-periodic) possible below {q['escape_speed_hz']:.4g} rev/s (escape speed)")
+    if q.get("stable_root_hz"):
+        print(f"  at the operating speed: balls at {q['stable_root_hz']:.4g} rev/s, precession "
+              f"{q['precession_amplitude_m']:.3g} m, nutation {q['nutation_amplitude_m']:.3g} m, {q['shape']}")
+    for w in doc["warnings"]:
+        print(f"note: {w}")
+    if args.plot:
+        print(f"speed map written to {args.plot}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .simulate import METHODS
 
@@ -99,6 +137,12 @@ def build_parser() -> argparse.ArgumentParser:
     a.add_argument("--rtols", default=None, help="comma-separated relative tolerances")
     a.add_argument("--methods", default=None, help="comma-separated methods (default: automatic)")
     a.set_defaults(func=_cmd_accuracy)
+    t = sub.add_parser("theory", help="steady motions, stability bands, critical speeds, stuck-ball law")
+    t.add_argument("scene", help="scene file (TOML)")
+    t.add_argument("--json", action="store_true", help="print JSON")
+    t.add_argument("--plot", default=None, help="write the speed map chart (PNG)")
+    t.add_argument("--max-speed", type=float, default=None, help="upper end of the map [rev/s]")
+    t.set_defaults(func=_cmd_theory)
     return p
 
 
@@ -109,6 +153,7 @@ def main(argv=None) -> int:
     try:
         return args.func(args)
     except (SceneError, ValueError, FileNotFoundError, PermissionError, IsADirectoryError) as exc:
+        # TheoryError is a ValueError: out-of-scope scenes end here with their reason
         print(f"stand {args.command}: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:

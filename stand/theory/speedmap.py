@@ -1,0 +1,377 @@
+"""A scene's theory: speed bands with their stable motions, critical speeds, QP law.
+
+This answers a designer's first questions -- *from which speed does the
+balancer balance, what can go wrong below and above, what will the laser spot
+show?* -- for a scene, from the theory of :mod:`stand.theory.main_motion`
+(main motion, (5.90)), :mod:`stand.theory.side` (side motions and the e0 > 1
+main motion, rotating-frame Jacobian) and :mod:`stand.theory.qp`
+(quasi-periodic motions, (5.181)-(5.237)).
+
+Scope (the book's chapter 5 model): identical weights with a common relative
+drag h, isotropic supports.  For anisotropic supports only the engineering
+criterion of section 2.5.1 is reported (digest ch2_ch3 section 2.1); the
+rotating-frame steady motions do not exist there.
+"""
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from ..planar import build_planar_model
+from ..scene import Scene, dimensionless
+from . import main_motion as mm
+from . import qp
+from . import side
+
+#: side motions are evaluated (finite-difference Jacobians) only up to this many weights
+MAX_WEIGHTS_FOR_SIDE = 8
+
+
+class TheoryError(ValueError):
+    """The scene is outside the scope of the theory; the message says why."""
+
+
+@dataclass
+class CriticalSpeedReport:
+    """A speed where a motion gains or loses stability (or starts/stops existing)."""
+
+    R: float
+    hz: float
+    motion: str
+    kind: str  #: "gains" / "loses" stability on increasing speed
+    source: str = "numeric"
+
+
+@dataclass
+class Band:
+    """A speed band and the motions stable throughout it."""
+
+    R_from: float
+    R_to: float
+    from_hz: float
+    to_hz: float
+    motions: list
+
+
+@dataclass
+class SceneTheory:
+    """Everything :func:`scene_theory` finds; ``to_dict()`` is the JSON of ``stand theory``."""
+
+    scene: str
+    natural_frequency_hz: float
+    parameters: dict
+    critical_speeds: list
+    bands: list
+    qp: dict
+    closed_forms: dict
+    conservative: dict
+    anisotropic: dict | None
+    operating_speed_R: float
+    warnings: list = field(default_factory=list)
+
+    def to_dict(self) -> dict:
+        f0 = self.natural_frequency_hz
+        return {
+            "scene": self.scene,
+            "natural_frequency_hz": f0,
+            "parameters": self.parameters,
+            "operating_speed_hz": self.operating_speed_R * f0,
+            "critical_speeds_hz": [asdict(c) for c in self.critical_speeds],
+            "stable_bands": [{"from_hz": b.from_hz, "to_hz": b.to_hz, "motions": b.motions,
+                              "R_from": b.R_from, "R_to": b.R_to} for b in self.bands],
+            "qp": self.qp,
+            "closed_forms": self.closed_forms,
+            "conservative": self.conservative,
+            "anisotropic": self.anisotropic,
+            "warnings": self.warnings,
+        }
+
+
+def _operating_speed(scene: Scene) -> float:
+    """The scene's final (held) rotor speed [rad/s]."""
+    d = scene.drive
+    if d.kind == "speed":
+        if d.coast_down_start is not None:
+            return float(np.max(d.programme[:, 1]))
+        return float(d.programme[-1, 1])
+    return float(d.target_speed)
+
+
+def anisotropic_ranges(scene: Scene) -> dict:
+    """Engineering criterion for anisotropic supports, (2.29)-(2.30) (digest ch2_ch3 2.1).
+
+    Autobalancing for omega in (omega_min, omega_2) U (omega_max, inf) with
+    omega_2 = sqrt((c_min + c_max) / (2 M_Sigma)); the m/M -> 0 limit.
+    """
+    s = scene.supports
+    Ms = scene.total_mass
+    cmin, cmax = sorted((s.stiffness_x, s.stiffness_y))
+    w = [math.sqrt(cmin / Ms), math.sqrt((cmin + cmax) / (2 * Ms)), math.sqrt(cmax / Ms)]
+    hz = [x / (2 * math.pi) for x in w]
+    return {"critical_speeds_hz": hz,
+            "balancing_bands_hz": [[hz[0], hz[1]], [hz[2], None]],
+            "source": "engineering criterion (2.29)-(2.30), m/M -> 0"}
+
+
+def _check_scope(scene: Scene, p) -> list:
+    b = scene.balancer
+    notes = []
+    if b.count == 0:
+        raise TheoryError("theory: the scene has no weights ([balancer] type = \"none\")")
+    for name, arr in (("mass", b.mass), ("radius", b.radius), ("drag", b.drag), ("inertia", b.inertia)):
+        a = np.asarray(arr, float)
+        if np.ptp(a) > 1e-12 * max(np.max(np.abs(a)), 1e-300):
+            raise TheoryError(f"theory: balancer.{name} differs between weights ({a.tolist()}); the "
+                              "steady-motion theory of chapter 5 needs identical weights")
+    if scene.drive.kind != "speed":
+        notes.append("torque drive: the theory assumes the prescribed speed drive.target_speed")
+    return notes
+
+
+def scene_theory(scene: Scene, R_max: float | None = None, n_grid: int = 240) -> SceneTheory:
+    """Speed bands, critical speeds and the QP law of a scene.
+
+    Parameters
+    ----------
+    scene : Scene
+        Identical weights (balls or pendulums), isotropic supports.
+    R_max : float, optional
+        Upper end of the speed map (units of omega_1); default covers the
+        operating speed, the QP escape speed and the main motion's last
+        critical speed.
+    n_grid : int
+        Log-grid points over the map before the band edges are refined.
+    """
+    p = dimensionless(scene)
+    notes = _check_scope(scene, p)
+    f0 = p.omega_1 / (2 * math.pi)
+    n, Rt, H, e0 = p.n, p.Rt, p.H_x, p.e0
+    h = float(p.h[0])
+    iso = scene.supports.stiffness_x == scene.supports.stiffness_y and p.H_x == p.H_y
+    aniso = None if iso else anisotropic_ranges(scene)
+    R_op = _operating_speed(scene) / p.omega_1
+    params = {"n": n, "R_m": p.R_m, "Rt": Rt, "h": h, "H": H, "e0": e0,
+              "R_omega2": p.R_omega2, "r_star_m": p.r_star, "operating_R": R_op}
+    if not iso:
+        notes.append("anisotropic supports: steady motions of chapter 5 need isotropic supports; "
+                     "only the engineering-criterion ranges (section 2.5.1) are given")
+        return SceneTheory(scene.name, f0, params, [], [], {}, {}, {}, aniso, R_op, notes)
+
+    # --- main motion: configuration parameter d
+    if e0 <= 1:
+        configs = side.main_motion_angles(e0, n)
+        d = mm.d_from_angles(configs[0].alphas) if configs else 1.0
+        if n >= 3:
+            notes.append("n >= 3: the main motions form a family; d is that of one member "
+                         f"(d = {d:.4g}); other members may have other critical speeds -- see "
+                         "closed_forms.unbalance_independent_threshold_R")
+    else:
+        d = None
+    params["d"] = d
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        R_star = qp.escape_speed(Rt, h, H) if h > 0 and H > 0 else math.inf
+        main_crit = mm.critical_speeds(Rt, h, H, d, R_min=0.05, R_max=1000.0) if d is not None else []
+    notes += sorted({str(w.message) for w in caught})
+    last = max([c.R for c in main_crit], default=1.0)
+    if R_max is None:
+        R_max = max(3.0, 1.5 * R_op, 1.3 * last, 1.2 * R_star if math.isfinite(R_star) else 0.0)
+        R_max = min(R_max, 1000.0)
+    R_min = 0.1
+    model = build_planar_model(scene)
+
+    def motions(R: float) -> tuple:
+        out = []
+        if d is not None:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                if mm.is_stable(R, Rt, h, H, d):
+                    out.append("main")
+        if n <= MAX_WEIGHTS_FOR_SIDE:
+            for rep in side.stable_steady_motions(model, R):
+                if rep.stable and (rep.kind == "side" or d is None):
+                    out.append(rep.label)
+        if R < R_star:
+            out.append("quasi-periodic")
+        return tuple(sorted(set(out)))
+
+    grid = np.geomspace(R_min, R_max, n_grid)
+    exact = sorted({c.R for c in main_crit if R_min < c.R < R_max}
+                   | ({R_star} if R_min < R_star < R_max else set()))
+    pts = np.unique(np.concatenate([grid, exact]))
+    sets = [motions(R) for R in pts]
+    edges = []  # (R_left_set_end, R_right_set_start, left_set, right_set)
+    for i in range(len(pts) - 1):
+        if sets[i] != sets[i + 1]:
+            a, b, sa, sb = pts[i], pts[i + 1], sets[i], sets[i + 1]
+            hit = [x for x in exact if a <= x <= b]
+            if hit:
+                # an exact critical speed sits in this interval: use it as the edge
+                edges.append((hit[0], sa, sb))
+                continue
+            for _ in range(40):
+                mid = math.sqrt(a * b)
+                sm = motions(mid)
+                if sm == sa:
+                    a = mid
+                else:
+                    b, sb = mid, sm
+                if b / a - 1 < 1e-9:
+                    break
+            edges.append((math.sqrt(a * b), sa, sets[i + 1]))
+    bounds = [R_min] + [e[0] for e in edges] + [R_max]
+    band_sets = [sets[0]] + [e[2] for e in edges]
+    bands = [Band(bounds[i], bounds[i + 1], bounds[i] * f0, bounds[i + 1] * f0, list(band_sets[i]))
+             for i in range(len(band_sets)) if bounds[i + 1] > bounds[i]]
+    bands = _merge_bands(bands, f0)
+
+    crit = [CriticalSpeedReport(c.R, c.R * f0, "main", c.kind, "(5.90) spectral abscissa"
+                                if (h > 0 or H > 0) else "(5.98) conservative") for c in main_crit]
+    if math.isfinite(R_star):
+        crit.append(CriticalSpeedReport(R_star, R_star * f0, "quasi-periodic", "loses",
+                                        "escape speed R* = 1 + 2Rt/(hH) (5.182)/(5.226)"))
+    for R, sa, sb in edges:
+        if any(abs(R - c.R) < 1e-9 * R for c in crit):
+            continue
+        for label in sorted(set(sa) ^ set(sb)):
+            if label in ("main", "quasi-periodic"):
+                continue
+            crit.append(CriticalSpeedReport(R, R * f0, label, "gains" if label in sb else "loses"))
+    crit.sort(key=lambda c: c.R)
+
+    return SceneTheory(scene.name, f0, params, crit, bands, _qp_section(R_op, Rt, h, H, e0, p, f0, R_star),
+                       _closed_forms(Rt, h, H, d, e0, n, f0), _conservative(Rt, d, f0), aniso, R_op, notes)
+
+
+def _merge_bands(bands, f0):
+    out = []
+    for b in bands:
+        if out and out[-1].motions == b.motions:
+            out[-1].R_to, out[-1].to_hz = b.R_to, b.R_to * f0
+        else:
+            out.append(b)
+    return out
+
+
+def _qp_section(R, Rt, h, H, e0, p, f0, R_star) -> dict:
+    out = {"escape_speed_hz": R_star * f0 if math.isfinite(R_star) else None,
+           "escape_speed_R": R_star if math.isfinite(R_star) else None,
+           "speed_hz": R * f0, "roots_hz": [], "stable_root_hz": None,
+           "precession_amplitude_m": None, "nutation_amplitude_m": None, "petals": None, "shape": None}
+    if not (h > 0 and H > 0) or R <= 0:
+        return out
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        roots = qp.qp_roots(R, Rt, h, H)
+        out["roots_hz"] = [float(r * f0) for r in roots]
+        stable = [r for r in roots if qp.qp_stability(r, R, Rt, h, H, n=p.n).stable]
+    if stable:
+        Om = float(stable[0])
+        law = qp.spot_law(Om, R, e0, H, p.R_m)
+        out.update({"stable_root_hz": Om * f0, "stable_root_R": Om,
+                    "precession_amplitude_m": law.A_P * p.r_star,
+                    "nutation_amplitude_m": law.A_N * p.r_star,
+                    "k": law.k, "petals": law.petals, "shape": law.shape})
+    return out
+
+
+def _closed_forms(Rt, h, H, d, e0, n, f0) -> dict:
+    out = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        if h > 0 and H > 0:
+            out["R1_max_5_127"] = mm.R1_max_closed_form(Rt, h, H)
+            out["R1_max_5_127_hz"] = out["R1_max_5_127"] * f0
+            out["R1_max_5_127_valid"] = bool(mm.R1_max_validity(Rt, h, H))
+            if d is not None:
+                out["R1_first_order_5_125"] = mm.R1_first_order(Rt, h, H, d)
+                out["R1_refined_5_126"] = mm.R1_refined(Rt, h, H, d)
+            hc = mm.high_speed_h_crit(Rt, H)
+            out["high_speed_h_crit_5_96"] = hc
+            out["balances_at_high_speed"] = bool(h > hc)
+            try:
+                thr = mm.unbalance_independent_threshold(Rt, h, H)
+                out["unbalance_independent_threshold_R"] = thr
+                out["unbalance_independent_threshold_hz"] = None if thr is None else thr * f0
+            except Exception as exc:  # pragma: no cover - reported, not fatal
+                out["unbalance_independent_threshold_R"] = None
+                out["unbalance_independent_threshold_error"] = str(exc)
+            out["escape_speed_R_5_182"] = qp.escape_speed(Rt, h, H)
+            thr = qp.qp_thresholds(Rt, h, H)
+            out["qp_three_roots_from_R"] = thr.one_to_three
+            out["qp_one_root_above_R"] = thr.three_to_one
+        windows = {}
+        for c in side.identical_side_classes(n):
+            if abs(c.ek) > e0 and e0 > 0:
+                w = side.side_window(e0, c.ek, H)
+                if w is not None:
+                    windows[f"side k={c.k}"] = {"R1": w[0], "R2": w[1], "hz": [w[0] * f0, w[1] * f0]}
+        out["side_motion_gap_5_70"] = windows
+    return out
+
+
+def _conservative(Rt, d, f0) -> dict:
+    """Conservative (h = H = 0) critical speeds, the digest's section 6.5 comparison."""
+    out = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for key, dd in (("scene_configuration", d), ("small_or_large_unbalance_d1", 1.0),
+                        ("balls_90deg_apart_d0", 0.0)):
+            if dd is None:
+                continue
+            cs = mm.critical_speeds(Rt, 0.0, 0.0, dd, R_min=0.5, R_max=1000.0)
+            out[key] = {"d": dd, "R": [c.R for c in cs], "hz": [c.R * f0 for c in cs],
+                        "kinds": [c.kind for c in cs]}
+    return out
+
+
+def plot_speed_map(th: SceneTheory, path) -> None:
+    """Draw the speed map: bands of stable motions over speed, criticals marked.
+
+    Written atomically (temporary file + rename).
+    """
+    import os
+    import tempfile
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    labels = sorted({m for b in th.bands for m in b.motions},
+                    key=lambda s: (s != "main", s != "main (maximally balanced)", s))
+    fig, ax = plt.subplots(figsize=(9, 1.2 + 0.45 * max(len(labels), 1)))
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for i, lab in enumerate(labels):
+        for b in th.bands:
+            if lab in b.motions:
+                ax.barh(i, b.to_hz - b.from_hz, left=b.from_hz, height=0.6,
+                        color=colors[i % len(colors)], alpha=0.8)
+    for c in th.critical_speeds:
+        ax.axvline(c.hz, color="k", lw=0.8, ls="--" if c.kind == "loses" else "-")
+    ax.axvline(th.operating_speed_R * th.natural_frequency_hz, color="tab:red", lw=1.5,
+               label="operating speed")
+    ax.axvline(th.natural_frequency_hz, color="gray", lw=0.8, ls=":", label="natural frequency f0")
+    ax.set_yticks(range(len(labels)))
+    ax.set_yticklabels(labels)
+    ax.set_xscale("log")
+    ax.set_xlabel("rotor speed [rev/s]")
+    ax.set_title(f"{th.scene or 'scene'}: stable motions (critical speeds: solid = gained, dashed = lost)")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+    fig.tight_layout()
+    path = os.fspath(path)
+    d = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(dir=d, suffix=".png.tmp")
+    os.close(fd)
+    try:
+        fig.savefig(tmp, dpi=120, format="png")
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
+    finally:
+        plt.close(fig)
