@@ -30,14 +30,12 @@ def _jsonable(o):
 
 
 def _cmd_run(args) -> int:
-    from .recording import write_recording
+    from .recording import check_output_path, write_recording
     from .scene_file import load_scene
     from .simulate import simulate
 
     scene = load_scene(args.scene)
-    out = Path(args.output)
-    if not out.parent.exists():
-        raise FileNotFoundError(f"output directory {str(out.parent)!r} does not exist")
+    out = check_output_path(args.output)  # before the run, not after it
     traj = simulate(scene, method=args.method, progress=not args.no_progress and sys.stderr.isatty())
     write_recording(traj, out)
     summ = traj.summary()
@@ -159,6 +157,14 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print(f"stand {args.command}: interrupted", file=sys.stderr)
         return 130
+    except MemoryError:
+        print(f"stand {args.command}: error: not enough memory for this run (reduce run.duration * "
+              "run.sample_rate or the number of weights)", file=sys.stderr)
+        return 2
+    except Exception as exc:  # last resort: a clear line, not a traceback
+        print(f"stand {args.command}: internal error: {type(exc).__name__}: {exc} "
+              "(please report this with the scene file)", file=sys.stderr)
+        return 3
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -55,8 +55,8 @@ def _stage_state(y, K, s, h, out):
 
 @njit(cache=True, error_model="numpy")
 def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_step,
-                sample_dt, k_next, out, stats, max_steps, limit):
-    """Advance from ``t`` to ``t_end`` writing samples ``k*sample_dt`` into ``out``.
+                ts, k_next, out, stats, max_steps, limit):
+    """Advance from ``t`` to ``t_end`` writing the samples at times ``ts`` into ``out``.
 
     Parameters
     ----------
@@ -71,8 +71,8 @@ def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_
     cap : ndarray
         Per-component cap of the magnitude used in the error scale
         (inf = ordinary relative error, pi for angles).
-    sample_dt : float
-        Sampling interval; sample k is at time ``k*sample_dt``.
+    ts : ndarray
+        Sample times, increasing; the last one may equal the end of the run.
     k_next : int
         Index of the next sample to write (its time is > the previous t).
     out : ndarray (n_samples, n)
@@ -107,7 +107,7 @@ def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_
         h = h_abs
         t_new = t
         while not accepted:
-            if h_abs < min_step:
+            if not (h_abs >= min_step):  # also catches a NaN step size
                 if nonfinite:
                     return NOT_FINITE, t, h_abs, k_next
                 return STEP_TOO_SMALL, t, h_abs, k_next
@@ -116,6 +116,7 @@ def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_
             if t_new > t_end:
                 t_new = t_end
             h = t_new - t
+            h_abs = h  # as scipy: control continues from the clipped step
             # the 12 stages
             for i in range(n):
                 K[0, i] = f[i]
@@ -178,7 +179,7 @@ def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_
                 if steps >= max_steps:
                     return STEP_BUDGET, t, h_abs, k_next
         # dense output for the samples inside (t, t_new]
-        if k_next < n_samples and k_next * sample_dt <= t_new:
+        if k_next < n_samples and ts[k_next] <= t_new:
             for s in range(N_STAGES + 1, 16):
                 _stage_state(y, K, s, h, yy)
                 rhs(kind, t + C[s] * h, yy, K[s], sp, wt, prog)
@@ -193,13 +194,13 @@ def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_
                     for k in range(16):
                         acc += D[r, k] * K[k, i]
                     F[3 + r, i] = h * acc
-            while k_next < n_samples and k_next * sample_dt <= t_new:
-                ts = k_next * sample_dt
-                if ts == t_new:
+            while k_next < n_samples and ts[k_next] <= t_new:
+                tk = ts[k_next]
+                if tk == t_new:
                     for i in range(n):
                         out[k_next, i] = y_new[i]
                 else:
-                    x = (ts - t) / h
+                    x = (tk - t) / h
                     for i in range(n):
                         v = 0.0
                         for r in range(6, -1, -1):

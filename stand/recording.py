@@ -181,6 +181,31 @@ def _fsync(path: str) -> None:
         os.close(fd)
 
 
+def check_output_path(path: Union[str, os.PathLike]) -> Path:
+    """Check that ``path`` can receive a recording, before any work is done.
+
+    Raises
+    ------
+    FileNotFoundError
+        The directory does not exist (named in the message).
+    IsADirectoryError, ValueError
+        ``path`` is a directory, or exists and is not a regular file (a device
+        such as /dev/null, a fifo, a symbolic link): the atomic rename would
+        replace it, so it is refused.
+    """
+    path = Path(path)
+    directory = path.parent
+    if not directory.is_dir():
+        raise FileNotFoundError(2, f"cannot write recording {path}: directory does not exist",
+                                str(directory))
+    if path.is_dir():
+        raise IsADirectoryError(21, f"cannot write recording: {path} is a directory", str(path))
+    if os.path.lexists(path) and (path.is_symlink() or not path.is_file()):
+        raise ValueError(f"cannot write recording {path}: it exists and is not a regular file "
+                         "(device, fifo or symbolic link); the atomic rename would replace it")
+    return path
+
+
 def write_recording(traj: "Trajectory", path: Union[str, os.PathLike], *,
                     extra_attrs: Optional[Mapping[str, Any]] = None) -> Path:
     """Write one run to an HDF5 file, atomically.
@@ -220,10 +245,8 @@ def write_recording(traj: "Trajectory", path: Union[str, os.PathLike], *,
     from . import __version__
 
     path = Path(path)
+    check_output_path(path)
     directory = path.parent
-    if not directory.is_dir():
-        raise FileNotFoundError(2, f"cannot write recording {path}: directory does not exist",
-                                str(directory))
     extra = dict(extra_attrs or {})
     clash = sorted(set(extra) & set(RESERVED_ATTRS))
     if clash:

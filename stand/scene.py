@@ -217,7 +217,7 @@ class RunSettings:
     rtol: float = 1e-8
     atol: float = 1e-10
     method: str = "auto"
-    max_steps: int = 50_000_000
+    max_steps: int = 10_000_000
 
 
 @dataclass(frozen=True)

@@ -42,6 +42,9 @@ __all__ = ["load_scene", "parse_scene", "scene_from_dimensionless", "MAX_SAMPLES
 TWO_PI = 2.0 * math.pi
 DEG = math.pi / 180.0
 MAX_SAMPLES = 5e7  #: largest duration * sample_rate accepted (memory)
+MAX_WEIGHTS = 10_000  #: largest balancer.count accepted
+MAX_STATE_BYTES = 4e9  #: largest sample buffer (samples x state width x 8 bytes) accepted
+MAX_CYCLES = 1e8  #: largest number of rotor revolutions or natural periods in one run
 
 TABLES = ("scene", "rotor", "supports", "balancer", "drive", "run", "initial", "dimensionless")
 SCENE_KEYS = ("name", "description")
@@ -106,7 +109,10 @@ def _number(name: str, value: Any, unit: str, *, gt=None, ge=None, lt=None) -> f
     """Check one number; return it as float."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise SceneError(f"{name} = {_fmt(value)}: must be a number ({unit}), not {_kind(value)}")
-    x = float(value)
+    try:
+        x = float(value)
+    except OverflowError:
+        raise SceneError(f"{name} = {_fmt(value)}: out of floating-point range ({unit})") from None
     if not math.isfinite(x):
         raise SceneError(f"{name} = {_fmt(value)}: must be finite ({unit})")
     for bound, ok, sign in ((gt, x > (gt or 0), ">"), (ge, x >= (ge or 0), ">="),
@@ -154,7 +160,8 @@ class _Table:
             return value
         return _number(self.name(key), value, unit, **bounds)
 
-    def integer(self, key: str, minimum: int = 1, default: Any = _REQUIRED) -> int:
+    def integer(self, key: str, minimum: int = 1, default: Any = _REQUIRED,
+                maximum: Optional[int] = None) -> int:
         value = self._get(key, default, "integer")
         if key in self.data:
             if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
@@ -162,6 +169,8 @@ class _Table:
                                  f"not {_kind(value)}")
             if value < minimum:
                 raise SceneError(f"{self.name(key)} = {_fmt(value)}: must be >= {minimum}")
+            if maximum is not None and value > maximum:
+                raise SceneError(f"{self.name(key)} = {_fmt(value)}: must be <= {maximum}")
         return int(value)
 
     def string(self, key: str, choices=None, default: Any = _REQUIRED) -> str:
@@ -235,13 +244,14 @@ def _balancer(t: _Table) -> Balancer:
     t.allow([k for k in BALANCER_KEYS if kind == "pendulums" or k != "inertia"],
             lambda k: f"{t.name(k)} = {_fmt(t.data[k])}: not allowed for balls (point "
                       f"masses: the inertia about the shaft is m l^2)")
-    n = t.integer("count", minimum=1)
+    n = t.integer("count", minimum=1, maximum=MAX_WEIGHTS)
     count_key = t.name("count")
     m = t.per_weight("mass", n, count_key, "kg", gt=0)
     l = t.per_weight("radius", n, count_key, "m", gt=0)
     drag_unit = "N*s/m" if kind == "balls" else "N*m*s"
     drag = t.per_weight("drag", n, count_key, drag_unit, 0.0, ge=0)
-    point = m * l ** 2
+    with np.errstate(all="ignore"):  # overflow is reported by check_derived
+        point = m * l ** 2
     J = point
     if kind == "pendulums":
         J = t.per_weight("inertia", n, count_key, "kg*m^2", None, gt=0)
@@ -337,9 +347,9 @@ def _run(t: _Table) -> RunSettings:
         duration=t.number("duration", "s", gt=0),
         sample_rate=t.number("sample_rate", "Hz", gt=0),
         rtol=t.number("rtol", "relative tolerance", 1e-8, gt=0, lt=0.1),
-        atol=t.number("atol", "absolute tolerance, dimensionless state", 1e-10, gt=0),
+        atol=t.number("atol", "absolute tolerance, dimensionless state", 1e-10, gt=0, lt=1),
         method=t.string("method", METHODS, "auto"),
-        max_steps=t.integer("max_steps", 1, 50_000_000),
+        max_steps=t.integer("max_steps", 1, 10_000_000),
     )
     samples = run.duration * run.sample_rate
     if samples > MAX_SAMPLES:
@@ -506,9 +516,9 @@ def parse_scene(data: Mapping, text: str = "") -> Scene:
         if p["initial_angles"] is not None:
             p["initial_angles"] = p["initial_angles"] * DEG
         drive = _drive(tables["drive"], TWO_PI * p["natural_frequency"])
-        return dataclasses.replace(
+        return check_derived(dataclasses.replace(
             scene_from_dimensionless(**p, drive=drive, run=run, initial=initial),
-            name=name, text=text)
+            name=name, text=text))
 
     rotor = _rotor(tables["rotor"])
     supports = _supports(tables["supports"])
@@ -518,8 +528,64 @@ def parse_scene(data: Mapping, text: str = "") -> Scene:
     if isinstance(drive, TorqueDrive) and rotor.inertia is None:
         raise SceneError("rotor.inertia: missing; required with a torque drive "
                          '(drive.type = "torque") (kg*m^2, about the rotor\'s own centre of mass)')
-    return Scene(rotor=rotor, supports=supports, balancer=balancer, drive=drive, run=run,
-                 initial=initial, name=name, text=text)
+    return check_derived(Scene(rotor=rotor, supports=supports, balancer=balancer, drive=drive,
+                               run=run, initial=initial, name=name, text=text))
+
+
+def check_derived(scene: Scene) -> Scene:
+    """Check the quantities the model derives from several fields.
+
+    Each field may be valid alone while a combination overflows or leaves the
+    model meaningless (e.g. a track radius of 1e200 m makes m l^2 infinite); the
+    message names the fields involved.  Also bounds the run's size (memory for
+    the samples, number of revolutions and natural periods) so that a scene can
+    never ask for a run that exhausts memory or takes days.
+    """
+    b, r, s, run = scene.balancer, scene.rotor, scene.supports, scene.run
+    with np.errstate(all="ignore"):
+        Ms = scene.total_mass
+        w1 = math.sqrt(s.stiffness_x / Ms) if Ms > 0 else math.nan
+        checks = [("rotor.mass, balancer.mass (total mass, kg)", Ms),
+                  ("supports.stiffness_x / total mass (natural frequency, rad/s)", w1),
+                  ("rotor.mass * rotor.eccentricity (unbalance, kg*m)", r.unbalance)]
+        if b.count:
+            checks += [("balancer.mass * balancer.radius (capacity, kg*m)", b.capacity),
+                       ("balancer.inertia (kg*m^2)", float(np.max(b.inertia))),
+                       ("balancer.drag * radius^2 (moment drag, N*m*s)", float(np.max(b.moment_drag)))]
+        L = scene.length_scale
+        checks.append(("length scale (capacity or unbalance / total mass, m)", L))
+        for label, value in checks:
+            if not (np.isfinite(value)) or (label.startswith(("rotor.mass,", "supports", "length"))
+                                            and not value > 0):
+                raise SceneError(f"{label} = {value!r}: out of floating-point range or zero; "
+                                 "check the magnitudes of these fields")
+        if b.count:
+            J = np.asarray(b.inertia, float)
+            coupled = np.asarray(b.mass * b.radius, float) * L / J
+            if not np.all(np.isfinite(coupled)) or not np.all(J > 0):
+                raise SceneError("balancer.mass, radius, inertia: the coupling m l L / J is out of "
+                                 "floating-point range; check their magnitudes")
+        d = scene.drive
+        top = float(np.max(d.programme[:, 1])) if d.kind == "speed" else max(d.target_speed,
+                                                                              d.initial_speed)
+        for label, cycles in (("rotor revolutions", top * run.duration / (2 * math.pi)),
+                              ("natural periods", w1 * run.duration / (2 * math.pi))):
+            if not cycles <= MAX_CYCLES:
+                raise SceneError(f"run.duration = {run.duration:g} s: the run spans {cycles:.3g} "
+                                 f"{label}, more than {MAX_CYCLES:.0e}; shorten run.duration")
+        width = 2 * (2 + b.count + (1 if d.kind == "torque" else 0))
+        nbytes = (run.duration * run.sample_rate + 1) * width * 8 * 2  # samples + SI copies
+        if nbytes > MAX_STATE_BYTES:
+            raise SceneError(f"run.duration * run.sample_rate = {run.duration * run.sample_rate:.3g} "
+                             f"samples of {width} state components need about {nbytes / 1e9:.3g} GB; "
+                             f"the limit is {MAX_STATE_BYTES / 1e9:.0f} GB: lower run.sample_rate "
+                             "or shorten run.duration")
+        ini = scene.initial
+        if not all(np.isfinite(v / L) for v in (ini.x, ini.y)) or not all(
+                np.isfinite(v / (L * w1)) for v in (ini.vx, ini.vy)):
+            raise SceneError("initial.x, y, vx, vy: out of floating-point range relative to the "
+                             "length scale; check their magnitudes")
+    return scene
 
 
 def load_scene(source: Union[str, Path]) -> Scene:

@@ -220,19 +220,31 @@ def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
     method, ratio, reason = choose_method(model, method)
     w1 = model.omega_1
     tau_end = run.duration * w1
-    n_samples = int(math.floor(run.duration * run.sample_rate + 1e-9)) + 1
-    dts = w1 / run.sample_rate
+    ts = sample_times(run.duration, run.sample_rate) * w1
+    n_samples = ts.size
     y0 = initial_state(scene, model)
     out = np.full((n_samples, model.size), np.nan)
     out[0] = y0
     stats = SolverStats(method=method, rtol=rtol, atol=atol, stiffness_ratio=ratio, method_reason=reason)
+    _warm_up(model)  # compile / load the kernels outside the timed region
     t0 = _time.perf_counter()
     if method == "DOP853":
-        k = _run_dop853(model, y0, tau_end, rtol, atol, dts, out, stats, run.max_steps, progress)
+        k = _run_dop853(model, y0, tau_end, rtol, atol, ts, out, stats, run.max_steps, progress)
     else:
-        k = _run_scipy(model, y0, tau_end, rtol, atol, dts, out, stats, method, run.max_steps)
+        k = _run_scipy(model, y0, tau_end, rtol, atol, ts, out, stats, method, run.max_steps)
     stats.wall_time = _time.perf_counter() - t0
-    return _trajectory(scene, model, out[:k], dts, stats)
+    return _trajectory(scene, model, out[:k], ts[:k], stats)
+
+
+def sample_times(duration: float, sample_rate: float) -> np.ndarray:
+    """Sample times [s]: k / sample_rate for k = 0, 1, ...; a last time within
+    1e-9 of a sample interval of ``duration`` is set to ``duration`` exactly, so
+    that rounding never drops the final sample."""
+    n = int(math.floor(duration * sample_rate + 1e-9)) + 1
+    t = np.arange(n) / sample_rate
+    if abs(t[-1] - duration) <= 1e-9 / sample_rate:
+        t[-1] = duration
+    return np.minimum(t, duration)
 
 
 def _segments(model: PlanarModel, tau_end: float) -> list[float]:
@@ -240,12 +252,17 @@ def _segments(model: PlanarModel, tau_end: float) -> list[float]:
     return bp + [tau_end]
 
 
-def _run_dop853(model, y0, tau_end, rtol, atol, dts, out, stats, max_steps, progress):
+def _run_dop853(model, y0, tau_end, rtol, atol, ts, out, stats, max_steps, progress):
     sp, wt, prog = model.sp, model.wt, model.prog
     cap = np.where(model.angle_mask(), np.pi, np.inf)
     y = y0.copy()
     f = np.empty_like(y)
     rhs_planar(0.0, y, f, sp, wt, prog)
+    if not (np.all(np.isfinite(y)) and np.all(np.isfinite(f))):
+        stats.status, stats.success = -2, False
+        stats.message = ("Non-finite initial state or right-hand side at t = 0 s: a scene parameter is "
+                         "out of floating-point range; nothing was integrated.")
+        return 1
     st = np.zeros(3, np.int64)
     st[2] = 1
     h = _initial_step(model, y, f, rtol, atol, cap)
@@ -260,7 +277,7 @@ def _run_dop853(model, y0, tau_end, rtol, atol, dts, out, stats, max_steps, prog
                 status = STEP_BUDGET
                 break
             status, t, h, k_next = dop853_loop(PLANAR, sp, wt, prog, t, y, f, h, seg_end, rtol,
-                                               atol, cap, np.inf, dts, k_next, out, st, budget,
+                                               atol, cap, np.inf, ts, k_next, out, st, budget,
                                                DIVERGENCE_LIMIT)
             if bar is not None:
                 bar.update(t / model.omega_1 - bar.n)
@@ -295,18 +312,33 @@ def _run_dop853(model, y0, tau_end, rtol, atol, dts, out, stats, max_steps, prog
 
 
 def _initial_step(model, y, f, rtol, atol, cap):
-    """scipy's ``select_initial_step`` (Hairer's algorithm) with the capped scale."""
-    mag = np.minimum(np.abs(y), cap)
-    scale = atol + mag * rtol
-    nrm = lambda v: float(np.linalg.norm(v) / math.sqrt(v.size))
-    d0, d1 = nrm(y / scale), nrm(f / scale)
-    h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
-    y1 = y + h0 * f
-    f1 = np.empty_like(y)
-    rhs_planar(h0, y1, f1, model.sp, model.wt, model.prog)
-    d2 = nrm((f1 - f) / scale) / h0
-    h1 = max(1e-6, h0 * 1e-3) if (d1 <= 1e-15 and d2 <= 1e-15) else (0.01 / max(d1, d2)) ** (1 / 8)
-    return min(100 * h0, h1)
+    """scipy's ``select_initial_step`` (Hairer's algorithm) with the capped scale.
+
+    Returns a finite positive step (1e-6 when the estimate is not finite)."""
+    with np.errstate(all="ignore"):
+        mag = np.minimum(np.abs(y), cap)
+        scale = atol + mag * rtol
+        nrm = lambda v: np.float64(np.linalg.norm(v) / math.sqrt(v.size))
+        d0, d1 = nrm(y / scale), nrm(f / scale)
+        h0 = np.float64(1e-6) if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
+        if not (np.isfinite(h0) and h0 > 0):
+            return 1e-6
+        f1 = np.empty_like(y)
+        rhs_planar(float(h0), y + h0 * f, f1, model.sp, model.wt, model.prog)
+        d2 = nrm((f1 - f) / scale) / h0
+        if d1 <= 1e-15 and d2 <= 1e-15:
+            h1 = max(1e-6, h0 * 1e-3)
+        else:
+            h1 = (0.01 / max(d1, d2)) ** (1 / 8)
+        h = float(min(100 * h0, h1))
+    return h if (np.isfinite(h) and h > 0) else 1e-6
+
+
+def _warm_up(model):
+    y = np.zeros(model.size)
+    out = np.zeros((1, model.size))
+    dop853_loop(PLANAR, model.sp, model.wt, model.prog, 0.0, y, y.copy(), 1.0, 0.0, 1e-8, 1e-10,
+                np.full(model.size, np.inf), np.inf, np.zeros(1), 1, out, np.zeros(3, np.int64), 1, 1e12)
 
 
 def _progress_bar(total_s):
@@ -322,7 +354,7 @@ class _NonFinite(Exception):
     pass
 
 
-def _run_scipy(model, y0, tau_end, rtol, atol, dts, out, stats, method, max_steps):
+def _run_scipy(model, y0, tau_end, rtol, atol, ts_all, out, stats, method, max_steps):
     """Step one of scipy's ``OdeSolver`` classes, sampling by its dense output.
 
     Stepping the solver object (rather than calling ``solve_ivp``) keeps the
@@ -383,11 +415,10 @@ def _run_scipy(model, y0, tau_end, rtol, atol, dts, out, stats, method, max_step
                     if np.max(np.abs(solver.y)) > DIVERGENCE_LIMIT:
                         fail = (-2, _DIVERGED)
                         break
-                    if k_next < n_samples and k_next * dts <= solver.t:
+                    if k_next < n_samples and ts_all[k_next] <= solver.t:
                         dense = solver.dense_output()
-                        k_end = min(n_samples, int(np.floor(solver.t / dts * (1 + 1e-15))) + 1)
-                        ts = np.arange(k_next, k_end) * dts
-                        ts = ts[ts <= solver.t]
+                        k_end = int(np.searchsorted(ts_all, solver.t, side="right"))
+                        ts = ts_all[k_next:k_end]
                         if ts.size:
                             out[k_next:k_next + ts.size] = np.atleast_2d(dense(ts)).T
                             k_next += ts.size
@@ -416,10 +447,8 @@ def _run_scipy(model, y0, tau_end, rtol, atol, dts, out, stats, method, max_step
     return k_next
 
 
-def _trajectory(scene: Scene, model: PlanarModel, out: np.ndarray, dts: float,
+def _trajectory(scene: Scene, model: PlanarModel, out: np.ndarray, tau: np.ndarray,
                 stats: SolverStats) -> Trajectory:
-    N = out.shape[0]
-    tau = np.arange(N) * dts
     nq, n, L, w1 = model.nq, model.n, model.length, model.omega_1
     phi, R = model.rotor(tau, out)
     alpha = out[:, 2:2 + n]

@@ -108,3 +108,41 @@ def test_pure_python_fallback_path(tmp_path):
     py = np.load(tmp_path / "py.npy")
     # same algorithm, same arithmetic order: identical up to floating-point contraction
     assert np.max(np.abs(py - compiled)) < 1e-9
+
+
+def test_output_that_is_not_a_regular_file_is_refused_before_the_run(tmp_path, capsys):
+    fifo = tmp_path / "pipe.h5"
+    os.mkfifo(fifo)
+    rc = main(["run", str(SCENES / "no_balancer.toml"), "-o", str(fifo)])
+    assert rc == 2
+    assert "not a regular file" in capsys.readouterr().err
+    assert not fifo.is_file() and fifo.exists()  # still the fifo
+    rc = main(["run", str(SCENES / "no_balancer.toml"), "-o", str(tmp_path)])
+    assert rc == 2 and "is a directory" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("edit, key", [
+    (("radius = 0.08 ", "radius = 1e200 "), "balancer.inertia"),
+    (("count = 2", "count = 1000000000000"), "balancer.count"),
+    (("duration = 40.0 ", "duration = 1e300 "), "run.duration"),
+    (("[10.0, 15.0]", "[10.0, 1e200]"), "run.duration"),
+    (("atol = 1e-10", "atol = 1e300"), "run.atol"),
+    (("mass = 4.45 ", "mass = 1" + "0" * 400 + " "), "rotor.mass"),
+])
+def test_scenes_out_of_range_give_clear_errors(tmp_path, capsys, edit, key):
+    bad = tmp_path / "bad.toml"
+    bad.write_text((SCENES / "ball_runup.toml").read_text().replace(*edit, 1))
+    rc = main(["run", str(bad), "-o", str(tmp_path / "x.h5")])
+    err = capsys.readouterr().err
+    assert rc == 2, err
+    assert key in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("duration, rate", [(0.7, 10.0), (1.1, 10.0), (40.0, 0.33), (3.0, 7.0)])
+def test_last_sample_is_never_lost_to_rounding(duration, rate):
+    from stand.simulate import sample_times
+    t = sample_times(duration, rate)
+    assert len(t) == int(np.floor(duration * rate + 1e-9)) + 1
+    assert np.all(np.diff(t) > 0) and t[-1] <= duration
+    if abs(duration * rate - round(duration * rate)) < 1e-9:
+        assert t[-1] == duration

@@ -200,6 +200,30 @@ def test_free_rotor_conserves_energy_and_angular_momentum(kind, c_y):
         assert np.max(np.abs(Lz - Lz[0])) / abs(Lz[0]) < 1e-8
 
 
+def test_free_rotor_angular_momentum_with_weight_drag():
+    """Isotropic supports without damping, no drive, no rotor drag, but weight drag h_j > 0:
+    the drag moments H_j (phi' - phi_j') are internal (equal and opposite on rotor and weight),
+    so the angular momentum about O is still conserved while the energy decays.  This pins the
+    drag reaction on the rotor, nu_j = H_j / (omega_1 J_0) (correction item 4 of the digest):
+    the printed, inverted coefficient would create or destroy angular momentum."""
+    rtol = 1e-12
+    m = np.array([0.05, 0.03])
+    l = np.array([0.10, 0.15])
+    bal = Balancer(type="balls", mass=m, radius=l, drag=np.array([0.4, 0.7]), inertia=m * l**2,
+                   initial_angles=np.array([0.3, 2.0]), initial_speeds=np.array([3.0, -2.0]))
+    w1 = math.sqrt(1.2 / (1.0 + m.sum()))
+    sc = Scene(rotor=Rotor(mass=1.0, eccentricity=0.01, unbalance_angle=0.7, inertia=0.02),
+               supports=Supports(1.2, 1.2, 0.0, 0.0), balancer=bal,
+               drive=TorqueDrive(model="constant", torque=0.0, rotor_drag=0.0, initial_speed=2.0),
+               run=RunSettings(duration=30 * 2 * math.pi / w1, sample_rate=2.0, rtol=rtol, atol=1e-14),
+               initial=InitialState(x=0.01, y=-0.005, vx=0.003, vy=0.008))
+    tr = simulate(sc)
+    assert tr.success, tr.stats.message
+    E, Lz = energy_and_momentum(tr)
+    assert E[-1] < 0.99 * E[0]  # the drag acts and dissipates
+    assert np.max(np.abs(Lz - Lz[0])) / abs(Lz[0]) < 1e-8
+
+
 # ---------------------------------------------------------------- balanced main motion
 @pytest.mark.parametrize("n", [2, 3])
 def test_balanced_main_motion_stays_put(n):
@@ -422,8 +446,10 @@ def no_balancer_ellipse_radius(sc, omega):
     return float(np.max(np.hypot((X * np.exp(1j * wt)).real, (-1j * Y * np.exp(1j * wt)).real)))
 
 
-@pytest.mark.parametrize("omega, balanced", [(0.7, False), (1.3, False), (1.7, True), (3.0, True)])
-def test_anisotropic_supports_criterion(omega, balanced):
+@pytest.mark.parametrize("omega, balanced, T", [(0.7, False, 6000.0), (1.1, True, 2.0e4),
+                                               (1.3, False, 6000.0), (1.7, True, 6000.0),
+                                               (3.0, True, 6000.0)])
+def test_anisotropic_supports_criterion(omega, balanced, T):
     """Criterion 2.5.1 (ch2_ch3 2.1): autobalancing for w in (w1, w2) U (w3, inf),
     w1 = sqrt(c_min/M_S), w2 = sqrt((c_min + c_max)/(2 M_S)), w3 = sqrt(c_max/M_S)
     (0.995, 1.219, 1.407 with M_S = 1.01).  The speeds are >= 5 % away from the edges, where
@@ -433,9 +459,11 @@ def test_anisotropic_supports_criterion(omega, balanced):
     the digest finds x3.5 and x3.3).  Balanced: the isotropic estimate of the slowest balancing
     root ((5.90) with h = 4.02, Rt = 0.00495, H = 0.0199, d = |2 e0^2 - 1| = 0.68) is
     1.75e-3 per s at w = 1.7 and 4.0e-3 per s at w = 3, i.e. e^{-10} and e^{-24} over
-    T = 6000 s from an initial ratio O(1): below 1e-3 with a margin.
+    T = 6000 s from an initial ratio O(1): below 1e-3 with a margin.  In the first working
+    range (w1, w2) the balancing is slower (the x-mode is only just supercritical): the ratio
+    is 2.6e-2 at T = 6000 s and 1.6e-7 at T = 2e4 s, so that case runs longer.
     """
-    sc = anisotropic_scene(omega)
+    sc = anisotropic_scene(omega, T)
     Ms = sc.total_mass
     c_min, c_max = sc.supports.stiffness_x, sc.supports.stiffness_y
     w1, w2, w3 = (math.sqrt(c_min / Ms), math.sqrt((c_min + c_max) / (2 * Ms)), math.sqrt(c_max / Ms))
