@@ -42,6 +42,21 @@ class Regime:
     spread: float
 
 
+def _maximally_balanced_residual(scene, R: float, e0: float) -> float:
+    """|psi| of the e0 > 1 main motion at speed R (weights together on the light
+    side, lagging by the damping angle of the corrected (5.64)); e0 - 1 when the
+    theory does not apply (non-identical weights) or the motion does not exist."""
+    from .theory.side import maximally_balanced_motion
+
+    try:
+        from .scene import dimensionless as _dimless
+        p = _dimless(scene)
+        m = maximally_balanced_motion(R, e0, p.H_x, p.n, p.e)
+    except (ValueError, ArithmeticError):
+        m = None
+    return abs(m.psi) if m is not None else e0 - 1.0
+
+
 def classify(traj, window: float = 0.2, sync_tol: float = 1e-3, balance_tol: float = 1e-2) -> Regime:
     """Classify the last ``window`` fraction of a :class:`stand.simulate.Trajectory`.
 
@@ -70,7 +85,7 @@ def classify(traj, window: float = 0.2, sync_tol: float = 1e-3, balance_tol: flo
     e0 = sc.rotor.unbalance / S
     sync = np.all(np.abs(ws - rotor) < sync_tol * max(abs(rotor), 1e-12))
     if sync:
-        target = max(e0 - 1.0, 0.0)
+        target = _maximally_balanced_residual(sc, rotor, e0) if e0 > 1 else 0.0
         name = "main" if abs(psi - target) < balance_tol else "side"
     else:
         slow = np.all(ws < rotor) and np.ptp(ws) < 1e-3 * max(abs(rotor), 1e-12)

@@ -16,6 +16,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from stand.theory.main_motion import main_eigenvalues
+from stand.theory.qp import qp_roots
+
 from stand.accuracy import closed_form_no_balancer
 from stand.planar import build_planar_model, rhs_planar, rhs_planar_numpy
 from stand.scene import (Balancer, InitialState, Rotor, RunSettings, Scene, SpeedDrive,
@@ -35,30 +38,6 @@ def constant_speed(omega):
 def assert_finite(tr):
     for name in ("t", "x", "y", "rotor_angle", "rotor_speed", "weight_angle", "weight_speed", "state"):
         assert np.all(np.isfinite(getattr(tr, name))), name
-
-
-def charpoly_main(W, Rt, h, H, d):
-    """Roots of the main-motion characteristic polynomial (5.90), digest Appendix A."""
-    k = 1 - d * d
-    a = [Rt**2 * W**8 * k, 2 * h * Rt * W**4 * (W**2 - 1),
-         ((W**2 - 1)**2 + H**2 * W**2) * h**2 + 2 * Rt * W**4 * (W**2 - 1 + 3 * h * H)
-         + 4 * Rt**2 * W**6 * k,
-         2 * (((W**2 - 1)**2 + H**2 * W**2 + Rt * W**2 * (6 + W**2)) * h + 3 * Rt * W**4 * H
-              + (W**2 + 1) * h**2 * H),
-         (W**2 - 1)**2 + (H**2 + 2 * h**2 + 4 * h * H) * W**2 + h**2 * H**2 + 2 * h**2 + 4 * h * H
-         + 2 * Rt * W**2 * (W**2 + 6 + 2 * h * H) + 6 * Rt**2 * W**4 * k,
-         2 * (h * (2 - Rt) * (W**2 + 1) + H * ((1 + 2 * Rt) * W**2 + 1) + h * H * (h + H)),
-         2 * (1 - Rt) * (W**2 + 1 + H * h) + (h + H)**2 + 4 * Rt**2 * W**2 * k,
-         2 * (h + H) * (1 - Rt), 1 - 2 * Rt + Rt**2 * k]
-    return np.roots(a[::-1])
-
-
-def qp_roots(W, RmH, H):
-    """Real roots of the corrected QP frequency equation (5.181), digest Appendix A."""
-    P = (np.poly1d([2 * RmH, 0, 0, 0, 0, 0])
-         - np.poly1d([-1, W]) * np.poly1d([1, 0, H * H - 2, 0, 1]))
-    r = P.r
-    return np.sort(r[np.abs(r.imag) < 1e-9].real)
 
 
 # ---------------------------------------------------------------- no balancer: linear oscillator
@@ -340,7 +319,7 @@ def test_balancing_decay_rate_T10():
     of log|psi| over 1e-2 > |psi| > 1e-6 (a window of ~230 tau) averages the oscillating ones.
     """
     e0, Rt, h, H, R = 0.3, 0.01, 0.5, 0.1, 3.0
-    roots = charpoly_main(R, Rt, h, H, abs(2 * e0**2 - 1))
+    roots = main_eigenvalues(R, Rt, h, H, abs(2 * e0**2 - 1))
     slowest = -max(r.real for r in roots)
     assert abs(slowest - 0.0397) < 0.005 * 0.0397  # the digest's number and (5.90) agree
     sc = scene_from_dimensionless(2, Rt, h, H, e0, drive=constant_speed(R),
@@ -379,7 +358,7 @@ def test_stuck_balls_quasi_periodic_T9():
     d = dimensionless(sc)
     w1 = sc.natural_frequency
     R = sc.drive.programme[-1, 1] / w1
-    omega = qp_roots(R, d.Rt * d.H / d.h[0], d.H)[0]
+    omega = qp_roots(R, d.Rt, d.h[0], d.H)[0]
     assert omega == pytest.approx(0.96135, abs=1e-5)  # digest Table 5.1-B
     precession = omega**2 / math.sqrt((1 - omega**2)**2 + (d.H * omega)**2)
     assert precession == pytest.approx(10.293, rel=1e-3)  # digest 5.3 (10.293, T9: 10.30)
@@ -407,7 +386,7 @@ def test_ball_runup_balances():
     sc = load_scene(SCENES / "ball_runup.toml")
     d = dimensionless(sc)
     R = sc.drive.programme[-1, 1] / d.omega_1
-    slowest = -max(r.real for r in charpoly_main(R, d.Rt, d.h[0], d.H, abs(2 * d.e0**2 - 1)))
+    slowest = -max(r.real for r in main_eigenvalues(R, d.Rt, d.h[0], d.H, abs(2 * d.e0**2 - 1)))
     hold_tau = (sc.run.duration - sc.drive.programme[-1, 0]) * d.omega_1
     assert math.exp(-slowest * hold_tau) < 1e-6
     tr = simulate(sc)

@@ -39,3 +39,15 @@ def test_below_resonance_balls_go_to_the_heavy_side():
     gamma = 2 * np.arctan((-e0 * (R**2 - 1) - root) / (H * R * (e0 - ek)))  # (5.66), branch near 0
     np.testing.assert_allclose(tr.relative_angle[-1], [gamma, gamma], atol=1e-6)
     assert r.residual == pytest.approx(abs(e0 + ek * np.exp(1j * gamma)), rel=1e-6)
+
+
+@pytest.mark.parametrize("R, residual", [(1.05, 0.6198), (3.0, 0.5002)])
+def test_beyond_capacity_the_maximally_balanced_motion_is_main(R, residual):
+    """e0 = 1.5 > 1: the weights go together to the light side; with damping the
+    residual is |psi| of the corrected (5.64) (0.620 at R = 1.05, -> e0 - 1 = 0.5
+    at high speed), not e0 - 1 (helper check of side.maximally_balanced_motion)."""
+    sc = scene_from_dimensionless(2, 0.01, 0.1, 0.1, 1.5, drive=SpeedDrive(np.array([[0.0, R]])),
+                                  run=RunSettings(3000.0, 1.0), initial_angles=np.radians([170.0, 190.0]))
+    r = classify(simulate(sc))
+    assert r.name == "main"
+    assert r.residual == pytest.approx(residual, abs=2e-4)

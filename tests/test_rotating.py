@@ -11,20 +11,7 @@ from stand.planar import build_planar_model
 from stand.rotating import main_motion_state, rotating_jacobian, rotating_rhs
 from stand.scene import RunSettings, SpeedDrive
 from stand.scene_file import scene_from_dimensionless
-
-
-def charpoly_main(W, Rt, h, H, d):
-    """Roots of (5.90) (digest Appendix A, verified symbolically there)."""
-    k = 1 - d * d
-    a = [Rt**2 * W**8 * k, 2 * h * Rt * W**4 * (W**2 - 1),
-         ((W**2 - 1)**2 + H**2 * W**2) * h**2 + 2 * Rt * W**4 * (W**2 - 1 + 3 * h * H) + 4 * Rt**2 * W**6 * k,
-         2 * (((W**2 - 1)**2 + H**2 * W**2 + Rt * W**2 * (6 + W**2)) * h + 3 * Rt * W**4 * H + (W**2 + 1) * h**2 * H),
-         (W**2 - 1)**2 + (H**2 + 2 * h**2 + 4 * h * H) * W**2 + h**2 * H**2 + 2 * h**2 + 4 * h * H
-         + 2 * Rt * W**2 * (W**2 + 6 + 2 * h * H) + 6 * Rt**2 * W**4 * k,
-         2 * (h * (2 - Rt) * (W**2 + 1) + H * ((1 + 2 * Rt) * W**2 + 1) + h * H * (h + H)),
-         2 * (1 - Rt) * (W**2 + 1 + H * h) + (h + H)**2 + 4 * Rt**2 * W**2 * k,
-         2 * (h + H) * (1 - Rt), 1 - 2 * Rt + Rt**2 * k]
-    return np.roots(a[::-1])
+from stand.theory.main_motion import main_eigenvalues
 
 
 def _model(n, W, Rt, h, H, e0):
@@ -54,7 +41,7 @@ def test_T2_two_balls_eigenvalues():
     _match(ev, ref, 1e-4)  # the digest quotes 5 digits
     d = abs(np.cos(2 * a))  # d = |cos(alpha1 - alpha2)| for n = 2
     # central differences: error ~ step^2 * |f'''| -> 1e-7 on the eigenvalues
-    _match(ev, charpoly_main(W, Rt, h, H, d), 1e-6)
+    _match(ev, main_eigenvalues(W, Rt, h, H, d), 1e-6)
 
 
 @pytest.mark.parametrize("W", [1.5, 3.0, 7.0])
@@ -75,5 +62,5 @@ def test_three_balls_roots_plus_zero_and_minus_h(W):
     assert np.max(np.abs(rotating_rhs(m, W, z))) < 1e-12 * W ** 2
     ev = np.linalg.eigvals(rotating_jacobian(m, W, z))
     d = abs(np.mean(np.exp(2j * np.array(alphas))))  # (5.88) for identical point balls
-    rest = _match(ev, charpoly_main(W, Rt, h, H, d), 1e-6)
+    rest = _match(ev, main_eigenvalues(W, Rt, h, H, d), 1e-6)
     assert sorted(rest, key=lambda x: x.real) == pytest.approx([-h, 0.0], abs=1e-6)

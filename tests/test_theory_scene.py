@@ -1,0 +1,117 @@
+"""Scene-level theory (speed map, ``stand theory``) and theory against the simulator."""
+import dataclasses
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from stand.cli import main
+from stand.regime import classify
+from stand.scene import RunSettings, SpeedDrive
+from stand.scene_file import load_scene, scene_from_dimensionless
+from stand.simulate import simulate
+from stand.theory import main_motion as mm
+from stand.theory import qp
+from stand.theory.speedmap import TheoryError, scene_theory
+from stand.theory.verify import at_speed, check_thresholds
+
+SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
+
+
+def test_stand_theory_json_ball_runup(capsys, tmp_path):
+    png = tmp_path / "map.png"
+    assert main(["theory", str(SCENES / "ball_runup.toml"), "--json", "--plot", str(png)]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert png.stat().st_size > 1000
+    f0 = doc["natural_frequency_hz"]
+    assert f0 == pytest.approx(3.0, rel=1e-4)  # the stand's 3 Hz with all masses
+    for key in ("critical_speeds_hz", "stable_bands", "qp"):
+        assert key in doc
+    for c in doc["critical_speeds_hz"]:
+        assert {"hz", "motion", "kind"} <= set(c)
+    for b in doc["stable_bands"]:
+        assert {"from_hz", "to_hz", "motions"} <= set(b)
+    for key in ("escape_speed_hz", "roots_hz", "stable_root_hz", "precession_amplitude_m",
+                "nutation_amplitude_m", "petals", "shape"):
+        assert key in doc["qp"]
+    # digest section 6.5, conservative case, M = 4.45 kg, m = 45 g, n = 2 (Rt = 0.0099):
+    # small or large unbalance (d = 1): 1.0, 1.0316, 1.4366 f0; balls 90 deg apart (d = 0): 1.3626 f0
+    cons = doc["conservative"]
+    np.testing.assert_allclose(np.array(cons["small_or_large_unbalance_d1"]["hz"]) / f0,
+                               [1.0, 1.0316, 1.4366], atol=1e-3)
+    np.testing.assert_allclose(np.array(cons["balls_90deg_apart_d0"]["hz"]) / f0, [1.3626], atol=1e-3)
+    # the scene's own unbalance 0.5 S (d = 0.5): the two-balls-vs-S table gives 1.3919
+    np.testing.assert_allclose(np.array(cons["scene_configuration"]["hz"]) / f0, [1.3919], atol=1e-3)
+    # with the scene's damping the main motion is stable at the operating speed 15 rev/s
+    op = doc["operating_speed_hz"]
+    band = next(b for b in doc["stable_bands"] if b["from_hz"] <= op <= b["to_hz"])
+    assert "main" in band["motions"] and "quasi-periodic" not in band["motions"]
+
+
+def test_speed_map_edges_are_the_exact_thresholds():
+    sc = load_scene(SCENES / "ball_stuck.toml")
+    th = scene_theory(sc)
+    p = th.parameters
+    R_star = qp.escape_speed(p["Rt"], p["h"], p["H"])
+    assert R_star == pytest.approx(9.0)
+    main_c = mm.critical_speeds(p["Rt"], p["h"], p["H"], p["d"], R_min=0.05)
+    edges = sorted({b.R_to for b in th.bands[:-1]})
+    for R in [R_star] + [c.R for c in main_c]:
+        assert min(abs(e - R) for e in edges) < 1e-12 * R
+    # quasi-periodic stable throughout (0, R*) and not above (5.226)
+    for b in th.bands:
+        mid = np.sqrt(b.R_from * b.R_to)
+        assert ("quasi-periodic" in b.motions) == (mid < R_star)
+    # operating speed R = 3: stable root 0.96135 (Table 5.1-B), curtate spot, k = 3.12
+    q = th.qp
+    assert q["stable_root_R"] == pytest.approx(0.96135, abs=1e-5)
+    assert q["k"] == pytest.approx(3 / 0.96135, rel=1e-4)
+    assert q["precession_amplitude_m"] / sc.length_scale == pytest.approx(10.297, abs=2e-3)
+
+
+def test_theory_refuses_out_of_scope_scenes():
+    with pytest.raises(TheoryError, match="no weights"):
+        scene_theory(load_scene(SCENES / "no_balancer.toml"))
+
+
+def test_stuck_balls_speed_is_the_stable_qp_root():
+    """Acceptance: simulated ball speed of ball_stuck.toml = the stable root of (5.181), 0.1 %."""
+    sc = load_scene(SCENES / "ball_stuck.toml")
+    th = scene_theory(sc)
+    reg = classify(simulate(sc))
+    assert reg.name == "quasi-periodic"
+    assert np.allclose(reg.weight_speed, th.qp["stable_root_R"], rtol=1e-3)
+
+
+def test_run_up_just_above_the_escape_speed_ends_balanced():
+    """Acceptance: the ball_stuck run-up taken to 1.1 R* (R* = 9) escapes and balances;
+    taken to 0.9 R* it stays stuck (digest 5.3 time-domain table)."""
+    sc = load_scene(SCENES / "ball_stuck.toml")
+    above = classify(simulate(at_speed(sc, 1.1 * 9.0, hold_tau=900.0)))
+    below = classify(simulate(at_speed(sc, 0.9 * 9.0, hold_tau=900.0)))
+    assert above.name == "main" and above.residual < 1e-3
+    assert below.name == "quasi-periodic"
+
+
+def test_balancing_decay_rate_is_the_least_damped_eigenvalue():
+    """Acceptance: at R = 3 the decay rate of |psi| equals -max Re(lambda) of (5.90) (10 %)."""
+    Rt, h, H, e0, R = 0.01, 0.5, 0.1, 0.3, 3.0
+    sc = scene_from_dimensionless(2, Rt, h, H, e0, drive=SpeedDrive(np.array([[0.0, R]])),
+                                  run=RunSettings(600.0, 1.0, 1e-10, 1e-12),
+                                  initial_angles=np.array([2.2, -2.2]))
+    tr = simulate(sc)
+    psi = np.abs(tr.residual_unbalance()) / sc.balancer.capacity
+    sel = (psi < 1e-2) & (psi > 1e-7)
+    rate = -np.polyfit(tr.t[sel], np.log(psi[sel]), 1)[0]
+    lam = -mm.spectral_abscissa(R, Rt, h, H, mm.d_two_balls(e0))
+    assert rate == pytest.approx(lam, rel=0.1)
+
+
+@pytest.mark.slow
+def test_theory_vs_simulation_on_both_sides_of_each_threshold():
+    sc = load_scene(SCENES / "ball_runup.toml")
+    checks = check_thresholds(sc)
+    assert len(checks) == 2 * len(scene_theory(sc).critical_speeds)
+    bad = [c for c in checks if not c.match]
+    assert not bad, bad
