@@ -632,3 +632,7 @@ def load_scene(source: Union[str, Path]) -> Scene:
             raise SceneError(f"{label}{exc}") from None
         raise
     return scene if scene.name else dataclasses.replace(scene, name=stem)
+
+
+#: public name of the validating table reader, for instrument settings
+Table = _Table
