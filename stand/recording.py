@@ -36,7 +36,7 @@ import stat
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Mapping, Optional, Union
+from typing import Callable, TYPE_CHECKING, Any, Mapping, Optional, Union
 
 import h5py
 import numpy as np
@@ -207,7 +207,8 @@ def check_output_path(path: Union[str, os.PathLike]) -> Path:
 
 
 def write_recording(traj: "Trajectory", path: Union[str, os.PathLike], *,
-                    extra_attrs: Optional[Mapping[str, Any]] = None) -> Path:
+                    extra_attrs: Optional[Mapping[str, Any]] = None,
+                    writer: Optional[Callable[["h5py.File"], None]] = None) -> Path:
     """Write one run to an HDF5 file, atomically.
 
     The file is first written to a temporary ``*.h5.tmp`` file in the target's
@@ -223,6 +224,10 @@ def write_recording(traj: "Trajectory", path: Union[str, os.PathLike], *,
         (shape (N, n)), solver statistics and the scene.
     path : str or os.PathLike
         Target file (conventionally ``*.h5``).  Its directory must exist.
+    writer : callable, optional
+        ``writer(h5file)`` is called with the open temporary file after the
+        core datasets are written (the instruments stream their frames, truth
+        and settings through it); a failure there discards the whole file.
     extra_attrs : mapping, optional
         Additional root attributes (str, numbers, arrays; mappings are stored
         as JSON text).  The reserved names (``scene``, ``scene_name``,
@@ -303,6 +308,8 @@ def write_recording(traj: "Trajectory", path: Union[str, os.PathLike], *,
                 ds = f.create_dataset(key, data=a, dtype=np.float64, **_storage_options(a))
                 ds.attrs["units"] = units
                 ds.attrs["description"] = description
+            if writer is not None:
+                writer(f)  # instruments: frames streamed in, truth, settings
         _fsync(tmp_name)
         os.chmod(tmp_name, mode)
         os.replace(tmp_name, path)

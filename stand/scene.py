@@ -242,6 +242,8 @@ class Scene:
     initial: InitialState = InitialState()
     name: str = ""
     text: str = ""  #: the original TOML text, stored in recordings
+    #: instrument name ("screen", "stroboscope", ...) -> settings; empty: nothing is rendered
+    instruments: dict = field(default_factory=dict)
 
     @property
     def total_mass(self) -> float:

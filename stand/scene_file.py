@@ -46,7 +46,17 @@ MAX_WEIGHTS = 10_000  #: largest balancer.count accepted
 MAX_STATE_BYTES = 4e9  #: largest sample buffer (samples x state width x 8 bytes) accepted
 MAX_CYCLES = 1e8  #: largest number of rotor revolutions or natural periods in one run
 
-TABLES = ("scene", "rotor", "supports", "balancer", "drive", "run", "initial", "dimensionless")
+TABLES = ("scene", "rotor", "supports", "balancer", "drive", "run", "initial", "dimensionless",
+          "instruments")
+#: [instruments.<name>] -> (module, settings class with ``from_table``)
+INSTRUMENTS = {
+    "screen": ("stand.instruments.screen", "ScreenCamera"),
+    "stroboscope": ("stand.instruments.stroboscope", "Stroboscope"),
+    "photogate": ("stand.instruments.photogate", "PhotoGate"),
+    "keyphasor": ("stand.instruments.probes", "Keyphasor"),
+    "tachometer": ("stand.instruments.probes", "Tachometer"),
+    "probes": ("stand.instruments.probes", "DisplacementProbes"),
+}
 SCENE_KEYS = ("name", "description")
 ROTOR_KEYS = ("mass", "eccentricity", "unbalance_angle", "inertia")
 SUPPORT_KEYS = ("stiffness", "stiffness_x", "stiffness_y", "damping", "damping_x", "damping_y")
@@ -509,6 +519,7 @@ def parse_scene(data: Mapping, text: str = "") -> Scene:
         tables["scene"].string("description", default="")
     run = _run(tables["run"])
     initial = _initial(tables["initial"]) if "initial" in tables else InitialState()
+    instruments = _instruments(tables["instruments"]) if "instruments" in tables else {}
 
     if "dimensionless" in tables:
         p = _dimensionless_params(tables["dimensionless"], "deg")
@@ -518,7 +529,7 @@ def parse_scene(data: Mapping, text: str = "") -> Scene:
         drive = _drive(tables["drive"], TWO_PI * p["natural_frequency"])
         return check_derived(dataclasses.replace(
             scene_from_dimensionless(**p, drive=drive, run=run, initial=initial),
-            name=name, text=text))
+            name=name, text=text, instruments=instruments))
 
     rotor = _rotor(tables["rotor"])
     supports = _supports(tables["supports"])
@@ -529,7 +540,23 @@ def parse_scene(data: Mapping, text: str = "") -> Scene:
         raise SceneError("rotor.inertia: missing; required with a torque drive "
                          '(drive.type = "torque") (kg*m^2, about the rotor\'s own centre of mass)')
     return check_derived(Scene(rotor=rotor, supports=supports, balancer=balancer, drive=drive,
-                               run=run, initial=initial, name=name, text=text))
+                               run=run, initial=initial, name=name, text=text,
+                               instruments=instruments))
+
+
+def _instruments(t: _Table) -> dict:
+    """Parse ``[instruments.<name>]`` tables with each instrument's own validator."""
+    import importlib
+
+    out = {}
+    for key, value in t.data.items():
+        if key not in INSTRUMENTS:
+            raise SceneError(f"unknown instrument [instruments.{key}]: {_suggest(key, INSTRUMENTS)}"
+                             f"valid instruments: {', '.join(INSTRUMENTS)}")
+        module, cls = INSTRUMENTS[key]
+        settings_cls = getattr(importlib.import_module(module), cls)
+        out[key] = settings_cls.from_table(_Table(value, t.name(key)))
+    return out
 
 
 def check_derived(scene: Scene) -> Scene:
@@ -580,6 +607,10 @@ def check_derived(scene: Scene) -> Scene:
                              f"samples of {width} state components need about {nbytes / 1e9:.3g} GB; "
                              f"the limit is {MAX_STATE_BYTES / 1e9:.0f} GB: lower run.sample_rate "
                              "or shorten run.duration")
+        for inst in scene.instruments.values():
+            check = getattr(inst, "check_against_run", None)
+            if check is not None:
+                check(run)
         ini = scene.initial
         if not all(np.isfinite(v / L) for v in (ini.x, ini.y)) or not all(
                 np.isfinite(v / (L * w1)) for v in (ini.vx, ini.vy)):

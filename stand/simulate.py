@@ -89,6 +89,7 @@ class Trajectory:
     stats: SolverStats
     scene: Scene
     state: np.ndarray = field(repr=False, default=None)  #: dimensionless samples
+    extra: "Trajectory | None" = field(repr=False, default=None)  #: samples at ``extra_times``
 
     UNITS = {"t": "s", "x": "m", "y": "m", "rotor_angle": "rad", "rotor_speed": "rad/s",
              "weight_angle": "rad", "weight_speed": "rad/s"}
@@ -191,7 +192,8 @@ def choose_method(model: PlanarModel, requested: str) -> tuple[str, float, str]:
 
 
 def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
-             atol: float | None = None, progress: bool = False) -> Trajectory:
+             atol: float | None = None, progress: bool = False,
+             extra_times=None) -> Trajectory:
     """Integrate a scene.
 
     Parameters
@@ -203,6 +205,12 @@ def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
         Override the scene's tolerances (dimensionless state, see docs/scene.md).
     progress : bool
         Show a progress bar (stderr) when the run lasts more than ~2 s.
+    extra_times : array_like, optional
+        Additional sample times [s], non-decreasing, within [0, duration]
+        (e.g. the instruments' exposure and flash times).  They are sampled by
+        the same dense output in the same run and returned as
+        ``trajectory.extra`` (a Trajectory of its own); the recording grid is
+        unchanged.
 
     Returns
     -------
@@ -220,7 +228,8 @@ def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
     method, ratio, reason = choose_method(model, method)
     w1 = model.omega_1
     tau_end = run.duration * w1
-    ts = sample_times(run.duration, run.sample_rate) * w1
+    ts_rec = sample_times(run.duration, run.sample_rate) * w1
+    ts, rec_idx, ex_idx = _merge_times(ts_rec, extra_times, run.duration, w1)
     n_samples = ts.size
     y0 = initial_state(scene, model)
     out = np.full((n_samples, model.size), np.nan)
@@ -233,7 +242,27 @@ def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
     else:
         k = _run_scipy(model, y0, tau_end, rtol, atol, ts, out, stats, method, run.max_steps)
     stats.wall_time = _time.perf_counter() - t0
-    return _trajectory(scene, model, out[:k], ts[:k], stats)
+    if ex_idx is None:
+        return _trajectory(scene, model, out[:k], ts[:k], stats)
+    r = rec_idx[rec_idx < k]
+    e = ex_idx[ex_idx < k]
+    traj = _trajectory(scene, model, out[r], ts[r], stats)
+    traj.extra = _trajectory(scene, model, out[e], ts[e], stats)
+    return traj
+
+
+def _merge_times(ts_rec, extra_times, duration, w1):
+    """Merge the recording grid with extra sample times (both dimensionless)."""
+    if extra_times is None:
+        return ts_rec, None, None
+    ex = np.asarray(extra_times, dtype=float).ravel()
+    if ex.size == 0:
+        return ts_rec, np.arange(ts_rec.size), np.zeros(0, int)
+    if not np.all(np.isfinite(ex)) or ex[0] < 0 or ex[-1] > duration or np.any(np.diff(ex) < 0):
+        raise ValueError(f"extra_times: must be finite, non-decreasing and within [0, {duration:g}] s")
+    ex = ex * w1
+    ts = np.union1d(ts_rec, ex)
+    return ts, np.searchsorted(ts, ts_rec), np.searchsorted(ts, ex)
 
 
 def sample_times(duration: float, sample_rate: float) -> np.ndarray:
