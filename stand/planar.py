@@ -44,7 +44,9 @@ from .weights import EPS, H, MU, NU, weight_table
 D11, D12, D21, D22, K11, K12, K21, K22 = range(8)
 EPS0, BETA, MU0, H0, FREE, MODEL, MROT, C1, C2, WTARGET = range(8, 18)
 COAST_T0, COAST_T, COAST_R0, COAST_PHI0 = range(18, 22)
-N_SP = 22
+N_PROG, N_UB, N_FORCE = range(22, 25)  # row counts of the blocks of the table ``prog``
+N_SP = 25
+TABLE_COLUMNS = 6
 DRIVE_MODELS = {"constant": 0, "speed_feedback": 1, "angle_feedback": 2}
 
 
@@ -58,7 +60,15 @@ class PlanarModel:
     free : bool           rotor speed is a state (torque drive)
     sp : ndarray          scalar parameters (layout constants above)
     wt : ndarray (n, 4)   weight table, :func:`stand.weights.weight_table`
-    prog : ndarray (k, 3) speed programme ``[tau, R, phi]`` (prescribed speed)
+    prog : ndarray (k, 6)
+        One table, three blocks of rows (counts in ``sp[N_PROG]``, ``sp[N_UB]``,
+        ``sp[N_FORCE]``): the speed programme ``[tau, R, phi]`` (prescribed
+        speed); the unbalance programme ``[tau, u_x, u_y]`` (rotor frame, units
+        of M_Sigma L, piecewise linear; empty = constant); side-force windows
+        ``[tau_on, tau_off, f_x, f_y, k_x, k_y]`` (units of M_Sigma omega_1^2 L
+        and M_Sigma omega_1^2).
+    impulses : ndarray (m, 3)
+        Blows to the housing: ``[tau, dxi', deta']`` shaft velocity jumps.
     omega_1 : float       time scale [rad/s]
     length : float        length scale L [m]
     structure : PlanarStructure
@@ -72,6 +82,7 @@ class PlanarModel:
     omega_1: float
     length: float
     structure: PlanarStructure
+    impulses: np.ndarray = None
 
     @property
     def nq(self) -> int:
@@ -83,9 +94,13 @@ class PlanarModel:
 
     def breakpoints(self) -> np.ndarray:
         """Dimensionless times where the prescribed acceleration jumps."""
-        if self.free:
-            return np.zeros(0)
-        return breakpoints(self.prog, self.sp[COAST_T0])
+        npg, nub, nf = (int(self.sp[k]) for k in (N_PROG, N_UB, N_FORCE))
+        pts = [] if self.free else list(breakpoints(self.prog[:npg], self.sp[COAST_T0]))
+        pts += list(self.prog[npg:npg + nub, 0])
+        pts += list(self.prog[npg + nub:npg + nub + nf, :2].ravel())
+        if self.impulses is not None:
+            pts += list(self.impulses[:, 0])
+        return np.array(sorted({p for p in pts if p > 0.0 and np.isfinite(p)}))
 
     def angle_mask(self) -> np.ndarray:
         """True for state components that are angles (error scale capped)."""
@@ -97,7 +112,7 @@ class PlanarModel:
         """Rotor angle [rad] and dimensionless speed at samples ``tau``."""
         if self.free:
             return y[:, self.nq - 1], y[:, 2 * self.nq - 1]
-        return rotor_kinematics_many(np.asarray(tau, float), self.prog, self.sp)
+        return rotor_kinematics_many(np.asarray(tau, float), self.prog[:int(self.sp[N_PROG])], self.sp)
 
 
 def build_planar_model(scene: Scene) -> PlanarModel:
@@ -120,7 +135,7 @@ def build_planar_model(scene: Scene) -> PlanarModel:
     d = scene.drive
     if free:
         sp[FREE] = 1.0
-        sp[MU0] = st.unbalance * L / J0
+        sp[MU0] = Ms * L * L / J0  # times the unbalance vector (units of M_Sigma L): M e L / J0
         sp[H0] = d.rotor_drag / (w1 * J0)
         sp[MODEL] = DRIVE_MODELS[d.model]
         sp[MROT] = d.torque / (J0 * w1 ** 2)
@@ -140,8 +155,45 @@ def build_planar_model(scene: Scene) -> PlanarModel:
             sp[COAST_R0] = Rc
             sp[COAST_PHI0] = phic
     wt = weight_table(scene.balancer, Ms, L, w1, J0)
-    return PlanarModel(n=scene.balancer.count, free=free, sp=sp, wt=wt, prog=prog,
-                       omega_1=w1, length=L, structure=st)
+    ub, forces, impulses = perturbation_tables(scene, Ms, L, w1)
+    blocks = [prog, ub, forces]
+    sp[N_PROG], sp[N_UB], sp[N_FORCE] = (b.shape[0] for b in blocks)
+    table = np.zeros((sum(b.shape[0] for b in blocks), TABLE_COLUMNS))
+    r = 0
+    for b in blocks:
+        table[r:r + b.shape[0], :b.shape[1]] = b
+        r += b.shape[0]
+    return PlanarModel(n=scene.balancer.count, free=free, sp=sp, wt=wt, prog=table,
+                       omega_1=w1, length=L, structure=st, impulses=impulses)
+
+
+def perturbation_tables(scene: Scene, Ms: float, L: float, w1: float):
+    """Dimensionless tables of the scene's perturbations (tables 4.5-4.6 of the book).
+
+    Returns the unbalance programme ``[tau, u_x, u_y]`` (empty when the
+    unbalance never changes), side-force windows and impulses.
+    """
+    per = getattr(scene, "perturbations", ()) or ()
+    u = scene.rotor.unbalance * np.exp(1j * scene.rotor.unbalance_angle) / (Ms * L)
+    nodes = []
+    forces = []
+    impulses = []
+    for p in sorted(per, key=lambda p: p.start):
+        if p.kind == "unbalance":
+            nodes.append((p.start * w1, u))
+            new = p.mass * p.eccentricity * np.exp(1j * p.unbalance_angle) if p.mass is not None else (
+                scene.rotor.mass * p.eccentricity * np.exp(1j * p.unbalance_angle))
+            u = new / (Ms * L)
+            nodes.append(((p.start + p.duration) * w1, u))
+        elif p.kind == "side_force":
+            f = 1.0 / (Ms * w1 ** 2 * L)
+            k = 1.0 / (Ms * w1 ** 2)
+            forces.append((p.start * w1, p.end * w1 if np.isfinite(p.end) else np.inf,
+                           p.force_x * f, p.force_y * f, p.stiffness_x * k, p.stiffness_y * k))
+        elif p.kind == "impulse":
+            impulses.append((p.start * w1, p.velocity_x / (L * w1), p.velocity_y / (L * w1)))
+    ub = np.array([(t, z.real, z.imag) for t, z in nodes]).reshape(-1, 3)
+    return ub, np.array(forces).reshape(-1, 6), np.array(impulses).reshape(-1, 3)
 
 
 def initial_state(scene: Scene, model: PlanarModel) -> np.ndarray:
@@ -157,6 +209,49 @@ def initial_state(scene: Scene, model: PlanarModel) -> np.ndarray:
     if model.free:
         y[2 * nq - 1] = scene.drive.initial_speed / w1
     return y
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def unbalance_vector(tau, phi, sp, table, start):
+    """Rotor unbalance in the fixed frame, w = e^{i phi} u, and w' = e^{i phi} du/dtau.
+
+    u is the unbalance vector in the rotor frame (units of M_Sigma L): constant
+    ``eps0 e^{i beta}`` or the piecewise-linear unbalance programme.
+    """
+    nub = int(sp[N_UB])
+    if nub == 0:
+        ux = sp[EPS0] * math.cos(sp[BETA])
+        uy = sp[EPS0] * math.sin(sp[BETA])
+        dux = 0.0
+        duy = 0.0
+    else:
+        ub = table[start:start + nub]
+        if tau < ub[0, 0]:
+            ux, uy, dux, duy = ub[0, 1], ub[0, 2], 0.0, 0.0
+        elif tau >= ub[nub - 1, 0]:
+            ux, uy, dux, duy = ub[nub - 1, 1], ub[nub - 1, 2], 0.0, 0.0
+        else:
+            i = np.searchsorted(ub[:, 0], tau, side="right") - 1
+            dt = ub[i + 1, 0] - ub[i, 0]
+            dux = (ub[i + 1, 1] - ub[i, 1]) / dt
+            duy = (ub[i + 1, 2] - ub[i, 2]) / dt
+            ux = ub[i, 1] + dux * (tau - ub[i, 0])
+            uy = ub[i, 2] + duy * (tau - ub[i, 0])
+    c = math.cos(phi)
+    s = math.sin(phi)
+    return c * ux - s * uy, s * ux + c * uy, c * dux - s * duy, s * dux + c * duy
+
+
+@njit(cache=True, error_model="numpy")
+def side_forces(tau, xi, eta, sp, table, start):
+    """Sum of the active side-force windows on the shaft: f - k (xi, eta)."""
+    fx = 0.0
+    fy = 0.0
+    for r in range(start, start + int(sp[N_FORCE])):
+        if table[r, 0] <= tau < table[r, 1]:
+            fx += table[r, 2] - table[r, 4] * xi
+            fy += table[r, 3] - table[r, 5] * eta
+    return fx, fy
 
 
 @njit(cache=True, error_model="numpy")
@@ -192,21 +287,23 @@ def rhs_planar(tau, y, dy, sp, wt, prog):
     eta = y[1]
     dxi = y[nq]
     deta = y[nq + 1]
+    npg = int(sp[N_PROG])
     if free:
         phi = y[nq - 1]
         dphi = y[2 * nq - 1]
         ddphi = 0.0
     else:
-        phi, dphi, ddphi = rotor_kinematics(tau, prog, sp[COAST_T0], sp[COAST_T],
+        phi, dphi, ddphi = rotor_kinematics(tau, prog[:npg], sp[COAST_T0], sp[COAST_T],
                                             sp[COAST_R0], sp[COAST_PHI0])
-    th = phi + sp[BETA]
-    s0 = math.sin(th)
-    c0 = math.cos(th)
-    eps0 = sp[EPS0]
+    # rotor unbalance in the fixed frame (w) and its rate of change (v)
+    wx, wy, vx, vy = unbalance_vector(tau, phi, sp, prog, npg)
+    fx, fy = side_forces(tau, xi, eta, sp, prog, npg + int(sp[N_UB]))
     w2 = dphi * dphi
     # forces on the shaft that do not depend on the unknown accelerations
-    b1 = -(sp[D11] * dxi + sp[D12] * deta + sp[K11] * xi + sp[K12] * eta) + eps0 * w2 * c0
-    b2 = -(sp[D21] * dxi + sp[D22] * deta + sp[K21] * xi + sp[K22] * eta) + eps0 * w2 * s0
+    b1 = (-(sp[D11] * dxi + sp[D12] * deta + sp[K11] * xi + sp[K12] * eta)
+          + w2 * wx + 2.0 * dphi * vy + fx)
+    b2 = (-(sp[D21] * dxi + sp[D22] * deta + sp[K21] * xi + sp[K22] * eta)
+          + w2 * wy - 2.0 * dphi * vx + fy)
     a11 = 1.0
     a12 = 0.0
     a22 = 1.0
@@ -231,11 +328,11 @@ def rhs_planar(tau, y, dy, sp, wt, prog):
         b3 += wt[j, NU] * da
     if free:
         # 3x3 Schur complement: unknowns (xi'', eta'', phi'')
-        a13 = -eps0 * s0
-        a23 = eps0 * c0
+        a13 = -wy
+        a23 = wx
         mu0 = sp[MU0]
-        a31 = -mu0 * s0
-        a32 = mu0 * c0
+        a31 = -mu0 * wy
+        a32 = mu0 * wx
         b3 += drive_torque(tau, phi, dphi, sp) - sp[H0] * dphi
         det = (a11 * (a22 - a23 * a32) - a12 * (a12 - a23 * a31)
                + a13 * (a12 * a32 - a22 * a31))
@@ -243,8 +340,8 @@ def rhs_planar(tau, y, dy, sp, wt, prog):
         x2 = (a11 * (b2 - a23 * b3) - b1 * (a12 - a23 * a31) + a13 * (a12 * b3 - b2 * a31)) / det
         ddphi = b3 - a31 * x1 - a32 * x2
     else:
-        b1 += eps0 * s0 * ddphi
-        b2 -= eps0 * c0 * ddphi
+        b1 += wy * ddphi
+        b2 -= wx * ddphi
         det = a11 * a22 - a12 * a12
         x1 = (b1 * a22 - a12 * b2) / det
         x2 = (a11 * b2 - a12 * b1) / det
@@ -272,17 +369,19 @@ def rhs_planar_numpy(tau, y, sp, wt, prog):
     nq = 2 + n + (1 if free else 0)
     xi, eta, dxi, deta = y[0], y[1], y[nq], y[nq + 1]
     alpha, dalpha = y[2:2 + n], y[nq + 2:nq + 2 + n]
+    npg = int(sp[N_PROG])
     if free:
         phi, dphi = y[nq - 1], y[2 * nq - 1]
         ddphi_known = None
     else:
-        phi, dphi, ddphi_known = rotor_kinematics(tau, prog, sp[COAST_T0], sp[COAST_T],
+        phi, dphi, ddphi_known = rotor_kinematics(tau, prog[:npg], sp[COAST_T0], sp[COAST_T],
                                                   sp[COAST_R0], sp[COAST_PHI0])
+    # unbalance d = e^{i phi} u(tau) (rotor frame u): -d'' = e^{i phi}(phi'^2 u - i phi'' u - 2 i phi' u')
+    wx, wy, vx, vy = unbalance_vector(tau, phi, sp, prog, npg)
+    fx, fy = side_forces(tau, y[0], y[1], sp, prog, npg + int(sp[N_UB]))
     pj = phi + alpha
     wj = dphi + dalpha
     s, c = np.sin(pj), np.cos(pj)
-    th = phi + sp[BETA]
-    s0, c0 = np.sin(th), np.cos(th)
     eps, mu, hh, nu = wt[:, EPS], wt[:, MU], wt[:, H], wt[:, NU]
     m = n + 2 + (1 if free else 0)
     A = np.zeros((m, m))
@@ -295,21 +394,21 @@ def rhs_planar_numpy(tau, y, sp, wt, prog):
     A[n, :n] = -eps * s
     A[n, n] = 1.0
     b[n] = (-(sp[D11] * dxi + sp[D12] * deta + sp[K11] * xi + sp[K12] * eta)
-            + np.sum(eps * wj ** 2 * c) + sp[EPS0] * dphi ** 2 * c0)
+            + np.sum(eps * wj ** 2 * c) + dphi ** 2 * wx + 2 * dphi * vy + fx)
     A[n + 1, :n] = eps * c
     A[n + 1, n + 1] = 1.0
     b[n + 1] = (-(sp[D21] * dxi + sp[D22] * deta + sp[K21] * xi + sp[K22] * eta)
-                + np.sum(eps * wj ** 2 * s) + sp[EPS0] * dphi ** 2 * s0)
+                + np.sum(eps * wj ** 2 * s) + dphi ** 2 * wy - 2 * dphi * vx + fy)
     if free:
-        A[n, n + 2] = -sp[EPS0] * s0
-        A[n + 1, n + 2] = sp[EPS0] * c0
-        A[n + 2, n] = -sp[MU0] * s0
-        A[n + 2, n + 1] = sp[MU0] * c0
+        A[n, n + 2] = -wy
+        A[n + 1, n + 2] = wx
+        A[n + 2, n] = -sp[MU0] * wy
+        A[n + 2, n + 1] = sp[MU0] * wx
         A[n + 2, n + 2] = 1.0
         b[n + 2] = drive_torque(tau, phi, dphi, sp) - sp[H0] * dphi + np.sum(nu * dalpha)
     else:
-        b[n] += sp[EPS0] * ddphi_known * s0
-        b[n + 1] -= sp[EPS0] * ddphi_known * c0
+        b[n] += wy * ddphi_known
+        b[n + 1] -= wx * ddphi_known
     acc = np.linalg.solve(A, b)
     ddphi = acc[n + 2] if free else ddphi_known
     dy = np.empty_like(y)

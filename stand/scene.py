@@ -221,6 +221,50 @@ class RunSettings:
 
 
 @dataclass(frozen=True)
+class UnbalanceChange:
+    """Change of the rotor's unbalance (table 4.5): discrete (duration 0) or continuous.
+
+    From ``start`` [s] the unbalance moves linearly, over ``duration`` [s], to
+    ``eccentricity`` [m] at ``unbalance_angle`` [rad] (of the rotor mass M).
+    The shaft equations include the e' terms of the moving centre of mass; for
+    a free rotor the polar inertia J_0 is kept constant (a small correction mass).
+    """
+
+    start: float
+    duration: float
+    eccentricity: float
+    unbalance_angle: float
+    mass: Optional[float] = None
+    kind: str = "unbalance"
+
+
+@dataclass(frozen=True)
+class Impulse:
+    """A blow to the housing at ``start`` [s]: the shaft velocity jumps by
+    (velocity_x, velocity_y) [m/s] (table 4.6)."""
+
+    start: float
+    velocity_x: float
+    velocity_y: float
+    kind: str = "impulse"
+
+
+@dataclass(frozen=True)
+class SideForce:
+    """One-directional pressure on the shaft from ``start`` to ``end`` [s] (table 4.6):
+    a constant force (force_x, force_y) [N] plus extra stiffness (stiffness_x,
+    stiffness_y) [N/m] (e.g. a spring rail pressing on the housing)."""
+
+    start: float
+    end: float
+    force_x: float = 0.0
+    force_y: float = 0.0
+    stiffness_x: float = 0.0
+    stiffness_y: float = 0.0
+    kind: str = "side_force"
+
+
+@dataclass(frozen=True)
 class InitialState:
     """Initial shaft state: displacement [m] and velocity [m/s]."""
 
@@ -244,6 +288,8 @@ class Scene:
     text: str = ""  #: the original TOML text, stored in recordings
     #: instrument name ("screen", "stroboscope", ...) -> settings; empty: nothing is rendered
     instruments: dict = field(default_factory=dict)
+    #: UnbalanceChange / Impulse / SideForce events (tables 4.5-4.6)
+    perturbations: tuple = ()
 
     @property
     def total_mass(self) -> float:

@@ -24,7 +24,7 @@ import numpy as np
 from ._jit import njit
 from .dop853 import (DIVERGED, NOT_FINITE, REACHED_END, STEP_BUDGET, STEP_TOO_SMALL,
                      dop853_loop)
-from .planar import (D11, D22, H0, K22, WTARGET, PlanarModel, build_planar_model,
+from .planar import (D11, D22, H0, K22, N_PROG, WTARGET, PlanarModel, build_planar_model,
                      initial_state, rhs_planar, rhs_planar_numpy)
 from .scene import METHODS, Scene, SceneError
 from .kernels import PLANAR, rhs
@@ -177,7 +177,7 @@ def stiffness(model: PlanarModel) -> float:
     rates = [sp[D11], sp[D22], abs(sp[H0])]
     if model.n:
         rates.append(float(np.max(wt[:, H] / np.maximum(1.0 - wt[:, EPS] * wt[:, MU], 1e-12))))
-    speed = max(1.0, math.sqrt(abs(sp[K22])), float(np.max(np.abs(model.prog[:, 1]))),
+    speed = max(1.0, math.sqrt(abs(sp[K22])), float(np.max(np.abs(model.prog[:int(sp[N_PROG]), 1]))),
                 abs(sp[WTARGET]))
     return max(rates) / speed
 
