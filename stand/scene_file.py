@@ -26,6 +26,9 @@ except ModuleNotFoundError:  # Python < 3.11
 
 from .scene import (
     METHODS,
+    Impulse,
+    SideForce,
+    UnbalanceChange,
     Balancer,
     InitialState,
     Rotor,
@@ -47,7 +50,12 @@ MAX_STATE_BYTES = 4e9  #: largest sample buffer (samples x state width x 8 bytes
 MAX_CYCLES = 1e8  #: largest number of rotor revolutions or natural periods in one run
 
 TABLES = ("scene", "rotor", "supports", "balancer", "drive", "run", "initial", "dimensionless",
-          "instruments")
+          "instruments", "perturbation")
+PERTURBATION_KEYS = {
+    "unbalance": ("type", "time", "duration", "eccentricity", "unbalance_angle"),
+    "impulse": ("type", "time", "velocity_x", "velocity_y"),
+    "side_force": ("type", "start", "end", "force_x", "force_y", "stiffness_x", "stiffness_y"),
+}
 #: [instruments.<name>] -> (module, settings class with ``from_table``)
 INSTRUMENTS = {
     "screen": ("stand.instruments.screen", "ScreenCamera"),
@@ -503,7 +511,7 @@ def parse_scene(data: Mapping, text: str = "") -> Scene:
         if key not in TABLES:
             raise SceneError(f"unknown table [{key}]: {_suggest(key, TABLES)}"
                              f"valid tables: {', '.join(TABLES)}")
-    tables = {key: _Table(value, key) for key, value in data.items()}
+    tables = {key: _Table(value, key) for key, value in data.items() if key != "perturbation"}
     physical = [k for k in ("rotor", "supports", "balancer") if k in tables]
     if "dimensionless" in tables and physical:
         raise SceneError(f"[dimensionless] cannot be combined with [{physical[0]}]: a "
@@ -527,11 +535,15 @@ def parse_scene(data: Mapping, text: str = "") -> Scene:
         if p["initial_angles"] is not None:
             p["initial_angles"] = p["initial_angles"] * DEG
         drive = _drive(tables["drive"], TWO_PI * p["natural_frequency"])
-        return check_derived(dataclasses.replace(
-            scene_from_dimensionless(**p, drive=drive, run=run, initial=initial),
-            name=name, text=text, instruments=instruments))
+        sc = scene_from_dimensionless(**p, drive=drive, run=run, initial=initial)
+        perturbations = (_perturbations(data["perturbation"], sc.rotor, run.duration)
+                         if "perturbation" in data else ())
+        return check_derived(dataclasses.replace(sc, name=name, text=text, instruments=instruments,
+                                                 perturbations=perturbations))
 
     rotor = _rotor(tables["rotor"])
+    perturbations = (_perturbations(data["perturbation"], rotor, run.duration)
+                     if "perturbation" in data else ())
     supports = _supports(tables["supports"])
     balancer = _balancer(tables["balancer"]) if "balancer" in tables else Balancer()
     w1 = math.sqrt(supports.stiffness_x / (rotor.mass + float(np.sum(balancer.mass))))
@@ -541,7 +553,42 @@ def parse_scene(data: Mapping, text: str = "") -> Scene:
                          '(drive.type = "torque") (kg*m^2, about the rotor\'s own centre of mass)')
     return check_derived(Scene(rotor=rotor, supports=supports, balancer=balancer, drive=drive,
                                run=run, initial=initial, name=name, text=text,
-                               instruments=instruments))
+                               instruments=instruments, perturbations=perturbations))
+
+
+def _perturbations(items: Any, rotor: Rotor, duration: float) -> tuple:
+    """Parse ``[[perturbation]]`` (tables 4.5-4.6): unbalance change, impulse, side force."""
+    if not isinstance(items, list):
+        raise SceneError("perturbation: must be an array of tables [[perturbation]], not "
+                         f"{_kind(items)}")
+    out = []
+    for i, item in enumerate(items):
+        t = _Table(item, f"perturbation[{i}]")
+        kind = t.string("type", tuple(PERTURBATION_KEYS))
+        t.allow(PERTURBATION_KEYS[kind], lambda k, kind=kind: (
+            f"{t.name(k)}: not a key of a perturbation of type \"{kind}\" (valid: "
+            f"{', '.join(PERTURBATION_KEYS[kind])})"))
+        if kind == "unbalance":
+            start = t.number("time", "s", ge=0)
+            out.append(UnbalanceChange(
+                start=start, duration=t.number("duration", "s", 0.0, ge=0),
+                eccentricity=t.number("eccentricity", "m", rotor.eccentricity, ge=0),
+                unbalance_angle=t.number("unbalance_angle", "deg", rotor.unbalance_angle / DEG) * DEG))
+        elif kind == "impulse":
+            out.append(Impulse(start=t.number("time", "s", gt=0),
+                               velocity_x=t.number("velocity_x", "m/s", 0.0),
+                               velocity_y=t.number("velocity_y", "m/s", 0.0)))
+        else:
+            start = t.number("start", "s", ge=0)
+            end = t.number("end", "s", math.inf, gt=start) if "end" in t else math.inf
+            out.append(SideForce(start=start, end=end, force_x=t.number("force_x", "N", 0.0),
+                                 force_y=t.number("force_y", "N", 0.0),
+                                 stiffness_x=t.number("stiffness_x", "N/m", 0.0, ge=0),
+                                 stiffness_y=t.number("stiffness_y", "N/m", 0.0, ge=0)))
+        if out[-1].start > duration:
+            raise SceneError(f"{t.name('time' if kind != 'side_force' else 'start')} = "
+                             f"{out[-1].start:g}: after the end of the run (run.duration = {duration:g} s)")
+    return tuple(out)
 
 
 def _instruments(t: _Table) -> dict:

@@ -315,6 +315,7 @@ def _run_dop853(model, y0, tau_end, rtol, atol, ts, out, stats, max_steps, progr
         if t < seg_end:
             break
         if seg_end < tau_end:  # restart the derivative after a kink of the programme
+            _apply_impulses(model, t, y)
             rhs_planar(t, y, f, sp, wt, prog)
             st[2] += 1
     if bar is not None:
@@ -338,6 +339,18 @@ def _run_dop853(model, y0, tau_end, rtol, atol, ts, out, stats, max_steps, progr
         stats.message = (f"Step size collapsed at t = {t_s:.6g} s (required step below the time "
                          "resolution; the problem may be stiff: try run.method = \"Radau\"); samples up to there are kept.")
     return k_next
+
+
+def _apply_impulses(model, tau, y):
+    """Shaft velocity jumps of the blows to the housing that happen at ``tau``."""
+    imp = model.impulses
+    if imp is None or imp.size == 0:
+        return
+    nq = model.nq
+    for t_i, dvx, dvy in imp:
+        if t_i == tau:
+            y[nq] += dvx
+            y[nq + 1] += dvy
 
 
 def _initial_step(model, y, f, rtol, atol, cap):
@@ -462,6 +475,7 @@ def _run_scipy(model, y0, tau_end, rtol, atol, ts_all, out, stats, method, max_s
             break
         t = seg_end
         y = solver.y.copy()
+        _apply_impulses(model, t, y)
     stats.n_steps = steps
     if fail is None:
         stats.status, stats.success = 0, True

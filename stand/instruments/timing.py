@@ -246,7 +246,8 @@ def crossing_times(t, angle, speed, target: float, direction: int = 1) -> np.nda
 def shaft_velocity(traj) -> tuple[np.ndarray, np.ndarray]:
     """Shaft velocity (vx, vy) [m/s] at the trajectory's samples.
 
-    Taken from the dimensionless state (``traj.state[:, nq]``,
+    Attributes ``traj.vx``, ``traj.vy`` are used when present (e.g. an object
+    read from a recording that stores them); otherwise taken from the dimensionless state (``traj.state[:, nq]``,
     ``traj.state[:, nq + 1]`` in units of ``L * omega_1``, ``nq`` = half the
     state width, see :mod:`stand.planar`), not by differencing.
 
@@ -256,10 +257,14 @@ def shaft_velocity(traj) -> tuple[np.ndarray, np.ndarray]:
         The trajectory carries no state (built by hand or read from a
         recording without it).
     """
+    vx, vy = getattr(traj, "vx", None), getattr(traj, "vy", None)
+    if vx is not None and vy is not None:
+        return np.asarray(vx, float), np.asarray(vy, float)
     state = getattr(traj, "state", None)
     if state is None or np.ndim(state) != 2 or state.shape[1] < 4:
-        raise ValueError("shaft_velocity: the trajectory has no dimensionless state "
-                         "(Trajectory.state); the shaft velocity is unknown")
+        raise ValueError("shaft_velocity: the trajectory has neither vx, vy nor the "
+                         "dimensionless state (Trajectory.state); the shaft velocity is unknown "
+                         "(record shaft velocities to use the instruments on a recording)")
     nq = state.shape[1] // 2
     scale = traj.scene.length_scale * traj.scene.natural_frequency
     return state[:, nq] * scale, state[:, nq + 1] * scale
@@ -328,3 +333,88 @@ def sample_trajectory(traj, tq, velocities: Optional[tuple] = None) -> Trajector
         w = np.zeros((tq.size, 0))
     return TrajectorySample(t=tq, x=xy[:, 0], y=xy[:, 1], vx=dxy[:, 0], vy=dxy[:, 1],
                             rotor_angle=phi, rotor_speed=dphi, weight_angle=w)
+
+
+# ---------------------------------------------------------------- settings helpers
+# Shared by the instruments' ``from_table`` constructors (private): the public
+# :class:`stand.scene_file.Table` has no boolean or variable-length list getter.
+def _table_boolean(t, key: str, default: bool) -> bool:
+    from ..scene import SceneError
+
+    if key not in t:
+        return default
+    value = t.data[key]
+    if not isinstance(value, (bool, np.bool_)):
+        raise SceneError(f"{t.name(key)} = {value!r}: must be true or false")
+    return bool(value)
+
+
+def _table_numbers(t, key: str, unit: str, default, *, length: Optional[int] = None,
+                   ge: Optional[float] = None, gt: Optional[float] = None) -> Optional[list]:
+    """A list of finite numbers (optionally of a given length and bounded below)."""
+    from ..scene import SceneError
+
+    if key not in t:
+        return default
+    value = t.data[key]
+    name = t.name(key)
+    if not isinstance(value, (list, tuple)):
+        raise SceneError(f"{name} = {value!r}: must be a list of numbers ({unit})")
+    if length is not None and len(value) != length:
+        raise SceneError(f"{name} = {value!r}: expected {length} numbers ({unit}), "
+                         f"got {len(value)}")
+    out = []
+    for i, v in enumerate(value):
+        if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, float)) \
+                or not np.isfinite(v):
+            raise SceneError(f"{name}[{i}] = {v!r}: must be a finite number ({unit})")
+        if ge is not None and v < ge:
+            raise SceneError(f"{name}[{i}] = {v!r}: must be >= {ge:g} ({unit})")
+        if gt is not None and v <= gt:
+            raise SceneError(f"{name}[{i}] = {v!r}: must be > {gt:g} ({unit})")
+        out.append(float(v))
+    return out
+
+
+def _rebased(cls, kwargs: dict, default_path: str, path: str):
+    """Construct ``cls(**kwargs)``; messages of its own checks name ``path``."""
+    from ..scene import SceneError
+
+    try:
+        return cls(**kwargs)
+    except SceneError as exc:
+        msg = str(exc)
+        if path != default_path:
+            msg = msg.replace(default_path + ".", path + ".")
+        raise SceneError(msg) from None
+
+
+def _check_number(name: str, value, unit: str, *, gt=None, ge=None, lt=None, le=None,
+                  optional: bool = False) -> None:
+    """Validation in ``__post_init__``: one number, message naming key, value, unit."""
+    from ..scene import SceneError
+
+    if value is None and optional:
+        return
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.number)):
+        raise SceneError(f"{name} = {value!r}: must be a number ({unit})")
+    v = float(value)
+    if not np.isfinite(v):
+        raise SceneError(f"{name} = {value!r}: must be finite ({unit})")
+    for bound, ok, sign in ((gt, lambda: v > gt, ">"), (ge, lambda: v >= ge, ">="),
+                            (lt, lambda: v < lt, "<"), (le, lambda: v <= le, "<=")):
+        if bound is not None and not ok():
+            raise SceneError(f"{name} = {value!r}: must be {sign} {bound:g} ({unit})")
+
+
+def _check_integer(name: str, value, minimum: int, maximum: Optional[int] = None,
+                   optional: bool = False) -> None:
+    from ..scene import SceneError
+
+    if value is None and optional:
+        return
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise SceneError(f"{name} = {value!r}: must be an integer")
+    if value < minimum or (maximum is not None and value > maximum):
+        rng = f">= {minimum}" if maximum is None else f"in {minimum}..{maximum}"
+        raise SceneError(f"{name} = {value!r}: must be {rng}")

@@ -1,0 +1,542 @@
+"""The laser-spot screen and the camera filming it (monograph section 4.3; digest
+ch5 sections 5.3 and 6.1).
+
+A laser screwed into the shaft end, coaxial with the shaft, shines onto a screen;
+the spot draws the shaft's motion: a point for a balanced rotor, a circle for a
+steady whirl, an epitrochoid with (k - 1) petals for the quasi-periodic "stuck
+balls" motion (5.237)-(5.240).  A camera films the screen.
+
+Chain of this module (the pipeline calls them in this order):
+
+1. :func:`frame_times` -- frame start times;  :func:`exposure_times` -- the K
+   sub-sample times of each exposure (midpoints of K equal slices); the
+   simulator samples the motion there (``simulate(scene, extra_times=...)``).
+2. :func:`spot_on_screen` -- shaft motion -> spot on the screen [m]:
+   ``gain * (x, y)`` + beam-misalignment circle turning with the rotor + offset
+   (+ the intersection of a tilting axis with the screen plane, for the
+   tilting models of later issues).
+3. :func:`screen_to_pixels` -- screen [m] -> image [px] through the camera's
+   homography (pinhole camera, optionally tilted); inverse :func:`pixels_to_screen`.
+4. :func:`stand.instruments.render.render_frames` -- frames, one by one.
+5. :func:`frame_truth` -- per frame, the exposure-averaged spot centre in px
+   (what an intensity centroid estimates) and in m.
+
+Coordinates
+-----------
+Screen: X, Y [m] in the fixed frame of the shaft displacement (x, y); the
+origin is where the camera's optical axis meets the screen, which is the image
+centre.  The undeflected beam (x = y = 0, no misalignment) hits
+(offset_x, offset_y) -- the image centre by default.
+Image: u = column (to the right), v = row (downwards); pixel centres at
+integers, (0, 0) the centre of the top-left pixel (OpenCV convention); image
+centre ((W - 1)/2, (H - 1)/2).  The screen is seen with +X to the right and +Y
+up (v = c_v - Y / pitch for an untilted camera).
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import numbers
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Optional
+
+import numpy as np
+
+from ..scene import SceneError
+
+__all__ = ["ScreenCamera", "spot_on_screen", "screen_to_pixels", "pixels_to_screen",
+           "frame_times", "exposure_times", "spot_positions", "frame_truth", "SCREEN_KEYS",
+           "TILT_LIMIT", "DEFAULT_SUBSAMPLES"]
+
+DEG = math.pi / 180.0
+TILT_LIMIT = 0.35             #: rad, largest |tilt| accepted (mild perspective)
+DEFAULT_SUBSAMPLES = 16       #: sub-samples per exposure when nothing else is known
+MAX_SUBSAMPLES = 1_000_000    #: per exposure
+NORMAL_LENS = 1.4             #: default camera distance / imaged screen width (HFOV ~ 39 deg)
+FULL_WELL = 10_000.0          #: electrons at saturation for the default electrons_per_dn
+SMOOTH_STEP_SIGMAS = 1.0      #: automatic sub-sampling: at most this many sigma between positions
+MAX_SIZE = 16384              #: px, largest width or height accepted
+_READ_NOISE = {8: 1.0, 10: 2.0, 12: 4.0, 14: 8.0, 16: 16.0}   #: default read noise, DN
+
+#: keys of ``[instruments.screen]`` (TOML units: SI, angles in degrees)
+SCREEN_KEYS = ("gain", "misalignment", "misalignment_phase", "offset_x", "offset_y", "width",
+               "height", "pixel_pitch", "tilt", "camera_distance", "frame_rate", "exposure",
+               "start_time", "subsamples", "spot_diameter", "peak", "background", "read_noise",
+               "shot_noise", "electrons_per_dn", "bit_depth", "seed")
+
+
+def _bad(name, value, text):
+    return SceneError(f"{name} = {value!r}: {text}")
+
+
+@dataclass(frozen=True, kw_only=True)
+class ScreenCamera:
+    """Settings of the laser-spot screen and its camera, SI units (angles in rad).
+
+    Fields given as ``None`` are resolved in ``__post_init__`` (defaults that
+    depend on other fields), except ``subsamples`` (None = automatic, see
+    :meth:`subsamples_for`).
+
+    Attributes
+    ----------
+    pixel_pitch : float
+        Metres of screen per pixel at the image centre, along the image u axis
+        (along v it is pixel_pitch / cos(tilt)).  Required.
+    gain : float
+        Spot displacement on the screen per shaft displacement (optical lever
+        of plane-parallel models); default 1.
+    misalignment : float
+        Radius [m] of the beam-misalignment circle on the screen: the beam is not
+        exactly on the rotation axis, so the spot turns on a circle at the rotor
+        frequency even when the shaft is still ("dynamic centring", §4.3.2,
+        removes it); default 0.
+    misalignment_phase : float
+        Angle [rad] of that circle's radius from the rotor's reference mark.
+    offset_x, offset_y : float
+        Position [m] of the undeflected beam on the screen relative to the image
+        centre (static centring error, screen placement); default 0.
+    width, height : int
+        Image size [px]; default 640 x 480.
+    tilt : float
+        Camera tilt [rad] about the image u axis (a mild perspective: the
+        screen's +Y side is farther from the camera for tilt > 0), |tilt| < 0.35;
+        implemented as a homography; default 0.
+    camera_distance : float
+        Distance [m] from the camera's centre of projection to the screen point
+        at the image centre; sets the strength of the perspective (only matters
+        with a tilt).  Default: 1.4 x the imaged screen width (a normal lens,
+        horizontal field of view about 39 deg).
+    frame_rate : float
+        Frames per second [Hz]; default 25.
+    exposure : float
+        Exposure time [s], 0 < exposure <= 1/frame_rate; default half the frame
+        period.
+    start_time : float
+        Start of the first exposure [s]; default 0.
+    subsamples : int or None
+        Spot positions integrated per exposure (midpoints of equal slices);
+        1 = no motion blur.  None (default): automatic -- enough positions that
+        consecutive ones are at most one spot sigma apart for a curve as large
+        as the image turning at the rotor speed (:meth:`subsamples_for`), at
+        least 16.
+    spot_diameter : float
+        1/e^2 diameter [m] of the Gaussian spot on the screen; default 2 mm.
+    peak : float
+        DN at the centre of a still spot over the full exposure (above the
+        background); default 0.8 of full scale.
+    background : float
+        Mean DN of the lit, spot-free screen over the exposure; default 0.03 of
+        full scale.
+    read_noise : float
+        DN rms (1, 2, 4 DN at 8, 10, 12 bits by default).
+    shot_noise : bool
+        Poisson noise on the signal (background + spot) in electrons; default on.
+    electrons_per_dn : float
+        Conversion gain; default full well 10 000 e- / (2**bit_depth - 1).
+    bit_depth : int
+        8 (uint8 frames) or 10, 12, 14, 16 (uint16 frames); saturation at
+        2**bit_depth - 1.
+    seed : int
+        Seed of the noise; frame f uses the stream (seed, f).
+    table : str
+        Dotted name of the settings table, used in error messages.
+    """
+
+    pixel_pitch: float
+    gain: float = 1.0
+    misalignment: float = 0.0
+    misalignment_phase: float = 0.0
+    offset_x: float = 0.0
+    offset_y: float = 0.0
+    width: int = 640
+    height: int = 480
+    tilt: float = 0.0
+    camera_distance: Optional[float] = None
+    frame_rate: float = 25.0
+    exposure: Optional[float] = None
+    start_time: float = 0.0
+    subsamples: Optional[int] = None
+    spot_diameter: float = 2e-3
+    peak: Optional[float] = None
+    background: Optional[float] = None
+    read_noise: Optional[float] = None
+    shot_noise: bool = True
+    electrons_per_dn: Optional[float] = None
+    bit_depth: int = 8
+    seed: int = 0
+    table: str = field(default="instruments.screen", compare=False, repr=False)
+
+    # ------------------------------------------------------------ validation
+    def __post_init__(self):
+        n = lambda key: f"{self.table}.{key}"  # noqa: E731
+        set_ = lambda key, value: object.__setattr__(self, key, value)  # noqa: E731
+
+        def real(key, *, gt=None, ge=None, unit=""):
+            value = getattr(self, key)
+            if isinstance(value, bool) or not isinstance(value, numbers.Real) \
+                    or not math.isfinite(float(value)):
+                raise _bad(n(key), value, f"must be a finite number ({unit})")
+            if gt is not None and not value > gt:
+                raise _bad(n(key), value, f"must be > {gt} ({unit})")
+            if ge is not None and not value >= ge:
+                raise _bad(n(key), value, f"must be >= {ge} ({unit})")
+            set_(key, float(value))
+
+        def integer(key, lo, hi):
+            value = getattr(self, key)
+            if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+                raise _bad(n(key), value, "must be an integer")
+            if not lo <= value <= hi:
+                raise _bad(n(key), value, f"must be between {lo} and {hi}")
+            set_(key, int(value))
+
+        integer("bit_depth", 8, 16)
+        if self.bit_depth not in _READ_NOISE:
+            raise _bad(n("bit_depth"), self.bit_depth, "must be one of 8, 10, 12, 14, 16 (bits)")
+        top = self.max_dn
+        integer("width", 8, MAX_SIZE)
+        integer("height", 8, MAX_SIZE)
+        integer("seed", 0, 2 ** 63 - 1)
+        if not isinstance(self.shot_noise, (bool, np.bool_)):
+            raise _bad(n("shot_noise"), self.shot_noise, "must be true or false")
+        set_("shot_noise", bool(self.shot_noise))
+        real("pixel_pitch", gt=0, unit="m of screen per px")
+        real("gain", gt=0, unit="screen displacement per shaft displacement")
+        real("misalignment", ge=0, unit="m")
+        real("misalignment_phase", unit="rad")
+        real("offset_x", unit="m")
+        real("offset_y", unit="m")
+        real("tilt", unit="rad")
+        if not abs(self.tilt) < TILT_LIMIT:
+            raise _bad(n("tilt"), self.tilt, f"|tilt| must be < {TILT_LIMIT} rad "
+                       f"({TILT_LIMIT / DEG:.2f} deg): only a mild perspective is modelled")
+        if self.camera_distance is None:
+            set_("camera_distance", NORMAL_LENS * self.width * self.pixel_pitch)
+        real("camera_distance", gt=0, unit="m")
+        real("frame_rate", gt=0, unit="Hz")
+        if self.exposure is None:
+            set_("exposure", 0.5 / self.frame_rate)
+        real("exposure", gt=0, unit="s")
+        if self.exposure > self.frame_period * (1.0 + 1e-12):
+            raise _bad(n("exposure"), self.exposure,
+                       f"longer than the frame period 1/frame_rate = {self.frame_period:.6g} s "
+                       f"({n('frame_rate')} = {self.frame_rate:g} Hz); must be <= "
+                       f"{self.frame_period:.6g} (s)")
+        real("start_time", ge=0, unit="s")
+        if self.subsamples is not None:
+            integer("subsamples", 1, MAX_SUBSAMPLES)
+        real("spot_diameter", gt=0, unit="m, 1/e^2 diameter on the screen")
+        d_px = self.spot_diameter / self.pixel_pitch
+        if not d_px <= min(self.width, self.height):
+            raise _bad(n("spot_diameter"), self.spot_diameter,
+                       f"the spot ({d_px:.4g} px = spot_diameter / pixel_pitch) is larger than "
+                       f"the frame ({self.width} x {self.height} px); must be <= "
+                       f"{min(self.width, self.height) * self.pixel_pitch:.4g} (m)")
+        for key, default, unit in (("peak", 0.8 * top, "DN"), ("background", 0.03 * top, "DN"),
+                                   ("read_noise", _READ_NOISE[self.bit_depth], "DN rms"),
+                                   ("electrons_per_dn", FULL_WELL / top, "e-/DN")):
+            if getattr(self, key) is None:
+                set_(key, default)
+        real("peak", gt=0, unit="DN")
+        real("background", ge=0, unit="DN")
+        real("read_noise", ge=0, unit="DN rms")
+        real("electrons_per_dn", gt=0, unit="e-/DN")
+        # the screen's horizon must stay outside the image
+        Hinv = np.linalg.inv(self.homography)
+        W1, H1 = self.width - 0.5, self.height - 0.5
+        for uu, vv in ((-0.5, -0.5), (W1, -0.5), (-0.5, H1), (W1, H1)):
+            X, Y, w = Hinv @ np.array([uu, vv, 1.0])
+            if not (w != 0 and 1.0 + math.sin(self.tilt) * (Y / w) / self.camera_distance > 0):
+                raise _bad(n("camera_distance"), self.camera_distance,
+                           f"too short for {n('tilt')} = {self.tilt:g} rad: the image would "
+                           f"reach the screen's horizon; increase it (m)")
+
+    # ------------------------------------------------------------ derived
+    @property
+    def max_dn(self) -> int:
+        """Saturation value 2**bit_depth - 1."""
+        return (1 << self.bit_depth) - 1
+
+    @property
+    def dtype(self):
+        """numpy dtype of the frames: uint8 for 8 bits, else uint16."""
+        return np.dtype(np.uint8) if self.bit_depth == 8 else np.dtype(np.uint16)
+
+    @property
+    def frame_period(self) -> float:
+        return 1.0 / self.frame_rate
+
+    @property
+    def sigma(self) -> float:
+        """Gaussian sigma of the spot on the screen [m] (1/e^2 diameter / 4)."""
+        return self.spot_diameter / 4.0
+
+    @property
+    def sigma_px(self) -> tuple[float, float]:
+        """Spot sigma in the image [px] along u and v (at the image centre).
+
+        The spot is drawn as an axis-aligned Gaussian of these widths
+        everywhere in the image (the perspective's change of scale across a
+        mildly tilted image is neglected for the spot's shape; its position is
+        exact).
+        """
+        s = self.sigma / self.pixel_pitch
+        return s, s * math.cos(self.tilt)
+
+    @cached_property
+    def homography(self) -> np.ndarray:
+        """3x3 matrix H: [u w, v w, w] = H [X, Y, 1] (screen m -> image px).
+
+        Pinhole camera at ``camera_distance`` from the image-centre point of the
+        screen, rotated by ``tilt`` about the image u axis:
+        u = c_u + (X/p) / (1 + s Y/d),  v = c_v - (Y cos(tilt)/p) / (1 + s Y/d),
+        s = sin(tilt), p = pixel_pitch, d = camera_distance.
+        """
+        p, d, s, c = self.pixel_pitch, self.camera_distance, math.sin(self.tilt), math.cos(self.tilt)
+        cu, cv = (self.width - 1) / 2.0, (self.height - 1) / 2.0
+        return np.array([[1.0 / p, cu * s / d, cu],
+                         [0.0, cv * s / d - c / p, cv],
+                         [0.0, s / d, 1.0]])
+
+    @cached_property
+    def homography_inverse(self) -> np.ndarray:
+        return np.linalg.inv(self.homography)
+
+    def subsamples_for(self, max_rotor_speed: Optional[float] = None) -> int:
+        """Sub-samples per exposure.
+
+        ``subsamples`` if set; else automatic: consecutive positions at most
+        one spot sigma apart for a curve as large as the image (radius = the
+        image half-diagonal) traced at ``max_rotor_speed`` [rad/s] (the spot's
+        fastest components turn at the rotor speed: synchronous whirl,
+        nutation, misalignment circle), at least 16; 16 when the speed is not
+        given.
+        """
+        if self.subsamples is not None:
+            return self.subsamples
+        if max_rotor_speed is None or not max_rotor_speed > 0:
+            return DEFAULT_SUBSAMPLES
+        radius_px = 0.5 * math.hypot(self.width, self.height)
+        path = self.exposure * float(max_rotor_speed) * radius_px
+        k = math.ceil(path / (SMOOTH_STEP_SIGMAS * min(self.sigma_px)))
+        return int(min(max(k, DEFAULT_SUBSAMPLES), MAX_SUBSAMPLES))
+
+    def check_against_run(self, run) -> None:
+        """Check the camera against the run settings (:class:`stand.scene.RunSettings`).
+
+        Raises
+        ------
+        SceneError
+            frame rate above the simulation's sample rate; no complete exposure
+            within the run.
+        """
+        n = lambda key: f"{self.table}.{key}"  # noqa: E731
+        if self.frame_rate > run.sample_rate * (1.0 + 1e-12):
+            raise SceneError(f"{n('frame_rate')} = {self.frame_rate:g}: above the simulation's "
+                             f"sample rate run.sample_rate = {run.sample_rate:g} (Hz); lower "
+                             f"{n('frame_rate')} or raise run.sample_rate")
+        if self.start_time + self.exposure > run.duration * (1.0 + 1e-12):
+            raise SceneError(f"{n('start_time')} + {n('exposure')} = "
+                             f"{self.start_time + self.exposure:g}: no complete exposure within "
+                             f"run.duration = {run.duration:g} (s)")
+
+    def to_attrs(self) -> dict:
+        """All settings (resolved) plus derived values, for storing in a recording.
+
+        Units: SI, angles in rad; ``subsamples`` is -1 when automatic.
+        """
+        d = {f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "table"}
+        d["subsamples"] = -1 if self.subsamples is None else self.subsamples
+        d["sigma_px"] = list(self.sigma_px)
+        d["max_dn"] = self.max_dn
+        d["dtype"] = self.dtype.name
+        d["homography"] = self.homography.tolist()
+        d["pixel_convention"] = ("u = column, v = row, pixel centres at integers; "
+                                 "screen origin at the image centre, +X right, +Y up")
+        return d
+
+    # ------------------------------------------------------------ TOML
+    @classmethod
+    def from_table(cls, t) -> "ScreenCamera":
+        """Settings from a ``[instruments.screen]`` table (:class:`stand.scene_file.Table`).
+
+        TOML units: SI; ``misalignment_phase`` and ``tilt`` in degrees.  Every
+        problem raises :class:`stand.scene.SceneError` naming the key, the
+        value and the unit.
+        """
+        t.allow(SCREEN_KEYS)
+        kw = {}
+        num = lambda key, unit, **b: t.number(key, unit, None, **b)  # noqa: E731
+        for key, unit, bounds in (("gain", "screen displacement per shaft displacement", {"gt": 0}),
+                                  ("misalignment", "m", {"ge": 0}),
+                                  ("offset_x", "m", {}), ("offset_y", "m", {}),
+                                  ("pixel_pitch", "m of screen per px", {"gt": 0}),
+                                  ("camera_distance", "m", {"gt": 0}),
+                                  ("frame_rate", "Hz", {"gt": 0}),
+                                  ("exposure", "s", {"gt": 0}),
+                                  ("start_time", "s", {"ge": 0}),
+                                  ("spot_diameter", "m, 1/e^2 diameter on the screen", {"gt": 0}),
+                                  ("peak", "DN", {"gt": 0}), ("background", "DN", {"ge": 0}),
+                                  ("read_noise", "DN rms", {"ge": 0}),
+                                  ("electrons_per_dn", "e-/DN", {"gt": 0})):
+            if key == "pixel_pitch":
+                kw[key] = t.number(key, unit, gt=0)   # required
+                continue
+            value = num(key, unit, **bounds)
+            if value is not None:
+                kw[key] = value
+        phase = num("misalignment_phase", "deg")
+        if phase is not None:
+            kw["misalignment_phase"] = phase * DEG
+        tilt = num("tilt", "deg")
+        if tilt is not None:
+            if not abs(tilt * DEG) < TILT_LIMIT:
+                raise SceneError(f"{t.name('tilt')} = {tilt!r}: must be within +-"
+                                 f"{TILT_LIMIT / DEG:.2f} (deg; |tilt| < {TILT_LIMIT} rad, a mild "
+                                 f"perspective)")
+            kw["tilt"] = tilt * DEG
+        for key, lo, hi in (("width", 8, MAX_SIZE), ("height", 8, MAX_SIZE),
+                            ("subsamples", 1, MAX_SUBSAMPLES), ("seed", 0, 2 ** 63 - 1),
+                            ("bit_depth", 8, 16)):
+            if key in t:
+                kw[key] = t.integer(key, minimum=lo, maximum=hi)
+        if "bit_depth" in kw and kw["bit_depth"] not in _READ_NOISE:
+            raise SceneError(f"{t.name('bit_depth')} = {kw['bit_depth']}: must be one of "
+                             f"8, 10, 12, 14, 16 (bits)")
+        if "shot_noise" in t:
+            value = t.data["shot_noise"]
+            if not isinstance(value, bool):
+                raise SceneError(f"{t.name('shot_noise')} = {value!r}: must be true or false")
+            kw["shot_noise"] = value
+        return cls(table=t.path, **kw)
+
+
+# ---------------------------------------------------------------- geometry
+def spot_on_screen(x, y, rotor_angle, cam: ScreenCamera, tilt_x=None, tilt_y=None,
+                   screen_distance=None):
+    """Spot position on the screen [m].
+
+    Plane-parallel models: ``gain * (x, y)`` + the misalignment circle
+    ``misalignment * (cos, sin)(rotor_angle + misalignment_phase)`` + offset.
+    Tilting models (later issues): if ``tilt_x``, ``tilt_y`` (angles [rad] of
+    the axis from the screen normal, in the X-Z and Y-Z planes, positive toward
+    +X, +Y) and ``screen_distance`` [m] (from the point (x, y) of the axis to
+    the screen plane) are given, the intersection of the axis line with the
+    screen, ``screen_distance * tan(tilt)``, is added.
+
+    Parameters
+    ----------
+    x, y : array_like
+        Shaft (axis point) displacement [m].
+    rotor_angle : array_like
+        Angle of the rotor's reference mark [rad].
+
+    Returns
+    -------
+    X, Y : ndarray
+    """
+    x, y, phi = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (x, y, rotor_angle)))
+    a = phi + cam.misalignment_phase
+    X = cam.gain * x + cam.misalignment * np.cos(a) + cam.offset_x
+    Y = cam.gain * y + cam.misalignment * np.sin(a) + cam.offset_y
+    given = [v is not None for v in (tilt_x, tilt_y, screen_distance)]
+    if any(given):
+        if not all(given):
+            raise ValueError("tilt_x, tilt_y and screen_distance must be given together")
+        X = X + screen_distance * np.tan(np.asarray(tilt_x, dtype=float))
+        Y = Y + screen_distance * np.tan(np.asarray(tilt_y, dtype=float))
+    return X, Y
+
+
+def screen_to_pixels(X, Y, cam: ScreenCamera):
+    """Screen [m] -> image [px] (u = column, v = row) through ``cam.homography``."""
+    X = np.asarray(X, dtype=float)
+    Y = np.asarray(Y, dtype=float)
+    H = cam.homography
+    w = H[2, 0] * X + H[2, 1] * Y + H[2, 2]
+    return (H[0, 0] * X + H[0, 1] * Y + H[0, 2]) / w, (H[1, 0] * X + H[1, 1] * Y + H[1, 2]) / w
+
+
+def pixels_to_screen(u, v, cam: ScreenCamera):
+    """Image [px] -> screen [m]; inverse of :func:`screen_to_pixels`."""
+    u = np.asarray(u, dtype=float)
+    v = np.asarray(v, dtype=float)
+    G = cam.homography_inverse
+    w = G[2, 0] * u + G[2, 1] * v + G[2, 2]
+    return (G[0, 0] * u + G[0, 1] * v + G[0, 2]) / w, (G[1, 0] * u + G[1, 1] * v + G[1, 2]) / w
+
+
+def spot_positions(x, y, rotor_angle, cam: ScreenCamera, **tilting):
+    """Spot positions on the screen [m] and in the image [px], last axis (X, Y) / (u, v).
+
+    ``x``, ``y``, ``rotor_angle`` of any common shape (e.g. (F, K) at
+    :func:`exposure_times`); ``tilting``: ``tilt_x``, ``tilt_y``,
+    ``screen_distance`` of :func:`spot_on_screen`.
+
+    Returns
+    -------
+    screen_m, px : ndarray (..., 2)
+    """
+    X, Y = spot_on_screen(x, y, rotor_angle, cam, **tilting)
+    u, v = screen_to_pixels(X, Y, cam)
+    return np.stack([X, Y], axis=-1), np.stack([u, v], axis=-1)
+
+
+# ---------------------------------------------------------------- timing
+def frame_times(duration: float, cam: ScreenCamera) -> np.ndarray:
+    """Start times [s] of the exposures that end within [0, duration]:
+    ``start_time + f / frame_rate``."""
+    if not duration >= 0:
+        raise ValueError(f"duration = {duration!r}: must be >= 0 (s)")
+    span = duration - cam.start_time - cam.exposure
+    if span < -1e-12 * max(duration, 1.0):
+        return np.zeros(0)
+    count = int(math.floor(max(span, 0.0) * cam.frame_rate * (1.0 + 1e-12) + 1e-9)) + 1
+    starts = cam.start_time + np.arange(count) / cam.frame_rate
+    # never let rounding push the last exposure past the end of the run
+    return starts[starts + cam.exposure <= duration * (1.0 + 1e-12) + 1e-15]
+
+
+def exposure_times(starts, cam: ScreenCamera, max_rotor_speed: Optional[float] = None) -> np.ndarray:
+    """Sub-sample times (F, K) [s]: midpoints of K equal slices of each exposure.
+
+    K = :meth:`ScreenCamera.subsamples_for` ``(max_rotor_speed)`` (``cam.subsamples``
+    when set).  Each sub-sample stands for 1/K of the exposure.  Flattened in
+    C order the times are non-decreasing (exposure <= frame period), as
+    ``simulate(extra_times=...)`` requires; the last one may exceed the run's
+    end by rounding only if the exposure ends exactly there (it does not: the
+    midpoints are inside the exposure).
+    """
+    starts = np.asarray(starts, dtype=float).reshape(-1)
+    K = cam.subsamples_for(max_rotor_speed)
+    return starts[:, None] + (np.arange(K) + 0.5) / K * cam.exposure
+
+
+# ---------------------------------------------------------------- truth
+def frame_truth(screen_m, px, cam: ScreenCamera, window: Optional[float] = None) -> dict:
+    """Ground truth per frame from the sub-sample positions (F, K, 2).
+
+    Returns
+    -------
+    dict of ndarray
+        ``centre_px`` (F, 2): exposure-averaged spot centre in the image [px] --
+        exactly what the intensity centroid of a noiseless, unsaturated,
+        fully visible frame estimates (each sub-sample carries the same flux);
+        ``centre_m`` (F, 2): exposure-averaged spot centre on the screen [m]
+        (equal to ``pixels_to_screen(centre_px)`` without tilt; with a tilt they
+        differ at second order in the blur length);
+        ``in_frame`` (F,) bool: every sub-sample's drawing window (+-4 sigma) lies
+        inside the image, so the centroid is not cut by the image border.
+    """
+    from .render import WINDOW_SIGMAS
+
+    window = WINDOW_SIGMAS if window is None else window
+    screen_m = np.asarray(screen_m, dtype=float)
+    px = np.asarray(px, dtype=float)
+    su, sv = cam.sigma_px
+    u, v = px[..., 0], px[..., 1]
+    inside = ((u - window * su >= -0.5) & (u + window * su <= cam.width - 0.5)
+              & (v - window * sv >= -0.5) & (v + window * sv <= cam.height - 0.5))
+    return {"centre_px": px.mean(axis=-2), "centre_m": screen_m.mean(axis=-2),
+            "in_frame": np.all(inside, axis=-1)}
