@@ -24,9 +24,9 @@ The kernel :func:`render_frame` draws one frame:
    and such pixels are drawn from it by table inversion with one 32-bit random
    number each (an exact method, to 2**-32 in probability).  This makes the
    whole-image pass cost about one nanosecond per pixel.
-3. **Random numbers.**  xorshift64* seeded per frame through splitmix64 of
-   (seed, frame index): every frame is reproducible on its own, and frames can be
-   rendered in any order or in parallel.
+3. **Random numbers.**  splitmix64 (a counter-based generator) started per
+   frame from a hash of (seed, frame index): every frame is reproducible on its
+   own, and frames can be rendered in any order or in parallel.
 
 ``noise=False`` gives the noiseless frame: ``round(background + spot)``, clipped.
 
@@ -41,7 +41,7 @@ from __future__ import annotations
 
 import functools
 import math
-from typing import Iterable, Iterator, Optional
+from typing import Iterator, Optional
 
 import numpy as np
 
@@ -51,18 +51,22 @@ __all__ = ["render_frame", "render_frames", "render_long_exposure", "background_
            "frame_seed", "WINDOW_SIGMAS", "GUIDE_BITS"]
 
 WINDOW_SIGMAS = 4.0     #: half-width of the drawing window, in sigma
-GUIDE_BITS = 10         #: 2**GUIDE_BITS entries in the inversion guide table
+GUIDE_BITS = 12         #: 2**GUIDE_BITS entries in the inversion guide table
 EXACT_POISSON_BELOW = 20.0   #: electrons; Poisson exact below, normal approximation above
+_GSHIFT = np.int64(32 - GUIDE_BITS)
 
 _M64 = (1 << 64) - 1
 _U11 = np.uint64(11)
-_U12 = np.uint64(12)
-_U25 = np.uint64(25)
 _U27 = np.uint64(27)
+_U30 = np.uint64(30)
+_U31 = np.uint64(31)
 _U32 = np.uint64(32)
 _LO32 = np.uint64(0xFFFFFFFF)
-_XS_MUL = np.uint64(0x2545F4914F6CDD1D)
+_GOLDEN = np.uint64(0x9E3779B97F4A7C15)
+_MIX1 = np.uint64(0xBF58476D1CE4E5B9)
+_MIX2 = np.uint64(0x94D049BB133111EB)
 _TWO32 = 4294967296
+
 _INV53 = 1.0 / 9007199254740992.0
 _SQRT2 = math.sqrt(2.0)
 _TWO_PI = 2.0 * math.pi
@@ -70,9 +74,9 @@ _TWO_PI = 2.0 * math.pi
 
 # ---------------------------------------------------------------- random numbers
 def frame_seed(seed: int, index: int) -> np.uint64:
-    """Initial xorshift64* state of frame ``index`` for the camera ``seed``.
+    """Initial random state (splitmix64 counter) of frame ``index`` for ``seed``.
 
-    splitmix64 of (seed, index) (Steele, Lea & Flood 2014); never zero.
+    A splitmix64 hash of (seed, index) (Steele, Lea & Flood 2014).
     """
     z = (int(seed) * 0x9E3779B97F4A7C15 + (int(index) + 1) * 0xD1B54A32D192ED03) & _M64
     z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) & _M64
@@ -81,19 +85,20 @@ def frame_seed(seed: int, index: int) -> np.uint64:
     return np.uint64(z if z else 0x9E3779B97F4A7C15)
 
 
-@njit(cache=True, error_model="numpy")
-def _xorshift(s):
-    """xorshift64* (Vigna 2016): new state, 64-bit output."""
-    s ^= s >> _U12
-    s ^= s << _U25
-    s ^= s >> _U27
-    return s, s * _XS_MUL
+@njit(cache=True, error_model="numpy", inline="always")
+def _next(s):
+    """splitmix64 (counter-based): new state, 64-bit output."""
+    s += _GOLDEN
+    z = s
+    z = (z ^ (z >> _U30)) * _MIX1
+    z = (z ^ (z >> _U27)) * _MIX2
+    return s, z ^ (z >> _U31)
 
 
 @njit(cache=True, error_model="numpy")
 def _uniform(s):
     """Uniform double in (0, 1)."""
-    s, r = _xorshift(s)
+    s, r = _next(s)
     return s, (float(r >> _U11) + 0.5) * _INV53
 
 
@@ -144,11 +149,43 @@ def _edge_integrals(c, sigma, half, lo, hi, g):
         prev = cur
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _draw(x, thresholds, guide, kmin):
+    """Background value for the 32-bit uniform integer ``x`` (guide-table inversion).
+
+    guide[g] >= 0: every uniform of bucket g gives that value; guide[g] < 0:
+    search the thresholds from index -guide[g] - 1.
+    """
+    e = guide[x >> _GSHIFT]
+    if e >= 0:
+        return e
+    k = -e - 1
+    while x >= thresholds[k]:
+        k += 1
+    return kmin + k
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _fill_background(out, i, a, b, s, thresholds, guide, kmin):
+    """Draw spot-free pixels out[i, a:b] from the background law, two per random word."""
+    j = a
+    while j + 1 < b:
+        s, r = _next(s)
+        out[i, j] = _draw(np.int64(r >> _U32), thresholds, guide, kmin)
+        out[i, j + 1] = _draw(np.int64(r & _LO32), thresholds, guide, kmin)
+        j += 2
+    if j < b:
+        s, r = _next(s)
+        out[i, j] = _draw(np.int64(r >> _U32), thresholds, guide, kmin)
+    return s
+
+
 @njit(cache=True, error_model="numpy")
 def render_frame(u, v, weights, sigma_u, sigma_v, peak, background, read_noise,
                  electrons_per_dn, shot_noise, max_dn, noise, state, thresholds, guide,
                  kmin, window, acc, out):
-    """Render one frame into ``out`` (uint8 or uint16, shape (H, W)).
+    """Render one frame into ``out`` (shape (H, W); the wrappers pass uint16 and
+    copy 8-bit frames out, so that one compiled specialisation serves all depths).
 
     Parameters
     ----------
@@ -172,15 +209,15 @@ def render_frame(u, v, weights, sigma_u, sigma_v, peak, background, read_noise,
     noise : bool
         False: noiseless frame round(background + spot).
     state : uint64
-        Initial random state of this frame (:func:`frame_seed`), non-zero.
-    thresholds, guide : int64 arrays; kmin : int
+        Initial random state of this frame (:func:`frame_seed`).
+    thresholds : int64 array; guide : int32 array; kmin : int
         The background distribution from :func:`background_table` (unused
         when ``noise`` is False).
     window : float
         Half-width of the drawing window in sigma.
     acc : float64 array (H, W)
         Workspace; any content (only the spot's bounding box is zeroed and used).
-    out : uint8/uint16 array (H, W)
+    out : uint16 (or uint8) array (H, W)
 
     Returns
     -------
@@ -250,17 +287,15 @@ def render_frame(u, v, weights, sigma_u, sigma_v, peak, background, read_noise,
                     out[i, j] = bq
         return touched
     s = state
-    have = False
-    spare32 = np.uint64(0)
     have_normal = False
     spare_normal = 0.0
-    gshift = np.uint64(32 - GUIDE_BITS)
     for i in range(H):
-        inrow = i0 <= i <= i1
-        for j in range(W):
-            sig = 0.0
-            if inrow and j0 <= j <= j1:
-                sig = acc[i, j]
+        if i < i0 or i > i1:
+            s = _fill_background(out, i, 0, W, s, thresholds, guide, kmin)
+            continue
+        s = _fill_background(out, i, 0, j0, s, thresholds, guide, kmin)
+        for j in range(j0, j1 + 1):
+            sig = acc[i, j]
             if sig > 0.0:
                 touched += 1
                 dn = background + sig
@@ -284,19 +319,9 @@ def render_frame(u, v, weights, sigma_u, sigma_v, peak, background, read_noise,
                 q = math.floor(dn + 0.5)
                 out[i, j] = int(min(max(q, 0.0), top))
             else:
-                if have:
-                    r32 = spare32
-                    have = False
-                else:
-                    s, r = _xorshift(s)
-                    r32 = r >> _U32
-                    spare32 = r & _LO32
-                    have = True
-                x = np.int64(r32)
-                k = guide[np.int64(r32 >> gshift)]
-                while x >= thresholds[k]:
-                    k += 1
-                out[i, j] = kmin + k
+                s, r = _next(s)
+                out[i, j] = _draw(np.int64(r >> _U32), thresholds, guide, kmin)
+        s = _fill_background(out, i, j1 + 1, W, s, thresholds, guide, kmin)
     return touched
 
 
@@ -315,13 +340,14 @@ def background_table(background: float, read_noise: float, shot_noise: bool,
     -------
     thresholds : int64 array (n,)
         round(2**32 * P(value <= kmin + k)); the last one is 2**32.
-    guide : int64 array (2**GUIDE_BITS,)
-        guide[g] = smallest k with thresholds[k] > g * 2**(32 - GUIDE_BITS).
+    guide : int32 array (2**GUIDE_BITS,)
+        For the uniforms x in bucket g = x >> (32 - GUIDE_BITS): the value
+        itself (>= 0) if the whole bucket maps to one value, else -(k + 1) with
+        k the smallest index with thresholds[k] > g * 2**(32 - GUIDE_BITS).
     kmin : int
         Smallest value with non-negligible probability.
     """
-    from scipy.special import ndtr
-    from scipy.stats import poisson
+    from scipy.special import gammaln, ndtr
 
     lam = background * electrons_per_dn if shot_noise else 0.0
     read = read_noise
@@ -331,7 +357,7 @@ def background_table(background: float, read_noise: float, shot_noise: bool,
     elif shot_noise and lam > 0:
         half = 12.0 * math.sqrt(lam) + 12.0
         n = np.arange(max(0, math.floor(lam - half)), math.ceil(lam + half) + 1)
-        p = poisson.pmf(n, lam)
+        p = np.exp(n * math.log(lam) - lam - gammaln(n + 1.0))
         p /= p.sum()
         dn = n / electrons_per_dn
     else:
@@ -354,8 +380,10 @@ def background_table(background: float, read_noise: float, shot_noise: bool,
     thresholds = np.maximum.accumulate(thresholds)
     thresholds[-1] = _TWO32
     step = 1 << (32 - GUIDE_BITS)
-    guide = np.searchsorted(thresholds, np.arange(1 << GUIDE_BITS, dtype=np.int64) * step,
-                            side="right").astype(np.int64)
+    first = np.arange(1 << GUIDE_BITS, dtype=np.int64) * step
+    start = np.searchsorted(thresholds, first, side="right")
+    pure = first + step <= thresholds[start]       # the whole bucket maps to one value
+    guide = np.where(pure, lo + start, -start - 1).astype(np.int32)
     thresholds.setflags(write=False)
     guide.setflags(write=False)
     return thresholds, guide, int(lo)
@@ -382,8 +410,11 @@ class _Renderer:
                 self.p["electrons_per_dn"], self.p["max_dn"])
         else:
             self.thr = np.full(1, _TWO32, np.int64)
-            self.guide = np.zeros(1 << GUIDE_BITS, np.int64)
+            self.guide = np.zeros(1 << GUIDE_BITS, np.int32)
             self.kmin = 0
+            # read-only like the cached tables: one compiled specialisation for both modes
+            self.thr.setflags(write=False)
+            self.guide.setflags(write=False)
 
     def render(self, u, v, weights, state, out):
         p = self.p
@@ -435,15 +466,22 @@ def render_frames(positions_px, cam, seed: Optional[int] = None, *, noise: bool 
     """
     seed = cam.seed if seed is None else int(seed)
     r = _Renderer(cam, noise, window)
-    buf = np.empty((cam.height, cam.width), dtype=cam.dtype)
+    shape = (cam.height, cam.width)
+    # the kernel always writes uint16 (one compiled specialisation); 8-bit frames
+    # are copied out of it (~10 us per 640 x 480 frame)
+    wide = cam.dtype == np.uint16
+    work = None if wide else np.empty(shape, dtype=np.uint16)
+    buf = np.empty(shape, dtype=cam.dtype)
     w = None if weights is None else np.ascontiguousarray(weights, dtype=np.float64)
     for f, block in enumerate(positions_px):
         u, v = _as_positions(block)
         wk = np.full(u.size, 1.0 / max(u.size, 1)) if w is None else w
         if wk.shape != u.shape:
             raise ValueError(f"weights: shape {wk.shape}, expected ({u.size},)")
-        out = buf if reuse else np.empty((cam.height, cam.width), dtype=cam.dtype)
-        r.render(u, v, wk, frame_seed(seed, first_index + f), out)
+        out = buf if reuse else np.empty(shape, dtype=cam.dtype)
+        r.render(u, v, wk, frame_seed(seed, first_index + f), out if wide else work)
+        if not wide:
+            np.copyto(out, work, casting="unsafe")
         yield out
 
 

@@ -124,10 +124,10 @@ class ScreenCamera:
         1/e^2 diameter [m] of the Gaussian spot on the screen; default 2 mm.
     peak : float
         DN at the centre of a still spot over the full exposure (above the
-        background); default 0.8 of full scale.
+        background); default 0.8 of full scale (204 DN at 8 bits).
     background : float
         Mean DN of the lit, spot-free screen over the exposure; default 0.03 of
-        full scale.
+        full scale (8 DN at 8 bits).
     read_noise : float
         DN rms (1, 2, 4 DN at 8, 10, 12 bits by default).
     shot_noise : bool
@@ -233,7 +233,8 @@ class ScreenCamera:
                        f"the spot ({d_px:.4g} px = spot_diameter / pixel_pitch) is larger than "
                        f"the frame ({self.width} x {self.height} px); must be <= "
                        f"{min(self.width, self.height) * self.pixel_pitch:.4g} (m)")
-        for key, default, unit in (("peak", 0.8 * top, "DN"), ("background", 0.03 * top, "DN"),
+        for key, default, unit in (("peak", float(round(0.8 * top)), "DN"),
+                                   ("background", float(round(0.03 * top)), "DN"),
                                    ("read_noise", _READ_NOISE[self.bit_depth], "DN rms"),
                                    ("electrons_per_dn", FULL_WELL / top, "e-/DN")):
             if getattr(self, key) is None:
@@ -502,11 +503,11 @@ def exposure_times(starts, cam: ScreenCamera, max_rotor_speed: Optional[float] =
     """Sub-sample times (F, K) [s]: midpoints of K equal slices of each exposure.
 
     K = :meth:`ScreenCamera.subsamples_for` ``(max_rotor_speed)`` (``cam.subsamples``
-    when set).  Each sub-sample stands for 1/K of the exposure.  Flattened in
-    C order the times are non-decreasing (exposure <= frame period), as
-    ``simulate(extra_times=...)`` requires; the last one may exceed the run's
-    end by rounding only if the exposure ends exactly there (it does not: the
-    midpoints are inside the exposure).
+    when set; ``max_rotor_speed`` [rad/s] is the largest rotor speed of the run,
+    used by the automatic choice).  Each sub-sample stands for 1/K of the
+    exposure.  Flattened in C order the times are increasing (exposure <= frame
+    period) and lie strictly inside the exposures, as
+    ``simulate(extra_times=times.ravel())`` requires.
     """
     starts = np.asarray(starts, dtype=float).reshape(-1)
     K = cam.subsamples_for(max_rotor_speed)

@@ -43,7 +43,7 @@ uint16).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Iterator, Optional
 
 import numpy as np
@@ -63,8 +63,8 @@ STEEL_DENSITY = 7850.0  #: kg/m^3, for the default drawn ball size
 
 # intensities, fractions of full scale
 LEVEL_INTERIOR = 0.20
-LEVEL_RIM = 0.50
-LEVEL_MARK = 0.60
+LEVEL_RIM = 0.45
+LEVEL_MARK = 0.50
 LEVEL_ROD = 0.70
 LEVEL_BALL = 0.95
 MARK_SPAN = (0.80, 0.97)   #: reference mark, fractions of the rim radius
