@@ -3,6 +3,7 @@
     stand run SCENE.toml -o RUN.h5 [--json] [--method M] [--no-progress]
     stand accuracy SCENE.toml [--json] [--rtols 1e-4,1e-6,...] [--methods DOP853,Radau]
     stand theory SCENE.toml [--json] [--plot MAP.png] [--max-speed REV_PER_S]
+    stand snapshot RUN.h5 [--instrument screen|strobe|rings] [--frame N] -o FRAME.png
 
 Exit codes: 0 success; 1 the simulation stopped early (what was computed is
 still written); 2 invalid input (scene, arguments, files).
@@ -30,14 +31,15 @@ def _jsonable(o):
 
 
 def _cmd_run(args) -> int:
+    from .instruments.pipeline import run_with_instruments
     from .recording import check_output_path, write_recording
     from .scene_file import load_scene
-    from .simulate import simulate
 
     scene = load_scene(args.scene)
     out = check_output_path(args.output)  # before the run, not after it
-    traj = simulate(scene, method=args.method, progress=not args.no_progress and sys.stderr.isatty())
-    write_recording(traj, out)
+    traj, writer = run_with_instruments(scene, method=args.method,
+                                        progress=not args.no_progress and sys.stderr.isatty())
+    write_recording(traj, out, writer=writer)
     summ = traj.summary()
     final = summ.get("final") or {}
     doc = {"scene": scene.name, "output": str(out), "solver": summ["solver"], **final, "final": final}
@@ -117,6 +119,46 @@ def _cmd_theory(args) -> int:
     return 0
 
 
+def _cmd_snapshot(args) -> int:
+    import os
+    import tempfile
+
+    import cv2
+    import h5py
+
+    from .recording import RecordingError
+
+    name = {"screen": "instruments/screen/frames", "strobe": "instruments/stroboscope/frames",
+            "rings": "instruments/screen/calibration_image"}[args.instrument]
+    try:
+        with h5py.File(args.recording, "r") as f:
+            if name not in f:
+                raise RecordingError(f"{args.recording}: no dataset {name!r} (the scene had no "
+                                     f"{args.instrument} instrument)")
+            ds = f[name]
+            if ds.ndim == 3:
+                if not -ds.shape[0] <= args.frame < ds.shape[0]:
+                    raise RecordingError(f"--frame = {args.frame}: the recording has "
+                                         f"{ds.shape[0]} {args.instrument} frames")
+                img = ds[args.frame]
+            else:
+                img = ds[()]
+    except OSError as exc:
+        raise RecordingError(f"{args.recording}: not a readable HDF5 recording ({exc})") from None
+    out = os.path.abspath(args.output)
+    fd, tmp = tempfile.mkstemp(dir=os.path.dirname(out), suffix=".png")
+    os.close(fd)
+    try:
+        if not cv2.imwrite(tmp, img):
+            raise ValueError(f"could not encode {args.output}")
+        os.replace(tmp, out)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+    print(f"{args.instrument} frame {args.frame} -> {args.output}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .simulate import METHODS
 
@@ -141,6 +183,12 @@ def build_parser() -> argparse.ArgumentParser:
     t.add_argument("--plot", default=None, help="write the speed map chart (PNG)")
     t.add_argument("--max-speed", type=float, default=None, help="upper end of the map [rev/s]")
     t.set_defaults(func=_cmd_theory)
+    s = sub.add_parser("snapshot", help="save one recorded instrument frame as PNG")
+    s.add_argument("recording", help="recording (HDF5) written by stand run")
+    s.add_argument("--instrument", choices=("screen", "strobe", "rings"), default="screen")
+    s.add_argument("--frame", type=int, default=0, help="frame index (negative: from the end)")
+    s.add_argument("-o", "--output", required=True, help="PNG to write")
+    s.set_defaults(func=_cmd_snapshot)
     return p
 
 

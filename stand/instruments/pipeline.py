@@ -1,0 +1,238 @@
+"""Run a scene with its instruments and store what they record beside the ground truth.
+
+Only what the scene asks for is computed: a scene without ``[instruments.*]``
+tables renders nothing and samples nothing extra.  The screen camera's
+exposure sub-samples are requested from the simulator in the same run
+(``simulate(extra_times=...)``); the stroboscope, photo-gate, keyphasor,
+tachometer and probes interpolate the recorded samples (cubic Hermite with the
+recorded speeds, :mod:`stand.instruments.timing`).  Frames are rendered and
+written one at a time, so a long video never sits in memory.
+
+Recording layout (HDF5, beside the core datasets of :mod:`stand.recording`)::
+
+    instruments/<name>/...        what the instrument outputs (frames, times, readings)
+    instruments/<name>.attrs      its settings as JSON (SI units)
+    truth/<name>/...              the ground truth for scoring identification
+"""
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+
+import numpy as np
+
+from ..scene import Scene
+from ..simulate import Trajectory, simulate
+
+FRAME_COMPRESSION = {"compression": "gzip", "compression_opts": 1, "shuffle": True}
+#: at most this many stroboscope frames per recording (one flash per revolution adds up)
+MAX_STROBE_FRAMES = 200
+
+
+def _settings_json(settings) -> str:
+    def plain(v):
+        if isinstance(v, np.ndarray):
+            return v.tolist()
+        if isinstance(v, (np.floating, np.integer)):
+            return v.item()
+        if isinstance(v, float) and not math.isfinite(v):
+            return str(v)
+        return v
+    d = dataclasses.asdict(settings) if dataclasses.is_dataclass(settings) else dict(settings)
+    return json.dumps({k: plain(v) for k, v in d.items()}, default=str)
+
+
+def _max_speed(scene: Scene) -> float:
+    d = scene.drive
+    if d.kind == "speed":
+        return float(np.max(np.abs(d.programme[:, 1])))
+    return float(max(abs(d.target_speed), abs(d.initial_speed)))
+
+
+def _screen_plan(scene: Scene):
+    from .screen import exposure_times, frame_times
+
+    cam = scene.instruments["screen"]
+    starts = frame_times(scene.run.duration, cam)
+    times = exposure_times(starts, cam, max_rotor_speed=_max_speed(scene))
+    return cam, starts, times
+
+
+def run_with_instruments(scene: Scene, method: str | None = None, progress: bool = False):
+    """Simulate ``scene`` and prepare its instruments.
+
+    Returns
+    -------
+    traj : Trajectory
+        The recording-grid trajectory (``traj.extra`` holds the camera's
+        exposure samples when there is a screen camera).
+    writer : callable or None
+        ``writer(h5file)`` stores every instrument's output and truth; pass it
+        to :func:`stand.recording.write_recording`.  None without instruments.
+    """
+    if not scene.instruments:
+        return simulate(scene, method=method, progress=progress), None
+    plan = _screen_plan(scene) if "screen" in scene.instruments else None
+    extra = None if plan is None else plan[2].ravel()
+    traj = simulate(scene, method=method, progress=progress, extra_times=extra)
+
+    def writer(f):
+        write_instruments(f, scene, traj, plan)
+
+    return traj, writer
+
+
+def write_instruments(f, scene: Scene, traj: Trajectory, plan=None) -> None:
+    """Store the output and truth of every instrument of ``scene`` into the open file ``f``."""
+    inst = scene.instruments
+    if "screen" in inst:
+        _write_screen(f, scene, traj, plan or _screen_plan(scene))
+    if "stroboscope" in inst:
+        _write_strobe(f, scene, traj)
+    if "photogate" in inst:
+        _write_photogate(f, scene, traj)
+    if "keyphasor" in inst:
+        from .probes import keyphasor_pulses
+
+        g = f.require_group("instruments/keyphasor")
+        g.attrs["settings"] = _settings_json(inst["keyphasor"])
+        ds = g.create_dataset("pulse_time", data=keyphasor_pulses(traj, inst["keyphasor"]))
+        ds.attrs["units"] = "s"
+    if "tachometer" in inst:
+        from .probes import tachometer_readings
+
+        g = f.require_group("instruments/tachometer")
+        g.attrs["settings"] = _settings_json(inst["tachometer"])
+        _write_dict(g, tachometer_readings(traj, inst["tachometer"]),
+                    {"time": "s", "speed": "rpm", "counts": "1", "true_speed": "rpm",
+                     "true_mean_speed": "rpm"})
+    if "probes" in inst:
+        from .probes import probe_signals
+
+        g = f.require_group("instruments/probes")
+        g.attrs["settings"] = _settings_json(inst["probes"])
+        _write_dict(g, probe_signals(traj, inst["probes"]),
+                    {"time": "s", "signal": "m", "displacement": "m", "runout": "m", "noise": "m",
+                     "rotor_angle": "rad", "angles": "rad"})
+    _write_truth(f, scene, traj)
+
+
+def _write_dict(g, d: dict, units: dict) -> None:
+    for k, v in d.items():
+        a = np.asarray(v)
+        if a.dtype == object:
+            continue
+        ds = g.create_dataset(k, data=a)
+        if k in units:
+            ds.attrs["units"] = units[k]
+
+
+def _write_screen(f, scene: Scene, traj: Trajectory, plan) -> None:
+    from .render import render_frames
+    from .rings import check_spot_size, render_ring_image, ring_radii
+    from .screen import frame_truth, spot_positions
+
+    cam, starts, times = plan
+    ex = traj.extra
+    F, K = times.shape
+    n_ok = min(F, ex.t.size // K)  # a run that stopped early renders the frames it has
+    shape = (n_ok, K)
+    sl = slice(0, n_ok * K)
+    screen_m, px = spot_positions(ex.x[sl].reshape(shape), ex.y[sl].reshape(shape),
+                                  ex.rotor_angle[sl].reshape(shape), cam)
+    truth = frame_truth(screen_m, px, cam)
+    g = f.require_group("instruments/screen")
+    g.attrs["settings"] = _settings_json(cam.to_attrs() if hasattr(cam, "to_attrs") else cam)
+    g.attrs["description"] = ("camera filming the laser spot on the screen: frames (row = image "
+                              "row, column = image column), exposure start times")
+    ds = g.create_dataset("frame_time", data=starts[:n_ok])
+    ds.attrs["units"] = "s"
+    g.attrs["exposure_s"] = float(cam.exposure)
+    frames = g.create_dataset("frames", shape=(n_ok, cam.height, cam.width), dtype=cam.dtype,
+                              chunks=(1, cam.height, cam.width), **FRAME_COMPRESSION)
+    frames.attrs["units"] = "DN"
+    for i, img in enumerate(render_frames(px, cam)):
+        frames[i] = img
+    # calibration rings at the test (operating) speed: zones i S/16, i = 0..20
+    if scene.balancer.count:
+        radii = ring_radii(scene, cam=cam)
+        ds = g.create_dataset("ring_radius", data=radii)
+        ds.attrs["units"] = "m"
+        ds.attrs["description"] = "zone i boundary: steady spot radius for unbalance i*S/16 at the test speed"
+        g.create_dataset("calibration_image", data=render_ring_image(radii, cam),
+                         **FRAME_COMPRESSION)
+        try:
+            check_spot_size(cam, radii)
+        except ValueError as exc:  # a warning for the user, kept with the data
+            g.attrs["warning"] = str(exc)
+    t = f.require_group("truth/screen")
+    for key, unit in (("centre_px", "px"), ("centre_m", "m"), ("in_frame", "1")):
+        ds = t.create_dataset(key, data=np.asarray(truth[key])[:n_ok])
+        ds.attrs["units"] = unit
+    ds = t.create_dataset("exposure_time", data=times[:n_ok])
+    ds.attrs["units"] = "s"
+
+
+def _write_strobe(f, scene: Scene, traj: Trajectory) -> None:
+    from .stroboscope import render_strobe_frames
+
+    strobe = scene.instruments["stroboscope"]
+    speed = np.abs(traj.rotor_speed)
+    moving = np.nonzero(speed > 0.1 * max(float(np.max(speed)), 1e-12))[0]
+    t_start = float(traj.t[moving[0]]) if moving.size else None
+    g = f.require_group("instruments/stroboscope")
+    g.attrs["settings"] = _settings_json(strobe)
+    g.attrs["description"] = "frames lit by the slot once per revolution; flash times per frame"
+    frames = None
+    times, rel = [], []
+    for i, fr in enumerate(render_strobe_frames(traj, strobe, t_start=t_start,
+                                                max_frames=MAX_STROBE_FRAMES)):
+        if frames is None:
+            frames = g.create_dataset("frames", shape=(0,) + fr.image.shape,
+                                      maxshape=(None,) + fr.image.shape, dtype=fr.image.dtype,
+                                      chunks=(1,) + fr.image.shape, **FRAME_COMPRESSION)
+        frames.resize(i + 1, axis=0)
+        frames[i] = fr.image
+        times.append(fr.t)
+        rel.append(fr.relative_angle)
+    ds = g.create_dataset("flash_time", data=np.array(times).reshape(len(times), -1))
+    ds.attrs["units"] = "s"
+    t = f.require_group("truth/stroboscope")
+    ds = t.create_dataset("relative_angle", data=np.array(rel).reshape(len(rel), -1, scene.balancer.count))
+    ds.attrs["units"] = "rad"
+
+
+def _write_photogate(f, scene: Scene, traj: Trajectory) -> None:
+    from .photogate import gate_passes, pulse_counter_period, screen_coordinate
+    from .timing import shaft_velocity
+
+    gate = scene.instruments["photogate"]
+    gain = getattr(scene.instruments.get("screen"), "gain", 1.0)
+    vx, vy = shaft_velocity(traj)
+    X, dX = screen_coordinate(gain * traj.x, gain * traj.y, gain * vx, gain * vy, gate)
+    passes = gate_passes(traj.t, X, dX, gate)
+    g = f.require_group("instruments/photogate")
+    g.attrs["settings"] = _settings_json(gate)
+    for key in ("enter", "leave", "centre"):
+        if hasattr(passes, key):
+            ds = g.create_dataset(f"{key}_time", data=np.asarray(getattr(passes, key)))
+            ds.attrs["units"] = "s"
+    try:
+        trig = np.asarray(getattr(passes, "enter" if getattr(gate, "trigger", "enter") == "enter"
+                                  else "centre"))
+        g.attrs["period_s"] = float(pulse_counter_period(trig))
+    except ValueError as exc:
+        g.attrs["period_s"] = float("nan")
+        g.attrs["note"] = str(exc)
+
+
+def _write_truth(f, scene: Scene, traj: Trajectory) -> None:
+    t = f.require_group("truth")
+    psi = traj.residual_unbalance()
+    ds = t.create_dataset("residual_unbalance", data=np.column_stack([psi.real, psi.imag]))
+    ds.attrs["units"] = "kg*m"
+    ds.attrs["description"] = ("total unbalance rotor + weights in the rotor frame (x along the "
+                               "reference mark), on the recording's time grid")
+    ds = t.create_dataset("capacity", data=scene.balancer.capacity)
+    ds.attrs["units"] = "kg*m"
