@@ -4,6 +4,7 @@
     stand accuracy SCENE.toml [--json] [--rtols 1e-4,1e-6,...] [--methods DOP853,Radau]
     stand theory SCENE.toml [--json] [--plot MAP.png] [--max-speed REV_PER_S]
     stand snapshot RUN.h5 [--instrument screen|strobe|rings] [--frame N] -o FRAME.png
+    stand experiment SCENE.toml PROGRAMME [options] -o RUN.h5
 
 Exit codes: 0 success; 1 the simulation stopped early (what was computed is
 still written); 2 invalid input (scene, arguments, files).
@@ -159,6 +160,49 @@ def _cmd_snapshot(args) -> int:
     return 0
 
 
+def _cmd_experiment(args) -> int:
+    from . import experiments as ex
+    from .instruments.pipeline import run_with_instruments
+    from .recording import check_output_path, write_recording
+    from .scene_file import check_derived, load_scene
+
+    base = load_scene(args.scene)
+    out = check_output_path(args.output)
+    p = args.programme
+    if p == "constant":
+        sc = ex.constant(base, band=args.band, speed=args.speed, duration=args.duration or 60.0)
+    elif p == "run-up":
+        sc = ex.run_up(base, _need(args, "speed"), _need(args, "rate"), hold=args.hold)
+    elif p == "run-down":
+        sc = ex.run_down(base, _need(args, "speed"), time=args.time, exponential=args.exponential)
+    elif p == "unbalance":
+        sc = ex.unbalance(base, _need(args, "speed"), _need(args, "at"), _need(args, "eccentricity"),
+                          args.angle, duration=args.change_time)
+    elif p == "impact":
+        sc = ex.impact(base, _need(args, "speed"), _need(args, "at"), _need(args, "velocity"), args.angle)
+    elif p == "pressure":
+        sc = ex.pressure(base, _need(args, "speed"), _need(args, "at"), _need(args, "end"),
+                         _need(args, "force"), args.stiffness, args.angle)
+    else:
+        sc = ex.natural_frequency(base, _need(args, "deflection"))
+    sc = check_derived(sc)
+    traj, writer = run_with_instruments(sc, progress=sys.stderr.isatty())
+    write_recording(traj, out, writer=writer,
+                    extra_attrs={"experiment": {"programme": p, **{k: v for k, v in vars(args).items()
+                                                                    if k not in ("func",)
+                                                                    and v is not None}}})
+    st = traj.stats
+    print(f"{sc.name} / {p}: {st.message} [{st.method}, {st.wall_time:.2f} s] -> {out}")
+    return 0 if st.success else 1
+
+
+def _need(args, name):
+    v = getattr(args, name)
+    if v is None:
+        raise ValueError(f"stand experiment {args.programme}: --{name.replace('_', '-')} is required")
+    return v
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .simulate import METHODS
 
@@ -189,6 +233,29 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--frame", type=int, default=0, help="frame index (negative: from the end)")
     s.add_argument("-o", "--output", required=True, help="PNG to write")
     s.set_defaults(func=_cmd_snapshot)
+    e = sub.add_parser("experiment", help="run an experiment programme of tables 4.2-4.6 on a scene")
+    e.add_argument("scene", help="base scene (the stand) in TOML")
+    e.add_argument("programme", choices=("constant", "run-up", "run-down", "unbalance", "impact",
+                                         "pressure", "natural-frequency"))
+    e.add_argument("-o", "--output", required=True, help="recording to write (HDF5)")
+    e.add_argument("--band", choices=("sub", "near", "super"), default="super",
+                   help="table 4.2 speed band for 'constant' (0.7, 1.0, 1.5 f0)")
+    e.add_argument("--speed", type=float, help="rotor speed [rev/s]")
+    e.add_argument("--rate", type=float, help="run-up rate [rev/s^2]")
+    e.add_argument("--hold", type=float, default=20.0, help="hold after the run-up [s]")
+    e.add_argument("--time", type=float, default=175.0, help="run-down time [s]")
+    e.add_argument("--exponential", action="store_true", help="exponential coast-down")
+    e.add_argument("--duration", type=float, help="duration of a constant-speed run [s]")
+    e.add_argument("--at", type=float, help="time of the change / blow / pressure start [s]")
+    e.add_argument("--end", type=float, help="end of the pressure [s]")
+    e.add_argument("--eccentricity", type=float, help="new eccentricity [m]")
+    e.add_argument("--angle", type=float, default=0.0, help="angle [deg]")
+    e.add_argument("--change-time", type=float, default=0.0, help="0 = discrete change [s]")
+    e.add_argument("--velocity", type=float, help="velocity jump of the blow [m/s]")
+    e.add_argument("--force", type=float, help="side force [N]")
+    e.add_argument("--stiffness", type=float, default=0.0, help="extra side stiffness [N/m]")
+    e.add_argument("--deflection", type=float, help="initial shaft deflection [m]")
+    e.set_defaults(func=_cmd_experiment)
     return p
 
 

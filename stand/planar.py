@@ -167,6 +167,31 @@ def build_planar_model(scene: Scene) -> PlanarModel:
                        omega_1=w1, length=L, structure=st, impulses=impulses)
 
 
+def rotor_unbalance(scene: Scene, t: np.ndarray) -> np.ndarray:
+    """The rotor's unbalance M e e^{i beta} [kg*m] at times ``t`` [s], rotor frame,
+    following the scene's unbalance changes (piecewise linear; a discrete change
+    takes effect at its time)."""
+    t = np.asarray(t, float)
+    u0 = scene.rotor.unbalance * np.exp(1j * scene.rotor.unbalance_angle)
+    Ms, L, w1 = scene.total_mass, scene.length_scale, scene.natural_frequency
+    ub, _, _ = perturbation_tables(scene, Ms, L, w1)
+    if ub.shape[0] == 0:
+        return np.full(t.shape, u0, complex)
+    tau = t * w1
+    out = np.empty(t.shape, complex)
+    for k, tk in np.ndenumerate(tau):
+        i = np.searchsorted(ub[:, 0], tk, side="right") - 1
+        if i < 0:
+            z = ub[0, 1] + 1j * ub[0, 2]
+        elif i >= ub.shape[0] - 1:
+            z = ub[-1, 1] + 1j * ub[-1, 2]
+        else:
+            f = (tk - ub[i, 0]) / (ub[i + 1, 0] - ub[i, 0])
+            z = (ub[i, 1] + 1j * ub[i, 2]) * (1 - f) + (ub[i + 1, 1] + 1j * ub[i + 1, 2]) * f
+        out[k] = z * Ms * L
+    return out
+
+
 def perturbation_tables(scene: Scene, Ms: float, L: float, w1: float):
     """Dimensionless tables of the scene's perturbations (tables 4.5-4.6 of the book).
 

@@ -82,7 +82,9 @@ def classify(traj, window: float = 0.2, sync_tol: float = 1e-3, balance_tol: flo
     rel = traj.weight_angle[sel] - traj.rotor_angle[sel, None]
     spread = float(np.max(np.ptp(rel, axis=0)))
     psi = float(abs(traj.residual_unbalance()[-1])) / S
-    e0 = sc.rotor.unbalance / S
+    from .planar import rotor_unbalance
+
+    e0 = float(abs(rotor_unbalance(sc, traj.t[-1:])[0])) / S
     sync = np.all(np.abs(ws - rotor) < sync_tol * max(abs(rotor), 1e-12))
     if sync:
         target = _maximally_balanced_residual(sc, rotor, e0) if e0 > 1 else 0.0

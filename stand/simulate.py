@@ -107,10 +107,13 @@ class Trajectory:
     def residual_unbalance(self) -> np.ndarray:
         """Total unbalance rotor + weights, complex, in the rotor frame [kg*m].
 
-        psi = M e e^{i beta} + sum m_j l_j e^{i alpha_j}  ((5.76)-(5.77) times S).
+        psi = M e e^{i beta} + sum m_j l_j e^{i alpha_j}  ((5.76)-(5.77) times S),
+        with the rotor's unbalance following the scene's unbalance changes.
         """
-        r, b = self.scene.rotor, self.scene.balancer
-        psi = np.full(self.t.shape, r.unbalance * np.exp(1j * r.unbalance_angle), complex)
+        from .planar import rotor_unbalance
+
+        b = self.scene.balancer
+        psi = rotor_unbalance(self.scene, self.t)
         if b.count:
             psi = psi + np.sum(b.mass * b.radius * np.exp(1j * (self.weight_angle - self.rotor_angle[:, None])), axis=1)
         return psi
