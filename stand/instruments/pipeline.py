@@ -148,6 +148,10 @@ def _write_screen(f, scene: Scene, traj: Trajectory, plan) -> None:
                               "row, column = image column), exposure start times")
     ds = g.create_dataset("frame_time", data=starts[:n_ok])
     ds.attrs["units"] = "s"
+    ds.attrs["description"] = "start of each frame's exposure"
+    ds = g.create_dataset("frame_rotor_angle", data=ex.rotor_angle[sl].reshape(shape)[:, 0])
+    ds.attrs["units"] = "rad"
+    ds.attrs["description"] = "rotor angle (reference mark) at the first exposure sub-sample"
     g.attrs["exposure_s"] = float(cam.exposure)
     frames = g.create_dataset("frames", shape=(n_ok, cam.height, cam.width), dtype=cam.dtype,
                               chunks=(1, cam.height, cam.width), **FRAME_COMPRESSION)
@@ -185,7 +189,7 @@ def _write_strobe(f, scene: Scene, traj: Trajectory) -> None:
     g.attrs["settings"] = _settings_json(strobe)
     g.attrs["description"] = "frames lit by the slot once per revolution; flash times per frame"
     frames = None
-    times, rel = [], []
+    times, rel, rot = [], [], []
     for i, fr in enumerate(render_strobe_frames(traj, strobe, t_start=t_start,
                                                 max_frames=MAX_STROBE_FRAMES)):
         if frames is None:
@@ -196,8 +200,11 @@ def _write_strobe(f, scene: Scene, traj: Trajectory) -> None:
         frames[i] = fr.image
         times.append(fr.t)
         rel.append(fr.relative_angle)
+        rot.append(fr.rotor_angle)
     ds = g.create_dataset("flash_time", data=np.array(times).reshape(len(times), -1))
     ds.attrs["units"] = "s"
+    ds = g.create_dataset("flash_rotor_angle", data=np.array(rot).reshape(len(rot), -1))
+    ds.attrs["units"] = "rad"
     t = f.require_group("truth/stroboscope")
     ds = t.create_dataset("relative_angle", data=np.array(rel).reshape(len(rel), -1, scene.balancer.count))
     ds.attrs["units"] = "rad"
