@@ -105,8 +105,8 @@ def write_instruments(f, scene: Scene, traj: Trajectory, plan=None) -> None:
         g = f.require_group("instruments/tachometer")
         g.attrs["settings"] = _settings_json(inst["tachometer"])
         _write_dict(g, tachometer_readings(traj, inst["tachometer"]),
-                    {"time": "s", "speed": "rpm", "counts": "1", "true_speed": "rpm",
-                     "true_mean_speed": "rpm"})
+                    {"time": "s", "speed": "rad/s", "counts": "1", "true_speed": "rad/s",
+                     "true_speed_at_time": "rad/s"})
     if "probes" in inst:
         from .probes import probe_signals
 
@@ -159,8 +159,10 @@ def _write_screen(f, scene: Scene, traj: Trajectory, plan) -> None:
     for i, img in enumerate(render_frames(px, cam)):
         frames[i] = img
     # calibration rings at the test (operating) speed: zones i S/16, i = 0..20
-    if scene.balancer.count:
-        radii = ring_radii(scene, cam=cam)
+    test_speed = _max_speed(scene)
+    if scene.balancer.count and test_speed > 0:
+        radii = ring_radii(scene, speed=test_speed, cam=cam)
+        g.attrs["ring_test_speed_rad_s"] = test_speed
         ds = g.create_dataset("ring_radius", data=radii)
         ds.attrs["units"] = "m"
         ds.attrs["description"] = "zone i boundary: steady spot radius for unbalance i*S/16 at the test speed"
@@ -188,6 +190,11 @@ def _write_strobe(f, scene: Scene, traj: Trajectory) -> None:
     g = f.require_group("instruments/stroboscope")
     g.attrs["settings"] = _settings_json(strobe)
     g.attrs["description"] = "frames lit by the slot once per revolution; flash times per frame"
+    if t_start is None or float(np.max(speed)) * (traj.t[-1] - t_start) < 2 * math.pi:
+        g.attrs["note"] = "the rotor does not complete a revolution: no flashes, no frames"
+        return
+    g.attrs["t_start_s"] = t_start
+    g.attrs["t_start_rule"] = "first sample with the rotor above 10 % of its largest speed"
     frames = None
     times, rel, rot = [], [], []
     for i, fr in enumerate(render_strobe_frames(traj, strobe, t_start=t_start,
@@ -198,9 +205,12 @@ def _write_strobe(f, scene: Scene, traj: Trajectory) -> None:
                                       chunks=(1,) + fr.image.shape, **FRAME_COMPRESSION)
         frames.resize(i + 1, axis=0)
         frames[i] = fr.image
+        frames.attrs["units"] = "DN"
         times.append(fr.t)
         rel.append(fr.relative_angle)
         rot.append(fr.rotor_angle)
+    g.attrs["frames_limit"] = MAX_STROBE_FRAMES
+    g.attrs["truncated"] = bool(len(times) >= MAX_STROBE_FRAMES)
     ds = g.create_dataset("flash_time", data=np.array(times).reshape(len(times), -1))
     ds.attrs["units"] = "s"
     ds = g.create_dataset("flash_rotor_angle", data=np.array(rot).reshape(len(rot), -1))
@@ -215,12 +225,16 @@ def _write_photogate(f, scene: Scene, traj: Trajectory) -> None:
     from .timing import shaft_velocity
 
     gate = scene.instruments["photogate"]
-    gain = getattr(scene.instruments.get("screen"), "gain", 1.0)
+    screen = scene.instruments.get("screen")
+    gain = getattr(screen, "gain", 1.0)  # the gate sits on the screen: the camera's optical gain
     vx, vy = shaft_velocity(traj)
     X, dX = screen_coordinate(gain * traj.x, gain * traj.y, gain * vx, gain * vy, gate)
     passes = gate_passes(traj.t, X, dX, gate)
     g = f.require_group("instruments/photogate")
     g.attrs["settings"] = _settings_json(gate)
+    g.attrs["gain"] = float(gain)
+    if screen is None:
+        g.attrs["gain_note"] = "no [instruments.screen]: spot displacement = shaft displacement (gain 1)"
     for key in ("enter", "leave", "centre"):
         if hasattr(passes, key):
             ds = g.create_dataset(f"{key}_time", data=np.asarray(getattr(passes, key)))
@@ -228,7 +242,8 @@ def _write_photogate(f, scene: Scene, traj: Trajectory) -> None:
     try:
         trig = np.asarray(getattr(passes, "enter" if getattr(gate, "trigger", "enter") == "enter"
                                   else "centre"))
-        g.attrs["period_s"] = float(pulse_counter_period(trig))
+        g.attrs["period_s"] = float(pulse_counter_period(trig, getattr(gate, "start_pass", 1),
+                                                         getattr(gate, "stop_pass", 3)))
     except ValueError as exc:
         g.attrs["period_s"] = float("nan")
         g.attrs["note"] = str(exc)
