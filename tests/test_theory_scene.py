@@ -115,3 +115,62 @@ def test_theory_vs_simulation_on_both_sides_of_each_threshold():
     assert len(checks) == 2 * len(scene_theory(sc).critical_speeds)
     bad = [c for c in checks if not c.match]
     assert not bad, bad
+
+
+def _dimless(n, Rt, h, H, e0, R=3.0):
+    return scene_from_dimensionless(n, Rt, h, H, e0, drive=SpeedDrive(np.array([[0.0, R]])),
+                                    run=RunSettings(10.0, 1.0))
+
+
+def test_one_weight_cannot_balance_half_capacity():
+    """n = 1, e0 = 0.5: no main motion exists ((5.50): one weight balances only e0 = 1)."""
+    th = scene_theory(_dimless(1, 0.01, 0.2, 0.1, 0.5))
+    assert all("main" != m for b in th.bands for m in b.motions)
+    assert any("cannot balance" in w for w in th.warnings)
+
+
+def test_band_between_two_close_thresholds_is_kept():
+    """Main critical speed 1.00122 and escape speed R* = 1.005 are adjacent: the band between
+    them has both the main and the quasi-periodic motion."""
+    th = scene_theory(_dimless(2, 0.01, 2.0, 2.0, 0.3))
+    R_star = qp.escape_speed(0.01, 2.0, 2.0)
+    c = mm.critical_speeds(0.01, 2.0, 2.0, mm.d_two_balls(0.3), R_min=0.05)[-1].R
+    assert c < R_star < 1.01
+    band = next(b for b in th.bands if b.R_from <= np.sqrt(c * R_star) <= b.R_to)
+    assert set(band.motions) == {"main", "quasi-periodic"}
+    assert band.R_from == pytest.approx(c, rel=1e-12) and band.R_to == pytest.approx(R_star, rel=1e-12)
+
+
+def test_torque_drive_is_analysed_at_its_target_speed():
+    import dataclasses as dc
+    from stand.scene import TorqueDrive
+    s = load_scene(SCENES / "ball_runup.toml")
+    st = dc.replace(s, rotor=dc.replace(s.rotor, inertia=0.05),
+                    drive=TorqueDrive("speed_feedback", c1=0.5, target_speed=2 * np.pi * 15))
+    a, b = scene_theory(s), scene_theory(st)
+    assert [c.R for c in a.critical_speeds] == pytest.approx([c.R for c in b.critical_speeds])
+    assert b.operating_speed_R == pytest.approx(a.operating_speed_R)
+
+
+def test_anisotropic_supports_give_the_engineering_criterion(capsys):
+    import dataclasses as dc
+    s = load_scene(SCENES / "ball_runup.toml")
+    sa = dc.replace(s, supports=dc.replace(s.supports, stiffness_y=2.0 * s.supports.stiffness_x))
+    th = scene_theory(sa)
+    Ms = sa.total_mass
+    w = [np.sqrt(c / Ms) / (2 * np.pi) for c in (sa.supports.stiffness_x, 1.5 * sa.supports.stiffness_x,
+                                                   sa.supports.stiffness_y)]
+    np.testing.assert_allclose([c.hz for c in th.critical_speeds], w, rtol=1e-12)  # (2.29)
+    doc = th.to_dict()
+    assert {"escape_speed_hz", "stable_root_hz", "petals", "shape"} <= set(doc["qp"])
+    mid = np.sqrt(w[1] * w[2])
+    band = next(b for b in doc["stable_bands"] if b["from_hz"] <= mid <= b["to_hz"])
+    assert band["motions"] == []
+
+
+def test_no_qp_motion_without_damping_and_petals_always_reported():
+    th = scene_theory(_dimless(2, 0.01, 0.0, 0.1, 0.3))
+    assert all("quasi-periodic" not in b.motions for b in th.bands)
+    stuck = scene_theory(load_scene(SCENES / "ball_stuck.toml")).qp
+    # k = 3 / 0.96135 = 3.12: about 2 petals, the pattern turns slowly (digest 5.3)
+    assert stuck["petals"] == 2 and stuck["pattern_closed"] is False

@@ -14,6 +14,7 @@ rotating-frame steady motions do not exist there.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 from dataclasses import asdict, dataclass, field
@@ -21,7 +22,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from ..planar import build_planar_model
-from ..scene import Scene, dimensionless
+from ..scene import Scene, SpeedDrive, dimensionless
 from . import main_motion as mm
 from . import qp
 from . import side
@@ -137,51 +138,75 @@ def scene_theory(scene: Scene, R_max: float | None = None, n_grid: int = 240) ->
     Parameters
     ----------
     scene : Scene
-        Identical weights (balls or pendulums), isotropic supports.
+        Identical weights (balls or pendulums), isotropic supports.  A torque
+        drive is analysed at its steady speed (target speed, or torque / H0
+        for a constant torque).
     R_max : float, optional
         Upper end of the speed map (units of omega_1); default covers the
         operating speed, the QP escape speed and the main motion's last
         critical speed.
     n_grid : int
-        Log-grid points over the map before the band edges are refined.
+        Log-grid intervals over the map before the band edges are refined.
     """
     p = dimensionless(scene)
     notes = _check_scope(scene, p)
     f0 = p.omega_1 / (2 * math.pi)
-    n, Rt, H, e0 = p.n, p.Rt, p.H_x, p.e0
+    n, Rt, e0 = p.n, p.Rt, p.e0
     h = float(p.h[0])
-    iso = scene.supports.stiffness_x == scene.supports.stiffness_y and p.H_x == p.H_y
-    aniso = None if iso else anisotropic_ranges(scene)
+    s = scene.supports
+    iso_k = s.stiffness_x == s.stiffness_y
+    H = p.H_x if p.H_x == p.H_y else 0.5 * (p.H_x + p.H_y)
+    if iso_k and p.H_x != p.H_y:
+        notes.append(f"support damping differs between axes (H = {p.H_x:.4g}, {p.H_y:.4g}): the "
+                     f"theory uses their mean {H:.4g}")
     R_op = _operating_speed(scene) / p.omega_1
+    if scene.drive.kind == "torque":
+        d0 = scene.drive
+        if d0.model == "constant":
+            R_op = (d0.torque / d0.rotor_drag / p.omega_1) if d0.rotor_drag > 0 else 3.0
+            notes.append("constant torque: operating speed = torque / rotor_drag" if d0.rotor_drag > 0
+                         else "constant torque without rotor drag: no steady speed; the map is drawn to 3 f0")
+        scene = dataclasses.replace(scene, drive=SpeedDrive(np.array([[0.0, R_op * p.omega_1]])))
     params = {"n": n, "R_m": p.R_m, "Rt": Rt, "h": h, "H": H, "e0": e0,
               "R_omega2": p.R_omega2, "r_star_m": p.r_star, "operating_R": R_op}
-    if not iso:
-        notes.append("anisotropic supports: steady motions of chapter 5 need isotropic supports; "
-                     "only the engineering-criterion ranges (section 2.5.1) are given")
-        return SceneTheory(scene.name, f0, params, [], [], {}, {}, {}, aniso, R_op, notes)
+    if not iso_k:
+        return _anisotropic_theory(scene, f0, params, R_op, notes)
 
     # --- main motion: configuration parameter d
+    d = None
     if e0 <= 1:
-        configs = side.main_motion_angles(e0, n)
-        d = mm.d_from_angles(configs[0].alphas) if configs else 1.0
-        if n >= 3:
-            notes.append("n >= 3: the main motions form a family; d is that of one member "
-                         f"(d = {d:.4g}); other members may have other critical speeds -- see "
-                         "closed_forms.unbalance_independent_threshold_R")
-    else:
-        d = None
+        configs = [c for c in side.main_motion_angles(e0, n) if getattr(c, "balanced", True)]
+        if configs:
+            d = mm.d_from_angles(configs[0].alphas)
+            if n >= 3 and not (n == 3 and e0 == 1):
+                notes.append("n >= 3: the main motions form a family; d is that of one member "
+                             f"(d = {d:.4g}); other members may have other critical speeds -- see "
+                             "closed_forms.unbalance_independent_threshold_R")
+        else:
+            notes.append(f"no main (balancing) motion: {n} weight(s) cannot balance e0 = {e0:.4g} "
+                         "(polygon condition (5.50))")
     params["d"] = d
+    qp_ok = h > 0 and H > 0
+    if not qp_ok:
+        notes.append("h = 0 or H = 0: the quasi-periodic theory ((5.181), R* = 1 + 2Rt/(hH)) needs "
+                     "both dampings > 0; no QP motion is reported")
+    if n > MAX_WEIGHTS_FOR_SIDE:
+        notes.append(f"n = {n} > {MAX_WEIGHTS_FOR_SIDE}: side motions (and the e0 > 1 main motion) "
+                     "are not evaluated")
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        R_star = qp.escape_speed(Rt, h, H) if h > 0 and H > 0 else math.inf
+        R_star = qp.escape_speed(Rt, h, H) if qp_ok else math.inf
         main_crit = mm.critical_speeds(Rt, h, H, d, R_min=0.05, R_max=1000.0) if d is not None else []
     notes += sorted({str(w.message) for w in caught})
     last = max([c.R for c in main_crit], default=1.0)
+    R_min = 0.1
     if R_max is None:
         R_max = max(3.0, 1.5 * R_op, 1.3 * last, 1.2 * R_star if math.isfinite(R_star) else 0.0)
         R_max = min(R_max, 1000.0)
-    R_min = 0.1
+    if not R_max > 1.5 * R_min:
+        raise TheoryError(f"upper end of the speed map = {R_max * f0:.4g} rev/s: must be above "
+                          f"{1.5 * R_min * f0:.4g} rev/s (0.15 f0)")
     model = build_planar_model(scene)
 
     def motions(R: float) -> tuple:
@@ -195,34 +220,37 @@ def scene_theory(scene: Scene, R_max: float | None = None, n_grid: int = 240) ->
             for rep in side.stable_steady_motions(model, R):
                 if rep.stable and (rep.kind == "side" or d is None):
                     out.append(rep.label)
-        if R < R_star:
+        if qp_ok and R < R_star:
             out.append("quasi-periodic")
         return tuple(sorted(set(out)))
 
-    grid = np.geomspace(R_min, R_max, n_grid)
+    # intervals between grid points and exact thresholds; each is classified at its
+    # geometric midpoint, so two close thresholds never hide the band between them
     exact = sorted({c.R for c in main_crit if R_min < c.R < R_max}
                    | ({R_star} if R_min < R_star < R_max else set()))
-    pts = np.unique(np.concatenate([grid, exact]))
-    sets = [motions(R) for R in pts]
-    edges = []  # (R_left_set_end, R_right_set_start, left_set, right_set)
-    for i in range(len(pts) - 1):
-        if sets[i] != sets[i + 1]:
-            a, b, sa, sb = pts[i], pts[i + 1], sets[i], sets[i + 1]
-            hit = [x for x in exact if a <= x <= b]
-            if hit:
-                # an exact critical speed sits in this interval: use it as the edge
-                edges.append((hit[0], sa, sb))
-                continue
-            for _ in range(40):
-                mid = math.sqrt(a * b)
-                sm = motions(mid)
-                if sm == sa:
-                    a = mid
-                else:
-                    b, sb = mid, sm
-                if b / a - 1 < 1e-9:
-                    break
-            edges.append((math.sqrt(a * b), sa, sets[i + 1]))
+    pts = np.unique(np.concatenate([np.geomspace(R_min, R_max, n_grid + 1), exact]))
+    mids = np.sqrt(pts[:-1] * pts[1:])
+    sets = [motions(R) for R in mids]
+    exact_set = set(exact)
+    edges = []  # (R, left_set, right_set)
+    for i in range(len(mids) - 1):
+        if sets[i] == sets[i + 1]:
+            continue
+        p_i = pts[i + 1]
+        if p_i in exact_set:
+            edges.append((p_i, sets[i], sets[i + 1]))
+            continue
+        a, b, sa, sb = mids[i], mids[i + 1], sets[i], sets[i + 1]
+        for _ in range(60):
+            mid = math.sqrt(a * b)
+            sm = motions(mid)
+            if sm == sa:
+                a = mid
+            else:
+                b, sb = mid, sm
+            if b / a - 1 < 1e-9:
+                break
+        edges.append((math.sqrt(a * b), sa, sets[i + 1]))
     bounds = [R_min] + [e[0] for e in edges] + [R_max]
     band_sets = [sets[0]] + [e[2] for e in edges]
     bands = [Band(bounds[i], bounds[i + 1], bounds[i] * f0, bounds[i + 1] * f0, list(band_sets[i]))
@@ -243,8 +271,32 @@ def scene_theory(scene: Scene, R_max: float | None = None, n_grid: int = 240) ->
             crit.append(CriticalSpeedReport(R, R * f0, label, "gains" if label in sb else "loses"))
     crit.sort(key=lambda c: c.R)
 
-    return SceneTheory(scene.name, f0, params, crit, bands, _qp_section(R_op, Rt, h, H, e0, p, f0, R_star),
-                       _closed_forms(Rt, h, H, d, e0, n, f0), _conservative(Rt, d, f0), aniso, R_op, notes)
+    qp_sec = (_qp_section(R_op, Rt, h, H, e0, p, f0, R_star) if qp_ok
+              else _qp_section(R_op, Rt, 0.0, 0.0, e0, p, f0, math.inf))
+    return SceneTheory(scene.name, f0, params, crit, bands, qp_sec,
+                       _closed_forms(Rt, h, H, d, e0, n, f0), _conservative(Rt, d, f0), None, R_op, notes)
+
+
+def _anisotropic_theory(scene, f0, params, R_op, notes) -> SceneTheory:
+    """Anisotropic supports: the engineering criterion (2.29)-(2.30) as the speed map."""
+    an = anisotropic_ranges(scene)
+    w1, w2, w3 = (x / f0 for x in an["critical_speeds_hz"])
+    notes.append("anisotropic supports: the steady motions of chapter 5 need isotropic supports; the "
+                 "bands are the engineering criterion of section 2.5.1 (m/M -> 0), the weights' "
+                 "finite mass shifts them")
+    R_max = max(3.0, 1.5 * R_op, 1.3 * w3)
+    label = "main (engineering criterion)"
+    cuts = [0.1, w1, w2, w3, R_max]
+    sets = [[], [label], [], [label]]
+    bands = [Band(cuts[i], cuts[i + 1], cuts[i] * f0, cuts[i + 1] * f0, sets[i])
+             for i in range(4) if cuts[i + 1] > cuts[i]]
+    crit = [CriticalSpeedReport(w1, w1 * f0, label, "gains", "(2.29) omega_min"),
+            CriticalSpeedReport(w2, w2 * f0, label, "loses", "(2.29) sqrt((c_min + c_max)/(2 M))"),
+            CriticalSpeedReport(w3, w3 * f0, label, "gains", "(2.29) omega_max")]
+    qp_sec = {"escape_speed_hz": None, "speed_hz": R_op * f0, "roots_hz": [], "stable_root_hz": None,
+              "precession_amplitude_m": None, "nutation_amplitude_m": None, "petals": None,
+              "shape": None, "note": "quasi-periodic theory (5.181) assumes isotropic supports"}
+    return SceneTheory(scene.name, f0, params, crit, bands, qp_sec, {}, {}, an, R_op, notes)
 
 
 def _merge_bands(bands, f0):
@@ -272,10 +324,15 @@ def _qp_section(R, Rt, h, H, e0, p, f0, R_star) -> dict:
     if stable:
         Om = float(stable[0])
         law = qp.spot_law(Om, R, e0, H, p.R_m)
+        closed = law.petals is not None
         out.update({"stable_root_hz": Om * f0, "stable_root_R": Om,
                     "precession_amplitude_m": law.A_P * p.r_star,
                     "nutation_amplitude_m": law.A_N * p.r_star,
-                    "k": law.k, "petals": law.petals, "shape": law.shape})
+                    "k": law.k,
+                    # k = omega/Omega integer -> k - 1 petals; otherwise the nearest count and
+                    # the pattern turns slowly on the screen (digest 5.3 items 2-4)
+                    "petals": law.petals if closed else max(int(round(law.k)) - 1, 0),
+                    "pattern_closed": closed, "shape": law.shape})
     return out
 
 
