@@ -380,3 +380,31 @@ def test_plain_python_kernel_gives_the_same_frames():
     assert np.array_equal(out["0"][1], out["1"][1])                  # noiseless: identical
     differ = np.count_nonzero(out["0"][0] != out["1"][0])
     assert differ <= 2 and np.abs(out["0"][0].astype(int) - out["1"][0]).max() <= 1
+
+
+def test_simulated_stuck_balls_long_exposure_shows_k_minus_1_petals():
+    """The digest's QP example (ball_stuck.toml physics) simulated at the rotor speed where
+    k = omega / Omega_1 = 3 exactly (root of (5.181)): a long exposure of one closing period
+    2 pi / Omega of the simulated spot shows k - 1 = 2 petals."""
+    from scipy.optimize import brentq
+
+    from stand.scene_file import load_scene
+    from stand.simulate import simulate
+    from stand.theory.qp import qp_roots
+    from stand.theory.verify import at_speed
+
+    base = load_scene(Path(__file__).resolve().parents[1] / "data_samples" / "scenes" / "ball_stuck.toml")
+    R = brentq(lambda r: r / qp_roots(r, 0.01, 0.05, 0.05)[0] - 3.0, 2.5, 3.2, xtol=1e-13)
+    Omega = qp_roots(R, 0.01, 0.05, 0.05)[0]
+    sc = at_speed(base, R, hold_tau=900.0)
+    w1 = sc.natural_frequency
+    period = TWO_PI / (Omega * w1)
+    cam = ScreenCamera(pixel_pitch=1.2e-4, gain=1.0, spot_diameter=1.5e-3, frame_rate=0.2,
+                       exposure=period, peak=30000.0, subsamples=3000, read_noise=0.0)
+    t = sc.run.duration - period + exposure_times([0.0], cam)[0]
+    tr = simulate(sc, extra_times=t).extra
+    assert abs(np.mean(tr.weight_speed[:, 0]) / w1 / Omega - 1) < 1e-3  # stuck at Omega_1
+    c = np.mean(tr.x + 1j * tr.y)
+    _, px = spot_positions(tr.x - c.real, tr.y - c.imag, tr.rotor_angle, cam)
+    img = render_long_exposure(px, cam)
+    assert count_petals(img, cam.background, (319.5, 239.5)) == 2
