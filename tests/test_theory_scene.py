@@ -174,3 +174,14 @@ def test_no_qp_motion_without_damping_and_petals_always_reported():
     stuck = scene_theory(load_scene(SCENES / "ball_stuck.toml")).qp
     # k = 3 / 0.96135 = 3.12: about 2 petals, the pattern turns slowly (digest 5.3)
     assert stuck["petals"] == 2 and stuck["pattern_closed"] is False
+
+
+def test_beyond_capacity_no_spurious_critical_speed_at_resonance():
+    """e0 = 1.5: the weights-together branch runs through R = 1 (heavy-side side motion below,
+    maximally balanced main motion above) without a change of stability; the map reports the
+    band where it is unstable just above resonance (digest 4.5 at finite Rt, side.py notes)."""
+    th = scene_theory(_dimless(2, 0.01, 0.1, 0.1, 1.5))
+    assert all(abs(c.R - 1.0) > 1e-6 for c in th.critical_speeds)
+    lost = [c for c in th.critical_speeds if c.motion == "main (maximally balanced)"]
+    assert [c.kind for c in lost] == ["loses", "gains"]
+    assert 1.0 < lost[0].R < lost[1].R < 1.6

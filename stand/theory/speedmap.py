@@ -265,6 +265,11 @@ def scene_theory(scene: Scene, R_max: float | None = None, n_grid: int = 240) ->
     for R, sa, sb in edges:
         if any(abs(R - c.R) < 1e-9 * R for c in crit):
             continue
+        if set(sa) ^ set(sb) == {"side k=0", "main (maximally balanced)"}:
+            # e0 > 1: one stable branch runs through resonance (weights together); below R = 1
+            # it is the heavy-side side motion, above it the maximally balanced main motion --
+            # a change of name, not of stability
+            continue
         for label in sorted(set(sa) ^ set(sb)):
             if label in ("main", "quasi-periodic"):
                 continue
