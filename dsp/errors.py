@@ -1,0 +1,133 @@
+"""Errors and input checks shared by the ``dsp`` package.
+
+Every identifier in ``dsp`` validates its inputs before computing anything, so
+that a bad recording gives a clear :class:`SignalError` (naming the argument
+and what is wrong) instead of a silently wrong number.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["SignalError", "check_signal", "check_times"]
+
+
+class SignalError(ValueError):
+    """A signal (or its time base) cannot be analysed as requested.
+
+    Subclass of :class:`ValueError`; the message names the argument and what
+    is wrong with it.
+    """
+
+
+def check_times(t, name="t", min_samples=2):
+    """Check a strictly increasing, finite 1-D array of times [s].
+
+    Parameters
+    ----------
+    t : array_like
+        Times in seconds.
+    name : str
+        Argument name used in error messages.
+    min_samples : int
+        Minimum number of entries.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``t`` as a float64 array.
+
+    Raises
+    ------
+    SignalError
+        If ``t`` is not 1-D, too short, non-finite or not strictly increasing.
+    """
+    t = np.asarray(t, dtype=float)
+    if t.ndim != 1:
+        raise SignalError(f"{name}: must be a 1-D array, got shape {t.shape}")
+    if t.size < min_samples:
+        raise SignalError(f"{name}: too short, {t.size} samples (need at least {min_samples})")
+    bad = ~np.isfinite(t)
+    if bad.any():
+        raise SignalError(f"{name}: {int(bad.sum())} non-finite value(s) (NaN/inf), "
+                          f"first at index {int(np.argmax(bad))}")
+    d = np.diff(t)
+    if (d <= 0).any():
+        i = int(np.argmax(d <= 0))
+        raise SignalError(f"{name}: must be strictly increasing, but {name}[{i + 1}] = {t[i + 1]!r}"
+                          f" <= {name}[{i}] = {t[i]!r}")
+    return t
+
+
+def check_signal(t, x, name="x", min_samples=16, uniform_rtol=1e-3, allow_complex=True):
+    """Validate a uniformly sampled signal ``x(t)``.
+
+    Checks, in this order: ``t`` and ``x`` are 1-D and of equal length, at least
+    ``min_samples`` samples, all finite (no NaN/inf), ``t`` strictly increasing
+    and uniformly sampled (every step within ``uniform_rtol`` of the median
+    step), and ``x`` not constant.
+
+    Parameters
+    ----------
+    t : array_like
+        Sample times [s].
+    x : array_like
+        Samples (real, or complex if ``allow_complex``).
+    name : str
+        Name of the signal argument used in error messages.
+    min_samples : int
+        Minimum number of samples.
+    uniform_rtol : float
+        Relative tolerance on the sampling step.
+    allow_complex : bool
+        Whether complex samples are accepted.
+
+    Returns
+    -------
+    t : numpy.ndarray
+        float64 times.
+    x : numpy.ndarray
+        float64 or complex128 samples.
+    dt : float
+        Sampling step [s] (mean step).
+
+    Raises
+    ------
+    SignalError
+        With a message naming the argument and the problem.
+    """
+    x = np.asarray(x)
+    if x.ndim != 1:
+        raise SignalError(f"{name}: must be a 1-D array, got shape {x.shape}")
+    if np.iscomplexobj(x):
+        if not allow_complex:
+            raise SignalError(f"{name}: must be real, got complex samples")
+        x = x.astype(complex)
+    else:
+        try:
+            x = x.astype(float)
+        except (TypeError, ValueError) as exc:
+            raise SignalError(f"{name}: must be numeric ({exc})") from None
+    tt = np.asarray(t)
+    if tt.ndim != 1:
+        raise SignalError(f"t: must be a 1-D array, got shape {tt.shape}")
+    if tt.size != x.size:
+        raise SignalError(f"t and {name}: lengths differ ({tt.size} vs {x.size})")
+    if x.size < min_samples:
+        raise SignalError(f"{name}: too short, {x.size} samples (need at least {min_samples})")
+    bad = ~np.isfinite(x)
+    if bad.any():
+        raise SignalError(f"{name}: {int(bad.sum())} non-finite sample(s) (NaN/inf), "
+                          f"first at index {int(np.argmax(bad))}")
+    t = check_times(tt, "t", min_samples)
+    d = np.diff(t)
+    dt = float(np.median(d))
+    dev = np.abs(d - dt) / dt
+    if dev.max() > uniform_rtol:
+        i = int(np.argmax(dev))
+        raise SignalError(f"t: not uniformly sampled: step {d[i]:.6g} s at index {i} differs from "
+                          f"the median step {dt:.6g} s by {100 * dev[i]:.3g} % "
+                          f"(tolerance {100 * uniform_rtol:.3g} %); resample first")
+    scale = float(np.max(np.abs(x)))
+    if np.max(np.abs(x - x[0])) <= 1e-12 * max(scale, np.finfo(float).tiny):
+        raise SignalError(f"{name}: signal is constant (value {x[0]!r}); nothing to identify")
+    return t, x, float((t[-1] - t[0]) / (t.size - 1))
