@@ -5,6 +5,7 @@
     stand theory SCENE.toml [--json] [--plot MAP.png] [--max-speed REV_PER_S]
     stand snapshot RUN.h5 [--instrument screen|strobe|rings] [--frame N] -o FRAME.png
     stand experiment SCENE.toml PROGRAMME [options] -o RUN.h5
+    stand analyze RUN.h5|RUN.csv [--json] [--grade G] [--service-speed RPM]
 
 Exit codes: 0 success; 1 the simulation stopped early (what was computed is
 still written); 2 invalid input (scene, arguments, files).
@@ -203,6 +204,44 @@ def _need(args, name):
     return v
 
 
+def _cmd_analyze(args) -> int:
+    from dsp.errors import SignalError
+
+    from .analyze import analyze
+    from .recording import RecordingError
+
+    if not Path(args.recording).exists():
+        raise FileNotFoundError(f"recording not found: {args.recording}")
+    try:
+        doc = analyze(args.recording, grade_mm_s=args.grade, service_speed_rpm=args.service_speed)
+    except (RecordingError, SignalError) as exc:
+        raise ValueError(str(exc)) from None
+    if args.json:
+        print(json.dumps(_jsonable({k: v for k, v in doc.items() if k != "regime_timeline"}), indent=2))
+        return 0
+    def fmt(v, sd=None, unit=""):
+        if v is None:
+            return "n/a"
+        return f"{v:.6g}{' +- %.2g' % sd if sd else ''} {unit}".strip()
+    print(f"{args.recording}:")
+    print(f"  natural frequency {fmt(doc['natural_frequency_hz'], doc['natural_frequency_hz_std'], 'Hz')}, "
+          f"damping ratio {fmt(doc['damping_ratio'], doc['damping_ratio_std'])}")
+    print(f"  speed {fmt(doc['speed_hz'], None, 'rev/s')}, 1X {fmt(doc['response_1x_m'], None, 'm')}, "
+          f"unbalance {fmt(doc['unbalance_gmm'], doc['unbalance_gmm_std'], 'g*mm')} at "
+          f"{fmt(doc['unbalance_angle_deg'], None, 'deg')}")
+    if doc["iso_grade"]:
+        g = doc["iso_grade"]
+        print(f"  ISO 21940-11: G {g['grade_mm_s']:.3g} mm/s ({g['class']}), target G {g['target_mm_s']}: "
+              + ("pass" if g["passed"] else "FAIL"))
+    print(f"  precession {fmt(doc['precession_hz'], None, 'Hz')}, nutation {fmt(doc['nutation_hz'], None, 'Hz')}, "
+          f"petals {doc['petals']}, shape {doc['shape']}; regime {doc['regime']}")
+    for c in doc["critical_speeds_hz"]:
+        print(f"  regime change {c['before']} -> {c['after']} at {c['speed_hz']:.4g} +- {c['speed_hz_std']:.2g} rev/s")
+    for n in doc["notes"]:
+        print(f"  note: {n}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .simulate import METHODS
 
@@ -256,6 +295,12 @@ def build_parser() -> argparse.ArgumentParser:
     e.add_argument("--stiffness", type=float, default=0.0, help="extra side stiffness [N/m]")
     e.add_argument("--deflection", type=float, help="initial shaft deflection [m]")
     e.set_defaults(func=_cmd_experiment)
+    a2 = sub.add_parser("analyze", help="identify f0, damping, unbalance, components, regime from a recording")
+    a2.add_argument("recording", help="HDF5 recording, or CSV with columns t_s, x_m, y_m[, rotor_angle_rad | keyphasor]")
+    a2.add_argument("--json", action="store_true", help="print JSON")
+    a2.add_argument("--grade", type=float, default=6.3, help="ISO 21940-11 target grade G [mm/s]")
+    a2.add_argument("--service-speed", type=float, default=None, help="service speed [rpm] (default: the recorded speed)")
+    a2.set_defaults(func=_cmd_analyze)
     return p
 
 

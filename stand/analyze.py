@@ -1,0 +1,178 @@
+"""``stand analyze``: the numbers a lab writes in its journal, from one recording.
+
+Orchestrates the leaf package :mod:`dsp` on a recording (HDF5 written by
+``stand run`` or by another tool, or a CSV of time and signals) and, when the
+recording carries its scene, uses the scene for the model parameters (mass,
+natural frequency, damping) that turn a 1X response into an unbalance.
+
+CSV columns (header line required; SI units): ``t_s``, ``x_m``, ``y_m`` and
+optionally ``rotor_angle_rad`` (unwrapped or wrapped) or ``keyphasor``
+(1 on the samples where a once-per-revolution pulse occurs).
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from dsp.errors import SignalError
+
+TWO_PI = 2 * math.pi
+
+
+def _read(path):
+    from .recording import read_recording
+
+    p = Path(path)
+    if p.suffix.lower() == ".csv":
+        import pandas as pd
+
+        try:
+            df = pd.read_csv(p)
+        except Exception as exc:  # parse errors of any kind -> one clear line
+            raise ValueError(f"{p}: not a readable CSV ({exc})") from None
+        for col in ("t_s", "x_m", "y_m"):
+            if col not in df:
+                raise ValueError(f"{p}: missing column {col!r} (need t_s, x_m, y_m; optional "
+                                 "rotor_angle_rad or keyphasor)")
+        t = df["t_s"].to_numpy(float)
+        phi = df["rotor_angle_rad"].to_numpy(float) if "rotor_angle_rad" in df else None
+        kp = None
+        if phi is None and "keyphasor" in df:
+            kp = t[df["keyphasor"].to_numpy() > 0.5]
+        return dict(t=t, x=df["x_m"].to_numpy(float), y=df["y_m"].to_numpy(float), phi=phi,
+                    kp=kp, weights=None, scene=None)
+    rec = read_recording(p)
+    try:
+        scene = rec.scene() if rec.scene_text else None
+    except Exception:
+        scene = None
+    phi = rec.rotor_angle if np.all(np.isfinite(rec.rotor_angle)) else None
+    w = rec.weight_angle if rec.weight_angle.size and np.all(np.isfinite(rec.weight_angle)) else None
+    return dict(t=np.asarray(rec.t), x=np.asarray(rec.x), y=np.asarray(rec.y), phi=phi, kp=None,
+                weights=w, scene=scene)
+
+
+def _steady_window(t, speed, frac=0.3):
+    """Indices of the final stretch where the speed is constant (within 0.1 %)."""
+    n = t.size
+    start = int(n * (1 - frac))
+    if speed is not None:
+        ref = speed[-1]
+        ok = np.abs(speed - ref) <= 1e-3 * max(abs(ref), 1e-12)
+        i = n - 1
+        while i > 0 and ok[i - 1]:
+            i -= 1
+        start = max(start, i)
+    return slice(start, n)
+
+
+def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = None) -> dict:
+    """Identify what a lab would from one recording; returns a JSON-able dict.
+
+    Every identification that does not apply (e.g. no rotation, no weights
+    channel) is ``None`` with the reason in ``notes``.
+    """
+    from dsp import frequency as fq
+    from dsp import quasiperiodic as qpd
+    from dsp import regime as rg
+    from dsp import unbalance as ub
+
+    d = _read(path)
+    t, x, y, phi, scene = d["t"], d["x"], d["y"], d["phi"], d["scene"]
+    out = {"recording": str(path), "notes": []}
+    notes = out["notes"]
+    speed = None
+    if phi is not None:
+        speed = np.gradient(np.unwrap(phi), t)
+    rotating = speed is not None and np.max(np.abs(speed)) > 1e-6 or d["kp"] is not None
+
+    # natural frequency and damping: free decay of a non-spinning rotor
+    out.update(natural_frequency_hz=None, natural_frequency_hz_std=None, damping_ratio=None,
+               damping_ratio_std=None)
+    if not rotating:
+        try:
+            # a plane decay is real: fit the channel that moves most (a complex fit of a
+            # real signal would see two counter-rotating lines)
+            sig = x if np.std(x) >= np.std(y) else y
+            fd = fq.free_decay(t, sig)
+            out.update(natural_frequency_hz=fd.natural_frequency_hz,
+                       natural_frequency_hz_std=fd.natural_frequency_hz_std,
+                       damping_ratio=fd.damping_ratio, damping_ratio_std=fd.damping_ratio_std)
+        except SignalError as exc:
+            notes.append(f"free decay: {exc}")
+    elif scene is not None:
+        notes.append("rotating record: f0 and damping taken from the scene, not identified")
+
+    # 1X and unbalance over the final constant-speed stretch
+    out.update(unbalance_gmm=None, unbalance_gmm_std=None, unbalance_angle_deg=None,
+               iso_grade=None, response_1x_m=None, speed_hz=None)
+    sl = _steady_window(t, speed)
+    if rotating:
+        try:
+            sc1 = ub.synchronous_component(t[sl], x[sl], y[sl],
+                                           rotor_angle=None if phi is None else phi[sl],
+                                           keyphasor_times=d["kp"])
+            out["response_1x_m"] = sc1.amplitude_m
+            out["speed_hz"] = sc1.speed_rad_s / TWO_PI
+            if scene is not None:
+                s = scene.supports
+                Ms = scene.total_mass
+                f0 = scene.natural_frequency / TWO_PI
+                zeta = s.damping_x / (2 * math.sqrt(s.stiffness_x * Ms))
+                est = ub.unbalance_from_response(sc1, sc1.speed_rad_s, Ms, f0, zeta)
+                out.update(unbalance_gmm=est.unbalance_gmm, unbalance_gmm_std=est.unbalance_std_gmm,
+                           unbalance_angle_deg=est.angle_deg)
+                w_service = (service_speed_rpm * TWO_PI / 60.0 if service_speed_rpm
+                             else sc1.speed_rad_s)
+                g = ub.iso_21940_grade(est.unbalance_gmm, scene.rotor.mass, w_service,
+                                       target_grade_mm_s=grade_mm_s,
+                                       unbalance_std_gmm=est.unbalance_std_gmm)
+                out["iso_grade"] = {"grade_mm_s": g.grade_mm_s, "grade_mm_s_std": g.grade_std_mm_s,
+                                    "class": g.label, "target_mm_s": grade_mm_s,
+                                    "passed": g.passed, "permissible_gmm": getattr(g, "permissible_gmm", None),
+                                    "service_speed_rpm": w_service * 60 / TWO_PI}
+            else:
+                notes.append("no scene in the recording: the 1X response is not converted to an "
+                             "unbalance (needs mass, f0, damping)")
+        except SignalError as exc:
+            notes.append(f"1X / unbalance: {exc}")
+
+    # quasi-periodic decomposition of the orbit
+    out.update(components=[], precession_hz=None, nutation_hz=None, petals=None, shape=None)
+    if rotating:
+        try:
+            f_rot = out["speed_hz"]
+            dec = qpd.decompose(t[sl], (x + 1j * y)[sl], rotor_speed_hz=f_rot)
+            out["components"] = [{"frequency_hz": c.frequency_hz, "frequency_hz_std": c.frequency_std_hz,
+                                  "amplitude_m": c.amplitude_m, "phase_deg": math.degrees(c.phase_rad),
+                                  "direction": c.direction} for c in dec.components]
+            out.update(precession_hz=dec.precession_hz, precession_hz_std=dec.precession_std_hz,
+                       nutation_hz=dec.nutation_hz, nutation_hz_std=dec.nutation_std_hz,
+                       precession_amplitude_m=dec.precession_amplitude_m,
+                       nutation_amplitude_m=dec.nutation_amplitude_m,
+                       petals=dec.petals if dec.precession is not None else None,
+                       shape=dec.shape if dec.precession is not None else None)
+        except SignalError as exc:
+            notes.append(f"quasi-periodic decomposition: {exc}")
+
+    # regime over windows and critical speeds (needs the weights' angles)
+    out.update(regime=None, critical_speeds_hz=[])
+    if d["weights"] is not None and phi is not None and scene is not None:
+        try:
+            w_s = max(4 * TWO_PI / max(float(np.median(np.abs(speed))), 1e-9), (t[-1] - t[0]) / 200)
+            w_s = min(w_s, (t[-1] - t[0]) / 3)
+            thr = scene.balancer.capacity / scene.total_mass / 16 if scene.balancer.count else 0.0
+            wins = rg.classify_windows(t, np.unwrap(phi), d["weights"], x, y, w_s, thr)
+            out["regime"] = wins[-1].regime
+            out["regime_timeline"] = [{"t_start_s": w.t_start, "t_end_s": w.t_end, "regime": w.regime,
+                                       "speed_hz": w.rotor_speed_rad_s / TWO_PI} for w in wins]
+            out["critical_speeds_hz"] = [{"speed_hz": c.speed_hz, "speed_hz_std": c.speed_hz_uncertainty,
+                                          "before": c.before, "after": c.after}
+                                         for c in rg.critical_speeds(wins)]
+        except SignalError as exc:
+            notes.append(f"regime: {exc}")
+    else:
+        notes.append("regime: needs the weights' angles (stroboscope or simulator channel)")
+    return out
