@@ -154,6 +154,9 @@ def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = Non
                        nutation_amplitude_m=dec.nutation_amplitude_m,
                        petals=dec.petals if dec.precession is not None else None,
                        shape=dec.shape if dec.precession is not None else None)
+            if dec.precession is not None:
+                notes.append("the precession line (stuck weights) lies slightly below the natural "
+                             "frequency (Omega_1 < omega_1, (5.181)): a lower bound for f0, not f0")
         except SignalError as exc:
             notes.append(f"quasi-periodic decomposition: {exc}")
 
