@@ -1,0 +1,103 @@
+"""Benchmark of vision.spot: frames/s of track() on 640x480 8-bit noisy frames
+(one core), RMS error vs truth, against a least-squares Gaussian fit and
+trackpy.locate (benchmark-only dependency, skipped when not installed).
+
+    python benchmarks/bench_vision.py [--frames 2000]
+"""
+import argparse
+import math
+import os
+import time
+
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+import cv2  # noqa: E402
+import numpy as np  # noqa: E402
+
+from stand.instruments.render import render_frames  # noqa: E402
+from stand.instruments.screen import ScreenCamera  # noqa: E402
+from vision.spot import locate, track  # noqa: E402
+
+cv2.setNumThreads(1)
+
+
+def gauss_fit(frame, r):
+    """Least-squares 2-D Gaussian (+ background) in the centroid's window."""
+    from scipy.optimize import least_squares
+
+    hu, hv = r.window
+    i0, i1 = int(r.v_px - hv), int(r.v_px + hv) + 1
+    j0, j1 = int(r.u_px - hu), int(r.u_px + hu) + 1
+    patch = frame[i0:i1 + 1, j0:j1 + 1].astype(float)
+    v, u = np.mgrid[i0:i1 + 1, j0:j1 + 1]
+
+    def res(p):
+        a, uc, vc, s, b = p
+        return (a * np.exp(-((u - uc) ** 2 + (v - vc) ** 2) / (2 * s * s)) + b - patch).ravel()
+
+    p = least_squares(res, [r.peak, r.u_px, r.v_px, 2.0, r.background]).x
+    return p[1], p[2]
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--frames", type=int, default=2000)
+    n = ap.parse_args().frames
+    cam = ScreenCamera(pixel_pitch=1e-3 / 8, spot_diameter=1e-3, subsamples=1)   # sigma 2 px
+    t = np.arange(n) / n * 2 * np.pi * 5
+    rng = np.random.default_rng(0)
+    px = np.column_stack([320 + 150 * np.cos(t) + rng.uniform(-.5, .5, n),
+                          240 + 100 * np.sin(1.3 * t) + rng.uniform(-.5, .5, n)])[:, None, :]
+    frames = list(render_frames(px, cam))
+    truth = px[:, 0]
+    rows = []
+    track(frames[:50])   # warm-up
+    t0 = time.perf_counter()
+    df = track(frames)
+    dt = time.perf_counter() - t0
+    err = df[["u_px", "v_px"]].to_numpy() - truth
+    rows.append(("vision.track (ROI tracking)", n / dt, math.sqrt(np.mean(err ** 2))))
+    m = min(n, 500)
+    t0 = time.perf_counter()
+    res = [locate(f) for f in frames[:m]]
+    dt = time.perf_counter() - t0
+    est = np.array([[r.u_px, r.v_px] for r in res])
+    rows.append(("vision.locate (full frame)", m / dt, math.sqrt(np.mean((est - truth[:m]) ** 2))))
+    k = min(n, 200)
+    t0 = time.perf_counter()
+    g = np.array([gauss_fit(f, r) for f, r in zip(frames[:k], res[:k])])
+    dt = time.perf_counter() - t0
+    rows.append(("Gaussian LSQ fit (scipy, in window)", k / dt, math.sqrt(np.mean((g - truth[:k]) ** 2))))
+    try:
+        import trackpy
+    except ImportError:
+        rows.append(("trackpy.locate", float("nan"), float("nan")))
+        print("trackpy not installed: skipped")
+    else:
+        trackpy.quiet()
+        k = min(n, 300)
+        est, t0 = [], time.perf_counter()
+        for f in frames[:k]:
+            d = trackpy.locate(f, 9, minmass=100, topn=1, engine="numba"
+                               if _has_numba() else "python")
+            est.append([d["x"].iloc[0], d["y"].iloc[0]] if len(d) else [np.nan, np.nan])
+        dt = time.perf_counter() - t0
+        est = np.array(est)
+        rows.append(("trackpy.locate (diameter 9, full frame)", k / dt,
+                     math.sqrt(np.nanmean((est - truth[:k]) ** 2))))
+    print(f"640x480 uint8, sigma 2 px, ScreenCamera default noise, {n} frames, one core")
+    print(f"{'method':42s} {'frames/s':>10s} {'RMS err [px]':>13s}")
+    for name, fps, rms in rows:
+        print(f"{name:42s} {fps:10.0f} {rms:13.4f}")
+
+
+def _has_numba():
+    try:
+        import numba  # noqa: F401
+        return True
+    except ImportError:
+        return False
+
+
+if __name__ == "__main__":
+    main()

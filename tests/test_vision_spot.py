@@ -1,0 +1,148 @@
+"""vision.spot / vision.io against synthetic frames with known truth (stand renders them)."""
+import math
+
+import h5py
+import numpy as np
+import pytest
+
+from stand.instruments.render import render_frames
+from stand.instruments.screen import ScreenCamera, frame_truth
+from vision.io import VisionError, iter_frames
+from vision.spot import locate, track
+
+REC = "data_samples/recordings/stand_cameras.h5"
+
+
+def _cam(**kw):
+    # sigma = spot_diameter / (4 pixel_pitch) = 2 px, still spot
+    return ScreenCamera(pixel_pitch=1e-3 / 8, spot_diameter=1e-3, subsamples=1, **kw)
+
+
+def _frames(cam, n, noise, seed=1):
+    rng = np.random.default_rng(seed)
+    px = np.column_stack([rng.uniform(60, cam.width - 60, n),
+                          rng.uniform(60, cam.height - 60, n)])[:, None, :]
+    truth = frame_truth(px * cam.pixel_pitch, px, cam)["centre_px"]
+    return list(render_frames(px, cam, noise=noise)), truth
+
+
+def _errors(cam, n, noise, **kw):
+    frames, truth = _frames(cam, n, noise)
+    res = [locate(f, **kw) for f in frames]
+    est = np.array([[r.u_px, r.v_px] for r in res])
+    std = np.array([[r.u_std_px, r.v_std_px] for r in res])
+    return est - truth, std, res
+
+
+@pytest.mark.parametrize("bits", [8, 12])
+def test_noiseless_rms_below_0p02(bits):
+    err, _, res = _errors(_cam(bit_depth=bits), 100, False)
+    assert all(r.ok and not r.flags for r in res)
+    assert math.sqrt(np.mean(err ** 2)) <= 0.02
+
+
+@pytest.mark.parametrize("bits", [8, 12])
+def test_realistic_noise_rms_and_coverage(bits):
+    cam = _cam(bit_depth=bits)
+    err, std, _ = _errors(cam, 250, True, gain=cam.electrons_per_dn)
+    assert math.sqrt(np.mean(err ** 2)) <= 0.05
+    inside = np.mean(np.abs(err) <= std)          # 500 coordinates
+    assert 0.55 <= inside <= 0.80, inside
+
+
+def test_saturated_spot_flagged_and_accurate():
+    cam = _cam(peak=1000.0)                        # 4x full scale: flat top
+    err, _, res = _errors(cam, 50, True)
+    assert all("saturated" in r.flags and r.ok for r in res)
+    assert math.sqrt(np.mean(err ** 2)) <= 0.05
+
+
+def test_missing_and_blank_frames_give_nan_and_flags():
+    cam = _cam()
+    empty = next(render_frames(np.full((1, 1, 2), np.nan), cam))
+    r = locate(empty)
+    assert math.isnan(r.u_px) and math.isnan(r.v_px) and "missing" in r.flags and not r.ok
+    z = locate(np.zeros((480, 640), np.uint8))
+    assert {"missing", "blank"} <= z.flags and math.isnan(z.u_px)
+    df = track([empty, np.zeros((480, 640), np.uint8)])
+    assert df["u_px"].isna().all() and not df["ok"].any()
+    assert "blank" in df["flags"].iloc[1]
+
+
+def test_reflection_second_blob_flagged_spot_kept():
+    cam = _cam()
+    px = np.array([[[300.3, 200.7]]])
+    spot = next(render_frames(px, cam, noise=False)).astype(np.int32)
+    refl = next(render_frames(px + [[[80.0, 40.0]]], _cam(peak=60.0), noise=False)).astype(np.int32)
+    frame = np.clip(spot + refl - cam.background, 0, 255).astype(np.uint8)
+    r = locate(frame)
+    assert "second_blob" in r.flags and r.ok
+    assert abs(r.u_px - 300.3) < 0.02 and abs(r.v_px - 200.7) < 0.02
+
+
+def test_track_roi_follows_moving_spot():
+    cam = _cam()
+    t = np.linspace(0, 2 * np.pi, 120)
+    px = np.column_stack([320 + 150 * np.cos(t), 240 + 100 * np.sin(t)])[:, None, :]
+    df = track(render_frames(px, cam), gain=cam.electrons_per_dn)
+    assert list(df.columns[:2]) == ["frame", "u_px"] and df["ok"].all()
+    assert math.sqrt(np.mean((df[["u_px", "v_px"]].to_numpy() - px[:, 0]) ** 2)) <= 0.05
+
+
+def test_wrong_size_mid_stream_raises(tmp_path):
+    p = tmp_path / "bad.h5"
+    with h5py.File(p, "w") as f:
+        f["frames"] = np.zeros((3, 40, 50), np.uint8)
+    frames = [np.zeros((40, 50), np.uint8), np.ones((40, 50), np.uint8), np.zeros((41, 50), np.uint8)]
+    it = iter_frames(frames)
+    next(it), next(it)
+    with pytest.raises(VisionError, match="frame 2"):
+        next(it)
+    # blank frames are yielded, not raised
+    assert len(list(iter_frames((str(p), "frames")))) == 3
+
+
+def test_corrupt_and_unreadable_sources_raise(tmp_path):
+    bad = tmp_path / "corrupt.h5"
+    bad.write_bytes(b"not an hdf5 file at all" * 10)
+    with pytest.raises(VisionError):
+        list(iter_frames(bad))
+    vid = tmp_path / "broken.avi"
+    vid.write_bytes(b"\x00garbage" * 100)
+    with pytest.raises(VisionError):
+        list(iter_frames(vid))
+    with pytest.raises(VisionError):
+        list(iter_frames(tmp_path / "nope.mp4"))
+    with pytest.raises(VisionError):
+        list(iter_frames(REC, "no/such/dataset"))
+    with pytest.raises(ValueError):      # VisionError is a ValueError
+        list(iter_frames(tmp_path / "empty_dir_*.png"))
+
+
+def test_image_folder_and_video_roundtrip(tmp_path):
+    cv2 = pytest.importorskip("cv2")
+    cam = _cam(width=96, height=64)
+    px = np.array([[[40.2, 30.6]], [[45.7, 28.1]]])
+    frames = list(render_frames(px, cam, noise=False))
+    for i, f in enumerate(frames):
+        cv2.imwrite(str(tmp_path / f"f{i:03d}.png"), f)
+    df = track(iter_frames(tmp_path))
+    assert np.allclose(df[["u_px", "v_px"]].to_numpy(), px[:, 0], atol=0.02)
+    assert "time" in df.columns
+
+
+def test_sample_recording_tracks_exposure_averaged_truth():
+    with h5py.File(REC) as f:
+        truth = f["truth/screen/centre_px"][:]
+        inside = f["truth/screen/in_frame"][:]
+    df = track(iter_frames(REC))
+    assert np.allclose(df["time"].to_numpy()[:3], [0.0, 0.5, 1.0])
+    assert (df["ok"].to_numpy() == inside).all()
+    err = df[["u_px", "v_px"]].to_numpy() - truth
+    unsat = inside & ~df["flags"].str.contains("saturated").to_numpy()
+    # unsaturated frames (still spots and long-exposure arcs): the centroid is the
+    # exposure average
+    assert math.sqrt(np.mean(err[unsat] ** 2)) <= 0.1
+    # saturated motion-blurred arcs are clipped unevenly along the arc (slow parts
+    # clip more): biased by design, flagged
+    assert math.sqrt(np.mean(err[inside] ** 2)) <= 0.25

@@ -1,0 +1,208 @@
+"""Streaming frame sources: HDF5 image datasets, video files, image folders.
+
+:func:`iter_frames` yields :class:`FrameRecord` (index, time [s] or NaN, image)
+one frame at a time (constant memory: one frame is read per step).
+
+Error policy
+------------
+* unreadable / corrupt file, missing dataset, video that cv2 cannot open,
+  image that cv2 cannot decode, empty folder -> :class:`VisionError` (raised).
+* a frame whose size differs from the first frame's, mid-stream ->
+  :class:`VisionError` (raised, naming the frame index and both sizes).
+* blank frames (all pixels equal, e.g. all zero) are **yielded** (not an
+  error); :func:`vision.spot.locate` flags them ``"blank"`` + ``"missing"``
+  (NaN centre, ``ok`` False), so a tracking table keeps one row per frame.
+"""
+from __future__ import annotations
+
+import glob
+import math
+import os
+from pathlib import Path
+from typing import Iterator, NamedTuple, Optional
+
+import numpy as np
+
+__all__ = ["VisionError", "FrameRecord", "iter_frames", "DEFAULT_DATASET", "VIDEO_SUFFIXES",
+           "IMAGE_SUFFIXES", "HDF5_SUFFIXES"]
+
+DEFAULT_DATASET = "instruments/screen/frames"
+HDF5_SUFFIXES = {".h5", ".hdf5", ".hdf"}
+VIDEO_SUFFIXES = {".avi", ".mp4", ".mkv", ".mov", ".mpg", ".mpeg", ".wmv", ".webm", ".m4v"}
+IMAGE_SUFFIXES = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".pgm", ".ppm"}
+
+
+class VisionError(ValueError):
+    """A frame source cannot be read, or it yields an inconsistent frame."""
+
+
+class FrameRecord(NamedTuple):
+    index: int
+    time: float          #: s; NaN when the source has no timestamps
+    image: np.ndarray    #: (H, W) gray
+
+
+def _split_source(source, dataset):
+    if isinstance(source, tuple):
+        return str(source[0]), str(source[1])
+    s = str(source)
+    if not os.path.exists(s) and ":" in s:
+        path, _, ds = s.rpartition(":")
+        if Path(path).suffix.lower() in HDF5_SUFFIXES:
+            return path, ds
+    return s, dataset
+
+
+def _check_size(shape, index, first):
+    if first is not None and shape != first:
+        raise VisionError(f"frame {index}: size {shape[1]}x{shape[0]} (W x H) differs from the "
+                          f"first frame's {first[1]}x{first[0]}")
+
+
+def _iter_hdf5(path, dataset):
+    import h5py
+
+    try:
+        f = h5py.File(path, "r")
+    except Exception as exc:   # OSError for corrupt / non-HDF5 files
+        raise VisionError(f"{path}: cannot open as HDF5 ({exc})") from exc
+    with f:
+        if dataset not in f or not isinstance(f[dataset], h5py.Dataset):
+            raise VisionError(f"{path}: no image dataset {dataset!r}")
+        ds = f[dataset]
+        if ds.ndim not in (2, 3):
+            raise VisionError(f"{path}:{dataset}: expected (F, H, W) frames, shape {ds.shape}")
+        parent = dataset.rpartition("/")[0]
+        tname = f"{parent}/frame_time" if parent else "frame_time"
+        times = None
+        if tname in f and isinstance(f[tname], h5py.Dataset) and f[tname].shape[:1] == ds.shape[:1]:
+            times = f[tname]
+        n = 1 if ds.ndim == 2 else ds.shape[0]
+        for i in range(n):
+            try:
+                img = ds[()] if ds.ndim == 2 else ds[i]
+                t = float(times[i]) if times is not None else math.nan
+            except Exception as exc:
+                raise VisionError(f"{path}:{dataset}: frame {i} unreadable ({exc})") from exc
+            yield i, t, np.asarray(img)
+
+
+def _iter_video(path):
+    import cv2
+
+    if not os.path.isfile(path):
+        raise VisionError(f"{path}: no such video file")
+    cap = cv2.VideoCapture(path)
+    try:
+        if not cap.isOpened():
+            raise VisionError(f"{path}: cv2.VideoCapture cannot open it (corrupt or unsupported)")
+        i = 0
+        while True:
+            ok, img = cap.read()
+            if not ok:
+                break
+            t = cap.get(cv2.CAP_PROP_POS_MSEC)
+            if img.ndim == 3:
+                img = cv2.cvtColor(img, cv2.COLOR_BGR2GRAY)
+            yield i, (t / 1000.0 if t >= 0 else math.nan), img
+            i += 1
+        if i == 0:
+            raise VisionError(f"{path}: no frame could be decoded (corrupt or unsupported video)")
+    finally:
+        cap.release()
+
+
+def _iter_images(paths):
+    import cv2
+
+    if not paths:
+        raise VisionError("no image files found")
+    for i, p in enumerate(paths):
+        img = cv2.imread(str(p), cv2.IMREAD_UNCHANGED)
+        if img is None:
+            raise VisionError(f"{p}: cv2.imread cannot read it (corrupt or not an image)")
+        if img.ndim == 3:
+            code = cv2.COLOR_BGRA2GRAY if img.shape[2] == 4 else cv2.COLOR_BGR2GRAY
+            img = cv2.cvtColor(img, code)
+        yield i, math.nan, img
+
+
+def iter_frames(source, dataset: str = DEFAULT_DATASET, *,
+                progress: bool = False) -> Iterator[FrameRecord]:
+    """Stream gray frames from ``source``, one at a time.
+
+    Parameters
+    ----------
+    source : str, Path, (path, dataset) tuple, ndarray or iterable of arrays
+        * HDF5 file (``.h5``, ``.hdf5``, ``.hdf``), optionally ``"file.h5:group/ds"``
+          or a (path, dataset) pair; the dataset is (F, H, W) (or one (H, W)
+          image); timestamps from the sibling ``frame_time`` dataset when present.
+        * video file (``cv2.VideoCapture``; colour converted to gray);
+          timestamps from ``CAP_PROP_POS_MSEC``.
+        * a folder (its images, sorted by name) or a glob pattern
+          (``cv2.imread``, unchanged depth, colour converted to gray).
+        * an array (F, H, W) or an iterable of (H, W) arrays.
+    dataset : str
+        HDF5 dataset path (default ``instruments/screen/frames``).
+    progress : bool
+        Show a tqdm progress bar when tqdm is installed.
+
+    Yields
+    ------
+    FrameRecord(index, time, image)
+
+    Raises
+    ------
+    VisionError
+        Unreadable/corrupt source, a frame of another size than the first
+        (mid-stream).  Blank frames are yielded (see the module docstring).
+    """
+    gen = _open(source, dataset)
+    if progress:
+        try:
+            from tqdm import tqdm
+            gen = tqdm(gen, unit="frame")
+        except ImportError:
+            pass
+    first = None
+    for i, t, img in gen:
+        img = np.asarray(img)
+        if img.ndim != 2:
+            raise VisionError(f"frame {i}: expected a 2-D gray image, shape {img.shape}")
+        _check_size(img.shape, i, first)
+        first = img.shape if first is None else first
+        yield FrameRecord(i, float(t), img)
+
+
+def _open(source, dataset):
+    if isinstance(source, np.ndarray):
+        arr = source if source.ndim == 3 else source[None]
+        return ((i, math.nan, arr[i]) for i in range(arr.shape[0]))
+    is_pair = (isinstance(source, tuple) and len(source) == 2
+               and all(isinstance(x, (str, os.PathLike)) for x in source))
+    if not (isinstance(source, (str, os.PathLike)) or is_pair):
+        return ((i, math.nan, img) for i, img in enumerate(source))
+    path, ds = _split_source(source, dataset)
+    p = Path(path)
+    if p.is_dir():
+        files = sorted(q for q in p.iterdir() if q.suffix.lower() in IMAGE_SUFFIXES)
+        if not files:
+            raise VisionError(f"{path}: folder holds no images ({sorted(IMAGE_SUFFIXES)})")
+        return _iter_images(files)
+    if any(ch in path for ch in "*?["):
+        files = sorted(glob.glob(path))
+        if not files:
+            raise VisionError(f"{path}: pattern matches no file")
+        return _iter_images(files)
+    suffix = p.suffix.lower()
+    if suffix in HDF5_SUFFIXES:
+        if not p.is_file():
+            raise VisionError(f"{path}: no such file")
+        return _iter_hdf5(path, ds)
+    if suffix in IMAGE_SUFFIXES:
+        if not p.is_file():
+            raise VisionError(f"{path}: no such file")
+        return _iter_images([p])
+    if not p.is_file():
+        raise VisionError(f"{path}: no such file")
+    return _iter_video(path)
