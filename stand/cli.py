@@ -6,6 +6,8 @@
     stand snapshot RUN.h5 [--instrument screen|strobe|rings] [--frame N] -o FRAME.png
     stand experiment SCENE.toml PROGRAMME [options] -o RUN.h5
     stand analyze RUN.h5|RUN.csv [--json] [--grade G] [--service-speed RPM]
+    stand track FRAMES -o track.csv [--calibration RINGS.png] [--ring-radii R1,R2,...]
+    stand strobe FRAMES -o angles.csv [--weights N]
 
 Exit codes: 0 success; 1 the simulation stopped early (what was computed is
 still written); 2 invalid input (scene, arguments, files).
@@ -242,6 +244,100 @@ def _cmd_analyze(args) -> int:
     return 0
 
 
+def _atomic_csv(df, path) -> None:
+    import os
+    import tempfile
+
+    out = os.path.abspath(path)
+    fd, tmp = tempfile.mkstemp(dir=os.path.dirname(out), suffix=".csv.tmp")
+    os.close(fd)
+    try:
+        df.to_csv(tmp, index=False)
+        os.replace(tmp, out)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
+
+def _cmd_track(args) -> int:
+    import cv2
+    import numpy as np
+
+    from vision.calibration import detect_rings, fit_homography, px_to_m
+    from vision.io import VisionError, iter_frames
+    from vision.spot import track
+
+    if not Path(args.output).resolve().parent.is_dir():
+        raise FileNotFoundError(f"output directory of {args.output!r} does not exist")
+    try:
+        df = track(iter_frames(args.source, progress=sys.stderr.isatty()), gain=args.gain)
+        if args.calibration:
+            img = cv2.imread(args.calibration, cv2.IMREAD_GRAYSCALE)
+            if img is None:
+                raise VisionError(f"--calibration {args.calibration!r}: not a readable image")
+            radii = _ring_radii(args)
+            cal = fit_homography(detect_rings(img), radii)
+            X, Y = px_to_m(df["u_px"].to_numpy(), df["v_px"].to_numpy(), cal)
+            df["x_mm"], df["y_mm"] = np.asarray(X) * 1e3, np.asarray(Y) * 1e3
+            df["scale_mm_per_px"] = cal.scale * 1e3
+    except VisionError as exc:
+        raise ValueError(str(exc)) from None
+    _atomic_csv(df, args.output)
+    ok = int(df["ok"].sum()) if "ok" in df else len(df)
+    print(f"{args.source}: {len(df)} frames, spot found in {ok} -> {args.output}")
+    return 0
+
+
+def _ring_radii(args):
+    import numpy as np
+
+    if args.ring_radii:
+        try:
+            return np.array([float(v) for v in args.ring_radii.split(",")])
+        except ValueError:
+            raise ValueError(f"--ring-radii = {args.ring_radii!r}: comma-separated radii in m") from None
+    import h5py
+
+    src = str(args.source).split(":")[0]
+    try:
+        with h5py.File(src, "r") as f:
+            return f["instruments/screen/ring_radius"][:]
+    except (OSError, KeyError):
+        raise ValueError("--calibration needs the rings' radii: give --ring-radii (m, comma-separated) "
+                         "or track a recording that stores instruments/screen/ring_radius") from None
+
+
+def _cmd_strobe(args) -> int:
+    import pandas as pd
+
+    from vision.io import VisionError, iter_frames
+    from vision.strobe import weight_angles
+
+    if not Path(args.output).resolve().parent.is_dir():
+        raise FileNotFoundError(f"output directory of {args.output!r} does not exist")
+    rows = []
+    try:
+        source = args.source if ":" in str(args.source) or not str(args.source).endswith(".h5") \
+            else (args.source, "instruments/stroboscope/frames")
+        for rec in iter_frames(source):
+            try:
+                a = weight_angles(rec.image, n_weights=args.weights)
+            except VisionError as exc:
+                rows.append({"frame": rec.index, "time": rec.time, "ok": False, "note": str(exc)})
+                continue
+            row = {"frame": rec.index, "time": rec.time, "ok": True, "images": a.n_images,
+                   "mark_deg": float(__import__("math").degrees(a.mark_angle))}
+            for j, (ang, sd) in enumerate(zip(a.angles, a.sigma), start=1):
+                row[f"weight{j}_deg"] = float(__import__("math").degrees(ang))
+                row[f"weight{j}_std_deg"] = float(__import__("math").degrees(sd))
+            rows.append(row)
+    except VisionError as exc:
+        raise ValueError(str(exc)) from None
+    _atomic_csv(pd.DataFrame(rows), args.output)
+    print(f"{args.source}: {len(rows)} strobe frames -> {args.output}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .simulate import METHODS
 
@@ -301,6 +397,18 @@ def build_parser() -> argparse.ArgumentParser:
     a2.add_argument("--grade", type=float, default=6.3, help="ISO 21940-11 target grade G [mm/s]")
     a2.add_argument("--service-speed", type=float, default=None, help="service speed [rpm] (default: the recorded speed)")
     a2.set_defaults(func=_cmd_analyze)
+    tk = sub.add_parser("track", help="sub-pixel laser-spot track from frames (HDF5, video, images)")
+    tk.add_argument("source", help="recording.h5[:dataset], video file, image folder or glob")
+    tk.add_argument("-o", "--output", required=True, help="CSV to write")
+    tk.add_argument("--calibration", default=None, help="calibration-ring image (px -> mm)")
+    tk.add_argument("--ring-radii", default=None, help="ring radii [m], comma-separated (default: from the recording)")
+    tk.add_argument("--gain", type=float, default=None, help="camera gain [electrons/DN] for the uncertainty")
+    tk.set_defaults(func=_cmd_track)
+    sb = sub.add_parser("strobe", help="weights' angles from stroboscope frames")
+    sb.add_argument("source", help="recording.h5[:dataset] (default dataset instruments/stroboscope/frames), video or images")
+    sb.add_argument("-o", "--output", required=True, help="CSV to write")
+    sb.add_argument("--weights", type=int, default=None, help="number of weights (default: detect)")
+    sb.set_defaults(func=_cmd_strobe)
     return p
 
 
