@@ -135,6 +135,38 @@ def _soft(x: np.ndarray, h: float) -> np.ndarray:
     return w
 
 
+def _recentre(img, level, cu, cv, hu, hv, sel=None):
+    """Iterate the soft-windowed intensity centroid until it moves < TOL px.
+
+    ``sel`` (same shape as ``img``) restricts the pixels (an arc's neighbourhood).
+    Returns the centre (u, v), or None when the window holds no signal.
+    """
+    Hs, Ws = img.shape
+    for _ in range(MAX_ITER):
+        i0 = max(int(math.floor(cv - hv - 0.5)), 0)
+        i1 = min(int(math.ceil(cv + hv + 0.5)), Hs - 1)
+        j0 = max(int(math.floor(cu - hu - 0.5)), 0)
+        j1 = min(int(math.ceil(cu + hu + 0.5)), Ws - 1)
+        if i1 < i0 or j1 < j0:
+            return None
+        patch = img[i0:i1 + 1, j0:j1 + 1] - level
+        if sel is not None:
+            patch = patch * sel[i0:i1 + 1, j0:j1 + 1]
+        xu = np.arange(j0, j1 + 1) - cu
+        xv = np.arange(i0, i1 + 1) - cv
+        pw = patch * _soft(xv, hv)[:, None] * _soft(xu, hu)[None, :]
+        total = float(pw.sum())
+        if not total > 0:
+            return None
+        du = float((pw.sum(axis=0) * xu).sum()) / total
+        dv = float((pw.sum(axis=1) * xv).sum()) / total
+        cu += du
+        cv += dv
+        if abs(du) < TOL and abs(dv) < TOL:
+            break
+    return cu, cv
+
+
 def locate(frame, *, background: Optional[float] = None, threshold: Optional[float] = None,
            window=None, roi=None, gain: Optional[float] = None,
            saturation: Optional[float] = None) -> SpotResult:
@@ -213,26 +245,10 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
     Hs, Ws = sub.shape
     total = math.nan
     for _grow in range(4):
-        for _ in range(MAX_ITER):
-            i0 = max(int(math.floor(cv - hv - 0.5)), 0)
-            i1 = min(int(math.ceil(cv + hv + 0.5)), Hs - 1)
-            j0 = max(int(math.floor(cu - hu - 0.5)), 0)
-            j1 = min(int(math.ceil(cu + hu + 0.5)), Ws - 1)
-            if i1 < i0 or j1 < j0:
-                return _missing(flags | {"missing"}, level, noise, amp)
-            patch = img[i0:i1 + 1, j0:j1 + 1] - level
-            xu = np.arange(j0, j1 + 1) - cu
-            xv = np.arange(i0, i1 + 1) - cv
-            pw = patch * _soft(xv, hv)[:, None] * _soft(xu, hu)[None, :]
-            total = float(pw.sum())
-            if not total > 0:
-                return _missing(flags | {"missing"}, level, noise, amp)
-            du = float((pw.sum(axis=0) * xu).sum()) / total
-            dv = float((pw.sum(axis=1) * xv).sum()) / total
-            cu += du
-            cv += dv
-            if abs(du) < TOL and abs(dv) < TOL:
-                break
+        c = _recentre(img, level, cu, cv, hu, hv)
+        if c is None:
+            return _missing(flags | {"missing"}, level, noise, amp)
+        cu, cv = c
         if window is not None:
             break
         # an asymmetric blob (motion-blurred arc): the window centred on the
@@ -248,24 +264,10 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
         near = cv2.dilate((labels == lab).astype(np.uint8),
                           cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * ARC_PAD + 1,) * 2))
         sel = near.astype(np.float64)
-        for _ in range(MAX_ITER):
-            i0 = max(int(math.floor(cv - hv - 0.5)), 0)
-            i1 = min(int(math.ceil(cv + hv + 0.5)), Hs - 1)
-            j0 = max(int(math.floor(cu - hu - 0.5)), 0)
-            j1 = min(int(math.ceil(cu + hu + 0.5)), Ws - 1)
-            patch = (img[i0:i1 + 1, j0:j1 + 1] - level) * sel[i0:i1 + 1, j0:j1 + 1]
-            xu = np.arange(j0, j1 + 1) - cu
-            xv = np.arange(i0, i1 + 1) - cv
-            pw = patch * _soft(xv, hv)[:, None] * _soft(xu, hu)[None, :]
-            total = float(pw.sum())
-            if not total > 0:
-                return _missing(flags | {"missing"}, level, noise, amp)
-            du = float((pw.sum(axis=0) * xu).sum()) / total
-            dv = float((pw.sum(axis=1) * xv).sum()) / total
-            cu += du
-            cv += dv
-            if abs(du) < TOL and abs(dv) < TOL:
-                break
+        c = _recentre(img, level, cu, cv, hu, hv, sel)
+        if c is None:
+            return _missing(flags | {"missing"}, level, noise, amp)
+        cu, cv = c
     # final geometry at the converged centre
     i0, i1 = max(int(math.floor(cv - hv - 0.5)), 0), min(int(math.ceil(cv + hv + 0.5)), Hs - 1)
     j0, j1 = max(int(math.floor(cu - hu - 0.5)), 0), min(int(math.ceil(cu + hu + 0.5)), Ws - 1)
