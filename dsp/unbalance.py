@@ -345,12 +345,19 @@ class RingReading:
         Half a zone, S / 32 [kg m] (the reading resolution).
     off_scale : bool
         The spot lies beyond the last ring (the zone is a lower bound).
+    interpolated_kg_m : float
+        The radius interpolated linearly between the rings around it
+        ((i + fraction) S / 16; extrapolated from the last two rings when off
+        scale) [kg m]: what a measured radius gives when the rotor's response
+        is linear in the unbalance (the rings are then equally spaced), finer
+        than the zone a person reads.
     """
 
     zone: int
     unbalance_kg_m: float
     unbalance_std_kg_m: float
     off_scale: bool
+    interpolated_kg_m: float = math.nan
 
     @property
     def unbalance_gmm(self) -> float:
@@ -388,8 +395,10 @@ def unbalance_from_rings(radius_m, ring_radii_m, capacity_kg_m):
                          "finite radii (m)")
     S = _positive("capacity_kg_m", capacity_kg_m)
     i = int(np.clip(np.searchsorted(radii, r, side="right") - 1, 0, radii.size - 1))
+    j = min(i, radii.size - 2)
+    frac = j + (r - radii[j]) / (radii[j + 1] - radii[j])
     return RingReading(zone=i, unbalance_kg_m=i * S / 16.0, unbalance_std_kg_m=S / 32.0,
-                       off_scale=bool(r >= radii[-1]))
+                       off_scale=bool(r >= radii[-1]), interpolated_kg_m=frac * S / 16.0)
 
 
 # ------------------------------------------------------------------------- ISO

@@ -259,32 +259,80 @@ def _atomic_csv(df, path) -> None:
             os.remove(tmp)
 
 
-def _cmd_track(args) -> int:
+def _calibration_image(path):
+    """The ring image: an image file, or a recording's instruments/screen/calibration_image."""
     import cv2
+
+    from vision.io import VisionError
+
+    if str(path).lower().endswith((".h5", ".hdf5")):
+        import h5py
+
+        try:
+            with h5py.File(path, "r") as f:
+                return f["instruments/screen/calibration_image"][:]
+        except (OSError, KeyError):
+            raise VisionError(f"--calibration {path!r}: not a recording with "
+                              "instruments/screen/calibration_image") from None
+    img = cv2.imread(str(path), cv2.IMREAD_GRAYSCALE)
+    if img is None:
+        raise VisionError(f"--calibration {path!r}: not a readable image")
+    return img
+
+
+def _cmd_track(args) -> int:
     import numpy as np
 
+    from dsp.unbalance import unbalance_from_rings
     from vision.calibration import detect_rings, fit_homography, px_to_m
     from vision.io import VisionError, iter_frames
     from vision.spot import track
+    from vision.trace import track_traces
 
     if not Path(args.output).resolve().parent.is_dir():
         raise FileNotFoundError(f"output directory of {args.output!r} does not exist")
+    if args.capacity is not None and not (args.capacity > 0):
+        raise ValueError(f"--capacity = {args.capacity}: must be > 0 (g mm)")
+    if args.capacity is not None and not args.trace:
+        raise ValueError("--capacity reads circles against the rings: it needs --trace")
+    frames = iter_frames(args.source, progress=sys.stderr.isatty())
     try:
-        df = track(iter_frames(args.source, progress=sys.stderr.isatty()), gain=args.gain)
+        if args.trace:
+            df = track_traces(frames, gain=args.gain, threshold=args.threshold,
+                              spot_sigma_px=args.spot_sigma)
+        else:
+            df = track(frames, gain=args.gain, threshold=args.threshold)
         if args.calibration:
-            img = cv2.imread(args.calibration, cv2.IMREAD_GRAYSCALE)
-            if img is None:
-                raise VisionError(f"--calibration {args.calibration!r}: not a readable image")
             radii = _ring_radii(args)
-            cal = fit_homography(detect_rings(img), radii)
+            cal = fit_homography(detect_rings(_calibration_image(args.calibration)), radii)
             X, Y = px_to_m(df["u_px"].to_numpy(), df["v_px"].to_numpy(), cal)
             df["x_mm"], df["y_mm"] = np.asarray(X) * 1e3, np.asarray(Y) * 1e3
             df["scale_mm_per_px"] = cal.scale * 1e3
+            if args.trace:
+                # the circle's radius on the screen: the mean scale around the circle
+                df["radius_mm"] = df["radius_px"] * cal.scale * 1e3
+                df["radius_std_mm"] = df["radius_std_px"] * cal.scale * 1e3
+                if args.capacity is not None:
+                    S = args.capacity * 1e-6
+                    zone, U = [], []
+                    for r in df["radius_mm"].to_numpy() * 1e-3:
+                        if np.isfinite(r):
+                            rd = unbalance_from_rings(r, radii, S)
+                            zone.append(rd.zone)
+                            U.append(rd.interpolated_kg_m * 1e6)
+                        else:
+                            zone.append(-1)
+                            U.append(np.nan)
+                    df["zone"] = zone
+                    df["unbalance_gmm"] = U
+        elif args.capacity is not None:
+            raise ValueError("--capacity needs --calibration (the rings)")
     except VisionError as exc:
         raise ValueError(str(exc)) from None
     _atomic_csv(df, args.output)
     ok = int(df["ok"].sum()) if "ok" in df else len(df)
-    print(f"{args.source}: {len(df)} frames, spot found in {ok} -> {args.output}")
+    what = "trace" if args.trace else "spot"
+    print(f"{args.source}: {len(df)} frames, {what} found in {ok} -> {args.output}")
     return 0
 
 
@@ -400,9 +448,18 @@ def build_parser() -> argparse.ArgumentParser:
     tk = sub.add_parser("track", help="sub-pixel laser-spot track from frames (HDF5, video, images)")
     tk.add_argument("source", help="recording.h5[:dataset], video file, image folder or glob")
     tk.add_argument("-o", "--output", required=True, help="CSV to write")
-    tk.add_argument("--calibration", default=None, help="calibration-ring image (px -> mm)")
+    tk.add_argument("--calibration", default=None,
+                    help="calibration-ring image, or a recording holding one (px -> mm)")
     tk.add_argument("--ring-radii", default=None, help="ring radii [m], comma-separated (default: from the recording)")
     tk.add_argument("--gain", type=float, default=None, help="camera gain [electrons/DN] for the uncertainty")
+    tk.add_argument("--threshold", type=float, default=None,
+                    help="smallest spot amplitude [DN above background] (default 10 x background noise)")
+    tk.add_argument("--trace", action="store_true",
+                    help="long exposures: fit the circle the spot draws (centre, radius) instead of the spot")
+    tk.add_argument("--spot-sigma", type=float, default=None,
+                    help="with --trace: the still spot's sigma [px] (default: estimated from the trace)")
+    tk.add_argument("--capacity", type=float, default=None,
+                    help="with --trace and --calibration: balancer capacity S [g mm] -> zone and unbalance columns")
     tk.set_defaults(func=_cmd_track)
     sb = sub.add_parser("strobe", help="weights' angles from stroboscope frames")
     sb.add_argument("source", help="recording.h5[:dataset] (default dataset instruments/stroboscope/frames), video or images")

@@ -92,9 +92,11 @@ def test_rings_zone_and_half_zone():
     assert r.unbalance_kg_m == pytest.approx(3 * S / 16)
     assert r.unbalance_std_kg_m == pytest.approx(S / 32)
     assert r.unbalance_gmm == pytest.approx(3 * S / 16 * 1e6)
+    assert r.interpolated_kg_m == pytest.approx(3.2 * S / 16)
     assert unbalance_from_rings(0.0, radii, S).zone == 0
     far = unbalance_from_rings(1.0, radii, S)
     assert far.zone == 20 and far.off_scale
+    assert far.interpolated_kg_m == pytest.approx(2000 * S / 16)   # linear extrapolation
     with pytest.raises(ValueError, match="ring_radii_m"):
         unbalance_from_rings(1e-3, [0.0, 2e-3, 1e-3], S)
     with pytest.raises(SignalError, match="radius_m"):

@@ -70,3 +70,65 @@ def test_stuck_balls_frequencies_from_filmed_spot_within_0_1_percent(tmp_path):
     Omega = qp_roots(R, 0.01, 0.05, 0.05)[0]  # 0.96135, Table 5.1-B
     assert dec.nutation_hz == pytest.approx(R * f1, rel=1e-3)
     assert dec.precession_hz == pytest.approx(Omega * f1, rel=1e-3)
+
+
+LOCKED_STAND = """
+# stand_cameras.toml with the balancer locked (the calibration condition of the
+# rings): no moving weights, their mass in the rotor, the same unbalance 0.5 S.
+[rotor]
+mass = 4.54
+eccentricity = {ecc!r}
+[supports]
+stiffness = 1613.09
+damping = 8.5577
+[drive]
+type = "speed"
+programme = [[0.0, 15.0], [1.0, 15.0]]
+[run]
+duration = 11.0
+sample_rate = 200.0
+[instruments.screen]
+gain = 6.0
+pixel_pitch = 1.0e-4
+width = 320
+height = 320
+frame_rate = 2.0
+exposure = 0.2
+start_time = 8.0
+spot_diameter = 0.8e-3
+peak = 4000.0
+background = 8.0
+read_noise = 1.0
+bit_depth = 8
+seed = 3
+"""
+
+
+def test_stand_track_trace_reads_the_unbalance_through_the_rings(tmp_path):
+    """stand run -> long-exposure frames (3 revolutions each) -> `stand track --trace`
+    with the sample ring image -> unbalance within 2 % of the truth (0.5 S)."""
+    from stand.cli import main
+
+    root = SCENES.parents[1]
+    S_gmm = 2 * 0.045 * 0.08 * 1e6          # stand_cameras.toml: two 45 g balls at 80 mm
+    U_true_gmm = 4.45 * 8.0899e-4 * 1e6     # its rotor unbalance (0.5 S)
+    scene = tmp_path / "locked.toml"
+    scene.write_text(LOCKED_STAND.format(ecc=U_true_gmm * 1e-6 / 4.54))
+    rec = tmp_path / "locked.h5"
+    assert main(["run", str(scene), "-o", str(rec)]) == 0
+    with h5py.File(root / "data_samples" / "recordings" / "stand_cameras.h5") as f:
+        radii = f["instruments/screen/ring_radius"][:]
+    out = tmp_path / "trace.csv"
+    assert main(["track", str(rec), "--trace", "--calibration",
+                 str(root / "data_samples" / "images" / "calibration_rings.png"),
+                 "--ring-radii", ",".join(repr(float(r)) for r in radii),
+                 "--capacity", repr(S_gmm), "-o", str(out)]) == 0
+    import pandas as pd
+
+    df = pd.read_csv(out)
+    assert len(df) == 6 and df["ok"].all()
+    # 0.5 S is exactly ring 8 of 16: a person reads zone 7 or 8 (the circle sits on the ring)
+    assert df["zone"].isin([7, 8]).all()
+    np.testing.assert_allclose(df["unbalance_gmm"], U_true_gmm, rtol=0.02)
+    # the circle's centre is the screen origin (beam centred), within 0.05 mm
+    np.testing.assert_allclose(df[["x_mm", "y_mm"]].to_numpy(), 0.0, atol=0.05)
