@@ -37,8 +37,11 @@ def _jsonable(o):
 def _cmd_run(args) -> int:
     from .instruments.pipeline import run_with_instruments
     from .recording import check_output_path, write_recording
+    from .rotors.scene import is_family_scene
     from .scene_file import load_scene
 
+    if is_family_scene(args.scene):
+        return _run_family(args)
     scene = load_scene(args.scene)
     out = check_output_path(args.output)  # before the run, not after it
     traj, writer = run_with_instruments(scene, method=args.method,
@@ -86,10 +89,65 @@ def _cmd_accuracy(args) -> int:
     return 0
 
 
+def _run_family(args) -> int:
+    import time
+
+    from .recording import check_output_path
+    from .rotors.run import run_family, write_family_recording
+    from .rotors.scene import load_family_scene
+
+    scene = load_family_scene(args.scene)
+    out = check_output_path(args.output)
+    t0 = time.perf_counter()
+    run = run_family(scene)
+    wall = time.perf_counter() - t0
+    write_family_recording(scene, run, out)
+    res = {p: float(np.hypot(*U[-1])) for p, U in run.residual.items()}
+    doc = {"scene": scene.name, "rotor_type": scene.rotor_type, "output": str(out),
+           "solver": {**run.stats, "wall_time_s": wall, "method": "DOP853"},
+           "final": {"time_s": float(run.t[-1]), "rotor_speed_rev_per_s": float(run.speed[-1] / (2 * np.pi)),
+                     "plane_radius_m": {p: float(np.hypot(*xy[-1])) for p, xy in run.planes.items()},
+                     "residual_unbalance_kg_m": res}}
+    if args.json:
+        print(json.dumps(_jsonable(doc), indent=2))
+    else:
+        st = run.stats
+        print(f"{scene.name} ({scene.rotor_type}): {st['message']} [DOP853, {st['n_steps']} steps, "
+              f"{st['nfev']} RHS evaluations, {wall:.2f} s] -> {out}")
+        for p, r in doc["final"]["plane_radius_m"].items():
+            print(f"  plane {p}: radius {r:.4g} m, residual unbalance {res[p]:.4g} kg m")
+    if not run.success:
+        print(f"stand run: {run.stats['message']}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _theory_family(args) -> int:
+    from .rotors.run import family_theory
+    from .rotors.scene import load_family_scene
+
+    scene = load_family_scene(args.scene)
+    doc = family_theory(scene, args.max_speed * 2 * np.pi if args.max_speed else None)
+    if args.json:
+        print(json.dumps(_jsonable(doc), indent=2))
+        return 0
+    print(f"{scene.name}: rotor type {doc['rotor_type']} (section {doc['source']}), "
+          f"natural frequencies at rest: " + ", ".join(f"{f:.4g}" for f in doc["natural_frequencies_hz_at_rest"]) + " Hz")
+    for p, d in doc["engineering_criterion"].items():
+        print(f"  plane {p}: critical speeds " + ", ".join(f"{c:.5g}" for c in d["critical_speeds_hz"])
+              + " rev/s; working ranges " + ", ".join(f"({a:.5g}, {b:.5g})" for a, b in d["working_ranges_hz"]))
+    for n in doc["notes"]:
+        print(f"  note: {n}")
+    return 0
+
+
 def _cmd_theory(args) -> int:
+    from .rotors.scene import is_family_scene
     from .scene_file import load_scene
     from .theory.speedmap import plot_speed_map, scene_theory
 
+    if is_family_scene(args.scene):
+        return _theory_family(args)
     scene = load_scene(args.scene)
     if args.plot and not Path(args.plot).resolve().parent.exists():
         raise FileNotFoundError(f"plot directory {str(Path(args.plot).parent)!r} does not exist")

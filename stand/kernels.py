@@ -8,8 +8,10 @@ weight model adds its kind here.
 """
 from ._jit import njit
 from .planar import rhs_planar
+from .rotors.coupled import rhs_generic
 
 PLANAR = 0
+GENERIC = 1   #: any LinearRotor with weights in any planes (stand.rotors.coupled)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -17,5 +19,7 @@ def rhs(kind, t, y, dy, sp, wt, prog):
     """Evaluate the right-hand side of model ``kind`` into ``dy``."""
     if kind == PLANAR:
         rhs_planar(t, y, dy, sp, wt, prog)
+    elif kind == GENERIC:
+        rhs_generic(t, y, dy, sp, wt, prog)
     else:  # pragma: no cover - guarded in Python
         dy[:] = 0.0

@@ -1,0 +1,609 @@
+"""Paper 004 (Drach): 6-DOF vertical-axis rotor on a suspended platform (model M3).
+
+A rigid platform carrying a rigid rotor (vertical spin axis, constant spin
+``omega``) hangs from the housing on elastic rods/springs with viscous dampers
+through a trapezoidal (four-bar) pendulum linkage, and is tied to the housing by
+an elastic sealing diaphragm (papers digest section 3).  Generalised
+coordinates (3.1) ``q = (x, y, z, alpha, beta, gamma)``: translations [m] of the
+platform's centre of inertia O and small rotations [rad] about X, Y, Z.  The
+equations of motion (38)::
+
+    M q'' + (G + D) q' + A q = F(t)
+
+``M`` (39), ``G`` (40, gyroscopic, proportional to omega), ``D`` (41, dampers),
+``A`` (42, stiffness incl. gravity of the pendulum linkage), ``F`` (43, rotor
+unbalance ``m_2 e``).  In :class:`~stand.rotors.structure.LinearRotor` form
+``K = A`` and ``G`` is stored **per unit spin** (``G_paper = omega * G``).
+
+Linkage (digest 3.3-3.5): the pendulum adds the rotations
+``alpha_1 = alpha - d_4 y``, ``beta_1 = beta + d_3 x`` with (19)
+``d_3 = (S_1 - b_1) / (b_1 h + z_k (S_1 - b_1))`` and ``d_4`` alike (1 -> 2);
+gravity gives ``Pi_1 = m g (delta_1 x^2 + delta_2 y^2 + delta_3 gamma^2) / 2``
+(32)-(33).  Rod i (stiffness c_1i, damper h_i) contributes
+``c_1i v_i v_i^T / l_i^2`` to A and ``h_i v_i v_i^T / l_i^2`` to D, with
+``v_i = (d_1, d_2, l_iz, d_5, d_6, d_7)`` ((18)-(19) in compact form; ``v . q``
+is the rod elongation times l_i).  The diaphragm at point M adds
+``c_2x P_x^T P_x + c_2y P_y^T P_y + c_2z P_z^T P_z`` with the rows P of (25).
+
+Two switches (digest 5.1, model M3)
+-----------------------------------
+``paper_exact=False`` (default, *corrected*) and ``paper_exact=True`` (the
+printed formulas of digest 3.9, flagged items included).  The corrected model
+differs from the printed one in exactly these entries, each for the reason
+given (digest 3.5-3.6):
+
+* ``M_14 = M_41``: printed ``-m_2 y_D d_3``; corrected ``-m_2 x_D y_D d_3``
+  (Hessian of the kinetic energy (27)-(28) after ``alpha -> alpha - d_4 y``,
+  ``beta -> beta + d_3 x``; the printed entry is dimensionally wrong: kg m vs
+  kg m^2 x 1/m).
+* ``a_23``: printed ``-c_2x y_M d_4``; corrected ``-c_2z y_M d_4`` (the y-z
+  product only occurs in ``Delta r_zm^2`` of (25)-(26)).
+* ``a_25``: missing in print; corrected ``+c_2z x_M y_M d_4`` (the term
+  ``+2 x_M y_M d_4 y beta`` of ``Delta r_zm^2`` is missing from (26)).
+* ``a_26``: printed ``-c_2y x_M (1 + z_M d_4)``; corrected ``+`` (from
+  ``Delta r_ym = (1 + z_M d_4) y + x_M gamma - ...``, (25)).
+* ``a_56``: printed ``-c_2y y_M z_M``; corrected ``-c_2x y_M z_M`` (the
+  beta-gamma product only occurs in ``Delta r_xm^2``).
+* ``a_66``: printed ``c_2x z_M^2``; corrected ``c_2x y_M^2`` (the printed (26)
+  has ``gamma^2 z_m^2`` for ``gamma^2 y_m^2``).
+* ``F_beta``: printed ``m_2 omega^2 e z_D sin(omega t)``; corrected
+  ``cos(omega t)`` (moment of the centrifugal force at D; the only form
+  consistent with the printed ``F_x ~ (1 + z_D d_3) cos``, since
+  ``F_x = F_x^(0) + d_3 F_beta``).
+* ``F_gamma``: printed ``m_2 omega^2 e (y_D cos + x_D sin)``; corrected
+  ``m_2 omega^2 e (x_D sin - y_D cos)`` (z-moment ``x F_y - y F_x`` of the
+  centrifugal force at ``(x_D, y_D)``).
+* gyroscopic factor: printed ``G`` (40) has ``2 I_p omega`` (from the kinetic
+  energy term ``I_p omega (beta alpha' - alpha beta')`` of (27), twice the
+  standard one); corrected ``I_p omega`` (spin-axis angular velocity
+  ``omega + (beta alpha' - alpha beta') / 2`` for small tilts), i.e. the
+  corrected ``G`` is exactly half the printed one.
+
+Not corrected, in both modes (``delta_offset_term`` keyword): the third
+numerator term ``(2 m_2 / m) x_D S_1 b_1 d_3^2`` of ``delta_1`` (and its y
+analogue in ``delta_2``) of (33) has the wrong dimension (digest 3.5, [ERR?]) and
+could not be reconstructed from the digest; it is kept as printed by default,
+and ``delta_offset_term=False`` drops it (equivalent to ``m_2 = 0`` in that
+term).  It vanishes for vertical hangers (``d_3 = d_4 = 0``) or ``x_D = y_D = 0``.
+
+Planes and the unbalance force
+------------------------------
+Plane ``"rotor"`` is point D = ``(x_D, y_D, z_D)`` on the spin axis (the foot of
+the perpendicular from the rotor's centre of mass, (31)).  Its fixed-frame
+transverse displacement is ((5) with alpha_1, beta_1)::
+
+    dx = (1 + z_D d_3) x + z_D beta - y_D gamma
+    dy = (1 + z_D d_4) y - z_D alpha + x_D gamma
+
+and ``T^T s omega^2 (cos, sin)(omega t)`` with ``s = m_2 e`` reproduces the
+**corrected** F (43) entry for entry (including ``F_gamma``: the centrifugal
+force at ``(x_D + e cos, y_D + e sin)`` has the z-moment of the same force at D,
+so one plane point suffices).  The **printed** F (paper_exact) is *not*
+``T^T (...)`` of any point (its ``F_beta``/``F_gamma`` are not moments of a
+horizontal force); use :func:`force_amplitude` / :func:`generalized_force`,
+the generalised-force hooks, for the exact F of either mode.  Plane
+``"balancer"`` is the point ``(x_D, y_D, z_B)`` of the spin axis where a passive
+autobalancer would sit (``z_B`` defaults to ``z_D``).
+
+The paper gives **no numbers** (digest 3.8).  :func:`default_params` is an
+assumed, plausible set (a small suspended centrifuge), with the stiffness ratio
+of digest 5.2 item 5: pendulum ~2 rad/s, axial springs ~500 rad/s.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Optional, Sequence
+
+import numpy as np
+from scipy import linalg
+
+from .structure import LinearRotor, Unbalance
+
+__all__ = [
+    "Hanger", "PlatformParams", "default_params", "quadrifilar_hangers",
+    "linkage_coefficients", "hanger_vector", "mass_matrix", "gyro_matrix",
+    "damping_matrix", "stiffness_matrix", "plane_map", "force_amplitude",
+    "generalized_force", "platform_rotor", "modal_frequencies", "campbell",
+    "COORDS",
+]
+
+COORDS = ("x [m]", "y [m]", "z [m]", "alpha [rad]", "beta [rad]", "gamma [rad]")
+
+
+def _check(name: str, value, unit: str, *, positive=False, nonneg=False):
+    """Raise ValueError naming the parameter, its value and unit."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} = {value!r} [{unit}] must be a real number") from None
+    if not math.isfinite(v):
+        raise ValueError(f"{name} = {value!r} [{unit}] must be finite")
+    if positive and not v > 0:
+        raise ValueError(f"{name} = {value!r} [{unit}] must be > 0")
+    if nonneg and v < 0:
+        raise ValueError(f"{name} = {value!r} [{unit}] must be >= 0")
+    return v
+
+
+@dataclass(frozen=True)
+class Hanger:
+    """One elastic suspension rod/spring with a viscous damper along it (3.4).
+
+    Attributes
+    ----------
+    x, y, z : float
+        Attachment point on the platform at rest, in the frame XYZ with origin at
+        the platform's centre of inertia O [m] (paper: x_i, y_i, z_i).
+    length : float
+        Rod length at rest l_i [m].
+    phi1 : float
+        Inclination of the rod from the vertical phi_1 [rad] (20).
+    phi2 : float
+        Azimuth phi_2i [rad]: angle from +X to the horizontal projection of the
+        direction from the attachment point up to the housing pivot, measured
+        clockwise seen from above (20).  The rod vector (pivot -> attachment) is
+        ``(l_ix, l_iy, l_iz) = l (-sin phi1 cos phi2, sin phi1 sin phi2, -cos phi1)``.
+    c : float
+        Axial stiffness c_1i [N/m] (0 for a pure damper).
+    damping : float
+        Viscous coefficient h_i of the damper along the rod [N s/m] (37), (41).
+    """
+
+    x: float
+    y: float
+    z: float
+    length: float
+    phi1: float = 0.0
+    phi2: float = 0.0
+    c: float = 0.0
+    damping: float = 0.0
+
+    def __post_init__(self):
+        for k, u in (("x", "m"), ("y", "m"), ("z", "m"), ("phi1", "rad"), ("phi2", "rad")):
+            object.__setattr__(self, k, _check(f"Hanger.{k}", getattr(self, k), u))
+        object.__setattr__(self, "length", _check("Hanger.length", self.length, "m", positive=True))
+        object.__setattr__(self, "c", _check("Hanger.c", self.c, "N/m", nonneg=True))
+        object.__setattr__(self, "damping", _check("Hanger.damping", self.damping, "N s/m", nonneg=True))
+
+    def rod_vector(self) -> np.ndarray:
+        """``(l_ix, l_iy, l_iz)`` [m], eq. (20)."""
+        s1, c1 = math.sin(self.phi1), math.cos(self.phi1)
+        return self.length * np.array([-s1 * math.cos(self.phi2), s1 * math.sin(self.phi2), -c1])
+
+
+def quadrifilar_hangers(S1: float, S2: float, b1: float, b2: float, h: float, z_k: float,
+                        c: float, damping: float = 0.0) -> tuple:
+    """Four rods consistent with the pendulum geometry (Fig. 2, digest 3.3).
+
+    Housing pivots at ``(+-S1/2, +-S2/2, -z_k + h)``, platform attachment points
+    at ``(+-b1/2, +-b2/2, -z_k)`` (the platform link AB lies z_k below O, (13)).
+
+    Parameters
+    ----------
+    S1, S2 : float
+        Pivot spacings in the XOZ / YOZ projections [m].
+    b1, b2 : float
+        Attachment spacings on the platform [m].
+    h : float
+        Suspension height [m].
+    z_k : float
+        Height of O above the platform link AB [m].
+    c : float
+        Axial stiffness of each rod [N/m].
+    damping : float
+        Viscous coefficient of each rod's damper [N s/m].
+    """
+    for k, v in (("S1", S1), ("S2", S2), ("b1", b1), ("b2", b2), ("h", h)):
+        _check(k, v, "m", positive=True)
+    out = []
+    for sx in (1.0, -1.0):
+        for sy in (1.0, -1.0):
+            lx, ly = sx * (b1 - S1) / 2.0, sy * (b2 - S2) / 2.0      # pivot -> attachment
+            L = math.sqrt(lx * lx + ly * ly + h * h)
+            ph = math.hypot(lx, ly)
+            phi1 = math.atan2(ph, h)
+            phi2 = math.atan2(ly, -lx) if ph > 0 else 0.0    # l_ix = -ph cos, l_iy = ph sin
+            out.append(Hanger(sx * b1 / 2.0, sy * b2 / 2.0, -z_k, L, phi1, phi2, c, damping))
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class PlatformParams:
+    """Physical parameters of the platform-rotor system (digest 3.1, SI units).
+
+    Attributes
+    ----------
+    m : float
+        Total mass of the oscillating system (platform + rotor) [kg].
+    m2 : float
+        Rotor mass m_2 [kg].
+    I_a1, I_b1, I_c1 : float
+        Moments of inertia of the oscillating system about the axes a_1, b_1, c_1
+        through O (parallel to X, Y, Z at rest) [kg m^2].
+    I_p : float
+        Polar moment of the rotor about its spin axis I^(2)_c1 [kg m^2].
+    g : float
+        Gravity [m/s^2].
+    S1, S2 : float
+        Housing pivot spacing in the XOZ / YOZ projections [m] (Fig. 2).
+    b1, b2 : float
+        Platform attachment spacing in those projections [m].
+    h : float
+        Suspension height h [m] (h_i = l_i cos phi_0).
+    z_k : float
+        z_k = |OK|, height of O above the platform link AB [m] (13).
+    hangers : tuple of Hanger
+        Rods/springs/dampers (any number; see :func:`quadrifilar_hangers`).
+    c2x, c2y, c2z : float
+        Sealing-diaphragm stiffnesses along X, Y, Z [N/m].
+    x_M, y_M, z_M : float
+        Diaphragm attachment point M [m].
+    x_D, y_D, z_D : float
+        Point D of the spin axis (foot of the perpendicular from the rotor's
+        centre of mass) [m]; the spin axis is the vertical through (x_D, y_D).
+    e : float
+        Rotor eccentricity [m]; the unbalance is ``s = m2 e`` [kg m].
+    z_B : float or None
+        Height of the balancer plane on the spin axis [m] (None: z_D).
+    """
+
+    m: float
+    m2: float
+    I_a1: float
+    I_b1: float
+    I_c1: float
+    I_p: float
+    S1: float
+    S2: float
+    b1: float
+    b2: float
+    h: float
+    z_k: float
+    hangers: tuple = ()
+    c2x: float = 0.0
+    c2y: float = 0.0
+    c2z: float = 0.0
+    x_M: float = 0.0
+    y_M: float = 0.0
+    z_M: float = 0.0
+    x_D: float = 0.0
+    y_D: float = 0.0
+    z_D: float = 0.0
+    e: float = 0.0
+    g: float = 9.81
+    z_B: Optional[float] = None
+
+    def __post_init__(self):
+        pos = (("m", "kg"), ("I_a1", "kg m^2"), ("I_b1", "kg m^2"), ("I_c1", "kg m^2"),
+               ("S1", "m"), ("S2", "m"), ("b1", "m"), ("b2", "m"), ("h", "m"))
+        nonneg = (("m2", "kg"), ("I_p", "kg m^2"), ("g", "m/s^2"), ("e", "m"),
+                  ("c2x", "N/m"), ("c2y", "N/m"), ("c2z", "N/m"))
+        real = (("z_k", "m"), ("x_M", "m"), ("y_M", "m"), ("z_M", "m"),
+                ("x_D", "m"), ("y_D", "m"), ("z_D", "m"))
+        for k, u in pos:
+            object.__setattr__(self, k, _check(k, getattr(self, k), u, positive=True))
+        for k, u in nonneg:
+            object.__setattr__(self, k, _check(k, getattr(self, k), u, nonneg=True))
+        for k, u in real:
+            object.__setattr__(self, k, _check(k, getattr(self, k), u))
+        if self.z_B is not None:
+            object.__setattr__(self, "z_B", _check("z_B", self.z_B, "m"))
+        if self.m2 > self.m:
+            raise ValueError(f"m2 = {self.m2!r} [kg] must not exceed the total mass m = {self.m!r} [kg]")
+        hs = tuple(self.hangers)
+        for i, hg in enumerate(hs):
+            if not isinstance(hg, Hanger):
+                raise ValueError(f"hangers[{i}] = {hg!r} must be a Hanger")
+        object.__setattr__(self, "hangers", hs)
+        # geometric singularity of the linkage (digest 3.8, 5.4 (vii))
+        for j, (S, b) in enumerate(((self.S1, self.b1), (self.S2, self.b2)), start=1):
+            den = b * self.h + self.z_k * (S - b)
+            if abs(den) <= 1e-9 * b * self.h:
+                raise ValueError(f"b{j}*h + z_k*(S{j} - b{j}) = {den!r} [m^2] is (nearly) zero: "
+                                 f"the pendulum linkage is singular (d_{j + 2} infinite)")
+
+    @property
+    def s(self) -> float:
+        """Unbalance ``m2 e`` [kg m]."""
+        return self.m2 * self.e
+
+    @property
+    def balancer_z(self) -> float:
+        """Height of the balancer plane [m] (z_B, default z_D)."""
+        return self.z_D if self.z_B is None else self.z_B
+
+
+def default_params() -> PlatformParams:
+    """An ASSUMED plausible parameter set (paper 004 gives no numbers, digest 3.8).
+
+    A small suspended centrifuge: m = 60 kg (rotor m2 = 15 kg, I_p = 0.5 kg m^2),
+    four slightly inclined rods (S = 1.0 m, b = 0.8 m, h = 2.0 m, z_k = 0.3 m;
+    each 3.75e6 N/m, 750 N s/m), four horizontal 10 N s/m dampers at the
+    platform rim (0.4 m from the axis, z = -z_k) for the pendulum and torsion
+    modes (damping ratio ~0.05-0.1), a soft diaphragm (200/200/1000 N/m) at
+    M = (0, 0, 0.4) m, the spin axis offset x_D = 0.02 m, y_D = -0.01 m from O,
+    z_D = 0.35 m, eccentricity e = 0.5 mm.  Pendulum modes ~2-3 rad/s, axial
+    (bounce) mode ~500 rad/s (digest 5.2 item 5: the stiff case).
+    """
+    S, b, h, zk = 1.0, 0.8, 2.0, 0.3
+    return PlatformParams(
+        m=60.0, m2=15.0, I_a1=2.5, I_b1=2.5, I_c1=3.0, I_p=0.5,
+        S1=S, S2=S, b1=b, b2=b, h=h, z_k=zk,
+        hangers=quadrifilar_hangers(S, S, b, b, h, zk, c=3.75e6, damping=750.0) + (
+            # horizontal pure dampers (c = 0) for the pendulum and torsion modes
+            Hanger(0.0, 0.4, -zk, 0.5, 0.5 * math.pi, 0.0, 0.0, 10.0),
+            Hanger(0.0, -0.4, -zk, 0.5, 0.5 * math.pi, 0.0, 0.0, 10.0),
+            Hanger(0.4, 0.0, -zk, 0.5, 0.5 * math.pi, 0.5 * math.pi, 0.0, 10.0),
+            Hanger(-0.4, 0.0, -zk, 0.5, 0.5 * math.pi, 0.5 * math.pi, 0.0, 10.0),
+        ),
+        c2x=200.0, c2y=200.0, c2z=1000.0, x_M=0.0, y_M=0.0, z_M=0.4,
+        x_D=0.02, y_D=-0.01, z_D=0.35, e=5e-4, g=9.81,
+    )
+
+
+# ------------------------------------------------------------------ linkage
+def linkage_coefficients(params: PlatformParams, delta_offset_term: bool = True) -> dict:
+    """Pendulum-linkage coefficients d_3, d_4 (19) [1/m] and delta_1, delta_2 [1/m],
+    delta_3 [m] of the gravity potential (33).
+
+    ``delta_offset_term=False`` drops the dimensionally inconsistent third
+    numerator term of delta_1, delta_2 (module docstring).
+    """
+    p = params
+    den1 = p.b1 * p.h + p.z_k * (p.S1 - p.b1)
+    den2 = p.b2 * p.h + p.z_k * (p.S2 - p.b2)
+    d3 = (p.S1 - p.b1) / den1
+    d4 = (p.S2 - p.b2) / den2
+    k = 1.0 if delta_offset_term else 0.0
+    delta1 = (p.b1 ** 2 * p.h + 2.0 * (p.S1 - p.b1) ** 2 * p.z_k
+              + k * 2.0 * p.m2 / p.m * p.x_D * p.S1 * p.b1 * d3 ** 2) / den1 ** 2
+    delta2 = (p.b2 ** 2 * p.h + 2.0 * (p.S2 - p.b2) ** 2 * p.z_k
+              + k * 2.0 * p.m2 / p.m * p.y_D * p.S2 * p.b2 * d4 ** 2) / den2 ** 2
+    r2 = p.b1 ** 2 + p.b2 ** 2
+    delta3 = r2 / (4.0 * p.h) * (1.0 + 4.0 * ((p.b2 * p.y_D - p.b1 * p.x_D) / r2) ** 2)
+    return {"d3": d3, "d4": d4, "delta1": delta1, "delta2": delta2, "delta3": delta3}
+
+
+def hanger_vector(hanger: Hanger, d3: float, d4: float) -> np.ndarray:
+    """``v = (d_1, d_2, l_iz, d_5, d_6, d_7)`` [m, m, m, m^2, m^2, m^2] of (18)-(19):
+    the rod elongation is ``v . q / l_i`` to first order, so
+    ``a^(i)_kl = v_k v_l / l_i^2``."""
+    lx, ly, lz = hanger.rod_vector()
+    x, y, z = hanger.x, hanger.y, hanger.z
+    d5 = y * lz - z * ly
+    d6 = z * lx - x * lz
+    d7 = x * ly - y * lx
+    d1 = lx + d3 * d6
+    d2 = ly - d5 * d4
+    return np.array([d1, d2, lz, d5, d6, d7])
+
+
+# ------------------------------------------------------------------ matrices
+def mass_matrix(params: PlatformParams, paper_exact: bool = False) -> np.ndarray:
+    """Mass matrix M (39) [kg, kg m, kg m^2]; ``paper_exact`` keeps the printed M_14."""
+    p = params
+    c = linkage_coefficients(p)
+    d3, d4 = c["d3"], c["d4"]
+    m, m2, Ia, Ib, Ic = p.m, p.m2, p.I_a1, p.I_b1, p.I_c1
+    xD, yD, zD = p.x_D, p.y_D, p.z_D
+    m14 = -m2 * yD * d3 if paper_exact else -m2 * xD * yD * d3
+    M = np.array([
+        [m + Ib * d3 ** 2 + 2 * m2 * zD * d3, m2 * xD * yD * d3 * d4, -m2 * xD * d3, m14,
+         Ib * d3 + m2 * zD, -m2 * yD - m2 * yD * zD * d3],
+        [0, m + Ia * d4 ** 2 + 2 * m2 * zD * d4, -m2 * yD * d4, -m2 * zD - Ia * d4,
+         m2 * xD * yD * d4, m2 * xD + m2 * xD * zD * d4],
+        [0, 0, m, m2 * yD, -m2 * xD, 0.0],
+        [0, 0, 0, Ia, -m2 * xD * yD, -m2 * xD * zD],
+        [0, 0, 0, 0, Ib, -m2 * yD * zD],
+        [0, 0, 0, 0, 0, Ic],
+    ], dtype=float)
+    return np.triu(M) + np.triu(M, 1).T
+
+
+def gyro_matrix(params: PlatformParams, paper_exact: bool = False) -> np.ndarray:
+    """Gyroscopic matrix per unit spin [kg m^2 (/m, /m^2)]: ``G_paper(omega) = omega * G``.
+
+    Corrected: ``I_p`` factor; ``paper_exact``: the printed (40) with ``2 I_p``.
+    """
+    c = linkage_coefficients(params)
+    d3, d4 = c["d3"], c["d4"]
+    k = (2.0 if paper_exact else 1.0) * params.I_p
+    G = np.zeros((6, 6))
+    G[0, 1] = k * d3 * d4
+    G[0, 3] = -k * d3
+    G[1, 4] = -k * d4
+    G[3, 4] = k
+    return G - G.T
+
+
+def damping_matrix(params: PlatformParams) -> np.ndarray:
+    """Damping matrix D (41) [N s/m, ...]: ``sum_i h_i v_i v_i^T / l_i^2``."""
+    c = linkage_coefficients(params)
+    D = np.zeros((6, 6))
+    for hg in params.hangers:
+        if hg.damping:
+            v = hanger_vector(hg, c["d3"], c["d4"])
+            D += hg.damping * np.outer(v, v) / hg.length ** 2
+    return D
+
+
+def _diaphragm_rows(p: PlatformParams, d3: float, d4: float) -> np.ndarray:
+    """Rows P_x, P_y, P_z with ``Delta r_m = P q`` at point M, eq. (25)."""
+    xm, ym, zm = p.x_M, p.y_M, p.z_M
+    return np.array([
+        [1 + zm * d3, 0.0, 0.0, 0.0, zm, -ym],
+        [0.0, 1 + zm * d4, 0.0, -zm, 0.0, xm],
+        [-xm * d3, -ym * d4, 1.0, ym, -xm, 0.0],
+    ])
+
+
+def stiffness_matrix(params: PlatformParams, paper_exact: bool = False,
+                     delta_offset_term: bool = True) -> np.ndarray:
+    """Stiffness matrix A (42) [N/m, N, N m] (gravity + rods + diaphragm).
+
+    Corrected: the diaphragm part is ``P^T diag(c_2x, c_2y, c_2z) P`` from (25);
+    ``paper_exact``: the printed diaphragm terms (a_23, a_26, a_56, a_66 as
+    printed, a_25 without its diaphragm term).
+    """
+    p = params
+    c = linkage_coefficients(p, delta_offset_term)
+    d3, d4 = c["d3"], c["d4"]
+    A = np.zeros((6, 6))
+    for hg in p.hangers:
+        if hg.c:
+            v = hanger_vector(hg, d3, d4)
+            A += hg.c * np.outer(v, v) / hg.length ** 2
+    A[0, 0] += p.m * p.g * c["delta1"]
+    A[1, 1] += p.m * p.g * c["delta2"]
+    A[5, 5] += p.m * p.g * c["delta3"]
+    if not paper_exact:
+        P = _diaphragm_rows(p, d3, d4)
+        A += P.T @ np.diag([p.c2x, p.c2y, p.c2z]) @ P
+        return 0.5 * (A + A.T)
+    cx, cy, cz = p.c2x, p.c2y, p.c2z
+    xm, ym, zm = p.x_M, p.y_M, p.z_M
+    U = np.zeros((6, 6))              # printed (42), upper triangle
+    U[0, 0] = cx * (1 + zm * d3) ** 2 + cz * xm ** 2 * d3 ** 2
+    U[0, 1] = cz * xm * ym * d3 * d4
+    U[0, 2] = -cz * xm * d3
+    U[0, 3] = -cz * ym * xm * d3
+    U[0, 4] = cx * zm * (1 + zm * d3) + cz * xm ** 2 * d3
+    U[0, 5] = -cx * ym * (1 + zm * d3)
+    U[1, 1] = cy * (1 + zm * d4) ** 2 + cz * ym ** 2 * d4 ** 2
+    U[1, 2] = -cx * ym * d4                                   # printed (c_2z)
+    U[1, 3] = -cy * zm * (1 + zm * d4) - cz * ym ** 2 * d4
+    U[1, 4] = 0.0                                             # a_25 not printed
+    U[1, 5] = -cy * xm * (1 + zm * d4)                        # printed sign
+    U[2, 2] = cz
+    U[2, 3] = cz * ym
+    U[2, 4] = -cz * xm
+    U[3, 3] = cy * zm ** 2 + cz * ym ** 2
+    U[3, 4] = -cz * ym * xm
+    U[3, 5] = -cy * xm * zm
+    U[4, 4] = cx * zm ** 2 + cz * xm ** 2
+    U[4, 5] = -cy * ym * zm                                   # printed (c_2x)
+    U[5, 5] = cx * zm ** 2 + cy * xm ** 2                     # printed (c_2x y_M^2)
+    A += np.triu(U) + np.triu(U, 1).T
+    return 0.5 * (A + A.T)
+
+
+# ------------------------------------------------------------------ planes, forces
+def plane_map(params: PlatformParams, z: float) -> np.ndarray:
+    """T (2 x 6) of the spin-axis point ``(x_D, y_D, z)``: its fixed-frame
+    transverse displacement ``(dx, dy) = T q`` [m], from (5) with alpha_1, beta_1."""
+    c = linkage_coefficients(params)
+    xD, yD = params.x_D, params.y_D
+    return np.array([
+        [1 + z * c["d3"], 0.0, 0.0, 0.0, z, -yD],
+        [0.0, 1 + z * c["d4"], 0.0, -z, 0.0, xD],
+    ])
+
+
+def _force_coeffs(params: PlatformParams, paper_exact: bool):
+    """F = s * (Ccoef * C + Scoef * Sn) with C = omega^2 cos, Sn = omega^2 sin."""
+    p = params
+    if not paper_exact:
+        T = plane_map(p, p.z_D)
+        return T[0].copy(), T[1].copy()
+    c = linkage_coefficients(p)
+    Cc = np.array([1 + p.z_D * c["d3"], 0, 0, 0, 0, p.y_D], dtype=float)
+    Sc = np.array([0, 1 + p.z_D * c["d4"], 0, -p.z_D, p.z_D, p.x_D], dtype=float)
+    return Cc, Sc
+
+
+def force_amplitude(params: PlatformParams, omega: float, paper_exact: bool = False) -> np.ndarray:
+    """Complex amplitude F_hat (6,) [N, N m] of the unbalance force (43) at constant
+    spin omega [rad/s]: ``F(t) = Re(F_hat e^{i omega t})`` (cos -> 1, sin -> -i).
+
+    Corrected: equals ``T_rotor^T s omega^2 (1, -i)``.  ``paper_exact``: the
+    printed (43) (``F_beta ~ sin``, ``F_gamma ~ y_D cos + x_D sin``), which is
+    not of that form; this is the generalised-force hook a simulation needs.
+    """
+    omega = _check("omega", omega, "rad/s")
+    Cc, Sc = _force_coeffs(params, paper_exact)
+    return params.s * omega ** 2 * (Cc - 1j * Sc)
+
+
+def generalized_force(params: PlatformParams, phi, phi_dot, phi_ddot=0.0,
+                      paper_exact: bool = False) -> np.ndarray:
+    """Real generalised unbalance force (6,) [N, N m] at rotor angle phi [rad],
+    speed phi_dot [rad/s] and acceleration phi_ddot [rad/s^2].
+
+    Eq. (43) with ``omega^2 cos -> phi'^2 cos phi + phi'' sin phi`` and
+    ``omega^2 sin -> phi'^2 sin phi - phi'' cos phi`` (digest 3.6, variable
+    speed); for constant speed ``phi = omega t`` it is (43) itself (corrected
+    or, with ``paper_exact``, as printed).
+    """
+    Cc, Sc = _force_coeffs(params, paper_exact)
+    cp, sp = math.cos(phi), math.sin(phi)
+    C = phi_dot ** 2 * cp + phi_ddot * sp
+    Sn = phi_dot ** 2 * sp - phi_ddot * cp
+    return params.s * (Cc * C + Sc * Sn)
+
+
+# ------------------------------------------------------------------ the rotor
+def platform_rotor(params: Optional[PlatformParams] = None, paper_exact: bool = False,
+                   delta_offset_term: bool = True) -> LinearRotor:
+    """The paper-004 system as a :class:`LinearRotor` (K = A, G per unit spin).
+
+    Parameters
+    ----------
+    params : PlatformParams, optional
+        Default: :func:`default_params` (assumed numbers).
+    paper_exact : bool
+        False (default): corrected model; True: the printed formulas (module
+        docstring lists every difference).
+    delta_offset_term : bool
+        Keep the printed third numerator term of delta_1, delta_2 (33).
+
+    Returns
+    -------
+    LinearRotor
+        Coordinates ``(x, y, z, alpha, beta, gamma)``; planes ``"rotor"`` (point
+        D) and ``"balancer"`` (``(x_D, y_D, z_B)``); one unbalance
+        ``Unbalance("rotor", m2 e, 0)``.  With ``paper_exact`` the printed F is
+        not ``T^T(...)``: use :func:`force_amplitude` / :func:`generalized_force`.
+    """
+    p = default_params() if params is None else params
+    M = mass_matrix(p, paper_exact)
+    try:
+        np.linalg.cholesky(M)
+    except np.linalg.LinAlgError:
+        raise ValueError(f"mass matrix M (39) [kg, kg m, kg m^2] is not positive definite for "
+                         f"these parameters (check m = {p.m} kg, I_a1 = {p.I_a1}, I_b1 = {p.I_b1}, "
+                         f"I_c1 = {p.I_c1} kg m^2 against m2 = {p.m2} kg and the offsets "
+                         f"x_D, y_D, z_D = {p.x_D}, {p.y_D}, {p.z_D} m)") from None
+    planes = {"rotor": plane_map(p, p.z_D), "balancer": plane_map(p, p.balancer_z)}
+    unb = (Unbalance("rotor", p.s, 0.0),) if p.s > 0 else ()
+    return LinearRotor(
+        name="platform_paper004", coords=COORDS, M=M, G=gyro_matrix(p, paper_exact),
+        D=damping_matrix(p), K=stiffness_matrix(p, paper_exact, delta_offset_term),
+        planes=planes, unbalances=unb, gravity=np.zeros(6), gravity_plane=np.zeros(2),
+        source=("paper 004 (Drach), eqs. (38)-(43), papers digest 3.6; "
+                + ("printed formulas (paper_exact)" if paper_exact else "corrected (digest 5.1 M3)")),
+    )
+
+
+def modal_frequencies(params: Optional[PlatformParams] = None, paper_exact: bool = False,
+                      delta_offset_term: bool = True, return_modes: bool = False):
+    """Undamped, non-spinning natural frequencies [rad/s]: the generalised
+    eigenproblem ``A u = w^2 M u`` (38) with G = D = 0, ascending.
+
+    A negative entry ``-sqrt(|w^2|)`` flags a statically unstable mode (A not
+    positive definite).  With ``return_modes`` also the M-normalised mode
+    shapes (columns).
+    """
+    p = default_params() if params is None else params
+    M = mass_matrix(p, paper_exact)
+    A = stiffness_matrix(p, paper_exact, delta_offset_term)
+    lam, U = linalg.eigh(A, M)
+    w = np.sign(lam) * np.sqrt(np.abs(lam))
+    return (w, U) if return_modes else w
+
+
+def campbell(params: Optional[PlatformParams], speeds: Sequence[float],
+             paper_exact: bool = False, delta_offset_term: bool = True) -> np.ndarray:
+    """Campbell data: natural frequencies [rad/s] (rows: spin speeds [rad/s],
+    columns: modes) via :meth:`LinearRotor.campbell` (damped, with G(omega))."""
+    return platform_rotor(params, paper_exact, delta_offset_term).campbell(speeds)

@@ -1,0 +1,187 @@
+"""Scene files for the rotor family: ``[structure]`` + ``[[weights]]``.
+
+A scene with a ``[structure]`` table describes any rotor type of the family
+(the planar scenes of the core simulator keep their own format, see
+docs/scene.md)::
+
+    [scene]
+    name = "two_mass"
+    [structure]
+    type = "two_mass"          # one of ROTOR_TYPES
+    body_mass = 2.0            # keyword arguments of the type's builder, SI units
+    ...
+    [[weights]]
+    plane = "balancer"         # a plane of the rotor (the builder's docstring lists them)
+    type = "balls"             # then the keys of the planar [balancer] table
+    count = 2
+    mass = 0.01
+    radius = 0.05
+    drag = 0.5
+    [drive]
+    type = "speed"
+    programme = [[0.0, 0.0], [10.0, 20.0]]   # [s, rev/s]
+    [run]
+    duration = 30.0
+    sample_rate = 200.0
+
+The builder's keyword arguments are taken by name; a value may be a number,
+a list of numbers, or a string (for switches); unknown keys are an error that
+lists the valid ones.  Units are those of the builder's docstring (SI).
+"""
+from __future__ import annotations
+
+import importlib
+import inspect
+import math
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Mapping
+
+import numpy as np
+
+from ..scene import RunSettings, SceneError
+from .coupled import PlaneWeights
+from .structure import LinearRotor
+
+__all__ = ["ROTOR_TYPES", "FamilyScene", "parse_family_scene", "load_family_scene",
+           "is_family_scene", "build_rotor"]
+
+#: type name -> (module, builder function, book section)
+ROTOR_TYPES = {
+    "planar": ("stand.rotors.planar_supports", "planar_rotor", "2.5.1"),
+    "two_mass": ("stand.rotors.two_mass", "two_mass", "2.5.2"),
+    "grinding": ("stand.rotors.grinding", "grinding_rotor", "2.5.3"),
+    "spherical_hinge": ("stand.rotors.fixed_point", "spherical_hinge", "2.6.1"),
+    "cylindrical_hinge": ("stand.rotors.fixed_point", "cylindrical_hinge", "2.6.2"),
+    "spatial": ("stand.rotors.spatial", "spatial_rotor", "2.7.2-2.7.3"),
+    "two_support": ("stand.rotors.spatial", "two_support_rotor", "paper 003"),
+    "flexible": ("stand.rotors.flexible", "flexible_shaft", "2.8"),
+    "platform": ("stand.rotors.platform", "platform_rotor_from_values", "paper 004"),
+}
+TABLES = ("scene", "structure", "weights", "drive", "run")
+
+
+@dataclass(frozen=True)
+class FamilyScene:
+    """A rotor-family scene: the rotor, its weights, the speed programme, run settings."""
+
+    name: str
+    description: str
+    rotor_type: str
+    params: dict
+    rotor: LinearRotor
+    weights: tuple
+    programme: np.ndarray      # (k, 2) [s, rad/s]
+    run: RunSettings
+    text: str = ""
+
+
+def _builder(kind: str):
+    if kind not in ROTOR_TYPES:
+        raise SceneError(f'structure.type = "{kind}": unknown rotor type; valid: '
+                         f"{', '.join(ROTOR_TYPES)}")
+    mod, fn, _ = ROTOR_TYPES[kind]
+    try:
+        return getattr(importlib.import_module(mod), fn)
+    except (ImportError, AttributeError):
+        raise SceneError(f'structure.type = "{kind}": this rotor type is not available in '
+                         f"this version ({mod}.{fn} missing)") from None
+
+
+def build_rotor(kind: str, params: Mapping) -> LinearRotor:
+    """Build a LinearRotor of type ``kind`` from keyword parameters (SI)."""
+    fn = _builder(kind)
+    sig = inspect.signature(fn)
+    names = [p for p, v in sig.parameters.items()
+             if v.kind in (v.POSITIONAL_OR_KEYWORD, v.KEYWORD_ONLY)]
+    for k, v in params.items():
+        if k not in names:
+            raise SceneError(f"structure.{k}: not a parameter of rotor type \"{kind}\"; valid: "
+                             f"{', '.join(names)}")
+        vals = v if isinstance(v, list) else [v]
+        for x in vals:
+            if isinstance(x, bool) or isinstance(x, str):
+                continue
+            if isinstance(x, dict):
+                continue
+            if not isinstance(x, (int, float)) or not math.isfinite(float(x)):
+                raise SceneError(f"structure.{k} = {v!r}: must be a finite number (SI units, see "
+                                 f"the builder {fn.__module__}.{fn.__name__})")
+    missing = [p for p, v in sig.parameters.items()
+               if v.default is inspect.Parameter.empty and p not in params
+               and v.kind in (v.POSITIONAL_OR_KEYWORD, v.KEYWORD_ONLY)]
+    if missing:
+        raise SceneError(f"[structure] type = \"{kind}\": missing {', '.join(missing)}")
+    try:
+        return fn(**params)
+    except (ValueError, TypeError) as exc:
+        raise SceneError(f"[structure] ({kind}): {exc}") from None
+
+
+def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> FamilyScene:
+    from ..scene_file import _Table, _balancer, _programme, _run
+
+    for key in data:
+        if key not in TABLES:
+            raise SceneError(f"unknown table [{key}] in a rotor-family scene; valid: {', '.join(TABLES)}")
+    for key in ("structure", "drive", "run"):
+        if key not in data:
+            raise SceneError(f"missing table [{key}] (required)")
+    name, desc = stem, ""
+    if "scene" in data:
+        sc = _Table(data["scene"], "scene")
+        sc.allow(("name", "description"))
+        name = sc.string("name", default=stem)
+        desc = sc.string("description", default="")
+    st = dict(data["structure"])
+    kind = st.pop("type", None)
+    if not isinstance(kind, str):
+        raise SceneError(f"structure.type = {kind!r}: required, one of {', '.join(ROTOR_TYPES)}")
+    rotor = build_rotor(kind, st)
+    weights = []
+    items = data.get("weights", [])
+    if not isinstance(items, list):
+        raise SceneError("[weights] must be an array of tables: write [[weights]]")
+    for i, item in enumerate(items):
+        if not isinstance(item, Mapping):
+            raise SceneError(f"weights[{i}]: must be a table")
+        item = dict(item)
+        plane = item.pop("plane", "balancer")
+        if plane not in rotor.planes:
+            raise SceneError(f'weights[{i}].plane = "{plane}": not a plane of rotor type "{kind}"; '
+                             f"planes: {', '.join(rotor.planes)}")
+        bal = _balancer(_Table(item, f"weights[{i}]"))
+        if bal.count:
+            weights.append(PlaneWeights(plane, bal))
+    dt = _Table(data["drive"], "drive")
+    dt.allow(("type", "programme"))
+    if dt.string("type", ("speed",), "speed") != "speed":  # pragma: no cover
+        raise SceneError('drive.type: rotor-family scenes take a speed programme (drive.type = "speed")')
+    programme = _programme(dt, "programme", 1.0)
+    run = _run(_Table(data["run"], "run"))
+    return FamilyScene(name, desc, kind, st, rotor, tuple(weights), programme, run, text)
+
+
+def is_family_scene(path) -> bool:
+    """True when the TOML file has a [structure] table (a rotor-family scene)."""
+    try:
+        return "structure" in tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        return False
+
+
+def load_family_scene(path) -> FamilyScene:
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise SceneError(f"scene file not readable: {p} ({exc.strerror})") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"{p}: TOML syntax error: {exc}") from None
+    try:
+        return parse_family_scene(data, text, p.stem)
+    except SceneError as exc:
+        raise SceneError(f"{p}: {exc}") from None
