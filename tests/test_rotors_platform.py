@@ -59,6 +59,9 @@ def test_o14_structure(make, paper_exact):
     assert np.linalg.eigvalsh(r.M).min() > 0
     assert np.linalg.eigvalsh(r.D).min() > -1e-12 * np.abs(r.D).max()
     assert np.linalg.eigvalsh(r.K).min() > 0                  # A > 0 incl. gravity
+    assert np.array_equal(r.D, damping_matrix(p))
+    assert not damping_matrix(dataclasses.replace(p, hangers=tuple(
+        dataclasses.replace(hg, damping=0.0) for hg in p.hangers))).any()
     assert r.coords == ("x [m]", "y [m]", "z [m]", "alpha [rad]", "beta [rad]", "gamma [rad]")
     assert set(r.planes) == {"rotor", "balancer"}
     # G proportional to omega: LinearRotor carries it per unit spin
@@ -182,8 +185,27 @@ def test_rod_stiffness_is_hessian_of_exact_elongation():
     for hg in p.hangers:
         grad = np.array([(elong(hg, eps * e) - elong(hg, -eps * e)) / (2 * eps) for e in np.eye(6)])
         A += hg.c * np.outer(grad, grad)
+        Dref = hg.damping * np.outer(grad, grad)            # (37), (41): same form
+        assert np.allclose(damping_matrix(dataclasses.replace(p, hangers=(hg,))), Dref,
+                           rtol=1e-7, atol=1e-7 * (np.abs(Dref).max() + 1e-300))
         assert np.allclose(grad, hanger_vector(hg, d3, d4) / hg.length, atol=1e-8)
     assert np.allclose(stiffness_matrix(p), A, rtol=1e-7, atol=1e-7 * np.abs(A).max())
+
+
+def test_corrected_diaphragm_is_quadratic_form_of_eq25():
+    """Corrected diaphragm part of A = Hessian of (c_2x dx^2 + c_2y dy^2 + c_2z dz^2)/2
+    with the displacements (25) of point M."""
+    p = generic_params()
+    bare = dataclasses.replace(p, c2x=0.0, c2y=0.0, c2z=0.0)
+    c = linkage_coefficients(p)
+    d3, d4 = c["d3"], c["d4"]
+    xm, ym, zm = p.x_M, p.y_M, p.z_M
+    P = np.array([[1 + zm * d3, 0, 0, 0, zm, -ym],
+                  [0, 1 + zm * d4, 0, -zm, 0, xm],
+                  [-xm * d3, -ym * d4, 1, ym, -xm, 0]])
+    ref = P.T @ np.diag([p.c2x, p.c2y, p.c2z]) @ P
+    dA = stiffness_matrix(p) - stiffness_matrix(bare)
+    assert np.allclose(dA, ref, rtol=1e-9, atol=1e-9 * np.abs(ref).max())
 
 
 # ----------------------------------------------------------------------- O15

@@ -20,7 +20,8 @@ n x n system for q'' (n = rotor coordinates)::
         = f + sum_j T_p^T [ m_j g_p + m_j l_j psi_j'^2 e_j
                             - (m_j^2 l_j^2 / J_j)(n_j . g_p) n_j - (m_j l_j H_j alpha_j' / J_j) n_j ]
 
-so one right-hand side costs O(N_weights n^2 + n^3): linear in the number of
+(forces through the plane's force map F_p^T when it has one, see
+:mod:`stand.rotors.structure`), so one right-hand side costs O(N_weights n^2 + n^3): linear in the number of
 weights.  For point balls (J = m l^2) the bracket is M + sum m T^T e e^T T.
 The weights are point masses in their plane (their own transverse moments of
 inertia are neglected, as in the book's linear models).
@@ -47,8 +48,9 @@ __all__ = ["PlaneWeights", "CoupledModel", "CoupledRun", "build_model", "simulat
            "rhs_generic", "with_locked_weights"]
 
 # header of the scalar parameter vector sp
-H_N, H_NW, H_NPL, H_NUB, H_WREF, H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OGR, H_OGP = range(14)
-N_HEAD = 14
+H_N, H_NW, H_NPL, H_NUB, H_WREF, H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OGR, H_OGP, \
+    H_OF = range(15)
+N_HEAD = 15
 # weight table columns
 W_PLANE, W_M, W_L, W_J, W_H = range(5)
 
@@ -70,7 +72,7 @@ def with_locked_weights(rotor: LinearRotor, weights: Sequence[PlaneWeights]) -> 
     M = rotor.M.copy()
     for w in weights:
         T = rotor.planes[w.plane]
-        M += float(np.sum(w.balancer.mass)) * (T.T @ T)
+        M += float(np.sum(w.balancer.mass)) * (rotor.force_map(w.plane).T @ T)
     return dataclasses.replace(rotor, M=M)
 
 
@@ -83,6 +85,7 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
     wref = sp[H_WREF]
     oM, oG, oD, oK = int(sp[H_OM]), int(sp[H_OG]), int(sp[H_OD]), int(sp[H_OK])
     oT, oUB, oL, oGR, oGP = int(sp[H_OT]), int(sp[H_OUB]), int(sp[H_OL]), int(sp[H_OGR]), int(sp[H_OGP])
+    oF = int(sp[H_OF])
     phi, R, dR = programme_kinematics(tau, prog)
     Om = R * wref
     dOm = dR * wref * wref
@@ -112,7 +115,7 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         c, si = math.cos(th), math.sin(th)
         fx = s * (Om * Om * c + dOm * si)
         fy = s * (Om * Om * si - dOm * c)
-        base = oT + p * 2 * n
+        base = oF + p * 2 * n
         for i in range(n):
             f[i] += sp[base + i] * fx + sp[base + n + i] * fy
     # weights: assemble the Schur complement
@@ -132,9 +135,10 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         gxw = m * gx + m * l * psid * psid * c - k2 * ng * si - m * l * H * ad / J * si
         gyw = m * gy + m * l * psid * psid * si + k2 * ng * c + m * l * H * ad / J * c
         base = oT + p * 2 * n
+        fbase = oF + p * 2 * n
         for i in range(n):
-            tx = sp[base + i]
-            ty = sp[base + n + i]
+            tx = sp[fbase + i]      # forces act through the force map F_p
+            ty = sp[fbase + n + i]
             f[i] += tx * gxw + ty * gyw
             nti = tx * si - ty * c
             for k in range(n):
@@ -251,12 +255,13 @@ def build_model(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,
                   dtype=float).reshape(-1, 3)
     parts = [rotor.M.ravel(), rotor.G.ravel(), rotor.D.ravel(), rotor.K.ravel(),
              np.concatenate([rotor.planes[p].ravel() for p in names]), ub.ravel(), scale,
-             rotor.gravity, rotor.gravity_plane]
+             rotor.gravity, rotor.gravity_plane,
+             np.concatenate([rotor.force_map(p).ravel() for p in names])]
     head = np.zeros(N_HEAD)
     head[H_N], head[H_NW], head[H_NPL], head[H_NUB], head[H_WREF] = n, wt.shape[0], len(names), \
         ub.shape[0], omega_ref
     off = N_HEAD
-    for slot, a in zip((H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OGR, H_OGP), parts):
+    for slot, a in zip((H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OGR, H_OGP, H_OF), parts):
         head[slot] = off
         off += a.size
     sp = np.concatenate([head] + parts)
@@ -291,6 +296,13 @@ class CoupledRun:
     @property
     def success(self) -> bool:
         return bool(self.stats.get("success"))
+
+    @property
+    def static_residual(self) -> np.ndarray:
+        """(k, 2) sum of the residual unbalances of all planes, rotor frame [kg m]
+        (the static unbalance; equal to the balancer plane's residual when the
+        unbalance and the weights share one plane location)."""
+        return sum(self.residual.values())
 
 
 def simulate_coupled(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,

@@ -19,7 +19,8 @@ and the balancer map ``T = [[0, a], [-a, 0]]``.  Its criterion is (2.72)::
     r_bar = -s a^2 w^2 [2 (C + A_xi) w^2 - (k1 + k2)] / (2 Delta(w^2)),
     Delta(x) = (A_xi^2 - C^2) x^2 - A_xi (k1 + k2) x + k1 k2           (2.78)
 
-(the book's low-speed limit (2.76) has a sign typo; this form is the corrected one).
+((2.72) is printed correctly; only its low-speed limit (2.76) has a sign typo:
+r_bar -> +s a^2 w^2 (C + A_xi) w~^2 / (k1 k2) > 0).
 
 Cylindrical hinge (2.104), hinge axis y: only beta, ``A_xi beta'' + k beta =
 s a w^2 cos wt`` with ``k = c1 b^2``, balancer map ``[[a], [0]]``; one critical
@@ -338,7 +339,8 @@ def cylindrical_hinge(A: float, mass: float, l: float, k: float, a: float, dampi
 
 
 def cylindrical_hinge_critical_speed(A_xi: float, k: float) -> float:
-    """The single critical speed (2.105)/(2.110) [rad/s]: ``w1 = sqrt(k/A_xi) = sqrt(c1 b^2/A_xi)``."""
+    """The single critical speed (2.105)/(2.110) [rad/s]:
+    ``w1 = sqrt(k/A_xi) = sqrt(c1 b^2/A_xi)``."""
     return math.sqrt(_positive("k", k, "N m/rad") / _positive("A_xi", A_xi, "kg m^2"))
 
 

@@ -95,7 +95,8 @@ def flexible_shaft(length: float, mass_per_length: float, EJ: float, n_modes: in
     planes : dict of str -> float, optional
         Named planes at axial positions z [m], 0 < z < l; default ``{"balancer": l/2}``.
     unbalances : sequence of Unbalance or (plane, s [kg m], angle [rad]) tuples, optional
-        The shaft's unbalances, each in one of the named planes.
+        The shaft's unbalances, each in one of the named planes; a dict
+        ``{plane: s}`` or ``{plane: [s, angle]}`` is accepted too (scene files).
     g : (float, float), optional
         Transverse gravity (g_x, g_y) [m/s^2] (horizontal shaft).  The distributed
         weight's modal forces are ``m g l (1 - cos(pi j)) / (pi j)``.
@@ -123,6 +124,9 @@ def flexible_shaft(length: float, mass_per_length: float, EJ: float, n_modes: in
     for name, z in planes.items():
         z = _position(f"planes[{name!r}]", z, l)
         maps[name] = np.kron(two, np.sin(math.pi * j * z / l)[None, :])
+    if isinstance(unbalances, dict):        # scene-file form {plane: s} or {plane: [s, angle]}
+        unbalances = [(p, *np.atleast_1d(np.asarray(v, dtype=float)).tolist())
+                      for p, v in unbalances.items()]
     unb = tuple(u if isinstance(u, Unbalance) else Unbalance(str(u[0]), float(u[1]),
                                                              float(u[2]) if len(u) > 2 else 0.0)
                 for u in unbalances)
@@ -139,7 +143,7 @@ def flexible_shaft(length: float, mass_per_length: float, EJ: float, n_modes: in
     )
 
 
-def _shinh_ratio(A, B):
+def _sinh_ratio(A, B):
     """sinh(A) sinh(B) / sinh(A + B) for A, B >= 0 without overflow."""
     return 0.5 * np.expm1(-2 * A) * np.expm1(-2 * B) / (-np.expm1(-2 * (A + B)))
 
@@ -165,9 +169,9 @@ def shaft_receptance(omega, a: float, length: float, mass_per_length: float, EJ:
     k = (m * om * om / ej) ** 0.25
     static = a * a * (l - a) ** 2 / (3.0 * ej * l)
     with np.errstate(divide="ignore", invalid="ignore"):
-        kk = np.where(k * l < 1e-2, 1.0, k)              # placeholder where the static value is used
+        kk = np.where(k * l < 1e-2, 1.0, k)      # placeholder where the static value is used
         trig = np.sin(kk * a) * np.sin(kk * (l - a)) / np.sin(kk * l)
-        hyp = _shinh_ratio(kk * a, kk * (l - a))
+        hyp = _sinh_ratio(kk * a, kk * (l - a))
         g = (trig - hyp) / (2.0 * ej * kk ** 3)
     # below k l = 1e-2 (w < 1e-5 w_1) the dynamic correction is ~1e-10 relative
     return np.where(k * l < 1e-2, static, g)

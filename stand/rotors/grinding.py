@@ -40,8 +40,8 @@ import numpy as np
 
 from .structure import LinearRotor, Unbalance
 
-__all__ = ["grinding", "rotated_stiffness", "grinding_critical_speed", "grinding_working_ranges",
-           "grinding_criterion", "contact_force", "static_offset"]
+__all__ = ["grinding_rotor", "grinding", "rotated_stiffness", "grinding_critical_speed",
+           "grinding_working_ranges", "grinding_criterion", "contact_force", "static_offset"]
 
 G0 = 9.81
 
@@ -84,10 +84,11 @@ def _effective(mass, c_xi, c_eta, alpha, f):
     return M, fr, cx, cxy, cy, k
 
 
-def grinding(mass: float, c_xi: float, c_eta: float, alpha: float, f: float, y0: float = 0.0,
+def grinding_rotor(mass: float, c_xi: float, c_eta: float, alpha: float, f: float, y0: float = 0.0,
              damping: float = 0.0, unbalance: float = 0.0, unbalance_angle: float = 0.0,
              g: float = G0) -> LinearRotor:
-    """Reduced 1-DOF grinding rotor (2.50) as a :class:`LinearRotor`.
+    """Reduced 1-DOF grinding rotor (2.50) as a :class:`LinearRotor` (alias :func:`grinding`;
+    the scene type ``"grinding"`` of :mod:`stand.rotors.scene` calls this name).
 
     Parameters
     ----------
@@ -134,11 +135,17 @@ def grinding(mass: float, c_xi: float, c_eta: float, alpha: float, f: float, y0:
         coords=("x [m]",),
         M=np.array([[M]]), G=np.zeros((1, 1)), D=np.array([[d]]), K=np.array([[k]]),
         planes={"balancer": np.array([[1.0], [0.0]]), "unbalance": np.array([[1.0], [fr]])},
+        # the weights in the balancer plane push through the friction too: F_x + f F_y
+        force_maps={"balancer": np.array([[1.0], [fr]])},
         unbalances=unb,
         gravity=np.array([-fr * (M * gg + cy * y0) - cxy * y0]),
         gravity_plane=np.array([0.0, -gg]),
         source="Filimonikhin (2004) 2.5.3, eqs. (2.47), (2.50); unbalance map [[1],[f]]",
     )
+
+
+#: Short alias of :func:`grinding_rotor`.
+grinding = grinding_rotor
 
 
 def grinding_critical_speed(mass, c_xi, c_eta, alpha, f):

@@ -92,7 +92,7 @@ of digest 5.2 item 5: pendulum ~2 rad/s, axial springs ~500 rad/s.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Optional, Sequence
 
 import numpy as np
@@ -428,16 +428,6 @@ def damping_matrix(params: PlatformParams) -> np.ndarray:
     return D
 
 
-def _diaphragm_rows(p: PlatformParams, d3: float, d4: float) -> np.ndarray:
-    """Rows P_x, P_y, P_z with ``Delta r_m = P q`` at point M, eq. (25)."""
-    xm, ym, zm = p.x_M, p.y_M, p.z_M
-    return np.array([
-        [1 + zm * d3, 0.0, 0.0, 0.0, zm, -ym],
-        [0.0, 1 + zm * d4, 0.0, -zm, 0.0, xm],
-        [-xm * d3, -ym * d4, 1.0, ym, -xm, 0.0],
-    ])
-
-
 def stiffness_matrix(params: PlatformParams, paper_exact: bool = False,
                      delta_offset_term: bool = True) -> np.ndarray:
     """Stiffness matrix A (42) [N/m, N, N m] (gravity + rods + diaphragm).
@@ -457,13 +447,22 @@ def stiffness_matrix(params: PlatformParams, paper_exact: bool = False,
     A[0, 0] += p.m * p.g * c["delta1"]
     A[1, 1] += p.m * p.g * c["delta2"]
     A[5, 5] += p.m * p.g * c["delta3"]
-    if not paper_exact:
-        P = _diaphragm_rows(p, d3, d4)
-        A += P.T @ np.diag([p.c2x, p.c2y, p.c2z]) @ P
-        return 0.5 * (A + A.T)
+    A += _diaphragm_stiffness(p, d3, d4, paper_exact)
+    return 0.5 * (A + A.T)
+
+
+def _diaphragm_stiffness(p: PlatformParams, d3: float, d4: float, paper_exact: bool) -> np.ndarray:
+    """Diaphragm part of A (42), entry by entry.
+
+    The corrected entries equal ``P^T diag(c_2x, c_2y, c_2z) P`` with the rows
+    ``P_x = (1 + z_M d_3, 0, 0, 0, z_M, -y_M)``,
+    ``P_y = (0, 1 + z_M d_4, 0, -z_M, 0, x_M)``,
+    ``P_z = (-x_M d_3, -y_M d_4, 1, y_M, -x_M, 0)`` of (25); writing them out keeps every unflagged
+    entry bit-identical between the two switches.
+    """
     cx, cy, cz = p.c2x, p.c2y, p.c2z
     xm, ym, zm = p.x_M, p.y_M, p.z_M
-    U = np.zeros((6, 6))              # printed (42), upper triangle
+    U = np.zeros((6, 6))              # upper triangle
     U[0, 0] = cx * (1 + zm * d3) ** 2 + cz * xm ** 2 * d3 ** 2
     U[0, 1] = cz * xm * ym * d3 * d4
     U[0, 2] = -cz * xm * d3
@@ -471,10 +470,7 @@ def stiffness_matrix(params: PlatformParams, paper_exact: bool = False,
     U[0, 4] = cx * zm * (1 + zm * d3) + cz * xm ** 2 * d3
     U[0, 5] = -cx * ym * (1 + zm * d3)
     U[1, 1] = cy * (1 + zm * d4) ** 2 + cz * ym ** 2 * d4 ** 2
-    U[1, 2] = -cx * ym * d4                                   # printed (c_2z)
     U[1, 3] = -cy * zm * (1 + zm * d4) - cz * ym ** 2 * d4
-    U[1, 4] = 0.0                                             # a_25 not printed
-    U[1, 5] = -cy * xm * (1 + zm * d4)                        # printed sign
     U[2, 2] = cz
     U[2, 3] = cz * ym
     U[2, 4] = -cz * xm
@@ -482,10 +478,19 @@ def stiffness_matrix(params: PlatformParams, paper_exact: bool = False,
     U[3, 4] = -cz * ym * xm
     U[3, 5] = -cy * xm * zm
     U[4, 4] = cx * zm ** 2 + cz * xm ** 2
-    U[4, 5] = -cy * ym * zm                                   # printed (c_2x)
-    U[5, 5] = cx * zm ** 2 + cy * xm ** 2                     # printed (c_2x y_M^2)
-    A += np.triu(U) + np.triu(U, 1).T
-    return 0.5 * (A + A.T)
+    if paper_exact:                   # printed (42), flagged [ERR] entries
+        U[1, 2] = -cx * ym * d4
+        U[1, 4] = 0.0                 # a_25: diaphragm term missing in print
+        U[1, 5] = -cy * xm * (1 + zm * d4)
+        U[4, 5] = -cy * ym * zm
+        U[5, 5] = cx * zm ** 2 + cy * xm ** 2
+    else:                             # corrected from (25)
+        U[1, 2] = -cz * ym * d4
+        U[1, 4] = cz * xm * ym * d4
+        U[1, 5] = cy * xm * (1 + zm * d4)
+        U[4, 5] = -cx * ym * zm
+        U[5, 5] = cx * ym ** 2 + cy * xm ** 2
+    return np.triu(U) + np.triu(U, 1).T
 
 
 # ------------------------------------------------------------------ planes, forces

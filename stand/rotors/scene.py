@@ -54,10 +54,9 @@ ROTOR_TYPES = {
     "grinding": ("stand.rotors.grinding", "grinding_rotor", "2.5.3"),
     "spherical_hinge": ("stand.rotors.fixed_point", "spherical_hinge", "2.6.1"),
     "cylindrical_hinge": ("stand.rotors.fixed_point", "cylindrical_hinge", "2.6.2"),
-    "spatial": ("stand.rotors.spatial", "spatial_rotor", "2.7.2-2.7.3"),
-    "two_support": ("stand.rotors.spatial", "two_support_rotor", "paper 003"),
+    "spatial": ("stand.rotors.spatial", "spatial_scene_rotor", "2.7.2-2.7.3"),
     "flexible": ("stand.rotors.flexible", "flexible_shaft", "2.8"),
-    "platform": ("stand.rotors.platform", "platform_rotor_from_values", "paper 004"),
+    "platform": ("stand.rotors.platform", "platform_rotor", "paper 004"),
 }
 TABLES = ("scene", "structure", "weights", "drive", "run")
 

@@ -21,6 +21,13 @@ Unbalance ``s`` [kg m] in plane p at angle ``beta`` from the reference mark
 
 At constant spin this is ``Re{ T_p^T s Omega^2 (1, -i) e^{i(Omega t + beta)} }``.
 
+A plane may have a separate **force map** F_p (2 x n, default T_p) when the
+forces applied at the plane do not do work through its displacement alone:
+the grinding rotor of section 2.5.3, whose y is held by the contact, feels a
+transverse force F_y through the friction T = f N as ``F_x + f F_y`` ((2.50)),
+so its plane has T_p = [[1], [0]] and F_p = [[1], [f]].  Forces go through
+F_p^T, displacements through T_p.
+
 Engineering criterion (2.15)-(2.16): with an elementary unbalance in plane p
 the plane's steady deflection, averaged along the unbalance over a
 revolution, ``r_bar = Re(X + i Y) / 2`` with ``(X, Y) = T_p Q`` and
@@ -75,6 +82,8 @@ class LinearRotor:
         felt by weights in the balancer planes (zeros for a vertical axis).
     source : str
         Book section / equations this instance implements.
+    force_maps : dict of str -> ndarray (2, n)
+        F_p for planes whose forces do not act through T_p^T (module docstring).
     """
 
     name: str
@@ -88,6 +97,7 @@ class LinearRotor:
     gravity: Optional[np.ndarray] = None
     gravity_plane: np.ndarray = field(default_factory=lambda: np.zeros(2))
     source: str = ""
+    force_maps: dict = field(default_factory=dict)
 
     def __post_init__(self):
         n = len(self.coords)
@@ -106,6 +116,13 @@ class LinearRotor:
                 raise ValueError(f"{self.name}: plane {p!r} map must be 2x{n}, got {T.shape}")
             planes[p] = T
         object.__setattr__(self, "planes", planes)
+        fmaps = {}
+        for p, F in self.force_maps.items():
+            F = np.asarray(F, dtype=float)
+            if p not in planes or F.shape != (2, n):
+                raise ValueError(f"{self.name}: force map {p!r} must be 2x{n} for a known plane")
+            fmaps[p] = F
+        object.__setattr__(self, "force_maps", fmaps)
         for u in self.unbalances:
             if u.plane not in planes:
                 raise ValueError(f"{self.name}: unbalance plane {u.plane!r} is not one of {sorted(planes)}")
@@ -116,6 +133,10 @@ class LinearRotor:
     @property
     def n(self) -> int:
         return len(self.coords)
+
+    def force_map(self, plane: str) -> np.ndarray:
+        """F_p: the map through which forces at ``plane`` act (default T_p)."""
+        return self.force_maps.get(plane, self.planes[plane])
 
     # ----------------------------------------------------------- frequency domain
     def dynamic_stiffness(self, omega: float, whirl: Optional[float] = None) -> np.ndarray:
@@ -128,7 +149,7 @@ class LinearRotor:
         """Complex amplitude (X, Y) of plane ``at`` (default: the same plane) for an
         unbalance s [kg m] in ``plane`` at constant spin omega [rad/s]:
         ``x_at(t) = Re(X e^{i omega t})``, ``y_at(t) = Re(Y e^{i omega t})``."""
-        T = self.planes[plane]
+        T = self.force_map(plane)
         f = s * omega * omega * np.exp(1j * angle) * (T.T @ np.array([1.0, -1j]))
         Q = np.linalg.solve(self.dynamic_stiffness(omega), f)
         return self.planes[at or plane] @ Q
@@ -158,13 +179,14 @@ class LinearRotor:
         the main motion is stable iff Q is negative definite.
         """
         Tm = np.vstack([self.planes[p] for p in planes])            # (2k, n)
+        Fm = np.vstack([self.force_map(p) for p in planes])
         Hinv = np.linalg.inv(self.dynamic_stiffness(omega))
         k = len(planes)
         Q = np.zeros((2 * k, 2 * k))
         # unit unbalance along rotor-frame xi (angle 0) / eta (angle pi/2) of plane b
         for b in range(k):
             for c, ang in enumerate((0.0, 0.5 * math.pi)):
-                f = omega * omega * np.exp(1j * ang) * (Tm[2 * b:2 * b + 2].T @ np.array([1.0, -1j]))
+                f = omega * omega * np.exp(1j * ang) * (Fm[2 * b:2 * b + 2].T @ np.array([1.0, -1j]))
                 R = Tm @ (Hinv @ f)            # responses of all planes
                 for a in range(k):
                     X, Y = R[2 * a], R[2 * a + 1]
