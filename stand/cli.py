@@ -103,19 +103,23 @@ def _run_family(args) -> int:
     wall = time.perf_counter() - t0
     write_family_recording(scene, run, out)
     res = {p: float(np.hypot(*U[-1])) for p, U in run.residual.items()}
+    static = float(np.hypot(*run.static_residual[-1]))
+    initial = float(np.hypot(*run.static_residual[0]))
     doc = {"scene": scene.name, "rotor_type": scene.rotor_type, "output": str(out),
            "solver": {**run.stats, "wall_time_s": wall, "method": "DOP853"},
            "final": {"time_s": float(run.t[-1]), "rotor_speed_rev_per_s": float(run.speed[-1] / (2 * np.pi)),
                      "plane_radius_m": {p: float(np.hypot(*xy[-1])) for p, xy in run.planes.items()},
-                     "residual_unbalance_kg_m": res}}
+                     "residual_unbalance_kg_m": res, "static_residual_kg_m": static,
+                     "static_residual_initial_kg_m": initial}}
     if args.json:
         print(json.dumps(_jsonable(doc), indent=2))
     else:
         st = run.stats
         print(f"{scene.name} ({scene.rotor_type}): {st['message']} [DOP853, {st['n_steps']} steps, "
               f"{st['nfev']} RHS evaluations, {wall:.2f} s] -> {out}")
-        for p, r in doc["final"]["plane_radius_m"].items():
-            print(f"  plane {p}: radius {r:.4g} m, residual unbalance {res[p]:.4g} kg m")
+        print(f"  t = {run.t[-1]:.6g} s, speed {run.speed[-1] / (2 * np.pi):.4g} rev/s; static residual "
+              f"unbalance {static:.4g} kg m (at the start {initial:.4g} kg m); plane displacements: "
+              + ", ".join(f"{p} {r:.3g} m" for p, r in doc["final"]["plane_radius_m"].items()))
     if not run.success:
         print(f"stand run: {run.stats['message']}", file=sys.stderr)
         return 1

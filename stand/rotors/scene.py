@@ -54,6 +54,7 @@ ROTOR_TYPES = {
     "grinding": ("stand.rotors.grinding", "grinding_rotor", "2.5.3"),
     "spherical_hinge": ("stand.rotors.fixed_point", "spherical_hinge", "2.6.1"),
     "cylindrical_hinge": ("stand.rotors.fixed_point", "cylindrical_hinge", "2.6.2"),
+    "fixed_point_stand": ("stand.rotors.fixed_point", "fixed_point_stand", "2.6.2, stand of section 4.4"),
     "spatial": ("stand.rotors.spatial", "spatial_scene_rotor", "2.7.2-2.7.3"),
     "flexible": ("stand.rotors.flexible", "flexible_shaft", "2.8"),
     "platform": ("stand.rotors.platform", "platform_rotor", "paper 004"),
