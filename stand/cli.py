@@ -131,7 +131,8 @@ def _theory_family(args) -> int:
     from .rotors.scene import load_family_scene
 
     scene = load_family_scene(args.scene)
-    doc = family_theory(scene, args.max_speed * 2 * np.pi if args.max_speed else None)
+    doc = family_theory(scene, args.max_speed * 2 * np.pi if args.max_speed else None,
+                        floquet=not args.no_floquet)
     if args.json:
         print(json.dumps(_jsonable(doc), indent=2))
         return 0
@@ -140,6 +141,14 @@ def _theory_family(args) -> int:
     for p, d in doc["engineering_criterion"].items():
         print(f"  plane {p}: critical speeds " + ", ".join(f"{c:.5g}" for c in d["critical_speeds_hz"])
               + " rev/s; working ranges " + ", ".join(f"({a:.5g}, {b:.5g})" for a, b in d["working_ranges_hz"]))
+    mm = doc.get("main_motion") or {}
+    if mm.get("critical_speeds_hz") is not None:
+        print("  main motion (Floquet, finite weight masses): critical speeds "
+              + (", ".join(f"{c:.5g}" for c in mm["critical_speeds_hz"]) or "none in the scan")
+              + f" rev/s; growth rate at {mm['operating_speed_hz']:.4g} rev/s: "
+              f"{mm['growth_rate_at_operating_speed_per_s']:.3g} 1/s")
+    elif mm.get("note"):
+        print(f"  main motion: {mm['note']}")
     for n in doc["notes"]:
         print(f"  note: {n}")
     return 0
@@ -471,6 +480,8 @@ def build_parser() -> argparse.ArgumentParser:
     t.add_argument("--json", action="store_true", help="print JSON")
     t.add_argument("--plot", default=None, help="write the speed map chart (PNG)")
     t.add_argument("--max-speed", type=float, default=None, help="upper end of the map [rev/s]")
+    t.add_argument("--no-floquet", action="store_true",
+                   help="rotor-family scenes: skip the Floquet scan of the main motion (faster)")
     t.set_defaults(func=_cmd_theory)
     s = sub.add_parser("snapshot", help="save one recorded instrument frame as PNG")
     s.add_argument("recording", help="recording (HDF5) written by stand run")

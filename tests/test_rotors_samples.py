@@ -23,7 +23,7 @@ def test_one_sample_per_rotor_type():
 @pytest.mark.parametrize("path", SAMPLES)
 def test_sample_theory_and_short_run(path, capsys):
     sc = load_family_scene(path)
-    th = family_theory(sc)
+    th = family_theory(sc, floquet=False)
     json.dumps(th)
     top = sc.programme[-1, 1] / (2 * 3.141592653589793)
     plane = sc.weights[0].plane
@@ -33,5 +33,13 @@ def test_sample_theory_and_short_run(path, capsys):
     short = dataclasses.replace(sc, run=dataclasses.replace(sc.run, duration=0.5))
     run = run_family(short)
     assert run.success and run.t[-1] == pytest.approx(0.5)
-    assert main(["theory", path]) == 0
+    assert main(["theory", path, "--no-floquet"]) == 0
     assert "working ranges" in capsys.readouterr().out
+
+
+def test_theory_reports_the_floquet_edges_of_the_two_mass_sample(capsys):
+    assert main(["theory", "data_samples/scenes/family_two_mass.toml", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    mm = doc["main_motion"]["critical_speeds_hz"]
+    # docs/rotors.md: simulation edges 9.2-9.4, 22.2-22.8 (basin), 39-40 Hz
+    assert len(mm) == 3 and 9.2 < mm[0] < 9.4 and 39.0 < mm[2] < 40.0

@@ -79,7 +79,44 @@ def write_family_recording(scene: FamilyScene, run: CoupledRun, path) -> Path:
     return path
 
 
-def family_theory(scene: FamilyScene, max_speed: float | None = None) -> dict:
+def _floquet_scan(scene: FamilyScene, ranges: dict, lo: float, hi: float, n: int = 14) -> dict:
+    """Main-motion critical speeds by Floquet continuation from the operating speed."""
+    from .stability import _state_guess, main_motion_critical_speeds, main_motion_stability
+
+    w0 = float(scene.programme[-1, 1])
+    if not w0 > 0:
+        return {"note": "operating speed 0: no main motion to continue"}
+    s = sum(abs(u.s) for u in scene.rotor.unbalances) or 1.0
+    try:
+        r0 = main_motion_stability(scene.rotor, scene.weights, w0)
+    except (RuntimeError, np.linalg.LinAlgError) as exc:
+        return {"note": f"Floquet analysis failed at the operating speed: {exc}"}
+    if r0.residual_unbalance > 0.05 * s:
+        return {"note": "the weights do not reach a main motion at the operating speed "
+                        f"(residual {r0.residual_unbalance:.3g} kg m): Floquet scan skipped"}
+    # (with gravity in the balancer plane the "main motion" is the periodic motion
+    # near balance: the weights swing once per revolution, the residual is not 0)
+    crits = sorted(c * 2 * math.pi for d in ranges.values() for c in d["critical_speeds_hz"])
+    lo_s = 0.5 * crits[0] if crits else 0.3 * w0
+    hi_s = min(hi, 2.0 * max(crits[-1], w0)) if crits else 3.0 * w0
+    g = _state_guess(scene.rotor, scene.weights, r0, w0)
+    found = []
+    for grid in (np.geomspace(w0, max(lo_s, lo), n), np.geomspace(w0, hi_s, n)):
+        try:
+            _, c = main_motion_critical_speeds(scene.rotor, scene.weights, grid, y_guess=g,
+                                               xtol=1e-5)
+        except (RuntimeError, np.linalg.LinAlgError):
+            continue
+        found += list(c)
+    return {"operating_speed_hz": w0 / (2 * math.pi),
+            "growth_rate_at_operating_speed_per_s": r0.growth_rate,
+            "critical_speeds_hz": sorted(f / (2 * math.pi) for f in found),
+            "method": "Floquet multipliers of the one-revolution map, continuation from the "
+                      "operating speed (finite weight masses included)"}
+
+
+def family_theory(scene: FamilyScene, max_speed: float | None = None,
+                  floquet: bool = True) -> dict:
     """Natural frequencies, Campbell data and the criterion's working ranges per plane.
 
     ``max_speed`` [rad/s]: upper end of the scan (default 4 x the largest of the
@@ -98,11 +135,13 @@ def family_theory(scene: FamilyScene, max_speed: float | None = None) -> dict:
                      "working_ranges_hz": [[a / (2 * math.pi), b / (2 * math.pi)] for a, b in rg]}
     speeds = np.linspace(0.0, hi, 41)
     camp = rot.campbell(speeds)
+    main = _floquet_scan(scene, ranges, lo, hi) if (floquet and scene.weights) else None
     return {
         "scene": scene.name, "rotor_type": scene.rotor_type,
         "source": ROTOR_TYPES[scene.rotor_type][2], "coords": list(rot.coords),
         "natural_frequencies_hz_at_rest": [w / (2 * math.pi) for w in wn0],
         "engineering_criterion": ranges,
+        "main_motion": main,
         "campbell": {"speed_hz": (speeds / (2 * math.pi)).tolist(),
                      "frequencies_hz": (camp / (2 * math.pi)).tolist()},
         "notes": ["weights locked in their planes (their mass included)",
