@@ -834,7 +834,7 @@ def two_support_rotor(c1: float, c2: float, l1: float, l2: float, M: float, J_xi
 def spatial_scene_rotor(mass, A, C, l1, l2, c1, c2=None, balancer_positions=(0.0,),
                         unbalance=0.0, unbalance_position=0.0, unbalance_angle=0.0,
                         couple_unbalance=0.0, couple_positions=(0.0, 0.0),
-                        stiffness_damping=0.0) -> LinearRotor:
+                        stiffness_damping=0.0, screen_positions=()) -> LinearRotor:
     """Scene-file form of :func:`spatial_rotor` (plain numbers only): a rigid
     rotor on two isotropic supports (Table 2.4 row 1 with c1 = c2 left, c3 = c4
     right; supports at distances l1, l2 [m] from the centre of mass).
@@ -850,6 +850,10 @@ def spatial_scene_rotor(mass, A, C, l1, l2, c1, c2=None, balancer_positions=(0.0
     couple_unbalance : float  s [kg m] of a couple (s at couple_positions[0],
         -s at couple_positions[1]) [m]
     stiffness_damping : float  beta [s]: damping matrix beta K (stiffness-proportional)
+    screen_positions : list of float  axial positions [m] of laser screens: the
+        beam along the shaft axis hits a screen at distance y where the axis
+        line is, x + y beta, y - y alpha (2.131): planes "screen1", "screen2", ...
+        (two screens give both correction planes, (4.2)-(4.3), :mod:`dsp.two_plane`)
     """
     sup = isotropic_supports(l1, l2, c1, c1 if c2 is None else c2)
     unb = []
@@ -863,8 +867,17 @@ def spatial_scene_rotor(mass, A, C, l1, l2, c1, c2=None, balancer_positions=(0.0
         raise ValueError(f"stiffness_damping = {stiffness_damping!r}: must be >= 0 (s)")
     damping = beta * np.asarray(sup.matrix, float) if beta else None
     bp = balancer_positions if isinstance(balancer_positions, (list, tuple)) else (balancer_positions,)
-    return spatial_rotor(mass, A, C, sup, balancers=tuple(float(a) for a in bp), unbalances=unb,
-                         damping=damping)
+    rot = spatial_rotor(mass, A, C, sup, balancers=tuple(float(a) for a in bp), unbalances=unb,
+                        damping=damping)
+    sp = screen_positions if isinstance(screen_positions, (list, tuple)) else (screen_positions,)
+    if sp:
+        import dataclasses
+
+        planes = dict(rot.planes)
+        for k, y in enumerate(sp, start=1):
+            planes[f"screen{k}"] = plane_map(float(y))
+        rot = dataclasses.replace(rot, planes=planes)
+    return rot
 
 
 _couple = couple_unbalance   # (the scene wrapper's parameter shadows the name)
