@@ -79,6 +79,22 @@ def write_family_recording(scene: FamilyScene, run: CoupledRun, path) -> Path:
     return path
 
 
+def _steady(scene: FamilyScene, rot) -> dict:
+    """1X response of every plane to the rotor's unbalances at the operating speed
+    (weights locked, i.e. the rotor as it would run without balancing)."""
+    w = float(scene.programme[-1, 1])
+    if not (w > 0 and rot.unbalances):
+        return {}
+    out = {"speed_hz": w / (2 * math.pi), "planes": {}}
+    for p in rot.planes:
+        XY = sum(rot.unbalance_response(w, u.plane, u.s, u.angle, at=p) for u in rot.unbalances)
+        fwd, bwd = (XY[0] + 1j * XY[1]) / 2, np.conj(XY[0] - 1j * XY[1]) / 2
+        out["planes"][p] = {"forward_amplitude_m": float(abs(fwd)),
+                            "backward_amplitude_m": float(abs(bwd)),
+                            "phase_deg": float(np.degrees(np.angle(fwd)))}
+    return out
+
+
 def _floquet_scan(scene: FamilyScene, ranges: dict, lo: float, hi: float, n: int = 14) -> dict:
     """Main-motion critical speeds by Floquet continuation from the operating speed."""
     from .stability import _state_guess, main_motion_critical_speeds, main_motion_stability
@@ -142,6 +158,7 @@ def family_theory(scene: FamilyScene, max_speed: float | None = None,
         "natural_frequencies_hz_at_rest": [w / (2 * math.pi) for w in wn0],
         "engineering_criterion": ranges,
         "main_motion": main,
+        "steady_response_without_weights": _steady(scene, rot),
         "campbell": {"speed_hz": (speeds / (2 * math.pi)).tolist(),
                      "frequencies_hz": (camp / (2 * math.pi)).tolist()},
         "notes": ["weights locked in their planes (their mass included)",
