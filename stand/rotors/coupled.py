@@ -51,8 +51,10 @@ __all__ = ["PlaneWeights", "CoupledModel", "CoupledRun", "build_model", "simulat
 H_N, H_NW, H_NPL, H_NUB, H_WREF, H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OGR, H_OGP, \
     H_OF = range(15)
 N_HEAD = 15
-# weight table columns
-W_PLANE, W_M, W_L, W_J, W_H = range(5)
+# weight table columns: plane, mass, radius, inertia, drag, friction (kinetic,
+# static, slip speed, dwell, release), index of its adhesion state (-1: none)
+W_PLANE, W_M, W_L, W_J, W_H, W_MUK, W_MUS, W_VS, W_TD, W_TR, W_Z = range(11)
+N_WCOL = 11
 
 
 @dataclass(frozen=True)
@@ -61,6 +63,7 @@ class PlaneWeights:
 
     plane: str
     balancer: Balancer
+    friction: Optional["Friction"] = None    # stand.balancers.friction.Friction
 
 
 def with_locked_weights(rotor: LinearRotor, weights: Sequence[PlaneWeights]) -> LinearRotor:
@@ -74,6 +77,23 @@ def with_locked_weights(rotor: LinearRotor, weights: Sequence[PlaneWeights]) -> 
         T = rotor.planes[w.plane]
         M += float(np.sum(w.balancer.mass)) * (rotor.force_map(w.plane).T @ T)
     return dataclasses.replace(rotor, M=M)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy):
+    """Regularised Coulomb moment [N m] on weight j (stand.balancers.friction)."""
+    muk = wt[j, W_MUK]
+    if muk <= 0.0 and wt[j, W_MUS] <= 0.0:
+        return 0.0
+    mu = muk
+    iz = int(wt[j, W_Z])
+    if iz >= 0:
+        mu = muk + (wt[j, W_MUS] - muk) * y[iz]
+    N = m * (l * psid * psid + c * gx + si * gy)
+    if N < 0.0:
+        N = 0.0
+    x = ad / wt[j, W_VS]
+    return mu * N * l * x / math.sqrt(1.0 + x * x)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -132,8 +152,9 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         c, si = math.cos(psi), math.sin(psi)
         k2 = m * m * l * l / J
         ng = si * gx - c * gy
-        gxw = m * gx + m * l * psid * psid * c - k2 * ng * si - m * l * H * ad / J * si
-        gyw = m * gy + m * l * psid * psid * si + k2 * ng * c + m * l * H * ad / J * c
+        Mr = H * ad + _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy)
+        gxw = m * gx + m * l * psid * psid * c - k2 * ng * si - m * l * Mr / J * si
+        gyw = m * gy + m * l * psid * psid * si + k2 * ng * c + m * l * Mr / J * c
         base = oT + p * 2 * n
         fbase = oF + p * 2 * n
         for i in range(n):
@@ -166,9 +187,16 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         for k in range(n):
             apx += sp[base + k] * qdd[k]
             apy += sp[base + n + k] * qdd[k]
-        psidd = (m * l * (si * (apx - gx) - c * (apy - gy)) - H * ad) / J
+        psid = Om + ad
+        Mr = H * ad + _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy)
+        psidd = (m * l * (si * (apx - gx) - c * (apy - gy)) - Mr) / J
         dy[n + j] = y[ns + n + j]
         dy[ns + n + j] = (psidd - dOm) / (wref * wref)
+        iz = int(wt[j, W_Z])
+        if iz >= 0:   # adhesion (sticking after a dwell), stand.balancers.friction
+            z = y[iz]
+            sl = math.exp(-(ad / wt[j, W_VS]) ** 2)
+            dy[iz] = (sl * (1.0 - z) / wt[j, W_TD] - (1.0 - sl) * z / wt[j, W_TR]) / wref
 
 
 @dataclass(frozen=True)
@@ -191,6 +219,11 @@ class CoupledModel:
     @property
     def nw(self) -> int:
         return int(self.wt.shape[0])
+
+    @property
+    def n_adhesion(self) -> int:
+        """Extra states: one adhesion variable per sticking weight (after the 2(n + nw))."""
+        return int(np.count_nonzero(self.wt[:, W_Z] >= 0)) if self.wt.size else 0
 
 
 def _positive(name, v, unit):
@@ -232,17 +265,27 @@ def build_model(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,
     n = rotor.n
     rows = []
     cap = 0.0
+    nw_total = sum(w.balancer.count for w in weights)
+    n_adh = 0
     for w in weights:
         b = w.balancer
         p = names.index(w.plane)
         H = b.moment_drag
+        fr = w.friction
         for k in range(b.count):
             m = _positive(f"weights[{w.plane}].mass[{k}]", b.mass[k], "kg")
             l = _positive(f"weights[{w.plane}].radius[{k}]", b.radius[k], "m")
             J = _positive(f"weights[{w.plane}].inertia[{k}]", b.inertia[k], "kg m^2")
-            rows.append([p, m, l, J, float(H[k])])
+            row = [p, m, l, J, float(H[k]), 0.0, 0.0, 1.0, 1.0, 1.0, -1.0]
+            if fr is not None:
+                row[W_MUK:W_TR + 1] = [fr.kinetic, fr.static, fr.slip_speed, fr.dwell_time,
+                                       fr.release_time]
+                if fr.sticks:
+                    row[W_Z] = 2 * (n + nw_total) + n_adh
+                    n_adh += 1
+            rows.append(row)
             cap += m * l
-    wt = np.array(rows, dtype=float).reshape(-1, 5)
+    wt = np.array(rows, dtype=float).reshape(-1, N_WCOL)
     # coordinate scales: the high-speed response to the larger of the capacity
     # and the unbalance, per coordinate (floor 1e-3 of the largest)
     s_ref = max(cap, sum(abs(u.s) for u in rotor.unbalances), 1e-12)
@@ -330,7 +373,7 @@ def simulate_coupled(rotor: LinearRotor, weights: Sequence[PlaneWeights], progra
     sample_rate = _positive("sample_rate", sample_rate, "Hz")
     model = build_model(rotor, weights, programme, omega_ref)
     n, nw, w = model.n, model.nw, model.omega_ref
-    y = np.zeros(2 * (n + nw))
+    y = np.zeros(2 * (n + nw) + model.n_adhesion)
     if q0 is not None:
         y[:n] = np.asarray(q0, float) / model.scale
     if qd0 is not None:
@@ -340,7 +383,7 @@ def simulate_coupled(rotor: LinearRotor, weights: Sequence[PlaneWeights], progra
     s0 = np.concatenate([np.asarray(pw.balancer.initial_speeds, float) for pw in weights]) \
         if weights else np.zeros(0)
     y[n:n + nw] = a0
-    y[2 * n + nw:] = s0 / w
+    y[2 * n + nw:2 * (n + nw)] = s0 / w
     ts = np.arange(0.0, duration + 0.5 / sample_rate, 1.0 / sample_rate) * w
     ts = ts[ts <= duration * w * (1 + 1e-12)]
     out = np.full((ts.size, y.size), np.nan)

@@ -17,6 +17,10 @@ docs/scene.md)::
     mass = 0.01
     radius = 0.05
     drag = 0.5
+    friction = 2.5e-3          # optional: Coulomb / rolling resistance (stand.balancers.friction)
+    static_friction = 0.01     #   breakaway after a dwell (dwell_time, release_time [s])
+    slip_speed = 0.02          #   rad/s, regularisation
+    rolling = true             # optional: rolling balls, inertia 7/5 m l^2 (j = 5/7)
     [drive]
     type = "speed"
     programme = [[0.0, 0.0], [10.0, 20.0]]   # [s, rev/s]
@@ -40,6 +44,7 @@ from typing import Mapping
 
 import numpy as np
 
+from ..balancers.friction import ROLLING_BALL_J, Friction
 from ..scene import RunSettings, SceneError
 from .coupled import PlaneWeights
 from .structure import LinearRotor
@@ -60,6 +65,8 @@ ROTOR_TYPES = {
     "platform": ("stand.rotors.platform", "platform_rotor", "paper 004"),
 }
 TABLES = ("scene", "structure", "weights", "drive", "run")
+#: dry-friction keys of a [[weights]] table (stand.balancers.friction)
+FRICTION_KEYS = ("friction", "static_friction", "slip_speed", "dwell_time", "release_time")
 
 
 @dataclass(frozen=True)
@@ -148,12 +155,36 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> FamilyS
             raise SceneError(f"weights[{i}]: must be a table")
         item = dict(item)
         plane = item.pop("plane", "balancer")
+        fkeys = {k: item.pop(k) for k in list(item) if k in FRICTION_KEYS}
+        rolling = item.pop("rolling", False)
+        if not isinstance(rolling, bool):
+            raise SceneError(f"weights[{i}].rolling = {rolling!r}: must be true or false (balls "
+                             "rolling without slip: inertia 7/5 m l^2, j = 5/7)")
         if plane not in rotor.planes:
             raise SceneError(f'weights[{i}].plane = "{plane}": not a plane of rotor type "{kind}"; '
                              f"planes: {', '.join(rotor.planes)}")
         bal = _balancer(_Table(item, f"weights[{i}]"))
+        if rolling:
+            if bal.type != "balls":
+                raise SceneError(f"weights[{i}].rolling: only for balls")
+            import dataclasses
+
+            bal = dataclasses.replace(bal, inertia=bal.inertia / ROLLING_BALL_J)
+        fr = None
+        if fkeys:
+            for k, v in fkeys.items():
+                if isinstance(v, bool) or not isinstance(v, (int, float)):
+                    raise SceneError(f"weights[{i}].{k} = {v!r}: must be a number")
+            try:
+                fr = Friction(kinetic=fkeys.get("friction", 0.0),
+                              static=fkeys.get("static_friction"),
+                              slip_speed=fkeys.get("slip_speed", 0.02),
+                              dwell_time=fkeys.get("dwell_time", 1.0),
+                              release_time=fkeys.get("release_time", 0.01))
+            except ValueError as exc:
+                raise SceneError(f"weights[{i}]: {exc}") from None
         if bal.count:
-            weights.append(PlaneWeights(plane, bal))
+            weights.append(PlaneWeights(plane, bal, fr))
     dt = _Table(data["drive"], "drive")
     dt.allow(("type", "programme"))
     if dt.string("type", ("speed",), "speed") != "speed":  # pragma: no cover

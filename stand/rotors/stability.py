@@ -75,7 +75,7 @@ def settle(rotor: LinearRotor, weights: Sequence[PlaneWeights], omega: float,
     n, nw, w = model.n, model.nw, model.omega_ref
     y = np.concatenate([run.q[-1] / model.scale, run.weight_angle[-1],
                         run.qd[-1] / (model.scale * w),
-                        np.zeros(nw)])
+                        np.zeros(nw + model.n_adhesion)])
     # weight rates: from the last two samples would be coarse; one revolution
     # of flow from here gives a consistent state
     y[2 * n + nw:] = 0.0
@@ -208,6 +208,6 @@ def main_motion_critical_speeds(rotor: LinearRotor, weights: Sequence[PlaneWeigh
 def _state_guess(rotor, weights, r: MainMotionStability, omega):
     """A guess at another speed: the weights' angles of ``r``, rotor at rest."""
     model = _model(rotor, weights, omega)
-    y = np.zeros(2 * (model.n + model.nw))
+    y = np.zeros(2 * (model.n + model.nw) + model.n_adhesion)
     y[model.n:model.n + model.nw] = r.weight_angles
     return y
