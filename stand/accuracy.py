@@ -1,10 +1,18 @@
 """Error against run time: a scene at a ladder of tolerances and methods.
 
-Each run is compared with an exact solution where one exists (a rotor with no
-weights at constant speed on isotropic supports: the linear oscillator driven
-by the unbalance, solved in closed form from the scene's initial state) or with
-a much tighter reference run, whose own error is estimated by comparing it with
-a second reference ten times looser.
+Each run is compared with an exact solution where one exists -- a rotor with
+no weights on isotropic supports at constant speed (the linear oscillator
+driven by the unbalance, solved in closed form from the scene's initial
+state), or in a run-up at constant angular acceleration from its stationary
+state (the Lewis/Dimentberg closed form of papers digest section 4.2: Fresnel
+integrals, or the Faddeeva function with damping; the paper-001 scene) -- or
+with a much tighter reference run, whose own error is estimated by comparing
+it with a second reference ten times looser.
+
+Fixed-step RK4 (``methods`` containing "RK4", steps from ``rk4_steps``) shows
+the numerical damping of an undamped free whirl: for run-up references the
+report also gives the drift of the free-whirl amplitude |c+| after the
+passage through resonance (constant in the exact motion).
 """
 from __future__ import annotations
 
@@ -17,6 +25,45 @@ from .scene import Scene
 from .simulate import Trajectory, choose_method, simulate
 
 DEFAULT_RTOLS = (1e-4, 1e-6, 1e-8, 1e-10)
+
+
+def runup_params(scene: Scene):
+    """The closed-form run-up parameters of a scene, or None when it does not apply.
+
+    Applies to: no weights, isotropic supports, a speed programme of two nodes
+    (constant angular acceleration a >= 0 from omega_0 > 0, held afterwards, no
+    coast-down), an initial state equal to the stationary whirl at omega_0
+    ((7) of paper 001), unbalance angle 0.  The scene is then model M1 of
+    paper 001 with psi = 1: Omega^2 = c / M, n = d / M, e = s / M,
+    epsilon = a / 2 (papers digest 4.1).  The closed form holds until the
+    programme's last node.
+    """
+    from .balancers.liquid_float import LiquidFloatParams, initial_state as lf_initial
+
+    d = scene.drive
+    s = scene.supports
+    if (scene.balancer.count or d.kind != "speed" or len(d.programme) != 2
+            or d.coast_down_start is not None or s.stiffness_x != s.stiffness_y
+            or s.damping_x != s.damping_y or scene.rotor.unbalance_angle != 0.0
+            or scene.perturbations):
+        return None
+    (t0, w0), (t1, w1) = d.programme
+    if t0 != 0.0 or not (w0 > 0 and w1 >= w0):
+        return None
+    M = scene.total_mass
+    try:
+        p = LiquidFloatParams(Omega_0=float(np.sqrt(s.stiffness_x / M)), psi=1.0,
+                              n=s.damping_x / M, e=scene.rotor.unbalance / M, omega_0=w0,
+                              epsilon=0.5 * (w1 - w0) / t1)
+    except ValueError:
+        return None
+    y0 = lf_initial(p, frame="fixed")
+    ini = scene.initial
+    have = np.array([ini.x, ini.y, ini.vx, ini.vy])
+    scale = np.array([1.0, 1.0, w0, w0]) * abs(complex(y0[0], y0[1]))
+    if not np.all(np.abs(have - y0) <= 1e-9 * scale + 1e-300):
+        return None
+    return p, float(t1)
 
 
 def closed_form_no_balancer(scene: Scene, t: np.ndarray) -> np.ndarray | None:
@@ -63,6 +110,8 @@ class AccuracyRow:
     nfev: int
     n_steps: int
     success: bool
+    step_s: float = float("nan")                 #: fixed step (RK4) [s]
+    free_whirl_drift: float = float("nan")       #: relative change of |c+| after the passage
 
 
 @dataclass
@@ -82,12 +131,15 @@ class AccuracyReport:
         lines = [f"scene: {self.scene}",
                  f"reference: {self.reference} (its own error ~ {self.reference_error_m:.3g} m); "
                  f"max |r| = {self.scale_m:.4g} m",
-                 f"{'method':<8} {'rtol':>8} {'atol':>8} {'max error [m]':>14} {'rel. error':>11} "
-                 f"{'wall [s]':>9} {'RHS evals':>10} {'steps':>8}"]
+                 f"{'method':<8} {'rtol/step':>9} {'atol':>8} {'max error [m]':>14} {'rel. error':>11} "
+                 f"{'wall [s]':>9} {'RHS evals':>10} {'steps':>8} {'free-whirl drift':>17}"]
         for r in self.rows:
-            lines.append(f"{r.method:<8} {r.rtol:>8.0e} {r.atol:>8.0e} {r.max_error_m:>14.3e} "
-                         f"{r.relative_error:>11.3e} {r.wall_time_s:>9.3f} {r.nfev:>10d} {r.n_steps:>8d}"
-                         + ("" if r.success else "  FAILED"))
+            tol = f"{r.step_s:>8.1e}s" if r.method == "RK4" else f"{r.rtol:>9.0e}"
+            atol = "" if r.method == "RK4" else f"{r.atol:.0e}"
+            drift = "" if not np.isfinite(r.free_whirl_drift) else f"{r.free_whirl_drift:.2e}"
+            lines.append(f"{r.method:<8} {tol} {atol:>8} {r.max_error_m:>14.3e} "
+                         f"{r.relative_error:>11.3e} {r.wall_time_s:>9.3f} {r.nfev:>10d} {r.n_steps:>8d} "
+                         f"{drift:>17}" + ("" if r.success else "  FAILED"))
         return "\n".join(lines)
 
 
@@ -95,7 +147,40 @@ def _position(tr: Trajectory) -> np.ndarray:
     return tr.x + 1j * tr.y
 
 
-def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None) -> AccuracyReport:
+def _rk4_run(scene: Scene, step_s: float, t_samples: np.ndarray):
+    """Fixed-step RK4 on the compiled planar RHS; samples at ``t_samples``."""
+    import time
+
+    from .kernels import PLANAR
+    from .rk4 import rk4_loop
+
+    model = build_planar_model(scene)
+    if model.free or model.impulses.size:
+        raise ValueError("RK4 error reports: prescribed-speed scenes without impulses only")
+    dt = float(t_samples[1] - t_samples[0]) if t_samples.size > 1 else float(step_s)
+    every = max(1, int(round(dt / step_s)))
+    h = dt / every
+    n_steps = every * (t_samples.size - 1)
+    y = initial_state(scene, model).astype(float)
+    out = np.full((t_samples.size, y.size), np.nan)
+    t0 = time.perf_counter()
+    nfev = rk4_loop(PLANAR, model.sp, model.wt, model.prog, y, h * model.omega_1, n_steps, every, out)
+    wall = time.perf_counter() - t0
+    L, w1 = model.length, model.omega_1
+    Z = (out[:, 0] + 1j * out[:, 1]) * L
+    Zd = (out[:, 2] + 1j * out[:, 3]) * L * w1
+    return Z, Zd, wall, int(nfev), n_steps, h
+
+
+def _velocity(tr: Trajectory) -> np.ndarray:
+    model = build_planar_model(tr.scene)
+    st = tr.state
+    n = tr.scene.balancer.count
+    k = 2 + n + (1 if model.free else 0)
+    return (st[:, k] + 1j * st[:, k + 1]) * model.length * model.omega_1
+
+
+def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None) -> AccuracyReport:
     """Run ``scene`` at each tolerance and method; errors vs exact or reference.
 
     Parameters
@@ -105,19 +190,44 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None) -> AccuracyReport:
         Relative tolerances; atol = rtol / 100 on the dimensionless state.
     methods : sequence of str, optional
         Default: the automatically chosen method, plus "Radau" for stiff scenes.
+        "RK4" adds fixed-step RK4 runs, one per entry of ``rk4_steps``.
+    rk4_steps : sequence of float, optional
+        RK4 steps [s] (default: 1/20 and 1/40 of the period at the top speed).
     """
+    import math
+
+    from .balancers.runup_closed_form import free_whirl_amplitudes, runup_closed_form_state
+
     auto, _, _ = choose_method(build_planar_model(scene), "auto")
     if methods is None:
         methods = [auto] if auto == "DOP853" else ["Radau", "BDF"]
+    methods = list(methods)
+    want_rk4 = "RK4" in methods
+    methods = [m for m in methods if m != "RK4"]
     ref_method = "DOP853" if auto == "DOP853" else "Radau"
-    exact = None
     runs = {}
     for m in methods:
         for rt in rtols:
             runs[(m, rt)] = simulate(scene, method=m, rtol=rt, atol=rt * 1e-2)
-    t = next(iter(runs.values())).t
+    if runs:
+        t = next(iter(runs.values())).t
+    else:
+        from .simulate import sample_times
+        t = sample_times(scene.run.duration, scene.run.sample_rate)
+    ru = runup_params(scene)
     exact = closed_form_no_balancer(scene, t)
-    if exact is not None:
+    ref_vel = None
+    valid = np.ones(t.size, bool)
+    if ru is not None:
+        params, t_end = ru
+        valid = t <= t_end
+        ref, ref_vel = runup_closed_form_state(params, np.where(valid, t, 0.0))
+        ref = np.where(valid, ref, np.nan)
+        kern = "Fresnel integrals" if params.n == 0 else "Faddeeva function"
+        ref_name = (f"closed form run-up ({kern}; no weights, constant acceleration "
+                    f"{2 * params.epsilon:g} rad/s^2 from the stationary whirl), up to t = {t_end:g} s")
+        ref_err = 0.0
+    elif exact is not None:
         ref = exact
         ref_name = "closed form (no weights, constant speed, isotropic supports)"
         ref_err = 0.0
@@ -129,11 +239,36 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None) -> AccuracyReport:
         ref_name = f"{ref_method} at rtol {tight:.0e}"
         k = min(len(r1.t), len(r2.t))
         ref_err = float(np.max(np.abs(ref[:k] - _position(r2)[:k])))
-    scale = float(np.max(np.abs(ref))) or 1.0
+    scale = float(np.nanmax(np.abs(ref))) or 1.0
+    # free-whirl constants (undamped run-up): compare at the last valid sample
+    drift_ok = ru is not None and ru[0].n == 0.0
+    if drift_ok:
+        kl = int(np.nonzero(valid)[0][-1])
+        c_ref = float(free_whirl_amplitudes(ru[0], t[kl:kl + 1], ref[kl:kl + 1], ref_vel[kl:kl + 1])[0][0])
+
+    def drift(Z, Zd):
+        if not drift_ok or not np.isfinite(Z[kl]):
+            return float("nan")
+        c = float(free_whirl_amplitudes(ru[0], t[kl:kl + 1], Z[kl:kl + 1], Zd[kl:kl + 1])[0][0])
+        return (c - c_ref) / c_ref
+
     rows = []
     for (m, rt), tr in runs.items():
         k = min(len(tr.t), len(ref))
-        err = float(np.max(np.abs(_position(tr)[:k] - ref[:k]))) if k else float("nan")
+        pos = _position(tr)[:k]
+        err = float(np.nanmax(np.abs(pos - ref[:k]))) if k else float("nan")
+        dr = drift(_position(tr), _velocity(tr)) if drift_ok and k > kl else float("nan")
         rows.append(AccuracyRow(m, rt, rt * 1e-2, err, err / scale, tr.stats.wall_time,
-                                tr.stats.nfev, tr.stats.n_steps, tr.stats.success))
+                                tr.stats.nfev, tr.stats.n_steps, tr.stats.success,
+                                free_whirl_drift=dr))
+    if want_rk4:
+        if rk4_steps is None:
+            top = float(np.max(scene.drive.programme[:, 1])) if scene.drive.kind == "speed" else 1.0
+            rk4_steps = (2 * math.pi / top / 20, 2 * math.pi / top / 40)
+        for h in rk4_steps:
+            Z, Zd, wall, nfev, nst, hh = _rk4_run(scene, float(h), t)
+            err = float(np.nanmax(np.abs(Z - ref)))
+            rows.append(AccuracyRow("RK4", float("nan"), float("nan"), err, err / scale, wall,
+                                    nfev, nst, bool(np.all(np.isfinite(Z))), step_s=hh,
+                                    free_whirl_drift=drift(Z, Zd)))
     return AccuracyReport(scene.name, ref_name, ref_err, scale, rows)

@@ -81,7 +81,20 @@ def _cmd_accuracy(args) -> int:
         if not all(0 < r < 1 for r in rtols):
             raise ValueError(f"--rtols = {args.rtols!r}: each tolerance must be in (0, 1)")
     methods = args.methods.split(",") if args.methods else None
-    rep = accuracy(scene, rtols=rtols, methods=methods)
+    steps = None
+    if args.rk4_steps:
+        try:
+            steps = tuple(float(v) for v in args.rk4_steps.split(","))
+        except ValueError:
+            raise ValueError(f"--rk4-steps = {args.rk4_steps!r}: comma-separated steps in s") from None
+        if not all(v > 0 for v in steps):
+            raise ValueError(f"--rk4-steps = {args.rk4_steps!r}: steps must be > 0 (s)")
+    if methods:
+        from .scene import METHODS
+        bad = [m for m in methods if m not in METHODS and m != "RK4"]
+        if bad:
+            raise ValueError(f"--methods: unknown {', '.join(bad)}; valid: {', '.join(METHODS)}, RK4")
+    rep = accuracy(scene, rtols=rtols, methods=methods, rk4_steps=steps)
     if args.json:
         print(json.dumps(_jsonable(rep.to_dict()), indent=2))
     else:
@@ -473,7 +486,9 @@ def build_parser() -> argparse.ArgumentParser:
     a.add_argument("scene", help="scene file (TOML)")
     a.add_argument("--json", action="store_true", help="print JSON instead of a table")
     a.add_argument("--rtols", default=None, help="comma-separated relative tolerances")
-    a.add_argument("--methods", default=None, help="comma-separated methods (default: automatic)")
+    a.add_argument("--methods", default=None,
+                   help="comma-separated methods (default: automatic); RK4 = fixed-step RK4")
+    a.add_argument("--rk4-steps", default=None, help="RK4 steps [s], comma-separated")
     a.set_defaults(func=_cmd_accuracy)
     t = sub.add_parser("theory", help="steady motions, stability bands, critical speeds, stuck-ball law")
     t.add_argument("scene", help="scene file (TOML)")
