@@ -94,6 +94,28 @@ def _cmd_accuracy(args) -> int:
         bad = [m for m in methods if m not in METHODS and m != "RK4"]
         if bad:
             raise ValueError(f"--methods: unknown {', '.join(bad)}; valid: {', '.join(METHODS)}, RK4")
+    if args.output or args.json_file:
+        from .reports.accuracy_report import accuracy_report
+
+        for o in (args.output, args.json_file):
+            if o and not Path(o).resolve().parent.is_dir():
+                raise FileNotFoundError(f"output directory of {o!r} does not exist")
+
+        doc = accuracy_report(scene, rtols=rtols if args.rtols else (1e-4, 1e-6, 1e-8, 1e-10),
+                              methods=methods, rk4_steps=steps, html_path=args.output,
+                              json_path=args.json_file)
+        if args.json:
+            print(json.dumps(doc, indent=2))
+        else:
+            rec = doc["recommended"]
+            print(f"{scene.name}: {len(doc['runs'])} runs against {doc['reference']['name']}; "
+                  f"recommended: {rec.get('method')} "
+                  + (f"rtol {rec['rtol']:g}" if rec.get("rtol") else f"step {rec.get('step_s')}")
+                  + (f" ({rec['relative_error']:.2g} relative error, {rec['wall_time_s']:.3g} s)"
+                     if rec.get("relative_error") is not None else "")
+                  + ("" if rec.get("reached") else " -- the target was not reached")
+                  + (f" -> {args.output}" if args.output else ""))
+        return 0
     rep = accuracy(scene, rtols=rtols, methods=methods, rk4_steps=steps)
     if args.json:
         print(json.dumps(_jsonable(rep.to_dict()), indent=2))
@@ -489,6 +511,9 @@ def build_parser() -> argparse.ArgumentParser:
     a.add_argument("--methods", default=None,
                    help="comma-separated methods (default: automatic); RK4 = fixed-step RK4")
     a.add_argument("--rk4-steps", default=None, help="RK4 steps [s], comma-separated")
+    a.add_argument("-o", "--output", default=None,
+                   help="write the report as self-contained HTML (work-precision plot, recommendation)")
+    a.add_argument("--json-file", default=None, help="write the report's JSON to this file")
     a.set_defaults(func=_cmd_accuracy)
     t = sub.add_parser("theory", help="steady motions, stability bands, critical speeds, stuck-ball law")
     t.add_argument("scene", help="scene file (TOML)")

@@ -1,0 +1,108 @@
+"""Error against run time (`stand accuracy -o accuracy.html`): the accuracy
+ladder of :mod:`stand.accuracy` as a report with a work-precision plot and the
+recommended setting for the scene."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .html import check_schema, figure_png, write_report
+
+__all__ = ["accuracy_report", "recommend", "SCHEMA", "DEFAULT_TARGET"]
+
+DEFAULT_TARGET = 1e-6     #: relative error a recommended setting must reach
+
+SCHEMA = {
+    "scene": "string",
+    "reference": {"name": "string", "own_error_m": "number|null", "scale_m": "number"},
+    "runs": "list",
+    "recommended": "object",
+    "units": "object",
+}
+ROW_SCHEMA = {"method": "string", "rtol": "number|null", "step_s": "number|null",
+              "max_error_m": "number|null", "relative_error": "number|null",
+              "wall_time_s": "number", "rhs_evaluations": "number", "steps": "number",
+              "success": "bool", "free_whirl_drift": "number|null"}
+
+
+def recommend(rows, target: float = DEFAULT_TARGET) -> dict:
+    """The fastest successful run whose relative error is <= target (or, if none
+    reaches it, the most accurate run, flagged)."""
+    ok = [r for r in rows if r["success"] and r["relative_error"] is not None]
+    good = [r for r in ok if r["relative_error"] <= target]
+    if good:
+        best = min(good, key=lambda r: r["wall_time_s"])
+        return {"target_relative_error": target, "reached": True, **best}
+    if ok:
+        best = min(ok, key=lambda r: r["relative_error"])
+        return {"target_relative_error": target, "reached": False, **best}
+    return {"target_relative_error": target, "reached": False}
+
+
+def _rows(rep) -> list:
+    out = []
+    for r in rep.rows:
+        out.append({"method": r.method, "rtol": None if r.method == "RK4" else r.rtol,
+                    "atol": None if r.method == "RK4" else r.atol,
+                    "step_s": r.step_s if r.method == "RK4" else None,
+                    "max_error_m": r.max_error_m, "relative_error": r.relative_error,
+                    "wall_time_s": r.wall_time_s, "rhs_evaluations": r.nfev, "steps": r.n_steps,
+                    "success": bool(r.success),
+                    "free_whirl_drift": r.free_whirl_drift if math.isfinite(r.free_whirl_drift) else None})
+    return out
+
+
+def _plot(rows, title):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    for m in sorted({r["method"] for r in rows}):
+        pts = [(r["wall_time_s"], r["relative_error"]) for r in rows
+               if r["method"] == m and r["relative_error"] and r["wall_time_s"] > 0]
+        if pts:
+            x, y = zip(*sorted(pts))
+            ax.loglog(x, y, "o-", label=m)
+    ax.set_xlabel("wall time [s]")
+    ax.set_ylabel("max error / max |r|")
+    ax.set_title(title)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    return figure_png(fig)
+
+
+def accuracy_report(scene, *, rtols=(1e-4, 1e-6, 1e-8, 1e-10), methods=None, rk4_steps=None,
+                    target: float = DEFAULT_TARGET, html_path=None, json_path=None) -> dict:
+    """Run the accuracy ladder and write the report (HTML and/or JSON).
+
+    ``methods`` default: the compiled DOP853, scipy's LSODA and Radau, and
+    fixed-step RK4 (every available class of method).
+    """
+    from ..accuracy import accuracy
+
+    if methods is None:
+        methods = ["DOP853", "LSODA", "Radau", "RK4"]
+    rep = accuracy(scene, rtols=rtols, methods=methods, rk4_steps=rk4_steps)
+    rows = _rows(rep)
+    doc = {
+        "scene": rep.scene,
+        "reference": {"name": rep.reference, "own_error_m": rep.reference_error_m,
+                      "scale_m": rep.scale_m},
+        "runs": rows,
+        "recommended": recommend(rows, target),
+        "units": {"max_error_m": "m (max over the samples of |r - r_ref|, r = x + i y)",
+                  "relative_error": "max error / max |r_ref|", "wall_time_s": "s",
+                  "step_s": "s (fixed-step RK4)", "free_whirl_drift":
+                  "relative change of the free-whirl amplitude |c+| at the end of the run-up"},
+    }
+    figs = {"work-precision: error against wall time": _plot(rows, rep.scene)} if html_path else None
+    plain = write_report(f"Error against run time: {rep.scene}", doc, html_path, json_path, figs,
+                         sections=("scene", "recommended", "reference", "runs", "units"))
+    problems = check_schema(plain, SCHEMA)
+    for i, r in enumerate(plain["runs"]):
+        problems += check_schema(r, ROW_SCHEMA, f"runs[{i}].")
+    if problems:   # pragma: no cover - a programming error
+        raise AssertionError("accuracy report does not match its schema: " + "; ".join(problems))
+    return plain

@@ -1,0 +1,191 @@
+"""Self-contained HTML reports built from a JSON document (the source of truth).
+
+A report is a dict (JSON-serialisable, SI units named in the keys, e.g.
+``unbalance_gmm``, ``speed_hz``) plus matplotlib figures.  :func:`render_html`
+writes one HTML file with the figures embedded as PNG data URIs and every
+number taken from the document (no external URL in ``src``/``href`` except
+``#anchors``); all text from inputs is escaped.  :func:`write_report` writes
+the HTML and the JSON atomically (temporary file + rename).
+"""
+from __future__ import annotations
+
+import base64
+import html
+import io
+import json
+import math
+import os
+import tempfile
+from pathlib import Path
+from typing import Any, Iterable, Mapping
+
+__all__ = ["figure_png", "render_html", "write_report", "atomic_write_text", "jsonable",
+           "check_schema"]
+
+CSS = """body{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}
+table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #bbb;padding:.25em .6em;
+text-align:left;vertical-align:top}th{background:#eee}.fail{color:#b00;font-weight:bold}
+.pass{color:#070;font-weight:bold}.warn{color:#a60}img{max-width:100%}code{background:#f4f4f4}"""
+
+
+def jsonable(x: Any) -> Any:
+    """Plain JSON types: numpy scalars/arrays to Python, non-finite floats to None."""
+    import numpy as np
+
+    if isinstance(x, Mapping):
+        return {str(k): jsonable(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [jsonable(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return jsonable(x.tolist())
+    if isinstance(x, (np.floating, float)):
+        v = float(x)
+        return v if math.isfinite(v) else None
+    if isinstance(x, (np.integer,)):
+        return int(x)
+    if isinstance(x, (np.bool_,)):
+        return bool(x)
+    return x
+
+
+def figure_png(fig) -> str:
+    """A matplotlib figure as a ``data:image/png;base64,...`` URI (figure closed)."""
+    import matplotlib.pyplot as plt
+
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=90, bbox_inches="tight")
+    plt.close(fig)
+    return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
+
+
+def _fmt(v: Any) -> str:
+    if v is None:
+        return "—"
+    if isinstance(v, bool):
+        return "yes" if v else "no"
+    if isinstance(v, float):
+        return f"{v:.6g}"
+    if isinstance(v, (list, tuple)):
+        return ", ".join(_fmt(x) for x in v)
+    return str(v)
+
+
+def _table(d: Mapping) -> str:
+    rows = []
+    for k, v in d.items():
+        if isinstance(v, Mapping):
+            cell = _table(v)
+        elif isinstance(v, list) and v and all(isinstance(r, Mapping) for r in v):
+            cell = _rows_table(v)
+        else:
+            cell = html.escape(_fmt(v))
+        rows.append(f"<tr><th>{html.escape(str(k))}</th><td>{cell}</td></tr>")
+    return "<table>" + "".join(rows) + "</table>"
+
+
+def _rows_table(rows: Iterable[Mapping]) -> str:
+    rows = list(rows)
+    keys = []
+    for r in rows:
+        for k in r:
+            if k not in keys:
+                keys.append(k)
+    head = "".join(f"<th>{html.escape(str(k))}</th>" for k in keys)
+    body = []
+    for r in rows:
+        cells = []
+        for k in keys:
+            v = r.get(k)
+            cls = ""
+            if k in ("pass", "passed", "ok") and isinstance(v, bool):
+                cls = ' class="pass"' if v else ' class="fail"'
+            cells.append(f"<td{cls}>{_table(v) if isinstance(v, Mapping) else html.escape(_fmt(v))}</td>")
+        body.append("<tr>" + "".join(cells) + "</tr>")
+    return f"<table><tr>{head}</tr>{''.join(body)}</table>"
+
+
+def render_html(title: str, doc: Mapping, figures: Mapping[str, str] | None = None,
+                sections: Iterable[str] | None = None) -> str:
+    """HTML text: a title, one section per top-level key of ``doc`` (in
+    ``sections`` order if given), tables of its values, then the figures
+    (``{caption: data URI}``)."""
+    parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
+             f"<style>{CSS}</style></head><body><h1>{html.escape(title)}</h1>"]
+    keys = list(sections) if sections is not None else list(doc)
+    parts.append("<p>" + " · ".join(f"<a href='#{html.escape(k)}'>{html.escape(k)}</a>" for k in keys)
+                 + (" · <a href='#figures'>figures</a>" if figures else "") + "</p>")
+    for k in keys:
+        if k not in doc:
+            continue
+        v = doc[k]
+        parts.append(f"<h2 id='{html.escape(k)}'>{html.escape(k.replace('_', ' '))}</h2>")
+        if isinstance(v, Mapping):
+            parts.append(_table(v))
+        elif isinstance(v, list) and v and all(isinstance(r, Mapping) for r in v):
+            parts.append(_rows_table(v))
+        elif isinstance(v, list):
+            parts.append("<ul>" + "".join(f"<li>{html.escape(_fmt(x))}</li>" for x in v) + "</ul>")
+        else:
+            parts.append(f"<p>{html.escape(_fmt(v))}</p>")
+    if figures:
+        parts.append("<h2 id='figures'>figures</h2>")
+        for cap, uri in figures.items():
+            if not str(uri).startswith("data:image/png;base64,"):
+                raise ValueError(f"figure {cap!r}: only embedded PNG data URIs are allowed")
+            parts.append(f"<figure><img alt='{html.escape(cap)}' src='{uri}'>"
+                         f"<figcaption>{html.escape(cap)}</figcaption></figure>")
+    parts.append("</body></html>")
+    return "\n".join(parts)
+
+
+def atomic_write_text(path, text: str) -> Path:
+    """Write ``text`` to ``path`` through a temporary file in the same directory."""
+    path = Path(path)
+    if not path.resolve().parent.is_dir():
+        raise FileNotFoundError(f"output directory of {str(path)!r} does not exist")
+    fd, tmp = tempfile.mkstemp(dir=str(path.resolve().parent), prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+    return path
+
+
+def write_report(title: str, doc: Mapping, html_path=None, json_path=None, figures=None,
+                 sections=None) -> dict:
+    """Write the HTML and/or the JSON of a report; returns the plain JSON document."""
+    plain = jsonable(doc)
+    if json_path:
+        atomic_write_text(json_path, json.dumps(plain, indent=2))
+    if html_path:
+        atomic_write_text(html_path, render_html(title, plain, figures, sections))
+    return plain
+
+
+def check_schema(doc: Mapping, schema: Mapping, where: str = "") -> list:
+    """Minimal structural check: ``schema`` maps required keys to a type name
+    ("number", "string", "bool", "list", "object", "number|null") or to a
+    nested schema (dict).  Returns a list of problems (empty when valid)."""
+    problems = []
+    types = {"number": (int, float), "string": (str,), "bool": (bool,), "list": (list,),
+             "object": (dict,)}
+    for k, t in schema.items():
+        if k not in doc:
+            problems.append(f"{where}{k}: missing")
+            continue
+        v = doc[k]
+        if isinstance(t, Mapping):
+            if not isinstance(v, Mapping):
+                problems.append(f"{where}{k}: expected an object")
+            else:
+                problems += check_schema(v, t, f"{where}{k}.")
+            continue
+        opts = t.split("|")
+        ok = any((o == "null" and v is None) or (o in types and isinstance(v, types[o])
+                 and not (o == "number" and isinstance(v, bool))) for o in opts)
+        if not ok:
+            problems.append(f"{where}{k}: expected {t}, got {type(v).__name__}")
+    return problems
