@@ -42,6 +42,9 @@ def _cmd_run(args) -> int:
 
     if is_family_scene(args.scene):
         return _run_family(args)
+    from .balancers.scene import is_weight_model_scene
+    if is_weight_model_scene(args.scene):
+        return _run_weight_model(args)
     scene = load_scene(args.scene)
     out = check_output_path(args.output)  # before the run, not after it
     traj, writer = run_with_instruments(scene, method=args.method,
@@ -161,6 +164,18 @@ def _run_family(args) -> int:
     return 0
 
 
+def _run_weight_model(args) -> int:
+    from .balancers.scene import load_weight_model, run_weight_model, write_weight_model_recording
+    from .recording import check_output_path
+
+    sc = load_weight_model(args.scene)
+    out = check_output_path(args.output)
+    t, states, stats = run_weight_model(sc)
+    write_weight_model_recording(sc, t, states, stats, out)
+    print(f"{sc.name} ({sc.kind}): {stats['message']} [{stats['nfev']} RHS evaluations] -> {out}")
+    return 0 if stats["success"] else 1
+
+
 def _theory_family(args) -> int:
     from .rotors.run import family_theory
     from .rotors.scene import load_family_scene
@@ -196,6 +211,24 @@ def _cmd_theory(args) -> int:
 
     if is_family_scene(args.scene):
         return _theory_family(args)
+    from .balancers.scene import is_weight_model_scene
+    if is_weight_model_scene(args.scene):
+        from .balancers.scene import load_weight_model, model_theory
+
+        doc = model_theory(load_weight_model(args.scene))
+        if args.json:
+            print(json.dumps(_jsonable(doc), indent=2))
+            return 0
+        print(f"{doc['scene']}: weight model {doc['type']} ({doc['source']})")
+        for m in doc.get("steady_motions", []):
+            label = m.get("label") or m.get("kind")
+            print(f"  steady motion {label}: phi = {m.get('phi')}, psi = {m.get('psi')}, "
+                  f"{'stable' if m.get('stable') else 'unstable'}")
+        for k in ("quasi_periodic", "quasi_periodic_frequency", "quasi_periodic_family_limit",
+                  "efficiency", "runup_extrema", "quasi_static_efficiency"):
+            if k in doc:
+                print(f"  {k}: {json.dumps(_jsonable(doc[k]))[:400]}")
+        return 0
     scene = load_scene(args.scene)
     if args.plot and not Path(args.plot).resolve().parent.exists():
         raise FileNotFoundError(f"plot directory {str(Path(args.plot).parent)!r} does not exist")

@@ -1,0 +1,55 @@
+"""[weight_model] scenes: stand theory / stand run for every weight type of issue 8."""
+import json
+
+import h5py
+import numpy as np
+import pytest
+
+from stand.balancers.scene import load_weight_model, model_theory
+from stand.cli import main
+from stand.scene import SceneError
+
+S = "data_samples/scenes/weight_{}.toml"
+
+
+@pytest.mark.parametrize("kind", ["two_axis", "gravity_pair", "damper", "liquid_float",
+                                  "liquid_chamber"])
+def test_theory_json(kind, capsys):
+    assert main(["theory", S.format(kind), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["type"] == kind
+
+
+@pytest.mark.parametrize("kind", ["two_axis", "gravity_pair"])
+def test_run_ends_on_a_stable_steady_motion_of_the_theory(kind, tmp_path):
+    """The weight's tilt angle phi at the end of the run equals the phi of one
+    of the steady motions the theory calls stable (within 1e-3 rad)."""
+    out = tmp_path / "r.h5"
+    assert main(["run", S.format(kind), "-o", str(out)]) == 0
+    with h5py.File(out) as f:
+        phi_end = f["state"][-1, 0]
+        assert json.loads(f["state"].attrs["columns"])[0] == "phi"
+    stable = [m["phi"] for m in model_theory(load_weight_model(S.format(kind)))["steady_motions"]
+              if m["stable"]]
+    assert min(abs(phi_end - p) for p in stable) < 1e-3
+
+
+def test_liquid_float_run_peak_matches_the_closed_form(tmp_path):
+    out = tmp_path / "r.h5"
+    assert main(["run", S.format("liquid_float"), "-o", str(out)]) == 0
+    with h5py.File(out) as f:
+        s = f["state"][:]
+    delta = np.hypot(s[:, 0], s[:, 1]).max() / 1e-4
+    th = model_theory(load_weight_model(S.format("liquid_float")))["runup_extrema"]
+    assert delta == pytest.approx(th["delta_star_over_e"], rel=2e-3)   # sampled at 2.25 ms
+
+
+def test_bad_weight_model_scene(tmp_path):
+    p = tmp_path / "b.toml"
+    p.write_text('[weight_model]\ntype = "damper"\nR_m = "x"\n')
+    with pytest.raises(SceneError, match="R_m"):
+        load_weight_model(p)
+    p.write_text('[weight_model]\ntype = "nope"\n')
+    with pytest.raises(SceneError, match="valid"):
+        load_weight_model(p)
+    assert main(["run", S.format("liquid_chamber"), "-o", str(tmp_path / "c.h5")]) == 2
