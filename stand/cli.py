@@ -349,8 +349,22 @@ def _cmd_analyze(args) -> int:
     from dsp.errors import SignalError
 
     from .analyze import analyze
+    from .batch import analyze_row, expand_sources, is_batch_source, run_batch, write_table
     from .recording import RecordingError
 
+    if is_batch_source(args.recording):
+        files = expand_sources(args.recording)
+        if not args.output:
+            raise ValueError("a folder or glob needs -o SUMMARY.csv|.parquet (one row per recording)")
+        if not Path(args.output).resolve().parent.is_dir():
+            raise FileNotFoundError(f"output directory of {args.output!r} does not exist")
+        df = run_batch(files, analyze_row, workers=args.workers, scheduler=args.scheduler,
+                       progress=sys.stderr.isatty(), grade_mm_s=args.grade,
+                       service_speed_rpm=args.service_speed)
+        write_table(df, args.output)
+        bad = int((df["status"] != "ok").sum())
+        print(f"{len(df)} recordings analysed ({bad} failed) -> {args.output}")
+        return 0
     if not Path(args.recording).exists():
         raise FileNotFoundError(f"recording not found: {args.recording}")
     try:
@@ -586,10 +600,15 @@ def build_parser() -> argparse.ArgumentParser:
     e.add_argument("--deflection", type=float, help="initial shaft deflection [m]")
     e.set_defaults(func=_cmd_experiment)
     a2 = sub.add_parser("analyze", help="identify f0, damping, unbalance, components, regime from a recording")
-    a2.add_argument("recording", help="HDF5 recording, or CSV with columns t_s, x_m, y_m[, rotor_angle_rad | keyphasor]")
+    a2.add_argument("recording", help="HDF5 recording, or CSV with columns t_s, x_m, y_m[, rotor_angle_rad | keyphasor]; "
+                    "or a folder / glob of them (with -o)")
     a2.add_argument("--json", action="store_true", help="print JSON")
     a2.add_argument("--grade", type=float, default=6.3, help="ISO 21940-11 target grade G [mm/s]")
     a2.add_argument("--service-speed", type=float, default=None, help="service speed [rpm] (default: the recorded speed)")
+    a2.add_argument("-o", "--output", default=None,
+                    help="folder/glob input: write one summary table (CSV, or .parquet)")
+    a2.add_argument("--workers", type=int, default=None, help="local worker processes (default: all cores)")
+    a2.add_argument("--scheduler", default=None, help="dask.distributed scheduler address (tcp://...)")
     a2.set_defaults(func=_cmd_analyze)
     tk = sub.add_parser("track", help="sub-pixel laser-spot track from frames (HDF5, video, images)")
     tk.add_argument("source", help="recording.h5[:dataset], video file, image folder or glob")
