@@ -15,6 +15,7 @@ still written); 2 invalid input (scene, arguments, files).
 from __future__ import annotations
 
 import argparse
+import math
 import json
 import sys
 from pathlib import Path
@@ -48,7 +49,8 @@ def _cmd_run(args) -> int:
     scene = load_scene(args.scene)
     out = check_output_path(args.output)  # before the run, not after it
     traj, writer = run_with_instruments(scene, method=args.method,
-                                        progress=not args.no_progress and sys.stderr.isatty())
+                                        progress=not args.no_progress and sys.stderr.isatty(),
+                                        checkpoint=args.checkpoint)
     write_recording(traj, out, writer=writer)
     summ = traj.summary()
     final = summ.get("final") or {}
@@ -161,6 +163,73 @@ def _run_family(args) -> int:
     if not run.success:
         print(f"stand run: {run.stats['message']}", file=sys.stderr)
         return 1
+    return 0
+
+
+def _grade(text) -> float:
+    t = str(text).strip().upper()
+    try:
+        g = float(t[1:] if t.startswith("G") else t)
+    except ValueError:
+        raise ValueError(f"--grade = {text!r}: an ISO 21940-11 grade such as G6.3 or 6.3 (mm/s)") from None
+    if not (math.isfinite(g) and g > 0):
+        raise ValueError(f"--grade = {text!r}: must be > 0 (mm/s)")
+    return g
+
+
+def _report_row(path, grade, service_speed_rpm, html_dir):
+    """One row of a batch report (never raises): writes <stem>.html next to the others."""
+    from .reports.balancing import balancing_report
+
+    row = {"file": path, "status": "ok", "error": "", "report": ""}
+    try:
+        out = str(Path(html_dir) / (Path(path).stem + ".html")) if html_dir else None
+        doc = balancing_report(path, grade=grade, service_speed_rpm=service_speed_rpm, html_path=out)
+        row["report"] = out or ""
+        q = doc.get("balancing_quality", {})
+        for k, v in q.items():
+            if isinstance(v, (int, float, str, bool)) or v is None:
+                row[k] = v
+        iso = q.get("iso_21940_11") or {}
+        row["iso_passed"] = iso.get("passed")
+        row["achieved_grade_mm_s"] = iso.get("achieved_grade_mm_s")
+        row["warnings"] = len(doc.get("warnings", []))
+    except Exception as exc:   # reported in the row: one bad file must not stop the batch
+        row.update(status="error", error=f"{type(exc).__name__}: {exc}")
+    return row
+
+
+def _cmd_report(args) -> int:
+    from .batch import expand_sources, is_batch_source, run_batch, write_table
+
+    grade = _grade(args.grade)
+    for o in (args.output, args.json):
+        if o and not Path(o).resolve().parent.is_dir():
+            raise FileNotFoundError(f"output directory of {o!r} does not exist")
+    if is_batch_source(args.recording):
+        files = expand_sources(args.recording)
+        summary = args.summary or str(Path(args.output).with_suffix(".csv")) if args.output else args.summary
+        if not summary:
+            raise ValueError("a folder or glob needs --summary SUMMARY.csv (and optionally -o DIR/ for the HTML files)")
+        html_dir = args.output if args.output and Path(args.output).is_dir() else None
+        df = run_batch(files, _report_row, workers=args.workers, scheduler=args.scheduler,
+                       progress=sys.stderr.isatty(), grade=grade,
+                       service_speed_rpm=args.service_speed, html_dir=html_dir)
+        write_table(df, summary)
+        print(f"{len(df)} recordings reported ({int((df['status'] != 'ok').sum())} failed) -> {summary}")
+        return 0
+    from .reports.balancing import balancing_report
+
+    if not args.output and not args.json:
+        raise ValueError("stand report: give -o REPORT.html and/or --json REPORT.json")
+    doc = balancing_report(args.recording, grade=grade, service_speed_rpm=args.service_speed,
+                           html_path=args.output, json_path=args.json)
+    q = doc.get("balancing_quality", {})
+    print(f"{args.recording}: report -> {args.output or args.json}"
+          + (f"; residual {q.get('residual_unbalance_gmm'):.4g} g mm" if isinstance(q.get('residual_unbalance_gmm'), (int, float)) else "")
+          + (f", ISO 21940-11 G{grade:g}: {'pass' if q['iso_21940_11'].get('passed') else 'fail'}"
+             if isinstance(q.get("iso_21940_11"), dict) and q["iso_21940_11"].get("passed") is not None else "")
+          + f"; {len(doc.get('warnings', []))} warning(s)")
     return 0
 
 
@@ -544,12 +613,25 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = argparse.ArgumentParser(prog="stand", description="Virtual autobalancer test stand")
     sub = p.add_subparsers(dest="command", required=True)
+    rp = sub.add_parser("report", help="balancing-quality report (HTML + JSON) of a recording, or a folder/glob")
+    rp.add_argument("recording", help="HDF5 or CSV recording, or a folder / glob of them")
+    rp.add_argument("-o", "--output", default=None, help="HTML report (batch: a directory for one HTML per file)")
+    rp.add_argument("--json", default=None, help="JSON report (the source of the HTML)")
+    rp.add_argument("--grade", default="G6.3", help="ISO 21940-11 grade (G6.3 or 6.3, mm/s)")
+    rp.add_argument("--service-speed", type=float, default=None, help="service speed [rpm]")
+    rp.add_argument("--summary", default=None, help="batch: summary table (CSV or .parquet)")
+    rp.add_argument("--workers", type=int, default=None, help="batch: local worker processes")
+    rp.add_argument("--scheduler", default=None, help="batch: dask.distributed scheduler address")
+    rp.set_defaults(func=_cmd_report)
     r = sub.add_parser("run", help="simulate a scene and write an HDF5 recording")
     r.add_argument("scene", help="scene file (TOML)")
     r.add_argument("-o", "--output", required=True, help="recording to write (HDF5)")
     r.add_argument("--json", action="store_true", help="print a JSON summary")
     r.add_argument("--method", choices=METHODS, default=None, help="override run.method")
     r.add_argument("--no-progress", action="store_true", help="no progress bar")
+    r.add_argument("--checkpoint", default=None,
+                   help="long runs: save the integrator state to this .npz file as it goes and "
+                        "resume from it when it exists (deleted at the end)")
     r.set_defaults(func=_cmd_run)
     a = sub.add_parser("accuracy", help="error against run time over tolerances and methods")
     a.add_argument("scene", help="scene file (TOML)")

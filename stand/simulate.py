@@ -18,6 +18,7 @@ import json
 import math
 import time as _time
 from dataclasses import asdict, dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -196,7 +197,7 @@ def choose_method(model: PlanarModel, requested: str) -> tuple[str, float, str]:
 
 def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
              atol: float | None = None, progress: bool = False,
-             extra_times=None) -> Trajectory:
+             extra_times=None, checkpoint=None, checkpoint_steps: int = CHUNK_STEPS) -> Trajectory:
     """Integrate a scene.
 
     Parameters
@@ -214,6 +215,15 @@ def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
         the same dense output in the same run and returned as
         ``trajectory.extra`` (a Trajectory of its own); the recording grid is
         unchanged.
+    checkpoint : path, optional
+        Long runs (compiled DOP853 only): the integrator's state and the samples
+        so far are saved to this ``.npz`` file after every chunk of steps
+        (atomically: temporary file + rename; no pickle).  If the file exists
+        when the run starts and belongs to the same scene and settings, the run
+        resumes from it (same steps, same samples as an uninterrupted run); it
+        is deleted when the run ends.  A killed run loses at most one chunk.
+    checkpoint_steps : int
+        Steps between checkpoints (default 200 000, a few seconds of work).
 
     Returns
     -------
@@ -241,7 +251,15 @@ def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
     _warm_up(model)  # compile / load the kernels outside the timed region
     t0 = _time.perf_counter()
     if method == "DOP853":
-        k = _run_dop853(model, y0, tau_end, rtol, atol, ts, out, stats, run.max_steps, progress)
+        ck = None
+        if checkpoint is not None:
+            ck = _Checkpoint(checkpoint, _fingerprint(scene, method, rtol, atol, ts, model.size))
+        k = _run_dop853(model, y0, tau_end, rtol, atol, ts, out, stats, run.max_steps, progress, ck,
+                        int(checkpoint_steps) if ck is not None else CHUNK_STEPS)
+        if ck is not None and stats.success:
+            ck.remove()
+    elif checkpoint is not None:
+        raise SceneError(f"checkpoint: only with the compiled DOP853 method (this run uses {method})")
     else:
         k = _run_scipy(model, y0, tau_end, rtol, atol, ts, out, stats, method, run.max_steps)
     stats.wall_time = _time.perf_counter() - t0
@@ -284,7 +302,64 @@ def _segments(model: PlanarModel, tau_end: float) -> list[float]:
     return bp + [tau_end]
 
 
-def _run_dop853(model, y0, tau_end, rtol, atol, ts, out, stats, max_steps, progress):
+def _fingerprint(scene, method, rtol, atol, ts, size) -> str:
+    import hashlib
+
+    h = hashlib.sha256()
+    for part in (scene.text or repr(scene), method, repr(rtol), repr(atol), repr(size)):
+        h.update(part.encode("utf-8"))
+    h.update(np.ascontiguousarray(ts).tobytes())
+    return h.hexdigest()
+
+
+class _Checkpoint:
+    """State of an interrupted compiled-DOP853 run in an ``.npz`` file (no pickle)."""
+
+    def __init__(self, path, fingerprint: str):
+        import os
+
+        self.path = Path(path)
+        self.fp = fingerprint
+        if not self.path.resolve().parent.is_dir():
+            raise FileNotFoundError(f"checkpoint directory of {str(self.path)!r} does not exist")
+        self._os = os
+
+    def load(self):
+        if not self.path.exists():
+            return None
+        try:
+            with np.load(self.path, allow_pickle=False) as z:
+                d = {k: z[k] for k in z.files}
+        except (OSError, ValueError) as exc:
+            raise SceneError(f"checkpoint {str(self.path)!r} is not readable ({exc}); delete it "
+                             "to start the run afresh") from None
+        if str(d.get("fingerprint")) != self.fp:
+            raise SceneError(f"checkpoint {str(self.path)!r} belongs to another scene or other "
+                             "settings; delete it or choose another file")
+        return d
+
+    def save(self, t, y, h, k_next, seg_done, st, out):
+        import tempfile
+
+        fd, tmp = tempfile.mkstemp(dir=str(self.path.resolve().parent),
+                                   prefix=f".{self.path.name}.", suffix=".tmp.npz")
+        self._os.close(fd)
+        try:
+            np.savez(tmp, fingerprint=np.array(self.fp), t=np.array(t), y=y, h=np.array(h),
+                     k_next=np.array(k_next), seg_done=np.array(seg_done), st=st,
+                     out=out[:k_next])
+            self._os.replace(tmp, self.path)
+        finally:
+            if self._os.path.exists(tmp):
+                self._os.remove(tmp)
+
+    def remove(self):
+        if self.path.exists():
+            self.path.unlink()
+
+
+def _run_dop853(model, y0, tau_end, rtol, atol, ts, out, stats, max_steps, progress, ck=None,
+                chunk=CHUNK_STEPS):
     sp, wt, prog = model.sp, model.wt, model.prog
     cap = np.where(model.angle_mask(), np.pi, np.inf)
     y = y0.copy()
@@ -300,11 +375,22 @@ def _run_dop853(model, y0, tau_end, rtol, atol, ts, out, stats, max_steps, progr
     h = _initial_step(model, y, f, rtol, atol, cap)
     t = 0.0
     k_next = 1
+    seg_done = 0
+    saved = ck.load() if ck is not None else None
+    if saved is not None:     # resume an interrupted run
+        t, h = float(saved["t"]), float(saved["h"])
+        y[:] = saved["y"]
+        k_next, seg_done = int(saved["k_next"]), int(saved["seg_done"])
+        st[:] = saved["st"]
+        out[:k_next] = saved["out"]
+        rhs_planar(t, y, f, sp, wt, prog)
     bar = _progress_bar(tau_end / model.omega_1) if progress else None
     status = REACHED_END
-    for seg_end in _segments(model, tau_end):
+    for i_seg, seg_end in enumerate(_segments(model, tau_end)):
+        if i_seg < seg_done:
+            continue
         while t < seg_end:
-            budget = min(CHUNK_STEPS, max_steps - int(st[0] + st[1]))
+            budget = min(chunk, max_steps - int(st[0] + st[1]))
             if budget <= 0:
                 status = STEP_BUDGET
                 break
@@ -315,12 +401,17 @@ def _run_dop853(model, y0, tau_end, rtol, atol, ts, out, stats, max_steps, progr
                 bar.update(t / model.omega_1 - bar.n)
             if status not in (REACHED_END, STEP_BUDGET):
                 break
+            if ck is not None and t < seg_end:
+                ck.save(t, y, h, k_next, seg_done, st, out)
         if t < seg_end:
             break
         if seg_end < tau_end:  # restart the derivative after a kink of the programme
             _apply_impulses(model, t, y)
             rhs_planar(t, y, f, sp, wt, prog)
             st[2] += 1
+        seg_done = i_seg + 1
+        if ck is not None and seg_end < tau_end:
+            ck.save(t, y, h, k_next, seg_done, st, out)
     if bar is not None:
         bar.close()
     stats.n_steps, stats.n_rejected, stats.nfev = int(st[0]), int(st[1]), int(st[2])

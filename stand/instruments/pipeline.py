@@ -59,7 +59,8 @@ def _screen_plan(scene: Scene):
     return cam, starts, times
 
 
-def run_with_instruments(scene: Scene, method: str | None = None, progress: bool = False):
+def run_with_instruments(scene: Scene, method: str | None = None, progress: bool = False,
+                         checkpoint=None):
     """Simulate ``scene`` and prepare its instruments.
 
     Returns
@@ -72,10 +73,10 @@ def run_with_instruments(scene: Scene, method: str | None = None, progress: bool
         to :func:`stand.recording.write_recording`.  None without instruments.
     """
     if not scene.instruments:
-        return simulate(scene, method=method, progress=progress), None
+        return simulate(scene, method=method, progress=progress, checkpoint=checkpoint), None
     plan = _screen_plan(scene) if "screen" in scene.instruments else None
     extra = None if plan is None else plan[2].ravel()
-    traj = simulate(scene, method=method, progress=progress, extra_times=extra)
+    traj = simulate(scene, method=method, progress=progress, extra_times=extra, checkpoint=checkpoint)
 
     def writer(f):
         write_instruments(f, scene, traj, plan)
