@@ -233,6 +233,35 @@ def _cmd_report(args) -> int:
     return 0
 
 
+def _cmd_sweep(args) -> int:
+    from .sweep import sweep_main
+
+    return sweep_main(args)
+
+
+def _cmd_stress(args) -> int:
+    from .reports.stress import DEFAULT_CATALOGUE, run_stress
+
+    for o in (args.output, args.json):
+        if o and not Path(o).resolve().parent.is_dir():
+            raise FileNotFoundError(f"output directory of {o!r} does not exist")
+    cases = None
+    if args.cases:
+        cases = "fast" if args.cases == "fast" else [c.strip() for c in args.cases.split(",")]
+    doc = run_stress(args.catalogue or DEFAULT_CATALOGUE, cases=cases, html_path=args.output,
+                     json_path=args.json, progress=sys.stderr.isatty())
+    if args.print_json:
+        print(json.dumps(doc, indent=2))
+    else:
+        for c in doc["cases"]:
+            print(f"  {'PASS' if c.get('pass') else 'FAIL'}  {c.get('name')}: {c.get('reason', '')}")
+        s = doc["summary"]
+        print(f"stand stress: {s.get('n_passed')} of {s.get('n_cases')} cases passed "
+              f"in {s.get('total_time_s', 0):.0f} s"
+              + (f" -> {args.output}" if args.output else ""))
+    return 0 if doc["summary"].get("all_passed") else 1
+
+
 def _run_weight_model(args) -> int:
     from .balancers.scene import load_weight_model, run_weight_model, write_weight_model_recording
     from .recording import check_output_path
@@ -623,6 +652,17 @@ def build_parser() -> argparse.ArgumentParser:
     rp.add_argument("--workers", type=int, default=None, help="batch: local worker processes")
     rp.add_argument("--scheduler", default=None, help="batch: dask.distributed scheduler address")
     rp.set_defaults(func=_cmd_report)
+    sw = sub.add_parser("sweep", help="parameter sweep (theory and/or simulation) on a process pool or a Dask cluster")
+    from .sweep import add_sweep_arguments
+    add_sweep_arguments(sw)
+    sw.set_defaults(func=_cmd_sweep)
+    st = sub.add_parser("stress", help="numerical stability on the stiff and extreme catalogue (HTML + JSON)")
+    st.add_argument("-o", "--output", default=None, help="HTML report")
+    st.add_argument("--json", default=None, help="JSON report file")
+    st.add_argument("--print-json", action="store_true", help="print the JSON report")
+    st.add_argument("--catalogue", default=None, help="catalogue TOML (default: the built-in one)")
+    st.add_argument("--cases", default=None, help="comma-separated case names, or 'fast'")
+    st.set_defaults(func=_cmd_stress)
     r = sub.add_parser("run", help="simulate a scene and write an HDF5 recording")
     r.add_argument("scene", help="scene file (TOML)")
     r.add_argument("-o", "--output", required=True, help="recording to write (HDF5)")

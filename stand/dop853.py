@@ -117,18 +117,25 @@ def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_
                 t_new = t_end
             h = t_new - t
             h_abs = h  # as scipy: control continues from the clipped step
+            # A step ending on t_end (a segment end, where the prescribed
+            # acceleration may jump) evaluates its stages at t + h as the LEFT
+            # limit: the right-hand side just before the kink.  Otherwise the
+            # error estimate sees the jump at any step size and the step
+            # collapses (a near-vertical speed ramp).  The caller restarts the
+            # derivative from the right limit after the kink.
+            t_left = np.nextafter(t_end, -np.inf) if t_new == t_end else t_new
             # the 12 stages
             for i in range(n):
                 K[0, i] = f[i]
             for s in range(1, N_STAGES):
                 _stage_state(y, K, s, h, yy)
-                rhs(kind, t + C[s] * h, yy, K[s], sp, wt, prog)
+                rhs(kind, min(t + C[s] * h, t_left), yy, K[s], sp, wt, prog)
             for i in range(n):
                 acc = 0.0
                 for k in range(N_STAGES):
                     acc += B[k] * K[k, i]
                 y_new[i] = y[i] + h * acc
-            rhs(kind, t_new, y_new, K[N_STAGES], sp, wt, prog)
+            rhs(kind, t_left, y_new, K[N_STAGES], sp, wt, prog)
             stats[N_FEV] += N_STAGES
             steps += 1
             # error estimate (scipy's DOP853._estimate_error_norm)
@@ -182,7 +189,7 @@ def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_
         if k_next < n_samples and ts[k_next] <= t_new:
             for s in range(N_STAGES + 1, 16):
                 _stage_state(y, K, s, h, yy)
-                rhs(kind, t + C[s] * h, yy, K[s], sp, wt, prog)
+                rhs(kind, min(t + C[s] * h, t_left), yy, K[s], sp, wt, prog)
             stats[N_FEV] += 3
             for i in range(n):
                 dyi = y_new[i] - y[i]
