@@ -510,6 +510,44 @@ def _atomic_csv(df, path) -> None:
             os.remove(tmp)
 
 
+def _screen_meta(source):
+    """(optical gain, exposure [s], frame rotor angles [rad] or None) of a recording's screen."""
+    import json as _json
+
+    import h5py
+
+    src = str(source).split(":")[0]
+    try:
+        with h5py.File(src, "r") as f:
+            g = f["instruments/screen"]
+            settings = _json.loads(g.attrs.get("settings", "{}"))
+            phi = g["frame_rotor_angle"][:] if "frame_rotor_angle" in g else None
+            return float(settings.get("gain", 1.0)), float(settings.get("exposure", 0.0)), phi
+    except (OSError, KeyError, ValueError):
+        return None, 0.0, None
+
+
+def _analyze_columns(df, args, X, Y):
+    """Columns that `stand analyze` reads from a CSV: t_s, x_m, y_m (shaft
+    displacement = screen displacement / optical gain) and rotor_angle_rad when
+    the source recording has the keyphasor angle of each frame."""
+    import numpy as np
+
+    gain, exposure, phi = _screen_meta(args.source) if str(args.source).split(":")[0].endswith(
+        (".h5", ".hdf5")) else (None, 0.0, None)
+    if args.optical_gain is not None:
+        gain = float(args.optical_gain)
+        if not gain > 0:
+            raise ValueError(f"--optical-gain = {args.optical_gain}: must be > 0")
+    if gain is None:
+        return
+    if "time" in df:
+        df["t_s"] = df["time"] + 0.5 * exposure          # mid-exposure
+    df["x_m"], df["y_m"] = X / gain, Y / gain
+    if phi is not None and len(phi) == len(df):
+        df["rotor_angle_rad"] = phi                          # at the start of each exposure
+
+
 def _calibration_image(path):
     """The ring image: an image file, or a recording's instruments/screen/calibration_image."""
     import cv2
@@ -559,6 +597,8 @@ def _cmd_track(args) -> int:
             X, Y = px_to_m(df["u_px"].to_numpy(), df["v_px"].to_numpy(), cal)
             df["x_mm"], df["y_mm"] = np.asarray(X) * 1e3, np.asarray(Y) * 1e3
             df["scale_mm_per_px"] = cal.scale * 1e3
+            if not args.trace:
+                _analyze_columns(df, args, np.asarray(X), np.asarray(Y))
             if args.trace:
                 # the circle's radius on the screen: the mean scale around the circle
                 df["radius_mm"] = df["radius_px"] * cal.scale * 1e3
@@ -739,6 +779,9 @@ def build_parser() -> argparse.ArgumentParser:
                     help="calibration-ring image, or a recording holding one (px -> mm)")
     tk.add_argument("--ring-radii", default=None, help="ring radii [m], comma-separated (default: from the recording)")
     tk.add_argument("--gain", type=float, default=None, help="camera gain [electrons/DN] for the uncertainty")
+    tk.add_argument("--optical-gain", type=float, default=None,
+                    help="spot displacement / shaft displacement (default: from the recording): adds "
+                         "t_s, x_m, y_m[, rotor_angle_rad] for `stand analyze`")
     tk.add_argument("--threshold", type=float, default=None,
                     help="smallest spot amplitude [DN above background] (default 10 x background noise)")
     tk.add_argument("--trace", action="store_true",

@@ -48,3 +48,17 @@ def test_track_errors(tmp_path, capsys):
     bad.write_bytes(b"not hdf5")
     assert main(["track", str(bad), "-o", str(tmp_path / "t.csv")]) == 2
     assert "bad.h5" in capsys.readouterr().err
+
+
+def test_track_writes_the_columns_stand_analyze_reads(tmp_path):
+    out = tmp_path / "track.csv"
+    assert main(["track", str(REC), "-o", str(out), "--calibration",
+                 str(ROOT / "data_samples" / "images" / "calibration_rings.png")]) == 0
+    df = pd.read_csv(out)
+    with h5py.File(REC) as f:
+        phi = f["instruments/screen/frame_rotor_angle"][:]
+    # shaft displacement = screen displacement / optical gain (6 on the sample stand)
+    np.testing.assert_allclose(df["x_m"], df["x_mm"] * 1e-3 / 6.0)
+    np.testing.assert_allclose(df["t_s"], df["time"] + 0.1)           # mid-exposure (0.2 s)
+    np.testing.assert_allclose(df["rotor_angle_rad"], phi)
+    assert main(["analyze", str(out), "--json"]) == 0
