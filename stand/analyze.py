@@ -31,17 +31,30 @@ def _read(path):
         try:
             df = pd.read_csv(p)
         except Exception as exc:  # parse errors of any kind -> one clear line
-            raise ValueError(f"{p}: not a readable CSV ({exc})") from None
+            reason = " ".join(str(exc).split())  # pandas messages hold newlines
+            raise ValueError(f"{p}: not a readable CSV ({reason})") from None
         for col in ("t_s", "x_m", "y_m"):
             if col not in df:
                 raise ValueError(f"{p}: missing column {col!r} (need t_s, x_m, y_m; optional "
                                  "rotor_angle_rad or keyphasor)")
-        t = df["t_s"].to_numpy(float)
-        phi = df["rotor_angle_rad"].to_numpy(float) if "rotor_angle_rad" in df else None
+
+        def column(col, unit):
+            """A numeric column; text in a number cell is an error naming file, column, row."""
+            raw = df[col]
+            num = pd.to_numeric(raw, errors="coerce")
+            bad = np.flatnonzero((num.isna() & raw.notna()).to_numpy())
+            if bad.size:
+                i = int(bad[0])
+                raise ValueError(f"{p}: column {col!r} ({unit}), data row {i + 1}: "
+                                 f"{str(raw.iloc[i])[:40]!r} is not a number")
+            return num.to_numpy(float)
+
+        t = column("t_s", "s")
+        phi = column("rotor_angle_rad", "rad") if "rotor_angle_rad" in df else None
         kp = None
         if phi is None and "keyphasor" in df:
-            kp = t[df["keyphasor"].to_numpy() > 0.5]
-        return dict(t=t, x=df["x_m"].to_numpy(float), y=df["y_m"].to_numpy(float), phi=phi,
+            kp = t[column("keyphasor", "1 on a once-per-revolution pulse, else 0") > 0.5]
+        return dict(t=t, x=column("x_m", "m"), y=column("y_m", "m"), phi=phi,
                     kp=kp, weights=None, scene=None)
     rec = read_recording(p)
     try:
@@ -81,6 +94,8 @@ def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = Non
 
     d = _read(path)
     t, x, y, phi, scene = d["t"], d["x"], d["y"], d["phi"], d["scene"]
+    if t.size < 2:  # np.gradient of the rotor angle needs two samples
+        raise ValueError(f"{path}: {t.size} sample(s) in time (s); stand analyze needs at least 2")
     out = {"recording": str(path), "notes": []}
     notes = out["notes"]
     speed = None
@@ -178,4 +193,9 @@ def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = Non
             notes.append(f"regime: {exc}")
     else:
         notes.append("regime: needs the weights' angles (stroboscope or simulator channel)")
+    for key, value in list(out.items()):  # e.g. samples near 1e308 overflow inside dsp
+        if isinstance(value, float) and not math.isfinite(value):
+            out[key] = None
+            notes.append(f"{key}: not finite ({value}); the input values are out of "
+                         "floating-point range for this identification")
     return out

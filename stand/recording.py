@@ -551,11 +551,12 @@ def _read_open(f: "h5py.File", label: str) -> Recording:
                                  f"or corrupt file?): {exc}") from None
 
     fmt, fver = attrs.get("format"), attrs.get("format_version")
-    if fmt == FORMAT and isinstance(fver, (int, float)) and fver > FORMAT_VERSION:
+    ours = isinstance(fmt, str) and fmt == FORMAT  # an array attribute would compare elementwise
+    if ours and isinstance(fver, (int, float)) and fver > FORMAT_VERSION:
         raise RecordingError(f"{label}: attribute format_version = {fver}: written by a "
                              f"newer autobalancer-stand (this reader handles "
                              f"{FORMAT_VERSION}); upgrade the package")
-    if fmt != FORMAT:
+    if not ours:
         notes.append(f"root attribute 'format' is {fmt!r}, not {FORMAT!r}: "
                      f"not written by the simulator")
 

@@ -388,7 +388,7 @@ def _initial(t: _Table) -> InitialState:
 def _dimensionless_params(t: _Table, angle_unit: str) -> dict:
     """Validated [dimensionless] values (angles still in ``angle_unit``)."""
     t.allow(DIMENSIONLESS_KEYS)
-    n = t.integer("n", minimum=1)
+    n = t.integer("n", minimum=1, maximum=MAX_WEIGHTS)  # like balancer.count (memory)
     return dict(
         n=n,
         Rt=t.number("Rt", "dimensionless, R~_m, 0 < Rt < 0.5", gt=0, lt=0.5),
@@ -471,7 +471,7 @@ def scene_from_dimensionless(n, Rt, h, H, e0, *, drive, run, R_omega2=1.0,
     w1 = TWO_PI * p["natural_frequency"]
     m = 2.0 * p["Rt"] * Ms / n            # R_m = 2 Rt (j = 1)
     M = Ms - n * m
-    c_x = Ms * w1 ** 2
+    c_x = Ms * w1 * w1  # float ** raises OverflowError; * gives inf (check_derived reports it)
     damping = p["H"] * w1 * Ms
     angles = p["initial_angles"]
     if angles is None:
@@ -479,10 +479,10 @@ def scene_from_dimensionless(n, Rt, h, H, e0, *, drive, run, R_omega2=1.0,
     return Scene(
         rotor=Rotor(mass=M, eccentricity=p["e0"] * n * m * l / M,
                     unbalance_angle=p["unbalance_angle"], inertia=p["rotor_inertia"]),
-        supports=Supports(stiffness_x=c_x, stiffness_y=p["R_omega2"] ** 2 * c_x,
+        supports=Supports(stiffness_x=c_x, stiffness_y=p["R_omega2"] * p["R_omega2"] * c_x,
                           damping_x=damping, damping_y=damping),
         balancer=Balancer(type="balls", mass=np.full(n, m), radius=np.full(n, l),
-                          drag=np.full(n, p["h"] * w1 * m), inertia=np.full(n, m * l ** 2),
+                          drag=np.full(n, p["h"] * w1 * m), inertia=np.full(n, m * l * l),
                           initial_angles=np.asarray(angles, float), initial_speeds=np.zeros(n)),
         drive=drive,
         run=run,
@@ -629,6 +629,9 @@ def check_derived(scene: Scene) -> Scene:
                        ("balancer.drag * radius^2 (moment drag, N*m*s)", float(np.max(b.moment_drag)))]
         L = scene.length_scale
         checks.append(("length scale (capacity or unbalance / total mass, m)", L))
+        # the velocity scale L*w1 normalises initial.vx, vy; it can underflow to 0
+        checks.append(("length scale * natural frequency (velocity scale, m/s; from rotor.mass, "
+                       "supports.stiffness_x, balancer.mass and radius)", L * w1))
         for label, value in checks:
             if not (np.isfinite(value)) or (label.startswith(("rotor.mass,", "supports", "length"))
                                             and not value > 0):

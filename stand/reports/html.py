@@ -28,6 +28,9 @@ text-align:left;vertical-align:top}th{background:#eee}.fail{color:#b00;font-weig
 .pass{color:#070;font-weight:bold}.warn{color:#a60}img{max-width:100%}code{background:#f4f4f4}"""
 
 
+_PNG_URI = __import__("re").compile(r"data:image/png;base64,[A-Za-z0-9+/]*={0,2}")
+
+
 def jsonable(x: Any) -> Any:
     """Plain JSON types: numpy scalars/arrays to Python, non-finite floats to None."""
     import numpy as np
@@ -130,8 +133,9 @@ def render_html(title: str, doc: Mapping, figures: Mapping[str, str] | None = No
     if figures:
         parts.append("<h2 id='figures'>figures</h2>")
         for cap, uri in figures.items():
-            if not str(uri).startswith("data:image/png;base64,"):
-                raise ValueError(f"figure {cap!r}: only embedded PNG data URIs are allowed")
+            if not _PNG_URI.fullmatch(str(uri)):
+                raise ValueError(f"figure {cap!r}: only embedded PNG data URIs "
+                                 "(data:image/png;base64,...) are allowed")
             parts.append(f"<figure><img alt='{html.escape(cap)}' src='{uri}'>"
                          f"<figcaption>{html.escape(cap)}</figcaption></figure>")
     parts.append("</body></html>")

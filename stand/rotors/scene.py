@@ -98,6 +98,8 @@ def _builder(kind: str):
 
 def build_rotor(kind: str, params: Mapping) -> LinearRotor:
     """Build a LinearRotor of type ``kind`` from keyword parameters (SI)."""
+    from ..scene_file import _fmt, _kind
+
     fn = _builder(kind)
     sig = inspect.signature(fn)
     names = [p for p, v in sig.parameters.items()
@@ -106,14 +108,33 @@ def build_rotor(kind: str, params: Mapping) -> LinearRotor:
         if k not in names:
             raise SceneError(f"structure.{k}: not a parameter of rotor type \"{kind}\"; valid: "
                              f"{', '.join(names)}")
+        default, ann = sig.parameters[k].default, sig.parameters[k].annotation
+        # a parameter without a default, with a numeric one, or an unannotated / float
+        # one defaulting to None, takes a number only (a boolean or a string would be
+        # converted silently or fail without naming the key)
+        numeric = default is inspect.Parameter.empty or (
+            isinstance(default, (int, float)) and not isinstance(default, bool)) or (
+            default is None and ann in (inspect.Parameter.empty, "float", "Optional[float]"))
+        # e.g. g = (gx, gy): a list of numbers (an empty default may take tables)
+        seq = isinstance(default, (tuple, list)) and len(default) > 0 and all(
+            isinstance(x, (int, float)) and not isinstance(x, bool) for x in default)
+        if (numeric or seq) and (isinstance(v, (bool, str, dict)) or v is None
+                                 or (numeric and isinstance(v, list))):
+            raise SceneError(f"structure.{k} = {_fmt(v)}: must be "
+                             f"{'a list of numbers' if seq else 'a number'} (SI units, see the "
+                             f"builder {fn.__module__}.{fn.__name__}), not {_kind(v)}")
         vals = v if isinstance(v, list) else [v]
         for x in vals:
             if isinstance(x, bool) or isinstance(x, str):
                 continue
             if isinstance(x, dict):
                 continue
-            if not isinstance(x, (int, float)) or not math.isfinite(float(x)):
-                raise SceneError(f"structure.{k} = {v!r}: must be a finite number (SI units, see "
+            try:
+                finite = isinstance(x, (int, float)) and math.isfinite(float(x))
+            except OverflowError:
+                finite = False
+            if not finite:
+                raise SceneError(f"structure.{k} = {_fmt(v)}: must be a finite number (SI units, see "
                                  f"the builder {fn.__module__}.{fn.__name__})")
     missing = [p for p, v in sig.parameters.items()
                if v.default is inspect.Parameter.empty and p not in params
@@ -129,6 +150,8 @@ def build_rotor(kind: str, params: Mapping) -> LinearRotor:
 def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> FamilyScene:
     from ..scene_file import _Table, _balancer, _programme, _run
 
+    if not isinstance(data, Mapping):
+        raise SceneError(f"a rotor-family scene must be a table of tables, not {type(data).__name__}")
     for key in data:
         if key not in TABLES:
             raise SceneError(f"unknown table [{key}] in a rotor-family scene; valid: {', '.join(TABLES)}")
@@ -141,7 +164,7 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> FamilyS
         sc.allow(("name", "description"))
         name = sc.string("name", default=stem)
         desc = sc.string("description", default="")
-    st = dict(data["structure"])
+    st = dict(_Table(data["structure"], "structure").data)
     kind = st.pop("type", None)
     if not isinstance(kind, str):
         raise SceneError(f"structure.type = {kind!r}: required, one of {', '.join(ROTOR_TYPES)}")
@@ -160,6 +183,9 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> FamilyS
         if not isinstance(rolling, bool):
             raise SceneError(f"weights[{i}].rolling = {rolling!r}: must be true or false (balls "
                              "rolling without slip: inertia 7/5 m l^2, j = 5/7)")
+        if not isinstance(plane, str):
+            raise SceneError(f"weights[{i}].plane = {plane!r}: must be a string, one of "
+                             f"{', '.join(rotor.planes)}")
         if plane not in rotor.planes:
             raise SceneError(f'weights[{i}].plane = "{plane}": not a plane of rotor type "{kind}"; '
                              f"planes: {', '.join(rotor.planes)}")
@@ -172,9 +198,10 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> FamilyS
             bal = dataclasses.replace(bal, inertia=bal.inertia / ROLLING_BALL_J)
         fr = None
         if fkeys:
-            for k, v in fkeys.items():
-                if isinstance(v, bool) or not isinstance(v, (int, float)):
-                    raise SceneError(f"weights[{i}].{k} = {v!r}: must be a number")
+            from ..scene_file import _number
+
+            for k, v in fkeys.items():  # finite numbers (Friction checks the signs)
+                fkeys[k] = _number(f"weights[{i}].{k}", v, "see stand.balancers.friction")
             try:
                 fr = Friction(kinetic=fkeys.get("friction", 0.0),
                               static=fkeys.get("static_friction"),
@@ -189,6 +216,8 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> FamilyS
     dt.allow(("type", "programme"))
     if dt.string("type", ("speed",), "speed") != "speed":  # pragma: no cover
         raise SceneError('drive.type: rotor-family scenes take a speed programme (drive.type = "speed")')
+    if "programme" not in dt:
+        raise SceneError("drive.programme: missing required key ([[t (s), speed (rev/s)], ...])")
     programme = _programme(dt, "programme", 1.0)
     run = _run(_Table(data["run"], "run"))
     return FamilyScene(name, desc, kind, st, rotor, tuple(weights), programme, run, text)
