@@ -1,13 +1,14 @@
 """Sweep throughput: points/s on 1 and 2 local workers, and the per-point overhead of
 Dask against the local process pool.
 
-    python benchmarks/bench_sweep.py [--points 4000] [--sims 120]
+    python benchmarks/bench_sweep.py [--points 4000] [--sims 600] [--sim-duration 2000]
 
 Workloads (the universal stand's ball balancer, speed x unbalance):
 
 * theory  -- main/QP stability and critical speeds (data_samples/sweeps/ball_theory_map.toml
   cut to ``--points``);
-* simulate -- short constant-speed runs (tau = 40) classified by stand.regime.
+* simulate -- constant-speed runs (tau = 2000 by default, ~300-1900 revolutions,
+  tens of ms each) classified by stand.regime.
 
 The overhead row runs cheap theory points (no critical speeds) in small chunks (50
 points per task) so that scheduling dominates: overhead per point = (wall x workers -
@@ -60,8 +61,8 @@ critical_speeds = {"true" if critical else "false"}
 """
 
 
-def simulate_spec(n: int) -> str:
-    return BASE + f"""
+def simulate_spec(n: int, duration: float = 400.0) -> str:
+    return BASE.replace("duration = 40.0", f"duration = {duration}") + f"""
 [sweep]
 compute = ["simulate"]
 [[axis]]
@@ -90,7 +91,9 @@ def timed(spec_text: str, tmp: Path, name: str, **kw) -> tuple:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--points", type=int, default=4000, help="theory points (default 4000)")
-    ap.add_argument("--sims", type=int, default=120, help="simulated points (default 120)")
+    ap.add_argument("--sims", type=int, default=600, help="simulated points (default 600)")
+    ap.add_argument("--sim-duration", type=float, default=2000.0,
+                    help="dimensionless duration of each simulated point (default 2000)")
     ap.add_argument("--no-dask", action="store_true")
     a = ap.parse_args()
 
@@ -104,7 +107,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as d:
         tmp = Path(d)
         for label, text in (("theory", theory_spec(n_speed, n_e0)),
-                            ("simulate", simulate_spec(a.sims))):
+                            ("simulate", simulate_spec(a.sims, a.sim_duration))):
             for w in (1, 2):
                 n, wall, work = timed(text, tmp, f"{label}{w}", workers=w)
                 rows.append((f"{label}, local pool", w, n, wall, n / wall, 1e6 * wall / n))
