@@ -30,17 +30,20 @@ def njit(*args, **kwargs):
 
 
 def _invalidate_stale_caches() -> None:
-    """Drop numba's on-disk caches when any source file of the package changed.
+    """Drop numba's on-disk caches when the source of any compiled function changed.
 
     numba invalidates a cached function only when *its own* file changes, not
     when a function it calls or inlines from another module does (the compiled
     integrator inlines the right-hand side from ``planar.py``): a stale cache
-    would silently run old physics.  A hash of all the package's sources is
-    kept beside the caches; when it differs, the caches are deleted.
+    would silently run old physics.  A hash of every package source that holds
+    compiled code (the files that use ``njit``: only they can be called or
+    inlined from a compiled function) is kept beside the caches; when it
+    differs, the caches are deleted.  Editing a file without compiled code
+    (the CLI, the scene reader, the reports) keeps the caches.
     """
     pkg = Path(__file__).resolve().parent
     try:
-        files = sorted(pkg.rglob("*.py"))
+        files = sorted(f for f in pkg.rglob("*.py") if b"njit" in f.read_bytes())
         digest = hashlib.sha1()
         for f in files:
             digest.update(str(f.relative_to(pkg)).encode())
