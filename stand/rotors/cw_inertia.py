@@ -32,6 +32,8 @@ import math
 from dataclasses import dataclass
 from typing import Optional
 
+from ._build import check, positive
+
 __all__ = [
     "CWInertia", "two_point_pendulums", "two_rods", "two_physical_pendulums", "half_ring",
     "half_disk", "hollow_half_cylinder", "solid_half_cylinder", "three_point_pendulums",
@@ -68,16 +70,10 @@ class CWInertia:
     source: str = ""
 
 
-def _pos(name, value, unit):
-    v = float(value)
-    if not (math.isfinite(v) and v > 0):
-        raise ValueError(f"{name} must be a finite positive number [{unit}], got {value!r}")
-    return v
-
-
 def _ratio(a):
-    v = float(a)
-    if not (math.isfinite(v) and 0.0 <= v < 1.0):
+    """The radius ratio ``a = r/R`` [-], 0 <= a < 1."""
+    v = check("a = r/R", a, "-", "nonnegative")
+    if not v < 1.0:
         raise ValueError(f"a = r/R must satisfy 0 <= a < 1 [-], got {a!r}")
     return v
 
@@ -90,7 +86,7 @@ def _l_half_annulus(R, a):
 # ------------------------------------------------------------ auxiliary (2.14)
 def pendulum_moment(m0: float, l0: float) -> float:
     """(2.14): point pendulum about its pivot, ``m0 l0^2`` [kg m^2]."""
-    return _pos("m0", m0, "kg") * _pos("l0", l0, "m") ** 2
+    return positive("m0", m0, "kg") * positive("l0", l0, "m") ** 2
 
 
 def rod_moment(m0: float, l0: float, paper_exact: bool = False) -> float:
@@ -101,25 +97,25 @@ def rod_moment(m0: float, l0: float, paper_exact: bool = False) -> float:
 
 def cylinder_volume(R: float, h: float) -> float:
     """(2.14): ``pi R^2 h`` [m^3]."""
-    return math.pi * _pos("R", R, "m") ** 2 * _pos("h", h, "m")
+    return math.pi * positive("R", R, "m") ** 2 * positive("h", h, "m")
 
 
 def cylinder_moment(m0: float, R: float) -> float:
     """(2.14): solid cylinder about its axis, ``m0 R^2 / 2`` [kg m^2]."""
-    return 0.5 * _pos("m0", m0, "kg") * _pos("R", R, "m") ** 2
+    return 0.5 * positive("m0", m0, "kg") * positive("R", R, "m") ** 2
 
 
 def half_cylinder_capacity(m0: float, R: float) -> float:
     """(2.14): capacity of a solid half-cylinder (half-disk), ``4 R m0 / (3 pi)`` [kg m]."""
-    return 4.0 * _pos("R", R, "m") * _pos("m0", m0, "kg") / (3.0 * math.pi)
+    return 4.0 * positive("R", R, "m") * positive("m0", m0, "kg") / (3.0 * math.pi)
 
 
 # ------------------------------------------------------------------ Table 2.1
 def two_point_pendulums(m0: float, l0: float) -> CWInertia:
     """Table 2.1 row 1: two point pendulums (mass ``m0`` [kg], length ``l0`` [m]) at 90 deg,
     symmetric about -zeta: ``m = 2 m0``, ``l = l0/sqrt 2``, ``A = 2 m0 l0^2``, ``B = m0 l0^2``."""
-    m0 = _pos("m0", m0, "kg")
-    l0 = _pos("l0", l0, "m")
+    m0 = positive("m0", m0, "kg")
+    l0 = positive("l0", l0, "m")
     return CWInertia(2 * m0, l0 / SQ2, SQ2 * m0 * l0, 2 * m0 * l0 ** 2, m0 * l0 ** 2,
                      source="Table 2.1 row 1")
 
@@ -127,8 +123,8 @@ def two_point_pendulums(m0: float, l0: float) -> CWInertia:
 def two_rods(m0: float, l0: float) -> CWInertia:
     """Table 2.1 row 2: two uniform rods (``m0`` [kg], length ``l0`` [m]) at 90 deg:
     ``l = l0/(2 sqrt 2)``, ``A = 2 m0 l0^2/3``, ``B = m0 l0^2/3``."""
-    m0 = _pos("m0", m0, "kg")
-    l0 = _pos("l0", l0, "m")
+    m0 = positive("m0", m0, "kg")
+    l0 = positive("l0", l0, "m")
     J = rod_moment(m0, l0)
     return CWInertia(2 * m0, l0 / (2 * SQ2), SQ2 * m0 * l0 / 2, 2 * J, J, source="Table 2.1 row 2")
 
@@ -138,9 +134,9 @@ def two_physical_pendulums(m0: float, l0: float, Jx0: float, Jy0: float, Jz0: fl
     centre of mass at ``l0`` [m] from K, principal moments about K ``Jx0`` (normal
     to the figure), ``Jy0`` (in the figure, across), ``Jz0`` (along the pendulum) [kg m^2]):
     ``A = 2 Jx0``, ``B = Jy0 + Jz0``."""
-    m0 = _pos("m0", m0, "kg")
-    l0 = _pos("l0", l0, "m")
-    Jx0, Jy0, Jz0 = (_pos(n, v, "kg m^2") for n, v in (("Jx0", Jx0), ("Jy0", Jy0), ("Jz0", Jz0)))
+    m0 = positive("m0", m0, "kg")
+    l0 = positive("l0", l0, "m")
+    Jx0, Jy0, Jz0 = (positive(n, v, "kg m^2") for n, v in (("Jx0", Jx0), ("Jy0", Jy0), ("Jz0", Jz0)))
     return CWInertia(2 * m0, l0 / SQ2, SQ2 * m0 * l0, 2 * Jx0, Jy0 + Jz0, source="Table 2.1 row 3")
 
 
@@ -153,8 +149,8 @@ def half_ring(R: float, m0: float, a: float, paper_exact: bool = False) -> CWIne
     ``paper_exact=True`` gives the printed ``(1 - a^2)`` in A and B (an error:
     see the module docstring).
     """
-    R = _pos("R", R, "m")
-    m0 = _pos("m0", m0, "kg")
+    R = positive("R", R, "m")
+    m0 = positive("m0", m0, "kg")
     a = _ratio(a)
     f = (1 - a * a) if paper_exact else (1 + a * a)
     l = _l_half_annulus(R, a)
@@ -177,9 +173,9 @@ def hollow_half_cylinder(R: float, h: float, gamma: float, a: float) -> CWInerti
         A = pi R^4 h gamma (1 - a^4)/4,
         B = pi R^4 h gamma (1 - a^4)/8 + pi R^2 h^3 gamma (1 - a^2)/24
     """
-    R = _pos("R", R, "m")
-    h = _pos("h", h, "m")
-    g = _pos("gamma", gamma, "kg/m^3")
+    R = positive("R", R, "m")
+    h = positive("h", h, "m")
+    g = positive("gamma", gamma, "kg/m^3")
     a = _ratio(a)
     V = 0.5 * math.pi * R * R * h * (1 - a * a)
     pi = math.pi
@@ -201,8 +197,8 @@ def solid_half_cylinder(R: float, h: float, gamma: float) -> CWInertia:
 def three_point_pendulums(m0: float, l0: float) -> CWInertia:
     """Table 2.2 row 1: three mutually perpendicular point pendulums:
     ``m = 3 m0``, ``l = l0/sqrt 3``, ``S = sqrt 3 m0 l0``, ``A = 2 m0 l0^2``."""
-    m0 = _pos("m0", m0, "kg")
-    l0 = _pos("l0", l0, "m")
+    m0 = positive("m0", m0, "kg")
+    l0 = positive("l0", l0, "m")
     A = 2 * m0 * l0 ** 2
     return CWInertia(3 * m0, l0 / SQ3, SQ3 * m0 * l0, A, A, source="Table 2.2 row 1")
 
@@ -210,8 +206,8 @@ def three_point_pendulums(m0: float, l0: float) -> CWInertia:
 def three_rods(m0: float, l0: float) -> CWInertia:
     """Table 2.2 row 2: three mutually perpendicular uniform rods:
     ``l = l0/(2 sqrt 3)``, ``S = sqrt 3 m0 l0/2``, ``A = 2 m0 l0^2/3``."""
-    m0 = _pos("m0", m0, "kg")
-    l0 = _pos("l0", l0, "m")
+    m0 = positive("m0", m0, "kg")
+    l0 = positive("l0", l0, "m")
     A = 2 * rod_moment(m0, l0)
     return CWInertia(3 * m0, l0 / (2 * SQ3), SQ3 * m0 * l0 / 2, A, A, source="Table 2.2 row 2")
 
@@ -220,10 +216,10 @@ def three_physical_pendulums(m0: float, l0: float, Jx0: float, Jz0: float) -> CW
     """Table 2.2 row 3: three mutually perpendicular physical pendulums, bodies of
     revolution (moments about K: ``Jx0 = Jy0`` across, ``Jz0`` along, [kg m^2]):
     ``l = l0/sqrt 3``, ``A = Jz0 + 2 Jx0``."""
-    m0 = _pos("m0", m0, "kg")
-    l0 = _pos("l0", l0, "m")
-    Jx0 = _pos("Jx0", Jx0, "kg m^2")
-    Jz0 = _pos("Jz0", Jz0, "kg m^2")
+    m0 = positive("m0", m0, "kg")
+    l0 = positive("l0", l0, "m")
+    Jx0 = positive("Jx0", Jx0, "kg m^2")
+    Jz0 = positive("Jz0", Jz0, "kg m^2")
     A = Jz0 + 2 * Jx0
     return CWInertia(3 * m0, l0 / SQ3, SQ3 * m0 * l0, A, A, source="Table 2.2 row 3")
 
@@ -235,8 +231,8 @@ def hollow_hemisphere(R: float, gamma: float, a: float) -> CWInertia:
         V = 2 pi R^3 (1 - a^3)/3,  l = 3R(1 - a^4) / (8 (1 - a^3)),
         S = pi R^4 gamma (1 - a^4)/4,  A = 4 pi R^5 gamma (1 - a^5)/15
     """
-    R = _pos("R", R, "m")
-    g = _pos("gamma", gamma, "kg/m^3")
+    R = positive("R", R, "m")
+    g = positive("gamma", gamma, "kg/m^3")
     a = _ratio(a)
     V = 2.0 / 3.0 * math.pi * R ** 3 * (1 - a ** 3)
     A = 4.0 / 15.0 * math.pi * R ** 5 * g * (1 - a ** 5)

@@ -52,7 +52,9 @@ from typing import Optional
 
 import numpy as np
 
-from .structure import LinearRotor, Unbalance
+from ._build import (axis_planes, finite, gyroscopic_pair, listed_unbalance, nonnegative, nonzero,
+                     per_coordinate, positive, transverse_gravity, weight_force)
+from .structure import LinearRotor
 
 __all__ = ["spherical_hinge", "cylindrical_hinge", "fixed_point_stand", "hinge_stiffnesses",
            "spherical_hinge_delta", "spherical_hinge_criterion", "spherical_hinge_critical_speeds",
@@ -68,43 +70,21 @@ FIXED_POINT_STAND = {"rotor_mass_kg": 10.3, "frame_frequency_hz": 3.275,
 
 _REL = 1e-12     # relative tolerance of the isotropic (k1 = k2) / spherical (A_xi = C) tests
 
-
-def _positive(name: str, value: float, unit: str) -> float:
-    v = float(value)
-    if not (math.isfinite(v) and v > 0):
-        raise ValueError(f"{name} must be a positive finite number [{unit}], got {value!r}")
-    return v
+_AT_O = " (a plane at the fixed point does not move)"
 
 
-def _nonnegative(name: str, value: float, unit: str) -> float:
-    v = float(value)
-    if not (math.isfinite(v) and v >= 0):
-        raise ValueError(f"{name} must be a non-negative finite number [{unit}], got {value!r}")
-    return v
-
-
-def _finite(name: str, value: float, unit: str) -> float:
-    v = float(value)
-    if not math.isfinite(v):
-        raise ValueError(f"{name} must be a finite number [{unit}], got {value!r}")
-    return v
-
-
-def _nonzero(name: str, value: float, unit: str) -> float:
-    v = _finite(name, value, unit)
-    if v == 0.0:
-        raise ValueError(f"{name} must be non-zero [{unit}] (a plane at the fixed point does "
-                         f"not move), got {value!r}")
-    return v
+def _axial(name: str, d: float) -> float:
+    """An axial distance d [m] from O of a plane: non-zero."""
+    return nonzero(name, d, "m", _AT_O)
 
 
 def hinge_stiffnesses(c1: float, c2: float, b: float):
     """Generalised stiffnesses (2.62) [N m/rad] of a support at distance b [m] from O
     with stiffness c1 along x and c2 along y [N/m]: ``(k1, k2) = (c2 b^2, c1 b^2)``
     (k1 acts on alpha, the tilt that moves the support along y)."""
-    c1 = _positive("c1", c1, "N/m")
-    c2 = _positive("c2", c2, "N/m")
-    b = _nonzero("b", b, "m")
+    c1 = positive("c1", c1, "N/m")
+    c2 = positive("c2", c2, "N/m")
+    b = _axial("b", b)
     return c2 * b * b, c1 * b * b
 
 
@@ -113,11 +93,39 @@ def _tilt_map(d: float) -> np.ndarray:
     return np.array([[0.0, d], [-d, 0.0]])
 
 
-def _damping_pair(damping, n: int):
-    d = np.broadcast_to(np.asarray(damping, dtype=float), (n,)).copy()
-    if not np.all(np.isfinite(d)) or np.any(d < 0):
-        raise ValueError(f"damping must be non-negative finite [N m s/rad], got {damping!r}")
-    return d
+def _hinge_map(d: float) -> np.ndarray:
+    """(2.104): x = d beta, y = 0, on (beta,) (the hinge carries y)."""
+    return np.array([[d], [0.0]])
+
+
+def _hinge(A, mass, l, a, g, g_axial, extra_planes, plane_map):
+    """What models 2.6.1 and 2.6.2 share, validated.
+
+    Returns ``(A_xi, M, l, planes, g, kg)``: ``A_xi = A + M l^2`` [kg m^2] (2.56),
+    mass M [kg], l [m], the planes ``"balancer"`` (at a) and ``extra_planes``
+    through ``plane_map`` ((2.70) or (2.104)), the transverse gravity
+    ``(g_x, g_y)`` [m/s^2] and the axial-gravity stiffness ``M l g_axial``
+    [N m/rad] (module docstring).
+    """
+    A = positive("A", A, "kg m^2")
+    M = positive("mass", mass, "kg")
+    l = finite("l", l, "m")
+    planes = {"balancer": plane_map(_axial("a", a))}
+    planes.update(axis_planes(extra_planes or {}, plane_map,
+                              lambda name, d: _axial(f"extra_planes[{name!r}]", d)))
+    g = transverse_gravity(g)
+    kg = M * l * finite("g_axial", g_axial, "m/s^2")
+    return A + M * l * l, M, l, planes, g, kg
+
+
+def _total_stiffness(k, kg: float, g_axial) -> np.ndarray:
+    """Support plus axial-gravity stiffness ``k + M l g_axial`` [N m/rad], which
+    must be positive (a statically stable rotor, module docstring)."""
+    kt = np.asarray(k, dtype=float) + kg
+    if not np.all(kt > 0):
+        raise ValueError(f"total stiffness k + M l g_axial = {kt.tolist()} N m/rad must be positive "
+                         f"(g_axial={g_axial} m/s^2 makes the rotor statically unstable)")
+    return kt
 
 
 # --------------------------------------------------------------------------- 2.6.1
@@ -165,33 +173,17 @@ def spherical_hinge(A: float, C: float, mass: float, l: float, k1: float, k2: fl
         On non-positive A, mass, k1 or k2, negative C, a = 0, or a total stiffness
         (with gravity) that is not positive (statically unstable inverted rotor).
     """
-    A = _positive("A", A, "kg m^2")
-    C = _nonnegative("C", C, "kg m^2")
-    M = _positive("mass", mass, "kg")
-    l = _finite("l", l, "m")
-    k1 = _positive("k1", k1, "N m/rad")
-    k2 = _positive("k2", k2, "N m/rad")
-    a = _nonzero("a", a, "m")
-    gx, gy = (float(v) for v in g)
-    ga = _finite("g_axial", g_axial, "m/s^2")
-    kg = M * l * ga
-    K = np.diag([k1 + kg, k2 + kg])
-    if not np.all(np.diag(K) > 0):
-        raise ValueError(f"total stiffnesses k + M l g_axial = {np.diag(K).tolist()} N m/rad must "
-                         f"be positive (g_axial={ga} m/s^2 makes the rotor statically unstable)")
-    A_xi = A + M * l * l
-    planes = {"balancer": _tilt_map(a)}
-    for name, d in (extra_planes or {}).items():
-        planes[name] = _tilt_map(_nonzero(f"extra_planes[{name!r}]", d, "m"))
-    unb = (Unbalance("balancer", float(unbalance), float(unbalance_angle)),) if unbalance else ()
+    C = nonnegative("C", C, "kg m^2")
+    k = np.array([positive("k1", k1, "N m/rad"), positive("k2", k2, "N m/rad")])
+    A_xi, M, l, planes, g, kg = _hinge(A, mass, l, a, g, g_axial, extra_planes, _tilt_map)
     return LinearRotor(
         name="spherical_hinge",
         coords=("alpha [rad]", "beta [rad]"),
-        M=A_xi * np.eye(2), G=np.array([[0.0, C], [-C, 0.0]]),
-        D=np.diag(_damping_pair(damping, 2)), K=K,
-        planes=planes, unbalances=unb,
-        gravity=M * (_tilt_map(l).T @ np.array([gx, gy])),
-        gravity_plane=np.array([gx, gy]),
+        M=A_xi * np.eye(2), G=gyroscopic_pair(2, 0, 1, C),
+        D=np.diag(per_coordinate("damping", damping, 2, "N m s/rad")),
+        K=np.diag(_total_stiffness(k, kg, g_axial)),
+        planes=planes, unbalances=listed_unbalance("balancer", unbalance, unbalance_angle),
+        gravity=weight_force(g, (M, _tilt_map(l))), gravity_plane=g,
         source="Filimonikhin (2004) 2.6.1, eqs. (2.56), (2.64), (2.70)",
     )
 
@@ -212,8 +204,8 @@ def spherical_hinge_criterion(omega, A_xi: float, C: float, k1: float, k2: float
 
 
 def _check_sph(A_xi, C, k1, k2):
-    return (_positive("A_xi", A_xi, "kg m^2"), _nonnegative("C", C, "kg m^2"),
-            _positive("k1", k1, "N m/rad"), _positive("k2", k2, "N m/rad"))
+    return (positive("A_xi", A_xi, "kg m^2"), nonnegative("C", C, "kg m^2"),
+            positive("k1", k1, "N m/rad"), positive("k2", k2, "N m/rad"))
 
 
 def spherical_hinge_working_ranges(A_xi: float, C: float, k1: float, k2: float):
@@ -311,29 +303,16 @@ def cylindrical_hinge(A: float, mass: float, l: float, k: float, a: float, dampi
     LinearRotor
         Coordinate ``beta [rad]``; plane ``"balancer"`` ``[[a], [0]]`` (x_A = a beta, y_A = 0).
     """
-    A = _positive("A", A, "kg m^2")
-    M = _positive("mass", mass, "kg")
-    l = _finite("l", l, "m")
-    k = _positive("k", k, "N m/rad")
-    a = _nonzero("a", a, "m")
-    d = _nonnegative("damping", damping, "N m s/rad")
-    gx, gy = (float(v) for v in g)
-    ga = _finite("g_axial", g_axial, "m/s^2")
-    kt = k + M * l * ga
-    if not kt > 0:
-        raise ValueError(f"total stiffness k + M l g_axial = {kt} N m/rad must be positive "
-                         f"(g_axial={ga} m/s^2 makes the rotor statically unstable)")
-    planes = {"balancer": np.array([[a], [0.0]])}
-    for name, dist in (extra_planes or {}).items():
-        planes[name] = np.array([[_nonzero(f"extra_planes[{name!r}]", dist, "m")], [0.0]])
-    unb = (Unbalance("balancer", float(unbalance), float(unbalance_angle)),) if unbalance else ()
+    k = positive("k", k, "N m/rad")
+    d = nonnegative("damping", damping, "N m s/rad")
+    A_xi, M, l, planes, g, kg = _hinge(A, mass, l, a, g, g_axial, extra_planes, _hinge_map)
     return LinearRotor(
         name="cylindrical_hinge",
         coords=("beta [rad]",),
-        M=np.array([[A + M * l * l]]), G=np.zeros((1, 1)), D=np.array([[d]]),
-        K=np.array([[kt]]), planes=planes, unbalances=unb,
-        gravity=np.array([M * l * gx]),
-        gravity_plane=np.array([gx, gy]),
+        M=np.array([[A_xi]]), G=np.zeros((1, 1)), D=np.array([[d]]),
+        K=np.array([_total_stiffness([k], kg, g_axial)]),
+        planes=planes, unbalances=listed_unbalance("balancer", unbalance, unbalance_angle),
+        gravity=weight_force(g, (M, _hinge_map(l))), gravity_plane=g,
         source="Filimonikhin (2004) 2.6.2, eqs. (2.56), (2.104)-(2.107)",
     )
 
@@ -341,7 +320,7 @@ def cylindrical_hinge(A: float, mass: float, l: float, k: float, a: float, dampi
 def cylindrical_hinge_critical_speed(A_xi: float, k: float) -> float:
     """The single critical speed (2.105)/(2.110) [rad/s]:
     ``w1 = sqrt(k/A_xi) = sqrt(c1 b^2/A_xi)``."""
-    return math.sqrt(_positive("k", k, "N m/rad") / _positive("A_xi", A_xi, "kg m^2"))
+    return math.sqrt(positive("k", k, "N m/rad") / positive("A_xi", A_xi, "kg m^2"))
 
 
 def cylindrical_hinge_working_ranges(A_xi: float, k: float):
@@ -393,9 +372,9 @@ def fixed_point_stand(l: float = 0.30, a: float = 0.40, A: float = 0.08,
     damping, unbalance, unbalance_angle : float
         As in :func:`cylindrical_hinge`.
     """
-    f0 = _positive("frequency", frequency, "Hz")
-    M = _positive("mass", mass, "kg")
-    A_xi = _positive("A", A, "kg m^2") + M * l * l
+    f0 = positive("frequency", frequency, "Hz")
+    M = positive("mass", mass, "kg")
+    A_xi = positive("A", A, "kg m^2") + M * l * l
     k = A_xi * (2.0 * math.pi * f0) ** 2
     return cylindrical_hinge(A, M, l, k, a, damping=damping, unbalance=unbalance,
                              unbalance_angle=unbalance_angle, g=(-float(gravity), 0.0))

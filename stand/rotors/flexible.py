@@ -36,22 +36,17 @@ from typing import Optional, Sequence
 
 import numpy as np
 
+from ._build import axis_planes, finite, per_coordinate, positive, transverse_gravity
 from .structure import LinearRotor, Unbalance, sign_changes
 
 __all__ = ["flexible_shaft", "shaft_natural_frequencies", "shaft_receptance", "shaft_criterion",
            "shaft_working_ranges", "optimal_positions"]
 
 
-def _positive(name: str, value: float, unit: str) -> float:
-    v = float(value)
-    if not (math.isfinite(v) and v > 0):
-        raise ValueError(f"{name} must be a positive finite number [{unit}], got {value!r}")
-    return v
-
-
 def _position(name: str, z: float, l: float) -> float:
-    v = float(z)
-    if not (math.isfinite(v) and 0.0 < v < l):
+    """An axial position z [m] strictly between the supports of a shaft of length l."""
+    v = finite(name, z, "m")
+    if not 0.0 < v < l:
         raise ValueError(f"{name} must lie strictly between the supports, 0 < z < l = {l} m, "
                          f"got {z!r} m")
     return v
@@ -66,9 +61,9 @@ def _n_modes(n) -> int:
 def shaft_natural_frequencies(length: float, mass_per_length: float, EJ: float,
                               n_modes: int) -> np.ndarray:
     """(2.162): ``w_j = (pi j / l)^2 sqrt(EJ/m)`` [rad/s], j = 1..n_modes."""
-    l = _positive("length", length, "m")
-    m = _positive("mass_per_length", mass_per_length, "kg/m")
-    ej = _positive("EJ", EJ, "N m^2")
+    l = positive("length", length, "m")
+    m = positive("mass_per_length", mass_per_length, "kg/m")
+    ej = positive("EJ", EJ, "N m^2")
     j = np.arange(1, _n_modes(n_modes) + 1)
     return (math.pi * j / l) ** 2 * math.sqrt(ej / m)
 
@@ -106,31 +101,27 @@ def flexible_shaft(length: float, mass_per_length: float, EJ: float, n_modes: in
     LinearRotor
         Coordinates ``qx_j [m]`` then ``qy_j [m]``; the planes as given.
     """
-    l = _positive("length", length, "m")
-    m = _positive("mass_per_length", mass_per_length, "kg/m")
+    l = positive("length", length, "m")
+    m = positive("mass_per_length", mass_per_length, "kg/m")
     J = _n_modes(n_modes)
     w = shaft_natural_frequencies(l, m, EJ, J)
-    zeta = np.broadcast_to(np.asarray(damping_ratio, dtype=float), (J,))
-    if not np.all(np.isfinite(zeta)) or np.any(zeta < 0):
-        raise ValueError(f"damping_ratio must be non-negative finite [-], got {damping_ratio!r}")
+    zeta = per_coordinate("damping_ratio", damping_ratio, J, "-")
     mj = 0.5 * m * l                                   # modal mass of sin(pi j z / l)
     two = np.eye(2)
     M = mj * np.eye(2 * J)
     K = np.kron(two, np.diag(mj * w * w))
     D = np.kron(two, np.diag(2.0 * zeta * mj * w))
     j = np.arange(1, J + 1)
-    planes = {"balancer": 0.5 * l} if planes is None else dict(planes)
-    maps = {}
-    for name, z in planes.items():
-        z = _position(f"planes[{name!r}]", z, l)
-        maps[name] = np.kron(two, np.sin(math.pi * j * z / l)[None, :])
+    maps = axis_planes({"balancer": 0.5 * l} if planes is None else planes,
+                       lambda z: np.kron(two, np.sin(math.pi * j * z / l)[None, :]),
+                       lambda name, z: _position(f"planes[{name!r}]", z, l))
     if isinstance(unbalances, dict):        # scene-file form {plane: s} or {plane: [s, angle]}
         unbalances = [(p, *np.atleast_1d(np.asarray(v, dtype=float)).tolist())
                       for p, v in unbalances.items()]
     unb = tuple(u if isinstance(u, Unbalance) else Unbalance(str(u[0]), float(u[1]),
                                                              float(u[2]) if len(u) > 2 else 0.0)
                 for u in unbalances)
-    gx, gy = (float(v) for v in g)
+    gx, gy = transverse_gravity(g)
     gm = m * l * (1.0 - np.cos(math.pi * j)) / (math.pi * j)
     return LinearRotor(
         name="flexible_shaft",
@@ -156,9 +147,9 @@ def shaft_receptance(omega, a: float, length: float, mass_per_length: float, EJ:
     uses the truncated modal sum ``(2/(m l)) sum_j sin^2(pi j a/l) / (w_j^2 - w^2)``.
     ``omega`` [rad/s] may be an array; G is infinite at a resonance not at a node.
     """
-    l = _positive("length", length, "m")
-    m = _positive("mass_per_length", mass_per_length, "kg/m")
-    ej = _positive("EJ", EJ, "N m^2")
+    l = positive("length", length, "m")
+    m = positive("mass_per_length", mass_per_length, "kg/m")
+    ej = positive("EJ", EJ, "N m^2")
     a = _position("a", a, l)
     om = np.abs(np.asarray(omega, dtype=float))
     if n_modes is not None:
@@ -212,5 +203,5 @@ def optimal_positions(n: int, length: float) -> np.ndarray:
     mode n + 1, for balancing between w_n and w_{n+1} (and through w_{n+1})."""
     if int(n) != n or n < 1:
         raise ValueError(f"n must be a positive integer (number of balancers) [-], got {n!r}")
-    l = _positive("length", length, "m")
+    l = positive("length", length, "m")
     return l * np.arange(1, int(n) + 1) / (int(n) + 1)

@@ -38,7 +38,8 @@ import math
 
 import numpy as np
 
-from .structure import LinearRotor, Unbalance
+from ._build import check, finite, listed_unbalance, nonnegative, positive
+from .structure import LinearRotor
 
 __all__ = ["grinding_rotor", "grinding", "rotated_stiffness", "grinding_critical_speed",
            "grinding_working_ranges", "grinding_criterion", "contact_force", "static_offset"]
@@ -46,36 +47,21 @@ __all__ = ["grinding_rotor", "grinding", "rotated_stiffness", "grinding_critical
 G0 = 9.81
 
 
-def _positive(name: str, value: float, unit: str) -> float:
-    v = float(value)
-    if not (math.isfinite(v) and v > 0):
-        raise ValueError(f"{name} must be a positive finite number [{unit}], got {value!r}")
-    return v
-
-
-def _finite(name: str, value: float, unit: str) -> float:
-    v = float(value)
-    if not math.isfinite(v):
-        raise ValueError(f"{name} must be a finite number [{unit}], got {value!r}")
-    return v
-
-
 def rotated_stiffness(c_xi: float, c_eta: float, alpha: float):
     """(2.47): ``(c_x, c_xy, c_y)`` [N/m] of principal stiffnesses c_xi, c_eta [N/m]
     whose axes are rotated by alpha [rad] from the surface axes (x, y)."""
-    cxi = _positive("c_xi", c_xi, "N/m")
-    ceta = _positive("c_eta", c_eta, "N/m")
-    a = _finite("alpha", alpha, "rad")
+    cxi = positive("c_xi", c_xi, "N/m")
+    ceta = positive("c_eta", c_eta, "N/m")
+    a = finite("alpha", alpha, "rad")
     ca, sa = math.cos(a), math.sin(a)
     return cxi * ca * ca + ceta * sa * sa, (cxi - ceta) * sa * ca, cxi * sa * sa + ceta * ca * ca
 
 
 def _effective(mass, c_xi, c_eta, alpha, f):
-    M = _positive("mass", mass, "kg")
-    fr = float(f)
-    if not (math.isfinite(fr) and fr >= 0):
-        raise ValueError(f"f (Coulomb friction coefficient) must be a non-negative finite number "
-                         f"[-], got {f!r}")
+    """Validated ``(M, f, c_x, c_xy, c_y, k)`` of (2.47), (2.50), with the effective
+    stiffness ``k = c_x + f c_xy`` [N/m] checked positive."""
+    M = positive("mass", mass, "kg")
+    fr = check("f (Coulomb friction coefficient)", f, "-", "nonnegative")
     cx, cxy, cy = rotated_stiffness(c_xi, c_eta, alpha)
     k = cx + fr * cxy
     if not k > 0:
@@ -124,12 +110,9 @@ def grinding_rotor(mass: float, c_xi: float, c_eta: float, alpha: float, f: floa
         For a non-positive mass or stiffness, negative f, or ``c_x + f c_xy <= 0``.
     """
     M, fr, cx, cxy, cy, k = _effective(mass, c_xi, c_eta, alpha, f)
-    d = float(damping)
-    if not (math.isfinite(d) and d >= 0):
-        raise ValueError(f"damping must be a non-negative finite number [N s/m], got {damping!r}")
-    gg = _finite("g", g, "m/s^2")
-    y0 = _finite("y0", y0, "m")
-    unb = (Unbalance("unbalance", float(unbalance), float(unbalance_angle)),) if unbalance else ()
+    d = nonnegative("damping", damping, "N s/m")
+    gg = finite("g", g, "m/s^2")
+    y0 = finite("y0", y0, "m")
     return LinearRotor(
         name="grinding",
         coords=("x [m]",),
@@ -137,7 +120,7 @@ def grinding_rotor(mass: float, c_xi: float, c_eta: float, alpha: float, f: floa
         planes={"balancer": np.array([[1.0], [0.0]]), "unbalance": np.array([[1.0], [fr]])},
         # the weights in the balancer plane push through the friction too: F_x + f F_y
         force_maps={"balancer": np.array([[1.0], [fr]])},
-        unbalances=unb,
+        unbalances=listed_unbalance("unbalance", unbalance, unbalance_angle),
         gravity=np.array([-fr * (M * gg + cy * y0) - cxy * y0]),
         gravity_plane=np.array([0.0, -gg]),
         source="Filimonikhin (2004) 2.5.3, eqs. (2.47), (2.50); unbalance map [[1],[f]]",
@@ -176,7 +159,7 @@ def contact_force(x, t, omega, mass, c_xi, c_eta, alpha, y0: float = 0.0, unbala
     ``x`` [m] and ``t`` [s] may be arrays.  The reduction (2.49)-(2.50) holds only
     while ``N >= 0`` (contact kept); callers check this along a simulated run.
     """
-    M = _positive("mass", mass, "kg")
+    M = positive("mass", mass, "kg")
     _, cxy, cy = rotated_stiffness(c_xi, c_eta, alpha)
     x = np.asarray(x, dtype=float)
     t = np.asarray(t, dtype=float)

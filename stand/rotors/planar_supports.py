@@ -13,16 +13,10 @@ import math
 
 import numpy as np
 
+from ._build import nonnegative, positive, transverse_gravity, weight_force
 from .structure import LinearRotor, Unbalance
 
 __all__ = ["planar_rotor", "planar_critical_speeds"]
-
-
-def _pos(name, v, unit, allow_zero=False):
-    v = float(v)
-    if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
-        raise ValueError(f"{name} = {v!r}: must be {'>= 0' if allow_zero else '> 0'} ({unit})")
-    return v
 
 
 def planar_rotor(mass, stiffness_x, stiffness_y=None, damping_x=0.0, damping_y=None,
@@ -37,16 +31,17 @@ def planar_rotor(mass, stiffness_x, stiffness_y=None, damping_x=0.0, damping_y=N
     unbalance : float  s = M e [kg m];  unbalance_angle : float [rad]
     g : (float, float)  transverse gravity [m/s^2] (zero for a vertical axis)
     """
-    M = _pos("mass", mass, "kg")
-    cx = _pos("stiffness_x", stiffness_x, "N/m")
-    cy = cx if stiffness_y is None else _pos("stiffness_y", stiffness_y, "N/m")
-    dx = _pos("damping_x", damping_x, "N s/m", True)
-    dy = dx if damping_y is None else _pos("damping_y", damping_y, "N s/m", True)
-    g = np.asarray(g, float)
+    M = positive("mass", mass, "kg")
+    cx = positive("stiffness_x", stiffness_x, "N/m")
+    cy = cx if stiffness_y is None else positive("stiffness_y", stiffness_y, "N/m")
+    dx = nonnegative("damping_x", damping_x, "N s/m")
+    dy = dx if damping_y is None else nonnegative("damping_y", damping_y, "N s/m")
+    g = transverse_gravity(g)
+    centre = np.eye(2)                  # the rotor's centre (x, y): plane "balancer"
     return LinearRotor("planar", ("x [m]", "y [m]"), M * np.eye(2), np.zeros((2, 2)),
-                       np.diag([dx, dy]), np.diag([cx, cy]), {"balancer": np.eye(2)},
+                       np.diag([dx, dy]), np.diag([cx, cy]), {"balancer": centre},
                        (Unbalance("balancer", float(unbalance), float(unbalance_angle)),),
-                       gravity=M * g, gravity_plane=g, source="section 2.5.1, (2.22)")
+                       gravity=weight_force(g, (M, centre)), gravity_plane=g, source="section 2.5.1, (2.22)")
 
 
 def planar_critical_speeds(mass, stiffness_x, stiffness_y) -> tuple:

@@ -23,24 +23,11 @@ import math
 
 import numpy as np
 
-from .structure import LinearRotor, Unbalance
+from ._build import listed_unbalance, nonnegative, positive, transverse_gravity, weight_force
+from .structure import LinearRotor
 
 __all__ = ["two_mass", "two_mass_natural_frequencies", "two_mass_critical_speeds",
            "two_mass_working_ranges", "two_mass_criterion"]
-
-
-def _positive(name: str, value: float, unit: str) -> float:
-    v = float(value)
-    if not (math.isfinite(v) and v > 0):
-        raise ValueError(f"{name} must be a positive finite number [{unit}], got {value!r}")
-    return v
-
-
-def _nonnegative(name: str, value: float, unit: str) -> float:
-    v = float(value)
-    if not (math.isfinite(v) and v >= 0):
-        raise ValueError(f"{name} must be a non-negative finite number [{unit}], got {value!r}")
-    return v
 
 
 def two_mass(body_mass: float, rotor_mass: float, body_stiffness: float, rotor_stiffness: float,
@@ -74,40 +61,33 @@ def two_mass(body_mass: float, rotor_mass: float, body_stiffness: float, rotor_s
         Coordinates (x1, y1, x2, y2) [m]; planes ``"balancer"`` = rotor translation
         (x2, y2) and ``"body"`` = body translation (x1, y1) (housing probe point).
     """
-    M1 = _positive("body_mass", body_mass, "kg")
-    M2 = _positive("rotor_mass", rotor_mass, "kg")
-    c1 = _positive("body_stiffness", body_stiffness, "N/m")
-    c2 = _positive("rotor_stiffness", rotor_stiffness, "N/m")
-    d1 = _nonnegative("body_damping", body_damping, "N s/m")
-    d2 = _nonnegative("rotor_damping", rotor_damping, "N s/m")
-    gx, gy = (float(v) for v in g)
+    M1, M2, c1, c2 = _check(body_mass, rotor_mass, body_stiffness, rotor_stiffness)
+    d1 = nonnegative("body_damping", body_damping, "N s/m")
+    d2 = nonnegative("rotor_damping", rotor_damping, "N s/m")
+    g = transverse_gravity(g)
 
     def coupling(k_ground: float, k_between: float) -> np.ndarray:
         # order (x1, y1, x2, y2): body rows get k_ground + k_between, rotor rows k_between
         blk = np.array([[k_ground + k_between, -k_between], [-k_between, k_between]])
         return np.kron(blk, np.eye(2))
 
-    M = np.diag([M1, M1, M2, M2])
-    K = coupling(c1, c2)
-    D = coupling(d1, d2)
     body = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0]])
     rotor = np.array([[0, 0, 1.0, 0], [0, 0, 0, 1.0]])
-    unb = (Unbalance("balancer", float(unbalance), float(unbalance_angle)),) if unbalance else ()
     return LinearRotor(
         name="two_mass",
         coords=("x1 [m]", "y1 [m]", "x2 [m]", "y2 [m]"),
-        M=M, G=np.zeros((4, 4)), D=D, K=K,
+        M=np.diag([M1, M1, M2, M2]), G=np.zeros((4, 4)), D=coupling(d1, d2), K=coupling(c1, c2),
         planes={"balancer": rotor, "body": body},
-        unbalances=unb,
-        gravity=np.array([M1 * gx, M1 * gy, M2 * gx, M2 * gy]),
-        gravity_plane=np.array([gx, gy]),
+        unbalances=listed_unbalance("balancer", unbalance, unbalance_angle),
+        gravity=weight_force(g, (M1, body), (M2, rotor)), gravity_plane=g,
         source="Filimonikhin (2004) 2.5.2, eq. (2.32); c1 body-ground, c2 rotor-body",
     )
 
 
 def _check(M1, M2, c1, c2):
-    return (_positive("body_mass", M1, "kg"), _positive("rotor_mass", M2, "kg"),
-            _positive("body_stiffness", c1, "N/m"), _positive("rotor_stiffness", c2, "N/m"))
+    """Validated ``(M1 [kg], M2 [kg], c1 [N/m], c2 [N/m])`` of (2.32)."""
+    return (positive("body_mass", M1, "kg"), positive("rotor_mass", M2, "kg"),
+            positive("body_stiffness", c1, "N/m"), positive("rotor_stiffness", c2, "N/m"))
 
 
 def two_mass_natural_frequencies(body_mass, rotor_mass, body_stiffness, rotor_stiffness):
