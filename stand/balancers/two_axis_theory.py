@@ -31,8 +31,10 @@ import numpy as np
 from numpy.polynomial import polynomial as P
 from scipy.optimize import brentq, minimize_scalar
 
-from .two_axis import (TwoAxisParams, first_group, eigenvalues, max_real_part, jacobian, rhs_fixed, efficiency, _D,
-                       _finite)
+from ._params import BOOK
+from .two_axis import TwoAxisParams
+from .two_axis_motion import rhs_fixed
+from .two_axis_steady import _D, efficiency, eigenvalues, first_group, jacobian, max_real_part
 
 __all__ = [
     "char_poly_first_group", "char_poly_second_group", "small_mass_roots",
@@ -200,8 +202,7 @@ def fold_speeds(R_gm, e0):
     -------
     (R_omega1, R_omega2, R_omega3) : tuple of float
     """
-    R_gm = _finite("R_gm", R_gm, nonneg=True)
-    e0 = _finite("e0", e0, nonneg=True)
+    R_gm, e0 = BOOK.each(("R_gm", R_gm, "-", ">= 0"), ("e0", e0, "-", ">= 0"))
     if not 0 < e0 < 1 or R_gm <= 0:
         raise ValueError(f"fold_speeds needs 0 < e0 < 1 [-] and R_gm > 0 [-], got e0={e0!r}, "
                          f"R_gm={R_gm!r}")
