@@ -180,6 +180,28 @@ def _fill_background(out, i, a, b, s, thresholds, guide, kmin):
     return s
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _window_box(uk, vk, wk, half_u, half_v, W, H):
+    """Pixels (columns a..b, rows c..d) of one sub-sample's drawing window.
+
+    The window is +-``half_u`` x +-``half_v`` [px] around the position (uk, vk)
+    [px], clipped to the W x H image; ``a = -1`` (all -1) when the sub-sample
+    draws nothing: non-finite position, zero weight ``wk``, or a window
+    entirely outside the image.
+    """
+    if not (math.isfinite(uk) and math.isfinite(vk)) or wk == 0.0:
+        return -1, -1, -1, -1
+    if uk + half_u < -0.5 or uk - half_u > W - 0.5:
+        return -1, -1, -1, -1
+    if vk + half_v < -0.5 or vk - half_v > H - 0.5:
+        return -1, -1, -1, -1
+    a = max(0, int(math.floor(uk - half_u + 0.5)))
+    b = min(W - 1, int(math.floor(uk + half_u + 0.5)))
+    c = max(0, int(math.floor(vk - half_v + 0.5)))
+    d = min(H - 1, int(math.floor(vk + half_v + 0.5)))
+    return a, b, c, d
+
+
 @njit(cache=True, error_model="numpy")
 def render_frame(u, v, weights, sigma_u, sigma_v, peak, background, read_noise,
                  electrons_per_dn, shot_noise, max_dn, noise, state, thresholds, guide,
@@ -231,16 +253,9 @@ def render_frame(u, v, weights, sigma_u, sigma_v, peak, background, read_noise,
     # bounding box of all windows, clipped to the image
     i0, i1, j0, j1 = H, -1, W, -1
     for k in range(K):
-        if not (math.isfinite(u[k]) and math.isfinite(v[k])) or weights[k] == 0.0:
+        a, b, c, d = _window_box(u[k], v[k], weights[k], half_u, half_v, W, H)
+        if a < 0:
             continue
-        if u[k] + half_u < -0.5 or u[k] - half_u > W - 0.5:
-            continue
-        if v[k] + half_v < -0.5 or v[k] - half_v > H - 0.5:
-            continue
-        a = max(0, int(math.floor(u[k] - half_u + 0.5)))
-        b = min(W - 1, int(math.floor(u[k] + half_u + 0.5)))
-        c = max(0, int(math.floor(v[k] - half_v + 0.5)))
-        d = min(H - 1, int(math.floor(v[k] + half_v + 0.5)))
         j0 = min(j0, a)
         j1 = max(j1, b)
         i0 = min(i0, c)
@@ -253,16 +268,9 @@ def render_frame(u, v, weights, sigma_u, sigma_v, peak, background, read_noise,
     gv = np.empty(int(2.0 * half_v) + 3)
     flux0 = peak * _TWO_PI * sigma_u * sigma_v
     for k in range(K):
-        if not (math.isfinite(u[k]) and math.isfinite(v[k])) or weights[k] == 0.0:
+        a, b, c, d = _window_box(u[k], v[k], weights[k], half_u, half_v, W, H)
+        if a < 0:
             continue
-        if u[k] + half_u < -0.5 or u[k] - half_u > W - 0.5:
-            continue
-        if v[k] + half_v < -0.5 or v[k] - half_v > H - 0.5:
-            continue
-        a = max(0, int(math.floor(u[k] - half_u + 0.5)))
-        b = min(W - 1, int(math.floor(u[k] + half_u + 0.5)))
-        c = max(0, int(math.floor(v[k] - half_v + 0.5)))
-        d = min(H - 1, int(math.floor(v[k] + half_v + 0.5)))
         _edge_integrals(u[k], sigma_u, half_u, a, b, gu)
         _edge_integrals(v[k], sigma_v, half_v, c, d, gv)
         f = flux0 * weights[k]
