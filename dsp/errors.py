@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["SignalError", "check_signal", "check_times"]
+__all__ = ["SignalError", "check_signal", "check_times", "check_band"]
 
 
 class SignalError(ValueError):
@@ -17,6 +17,22 @@ class SignalError(ValueError):
     Subclass of :class:`ValueError`; the message names the argument and what
     is wrong with it.
     """
+
+
+def _check_length(a, name, min_samples):
+    """Raise unless ``a`` is 1-D with at least ``min_samples`` entries."""
+    if a.ndim != 1:
+        raise SignalError(f"{name}: must be a 1-D array, got shape {a.shape}")
+    if a.size < min_samples:
+        raise SignalError(f"{name}: too short, {a.size} samples (need at least {min_samples})")
+
+
+def _check_finite(a, name, what):
+    """Raise naming the count and the first index of NaN/inf entries of ``a``."""
+    bad = ~np.isfinite(a)
+    if bad.any():
+        raise SignalError(f"{name}: {int(bad.sum())} non-finite {what}(s) (NaN/inf), "
+                          f"first at index {int(np.argmax(bad))}")
 
 
 def check_times(t, name="t", min_samples=2):
@@ -42,14 +58,8 @@ def check_times(t, name="t", min_samples=2):
         If ``t`` is not 1-D, too short, non-finite or not strictly increasing.
     """
     t = np.asarray(t, dtype=float)
-    if t.ndim != 1:
-        raise SignalError(f"{name}: must be a 1-D array, got shape {t.shape}")
-    if t.size < min_samples:
-        raise SignalError(f"{name}: too short, {t.size} samples (need at least {min_samples})")
-    bad = ~np.isfinite(t)
-    if bad.any():
-        raise SignalError(f"{name}: {int(bad.sum())} non-finite value(s) (NaN/inf), "
-                          f"first at index {int(np.argmax(bad))}")
+    _check_length(t, name, min_samples)
+    _check_finite(t, name, "value")
     d = np.diff(t)
     if (d <= 0).any():
         i = int(np.argmax(d <= 0))
@@ -112,12 +122,8 @@ def check_signal(t, x, name="x", min_samples=16, uniform_rtol=1e-3, allow_comple
         raise SignalError(f"t: must be a 1-D array, got shape {tt.shape}")
     if tt.size != x.size:
         raise SignalError(f"t and {name}: lengths differ ({tt.size} vs {x.size})")
-    if x.size < min_samples:
-        raise SignalError(f"{name}: too short, {x.size} samples (need at least {min_samples})")
-    bad = ~np.isfinite(x)
-    if bad.any():
-        raise SignalError(f"{name}: {int(bad.sum())} non-finite sample(s) (NaN/inf), "
-                          f"first at index {int(np.argmax(bad))}")
+    _check_length(x, name, min_samples)
+    _check_finite(x, name, "sample")
     t = check_times(tt, "t", min_samples)
     d = np.diff(t)
     dt = float(np.median(d))
@@ -131,3 +137,36 @@ def check_signal(t, x, name="x", min_samples=16, uniform_rtol=1e-3, allow_comple
     if np.max(np.abs(x - x[0])) <= 1e-12 * max(scale, np.finfo(float).tiny):
         raise SignalError(f"{name}: signal is constant (value {x[0]!r}); nothing to identify")
     return t, x, float((t[-1] - t[0]) / (t.size - 1))
+
+
+def check_band(freq_hz, sample_rate_hz, max_band_fraction, name):
+    """Raise when an identified line lies near the top of the band (probable aliasing).
+
+    A line above the Nyquist frequency folds back into the band and cannot be
+    recognised from the samples alone; what can be detected is a line near the
+    band edge, where lines only slightly above Nyquist land.
+
+    Parameters
+    ----------
+    freq_hz : float or array_like
+        Identified frequencies [Hz] (the sign is ignored).
+    sample_rate_hz : float
+        Sample rate fs [Hz]; the Nyquist frequency is fs / 2.
+    max_band_fraction : float
+        Largest accepted |f| as a fraction of the Nyquist frequency [-].
+    name : str
+        Name of the signal argument used in the message.
+
+    Raises
+    ------
+    SignalError
+        If any |f| > ``max_band_fraction`` x fs / 2.
+    """
+    nyq = 0.5 * sample_rate_hz
+    f = np.atleast_1d(np.abs(np.asarray(freq_hz, dtype=float)))
+    if (f > max_band_fraction * nyq).any():
+        raise SignalError(
+            f"{name}: line at {float(f.max()):.6g} Hz lies within the top "
+            f"{100 * (1 - max_band_fraction):.3g} % of the band (Nyquist {nyq:.6g} Hz); "
+            f"the signal is probably aliased (a component above Nyquist folds back "
+            f"near the band edge) -- sample faster or low-pass filter before sampling")
