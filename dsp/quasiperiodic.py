@@ -14,14 +14,16 @@ curtate (no loops) if A_P Omega > A_N omega, normal (cusps) if equal, prolate
 (loops) if smaller.
 
 :func:`decompose` finds the spectral lines of z (signed frequencies: forward
-> 0, backward < 0) by a NAFF-style search -- Hann-windowed spectrum peak,
-bounded scalar refinement of the windowed Fourier integral beyond the FFT bin,
-Gram-Schmidt (weighted least-squares) subtraction of the lines found so far --
-followed by a joint Hann-weighted nonlinear least-squares fit of all
-frequencies and complex amplitudes (variable projection), which removes the
-mutual leakage of the lines; standard uncertainties come from the sandwich
-covariance of that fit with the residual as noise.  ``dsp.frequency`` was not
-available when this module was written, so the refinement is private here.
+> 0, backward < 0) with the line estimator of :mod:`dsp.lines` (the one behind
+:func:`dsp.frequency.refine_frequencies`): the NAFF search
+(:func:`dsp.lines.naff`: Hann-windowed spectrum peak, bounded scalar
+refinement of the windowed Fourier integral beyond the FFT bin, Gram-Schmidt
+subtraction of the lines found so far) with a constant offset and detection
+thresholds, followed by the joint Hann-weighted nonlinear least-squares fit of
+all frequencies and complex amplitudes (:func:`dsp.lines.fit_lines`, variable
+projection), which removes the mutual leakage of the lines; standard
+uncertainties come from the sandwich covariance of that fit with the residual
+as noise.
 
 :func:`unbalance_from_nutation` and :func:`damping_from_precession` invert the
 amplitudes of (5.237) for e0 and H given the model parameters.
@@ -32,14 +34,12 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import least_squares, minimize_scalar
 
 from .errors import SignalError, check_signal
+from .lines import fit_lines, naff, spectrum, window_weights
 
 __all__ = ["Component", "QPDecomposition", "decompose", "unbalance_from_nutation",
            "damping_from_precession"]
-
-TWO_PI = 2.0 * math.pi
 
 
 @dataclass(frozen=True)
@@ -148,129 +148,12 @@ class QPDecomposition:
 
 # ------------------------------------------------------------------ internals
 
-def _window(n, kind):
-    if kind == "hann":
-        return 0.5 - 0.5 * np.cos(TWO_PI * (np.arange(n) + 0.5) / n)   # periodic, no zeros
-    if kind in ("rect", "none", None):
-        return np.ones(n)
-    raise ValueError(f"window = {kind!r}: must be 'hann' or 'rect'")
-
-
-def _design(tc, freqs):
-    cols = [np.ones_like(tc, dtype=complex)]
-    cols += [np.exp(2j * math.pi * f * tc) for f in freqs]
-    return np.column_stack(cols)
-
-
-def _wls(B, z, sw):
-    c, *_ = np.linalg.lstsq(B * sw[:, None], z * sw, rcond=None)
-    return c
-
-
-def _refine_one(tc, r, w, f0, half_width):
-    """Maximise |sum w r e^{-2 pi i f t}| over [f0 - hw, f0 + hw] (bounded Brent)."""
-    wr = w * r
-
-    def neg(f):
-        return -abs(np.dot(wr, np.exp(-2j * math.pi * f * tc)))
-
-    res = minimize_scalar(neg, bounds=(f0 - half_width, f0 + half_width), method="bounded",
-                          options={"xatol": half_width * 1e-9})
-    return float(res.x)
-
-
-def _naff(tc, z, w, dt, n_components, min_relative_amplitude, snr_min):
-    n = z.size
-    T = n * dt
-    pad = 1 << int(math.ceil(math.log2(8 * n)))
-    grid = np.fft.fftfreq(pad, dt)
-    sw = np.sqrt(w)
-    freqs = []
-    B = _design(tc, freqs)
-    c = _wls(B, z, sw)
-    r = z - B @ c
-    first = None
-    for _ in range(n_components):
-        spec = np.abs(np.fft.fft(w * r, pad)) / w.sum()
-        mask = np.abs(grid) < 2.0 / T                      # unresolvable from the offset
-        for f in freqs:
-            mask |= np.abs(grid - f) < 2.0 / T               # Hann main lobe of a found line
-        spec_m = np.where(mask, 0.0, spec)
-        i = int(np.argmax(spec_m))
-        peak = spec_m[i]
-        if first is None:
-            first = peak
-            if peak == 0.0:
-                break
-        floor = float(np.median(spec))
-        if peak < min_relative_amplitude * first or peak < snr_min * floor:
-            break
-        f = _refine_one(tc, r, w, grid[i], 1.0 / (pad * dt))
-        freqs.append(f)
-        B = _design(tc, freqs)
-        c = _wls(B, z, sw)
-        r = z - B @ c                                       # Gram-Schmidt subtraction
-    return freqs
-
-
-def _joint_fit(tc, z, w, freqs, T):
-    """Hann-weighted nonlinear LS of all frequencies (variable projection)."""
-    sw = np.sqrt(w)
-    f0 = np.asarray(freqs, float)
-
-    def resid(p):
-        f = f0 + p / T
-        B = _design(tc, f)
-        c = _wls(B, z, sw)
-        r = sw * (z - B @ c)
-        return np.concatenate([r.real, r.imag])
-
-    if f0.size:
-        sol = least_squares(resid, np.zeros(f0.size), method="lm", xtol=1e-14, ftol=1e-14,
-                            gtol=1e-14, max_nfev=200 * (f0.size + 1))
-        f = f0 + sol.x / T
-    else:
-        f = f0
-    B = _design(tc, f)
-    c = _wls(B, z, sw)
-    r = z - B @ c
-    # sandwich covariance of theta = [f_k, Re c_j, Im c_j] (real parameters)
-    cols = []
-    for k in range(f.size):
-        d = 2j * math.pi * tc * c[k + 1] * np.exp(2j * math.pi * f[k] * tc)
-        cols.append(d)
-    for j in range(B.shape[1]):
-        cols.append(B[:, j])
-        cols.append(1j * B[:, j])
-    Jc = np.column_stack(cols)
-    J = np.vstack([Jc.real, Jc.imag])
-    W = np.concatenate([w, w])
-    sigma2 = float(np.sum(w * np.abs(r) ** 2) / (2.0 * np.sum(w)))
-    A = J.T @ (J * W[:, None])
-    Bm = J.T @ (J * (W ** 2)[:, None]) * sigma2
-    try:
-        Ai = np.linalg.inv(A)
-        cov = Ai @ Bm @ Ai
-    except np.linalg.LinAlgError:
-        cov = np.full((J.shape[1], J.shape[1]), np.nan)
-    return f, c, r, cov
-
-
-def _component(f, a, cov, k, nf):
-    """Component k (0-based line index) from the fit; cov over [f..., Re/Im c...]."""
-    sf = math.sqrt(max(cov[k, k], 0.0))
-    j = nf + 2 * (k + 1)                                   # Re c_{k+1}; Im at j + 1
-    C = cov[j:j + 2, j:j + 2]
-    amp = abs(a)
-    if amp > 0:
-        u = np.array([a.real, a.imag]) / amp
-        v = np.array([-a.imag, a.real]) / amp
-        s_amp = math.sqrt(max(u @ C @ u, 0.0))
-        s_ph = math.sqrt(max(v @ C @ v, 0.0)) / amp
-    else:
-        s_amp, s_ph = math.sqrt(max(np.trace(C) / 2, 0.0)), math.pi
-    return Component(frequency_hz=float(f), frequency_std_hz=sf, amplitude=complex(a),
-                     amplitude_m=amp, amplitude_std_m=s_amp,
+def _component(fit, k):
+    """Component of line k (0-based) of a :class:`dsp.lines.LineFit`."""
+    f, a = float(fit.frequency[k]), complex(fit.amplitude[k])
+    s_amp, s_ph = fit.amplitude_std(k)
+    return Component(frequency_hz=f, frequency_std_hz=float(fit.frequency_std()[k]),
+                     amplitude=a, amplitude_m=abs(a), amplitude_std_m=s_amp,
                      phase_rad=math.atan2(a.imag, a.real), phase_std_rad=s_ph,
                      direction="forward" if f > 0 else "backward")
 
@@ -344,24 +227,23 @@ def decompose(t, z, n_components=4, rotor_speed_hz=None, *, window="hann",
                               f"(need at least 2)")
     t_ref = 0.5 * (t[0] + t[-1])                   # middle of the record
     tc = t - t_ref
-    w = _window(n, window)
+    w = window_weights(n, window)
     # the strongest line must be resolvable from the offset: >= 2 periods
-    spec = np.abs(np.fft.fft(w * (z - np.sum(w * z) / w.sum())))
-    fgrid = np.fft.fftfreq(n, dt)
+    fgrid, spec = spectrum(z - np.sum(w * z) / w.sum(), w, dt)
     i0 = int(np.argmax(spec))
     if abs(fgrid[i0]) * T < 2.0:
         raise SignalError(f"record too short: the strongest component (about {fgrid[i0]:.3g} Hz) "
                           f"has fewer than 2 periods in {T:.4g} s; record at least 2 periods of "
                           f"the slowest component")
-    freqs = _naff(tc, z, w, dt, int(n_components), min_relative_amplitude, snr_min)
-    if not freqs:
+    freqs = naff(tc, z, w, int(n_components), offset=True,
+                 min_relative_amplitude=min_relative_amplitude, snr_min=snr_min)
+    if not freqs.size:
         raise SignalError("z: no spectral line found above the noise")
-    f, c, r, cov = _joint_fit(tc, z, w, freqs, T)
-    nf = f.size
-    comps = [_component(f[k], c[k + 1], cov, k, nf) for k in range(nf)]
+    fit = fit_lines(tc, z, w, freqs, offset=True)
+    comps = [_component(fit, k) for k in range(fit.frequency.size)]
     comps.sort(key=lambda q: -q.amplitude_m)
-    offset = complex(c[0])
-    offset_std = math.sqrt(max(0.5 * (cov[nf, nf] + cov[nf + 1, nf + 1]), 0.0))
+    offset = fit.offset
+    offset_std = math.sqrt(max(0.5 * float(np.trace(fit.offset_cov())), 0.0))
     strongest = comps[0].amplitude_m
 
     # --- identification
@@ -417,7 +299,7 @@ def decompose(t, z, n_components=4, rotor_speed_hz=None, *, window="hann",
         precession_amplitude_std_m=sAP, nutation_amplitude_m=AN, nutation_amplitude_std_m=sAN,
         k=k, k_std=k_std, petals=petals, stationary=stationary, pattern_drift_hz=drift,
         shape_ratio=ratio, shape_ratio_std=ratio_std, shape=shape,
-        residual_rms=float(np.sqrt(np.mean(np.abs(r) ** 2))), sample_rate_hz=fs,
+        residual_rms=float(np.sqrt(np.mean(np.abs(fit.residual) ** 2))), sample_rate_hz=fs,
         duration_s=T, window=str(window), notes=notes)
 
 
