@@ -41,15 +41,14 @@ Initial data (7): ``Z0 = psi e omega_0^2/(Omega^2 - omega_0^2 + 2 i h omega_0)``
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import minimize_scalar
 from scipy.special import fresnel, wofz
 
-from .liquid_float import (LiquidFloatParams, SCIPY_METHODS, simulate, stationary_amplitude,
-                           _check_positive, _check_finite)
+from ._params import PAPER
+from .liquid_float import SCIPY_METHODS, LiquidFloatParams, simulate
 
 __all__ = [
     "runup_closed_form", "runup_closed_form_state", "runup_extrema", "RunupExtrema",
@@ -449,8 +448,8 @@ def accuracy_against_closed_form(params: LiquidFloatParams, method: str = "DOP85
         raise ValueError("give exactly one of t_end [s] and z_end [-]")
     if t_end is None:
         t_end = params.time_at_z(z_end)
-    t_end = _check_positive("t_end", t_end, "s")
-    t_start = _check_finite("t_start", t_start, "s")
+    t_end = PAPER.positive("t_end", t_end, "s")
+    t_start = PAPER.finite("t_start", t_start, "s")
     if not 0.0 <= t_start < t_end:
         raise ValueError(f"t_start = {t_start!r} [s]: must be in [0, t_end = {t_end} s)")
     y0 = None
@@ -460,14 +459,14 @@ def accuracy_against_closed_form(params: LiquidFloatParams, method: str = "DOP85
     if method == "RK4":
         if step is None:
             raise ValueError("step [s] is required for method = 'RK4'")
-        step = _check_positive("step", step, "s")
+        step = PAPER.positive("step", step, "s")
         n_steps = max(1, int(round((t_end - t_start) / step)))
         every = max(1, n_steps // max(1, n_eval - 1))
         run = simulate(params, t_end, method="RK4", step=step, frame=frame, t0=t_start,
                        y0=y0, record_every=every)
         rt = None
     elif method in SCIPY_METHODS:
-        rt = _check_positive("rtol", rtol, "-")
+        rt = PAPER.positive("rtol", rtol, "-")
         t_eval = np.linspace(t_start, t_end, n_eval)
         run = simulate(params, t_end, t_eval=t_eval, method=method, rtol=rt, frame=frame,
                        t0=t_start, y0=y0)
