@@ -20,6 +20,9 @@ import numpy as np
 
 from .errors import SignalError
 
+__all__ = ["WindowRegime", "motion_regime", "classify_windows", "RegimeChange",
+           "critical_speeds", "BANDS", "speed_band"]
+
 
 @dataclass(frozen=True)
 class WindowRegime:
@@ -33,6 +36,49 @@ class WindowRegime:
     slip_spread_rad_s: float           #: spread of the weights' slip speeds
     whirl_m: float                     #: RMS shaft whirl radius in the window
     evidence: dict = field(default_factory=dict)
+
+
+def motion_regime(rotor_speed, weight_slip, balanced, *, sync_tol: float = 1e-3,
+                  spread_tol: float = 1e-2) -> str:
+    """The regime from the mean speeds over a window (the one regime rule of the stand).
+
+    * every weight's mean slip below ``sync_tol`` x |rotor speed|: the weights
+      are synchronous -> ``"main"`` if ``balanced``, else ``"side"``;
+    * else every weight slipping backwards (behind the rotor) with slips that
+      differ by less than ``spread_tol`` x |rotor speed|, the rotor turning:
+      ``"quasi-periodic"`` (the weights stuck together at a common speed below
+      the rotor's);
+    * else ``"transient"``.
+
+    Parameters
+    ----------
+    rotor_speed : float
+        Mean rotor speed over the window (rad/s, or any unit, e.g. omega_1).
+    weight_slip : array_like (n,)
+        Mean speed of each weight relative to the rotor, same unit.
+    balanced : bool or callable
+        Whether the rotor counts as balanced (e.g. whirl radius below a ring,
+        or the residual unbalance at its target); a zero-argument callable is
+        evaluated only when the weights are synchronous.
+    sync_tol : float
+        Relative synchrony tolerance [-].
+    spread_tol : float
+        Relative spread of the slips of a stuck group [-].
+
+    Returns
+    -------
+    str
+        "main", "side", "quasi-periodic" or "transient".
+    """
+    slip = np.atleast_1d(np.asarray(weight_slip, dtype=float))
+    w = abs(float(rotor_speed))
+    scale = max(w, 1e-12)
+    if np.all(np.abs(slip) < sync_tol * scale):
+        ok = balanced() if callable(balanced) else balanced
+        return "main" if ok else "side"
+    if np.all(slip < 0) and np.ptp(slip) < spread_tol * scale and w > 0:
+        return "quasi-periodic"
+    return "transient"
 
 
 def _check(t, name="t"):
@@ -67,6 +113,14 @@ def classify_windows(t, rotor_angle, weight_angle, x, y, window_s: float,
         the rotor speed.
     step_s : float, optional
         Window step [s]; default half a window.
+
+    Each window's regime is :func:`motion_regime` of the mean rotor speed and
+    weight slips (from the angle changes over the window), balanced when the
+    RMS whirl is below ``balanced_whirl_m``.
+
+    Returns
+    -------
+    list of WindowRegime
     """
     t = _check(t)
     phi = np.asarray(rotor_angle, float)
@@ -94,13 +148,7 @@ def classify_windows(t, rotor_angle, weight_angle, x, y, window_s: float,
         slip = (rel[-1] - rel[0]) / dur
         spread = float(np.ptp(slip))
         whirl = float(np.sqrt(np.mean(r[sel] ** 2)))
-        sync = np.all(np.abs(slip) < sync_tol * max(abs(w), 1e-12))
-        if sync:
-            regime = "main" if whirl < balanced_whirl_m else "side"
-        elif np.all(slip < 0) and spread < 1e-2 * max(abs(w), 1e-12) and abs(w) > 0:
-            regime = "quasi-periodic"
-        else:
-            regime = "transient"
+        regime = motion_regime(w, slip, whirl < balanced_whirl_m, sync_tol=sync_tol)
         out.append(WindowRegime(float(ts[0]), float(ts[-1]), regime, float(w), slip, spread, whirl,
                                 {"sync_tol": sync_tol, "balanced_whirl_m": balanced_whirl_m}))
         t0 += step

@@ -9,12 +9,25 @@ Regimes (digest ch5 section 0.1 and ch2_ch3 section 7.2 item 3):
 * ``"quasi-periodic"`` -- weights slip relative to the rotor at a steady mean
   speed Omega (stuck balls), close to the natural frequency;
 * ``"transient"`` -- none of the above within the window (still settling).
+
+The rule itself is :func:`dsp.regime.motion_regime` (shared with the
+windowed classifier of recordings, :func:`dsp.regime.classify_windows`); this
+module supplies what only the simulator knows: mean speeds in units of
+omega_1 and the residual unbalance against its target (the theory's maximally
+balanced motion beyond capacity).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 import numpy as np
+
+from dsp.regime import motion_regime
+
+#: relative spread of the weights' speeds of a stuck group at the end of a
+#: simulated run (mean speeds of the samples; stricter than dsp's default for
+#: measured windows)
+QP_SPREAD_TOL = 1e-3
 
 
 @dataclass
@@ -70,6 +83,13 @@ def classify(traj, window: float = 0.2, sync_tol: float = 1e-3, balance_tol: flo
     balance_tol : float
         "main" when |psi|/S < balance_tol (within capacity) or when, beyond
         capacity, |psi|/S is within balance_tol of e0 - 1.
+
+    Returns
+    -------
+    Regime
+        The weights are quasi-periodic when they all run slower than the rotor
+        with speeds within ``QP_SPREAD_TOL`` x the rotor speed of each other
+        (:func:`dsp.regime.motion_regime`).
     """
     sc = traj.scene
     w1 = sc.natural_frequency
@@ -85,11 +105,11 @@ def classify(traj, window: float = 0.2, sync_tol: float = 1e-3, balance_tol: flo
     from .planar import rotor_unbalance
 
     e0 = float(abs(rotor_unbalance(sc, traj.t[-1:])[0])) / S
-    sync = np.all(np.abs(ws - rotor) < sync_tol * max(abs(rotor), 1e-12))
-    if sync:
+
+    def balanced():
         target = _maximally_balanced_residual(sc, rotor, e0) if e0 > 1 else 0.0
-        name = "main" if abs(psi - target) < balance_tol else "side"
-    else:
-        slow = np.all(ws < rotor) and np.ptp(ws) < 1e-3 * max(abs(rotor), 1e-12)
-        name = "quasi-periodic" if slow else "transient"
+        return abs(psi - target) < balance_tol
+
+    name = motion_regime(rotor, ws - rotor, balanced, sync_tol=sync_tol,
+                         spread_tol=QP_SPREAD_TOL)
     return Regime(name, psi, ws, rotor, spread)
