@@ -232,8 +232,25 @@ def synchronous_component(t, x, y, *, keyphasor_times=None, rotor_angle=None,
 
 # ------------------------------------------------------------- model inversion
 
+class _InGramMillimetres:
+    """``unbalance_gmm`` and ``unbalance_std_gmm`` [g mm] of a result that holds
+    ``unbalance_kg_m`` and ``unbalance_std_kg_m`` [kg m]."""
+
+    __slots__ = ()
+
+    @property
+    def unbalance_gmm(self) -> float:
+        """U [g mm] (1 kg m = 1e6 g mm)."""
+        return self.unbalance_kg_m * 1e6
+
+    @property
+    def unbalance_std_gmm(self) -> float:
+        """Standard uncertainty of U [g mm]."""
+        return self.unbalance_std_kg_m * 1e6
+
+
 @dataclass(frozen=True)
-class UnbalanceEstimate:
+class UnbalanceEstimate(_InGramMillimetres):
     """Unbalance U e^{i beta} from the 1X response.
 
     Attributes
@@ -255,14 +272,6 @@ class UnbalanceEstimate:
     angle_std_rad: float
     vector_kg_m: complex
     speed_ratio: float
-
-    @property
-    def unbalance_gmm(self) -> float:
-        return self.unbalance_kg_m * 1e6
-
-    @property
-    def unbalance_std_gmm(self) -> float:
-        return self.unbalance_std_kg_m * 1e6
 
     @property
     def angle_deg(self) -> float:
@@ -332,7 +341,7 @@ def unbalance_from_response(response_1x, speed_rad_s, mass_kg, natural_frequency
 # ----------------------------------------------------------------------- rings
 
 @dataclass(frozen=True)
-class RingReading:
+class RingReading(_InGramMillimetres):
     """Unbalance read from the calibration rings.
 
     Attributes
@@ -358,14 +367,6 @@ class RingReading:
     unbalance_std_kg_m: float
     off_scale: bool
     interpolated_kg_m: float = math.nan
-
-    @property
-    def unbalance_gmm(self) -> float:
-        return self.unbalance_kg_m * 1e6
-
-    @property
-    def unbalance_std_gmm(self) -> float:
-        return self.unbalance_std_kg_m * 1e6
 
 
 def unbalance_from_rings(radius_m, ring_radii_m, capacity_kg_m):
