@@ -72,6 +72,7 @@ class Component:
 
     @property
     def phase_deg(self) -> float:
+        """arg(amplitude) at t_ref [deg]."""
         return math.degrees(self.phase_rad)
 
 

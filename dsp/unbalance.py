@@ -87,6 +87,7 @@ class SynchronousComponent:
 
     @property
     def phase_deg(self) -> float:
+        """Phase of the 1X vector ahead of the reference mark [deg]."""
         return math.degrees(self.phase_rad)
 
 
@@ -232,21 +233,18 @@ def synchronous_component(t, x, y, *, keyphasor_times=None, rotor_angle=None,
 
 # ------------------------------------------------------------- model inversion
 
+def _gmm(attr, doc):
+    """Read-only property: the [kg m] attribute ``attr`` in [g mm] (x 1e6)."""
+    return property(lambda self: getattr(self, attr) * 1e6, doc=doc)
+
+
 class _InGramMillimetres:
-    """``unbalance_gmm`` and ``unbalance_std_gmm`` [g mm] of a result that holds
-    ``unbalance_kg_m`` and ``unbalance_std_kg_m`` [kg m]."""
+    """``unbalance_gmm``, ``unbalance_std_gmm`` [g mm] of a result holding
+    ``unbalance_kg_m``, ``unbalance_std_kg_m`` [kg m]."""
 
     __slots__ = ()
-
-    @property
-    def unbalance_gmm(self) -> float:
-        """U [g mm] (1 kg m = 1e6 g mm)."""
-        return self.unbalance_kg_m * 1e6
-
-    @property
-    def unbalance_std_gmm(self) -> float:
-        """Standard uncertainty of U [g mm]."""
-        return self.unbalance_std_kg_m * 1e6
+    unbalance_gmm = _gmm("unbalance_kg_m", "U [g mm] (1 kg m = 1e6 g mm).")
+    unbalance_std_gmm = _gmm("unbalance_std_kg_m", "Standard uncertainty of U [g mm].")
 
 
 @dataclass(frozen=True)
@@ -275,6 +273,7 @@ class UnbalanceEstimate(_InGramMillimetres):
 
     @property
     def angle_deg(self) -> float:
+        """beta [deg]."""
         return math.degrees(self.angle_rad)
 
 

@@ -39,7 +39,8 @@ except Exception:  # pragma: no cover - depends on the parallel work on vision.i
         """Bad input to a vision function (blank image, nothing found, ...)."""
 
 __all__ = ["VisionError", "Ellipse", "Calibration", "ZoneReading", "detect_rings",
-           "fit_homography", "scale_from_fiducials", "px_to_m", "m_to_px", "zone_map", "PARTS"]
+           "fit_homography", "scale_from_fiducials", "px_to_m", "m_to_px", "apply_homography",
+           "zone_map", "PARTS"]
 
 PARTS = 16  #: the capacity S is divided into 16 parts (zones i S / 16)
 
@@ -222,21 +223,33 @@ class Calibration:
         return np.linalg.inv(self.homography)
 
 
-def _apply(H, a, b):
-    a = np.asarray(a, dtype=float)
-    b = np.asarray(b, dtype=float)
-    w = H[2, 0] * a + H[2, 1] * b + H[2, 2]
-    return (H[0, 0] * a + H[0, 1] * b + H[0, 2]) / w, (H[1, 0] * a + H[1, 1] * b + H[1, 2]) / w
+def apply_homography(H, a, b):
+    """Map points through a 3x3 homography: ``[x w, y w, w] = H [a, b, 1]``.
+
+    Parameters
+    ----------
+    H : (3, 3) array
+    a, b : array_like
+        Coordinates of the points (any common shape; px or m).
+
+    Returns
+    -------
+    x, y : ndarray or float
+        Mapped coordinates, the shape of ``a`` and ``b`` (scalars for scalars).
+    """
+    a, b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
+    p = np.asarray(H, dtype=float) @ np.stack([a.ravel(), b.ravel(), np.ones(a.size)])
+    return (p[0] / p[2]).reshape(a.shape)[()], (p[1] / p[2]).reshape(a.shape)[()]
 
 
 def px_to_m(u, v, cal: Calibration):
     """Image (u, v) px -> screen (X, Y) m, origin at the ring centre."""
-    return _apply(cal.homography_inverse, u, v)
+    return apply_homography(cal.homography_inverse, u, v)
 
 
 def m_to_px(X, Y, cal: Calibration):
     """Screen (X, Y) m -> image (u, v) px."""
-    return _apply(cal.homography, X, Y)
+    return apply_homography(cal.homography, X, Y)
 
 
 def _jacobian(H, X=0.0, Y=0.0, h=1e-6):
@@ -398,7 +411,7 @@ def scale_from_fiducials(points_px, points_m, *, mirror: bool = True) -> Calibra
     H = np.linalg.inv(M)
     H = H / H[2, 2]
     res = Q - (np.c_[P, np.ones(len(P))] @ M.T)[:, :2]
-    u0, v0 = _apply(H, 0.0, 0.0)
+    u0, v0 = apply_homography(H, 0.0, 0.0)
     return Calibration(homography=H, scale=s, centre_px=(float(u0), float(v0)), tilt=0.0,
                        rms_px=float(np.sqrt(np.mean(np.sum(res * res, 1)))) / s)
 
