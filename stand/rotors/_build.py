@@ -109,9 +109,29 @@ def nonzero(name: str, value, unit: str, note: str = "") -> float:
 
 
 def per_coordinate(name: str, value, n: int, unit: str, rule: str = "nonnegative") -> np.ndarray:
-    """A scalar (the same for all) or ``n`` values, one per coordinate, checked
-    against ``rule`` (default non-negative, as for viscous damping), as an
-    array (n,).  The error names the parameter, unit and value as :func:`check`."""
+    """One value per coordinate, given as a scalar (the same for all) or ``n`` values.
+
+    Parameters
+    ----------
+    name, unit : str
+        As in :func:`check` (e.g. ``"damping"``, ``"N m s/rad"``).
+    value : float or sequence of n floats
+    n : int
+        Number of coordinates.
+    rule : str, optional
+        Rule of :func:`check` for every value (default ``"nonnegative"``, as for
+        viscous damping or damping ratios).
+
+    Returns
+    -------
+    ndarray (n,)
+
+    Raises
+    ------
+    ValueError
+        Naming the parameter, unit and value when any value breaks the rule or
+        the shape does not broadcast to (n,).
+    """
     test, words = _RULES[rule]
     try:
         v = np.broadcast_to(np.asarray(value, dtype=float), (n,)).copy()
@@ -124,8 +144,20 @@ def per_coordinate(name: str, value, n: int, unit: str, rule: str = "nonnegative
 
 
 def transverse_gravity(g, name: str = "g") -> np.ndarray:
-    """The transverse gravity ``(g_x, g_y)`` [m/s^2] in the fixed frame, checked
-    finite, as an array (2,) (zeros for a vertical axis)."""
+    """The transverse gravity in the fixed frame, checked.
+
+    Parameters
+    ----------
+    g : (float, float)
+        ``(g_x, g_y)`` [m/s^2]; zeros for a vertical axis.
+    name : str, optional
+        Parameter name for the messages.
+
+    Returns
+    -------
+    ndarray (2,)
+        ``(g_x, g_y)`` [m/s^2]: the rotor's ``gravity_plane``.
+    """
     try:
         gx, gy = g
     except (TypeError, ValueError):
@@ -149,9 +181,23 @@ def weight_force(g: np.ndarray, *masses) -> np.ndarray:
 
 
 def gyroscopic_pair(n: int, i: int, j: int, C: float) -> np.ndarray:
-    """Gyroscopic matrix per unit spin (n x n) [kg m^2] of a body of polar moment
-    C spinning about the axis whose tilts are coordinates i and j:
-    ``G[i, j] = C``, ``G[j, i] = -C``, zero elsewhere (e.g. (2.64), (2.122))."""
+    """Gyroscopic matrix per unit spin of an axisymmetric spinning body.
+
+    Parameters
+    ----------
+    n : int
+        Number of coordinates.
+    i, j : int
+        Indices of the two tilt coordinates (alpha, beta) of the spin axis.
+    C : float
+        Polar moment of inertia [kg m^2].
+
+    Returns
+    -------
+    ndarray (n, n)
+        ``G[i, j] = C``, ``G[j, i] = -C``, zero elsewhere [kg m^2]: the terms
+        ``C w beta'`` and ``-C w alpha'`` of (2.64) and (2.122).
+    """
     G = np.zeros((n, n))
     G[i, j], G[j, i] = C, -C
     return G
@@ -159,14 +205,41 @@ def gyroscopic_pair(n: int, i: int, j: int, C: float) -> np.ndarray:
 
 def axis_planes(positions: Mapping[str, float], plane_map: Callable[[float], np.ndarray],
                 checked: Callable[[str, float], float]) -> dict:
-    """Plane maps ``{name: plane_map(position)}`` of points at the given positions.
+    """Plane maps of named points of the rotor's axis.
 
-    ``checked(label, position)`` validates each position (returning it as a
-    float) with the label ``"{positions' name}[{name!r}]"`` chosen by the caller."""
+    Parameters
+    ----------
+    positions : mapping of str -> float
+        Plane name -> its position [m] (axial distance or coordinate, as the
+        builder defines it).
+    plane_map : callable
+        Position [m] -> the plane map T (2 x n) of that point (e.g. (2.70)).
+    checked : callable
+        ``checked(name, position)`` validates one position and returns it as a
+        float; it chooses the label of the error (e.g. ``"planes['balancer']"``).
+
+    Returns
+    -------
+    dict of str -> ndarray (2, n)
+    """
     return {name: plane_map(checked(name, z)) for name, z in positions.items()}
 
 
 def listed_unbalance(plane: str, s, angle) -> tuple:
-    """The rotor's own static unbalance s [kg m] at ``angle`` [rad] in ``plane``
-    as the ``unbalances`` tuple of a LinearRotor (empty when s = 0)."""
+    """The rotor's own static unbalance as the ``unbalances`` field of a LinearRotor.
+
+    Parameters
+    ----------
+    plane : str
+        Plane where the unbalance acts (e.g. ``"balancer"``).
+    s : float
+        Unbalance [kg m]; 0 lists none.
+    angle : float
+        Its angle from the reference mark [rad].
+
+    Returns
+    -------
+    tuple of Unbalance
+        One entry, or none when ``s == 0``.
+    """
     return (Unbalance(plane, float(s), float(angle)),) if s else ()

@@ -123,7 +123,8 @@ def _total_stiffness(k, kg: float, g_axial) -> np.ndarray:
     must be positive (a statically stable rotor, module docstring)."""
     kt = np.asarray(k, dtype=float) + kg
     if not np.all(kt > 0):
-        raise ValueError(f"total stiffness k + M l g_axial = {kt.tolist()} N m/rad must be positive "
+        shown = kt.tolist() if kt.size > 1 else float(kt[0])
+        raise ValueError(f"total stiffness k + M l g_axial = {shown} N m/rad must be positive "
                          f"(g_axial={g_axial} m/s^2 makes the rotor statically unstable)")
     return kt
 
