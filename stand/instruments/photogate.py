@@ -37,8 +37,9 @@ import numpy as np
 
 from ..scene import (Balancer, InitialState, Rotor, RunSettings, Scene, SceneError,
                      SpeedDrive)
-from .timing import (MeasurementError, _check_integer, _check_number, _rebased,
-                     level_crossings, shaft_velocity)
+from ._settings import (check, check_integer, check_number, choice, integer, keys, number,
+                        read_table, rebased)
+from .timing import MeasurementError, level_crossings, shaft_velocity
 
 __all__ = ["PhotoGate", "GatePasses", "NaturalFrequencyTest", "screen_coordinate",
            "gate_passes", "gate_crossings", "pulse_counter_period", "natural_frequency_test",
@@ -49,7 +50,6 @@ DEG = math.pi / 180.0
 PATH = "instruments.photogate"
 AXES = ("x", "y", "radial")
 TRIGGERS = ("enter", "centre")
-PHOTOGATE_KEYS = ("size", "position", "axis", "direction", "trigger", "start_pass", "stop_pass")
 
 
 @dataclass(frozen=True)
@@ -75,29 +75,18 @@ class PhotoGate:
         Passes that start and stop the counter (FPM-09 method: 1 and 3).
     """
 
-    size: float = 0.5e-3
-    position: float = 0.0
-    axis: str = "x"
-    direction: float = 0.0
-    trigger: str = "enter"
-    start_pass: int = 1
-    stop_pass: int = 3
+    size: float = number(0.5e-3, "m", gt=0)
+    position: float = number(0.0, "m")
+    axis: str = choice("x", AXES)
+    direction: float = number(0.0, "rad", toml=("deg", DEG))
+    trigger: str = choice("enter", TRIGGERS)
+    start_pass: int = integer(1, 1)
+    stop_pass: int = integer(3, 2)
 
     def __post_init__(self):
-        p = PATH + "."
-        _check_number(p + "size", self.size, "m", gt=0)
-        _check_number(p + "position", self.position, "m")
-        _check_number(p + "direction", self.direction, "rad")
-        if self.axis not in AXES:
-            raise SceneError(f"{p}axis = {self.axis!r}: must be one of "
-                             + ", ".join(f'"{a}"' for a in AXES))
-        if self.trigger not in TRIGGERS:
-            raise SceneError(f"{p}trigger = {self.trigger!r}: must be one of "
-                             + ", ".join(f'"{a}"' for a in TRIGGERS))
-        _check_integer(p + "start_pass", self.start_pass, 1)
-        _check_integer(p + "stop_pass", self.stop_pass, 2)
+        check(self, PATH)
         if self.stop_pass <= self.start_pass:
-            raise SceneError(f"{p}stop_pass = {self.stop_pass}: must be > start_pass = "
+            raise SceneError(f"{PATH}.stop_pass = {self.stop_pass}: must be > start_pass = "
                              f"{self.start_pass}")
 
     @property
@@ -118,15 +107,11 @@ class PhotoGate:
         ("enter"/"centre"), ``start_pass``, ``stop_pass``.
         """
         t.allow(PHOTOGATE_KEYS)
-        d = cls()
-        kw = dict(size=t.number("size", "m", d.size, gt=0),
-                  position=t.number("position", "m", d.position),
-                  axis=t.string("axis", AXES, d.axis),
-                  direction=t.number("direction", "deg", 0.0) * DEG,
-                  trigger=t.string("trigger", TRIGGERS, d.trigger),
-                  start_pass=t.integer("start_pass", 1, d.start_pass),
-                  stop_pass=t.integer("stop_pass", 2, d.stop_pass))
-        return _rebased(cls, kw, PATH, t.path)
+        return rebased(cls, read_table(t, cls), PATH, t.path)
+
+
+#: keys of ``[instruments.photogate]`` (the fields of :class:`PhotoGate`)
+PHOTOGATE_KEYS = keys(PhotoGate)
 
 
 def screen_coordinate(X, Y, VX, VY, gate: PhotoGate) -> tuple[np.ndarray, np.ndarray]:
@@ -322,12 +307,12 @@ def natural_frequency_test(scene: Scene, deflection: float, gate: Optional[Photo
     from ..simulate import simulate
 
     gate = gate if gate is not None else PhotoGate()
-    _check_number("deflection", deflection, "m")
+    check_number("deflection", deflection, "m")
     if deflection == 0:
         raise SceneError("deflection = 0: the rotor must be deflected before release (m)")
-    _check_number("gain", gain, "screen m per shaft m", gt=0)
-    _check_number("periods", periods, "damped periods", ge=1.5, le=1e4)
-    _check_integer("samples_per_period", samples_per_period, 20, 100_000)
+    check_number("gain", gain, "screen m per shaft m", gt=0)
+    check_number("periods", periods, "damped periods", ge=1.5, le=1e4)
+    check_integer("samples_per_period", samples_per_period, 20, 100_000)
     if weights not in ("locked", "removed", "free"):
         raise SceneError(f'weights = {weights!r}: must be one of "locked", "removed", "free"')
     ux, uy = gate.unit_vector

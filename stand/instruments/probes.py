@@ -26,8 +26,9 @@ from typing import Optional
 import numpy as np
 
 from ..scene import SceneError
-from .timing import (_check_integer, _check_number, _rebased, _table_numbers, crossing_times,
-                     hermite, sample_trajectory, shaft_velocity)
+from ._settings import (check, integer, keys, number, numbers, read_table, rebased,
+                        table_numbers)
+from .timing import crossing_times, hermite, sample_trajectory, shaft_velocity, time_window
 
 __all__ = ["Keyphasor", "Tachometer", "DisplacementProbes", "keyphasor_pulses",
            "tachometer_readings", "probe_signals", "KEYPHASOR_KEYS", "TACHOMETER_KEYS",
@@ -35,20 +36,8 @@ __all__ = ["Keyphasor", "Tachometer", "DisplacementProbes", "keyphasor_pulses",
 
 TWO_PI = 2.0 * math.pi
 DEG = math.pi / 180.0
-KEYPHASOR_KEYS = ("mark_angle", "jitter", "seed")
-TACHOMETER_KEYS = ("gate_time", "resolution", "pulses_per_rev", "update_interval")
-PROBE_KEYS = ("sample_rate", "noise_rms", "runout", "runout_phase", "lsb", "angles", "seed")
 MAX_PROBES = 16
 MAX_HARMONICS = 64
-
-
-def _window(traj, t_start, t_end) -> tuple[float, float]:
-    t0 = float(traj.t[0]) if t_start is None else max(float(t_start), float(traj.t[0]))
-    t1 = float(traj.t[-1]) if t_end is None else min(float(t_end), float(traj.t[-1]))
-    if not t1 > t0:
-        raise SceneError(f"instrument window [{t0:.6g}, {t1:.6g}] s is empty (the run spans "
-                         f"[{float(traj.t[0]):.6g}, {float(traj.t[-1]):.6g}] s)")
-    return t0, t1
 
 
 # ---------------------------------------------------------------- keyphasor
@@ -67,23 +56,22 @@ class Keyphasor:
         Seed of the jitter.
     """
 
-    mark_angle: float = 0.0
-    jitter: float = 0.0
-    seed: int = 0
+    mark_angle: float = number(0.0, "rad", toml=("deg", DEG))
+    jitter: float = number(0.0, "s", ge=0)
+    seed: int = integer(0, 0)
 
     def __post_init__(self):
-        _check_number("instruments.keyphasor.mark_angle", self.mark_angle, "rad")
-        _check_number("instruments.keyphasor.jitter", self.jitter, "s", ge=0)
-        _check_integer("instruments.keyphasor.seed", self.seed, 0)
+        check(self, "instruments.keyphasor")
 
     @classmethod
     def from_table(cls, t) -> "Keyphasor":
         """``[instruments.keyphasor]``: ``mark_angle`` [deg], ``jitter`` [s], ``seed``."""
         t.allow(KEYPHASOR_KEYS)
-        kw = dict(mark_angle=t.number("mark_angle", "deg", 0.0) * DEG,
-                  jitter=t.number("jitter", "s", 0.0, ge=0),
-                  seed=t.integer("seed", 0, 0))
-        return _rebased(cls, kw, "instruments.keyphasor", t.path)
+        return rebased(cls, read_table(t, cls), "instruments.keyphasor", t.path)
+
+
+#: keys of ``[instruments.keyphasor]`` (the fields of :class:`Keyphasor`)
+KEYPHASOR_KEYS = keys(Keyphasor)
 
 
 def keyphasor_pulses(traj, kp: Keyphasor, t_start: Optional[float] = None,
@@ -95,7 +83,7 @@ def keyphasor_pulses(traj, kp: Keyphasor, t_start: Optional[float] = None,
     (a prescribed piecewise-linear speed programme, away from its kinks).
     ``jitter`` adds Gaussian noise (seeded by ``seed`` or ``kp.seed``).
     """
-    t0, t1 = _window(traj, t_start, t_end)
+    t0, t1 = time_window(traj, t_start, t_end)
     tp = crossing_times(traj.t, traj.rotor_angle, traj.rotor_speed, kp.mark_angle, direction=1)
     tp = tp[(tp >= t0) & (tp <= t1)]
     if kp.jitter > 0 and tp.size:
@@ -123,17 +111,13 @@ class Tachometer:
         gates; shorter than gate_time: overlapping gates).
     """
 
-    gate_time: float = 1.0
-    resolution: float = TWO_PI / 60.0
-    pulses_per_rev: int = 60
-    update_interval: Optional[float] = None
+    gate_time: float = number(1.0, "s", gt=0)
+    resolution: float = number(TWO_PI / 60.0, "rad/s", ge=0, toml=("rev/s", TWO_PI))
+    pulses_per_rev: int = integer(60, 1, 100_000)
+    update_interval: Optional[float] = number(None, "s", gt=0, optional=True)
 
     def __post_init__(self):
-        p = "instruments.tachometer."
-        _check_number(p + "gate_time", self.gate_time, "s", gt=0)
-        _check_number(p + "resolution", self.resolution, "rad/s", ge=0)
-        _check_integer(p + "pulses_per_rev", self.pulses_per_rev, 1, 100_000)
-        _check_number(p + "update_interval", self.update_interval, "s", gt=0, optional=True)
+        check(self, "instruments.tachometer")
 
     @property
     def interval(self) -> float:
@@ -154,13 +138,11 @@ class Tachometer:
         """``[instruments.tachometer]``: ``gate_time`` [s], ``resolution`` [rev/s],
         ``pulses_per_rev``, ``update_interval`` [s]."""
         t.allow(TACHOMETER_KEYS)
-        d = cls()
-        kw = dict(gate_time=t.number("gate_time", "s", d.gate_time, gt=0),
-                  resolution=t.number("resolution", "rev/s", d.resolution / TWO_PI, ge=0) * TWO_PI,
-                  pulses_per_rev=t.integer("pulses_per_rev", 1, d.pulses_per_rev,
-                                           maximum=100_000),
-                  update_interval=t.number("update_interval", "s", None, gt=0))
-        return _rebased(cls, kw, "instruments.tachometer", t.path)
+        return rebased(cls, read_table(t, cls), "instruments.tachometer", t.path)
+
+
+#: keys of ``[instruments.tachometer]`` (the fields of :class:`Tachometer`)
+TACHOMETER_KEYS = keys(Tachometer)
 
 
 def tachometer_readings(traj, tach: Tachometer, t_start: Optional[float] = None,
@@ -179,7 +161,7 @@ def tachometer_readings(traj, tach: Tachometer, t_start: Optional[float] = None,
         the gate: angle change / gate_time) [rad/s], ``true_speed_at_time``
         (rotor speed at ``time``) [rad/s].
     """
-    t0, t1 = _window(traj, t_start, t_end)
+    t0, t1 = time_window(traj, t_start, t_end)
     P = tach.pulses_per_rev
     if t1 - t0 < tach.gate_time:
         z = np.zeros(0)
@@ -237,29 +219,17 @@ class DisplacementProbes:
         Seed of the noise.
     """
 
-    sample_rate: float = 1000.0
-    noise_rms: float = 1.0e-6
-    runout: tuple = (2.0e-6,)
-    runout_phase: Optional[tuple] = None
-    lsb: float = 0.5e-6
-    angles: tuple = (0.0, 0.5 * math.pi)
-    seed: int = 0
+    sample_rate: float = number(1000.0, "Hz", gt=0)
+    noise_rms: float = number(1.0e-6, "m", ge=0)
+    runout: tuple = numbers((2.0e-6,), "m", ge=0)
+    runout_phase: Optional[tuple] = numbers(None, "rad", optional=True)
+    lsb: float = number(0.5e-6, "m", ge=0)
+    angles: tuple = numbers((0.0, 0.5 * math.pi), "rad")
+    seed: int = integer(0, 0)
 
     def __post_init__(self):
+        check(self, "instruments.probes")
         p = "instruments.probes."
-        _check_number(p + "sample_rate", self.sample_rate, "Hz", gt=0)
-        _check_number(p + "noise_rms", self.noise_rms, "m", ge=0)
-        _check_number(p + "lsb", self.lsb, "m", ge=0)
-        _check_integer(p + "seed", self.seed, 0)
-        for key, values, unit, lo in (("runout", self.runout, "m", 0.0),
-                                      ("runout_phase", self.runout_phase, "rad", None),
-                                      ("angles", self.angles, "rad", None)):
-            if values is None:
-                continue
-            if not isinstance(values, (tuple, list)) or not values:
-                raise SceneError(f"{p}{key} = {values!r}: must be a non-empty list ({unit})")
-            for i, v in enumerate(values):
-                _check_number(f"{p}{key}[{i}]", v, unit, ge=lo)
         if len(self.runout) > MAX_HARMONICS:
             raise SceneError(f"{p}runout: {len(self.runout)} harmonics, at most {MAX_HARMONICS}")
         if self.runout_phase is not None and len(self.runout_phase) != len(self.runout):
@@ -291,19 +261,19 @@ class DisplacementProbes:
         if "runout" in t and not isinstance(t.data["runout"], (list, tuple)):
             runout = (t.number("runout", "m", ge=0),)
         else:
-            runout = _table_numbers(t, "runout", "m", list(d.runout), ge=0)
-        phase = _table_numbers(t, "runout_phase", "deg", None, length=len(runout))
-        angles = _table_numbers(t, "angles", "deg", [a / DEG for a in d.angles])
+            runout = table_numbers(t, "runout", "m", list(d.runout), ge=0)
+        phase = table_numbers(t, "runout_phase", "deg", None, length=len(runout))
+        angles = table_numbers(t, "angles", "deg", [a / DEG for a in d.angles])
         if not angles:
             raise SceneError(f"{t.name('angles')} = []: give at least one probe direction (deg)")
-        kw = dict(sample_rate=t.number("sample_rate", "Hz", d.sample_rate, gt=0),
-                  noise_rms=t.number("noise_rms", "m", d.noise_rms, ge=0),
-                  runout=tuple(runout),
+        kw = dict(read_table(t, cls), runout=tuple(runout),
                   runout_phase=None if phase is None else tuple(v * DEG for v in phase),
-                  lsb=t.number("lsb", "m", d.lsb, ge=0),
-                  angles=tuple(a * DEG for a in angles),
-                  seed=t.integer("seed", 0, d.seed))
-        return _rebased(cls, kw, "instruments.probes", t.path)
+                  angles=tuple(a * DEG for a in angles))
+        return rebased(cls, kw, "instruments.probes", t.path)
+
+
+#: keys of ``[instruments.probes]`` (the fields of :class:`DisplacementProbes`)
+PROBE_KEYS = keys(DisplacementProbes)
 
 
 def probe_signals(traj, probes: DisplacementProbes, seed: Optional[int] = None,
@@ -337,7 +307,7 @@ def probe_signals(traj, probes: DisplacementProbes, seed: Optional[int] = None,
     SceneError
         ``sample_rate`` above the run's sample rate.
     """
-    t0, t1 = _window(traj, t_start, t_end)
+    t0, t1 = time_window(traj, t_start, t_end)
     dt = np.diff(traj.t)
     run_rate = 1.0 / float(np.median(dt)) if dt.size else 0.0
     if probes.sample_rate > run_rate * (1 + 1e-6):

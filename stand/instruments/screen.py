@@ -36,7 +36,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import numbers
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Optional
@@ -44,6 +43,7 @@ from typing import Optional
 import numpy as np
 
 from ..scene import SceneError
+from ._settings import REQUIRED, boolean, check, integer, keys, number, read_table
 
 __all__ = ["ScreenCamera", "spot_on_screen", "screen_to_pixels", "pixels_to_screen",
            "frame_times", "exposure_times", "spot_positions", "frame_truth", "SCREEN_KEYS",
@@ -59,11 +59,6 @@ SMOOTH_STEP_SIGMAS = 1.0      #: automatic sub-sampling: at most this many sigma
 MAX_SIZE = 16384              #: px, largest width or height accepted
 _READ_NOISE = {8: 1.0, 10: 2.0, 12: 4.0, 14: 8.0, 16: 16.0}   #: default read noise, DN
 
-#: keys of ``[instruments.screen]`` (TOML units: SI, angles in degrees)
-SCREEN_KEYS = ("gain", "misalignment", "misalignment_phase", "offset_x", "offset_y", "width",
-               "height", "pixel_pitch", "tilt", "camera_distance", "frame_rate", "exposure",
-               "start_time", "subsamples", "spot_diameter", "peak", "background", "read_noise",
-               "shot_noise", "electrons_per_dn", "bit_depth", "seed")
 
 
 def _bad(name, value, text):
@@ -143,106 +138,69 @@ class ScreenCamera:
         Dotted name of the settings table, used in error messages.
     """
 
-    pixel_pitch: float
-    gain: float = 1.0
-    misalignment: float = 0.0
-    misalignment_phase: float = 0.0
-    offset_x: float = 0.0
-    offset_y: float = 0.0
-    width: int = 640
-    height: int = 480
-    tilt: float = 0.0
-    camera_distance: Optional[float] = None
-    frame_rate: float = 25.0
-    exposure: Optional[float] = None
-    start_time: float = 0.0
-    subsamples: Optional[int] = None
-    spot_diameter: float = 2e-3
-    peak: Optional[float] = None
-    background: Optional[float] = None
-    read_noise: Optional[float] = None
-    shot_noise: bool = True
-    electrons_per_dn: Optional[float] = None
-    bit_depth: int = 8
-    seed: int = 0
+    pixel_pitch: float = number(REQUIRED, "m of screen per px", gt=0)
+    gain: float = number(1.0, "screen displacement per shaft displacement", gt=0)
+    misalignment: float = number(0.0, "m", ge=0)
+    misalignment_phase: float = number(0.0, "rad", toml=("deg", DEG))
+    offset_x: float = number(0.0, "m")
+    offset_y: float = number(0.0, "m")
+    width: int = integer(640, 8, MAX_SIZE)
+    height: int = integer(480, 8, MAX_SIZE)
+    tilt: float = number(0.0, "rad", toml=("deg", DEG))
+    camera_distance: Optional[float] = number(None, "m", gt=0)
+    frame_rate: float = number(25.0, "Hz", gt=0)
+    exposure: Optional[float] = number(None, "s", gt=0)
+    start_time: float = number(0.0, "s", ge=0)
+    subsamples: Optional[int] = integer(None, 1, MAX_SUBSAMPLES, optional=True)
+    spot_diameter: float = number(2e-3, "m, 1/e^2 diameter on the screen", gt=0)
+    peak: Optional[float] = number(None, "DN", gt=0)
+    background: Optional[float] = number(None, "DN", ge=0)
+    read_noise: Optional[float] = number(None, "DN rms", ge=0)
+    shot_noise: bool = boolean(True)
+    electrons_per_dn: Optional[float] = number(None, "e-/DN", gt=0)
+    bit_depth: int = integer(8, 8, 16)
+    seed: int = integer(0, 0, 2 ** 63 - 1)
     table: str = field(default="instruments.screen", compare=False, repr=False)
 
     # ------------------------------------------------------------ validation
     def __post_init__(self):
         n = lambda key: f"{self.table}.{key}"  # noqa: E731
-        set_ = lambda key, value: object.__setattr__(self, key, value)  # noqa: E731
 
-        def real(key, *, gt=None, ge=None, unit=""):
-            value = getattr(self, key)
-            if isinstance(value, bool) or not isinstance(value, numbers.Real) \
-                    or not math.isfinite(float(value)):
-                raise _bad(n(key), value, f"must be a finite number ({unit})")
-            if gt is not None and not value > gt:
-                raise _bad(n(key), value, f"must be > {gt} ({unit})")
-            if ge is not None and not value >= ge:
-                raise _bad(n(key), value, f"must be >= {ge} ({unit})")
-            set_(key, float(value))
+        def default(key, value):  # the fields given as None: defaults from the others
+            if getattr(self, key) is None:
+                object.__setattr__(self, key, value)
 
-        def integer(key, lo, hi):
-            value = getattr(self, key)
-            if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-                raise _bad(n(key), value, "must be an integer")
-            if not lo <= value <= hi:
-                raise _bad(n(key), value, f"must be between {lo} and {hi}")
-            set_(key, int(value))
-
-        integer("bit_depth", 8, 16)
+        check(self, self.table, ("bit_depth",))
         if self.bit_depth not in _READ_NOISE:
             raise _bad(n("bit_depth"), self.bit_depth, "must be one of 8, 10, 12, 14, 16 (bits)")
         top = self.max_dn
-        integer("width", 8, MAX_SIZE)
-        integer("height", 8, MAX_SIZE)
-        integer("seed", 0, 2 ** 63 - 1)
-        if not isinstance(self.shot_noise, (bool, np.bool_)):
-            raise _bad(n("shot_noise"), self.shot_noise, "must be true or false")
-        set_("shot_noise", bool(self.shot_noise))
-        real("pixel_pitch", gt=0, unit="m of screen per px")
-        real("gain", gt=0, unit="screen displacement per shaft displacement")
-        real("misalignment", ge=0, unit="m")
-        real("misalignment_phase", unit="rad")
-        real("offset_x", unit="m")
-        real("offset_y", unit="m")
-        real("tilt", unit="rad")
+        check(self, self.table, ("width", "height", "seed", "shot_noise", "pixel_pitch", "gain",
+                                 "misalignment", "misalignment_phase", "offset_x", "offset_y",
+                                 "tilt"))
         if not abs(self.tilt) < TILT_LIMIT:
             raise _bad(n("tilt"), self.tilt, f"|tilt| must be < {TILT_LIMIT} rad "
                        f"({TILT_LIMIT / DEG:.2f} deg): only a mild perspective is modelled")
-        if self.camera_distance is None:
-            set_("camera_distance", NORMAL_LENS * self.width * self.pixel_pitch)
-        real("camera_distance", gt=0, unit="m")
-        real("frame_rate", gt=0, unit="Hz")
-        if self.exposure is None:
-            set_("exposure", 0.5 / self.frame_rate)
-        real("exposure", gt=0, unit="s")
+        default("camera_distance", NORMAL_LENS * self.width * self.pixel_pitch)
+        check(self, self.table, ("camera_distance", "frame_rate"))
+        default("exposure", 0.5 / self.frame_rate)
+        check(self, self.table, ("exposure",))
         if self.exposure > self.frame_period * (1.0 + 1e-12):
             raise _bad(n("exposure"), self.exposure,
                        f"longer than the frame period 1/frame_rate = {self.frame_period:.6g} s "
                        f"({n('frame_rate')} = {self.frame_rate:g} Hz); must be <= "
                        f"{self.frame_period:.6g} (s)")
-        real("start_time", ge=0, unit="s")
-        if self.subsamples is not None:
-            integer("subsamples", 1, MAX_SUBSAMPLES)
-        real("spot_diameter", gt=0, unit="m, 1/e^2 diameter on the screen")
+        check(self, self.table, ("start_time", "subsamples", "spot_diameter"))
         d_px = self.spot_diameter / self.pixel_pitch
         if not d_px <= min(self.width, self.height):
             raise _bad(n("spot_diameter"), self.spot_diameter,
                        f"the spot ({d_px:.4g} px = spot_diameter / pixel_pitch) is larger than "
                        f"the frame ({self.width} x {self.height} px); must be <= "
                        f"{min(self.width, self.height) * self.pixel_pitch:.4g} (m)")
-        for key, default, unit in (("peak", float(round(0.8 * top)), "DN"),
-                                   ("background", float(round(0.03 * top)), "DN"),
-                                   ("read_noise", _READ_NOISE[self.bit_depth], "DN rms"),
-                                   ("electrons_per_dn", FULL_WELL / top, "e-/DN")):
-            if getattr(self, key) is None:
-                set_(key, default)
-        real("peak", gt=0, unit="DN")
-        real("background", ge=0, unit="DN")
-        real("read_noise", ge=0, unit="DN rms")
-        real("electrons_per_dn", gt=0, unit="e-/DN")
+        default("peak", float(round(0.8 * top)))
+        default("background", float(round(0.03 * top)))
+        default("read_noise", _READ_NOISE[self.bit_depth])
+        default("electrons_per_dn", FULL_WELL / top)
+        check(self, self.table, ("peak", "background", "read_noise", "electrons_per_dn"))
         # the screen's horizon must stay outside the image
         Hinv = np.linalg.inv(self.homography)
         W1, H1 = self.width - 0.5, self.height - 0.5
@@ -367,50 +325,16 @@ class ScreenCamera:
         value and the unit.
         """
         t.allow(SCREEN_KEYS)
-        kw = {}
-        num = lambda key, unit, **b: t.number(key, unit, None, **b)  # noqa: E731
-        for key, unit, bounds in (("gain", "screen displacement per shaft displacement", {"gt": 0}),
-                                  ("misalignment", "m", {"ge": 0}),
-                                  ("offset_x", "m", {}), ("offset_y", "m", {}),
-                                  ("pixel_pitch", "m of screen per px", {"gt": 0}),
-                                  ("camera_distance", "m", {"gt": 0}),
-                                  ("frame_rate", "Hz", {"gt": 0}),
-                                  ("exposure", "s", {"gt": 0}),
-                                  ("start_time", "s", {"ge": 0}),
-                                  ("spot_diameter", "m, 1/e^2 diameter on the screen", {"gt": 0}),
-                                  ("peak", "DN", {"gt": 0}), ("background", "DN", {"ge": 0}),
-                                  ("read_noise", "DN rms", {"ge": 0}),
-                                  ("electrons_per_dn", "e-/DN", {"gt": 0})):
-            if key == "pixel_pitch":
-                kw[key] = t.number(key, unit, gt=0)   # required
-                continue
-            value = num(key, unit, **bounds)
-            if value is not None:
-                kw[key] = value
-        phase = num("misalignment_phase", "deg")
-        if phase is not None:
-            kw["misalignment_phase"] = phase * DEG
-        tilt = num("tilt", "deg")
-        if tilt is not None:
-            if not abs(tilt * DEG) < TILT_LIMIT:
-                raise SceneError(f"{t.name('tilt')} = {tilt!r}: must be within +-"
-                                 f"{TILT_LIMIT / DEG:.2f} (deg; |tilt| < {TILT_LIMIT} rad, a mild "
-                                 f"perspective)")
-            kw["tilt"] = tilt * DEG
-        for key, lo, hi in (("width", 8, MAX_SIZE), ("height", 8, MAX_SIZE),
-                            ("subsamples", 1, MAX_SUBSAMPLES), ("seed", 0, 2 ** 63 - 1),
-                            ("bit_depth", 8, 16)):
-            if key in t:
-                kw[key] = t.integer(key, minimum=lo, maximum=hi)
-        if "bit_depth" in kw and kw["bit_depth"] not in _READ_NOISE:
-            raise SceneError(f"{t.name('bit_depth')} = {kw['bit_depth']}: must be one of "
-                             f"8, 10, 12, 14, 16 (bits)")
-        if "shot_noise" in t:
-            value = t.data["shot_noise"]
-            if not isinstance(value, bool):
-                raise SceneError(f"{t.name('shot_noise')} = {value!r}: must be true or false")
-            kw["shot_noise"] = value
+        kw = read_table(t, cls)
+        if "tilt" in kw and not abs(kw["tilt"]) < TILT_LIMIT:
+            raise SceneError(f"{t.name('tilt')} = {float(t.data['tilt'])!r}: must be within +-"
+                             f"{TILT_LIMIT / DEG:.2f} (deg; |tilt| < {TILT_LIMIT} rad, a mild "
+                             f"perspective)")
         return cls(table=t.path, **kw)
+
+
+#: keys of ``[instruments.screen]`` (TOML units: SI, angles in degrees)
+SCREEN_KEYS = keys(ScreenCamera)
 
 
 # ---------------------------------------------------------------- geometry
@@ -450,22 +374,22 @@ def spot_on_screen(x, y, rotor_angle, cam: ScreenCamera, tilt_x=None, tilt_y=Non
     return X, Y
 
 
+def _project(H: np.ndarray, a, b):
+    """Apply the 3x3 homography ``H`` to the points (a, b): ``[a' w, b' w, w] = H [a, b, 1]``."""
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    w = H[2, 0] * a + H[2, 1] * b + H[2, 2]
+    return (H[0, 0] * a + H[0, 1] * b + H[0, 2]) / w, (H[1, 0] * a + H[1, 1] * b + H[1, 2]) / w
+
+
 def screen_to_pixels(X, Y, cam: ScreenCamera):
     """Screen [m] -> image [px] (u = column, v = row) through ``cam.homography``."""
-    X = np.asarray(X, dtype=float)
-    Y = np.asarray(Y, dtype=float)
-    H = cam.homography
-    w = H[2, 0] * X + H[2, 1] * Y + H[2, 2]
-    return (H[0, 0] * X + H[0, 1] * Y + H[0, 2]) / w, (H[1, 0] * X + H[1, 1] * Y + H[1, 2]) / w
+    return _project(cam.homography, X, Y)
 
 
 def pixels_to_screen(u, v, cam: ScreenCamera):
     """Image [px] -> screen [m]; inverse of :func:`screen_to_pixels`."""
-    u = np.asarray(u, dtype=float)
-    v = np.asarray(v, dtype=float)
-    G = cam.homography_inverse
-    w = G[2, 0] * u + G[2, 1] * v + G[2, 2]
-    return (G[0, 0] * u + G[0, 1] * v + G[0, 2]) / w, (G[1, 0] * u + G[1, 1] * v + G[1, 2]) / w
+    return _project(cam.homography_inverse, u, v)
 
 
 def spot_positions(x, y, rotor_angle, cam: ScreenCamera, **tilting):

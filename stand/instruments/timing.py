@@ -33,7 +33,7 @@ from typing import Optional
 import numpy as np
 
 __all__ = ["MeasurementError", "hermite", "crossing_times", "level_crossings",
-           "shaft_velocity", "TrajectorySample", "sample_trajectory", "wrap"]
+           "shaft_velocity", "TrajectorySample", "sample_trajectory", "wrap", "time_window"]
 
 TWO_PI = 2.0 * np.pi
 
@@ -335,86 +335,24 @@ def sample_trajectory(traj, tq, velocities: Optional[tuple] = None) -> Trajector
                             rotor_angle=phi, rotor_speed=dphi, weight_angle=w)
 
 
-# ---------------------------------------------------------------- settings helpers
-# Shared by the instruments' ``from_table`` constructors (private): the public
-# :class:`stand.scene_file.Table` has no boolean or variable-length list getter.
-def _table_boolean(t, key: str, default: bool) -> bool:
+# ---------------------------------------------------------------- windows
+def time_window(traj, t_start: Optional[float], t_end: Optional[float],
+                what: str = "instrument") -> tuple[float, float]:
+    """The part ``[t0, t1]`` [s] of ``[t_start, t_end]`` that the run covers.
+
+    ``None`` means the run's first (last) sample time.
+
+    Raises
+    ------
+    SceneError
+        The window is empty; the message names ``what`` (e.g. "stroboscope")
+        and the run's time span.
+    """
     from ..scene import SceneError
 
-    if key not in t:
-        return default
-    value = t.data[key]
-    if not isinstance(value, (bool, np.bool_)):
-        raise SceneError(f"{t.name(key)} = {value!r}: must be true or false")
-    return bool(value)
-
-
-def _table_numbers(t, key: str, unit: str, default, *, length: Optional[int] = None,
-                   ge: Optional[float] = None, gt: Optional[float] = None) -> Optional[list]:
-    """A list of finite numbers (optionally of a given length and bounded below)."""
-    from ..scene import SceneError
-
-    if key not in t:
-        return default
-    value = t.data[key]
-    name = t.name(key)
-    if not isinstance(value, (list, tuple)):
-        raise SceneError(f"{name} = {value!r}: must be a list of numbers ({unit})")
-    if length is not None and len(value) != length:
-        raise SceneError(f"{name} = {value!r}: expected {length} numbers ({unit}), "
-                         f"got {len(value)}")
-    out = []
-    for i, v in enumerate(value):
-        if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, float)) \
-                or not np.isfinite(v):
-            raise SceneError(f"{name}[{i}] = {v!r}: must be a finite number ({unit})")
-        if ge is not None and v < ge:
-            raise SceneError(f"{name}[{i}] = {v!r}: must be >= {ge:g} ({unit})")
-        if gt is not None and v <= gt:
-            raise SceneError(f"{name}[{i}] = {v!r}: must be > {gt:g} ({unit})")
-        out.append(float(v))
-    return out
-
-
-def _rebased(cls, kwargs: dict, default_path: str, path: str):
-    """Construct ``cls(**kwargs)``; messages of its own checks name ``path``."""
-    from ..scene import SceneError
-
-    try:
-        return cls(**kwargs)
-    except SceneError as exc:
-        msg = str(exc)
-        if path != default_path:
-            msg = msg.replace(default_path + ".", path + ".")
-        raise SceneError(msg) from None
-
-
-def _check_number(name: str, value, unit: str, *, gt=None, ge=None, lt=None, le=None,
-                  optional: bool = False) -> None:
-    """Validation in ``__post_init__``: one number, message naming key, value, unit."""
-    from ..scene import SceneError
-
-    if value is None and optional:
-        return
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.number)):
-        raise SceneError(f"{name} = {value!r}: must be a number ({unit})")
-    v = float(value)
-    if not np.isfinite(v):
-        raise SceneError(f"{name} = {value!r}: must be finite ({unit})")
-    for bound, ok, sign in ((gt, lambda: v > gt, ">"), (ge, lambda: v >= ge, ">="),
-                            (lt, lambda: v < lt, "<"), (le, lambda: v <= le, "<=")):
-        if bound is not None and not ok():
-            raise SceneError(f"{name} = {value!r}: must be {sign} {bound:g} ({unit})")
-
-
-def _check_integer(name: str, value, minimum: int, maximum: Optional[int] = None,
-                   optional: bool = False) -> None:
-    from ..scene import SceneError
-
-    if value is None and optional:
-        return
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
-        raise SceneError(f"{name} = {value!r}: must be an integer")
-    if value < minimum or (maximum is not None and value > maximum):
-        rng = f">= {minimum}" if maximum is None else f"in {minimum}..{maximum}"
-        raise SceneError(f"{name} = {value!r}: must be {rng}")
+    t0 = float(traj.t[0]) if t_start is None else max(float(t_start), float(traj.t[0]))
+    t1 = float(traj.t[-1]) if t_end is None else min(float(t_end), float(traj.t[-1]))
+    if not t1 > t0:
+        raise SceneError(f"{what} window [{t0:.6g}, {t1:.6g}] s is empty (the run spans "
+                         f"[{float(traj.t[0]):.6g}, {float(traj.t[-1]):.6g}] s)")
+    return t0, t1
