@@ -19,12 +19,12 @@ import glob
 import math
 import os
 from pathlib import Path
-from typing import Iterator, NamedTuple, Optional
+from typing import Callable, Iterable, Iterator, NamedTuple, Sequence
 
 import numpy as np
 
-__all__ = ["VisionError", "FrameRecord", "iter_frames", "DEFAULT_DATASET", "VIDEO_SUFFIXES",
-           "IMAGE_SUFFIXES", "HDF5_SUFFIXES"]
+__all__ = ["VisionError", "FrameRecord", "iter_frames", "frame_table", "DEFAULT_DATASET",
+           "VIDEO_SUFFIXES", "IMAGE_SUFFIXES", "HDF5_SUFFIXES"]
 
 DEFAULT_DATASET = "instruments/screen/frames"
 HDF5_SUFFIXES = {".h5", ".hdf5", ".hdf"}
@@ -157,21 +157,75 @@ def iter_frames(source, dataset: str = DEFAULT_DATASET, *,
         Unreadable/corrupt source, a frame of another size than the first
         (mid-stream).  Blank frames are yielded (see the module docstring).
     """
-    gen = _open(source, dataset)
-    if progress:
-        try:
-            from tqdm import tqdm
-            gen = tqdm(gen, unit="frame")
-        except ImportError:
-            pass
     first = None
-    for i, t, img in gen:
+    for i, t, img in _with_progress(_open(source, dataset), progress):
         img = np.asarray(img)
         if img.ndim != 2:
             raise VisionError(f"frame {i}: expected a 2-D gray image, shape {img.shape}")
         _check_size(img.shape, i, first)
         first = img.shape if first is None else first
         yield FrameRecord(i, float(t), img)
+
+
+def _with_progress(items, progress):
+    """``items`` wrapped in a tqdm progress bar when asked for and installed."""
+    if progress:
+        try:
+            from tqdm import tqdm
+            return tqdm(items, unit="frame")
+        except ImportError:
+            pass
+    return items
+
+
+def frame_table(frames: Iterable, measure: Callable, columns: Sequence[str], *,
+                progress: bool = False):
+    """Measure every frame; one row per frame in a pandas DataFrame.
+
+    Parameters
+    ----------
+    frames : iterable
+        2-D arrays, or :class:`FrameRecord` (as yielded by :func:`iter_frames`;
+        then a ``time`` column [s] is added, NaN when the source has no
+        timestamps, and ``frame`` is the record's index).
+    measure : callable
+        ``measure(image) -> result``, called on the frames in order (it may
+        keep state, e.g. a region of interest).
+    columns : sequence of str
+        Attributes of the result tabulated after ``frame`` (and ``time``); a
+        set (the flags) becomes its sorted comma-separated string ("" when
+        empty), an ``ok`` column is made bool.
+    progress : bool
+        Show a tqdm progress bar when tqdm is installed.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns: frame, [time,] *columns.
+    """
+    import pandas as pd
+
+    rows = {c: [] for c in ("frame", "time", *columns)}
+    have_time = False
+    for k, item in enumerate(_with_progress(frames, progress)):
+        t = math.nan
+        if hasattr(item, "image"):
+            have_time = True
+            k, t, img = item.index, item.time, item.image
+        else:
+            img = item
+        result = measure(img)
+        rows["frame"].append(k)
+        rows["time"].append(t)
+        for c in columns:
+            v = getattr(result, c)
+            rows[c].append(",".join(sorted(v)) if isinstance(v, (set, frozenset)) else v)
+    if not have_time:
+        del rows["time"]
+    df = pd.DataFrame(rows)
+    if "ok" in df:
+        df["ok"] = df["ok"].astype(bool)
+    return df
 
 
 def _open(source, dataset):

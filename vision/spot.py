@@ -73,7 +73,9 @@ from typing import Iterable, Optional
 import cv2
 import numpy as np
 
-__all__ = ["SpotResult", "locate", "track", "MIN_BLOB_AREA"]
+from .io import frame_table
+
+__all__ = ["SpotResult", "locate", "track", "MIN_BLOB_AREA", "TRACK_COLUMNS"]
 
 MIN_BLOB_AREA = 4          #: px, smallest component counted as a second blob
 BORDER = 2                 #: px, width of the border used for the background
@@ -87,6 +89,8 @@ AGREE_PX = 0.1             #: px, largest centroid / Gaussian-centroid differenc
 NEWTON_TOL = 3e-3          #: px, last Newton step of the Gaussian-weighted centroid
 COARSE_TOL = 2e-2          #: px, soft-window centroid tolerance when stage (b) follows
 BAD_FLAGS = frozenset({"missing", "blank", "edge"})
+#: columns of :func:`track` after frame [and time]
+TRACK_COLUMNS = ("u_px", "v_px", "u_std_px", "v_std_px", "peak", "method", "flags", "ok")
 
 
 @dataclass
@@ -448,59 +452,36 @@ def track(frames: Iterable, *, background=None, threshold=None, window=None, gai
     Columns: frame, [time,] u_px, v_px, u_std_px, v_std_px, peak, method, flags
     (comma-separated sorted string, "" when none), ok.
     """
-    import pandas as pd
-
     kw = dict(background=background, threshold=threshold, window=window, gain=gain,
               saturation=saturation, refine=refine)
-    rows = {k: [] for k in ("frame", "time", "u_px", "v_px", "u_std_px", "v_std_px", "peak",
-                            "method", "flags", "ok")}
-    have_time = False
     prev = None
-    it = frames
-    if progress:
-        try:
-            from tqdm import tqdm
-            it = tqdm(frames, unit="frame")
-        except ImportError:
-            pass
-    for k, item in enumerate(it):
-        t = math.nan
-        if hasattr(item, "image"):
-            have_time = True
-            k, t, img = item.index, item.time, item.image
-        else:
-            img = item
-        r = None
-        if prev is not None:
-            hu, hv = prev.window
-            ru, rv = hu + margin, hv + margin
-            roi = (int(math.floor(prev.u_px - ru)), int(math.floor(prev.v_px - rv)),
-                   int(math.ceil(2 * ru)) + 1, int(math.ceil(2 * rv)) + 1)
-            r = locate(img, roi=roi, **kw)
-            if "blank" in r.flags:
-                pass
-            elif "missing" in r.flags:
-                r = None
-            else:
-                hu2, hv2 = r.window
-                if (r.u_px - hu2 - 1 < roi[0] or r.u_px + hu2 + 1 > roi[0] + roi[2] - 1
-                        or r.v_px - hv2 - 1 < roi[1] or r.v_px + hv2 + 1 > roi[1] + roi[3] - 1):
-                    r = None   # window may be cut by the ROI: search the whole frame
+
+    def measure(img):
+        nonlocal prev
+        r = _locate_near(img, prev, margin, kw) if prev is not None else None
         if r is None:
             r = locate(img, **kw)
         prev = r if r.ok else None
-        rows["frame"].append(k)
-        rows["time"].append(t)
-        rows["u_px"].append(r.u_px)
-        rows["v_px"].append(r.v_px)
-        rows["u_std_px"].append(r.u_std_px)
-        rows["v_std_px"].append(r.v_std_px)
-        rows["peak"].append(r.peak)
-        rows["method"].append(r.method)
-        rows["flags"].append(",".join(sorted(r.flags)))
-        rows["ok"].append(r.ok)
-    if not have_time:
-        del rows["time"]
-    df = pd.DataFrame(rows)
-    df["ok"] = df["ok"].astype(bool)
-    return df
+        return r
+
+    return frame_table(frames, measure, TRACK_COLUMNS, progress=progress)
+
+
+def _locate_near(img, prev: SpotResult, margin: float, kw: dict) -> Optional[SpotResult]:
+    """:func:`locate` in a rectangle around the previous spot (its window +
+    ``margin`` px); None when the whole frame must be searched (spot missing
+    there, or its window reaching the rectangle's border)."""
+    hu, hv = prev.window
+    ru, rv = hu + margin, hv + margin
+    roi = (int(math.floor(prev.u_px - ru)), int(math.floor(prev.v_px - rv)),
+           int(math.ceil(2 * ru)) + 1, int(math.ceil(2 * rv)) + 1)
+    r = locate(img, roi=roi, **kw)
+    if "blank" in r.flags:
+        return r
+    if "missing" in r.flags:
+        return None
+    hu2, hv2 = r.window
+    if (r.u_px - hu2 - 1 < roi[0] or r.u_px + hu2 + 1 > roi[0] + roi[2] - 1
+            or r.v_px - hv2 - 1 < roi[1] or r.v_px + hv2 + 1 > roi[1] + roi[3] - 1):
+        return None   # window may be cut by the ROI: search the whole frame
+    return r

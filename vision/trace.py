@@ -46,11 +46,14 @@ from typing import Iterable, Optional
 import cv2
 import numpy as np
 
+from .io import frame_table
 from .spot import COARSE_SIGMA, _background, _saturation_level
 
-__all__ = ["TraceFit", "fit_trace", "track_traces"]
+__all__ = ["TraceFit", "fit_trace", "track_traces", "TRACE_COLUMNS"]
 
 BAD_FLAGS = frozenset({"missing", "blank", "edge"})
+#: columns of :func:`track_traces` after frame [and time]
+TRACE_COLUMNS = ("u_px", "v_px", "radius_px", "radius_std_px", "spot_sigma_px", "flags", "ok")
 
 
 @dataclass
@@ -197,32 +200,5 @@ def track_traces(frames: Iterable, *, progress: bool = False, **kw):
     Columns: frame, [time,] u_px, v_px, radius_px, radius_std_px,
     spot_sigma_px, flags (comma-separated, "" when none), ok.
     """
-    import pandas as pd
-
-    cols = ("frame", "time", "u_px", "v_px", "radius_px", "radius_std_px", "spot_sigma_px",
-            "flags", "ok")
-    rows = {c: [] for c in cols}
-    have_time = False
-    it = frames
-    if progress:
-        try:
-            from tqdm import tqdm
-            it = tqdm(frames, unit="frame")
-        except ImportError:
-            pass
-    for k, item in enumerate(it):
-        t = math.nan
-        if hasattr(item, "image"):
-            have_time = True
-            k, t, img = item.index, item.time, item.image
-        else:
-            img = item
-        r = fit_trace(img, **kw)
-        for c, val in zip(cols, (k, t, r.u_px, r.v_px, r.radius_px, r.radius_std_px,
-                                 r.spot_sigma_px, ",".join(sorted(r.flags)), r.ok)):
-            rows[c].append(val)
-    if not have_time:
-        del rows["time"]
-    df = pd.DataFrame(rows)
-    df["ok"] = df["ok"].astype(bool)
-    return df
+    return frame_table(frames, lambda img: fit_trace(img, **kw), TRACE_COLUMNS,
+                       progress=progress)
