@@ -27,12 +27,16 @@ This module gathers the instrument; the code lives in
 """
 from __future__ import annotations
 
-from .strobe_readings import (DEG, PATH, STEEL_DENSITY, STROBE_KEYS, TWO_PI, StrobeReading,
-                              Stroboscope, default_ball_radius, flash_times, image_multiplicity,
-                              multiplicity_for_ratio, reading_error, strobe_angles)
-from .strobe_render import (LEVEL_BALL, LEVEL_INTERIOR, LEVEL_MARK, LEVEL_RIM, LEVEL_ROD,
-                            MARK_SPAN, MAX_PIXELS, MAX_SUBPOSITIONS, StrobeFrame,
-                            render_strobe_frames)
+# every name the module had, the constants too (they are not in __all__)
+from .strobe_readings import (  # noqa: F401
+    DEG, PATH, STEEL_DENSITY, STROBE_KEYS, TWO_PI, StrobeReading, Stroboscope,
+    default_ball_radius, flash_times, image_multiplicity, multiplicity_for_ratio, reading_error,
+    strobe_angles,
+)
+from .strobe_render import (  # noqa: F401
+    LEVEL_BALL, LEVEL_INTERIOR, LEVEL_MARK, LEVEL_RIM, LEVEL_ROD, MARK_SPAN, MAX_PIXELS,
+    MAX_SUBPOSITIONS, StrobeFrame, render_strobe_frames,
+)
 
 __all__ = ["Stroboscope", "StrobeReading", "StrobeFrame", "reading_error", "flash_times",
            "strobe_angles", "render_strobe_frames", "image_multiplicity",

@@ -32,7 +32,7 @@ from .main_closed_forms import (
     balancing_rate, conservative_R1_k1, conservative_R1_parametric, conservative_R1_series,
     conservative_R23_k1, conservative_series_k0, high_speed_h_crit,
 )
-from .main_critical import (
+from .main_critical import (  # noqa: F401  (R_MIN/MAX_DEFAULT: not in __all__)
     R_MAX_DEFAULT, R_MIN_DEFAULT, CriticalSpeed, critical_speeds, high_speed_h_crit_exact,
     unbalance_independent_threshold,
 )

@@ -1,4 +1,4 @@
-"""Quasi-periodic ("stuck-ball") motions of a ball autobalancer.
+"""Quasi-periodic ("stuck-ball") motions of a ball autobalancer: roots, thresholds, stability.
 
 Digest ch5 section 5 (book section 5.5).  With e0 = 0 all balls stick together
 at one angle gamma of a frame turning at a constant speed Omega (5.175)-(5.180);
@@ -17,40 +17,36 @@ All quantities are dimensionless (digest ch5 section 2.2): ``R`` = omega/omega_1
 (0 <= Rt < 0.5), ``h`` the ball drag, ``H`` the support damping, ``e0`` the rotor
 unbalance in units of the balancing capacity.
 
+The frequency equation and its curve R(Omega) (the inverse of (5.181)) are in
+:mod:`stand.theory.qp_curve`; the laser-spot law (5.237) in
+:mod:`stand.theory.qp_spot`.  This module gathers all of them.
+
 Root finding
 ------------
-P is linear in R, so every Omega > 0 belongs to exactly one speed,
+P is linear in R, so every Omega > 0 belongs to exactly one speed R(Omega)
+(:func:`speed_of_precession`), and the QP roots at a speed R are the
+intersections of this curve with the horizontal line R.  The root count
+changes only at the local extrema of R(Omega) (Table 5.1-A), which lie in
+(1, sqrt 5) and exist only for H below about 0.7136 (located in
+:mod:`stand.theory.qp_curve`).  Between consecutive extrema R(Omega) is
+monotonic and ``brentq`` solves R(Omega) = R on each branch, so nearly double
+roots are never lost.
 
-    R(Omega) = Omega + 2 R_mH Omega^5 / D(Omega)                (speed_of_precession)
-
-and the QP roots at a speed R are the intersections of this curve with the
-horizontal line R.  The root count changes only at the local extrema of R(Omega)
-(Table 5.1-A).  Writing x = Omega^2,
-
-    dR/dOmega = 1 + 2 R_mH Omega^4 N(x) / D^2,   N(x) = x^2 - (6 - 3H^2) x + 5
-              = (1 - x)(5 - x) + 3 H^2 x,
-
-so dR/dOmega >= 1 wherever N >= 0: the extrema can lie only in
-(Omega_-, Omega_+) = (sqrt(x_-), sqrt(x_+)), x_+- the roots of N, a sub-interval of
-(1, sqrt 5) that exists only for H^2 < 2 - sqrt(20)/3 (about H < 0.7136).  There a
-grid, geometrically refined towards both ends (where the extrema crowd for small
-H or large R_mH) plus the real parts of the roots of the quartic
-F(x) = D^2 + 2 R_mH x^2 N (whose sign is that of dR/dOmega), locates every sign
-change of dR/dOmega; each is refined with ``brentq``.  Between consecutive extrema
-R(Omega) is monotonic and ``brentq`` solves R(Omega) = R on each branch, so
-nearly double roots are never lost.
-
-Stability (5.210)-(5.216) and the laser-spot law (5.237) complete the module.
+Thresholds (5.182), (5.191), (5.201) and stability (5.210)-(5.216) complete
+the module.
 """
 from __future__ import annotations
 
 import math
 import warnings
 from dataclasses import dataclass
-from fractions import Fraction
 
 import numpy as np
 from scipy.optimize import brentq
+
+from .qp_curve import (_D, _EPS, _RTOL, QPWarning, _check, _extrema, _params, _RmH,
+                       dspeed_dOmega, frequency_polynomial, speed_of_precession)
+from .qp_spot import SpotLaw, epitrochoid, spot_law
 
 __all__ = [
     "QPWarning", "QPThresholds", "QPStability", "SpotLaw",
@@ -59,186 +55,10 @@ __all__ = [
     "spot_law", "epitrochoid",
 ]
 
-_EPS = np.finfo(float).eps
-_RTOL = 4 * _EPS          # the smallest rtol brentq accepts
-
-
-class QPWarning(UserWarning):
-    """A QP computation met a degenerate or unresolvable case (the result says how)."""
-
 
 # ---------------------------------------------------------------------------
-# input checks and elementary functions
+# roots
 # ---------------------------------------------------------------------------
-
-def _check(name, value, *, upper=None):
-    v = float(value)
-    if not math.isfinite(v) or v < 0.0:
-        raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
-    if upper is not None and v >= upper:
-        raise ValueError(f"{name} must be < {upper} (R~_m = n m / (2 M_Sigma)), got {value!r}")
-    return v
-
-
-def _params(Rt, h, H):
-    return _check("Rt", Rt, upper=0.5), _check("h", h), _check("H", H)
-
-
-def _D(w, H):
-    """D(w) = (1 - w^2)^2 + H^2 w^2, evaluated without cancellation near w = 1."""
-    w = np.asarray(w, dtype=float)
-    return ((1.0 - w) * (1.0 + w)) ** 2 + (H * w) ** 2
-
-
-def _N_roots(H):
-    """Roots x_- < x_+ of N(x) = x^2 - (6 - 3H^2) x + 5, or None (then N > 0)."""
-    b = 6.0 - 3.0 * H * H
-    disc = b * b - 20.0
-    if b <= 0.0 or disc <= 0.0:
-        return None
-    xp = 0.5 * (b + math.sqrt(disc))
-    return 5.0 / xp, xp          # x_- x_+ = 5, stable form
-
-
-def _N(x, H, roots):
-    x = np.asarray(x, dtype=float)
-    if roots is None:
-        return (1.0 - x) * (5.0 - x) + 3.0 * H * H * x
-    return (x - roots[0]) * (x - roots[1])
-
-
-def _RmH(Rt, h, H):
-    return Rt * H / h
-
-
-def speed_of_precession(Omega, Rt, h, H):
-    """Rotor speed R at which a QP motion precesses at ``Omega`` (inverse of (5.181)).
-
-    The frequency equation (5.181) is linear in R, so
-
-        R(Omega) = Omega + 2 R_mH Omega^5 / D(Omega),   R_mH = Rt H / h,
-        D(Omega) = (1 - Omega^2)^2 + H^2 Omega^2,
-
-    i.e. the drive h (R - Omega) equals the resistance 2 Rt Omega^5 H / D (the
-    torque balance after (5.180)).
-
-    Parameters
-    ----------
-    Omega : float or array_like
-        Precession speed(s) >= 0, units of omega_1.
-    Rt, h, H : float
-        R~_m, ball drag, support damping (all >= 0, Rt < 0.5).
-
-    Returns
-    -------
-    float or ndarray
-        R(Omega).  Degenerate cases: with ``h = 0`` (and Rt H > 0) R = inf for
-        Omega > 0 (no finite drive balances the resistance); with ``H = 0`` the
-        resistance vanishes except at Omega = 1, where its limit H -> 0+ is
-        infinite: R = Omega for Omega != 1 and R(1) = inf (if Rt > 0).
-    """
-    Rt, h, H = _params(Rt, h, H)
-    w = np.asarray(Omega, dtype=float)
-    if np.any(~np.isfinite(w)) or np.any(w < 0):
-        raise ValueError("Omega must be finite and >= 0")
-    num = 2.0 * Rt * H * w ** 5
-    den = h * _D(w, H)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        extra = np.where(num == 0.0, 0.0, num / den)
-        if H == 0.0 and Rt > 0.0 and h > 0.0:   # spike 2 Rt / (h H) -> inf at Omega = 1
-            extra = np.where(w == 1.0, np.inf, 0.0)
-    out = w + extra
-    return float(out) if out.ndim == 0 else out
-
-
-def dspeed_dOmega(Omega, Rt, h, H):
-    """Derivative of :func:`speed_of_precession`,
-
-        dR/dOmega = 1 + 2 R_mH Omega^4 N(Omega^2) / D(Omega)^2,
-        N(x) = (1 - x)(5 - x) + 3 H^2 x.
-
-    Positive (>= 1) wherever N >= 0, in particular on (0, 1] and [sqrt 5, inf).
-    Requires h > 0 and H > 0.
-    """
-    Rt, h, H = _params(Rt, h, H)
-    if h == 0.0 or H == 0.0:
-        raise ValueError("dspeed_dOmega needs h > 0 and H > 0")
-    w = np.asarray(Omega, dtype=float)
-    roots = _N_roots(H)
-    out = 1.0 + 2.0 * _RmH(Rt, h, H) * w ** 4 * _N(w * w, H, roots) / _D(w, H) ** 2
-    return float(out) if out.ndim == 0 else out
-
-
-def frequency_polynomial(R, Rt, h, H):
-    """Coefficients (highest power first) of P(Omega) of (5.181), for ``np.roots``.
-
-    P(Omega) = 2 R_mH Omega^5 - (R - Omega)[Omega^4 - (2 - H^2) Omega^2 + 1].
-    Ill conditioned when R_mH is tiny or huge; :func:`qp_roots` does not use it.
-    """
-    Rt, h, H = _params(Rt, h, H)
-    RmH = _RmH(Rt, h, H)
-    Dp = np.poly1d([1.0, 0.0, H * H - 2.0, 0.0, 1.0])
-    P = np.poly1d([2.0 * RmH, 0, 0, 0, 0, 0]) - np.poly1d([-1.0, float(R)]) * Dp
-    return P.coeffs
-
-
-# ---------------------------------------------------------------------------
-# extrema of R(Omega) and roots
-# ---------------------------------------------------------------------------
-
-def _extrema(Rt, h, H, n_grid=1500):
-    """Omega at the local extrema of R(Omega), increasing (h > 0, H > 0, Rt > 0)."""
-    roots = _N_roots(H)
-    if roots is None:
-        return np.empty(0)
-    RmH = _RmH(Rt, h, H)
-    wm, wp = math.sqrt(roots[0]), math.sqrt(roots[1])
-    width = wp - wm
-
-    def F(w):   # sign of dR/dOmega; D^2 + 2 R_mH Omega^4 N
-        w = np.asarray(w, dtype=float)
-        return _D(w, H) ** 2 + 2.0 * RmH * w ** 4 * _N(w * w, H, roots)
-
-    t = np.geomspace(8 * _EPS * wp, width, n_grid)
-    pts = [wm + t, wp - t, np.linspace(wm, wp, n_grid)]
-    # the real parts of the quartic's roots mark where F dips (also near-double roots)
-    x = np.polynomial.Polynomial
-    Dx = x([1.0, -(2.0 - H * H), 1.0])
-    Fx = Dx ** 2 + 2.0 * RmH * x([0, 0, 1.0]) * x([5.0, -(6.0 - 3.0 * H * H), 1.0])
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        xr = Fx.roots()
-    # a close pair of real roots bounds a narrow dip F < 0: sample between them
-    xr = np.sort(xr.real)
-    xr = np.concatenate([xr, 0.5 * (xr[:-1] + xr[1:])])
-    xr = xr[(xr > roots[0]) & (xr < roots[1])]
-    pts.append(np.sqrt(xr))
-    # the near-resonance minimum sits near Omega ~ 1 + R_mH^(1/3) (5.188)-(5.196)
-    c = 1.0 + np.cbrt(RmH) * np.array([0.5, 1.0, 2.0])
-    pts.append(c[(c > wm) & (c < wp)])
-    g = np.unique(np.concatenate(pts))
-    g = g[(g > wm) & (g < wp)]
-    g = np.concatenate([[wm], g, [wp]])
-    s = np.sign(F(g))
-    s[0] = s[-1] = 1.0   # dR/dOmega = 1 exactly at Omega_+- (N = 0)
-    # zeros of F on the grid: treat as sign changes resolved by neighbours
-    nz = s != 0
-    g, s = g[nz], s[nz]
-    idx = np.nonzero(s[:-1] != s[1:])[0]
-    out = []
-    for i in idx:
-        a, b = g[i], g[i + 1]
-        try:
-            out.append(brentq(F, a, b, xtol=2 * _EPS * b, rtol=_RTOL, maxiter=500))
-        except ValueError:     # F noisy at the ulp level: keep the midpoint
-            out.append(0.5 * (a + b))
-    if len(out) % 2:
-        warnings.warn(QPWarning(
-            f"qp: found an odd number ({len(out)}) of extrema of R(Omega) for Rt={Rt}, "
-            f"h={h}, H={H}; the curve is not resolved in double precision near "
-            f"Omega = {out}"), stacklevel=3)
-    return np.asarray(out)
-
 
 def _degenerate_roots(R, Rt, h, H):
     """Roots for h = 0, H = 0 or Rt = 0 (None if the case is regular)."""
@@ -583,162 +403,3 @@ def qp_stability(Omega, R, Rt, h, H, *, n=2):
     return QPStability(v=v, relative_roots=np.sort_complex(rel.astype(complex)), b=b,
                        collective_roots=np.sort_complex(col.astype(complex)),
                        abscissa=absc, stable=absc < 0.0, residual=residual)
-
-
-# ---------------------------------------------------------------------------
-# laser spot
-# ---------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class SpotLaw:
-    """The shaft (laser-spot) trajectory of a QP motion, (5.229)-(5.243).
-
-    z(tau) = A_P e^{i(Omega tau + phase_P)} + A_N e^{i(R tau + phase_N)}; after the
-    time and angle shift (5.230)-(5.236) it is the epitrochoid (5.237)
-    Z = A_P e^{i Omega T} + A_N e^{i R T}.
-
-    Attributes
-    ----------
-    A_P, A_N : float
-        Precession and nutation amplitudes in units of r* (5.229):
-        A_P = Omega^2 / sqrt(D(Omega)), A_N = e0 R^2 / sqrt(D(R)).
-    A_P_l, A_N_l : float or None
-        The same in units of the track radius l, (5.237): multiplied by
-        R_m = n m / M_Sigma (r* = R_m l); None if R_m was not given.
-    gamma1, gamma2 : float
-        Phase angles of (5.231): cos g1 = (1-Omega^2)/sqrt(D(Omega)),
-        sin g1 = H Omega / sqrt(D(Omega)), cos g2 = (R^2-1)/sqrt(D(R)),
-        sin g2 = H R / sqrt(D(R)).
-    phase_P, phase_N : float
-        Phases of the two terms of z(tau): gamma - gamma1 and gamma2 - pi.
-    k : float
-        R / Omega.
-    p, q : int or None
-        k = p/q in lowest terms (q = 1: integer k) if k is rational with a small
-        denominator, else None (irrational: the pattern never closes).
-    petals : int or None
-        p - q (= k - 1 for integer k), (5.239)-(5.240).
-    period : float
-        Closing time 2 pi q / Omega (inf if the curve never closes).
-    ratio : float
-        A_P Omega / (A_N R) (inf for e0 = 0).
-    shape : str
-        "curtate" (ratio > 1, no loops), "normal" (ratio = 1, cusps) or
-        "prolate" (ratio < 1, loops), (5.241)-(5.243) as reconstructed in the
-        digest (section 0.2 item 11).
-    """
-    Omega: float
-    R: float
-    e0: float
-    H: float
-    A_P: float
-    A_N: float
-    A_P_l: float | None
-    A_N_l: float | None
-    gamma1: float
-    gamma2: float
-    phase_P: float
-    phase_N: float
-    k: float
-    p: int | None
-    q: int | None
-    petals: int | None
-    period: float
-    ratio: float
-    shape: str
-
-
-def _rational(k, max_denominator, rtol):
-    f = Fraction(k).limit_denominator(max_denominator)
-    if abs(k - f.numerator / f.denominator) <= rtol * abs(k):
-        return f.numerator, f.denominator
-    return None, None
-
-
-def spot_law(Omega, R, e0, H, R_m=None, *, gamma=0.0, max_denominator=12, rtol=1e-6,
-             shape_rtol=1e-6):
-    """Precession/nutation amplitudes, phases, petals and shape of the spot, (5.237).
-
-    Parameters
-    ----------
-    Omega : float
-        Precession speed (a QP root), > 0.
-    R : float
-        Rotor speed, > 0.
-    e0 : float
-        Rotor unbalance (units of the capacity, first order in e0).
-    H : float
-        Support damping.
-    R_m : float, optional
-        n m / M_Sigma (= 2 Rt for point balls); if given, the amplitudes are also
-        returned in units of the track radius l, as (5.237) prints them.
-    gamma : float
-        Angle of the ball group in the Omega-frame (a free family parameter).
-    max_denominator : int
-        Largest q accepted when recognising k = R/Omega as p/q.
-    rtol : float
-        Relative tolerance of that recognition.
-    shape_rtol : float
-        |ratio - 1| <= shape_rtol counts as "normal".
-
-    Returns
-    -------
-    SpotLaw
-
-    Examples
-    --------
-    The digest's time-domain check (section 5.3, n = 2, Rt = 0.01, h = H = 0.05,
-    R = 3, e0 = 0.3): precession 10.297 r* (the digest prints 10.293; its own
-    formula gives 10.297, the simulation 10.298) and nutation 0.337 r*
-    (first order in e0; the simulation gives 0.3605).
-
-    >>> W = qp_roots(3.0, 0.01, 0.05, 0.05)[0]
-    >>> s = spot_law(W, 3.0, 0.3, 0.05, R_m=0.02)
-    >>> round(s.A_P, 3), round(s.A_N, 3), round(s.k, 3), s.shape
-    (10.297, 0.337, 3.121, 'curtate')
-    """
-    Omega = _check("Omega", Omega)
-    R = _check("R", R)
-    e0 = _check("e0", e0)
-    H = _check("H", H)
-    if Omega == 0.0 or R == 0.0:
-        raise ValueError("Omega and R must be > 0")
-    DW = float(_D(Omega, H))
-    DR = float(_D(R, H))
-    A_P = Omega * Omega / math.sqrt(DW) if DW > 0 else math.inf
-    A_N = e0 * R * R / math.sqrt(DR) if DR > 0 else (math.inf if e0 > 0 else 0.0)
-    g1 = math.atan2(H * Omega, 1.0 - Omega * Omega)
-    g2 = math.atan2(H * R, R * R - 1.0)
-    k = R / Omega
-    p, q = _rational(k, max_denominator, rtol)
-    petals = None if p is None else p - q
-    period = math.inf if q is None else 2.0 * math.pi * q / Omega
-    ratio = math.inf if A_N == 0.0 else A_P * Omega / (A_N * R)
-    if abs(ratio - 1.0) <= shape_rtol:
-        shape = "normal"
-    elif ratio > 1.0:
-        shape = "curtate"
-    else:
-        shape = "prolate"
-    if R_m is not None:
-        R_m = _check("R_m", R_m)
-    return SpotLaw(Omega=Omega, R=R, e0=e0, H=H, A_P=A_P, A_N=A_N,
-                   A_P_l=None if R_m is None else R_m * A_P,
-                   A_N_l=None if R_m is None else R_m * A_N,
-                   gamma1=g1, gamma2=g2, phase_P=gamma - g1, phase_N=g2 - math.pi,
-                   k=k, p=p, q=q, petals=petals, period=period, ratio=ratio, shape=shape)
-
-
-def epitrochoid(A_P, A_N, Omega, R, t, phase_P=0.0, phase_N=0.0):
-    """Z(t) = A_P e^{i(Omega t + phase_P)} + A_N e^{i(R t + phase_N)}, (5.237).
-
-    Both terms turn forward, so the curve is an epitrochoid (digest section 0.2
-    item 12), with k - 1 petals for integer k = R/Omega.
-
-    Returns
-    -------
-    complex ndarray
-        Same shape as ``t``.
-    """
-    t = np.asarray(t, dtype=float)
-    return A_P * np.exp(1j * (Omega * t + phase_P)) + A_N * np.exp(1j * (R * t + phase_N))
