@@ -1,8 +1,9 @@
 """Rotating-frame Jacobian at a main motion vs the book's characteristic polynomial.
 
 Oracles: digest ch5 section 4.1 and test T2 of section 8.3 -- the corrected
-model linearised at a balanced state has the roots of (5.90) as eigenvalues
-(n = 2), and for n = 3 the 8 roots plus 0 (motion along the family) and -h.
+model linearised at a balanced state has for n = 3 the 8 roots of (5.90) plus
+0 (motion along the family) and -h as eigenvalues.  The n = 2 case of T2 (the
+digest's printed eigenvalues) is checked in tests/test_theory_main.py.
 """
 import numpy as np
 import pytest
@@ -27,21 +28,6 @@ def _match(ev, ref, tol):
         assert abs(ev[i] - r) < tol, (r, ev[i])
         ev.pop(i)
     return ev
-
-
-def test_T2_two_balls_eigenvalues():
-    W, Rt, h, H, a = 2.3, 0.04, 0.3, 0.2, 0.6
-    e0 = np.cos(a)  # balls at pi +- a balance e0 = cos a
-    m = _model(2, W, Rt, h, H, e0)
-    z = main_motion_state(m, [np.pi + a, np.pi - a])
-    assert np.max(np.abs(rotating_rhs(m, W, z))) < 1e-14  # an equilibrium (5.50)
-    ev = np.linalg.eigvals(rotating_jacobian(m, W, z))
-    printed = [-0.19663 + 0.62607j, -0.11933 + 0.36842j, -0.10419 + 1.29253j, -0.1008 + 3.2967j]
-    ref = printed + [np.conj(p) for p in printed]
-    _match(ev, ref, 1e-4)  # the digest quotes 5 digits
-    d = abs(np.cos(2 * a))  # d = |cos(alpha1 - alpha2)| for n = 2
-    # central differences: error ~ step^2 * |f'''| -> 1e-7 on the eigenvalues
-    _match(ev, main_eigenvalues(W, Rt, h, H, d), 1e-6)
 
 
 @pytest.mark.parametrize("W", [1.5, 3.0, 7.0])

@@ -12,7 +12,7 @@ import numpy.polynomial.polynomial as P
 import pytest
 
 from stand.planar import build_planar_model
-from stand.rotating import main_motion_state, rotating_jacobian
+from stand.rotating import main_motion_state, rotating_jacobian, rotating_rhs
 from stand.scene import RunSettings, SpeedDrive
 from stand.scene_file import scene_from_dimensionless
 from stand.theory.main_motion import (
@@ -115,8 +115,11 @@ def _match(ev, ref, tol):
 
 def test_T2_two_balls_printed_numbers():
     W, Rt, h, H, a = 2.3, 0.04, 0.3, 0.2, 0.6
-    e0 = math.cos(a)
-    ev = jacobian_eigenvalues(_model(2, W, Rt, h, H, e0), W, [math.pi + a, math.pi - a])
+    e0 = math.cos(a)  # balls at pi +- a balance e0 = cos a
+    m = _model(2, W, Rt, h, H, e0)
+    z = main_motion_state(m, [math.pi + a, math.pi - a])
+    assert np.max(np.abs(rotating_rhs(m, W, z))) < 1e-14  # an equilibrium (5.50)
+    ev = jacobian_eigenvalues(m, W, [math.pi + a, math.pi - a])
     assert ev.size == 8
     printed = [-0.19663 + 0.62607j, -0.11933 + 0.36842j, -0.10419 + 1.29253j, -0.1008 + 3.2967j]
     _match(ev, printed + [np.conj(p) for p in printed], 1e-4)
