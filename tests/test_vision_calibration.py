@@ -6,10 +6,9 @@ import cv2
 import numpy as np
 import pytest
 
-from stand.instruments.rings import render_ring_image
-from stand.instruments.screen import ScreenCamera, screen_to_pixels
-from vision.calibration import (VisionError, detect_rings, fit_homography, m_to_px, px_to_m,
-                                scale_from_fiducials, zone_map)
+from vision import artificial as art
+from vision.calibration import (VisionError, apply_homography, detect_rings, fit_homography,
+                                m_to_px, px_to_m, scale_from_fiducials, zone_map)
 
 DATA = Path(__file__).resolve().parents[1] / "data_samples"
 RADII = np.arange(21) * 0.0006       # m, zones 0..20 (zone 0 draws nothing)
@@ -17,15 +16,17 @@ PITCH = 1e-4
 
 
 def _cal(tilt):
-    cam = ScreenCamera(pixel_pitch=PITCH, width=320, height=320, tilt=tilt)
-    img = render_ring_image(RADII, cam)
+    """Rings seen by a 320 x 320 camera at PITCH m/px tilted by ``tilt`` rad: the true
+    homography screen -> image, the rings found and the calibration fitted to them."""
+    H = art.camera_homography(320, 320, PITCH, tilt)
+    img = art.ring_image(RADII, H, (320, 320))
     rings = detect_rings(img)
-    return cam, rings, fit_homography(rings, RADII)
+    return H, rings, fit_homography(rings, RADII)
 
 
 @pytest.mark.parametrize("tilt_deg", [0.0, 10.0, -10.0])
 def test_scale_tilt_and_unbiased_radius(tilt_deg):
-    cam, rings, cal = _cal(math.radians(tilt_deg))
+    H, rings, cal = _cal(math.radians(tilt_deg))
     assert len(rings) == 20
     assert [e.size for e in rings] == sorted(e.size for e in rings)
     assert cal.scale == pytest.approx(PITCH, rel=2e-3)
@@ -37,7 +38,7 @@ def test_scale_tilt_and_unbiased_radius(tilt_deg):
     rng = np.random.default_rng(1)
     r = rng.uniform(0.001, 0.0125, 200)
     a = rng.uniform(0, 2 * np.pi, 200)
-    u, v = screen_to_pixels(r * np.cos(a), r * np.sin(a), cam)
+    u, v = apply_homography(H, r * np.cos(a), r * np.sin(a))
     X, Y = px_to_m(u, v, cal)
     rel = np.hypot(X, Y) / r - 1
     assert abs(np.mean(rel)) < 5e-4          # no systematic radius offset
@@ -61,7 +62,7 @@ def test_sample_calibration_image():
 
 
 def test_missing_inner_ring_is_matched_by_size():
-    cam, rings, _ = _cal(0.0)
+    _, rings, _ = _cal(0.0)
     cal = fit_homography(rings[1:], RADII)      # ring of zone 1 not detected
     assert cal.scale == pytest.approx(PITCH, rel=2e-3)
 

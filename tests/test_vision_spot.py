@@ -1,12 +1,11 @@
-"""vision.spot / vision.io against synthetic frames with known truth (stand renders them)."""
+"""vision.spot / vision.io against synthetic frames with known truth (vision.artificial draws them)."""
 import math
 
 import h5py
 import numpy as np
 import pytest
 
-from stand.instruments.render import render_frames
-from stand.instruments.screen import ScreenCamera, frame_truth
+from vision import artificial as art
 from vision.io import VisionError, iter_frames
 from vision.spot import locate, track
 
@@ -14,16 +13,16 @@ REC = "data_samples/recordings/stand_cameras.h5"
 
 
 def _cam(**kw):
-    # sigma = spot_diameter / (4 pixel_pitch) = 2 px, still spot
-    return ScreenCamera(pixel_pitch=1e-3 / 8, spot_diameter=1e-3, subsamples=1, **kw)
+    # sigma = 2 px (a 1 mm 1/e^2 spot filmed at 1/8 mm per px), 640 x 480, default noise
+    return art.Camera(sigma_px=2.0, **kw)
 
 
 def _frames(cam, n, noise, seed=1):
     rng = np.random.default_rng(seed)
     px = np.column_stack([rng.uniform(60, cam.width - 60, n),
                           rng.uniform(60, cam.height - 60, n)])[:, None, :]
-    truth = frame_truth(px * cam.pixel_pitch, px, cam)["centre_px"]
-    return list(render_frames(px, cam, noise=noise)), truth
+    truth = art.exposure_centre(px)
+    return list(art.spot_frames(px, cam, noise=noise)), truth
 
 
 def _errors(cam, n, noise, **kw):
@@ -76,7 +75,7 @@ def test_saturated_spot_flagged_and_accurate():
 
 def test_missing_and_blank_frames_give_nan_and_flags():
     cam = _cam()
-    empty = next(render_frames(np.full((1, 1, 2), np.nan), cam))
+    empty = art.spot_frame(np.full((1, 2), np.nan), cam, 0)
     r = locate(empty)
     assert math.isnan(r.u_px) and math.isnan(r.v_px) and "missing" in r.flags and not r.ok
     z = locate(np.zeros((480, 640), np.uint8))
@@ -88,9 +87,9 @@ def test_missing_and_blank_frames_give_nan_and_flags():
 
 def test_reflection_second_blob_flagged_spot_kept():
     cam = _cam()
-    px = np.array([[[300.3, 200.7]]])
-    spot = next(render_frames(px, cam, noise=False)).astype(np.int32)
-    refl = next(render_frames(px + [[[80.0, 40.0]]], _cam(peak=60.0), noise=False)).astype(np.int32)
+    px = np.array([[300.3, 200.7]])
+    spot = art.spot_frame(px, cam, noise=False).astype(np.int32)
+    refl = art.spot_frame(px + [[80.0, 40.0]], _cam(peak=60.0), noise=False).astype(np.int32)
     frame = np.clip(spot + refl - cam.background, 0, 255).astype(np.uint8)
     r = locate(frame)
     assert "second_blob" in r.flags and r.ok
@@ -101,7 +100,7 @@ def test_track_roi_follows_moving_spot():
     cam = _cam()
     t = np.linspace(0, 2 * np.pi, 120)
     px = np.column_stack([320 + 150 * np.cos(t), 240 + 100 * np.sin(t)])[:, None, :]
-    df = track(render_frames(px, cam), gain=cam.electrons_per_dn)
+    df = track(art.spot_frames(px, cam), gain=cam.electrons_per_dn)
     assert list(df.columns[:2]) == ["frame", "u_px"] and df["ok"].all()
     assert math.sqrt(np.mean((df[["u_px", "v_px"]].to_numpy() - px[:, 0]) ** 2)) <= 0.05
 
@@ -140,7 +139,7 @@ def test_image_folder_and_video_roundtrip(tmp_path):
     cv2 = pytest.importorskip("cv2")
     cam = _cam(width=96, height=64)
     px = np.array([[[40.2, 30.6]], [[45.7, 28.1]]])
-    frames = list(render_frames(px, cam, noise=False))
+    frames = list(art.spot_frames(px, cam, noise=False))
     for i, f in enumerate(frames):
         cv2.imwrite(str(tmp_path / f"f{i:03d}.png"), f)
     df = track(iter_frames(tmp_path))

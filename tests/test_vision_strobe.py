@@ -1,5 +1,4 @@
 """vision.strobe: reference mark, weight angles and image multiplicity."""
-import dataclasses
 import json
 import math
 from pathlib import Path
@@ -8,9 +7,7 @@ import h5py
 import numpy as np
 import pytest
 
-from stand.instruments.stroboscope import Stroboscope, image_multiplicity, render_strobe_frames
-from stand.scene_file import load_scene
-from stand.simulate import simulate
+from vision import artificial as art
 from vision.strobe import VisionError, weight_angles
 
 DATA = Path(__file__).resolve().parents[1] / "data_samples"
@@ -38,29 +35,29 @@ def test_sample_recording_weight_angles_within_slot_error():
     assert np.degrees(res.angles) == pytest.approx([-120.0, 120.0], abs=math.degrees(slot_error))
 
 
-@pytest.fixture(scope="module")
-def stuck():
-    """ball_stuck.toml simulated at 200 Hz (22 samples per revolution)."""
-    s = load_scene(DATA / "scenes" / "ball_stuck.toml")
-    return simulate(dataclasses.replace(s, run=dataclasses.replace(s.run, sample_rate=200.0)))
+#: ball_stuck.toml at the end of its run: both balls stuck together at the stable root
+#: Omega = 0.96135 omega_1 of (5.181) while the rotor turns at omega = 3 omega_1, so their
+#: angle from the mark moves by -2 pi (1 - Omega / omega) from one flash to the next
+RATIO = 0.96135 / 3.0
+TRACK, BALL = 0.08, 0.015      #: m: the balancer's track radius, the drawn ball radius
+START = 0.222                  #: rad: the pair's angle from the mark at the first flash
 
 
 @pytest.mark.parametrize("K", [1, 3, 6])
-def test_stuck_multiflash_multiplicity(stuck, K):
-    t1 = stuck.t[-1]
-    t0 = t1 - 0.2 * (t1 - stuck.t[0])
-    ball = 0.015
-    track = stuck.scene.balancer.radius[0]
-    strobe = Stroboscope(exposure_flashes=K, shaft_motion=False, slot_radius=0.15,
-                         flash_angle=1.0, ball_radius=ball)
-    blur = 2 * ball / track + strobe.blur
-    for f in render_strobe_frames(stuck, strobe, t0, t1, max_frames=3):
-        res = weight_angles(f.image, n_weights=2)
-        assert res.n_images == image_multiplicity(f.relative_angle, blur)
+def test_stuck_multiflash_multiplicity(K):
+    setup = art.StrobeSetup(slot_radius=0.15, track_radius=TRACK, ball_radius=BALL)
+    blur = 2 * BALL / TRACK + setup.blur
+    flashes = START - 2 * np.pi * (1 - RATIO) * np.arange(3 * K)     # three frames of K flashes
+    rng = np.random.default_rng(K)
+    for i in range(3):
+        rel = np.repeat(_wrap(flashes[i * K:(i + 1) * K])[:, None], 2, axis=1)   # (K, 2)
+        image = art.strobe_frame(rel, setup, rng, flash_angle=1.0, weight_speed_ratio=RATIO)
+        res = weight_angles(image, n_weights=2)
+        assert res.n_images == art.image_multiplicity(rel, blur)
         assert res.images_per_weight == res.n_images / 2
         if K == 3:   # three distinct positions: each within the slot error of the truth
-            want = np.sort(_wrap(f.relative_angle[:, 0]))
-            assert np.max(np.abs(_wrap(res.angles - want))) < strobe.blur
+            want = np.sort(_wrap(rel[:, 0]))
+            assert np.max(np.abs(_wrap(res.angles - want))) < setup.blur
 
 
 def test_bad_frames():

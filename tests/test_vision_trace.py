@@ -1,30 +1,26 @@
 """vision.trace: the circle a whirling spot draws in a long exposure, against
-frames rendered with a known circle (stand renders them)."""
+frames drawn with a known circle (vision.artificial draws them)."""
 import math
 
 import numpy as np
 import pytest
 
-from stand.instruments.render import render_frames
-from stand.instruments.screen import ScreenCamera
+from vision import artificial as art
 from vision.trace import fit_trace, track_traces
 
 
 def _circle_frames(R, n=12, peak=4000.0, turns=3, epi=0.0, seed=0):
     """n frames of a spot (sigma 2 px) drawing `turns` turns of a circle of R px
     (plus an epicycle of `epi` px at -2x the whirl, for a non-circular trace)."""
-    cam = ScreenCamera(pixel_pitch=1e-4, spot_diameter=0.8e-3, width=320, height=320,
-                       subsamples=1, peak=peak, gain=6.0, seed=seed)
-    th = np.linspace(0, 2 * np.pi * turns, 4000, endpoint=False)
+    cam = art.Camera(width=320, height=320, sigma_px=2.0, peak=peak)   # 0.8 mm spot, 0.1 mm/px
     rng = np.random.default_rng(seed)
     out = []
     for k in range(n):
         c = np.array([160.0, 160.0]) + rng.uniform(-2, 2, 2)
-        ph = th + rng.uniform(0, 2 * np.pi)
-        z = R * np.exp(1j * ph) + epi * np.exp(-2j * ph)
-        out.append((np.column_stack([z.real, z.imag]) + c, c))
-    frames = list(render_frames(np.array([p for p, _ in out]), cam))
-    return frames, np.array([c for _, c in out]), cam.sigma_px[0]
+        out.append((art.orbit_positions(c, R, 4000, turns=turns, phase=rng.uniform(0, 2 * np.pi),
+                                        epicycle_px=epi), c))
+    frames = list(art.spot_frames([p for p, _ in out], cam, seed=seed))
+    return frames, np.array([c for _, c in out]), cam.sigma_uv[0]
 
 
 @pytest.mark.parametrize("R", [20.0, 60.0])
