@@ -1,2 +1,30 @@
-"""The virtual autobalancer test stand: scenes, physics, instruments, recordings."""
+"""The virtual autobalancer test stand: scenes, physics, instruments, recordings.
+
+The flat API (imported on first use, so ``import stand`` is cheap)::
+
+    stand.load(path_or_text) -> Scene       stand.run(scene) -> Run
+    stand.read(path) -> Recording           stand.theory(scene) -> dict
+    stand.analyze(run | recording | path)   stand.report(run | recording | path, html_path=...)
+"""
 __version__ = "0.1.0"
+
+__all__ = ["load", "run", "read", "theory", "analyze", "report", "Scene", "Run", "Recording",
+           "SceneError", "RecordingError", "__version__"]
+
+_LAZY = {"load": "api", "run": "api", "read": "api", "theory": "api", "analyze": "api",
+         "report": "api", "Scene": "scene", "SceneError": "scene", "Run": "result",
+         "Recording": "recording", "RecordingError": "recording"}
+
+
+def __getattr__(name):  # PEP 562: import the API on first use
+    if name in _LAZY:
+        import importlib
+
+        value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'stand' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(list(globals()) + list(_LAZY))

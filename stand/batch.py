@@ -38,7 +38,7 @@ def expand_sources(source: str) -> list:
 
 def analyze_row(path: str, grade_mm_s: float = 6.3, service_speed_rpm: Optional[float] = None) -> dict:
     """One summary row of `stand analyze` for ``path`` (never raises)."""
-    from .analyze import analyze
+    from .identify import analyze
 
     row = {"file": path, "status": "ok", "error": ""}
     try:

@@ -23,61 +23,57 @@ from pathlib import Path
 import numpy as np
 
 
-def _jsonable(o):
-    if isinstance(o, dict):
-        return {k: _jsonable(v) for k, v in o.items()}
-    if isinstance(o, (list, tuple)):
-        return [_jsonable(v) for v in o]
-    if isinstance(o, np.generic):
-        return o.item()
-    if isinstance(o, float) and not np.isfinite(o):
-        return None
-    return o
+def _print_json(doc) -> None:
+    """``--json``: the document on stdout (one JSON converter, strict JSON)."""
+    from .io.jsonable import dumps
+
+    print(dumps(doc, indent=2))
+
+
+def _not_applicable(command: str, why: str) -> int:
+    """A command that does not apply to a scene says so and why, and succeeds."""
+    print(f"stand {command}: not applicable: {why}")
+    return 0
 
 
 def _cmd_run(args) -> int:
-    from .instruments.pipeline import run_with_instruments
-    from .recording import check_output_path, write_recording
-    from .rotors.scene import is_family_scene
-    from .scene_file import load_scene
+    from .api import load, run
+    from .recording import check_output_path
 
-    if is_family_scene(args.scene):
-        return _run_family(args)
-    from .balancers.scene import is_weight_model_scene
-    if is_weight_model_scene(args.scene):
-        return _run_weight_model(args)
-    scene = load_scene(args.scene)
+    scene = load(args.scene)
     out = check_output_path(args.output)  # before the run, not after it
-    traj, writer = run_with_instruments(scene, method=args.method,
-                                        progress=not args.no_progress and sys.stderr.isatty(),
-                                        checkpoint=args.checkpoint)
-    write_recording(traj, out, writer=writer)
-    summ = traj.summary()
+    res = run(scene, method=args.method, progress=not args.no_progress and sys.stderr.isatty(),
+              checkpoint=args.checkpoint)
+    res.write(out)
+    summ = res.summary()
     final = summ.get("final") or {}
-    doc = {"scene": scene.name, "output": str(out), "solver": summ["solver"], **final, "final": final}
+    doc = {"scene": scene.name, "structure": scene.structure_type, "output": str(out),
+           "solver": summ["solver"], **final, "final": final, "notes": list(res.notes)}
     if args.json:
-        print(json.dumps(_jsonable(doc), indent=2))
+        _print_json(doc)
     else:
-        st = traj.stats
-        print(f"{scene.name}: {st.message} [{st.method}, {st.n_steps} steps, {st.nfev} RHS evaluations, "
-              f"{st.wall_time:.2f} s] -> {out}")
+        st = res.stats
+        print(f"{scene.name} ({scene.structure_type}): {st.message} [{st.method}, {st.n_steps} steps, "
+              f"{st.nfev} RHS evaluations, {st.wall_time:.2f} s] -> {out}")
         if final:
             ru = final.get("residual_unbalance")
             print(f"  t = {final['time_s']:.6g} s, speed {final['rotor_speed_rev_per_s']:.4g} rev/s, "
-                  f"whirl radius {final['whirl_radius_m']:.4g} m"
+                  f"plane {final['main_plane']} whirl radius {final['whirl_radius_m']:.4g} m"
                   + (f", residual unbalance {100 * ru:.3g} % of S" if ru is not None else ""))
-    if not traj.stats.success:
-        print(f"stand run: {traj.stats.message}", file=sys.stderr)
+        for n in res.notes:
+            print(f"  note: {n}")
+    if not res.stats.success:
+        print(f"stand run: {res.stats.message}", file=sys.stderr)
         return 1
     return 0
 
 
 def _cmd_accuracy(args) -> int:
-    from .accuracy import DEFAULT_RTOLS, accuracy
+    from .accuracy import DEFAULT_RTOLS, FAST_REFERENCE_RTOL, FAST_RTOLS, accuracy
     from .scene_file import load_scene
 
     scene = load_scene(args.scene)
-    rtols = DEFAULT_RTOLS
+    rtols = FAST_RTOLS if args.fast else DEFAULT_RTOLS
     if args.rtols:
         try:
             rtols = tuple(float(v) for v in args.rtols.split(","))
@@ -110,7 +106,7 @@ def _cmd_accuracy(args) -> int:
                               methods=methods, rk4_steps=steps, html_path=args.output,
                               json_path=args.json_file)
         if args.json:
-            print(json.dumps(doc, indent=2))
+            _print_json(doc)
         else:
             rec = doc["recommended"]
             print(f"{scene.name}: {len(doc['runs'])} runs against {doc['reference']['name']}; "
@@ -121,48 +117,12 @@ def _cmd_accuracy(args) -> int:
                   + ("" if rec.get("reached") else " -- the target was not reached")
                   + (f" -> {args.output}" if args.output else ""))
         return 0
-    rep = accuracy(scene, rtols=rtols, methods=methods, rk4_steps=steps)
+    rep = accuracy(scene, rtols=rtols, methods=methods, rk4_steps=steps,
+                   reference_rtol=FAST_REFERENCE_RTOL if args.fast else None)
     if args.json:
-        print(json.dumps(_jsonable(rep.to_dict()), indent=2))
+        _print_json(rep.to_dict())
     else:
         print(rep.table())
-    return 0
-
-
-def _run_family(args) -> int:
-    import time
-
-    from .recording import check_output_path
-    from .rotors.run import run_family, write_family_recording
-    from .rotors.scene import load_family_scene
-
-    scene = load_family_scene(args.scene)
-    out = check_output_path(args.output)
-    t0 = time.perf_counter()
-    run = run_family(scene)
-    wall = time.perf_counter() - t0
-    write_family_recording(scene, run, out)
-    res = {p: float(np.hypot(*U[-1])) for p, U in run.residual.items()}
-    static = float(np.hypot(*run.static_residual[-1]))
-    initial = float(np.hypot(*run.static_residual[0]))
-    doc = {"scene": scene.name, "rotor_type": scene.rotor_type, "output": str(out),
-           "solver": {**run.stats, "wall_time_s": wall, "method": "DOP853"},
-           "final": {"time_s": float(run.t[-1]), "rotor_speed_rev_per_s": float(run.speed[-1] / (2 * np.pi)),
-                     "plane_radius_m": {p: float(np.hypot(*xy[-1])) for p, xy in run.planes.items()},
-                     "residual_unbalance_kg_m": res, "static_residual_kg_m": static,
-                     "static_residual_initial_kg_m": initial}}
-    if args.json:
-        print(json.dumps(_jsonable(doc), indent=2))
-    else:
-        st = run.stats
-        print(f"{scene.name} ({scene.rotor_type}): {st['message']} [DOP853, {st['n_steps']} steps, "
-              f"{st['nfev']} RHS evaluations, {wall:.2f} s] -> {out}")
-        print(f"  t = {run.t[-1]:.6g} s, speed {run.speed[-1] / (2 * np.pi):.4g} rev/s; static residual "
-              f"unbalance {static:.4g} kg m (at the start {initial:.4g} kg m); plane displacements: "
-              + ", ".join(f"{p} {r:.3g} m" for p, r in doc["final"]["plane_radius_m"].items()))
-    if not run.success:
-        print(f"stand run: {run.stats['message']}", file=sys.stderr)
-        return 1
     return 0
 
 
@@ -203,7 +163,7 @@ def _cmd_report(args) -> int:
     from .batch import expand_sources, is_batch_source, run_batch, write_table
 
     grade = _grade(args.grade)
-    for o in (args.output, args.json):
+    for o in (args.output, args.json_file):
         if o and not Path(o).resolve().parent.is_dir():
             raise FileNotFoundError(f"output directory of {o!r} does not exist")
     if is_batch_source(args.recording):
@@ -220,12 +180,15 @@ def _cmd_report(args) -> int:
         return 0
     from .reports.balancing import balancing_report
 
-    if not args.output and not args.json:
-        raise ValueError("stand report: give -o REPORT.html and/or --json REPORT.json")
+    if not args.output and not args.json_file and not args.json:
+        raise ValueError("stand report: give -o REPORT.html, --json-file REPORT.json or --json")
     doc = balancing_report(args.recording, grade=grade, service_speed_rpm=args.service_speed,
-                           html_path=args.output, json_path=args.json)
+                           html_path=args.output, json_path=args.json_file)
+    if args.json:
+        _print_json(doc)
+        return 0
     q = doc.get("balancing_quality", {})
-    print(f"{args.recording}: report -> {args.output or args.json}"
+    print(f"{args.recording}: report -> {args.output or args.json_file}"
           + (f"; residual {q.get('residual_unbalance_gmm'):.4g} g mm" if isinstance(q.get('residual_unbalance_gmm'), (int, float)) else "")
           + (f", ISO 21940-11 G{grade:g}: {'pass' if q['iso_21940_11'].get('passed') else 'fail'}"
              if isinstance(q.get("iso_21940_11"), dict) and q["iso_21940_11"].get("passed") is not None else "")
@@ -242,16 +205,16 @@ def _cmd_sweep(args) -> int:
 def _cmd_stress(args) -> int:
     from .reports.stress import DEFAULT_CATALOGUE, run_stress
 
-    for o in (args.output, args.json):
+    for o in (args.output, args.json_file):
         if o and not Path(o).resolve().parent.is_dir():
             raise FileNotFoundError(f"output directory of {o!r} does not exist")
     cases = None
     if args.cases:
         cases = "fast" if args.cases == "fast" else [c.strip() for c in args.cases.split(",")]
     doc = run_stress(args.catalogue or DEFAULT_CATALOGUE, cases=cases, html_path=args.output,
-                     json_path=args.json, progress=sys.stderr.isatty())
-    if args.print_json:
-        print(json.dumps(doc, indent=2))
+                     json_path=args.json_file, progress=sys.stderr.isatty())
+    if args.json:
+        _print_json(doc)
     else:
         for c in doc["cases"]:
             print(f"  {'PASS' if c.get('pass') else 'FAIL'}  {c.get('name')}: {c.get('reason', '')}")
@@ -262,140 +225,57 @@ def _cmd_stress(args) -> int:
     return 0 if doc["summary"].get("all_passed") else 1
 
 
-def _run_weight_model(args) -> int:
-    from .balancers.scene import load_weight_model, run_weight_model, write_weight_model_recording
-    from .recording import check_output_path
-
-    sc = load_weight_model(args.scene)
-    out = check_output_path(args.output)
-    t, states, stats = run_weight_model(sc)
-    write_weight_model_recording(sc, t, states, stats, out)
-    print(f"{sc.name} ({sc.kind}): {stats['message']} [{stats['nfev']} RHS evaluations] -> {out}")
-    return 0 if stats["success"] else 1
-
-
-def _theory_family(args) -> int:
-    from .rotors.run import family_theory
-    from .rotors.scene import load_family_scene
-
-    scene = load_family_scene(args.scene)
-    doc = family_theory(scene, args.max_speed * 2 * np.pi if args.max_speed else None,
-                        floquet=not args.no_floquet)
-    if args.json:
-        print(json.dumps(_jsonable(doc), indent=2))
-        return 0
-    print(f"{scene.name}: rotor type {doc['rotor_type']} (section {doc['source']}), "
-          f"natural frequencies at rest: " + ", ".join(f"{f:.4g}" for f in doc["natural_frequencies_hz_at_rest"]) + " Hz")
-    for p, d in doc["engineering_criterion"].items():
-        print(f"  plane {p}: critical speeds " + ", ".join(f"{c:.5g}" for c in d["critical_speeds_hz"])
-              + " rev/s; working ranges " + ", ".join(f"({a:.5g}, {b:.5g})" for a, b in d["working_ranges_hz"]))
-    mm = doc.get("main_motion") or {}
-    if mm.get("critical_speeds_hz") is not None:
-        print("  main motion (Floquet, finite weight masses): critical speeds "
-              + (", ".join(f"{c:.5g}" for c in mm["critical_speeds_hz"]) or "none in the scan")
-              + f" rev/s; growth rate at {mm['operating_speed_hz']:.4g} rev/s: "
-              f"{mm['growth_rate_at_operating_speed_per_s']:.3g} 1/s")
-    elif mm.get("note"):
-        print(f"  main motion: {mm['note']}")
-    for n in doc["notes"]:
-        print(f"  note: {n}")
-    return 0
-
-
 def _cmd_theory(args) -> int:
-    from .rotors.scene import is_family_scene
-    from .scene_file import load_scene
-    from .theory.speedmap import plot_speed_map, scene_theory
+    from .api import load
+    from .theory.of_scene import theory, theory_lines
 
-    if is_family_scene(args.scene):
-        return _theory_family(args)
-    from .balancers.scene import is_weight_model_scene
-    if is_weight_model_scene(args.scene):
-        from .balancers.scene import load_weight_model, model_theory
-
-        doc = model_theory(load_weight_model(args.scene))
-        if args.json:
-            print(json.dumps(_jsonable(doc), indent=2))
-            return 0
-        print(f"{doc['scene']}: weight model {doc['type']} ({doc['source']})")
-        for m in doc.get("steady_motions", []):
-            label = m.get("label") or m.get("kind")
-            print(f"  steady motion {label}: phi = {m.get('phi')}, psi = {m.get('psi')}, "
-                  f"{'stable' if m.get('stable') else 'unstable'}")
-        for k in ("quasi_periodic", "quasi_periodic_frequency", "quasi_periodic_family_limit",
-                  "efficiency", "runup_extrema", "quasi_static_efficiency"):
-            if k in doc:
-                print(f"  {k}: {json.dumps(_jsonable(doc[k]))[:400]}")
-        return 0
-    scene = load_scene(args.scene)
+    scene = load(args.scene)
     if args.plot and not Path(args.plot).resolve().parent.exists():
         raise FileNotFoundError(f"plot directory {str(Path(args.plot).parent)!r} does not exist")
-    th = scene_theory(scene, R_max=args.max_speed * 2 * np.pi / scene.natural_frequency
-                      if args.max_speed else None)
+    doc = theory(scene, max_speed=args.max_speed, floquet=not args.no_floquet)
     if args.plot:
-        plot_speed_map(th, args.plot)
-    doc = th.to_dict()
+        if doc["kind"] == "chapter5":
+            from .theory.speedmap import plot_speed_map, scene_theory
+
+            plot_speed_map(scene_theory(scene, R_max=args.max_speed * 2 * np.pi / scene.natural_frequency
+                                        if args.max_speed else None), args.plot)
+        else:
+            doc["not_applicable"].append("--plot: the speed map is drawn for the chapter-5 planar "
+                                         "rotor with weights only")
     if args.json:
-        print(json.dumps(_jsonable(doc), indent=2))
+        _print_json(doc)
         return 0
-    f0 = doc["natural_frequency_hz"]
-    print(f"{scene.name}: natural frequency f0 = {f0:.4g} Hz; operating speed {doc['operating_speed_hz']:.4g} rev/s")
-    print("stable motions by speed band:")
-    for b in doc["stable_bands"]:
-        print(f"  {b['from_hz']:9.4g} - {b['to_hz']:9.4g} rev/s  ({b['R_from']:.4g}-{b['R_to']:.4g} f0): "
-              + (", ".join(b["motions"]) or "nothing stable"))
-    print("critical speeds:")
-    for c in doc["critical_speeds_hz"]:
-        print(f"  {c['hz']:9.4g} rev/s ({c['R']:.5g} f0): {c['motion']} {c['kind']} stability [{c['source']}]")
-    q = doc["qp"]
-    if q.get("escape_speed_hz"):
-        print(f"stuck balls (quasi-periodic) possible below {q['escape_speed_hz']:.4g} rev/s (escape speed)")
-    if q.get("stable_root_hz"):
-        print(f"  at the operating speed: balls at {q['stable_root_hz']:.4g} rev/s, precession "
-              f"{q['precession_amplitude_m']:.3g} m, nutation {q['nutation_amplitude_m']:.3g} m, {q['shape']}")
-    for w in doc["warnings"]:
-        print(f"note: {w}")
-    if args.plot:
+    for line in theory_lines(doc):
+        print(line)
+    if args.plot and doc["kind"] == "chapter5":
         print(f"speed map written to {args.plot}")
     return 0
 
 
 def _cmd_snapshot(args) -> int:
-    import os
-    import tempfile
-
     import cv2
-    import h5py
 
-    from .recording import RecordingError
+    from .api import read
+    from .io.atomic import atomic_path
 
     name = {"screen": "instruments/screen/frames", "strobe": "instruments/stroboscope/frames",
             "rings": "instruments/screen/calibration_image"}[args.instrument]
-    try:
-        with h5py.File(args.recording, "r") as f:
-            if name not in f:
-                raise RecordingError(f"{args.recording}: no dataset {name!r} (the scene had no "
-                                     f"{args.instrument} instrument)")
-            ds = f[name]
-            if ds.ndim == 3:
-                if not -ds.shape[0] <= args.frame < ds.shape[0]:
-                    raise RecordingError(f"--frame = {args.frame}: the recording has "
-                                         f"{ds.shape[0]} {args.instrument} frames")
-                img = ds[args.frame]
-            else:
-                img = ds[()]
-    except OSError as exc:
-        raise RecordingError(f"{args.recording}: not a readable HDF5 recording ({exc})") from None
-    out = os.path.abspath(args.output)
-    fd, tmp = tempfile.mkstemp(dir=os.path.dirname(out), suffix=".png")
-    os.close(fd)
-    try:
+    rec = read(args.recording)
+    shape = rec.shape(name)
+    if shape is None:
+        return _not_applicable("snapshot", f"{args.recording} holds no {args.instrument} images "
+                               f"(dataset {name!r}): its scene had no "
+                               f"[instruments.{'stroboscope' if args.instrument == 'strobe' else 'screen'}]")
+    if len(shape) == 3:
+        if not -shape[0] <= args.frame < shape[0]:
+            raise ValueError(f"--frame = {args.frame}: the recording has {shape[0]} "
+                             f"{args.instrument} frames")
+        img = rec.dataset(name, args.frame)
+    else:
+        img = rec.dataset(name)
+    with atomic_path(args.output, suffix=".png") as tmp:
         if not cv2.imwrite(tmp, img):
             raise ValueError(f"could not encode {args.output}")
-        os.replace(tmp, out)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
     print(f"{args.instrument} frame {args.frame} -> {args.output}")
     return 0
 
@@ -408,6 +288,10 @@ def _cmd_experiment(args) -> int:
 
     base = load_scene(args.scene)
     out = check_output_path(args.output)
+    if base.kind != "planar":
+        return _not_applicable("experiment", f"the programmes of tables 4.2-4.6 drive the planar "
+                               f"rotor of chapter 5 in this version; the scene's structure is "
+                               f"{base.structure_type}")
     p = args.programme
     if p == "constant":
         sc = ex.constant(base, band=args.band, speed=args.speed, duration=args.duration or 60.0)
@@ -446,7 +330,7 @@ def _need(args, name):
 def _cmd_analyze(args) -> int:
     from dsp.errors import SignalError
 
-    from .analyze import analyze
+    from .identify import analyze
     from .batch import analyze_row, expand_sources, is_batch_source, run_batch, write_table
     from .recording import RecordingError
 
@@ -470,7 +354,7 @@ def _cmd_analyze(args) -> int:
     except (RecordingError, SignalError) as exc:
         raise ValueError(str(exc)) from None
     if args.json:
-        print(json.dumps(_jsonable({k: v for k, v in doc.items() if k != "regime_timeline"}), indent=2))
+        _print_json({k: v for k, v in doc.items() if k != "regime_timeline"})
         return 0
     def fmt(v, sd=None, unit=""):
         if v is None:
@@ -685,7 +569,8 @@ def build_parser() -> argparse.ArgumentParser:
     rp = sub.add_parser("report", help="balancing-quality report (HTML + JSON) of a recording, or a folder/glob")
     rp.add_argument("recording", help="HDF5 or CSV recording, or a folder / glob of them")
     rp.add_argument("-o", "--output", default=None, help="HTML report (batch: a directory for one HTML per file)")
-    rp.add_argument("--json", default=None, help="JSON report (the source of the HTML)")
+    rp.add_argument("--json", action="store_true", help="print the JSON report on stdout")
+    rp.add_argument("--json-file", default=None, help="write the JSON report (the source of the HTML)")
     rp.add_argument("--grade", default="G6.3", help="ISO 21940-11 grade (G6.3 or 6.3, mm/s)")
     rp.add_argument("--service-speed", type=float, default=None, help="service speed [rpm]")
     rp.add_argument("--summary", default=None, help="batch: summary table (CSV or .parquet)")
@@ -698,8 +583,8 @@ def build_parser() -> argparse.ArgumentParser:
     sw.set_defaults(func=_cmd_sweep)
     st = sub.add_parser("stress", help="numerical stability on the stiff and extreme catalogue (HTML + JSON)")
     st.add_argument("-o", "--output", default=None, help="HTML report")
-    st.add_argument("--json", default=None, help="JSON report file")
-    st.add_argument("--print-json", action="store_true", help="print the JSON report")
+    st.add_argument("--json-file", default=None, help="write the JSON report to this file")
+    st.add_argument("--json", action="store_true", help="print the JSON report on stdout")
     st.add_argument("--catalogue", default=None, help="catalogue TOML (default: the built-in one)")
     st.add_argument("--cases", default=None, help="comma-separated case names, or 'fast'")
     st.set_defaults(func=_cmd_stress)
@@ -720,6 +605,8 @@ def build_parser() -> argparse.ArgumentParser:
     a.add_argument("--methods", default=None,
                    help="comma-separated methods (default: automatic); RK4 = fixed-step RK4")
     a.add_argument("--rk4-steps", default=None, help="RK4 steps [s], comma-separated")
+    a.add_argument("--fast", action="store_true",
+                   help="fast ladder: rtol 1e-4, 1e-6 against a reference at rtol 1e-10")
     a.add_argument("-o", "--output", default=None,
                    help="write the report as self-contained HTML (work-precision plot, recommendation)")
     a.add_argument("--json-file", default=None, help="write the report's JSON to this file")
@@ -765,7 +652,7 @@ def build_parser() -> argparse.ArgumentParser:
     a2.add_argument("recording", help="HDF5 recording, or CSV with columns t_s, x_m, y_m[, rotor_angle_rad | keyphasor]; "
                     "or a folder / glob of them (with -o)")
     a2.add_argument("--json", action="store_true", help="print JSON")
-    a2.add_argument("--grade", type=float, default=6.3, help="ISO 21940-11 target grade G [mm/s]")
+    a2.add_argument("--grade", type=_grade, default=6.3, help="ISO 21940-11 target grade (G6.3 or 6.3, mm/s)")
     a2.add_argument("--service-speed", type=float, default=None, help="service speed [rpm] (default: the recorded speed)")
     a2.add_argument("-o", "--output", default=None,
                     help="folder/glob input: write one summary table (CSV, or .parquet)")

@@ -23,7 +23,10 @@ TWO_PI = 2 * math.pi
 
 def _read(path):
     from .recording import read_recording
+    from .result import Run
 
+    if isinstance(path, Run):
+        return _from_run(path)
     p = Path(path)
     if p.suffix.lower() == ".csv":
         import pandas as pd
@@ -56,15 +59,17 @@ def _read(path):
             kp = t[column("keyphasor", "1 on a once-per-revolution pulse, else 0") > 0.5]
         return dict(t=t, x=column("x_m", "m"), y=column("y_m", "m"), phi=phi,
                     kp=kp, weights=None, scene=None)
-    rec = read_recording(p)
-    try:
-        scene = rec.scene() if rec.scene_text else None
-    except Exception:
-        scene = None
+    return _from_run(read_recording(p))
+
+
+def _from_run(rec):
+    """The arrays of a Run or Recording; the scene only where the model parts apply (the
+    planar rotor of chapter 5)."""
+    scene = rec.scene if getattr(rec.scene, "kind", None) == "planar" else None
     phi = rec.rotor_angle if np.all(np.isfinite(rec.rotor_angle)) else None
     w = rec.weight_angle if rec.weight_angle.size and np.all(np.isfinite(rec.weight_angle)) else None
     return dict(t=np.asarray(rec.t), x=np.asarray(rec.x), y=np.asarray(rec.y), phi=phi, kp=None,
-                weights=w, scene=scene)
+                weights=w, scene=scene, notes=list(rec.notes))
 
 
 def _steady_window(t, speed, frac=0.3):
@@ -96,7 +101,9 @@ def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = Non
     t, x, y, phi, scene = d["t"], d["x"], d["y"], d["phi"], d["scene"]
     if t.size < 2:  # np.gradient of the rotor angle needs two samples
         raise ValueError(f"{path}: {t.size} sample(s) in time (s); stand analyze needs at least 2")
-    out = {"recording": str(path), "notes": []}
+    label = getattr(path, "path", None) or (f"<run of {path.scene.name}>"
+                                            if hasattr(path, "scene") else str(path))
+    out = {"recording": str(label), "notes": list(d.get("notes") or [])}
     notes = out["notes"]
     speed = None
     if phi is not None:

@@ -8,7 +8,7 @@ weight model adds its kind here.
 """
 from ._jit import njit
 from .planar import rhs_planar
-from .rotors.coupled import rhs_generic
+from .rotors.coupled_kernel import rhs_generic
 
 PLANAR = 0
 GENERIC = 1   #: any LinearRotor with weights in any planes (stand.rotors.coupled)

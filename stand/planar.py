@@ -84,6 +84,14 @@ class PlanarModel:
     structure: PlanarStructure
     impulses: np.ndarray = None
 
+    # the model protocol of stand.integrate.driver
+    kind = 0                 #: stand.kernels.PLANAR
+
+    @property
+    def numpy_rhs(self):
+        """The pure-numpy right-hand side (full linear solve): the ``numpy-DOP853`` check path."""
+        return rhs_planar_numpy
+
     @property
     def nq(self) -> int:
         return 2 + self.n + (1 if self.free else 0)

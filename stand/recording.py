@@ -1,30 +1,32 @@
-"""Recordings: one HDF5 file per run, written atomically, read back with checks.
+"""Recordings: one HDF5 layout for every scene, written atomically, read back with checks.
 
-Layout of a recording (all arrays float64, SI units, one row per sample)::
+Layout (format_version 2; all arrays float64, SI units, one row per sample)::
 
-    /time                    (N,)    s      sample times
-    /shaft/x, /shaft/y       (N,)    m      shaft displacement along the fixed X, Y axes
-    /rotor/angle             (N,)    rad    angle of the rotor's reference mark
-    /rotor/speed             (N,)    rad/s  rotor speed
-    /weights/angle           (N, n)  rad    absolute weight angles, one column per weight
-    /weights/speed           (N, n)  rad/s  absolute weight speeds
-    /weights/relative_angle  (N, n)  rad    weight angle - rotor angle (unwrapped)
+    /time                          (N,)   s      sample times (an HDF5 dimension scale)
+    /planes/<plane>/x, .../y       (N,)   m      fixed-frame translation of each plane
+    /shaft/x, /shaft/y             (N,)   m      links to the main (instrumented or only) plane
+    /rotor/angle, /rotor/speed     (N,)   rad, rad/s
+    /weights/<weight>/<coord>      (N,)          each weight's coordinates (ball1/angle [rad], ...)
+    /coordinates/...               (N,)          structure coordinates, a book model's state
+    /truth/residual/<plane>        (N, 2) kg*m   total unbalance of a plane, rotor frame
+    /instruments/<name>/...                      what the instruments output (stand.instruments)
+    /truth/<name>/...                            their ground truth
 
-Every dataset carries a ``units`` and a ``description`` attribute.  With no
-weights the ``weights/*`` datasets exist with shape (N, 0).  Root attributes:
-``scene`` (the scene's TOML text), ``scene_name``, ``solver`` (JSON of
-:class:`stand.simulate.SolverStats`), ``version`` (``stand.__version__``),
-``format`` = :data:`FORMAT`, ``format_version`` = :data:`FORMAT_VERSION`,
-``created`` (ISO 8601, UTC), plus any ``extra_attrs`` given to
-:func:`write_recording`.
+Every dataset carries ``units`` and ``description``; every (N, ...) dataset
+has ``time`` attached as its first dimension's scale, so h5py, h5netcdf and
+xarray users see the time axis.  Root attributes: ``format`` =
+:data:`FORMAT`, ``format_version``, ``version`` (``stand.__version__``),
+``created`` (ISO 8601, UTC), ``scene_name``, ``scene`` (the scene's TOML
+text), ``structure`` (:attr:`stand.scene.Scene.structure_type`),
+``main_plane``, ``weight_planes`` (JSON: weight -> plane), ``solver`` (JSON of
+:class:`stand.result.SolverStats`), plus any ``extra_attrs``.
 
-:func:`read_recording` also accepts files written by other tools (a real
-stand, a data logger) as long as they hold ``time``, ``shaft/x`` and
-``shaft/y``; the rotor and weight datasets are then optional, and what was
-filled in is listed in :attr:`Recording.notes`.
-
-Only numpy and h5py are imported here; pandas, the scene reader and the
-simulator are imported when needed.
+:func:`read_recording` (``stand.read``) returns a :class:`Recording` with the
+fields of :class:`stand.result.Run`.  It also opens format_version 1 files
+(``weights/angle`` (N, n) matrices), the rotor-family and weight-model
+files written before the one layout, and files of other tools (a real
+stand, a data logger) holding at least ``time``, ``shaft/x`` and ``shaft/y``;
+what was filled in is listed in :attr:`Recording.notes`.
 """
 from __future__ import annotations
 
@@ -32,50 +34,44 @@ import dataclasses
 import datetime as _dt
 import json
 import os
-import stat
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, TYPE_CHECKING, Any, Mapping, Optional, Union
+from typing import TYPE_CHECKING, Any, Callable, Mapping, Optional, Union
 
 import h5py
 import numpy as np
 
-if TYPE_CHECKING:  # pragma: no cover
-    import pandas as pd
+from .io.atomic import atomic_path, check_output_path
+from .io.jsonable import to_jsonable
+from .result import Run, SolverStats
 
+if TYPE_CHECKING:  # pragma: no cover
     from .scene import Scene
-    from .simulate import Trajectory
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "DATASETS", "Recording", "RecordingError",
-           "read_recording", "write_recording"]
+           "read_recording", "write_recording", "check_output_path"]
 
 FORMAT = "autobalancer-stand recording"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
 #: arrays with more samples than this are stored chunked and gzip-compressed
 COMPRESS_ABOVE = 1000
 GZIP_LEVEL = 4
 #: target size of one chunk [bytes]
 CHUNK_BYTES = 256 * 1024
 
-#: dataset path -> (Recording field, units, description); the order is the file's
+#: the fixed datasets: path -> (Recording field, units, description)
 DATASETS = {
     "time": ("t", "s", "sample time"),
-    "shaft/x": ("x", "m", "shaft displacement along the fixed X axis"),
-    "shaft/y": ("y", "m", "shaft displacement along the fixed Y axis"),
+    "shaft/x": ("x", "m", "main plane's translation along the fixed X axis"),
+    "shaft/y": ("y", "m", "main plane's translation along the fixed Y axis"),
     "rotor/angle": ("rotor_angle", "rad", "angle of the rotor's reference mark (keyphasor)"),
     "rotor/speed": ("rotor_speed", "rad/s", "rotor angular speed"),
-    "weights/angle": ("weight_angle", "rad",
-                      "absolute angle of each correction weight, one column per weight"),
-    "weights/speed": ("weight_speed", "rad/s",
-                      "absolute angular speed of each correction weight, one column per weight"),
-    "weights/relative_angle": ("relative_angle", "rad",
-                               "weight angle relative to the rotor's reference mark, "
-                               "unwrapped (weights/angle - rotor/angle)"),
 }
 REQUIRED = ("time", "shaft/x", "shaft/y")
 RESERVED_ATTRS = ("scene", "scene_name", "solver", "version", "format", "format_version",
-                  "created")
+                  "created", "structure", "main_plane", "weight_planes", "run_notes")
+#: format_version 1 weight matrices (N, n): path -> coordinate
+V1_WEIGHTS = {"weights/angle": "angle", "weights/speed": "speed"}
 
 
 class RecordingError(ValueError):
@@ -83,66 +79,16 @@ class RecordingError(ValueError):
 
 
 # ---------------------------------------------------------------- writing
-def _json_default(value: Any) -> Any:
-    """Make numpy scalars and arrays JSON-serialisable (plain int/float/bool/list)."""
-    if isinstance(value, np.generic):
-        return value.item()
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, Path):
-        return str(value)
-    raise TypeError(f"{type(value).__name__} is not JSON serialisable")
-
-
-def _plain(value: Any) -> Any:
-    """Recursively replace numpy scalars by Python ones (for ``json.dumps``)."""
-    if isinstance(value, dict):
-        return {k: _plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
-    if isinstance(value, np.generic):
-        return value.item()
-    return value
-
-
-def _solver_json(stats: Any) -> str:
-    if stats is None:
-        return "{}"
-    data = dataclasses.asdict(stats) if dataclasses.is_dataclass(stats) else dict(stats)
-    return json.dumps(_plain(data), default=_json_default)
-
-
 def _attr_value(key: str, value: Any) -> Any:
     """An ``extra_attrs`` value as HDF5 can store it; mappings become JSON text."""
     if value is None:
         raise ValueError(f"extra_attrs[{key!r}] = None: HDF5 attributes cannot be None")
-    if isinstance(value, Mapping):
-        return json.dumps(_plain(dict(value)), default=_json_default)
-    if isinstance(value, Path):
+    if isinstance(value, Mapping) or (isinstance(value, (list, tuple))
+                                      and any(isinstance(v, str) for v in value)):
+        return json.dumps(to_jsonable(value), default=str)
+    if isinstance(value, os.PathLike):
         return str(value)
-    if isinstance(value, (list, tuple)) and any(isinstance(v, str) for v in value):
-        return json.dumps(_plain(list(value)), default=_json_default)
     return value
-
-
-def _column_array(name: str, value: Any, n_samples: int) -> np.ndarray:
-    a = np.asarray(value, dtype=np.float64)
-    if a.shape != (n_samples,):
-        raise ValueError(f"trajectory.{name}: shape {a.shape}, expected ({n_samples},) "
-                         f"(one value per sample of trajectory.t)")
-    return a
-
-
-def _weight_array(name: str, value: Any, n_samples: int) -> np.ndarray:
-    if value is None:
-        return np.zeros((n_samples, 0))
-    a = np.asarray(value, dtype=np.float64)
-    if a.size == 0:
-        return np.zeros((n_samples, 0))
-    if a.ndim != 2 or a.shape[0] != n_samples:
-        raise ValueError(f"trajectory.{name}: shape {a.shape}, expected ({n_samples}, n) "
-                         f"(one row per sample, one column per weight)")
-    return a
 
 
 def _storage_options(a: np.ndarray) -> dict:
@@ -155,73 +101,51 @@ def _storage_options(a: np.ndarray) -> dict:
             "compression_opts": GZIP_LEVEL, "shuffle": True}
 
 
-def _new_file_mode(target: Path) -> int:
-    """Permissions for the new file: the old target's, else 0o666 minus the umask."""
-    try:
-        return stat.S_IMODE(target.stat().st_mode)
-    except OSError:
-        pass
-    try:  # Linux: read the umask without changing it
-        with open("/proc/self/status", encoding="ascii") as fh:
-            for line in fh:
-                if line.startswith("Umask:"):
-                    return 0o666 & ~int(line.split()[1], 8)
-    except (OSError, ValueError, IndexError):
-        pass
-    mask = os.umask(0o022)
-    os.umask(mask)
-    return 0o666 & ~mask
+def _describe(key: str) -> str:
+    if key in DATASETS:
+        return DATASETS[key][2]
+    parts = key.split("/")
+    if parts[0] == "planes":
+        return f"plane {parts[1]}: translation along the fixed {parts[2].upper()} axis"
+    if parts[0] == "weights":
+        return f"weight {parts[1]}: {parts[2].replace('_', ' ')}"
+    if parts[0] == "truth" and parts[1] == "residual":
+        return f"total unbalance in plane {parts[2]} (rotor + weights), rotor frame x, y"
+    return key
 
 
-def _fsync(path: str) -> None:
-    fd = os.open(path, os.O_RDONLY)
-    try:
-        os.fsync(fd)
-    finally:
-        os.close(fd)
+def _check_arrays(run: Run) -> dict:
+    """``{path: (float64 array, units)}`` for every channel and truth array, shapes checked."""
+    t = np.asarray(run.t, dtype=np.float64)
+    if t.ndim != 1:
+        raise ValueError(f"run.t: shape {t.shape}, expected (N,)")
+    N = t.shape[0]
+    data = {}
+    for key, (a, units) in {**run.channels(),
+                            **{f"truth/{k}": v for k, v in run.truth.items()}}.items():
+        a = np.asarray(a, dtype=np.float64)
+        if a.ndim == 0 or a.shape[0] != N:
+            raise ValueError(f"run channel {key!r}: shape {a.shape}, expected ({N}, ...) "
+                             f"(one row per sample of run.t)")
+        data[key] = (a, str(units))
+    if run.main_plane not in run.planes:
+        raise ValueError(f"run.main_plane = {run.main_plane!r}: not one of the planes "
+                         f"{', '.join(run.planes)}")
+    return data
 
 
-def check_output_path(path: Union[str, os.PathLike]) -> Path:
-    """Check that ``path`` can receive a recording, before any work is done.
-
-    Raises
-    ------
-    FileNotFoundError
-        The directory does not exist (named in the message).
-    IsADirectoryError, ValueError
-        ``path`` is a directory, or exists and is not a regular file (a device
-        such as /dev/null, a fifo, a symbolic link): the atomic rename would
-        replace it, so it is refused.
-    """
-    path = Path(path)
-    directory = path.parent
-    if not directory.is_dir():
-        raise FileNotFoundError(2, f"cannot write recording {path}: directory does not exist",
-                                str(directory))
-    if path.is_dir():
-        raise IsADirectoryError(21, f"cannot write recording: {path} is a directory", str(path))
-    if os.path.lexists(path) and (path.is_symlink() or not path.is_file()):
-        raise ValueError(f"cannot write recording {path}: it exists and is not a regular file "
-                         "(device, fifo or symbolic link); the atomic rename would replace it")
-    return path
-
-
-def write_recording(traj: "Trajectory", path: Union[str, os.PathLike], *,
+def write_recording(run: Run, path: Union[str, os.PathLike], *,
                     extra_attrs: Optional[Mapping[str, Any]] = None,
                     writer: Optional[Callable[["h5py.File"], None]] = None) -> Path:
-    """Write one run to an HDF5 file, atomically.
+    """Write one run to an HDF5 file, atomically (:func:`stand.io.atomic.atomic_path`).
 
-    The file is first written to a temporary ``*.h5.tmp`` file in the target's
-    directory, then renamed onto ``path`` (``os.replace``).  If anything fails,
-    the temporary file is removed, the exception propagates, and a file that
-    already existed at ``path`` is left untouched.
+    If anything fails, the temporary file is removed, the exception propagates,
+    and a file that already existed at ``path`` is left untouched.
 
     Parameters
     ----------
-    traj : stand.simulate.Trajectory
-        The run: times [s], shaft displacement [m], rotor angle [rad] and
-        speed [rad/s], absolute weight angles [rad] and speeds [rad/s]
-        (shape (N, n)), solver statistics and the scene.
+    run : stand.result.Run
+        Any scene's run (or a :class:`Recording`).
     path : str or os.PathLike
         Target file (conventionally ``*.h5``).  Its directory must exist.
     writer : callable, optional
@@ -230,95 +154,64 @@ def write_recording(traj: "Trajectory", path: Union[str, os.PathLike], *,
         and settings through it); a failure there discards the whole file.
     extra_attrs : mapping, optional
         Additional root attributes (str, numbers, arrays; mappings are stored
-        as JSON text).  The reserved names (``scene``, ``scene_name``,
-        ``solver``, ``version``, ``format``, ``format_version``, ``created``)
-        cannot be overridden.
+        as JSON text).  The reserved names (:data:`RESERVED_ATTRS`) cannot be
+        overridden.
 
     Returns
     -------
     pathlib.Path
-        ``path``.
 
     Raises
     ------
     FileNotFoundError
         The target's directory does not exist (the message names it).
     ValueError
-        The trajectory's arrays have inconsistent shapes, or ``extra_attrs``
-        uses a reserved name or holds ``None``.
+        The run's arrays have inconsistent shapes, or ``extra_attrs`` uses a
+        reserved name or holds ``None``.
     """
     from . import __version__
 
-    path = Path(path)
-    check_output_path(path)
-    directory = path.parent
+    path = check_output_path(path, "recording")
     extra = dict(extra_attrs or {})
     clash = sorted(set(extra) & set(RESERVED_ATTRS))
     if clash:
         raise ValueError(f"extra_attrs: {', '.join(map(repr, clash))} reserved for the "
                          f"recording's own metadata ({', '.join(RESERVED_ATTRS)})")
     extra = {str(k): _attr_value(str(k), v) for k, v in extra.items()}
-
-    # validate and convert everything before touching the disk
-    t = np.asarray(traj.t, dtype=np.float64)
-    if t.ndim != 1:
-        raise ValueError(f"trajectory.t: shape {t.shape}, expected (N,)")
-    N = t.shape[0]
-    arrays = {"time": t}
-    for name in ("x", "y", "rotor_angle", "rotor_speed"):
-        arrays[name] = _column_array(name, getattr(traj, name), N)
-    wa = _weight_array("weight_angle", traj.weight_angle, N)
-    ws = _weight_array("weight_speed", traj.weight_speed, N)
-    if ws.shape != wa.shape:
-        raise ValueError(f"trajectory.weight_speed: shape {ws.shape} differs from "
-                         f"trajectory.weight_angle {wa.shape}")
-    data = {
-        "time": t,
-        "shaft/x": arrays["x"],
-        "shaft/y": arrays["y"],
-        "rotor/angle": arrays["rotor_angle"],
-        "rotor/speed": arrays["rotor_speed"],
-        "weights/angle": wa,
-        "weights/speed": ws,
-        "weights/relative_angle": wa - arrays["rotor_angle"][:, None],
-    }
-    scene = getattr(traj, "scene", None)
+    data = _check_arrays(run)
+    scene = run.scene
+    stats = run.stats
     root = {
         "format": FORMAT,
         "format_version": np.int64(FORMAT_VERSION),
         "version": __version__,
         "created": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
         "scene_name": str(getattr(scene, "name", "") or ""),
-        "scene": str(getattr(scene, "text", "") or ""),
-        "solver": _solver_json(getattr(traj, "stats", None)),
+        "scene": str(getattr(scene, "text", "") or getattr(run, "scene_text", "") or ""),
+        "structure": str(getattr(scene, "structure_type", "") or ""),
+        "main_plane": run.main_plane,
+        "run_notes": json.dumps(list(run.notes)),
+        "weight_planes": json.dumps(run.weight_planes),
+        "solver": json.dumps(to_jsonable(dataclasses.asdict(stats) if dataclasses.is_dataclass(stats)
+                                         else dict(stats or {}))),
     }
-    mode = _new_file_mode(path)
-
-    with tempfile.NamedTemporaryFile(dir=directory, delete=False, prefix=f".{path.name}.",
-                                     suffix=".h5.tmp") as tmp:
-        tmp_name = tmp.name
-    try:
-        with h5py.File(tmp_name, "w") as f:
-            for key, value in root.items():
+    with atomic_path(path, suffix=".h5.tmp") as tmp:
+        with h5py.File(tmp, "w") as f:
+            for key, value in {**root, **extra}.items():
                 f.attrs[key] = value
-            for key, value in extra.items():
-                f.attrs[key] = value
-            for key, a in data.items():
-                _, units, description = DATASETS[key]
+            for key, (a, units) in data.items():
                 ds = f.create_dataset(key, data=a, dtype=np.float64, **_storage_options(a))
                 ds.attrs["units"] = units
-                ds.attrs["description"] = description
+                ds.attrs["description"] = _describe(key)
+            for axis in ("x", "y"):
+                f[f"shaft/{axis}"] = h5py.SoftLink(f"/planes/{run.main_plane}/{axis}")
+            time = f["time"]
+            time.make_scale("time")
+            for key in data:
+                if key != "time":
+                    f[key].dims[0].attach_scale(time)
             if writer is not None:
                 writer(f)  # instruments: frames streamed in, truth, settings
-        _fsync(tmp_name)
-        os.chmod(tmp_name, mode)
-        os.replace(tmp_name, path)
-    except BaseException:
-        try:
-            os.unlink(tmp_name)
-        except FileNotFoundError:
-            pass
-        raise
     return path
 
 
@@ -328,27 +221,22 @@ def _freeze(a: np.ndarray) -> np.ndarray:
     return a
 
 
-@dataclass(frozen=True, eq=False)
-class Recording:
-    """One recorded run, as read by :func:`read_recording`.  Arrays are read-only.
+@dataclass(eq=False, repr=False)
+class Recording(Run):
+    """One recorded run, as read by :func:`read_recording`: the fields of
+    :class:`stand.result.Run` (arrays read-only) plus what the file says of itself.
 
     Attributes
     ----------
-    t : ndarray (N,)                  sample time [s]
-    x, y : ndarray (N,)               shaft displacement [m]
-    rotor_angle : ndarray (N,)        angle of the reference mark [rad]; NaN if not recorded
-    rotor_speed : ndarray (N,)        rotor speed [rad/s]; NaN if not recorded
-    weight_angle : ndarray (N, n)     absolute weight angles [rad]; (N, 0) if no weights
-    weight_speed : ndarray (N, n)     absolute weight speeds [rad/s]
-    relative_angle : ndarray (N, n)   weight angle - rotor angle, unwrapped [rad]
-    units : dict
-        Field name (``"t"``, ``"x"``, ...) -> units string as stored in the file
-        (the SI default for datasets that were filled in).
+    scene : stand.scene.Scene or None
+        The recorded scene, parsed from its stored text (None when the file has
+        none or it is not readable; the reason is in ``notes``).
     scene_text : str
         The scene's TOML text ("" if the file has none).
     solver : dict
-        Solver statistics (method, rtol, atol, n_steps, n_rejected, nfev,
-        wall_time [s], status, message, ...); empty if the file has none.
+        Solver statistics as stored (``stats`` holds them as a SolverStats).
+    units : dict
+        Field name (``"t"``, ``"x"``, ...) -> units string as stored.
     version : str
         ``stand.__version__`` of the writer ("" if unknown).
     attrs : dict
@@ -356,81 +244,68 @@ class Recording:
     path : str
         The file read.
     notes : tuple of str
-        What was missing or unusual (e.g. a dataset filled with NaN, units
-        that differ from the SI default); empty for the simulator's files.
+        What was missing or unusual (a dataset filled with NaN, units that
+        differ from the SI default, an older layout); empty for the stand's files.
     """
 
-    t: np.ndarray
-    x: np.ndarray
-    y: np.ndarray
-    rotor_angle: np.ndarray
-    rotor_speed: np.ndarray
-    weight_angle: np.ndarray
-    weight_speed: np.ndarray
-    relative_angle: np.ndarray
-    units: dict = field(default_factory=dict)
     scene_text: str = ""
     solver: dict = field(default_factory=dict)
+    units: dict = field(default_factory=dict)
     version: str = ""
     attrs: dict = field(default_factory=dict)
     path: str = ""
-    notes: tuple = ()
 
     @property
     def n_weights(self) -> int:
-        """Number of correction weights n (columns of ``weight_angle``)."""
+        """Number of balls / pendulums n (columns of ``weight_angle``)."""
         return int(self.weight_angle.shape[1])
 
-    def __len__(self) -> int:
-        return int(self.t.shape[0])
+    @property
+    def format_version(self) -> int:
+        v = self.attrs.get("format_version", 0)
+        return int(v) if isinstance(v, (int, float)) else 0
 
     def __repr__(self) -> str:
         name = self.attrs.get("scene_name", "")
         return (f"Recording({self.path!r}, scene_name={name!r}, samples={len(self)}, "
-                f"weights={self.n_weights})")
+                f"planes={list(self.planes)}, weights={self.n_weights})")
 
-    def to_frame(self) -> "pd.DataFrame":
-        """The samples as a pandas DataFrame, one row per sample.
+    def has(self, key: str) -> bool:
+        """True when the file holds a dataset ``key`` (e.g. ``"instruments/screen/frames"``)."""
+        with h5py.File(self.path, "r") as f:
+            return isinstance(f.get(key), h5py.Dataset)
 
-        Returns
-        -------
-        pandas.DataFrame
-            Columns ``t_s`` [s], ``x_m``, ``y_m`` [m], ``rotor_angle_rad`` [rad],
-            ``rotor_speed_rad_s`` [rad/s], then for each weight j = 1..n
-            ``weight{j}_angle_rad`` [rad] and ``weight{j}_speed_rad_s`` [rad/s]
-            (absolute; numbered from 1 as in the book, column j-1 of the arrays).
-        """
-        import pandas as pd
-
-        cols = {
-            "t_s": self.t,
-            "x_m": self.x,
-            "y_m": self.y,
-            "rotor_angle_rad": self.rotor_angle,
-            "rotor_speed_rad_s": self.rotor_speed,
-        }
-        for j in range(self.n_weights):
-            cols[f"weight{j + 1}_angle_rad"] = self.weight_angle[:, j]
-            cols[f"weight{j + 1}_speed_rad_s"] = self.weight_speed[:, j]
-        return pd.DataFrame({k: np.array(v, dtype=np.float64) for k, v in cols.items()})
-
-    def scene(self) -> "Scene":
-        """The recorded scene, parsed with :func:`stand.scene_file.load_scene`.
+    def dataset(self, key: str, index=()) -> np.ndarray:
+        """Read dataset ``key`` (or ``index`` of it, e.g. one frame) from the file, on demand.
 
         Raises
         ------
         RecordingError
-            The file holds no scene text.
-        stand.scene.SceneError
-            The stored text is not a valid scene (e.g. from a newer version).
+            No such dataset (the message names it), or it cannot be read.
         """
-        from .scene_file import load_scene
+        try:
+            with h5py.File(self.path, "r") as f:
+                obj = f.get(key)
+                if not isinstance(obj, h5py.Dataset):
+                    raise RecordingError(f"{self.path}: no dataset {key!r}")
+                return obj[index]
+        except (OSError, ValueError, IndexError) as exc:
+            if isinstance(exc, RecordingError):
+                raise
+            raise RecordingError(f"{self.path}: cannot read {key!r}{'' if index == () else f'[{index}]'}: "
+                                 f"{exc}") from None
 
-        if not self.scene_text.strip():
-            raise RecordingError(f"{self.path}: no scene stored (root attribute 'scene' "
-                                 f"is missing or empty)")
-        text = self.scene_text if "\n" in self.scene_text else self.scene_text + "\n"
-        return load_scene(text)
+    def dataset_attrs(self, key: str) -> dict:
+        """The attributes of dataset or group ``key`` (empty if absent), decoded."""
+        with h5py.File(self.path, "r") as f:
+            obj = f.get(key)
+            return {} if obj is None else {k: _decode(v) for k, v in obj.attrs.items()}
+
+    def shape(self, key: str) -> Optional[tuple]:
+        """Shape of dataset ``key``, or None if the file has no such dataset."""
+        with h5py.File(self.path, "r") as f:
+            obj = f.get(key)
+            return tuple(obj.shape) if isinstance(obj, h5py.Dataset) else None
 
 
 def _decode(value: Any) -> Any:
@@ -447,7 +322,7 @@ def _decode(value: Any) -> Any:
 
 
 def _read_dataset(f: "h5py.File", key: str, label: str, N: Optional[int],
-                  two_d: bool) -> np.ndarray:
+                  ndim: int = 1) -> np.ndarray:
     obj = f.get(key)
     if not isinstance(obj, h5py.Dataset):
         kind = "a group" if isinstance(obj, h5py.Group) else type(obj).__name__
@@ -460,10 +335,10 @@ def _read_dataset(f: "h5py.File", key: str, label: str, N: Optional[int],
     except (OSError, RuntimeError, ValueError, KeyError) as exc:
         raise RecordingError(f"{label}: cannot read dataset '{key}' (file truncated or "
                              f"corrupt?): {exc}") from None
-    if two_d and a.ndim == 1:
+    if ndim == 2 and a.ndim == 1:
         a = a[:, None]  # one weight stored as (N,)
-    want = "(N, n)" if two_d else "(N,)"
-    if a.ndim != (2 if two_d else 1):
+    if a.ndim != ndim:
+        want = "(N,)" if ndim == 1 else "(N, n)"
         raise RecordingError(f"{label}: dataset '{key}' has shape {a.shape}, expected {want}")
     if N is not None and a.shape[0] != N:
         raise RecordingError(f"{label}: dataset '{key}' has shape {a.shape}: its length "
@@ -471,8 +346,7 @@ def _read_dataset(f: "h5py.File", key: str, label: str, N: Optional[int],
     return a
 
 
-def _units(f: "h5py.File", key: str, notes: list) -> str:
-    default = DATASETS[key][1]
+def _units(f: "h5py.File", key: str, default: str, notes: list) -> str:
     u = _decode(f[key].attrs.get("units", None))
     if u is None:
         notes.append(f"{key}: no 'units' attribute; assumed {default!r}")
@@ -485,18 +359,16 @@ def _units(f: "h5py.File", key: str, notes: list) -> str:
 
 
 def read_recording(path: Union[str, os.PathLike]) -> Recording:
-    """Read a recording written by :func:`write_recording` (or a compatible file).
+    """Read a recording (this version's layout, format_version 1, or a compatible file).
 
     Parameters
     ----------
     path : str or os.PathLike
         An HDF5 file with at least the datasets ``time`` [s], ``shaft/x`` and
-        ``shaft/y`` [m], all of shape (N,).  ``rotor/angle``, ``rotor/speed``
-        (N,) and ``weights/angle``, ``weights/speed``,
-        ``weights/relative_angle`` (N, n) are optional: missing rotor data
-        reads as NaN, missing weights as (N, 0) arrays (or NaN columns when
-        only one of angle/speed is present), a missing ``relative_angle`` is
-        computed; each such fill is listed in :attr:`Recording.notes`.
+        ``shaft/y`` [m] (or ``planes/<plane>/x|y``), all of shape (N,).  The
+        rotor and weight datasets are optional: missing rotor data reads as
+        NaN, missing weights as none; each such fill is listed in
+        :attr:`Recording.notes`.
 
     Returns
     -------
@@ -540,8 +412,7 @@ def read_recording(path: Union[str, os.PathLike]) -> Recording:
                              f"file?): {type(exc).__name__}: {exc}") from None
 
 
-def _read_open(f: "h5py.File", label: str) -> Recording:
-    notes: list = []
+def _root_attrs(f, label) -> dict:
     attrs = {}
     for key in f.attrs.keys():
         try:
@@ -549,88 +420,169 @@ def _read_open(f: "h5py.File", label: str) -> Recording:
         except (OSError, RuntimeError, ValueError, TypeError) as exc:
             raise RecordingError(f"{label}: cannot read root attribute '{key}' (truncated "
                                  f"or corrupt file?): {exc}") from None
+    return attrs
 
+
+def _json_attr(attrs, key, label, kind=dict):
+    if key not in attrs:
+        return kind()
+    try:
+        v = json.loads(attrs[key])
+    except (TypeError, ValueError) as exc:
+        raise RecordingError(f"{label}: root attribute '{key}' is not valid JSON: {exc}") from None
+    if not isinstance(v, kind):
+        raise RecordingError(f"{label}: root attribute '{key}' is JSON {type(v).__name__}, "
+                             f"expected an object")
+    return v
+
+
+def _read_open(f: "h5py.File", label: str) -> Recording:
+    from .recording_legacy import legacy_layout
+
+    attrs = _root_attrs(f, label)
+    notes: list = [str(n) for n in _json_attr(attrs, "run_notes", label, list)]
     fmt, fver = attrs.get("format"), attrs.get("format_version")
     ours = isinstance(fmt, str) and fmt == FORMAT  # an array attribute would compare elementwise
     if ours and isinstance(fver, (int, float)) and fver > FORMAT_VERSION:
         raise RecordingError(f"{label}: attribute format_version = {fver}: written by a "
-                             f"newer autobalancer-stand (this reader handles "
+                             f"newer autobalancer-stand (this reader handles up to "
                              f"{FORMAT_VERSION}); upgrade the package")
-    if not ours:
+    legacy = legacy_layout(f, attrs, label, notes)
+    if not ours and legacy is None:
         notes.append(f"root attribute 'format' is {fmt!r}, not {FORMAT!r}: "
                      f"not written by the simulator")
-
-    for key in REQUIRED:
-        if key not in f:
-            raise RecordingError(f"{label}: missing dataset '{key}' (required: "
-                                 f"{', '.join(REQUIRED)})")
-    t = _read_dataset(f, "time", label, None, False)
+    if "time" not in f:
+        raise RecordingError(f"{label}: missing dataset 'time' (required: {', '.join(REQUIRED)})")
+    t = _read_dataset(f, "time", label, None)
     N = t.shape[0]
-    arrays = {"t": t}
-    units = {}
-    for key in ("shaft/x", "shaft/y", "rotor/angle", "rotor/speed"):
+    units = {"t": _units(f, "time", "s", notes)}
+    # planes
+    planes = {}
+    pg = f.get("planes")
+    if isinstance(pg, h5py.Group):
+        for p, g in pg.items():
+            if isinstance(g, h5py.Group) and "x" in g and "y" in g:
+                planes[p] = np.column_stack([_read_dataset(f, f"planes/{p}/{a}", label, N)
+                                             for a in "xy"])
+    if legacy is not None:
+        planes.update(legacy.get("planes", {}))
+    main = attrs.get("main_plane") if isinstance(attrs.get("main_plane"), str) else None
+    if main is None and legacy is not None:
+        main = legacy.get("main")
+    if "shaft/x" in f or "shaft/y" in f or main not in planes:
+        for key in REQUIRED[1:]:
+            if key not in f:
+                raise RecordingError(f"{label}: missing dataset '{key}' (required: "
+                                     f"{', '.join(REQUIRED)})")
+        shaft = np.column_stack([_read_dataset(f, k, label, N) for k in REQUIRED[1:]])
+        for k, name in zip(REQUIRED[1:], "xy"):
+            units[name] = _units(f, k, "m", notes)
+        if main not in planes or not np.array_equal(planes[main], shaft, equal_nan=True):
+            main = "shaft" if main is None or main in planes else main
+            planes[main] = shaft
+    else:
+        units["x"] = units["y"] = "m"
+    # rotor
+    rotor = {}
+    for key in ("rotor/angle", "rotor/speed"):
         name = DATASETS[key][0]
         if key in f:
-            arrays[name] = _read_dataset(f, key, label, N, False)
-            units[name] = _units(f, key, notes)
+            rotor[name] = _read_dataset(f, key, label, N)
+            units[name] = _units(f, key, DATASETS[key][1], notes)
         else:
-            arrays[name] = np.full(N, np.nan)
+            rotor[name] = np.full(N, np.nan)
             units[name] = DATASETS[key][1]
             notes.append(f"{key}: not in the file; filled with NaN")
-    units["t"] = _units(f, "time", notes)
-
-    w = {}
-    for key in ("weights/angle", "weights/speed", "weights/relative_angle"):
-        if key in f:
-            w[key] = _read_dataset(f, key, label, N, True)
-            units[DATASETS[key][0]] = _units(f, key, notes)
-        else:
-            units[DATASETS[key][0]] = DATASETS[key][1]
-    n_cols = {k: a.shape[1] for k, a in w.items()}
-    if len(set(n_cols.values())) > 1:
-        detail = ", ".join(f"'{k}' {w[k].shape}" for k in n_cols)
-        raise RecordingError(f"{label}: weight datasets disagree on the number of weights: "
-                             f"{detail}")
-    n = next(iter(n_cols.values()), 0)
-    if not w:
-        notes.append("weights: no weight datasets in the file; no weights (shape (N, 0))")
-    for key in ("weights/angle", "weights/speed"):
-        if key not in w:
-            w[key] = np.full((N, n), np.nan)
-            if n:
-                notes.append(f"{key}: not in the file; filled with NaN")
-    if "weights/relative_angle" not in w:
-        w["weights/relative_angle"] = w["weights/angle"] - arrays["rotor_angle"][:, None]
-        if n:
-            notes.append("weights/relative_angle: not in the file; computed as "
-                         "weights/angle - rotor/angle")
-    for key, a in w.items():
-        arrays[DATASETS[key][0]] = a
-
-    solver = {}
-    if "solver" in attrs:
-        try:
-            solver = json.loads(attrs["solver"])
-        except (TypeError, ValueError) as exc:
-            raise RecordingError(f"{label}: root attribute 'solver' is not valid JSON: "
-                                 f"{exc}") from None
-        if not isinstance(solver, dict):
-            raise RecordingError(f"{label}: root attribute 'solver' is JSON "
-                                 f"{type(solver).__name__}, expected an object")
-    scene_text = attrs.get("scene", "")
+    weights, wplanes = _read_weights(f, attrs, label, N, rotor["rotor_angle"], main, notes, units)
+    coords, truth = {}, {}
+    for group, target in (("coordinates", coords), ("truth/residual", truth)):
+        g = f.get(group)
+        if isinstance(g, h5py.Group):
+            g.visititems(lambda name, obj: target.__setitem__(
+                name if group == "coordinates" else f"residual/{name}",
+                (_read_dataset(f, f"{group}/{name}", label, N, obj.ndim), str(_decode(
+                    obj.attrs.get("units", "1"))))) if isinstance(obj, h5py.Dataset) else None)
+    if legacy is not None:
+        coords.update(legacy.get("coordinates", {}))
+        truth.update(legacy.get("truth", {}))
+    solver = _json_attr(attrs, "solver", label)
+    scene_text = attrs.get("scene", attrs.get("scene_text", ""))
     if not isinstance(scene_text, str):
         raise RecordingError(f"{label}: root attribute 'scene' is not text")
-    version = str(attrs.get("version", ""))
-    if not scene_text:
-        notes.append("root attribute 'scene' missing or empty: Recording.scene() unavailable")
-
+    scene = _scene(scene_text, notes)
+    fields = {f.name for f in dataclasses.fields(SolverStats)}
+    stats = SolverStats(**{"method": "", "rtol": float("nan"), "atol": float("nan"),
+                           **{k: v for k, v in solver.items() if k in fields}})
     return Recording(
-        **{k: _freeze(v) for k, v in arrays.items()},
-        units=units,
-        scene_text=scene_text,
-        solver=solver,
-        version=version,
-        attrs=attrs,
-        path=label,
-        notes=tuple(notes),
-    )
+        t=_freeze(t), planes={p: _freeze(a) for p, a in planes.items()}, main_plane=main,
+        rotor_angle=_freeze(rotor["rotor_angle"]), rotor_speed=_freeze(rotor["rotor_speed"]),
+        weights=weights, weight_planes=wplanes, stats=stats, scene=scene,
+        coordinates=coords, truth=truth, scene_text=scene_text, solver=solver, units=units,
+        version=str(attrs.get("version", "")), attrs=attrs, path=label, notes=tuple(notes))
+
+
+def _scene(text: str, notes: list) -> "Optional[Scene]":
+    if not text.strip():
+        notes.append("root attribute 'scene' missing or empty: Recording.scene is None")
+        return None
+    from .scene import SceneError
+    from .scene_file import load
+
+    try:
+        return load(text if "\n" in text else text + "\n")
+    except (SceneError, ValueError, TypeError, KeyError) as exc:
+        notes.append(f"the stored scene is not readable by this version ({exc}); "
+                     "Recording.scene is None")
+        return None
+
+
+def _read_weights(f, attrs, label, N, rotor_angle, main, notes, units):
+    """``weights`` and ``weight_planes`` of a file (format 2 groups or format 1 matrices)."""
+    wplanes = _json_attr(attrs, "weight_planes", label) if "weight_planes" in attrs else {}
+    weights: dict = {}
+    g = f.get("weights")
+    if not isinstance(g, h5py.Group):
+        notes.append("weights: no weight datasets in the file; no weights")
+        return weights, {}
+    v1 = {k: c for k, c in V1_WEIGHTS.items() if k in f}
+    if v1 or "weights/relative_angle" in f:
+        mats = {c: _read_dataset(f, k, label, N, 2) for k, c in v1.items()}
+        if "weights/relative_angle" in f:
+            mats["relative_angle"] = _read_dataset(f, "weights/relative_angle", label, N, 2)
+        cols = {c: a.shape[1] for c, a in mats.items()}
+        if len(set(cols.values())) > 1:
+            detail = ", ".join(f"'weights/{c}' {mats[c].shape}" for c in cols)
+            raise RecordingError(f"{label}: weight datasets disagree on the number of weights: "
+                                 f"{detail}")
+        n = next(iter(cols.values()))
+        if "angle" not in mats:
+            if "relative_angle" in mats:
+                mats["angle"] = mats["relative_angle"] + rotor_angle[:, None]
+            else:
+                mats["angle"] = np.full((N, n), np.nan)
+            if n:
+                notes.append("weights/angle: not in the file; "
+                             + ("computed from weights/relative_angle + rotor/angle"
+                                if "relative_angle" in mats else "filled with NaN"))
+        if "speed" not in mats:
+            mats["speed"] = np.full((N, n), np.nan)
+            if n:
+                notes.append("weights/speed: not in the file; filled with NaN")
+        if n and "relative_angle" not in mats:
+            notes.append("weights/relative_angle: not in the file; computed as "
+                         "weights/angle - rotor/angle")
+        for k, c in v1.items():
+            units[f"weight_{c}"] = _units(f, k, "rad" if c == "angle" else "rad/s", notes)
+        for j in range(n):
+            name = f"weight{j + 1}"
+            weights[name] = {"angle": _freeze(mats["angle"][:, j]),
+                             "speed": _freeze(mats["speed"][:, j])}
+            wplanes.setdefault(name, main)
+        return weights, wplanes
+    for name, wg in g.items():
+        if not isinstance(wg, h5py.Group):
+            continue
+        weights[name] = {c: _freeze(_read_dataset(f, f"weights/{name}/{c}", label, N))
+                         for c, d in wg.items() if isinstance(d, h5py.Dataset)}
+        wplanes.setdefault(name, main)
+    return weights, wplanes

@@ -275,14 +275,92 @@ class InitialState:
 
 
 @dataclass(frozen=True)
-class Scene:
-    """One experiment: rotor, supports, balancer, drive, run settings."""
+class RotorStructure:
+    """Any rotor of the family as a generic linear structure (chapter 2, papers 003/004).
 
-    rotor: Rotor
-    supports: Supports
-    balancer: Balancer
-    drive: Drive
-    run: RunSettings
+    Attributes
+    ----------
+    type : str
+        Rotor type (a key of :data:`stand.rotors.scene.ROTOR_TYPES`), e.g. ``"two_mass"``.
+    params : dict
+        The builder's keyword arguments as the scene gave them (SI).
+    rotor : stand.rotors.structure.LinearRotor
+        M, G, D, K, plane maps, unbalances, gravity.
+    source : str
+        Book section the builder implements.
+    """
+
+    type: str
+    params: dict
+    rotor: object
+    source: str = ""
+
+    @property
+    def planes(self) -> tuple:
+        return tuple(self.rotor.planes)
+
+
+@dataclass(frozen=True)
+class BookModel:
+    """A weight model of the books in its own dimensionless form (``[weight_model]`` scenes).
+
+    The model brings its own rotor (ch. 6 two-axis pendulum, ch. 7.1 coupled pair,
+    ch. 7.2 autobalancer-damper, paper 001 liquid float, thesis 002 liquid chamber;
+    :mod:`stand.balancers`).  Until these weights are coupled to the generic
+    structures they run through their own right-hand sides; the run still gives
+    the common :class:`stand.result.Run` and recording.
+
+    Attributes
+    ----------
+    type : str
+        ``two_axis``, ``gravity_pair``, ``damper``, ``liquid_float`` or ``liquid_chamber``.
+    params : object
+        The module's parameter dataclass.
+    source : str
+        Book chapter / paper.
+    options : dict
+        The scene's ``[run]`` table as given (``duration``, ``samples``, ``initial``, ``rtol``).
+    """
+
+    type: str
+    params: object
+    source: str = ""
+    options: dict = field(default_factory=dict)
+
+    @property
+    def planes(self) -> tuple:
+        return ("balancer",)
+
+
+#: structure kinds of a scene (:attr:`Scene.kind`)
+KINDS = ("planar", "rotor", "book")
+
+
+@dataclass(frozen=True)
+class Scene:
+    """One experiment: structure x weights x drive x perturbations x instruments x run settings.
+
+    Every scene file form builds this one class (:func:`stand.load`):
+
+    * the planar rotor of chapter 5 on its supports (``[rotor]``, ``[supports]``,
+      ``[balancer]`` tables, or the book's ``[dimensionless]`` form): ``rotor`` and
+      ``supports`` are set, the weights are ``balancer`` in the plane
+      ``"balancer"``; ``kind == "planar"``;
+    * any rotor of the family (``[structure]`` + ``[[weights]]``): ``structure`` is a
+      :class:`RotorStructure`, the weights are ``plane_weights`` in named planes;
+      ``kind == "rotor"``;
+    * a book weight model (``[weight_model]``): ``structure`` is a :class:`BookModel`;
+      ``kind == "book"``.
+
+    :attr:`weights` gives the weights in their planes for every kind,
+    :meth:`linear_rotor` the generic structure (M, G, D, K, plane maps) where one exists.
+    """
+
+    rotor: Optional[Rotor] = None
+    supports: Optional[Supports] = None
+    balancer: Balancer = Balancer()
+    drive: Optional["Drive"] = None
+    run: Optional[RunSettings] = None
     initial: InitialState = InitialState()
     name: str = ""
     text: str = ""  #: the original TOML text, stored in recordings
@@ -290,16 +368,99 @@ class Scene:
     instruments: dict = field(default_factory=dict)
     #: UnbalanceChange / Impulse / SideForce events (tables 4.5-4.6)
     perturbations: tuple = ()
+    description: str = ""
+    #: None for the planar rotor; a RotorStructure or a BookModel otherwise
+    structure: Union[RotorStructure, BookModel, None] = None
+    #: weights in named planes of ``structure`` (stand.rotors.coupled.PlaneWeights)
+    plane_weights: tuple = ()
+
+    def __post_init__(self):
+        if self.structure is None and (self.rotor is None or self.supports is None):
+            raise SceneError("a scene needs a structure: [rotor] and [supports] (planar), "
+                             "[structure] (rotor family) or [weight_model]")
+
+    @property
+    def kind(self) -> str:
+        """``"planar"``, ``"rotor"`` (family structure) or ``"book"`` (book weight model)."""
+        if self.structure is None:
+            return "planar"
+        return "rotor" if isinstance(self.structure, RotorStructure) else "book"
+
+    @property
+    def structure_type(self) -> str:
+        """Name of the structure: ``"planar"`` for the chapter-5 rotor, the family's rotor
+        type (``"two_mass"``, ...) or ``"book:<model>"``."""
+        if self.structure is None:
+            return "planar"
+        if isinstance(self.structure, RotorStructure):
+            return self.structure.type
+        return f"book:{self.structure.type}"
+
+    @property
+    def planes(self) -> tuple:
+        """Names of the planes where weights, unbalances and instruments may sit."""
+        return ("balancer",) if self.structure is None else self.structure.planes
+
+    @property
+    def weights(self) -> tuple:
+        """The correction weights in their planes: a tuple of
+        :class:`stand.rotors.coupled.PlaneWeights` (empty without weights)."""
+        if self.structure is None:
+            if not self.balancer.count:
+                return ()
+            from .rotors.coupled import PlaneWeights
+
+            return (PlaneWeights("balancer", self.balancer),)
+        return tuple(self.plane_weights)
+
+    @property
+    def n_weights(self) -> int:
+        return int(sum(w.balancer.count for w in self.weights))
+
+    @property
+    def main_plane(self) -> str:
+        """The plane recorded as ``shaft/x|y``: the first plane with weights, else
+        ``"balancer"`` when the structure has one, else its first plane."""
+        for w in self.weights:
+            return w.plane
+        planes = self.planes
+        return "balancer" if "balancer" in planes else planes[0]
+
+    def linear_rotor(self):
+        """The generic structure (:class:`stand.rotors.structure.LinearRotor`): M, G, D, K,
+        plane maps, unbalances; None for a book weight model.
+
+        For the planar rotor this is model 2.5.1 (:func:`stand.rotors.planar_supports.planar_rotor`)
+        with the rotor's mass, the supports and the unbalance M e; the weights are not
+        included (they are coupled by :mod:`stand.rotors.coupled`).
+        """
+        if isinstance(self.structure, RotorStructure):
+            return self.structure.rotor
+        if self.structure is not None:
+            return None
+        from .rotors.planar_supports import planar_rotor
+
+        r, s = self.rotor, self.supports
+        return planar_rotor(r.mass, s.stiffness_x, s.stiffness_y, s.damping_x, s.damping_y,
+                            unbalance=r.unbalance, unbalance_angle=r.unbalance_angle)
 
     @property
     def total_mass(self) -> float:
-        """M_Sigma = M + sum m_j [kg]."""
-        return self.rotor.mass + float(np.sum(self.balancer.mass))
+        """M_Sigma = M + sum m_j [kg] (planar rotor)."""
+        return self._planar("total_mass").mass + float(np.sum(self.balancer.mass))
 
     @property
     def natural_frequency(self) -> float:
-        """omega_1 = sqrt(c_x / M_Sigma) [rad/s], (5.12)."""
-        return float(np.sqrt(self.supports.stiffness_x / self.total_mass))
+        """omega_1 = sqrt(c_x / M_Sigma) [rad/s], (5.12) (planar rotor)."""
+        return float(np.sqrt(self._planar("natural_frequency", "supports").stiffness_x
+                             / self.total_mass))
+
+    def _planar(self, what: str, part: str = "rotor"):
+        v = getattr(self, part)
+        if v is None:
+            raise SceneError(f"{what}: defined for the planar rotor of chapter 5; this scene's "
+                             f"structure is {self.structure_type}")
+        return v
 
     @property
     def length_scale(self) -> float:

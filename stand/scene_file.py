@@ -1,4 +1,9 @@
-"""Scene files: TOML in, validated :class:`stand.scene.Scene` out.
+"""Scene files: TOML in, one validated :class:`stand.scene.Scene` out (:func:`load`).
+
+Three file forms build the same Scene: the planar tables (``[rotor]``,
+``[supports]``, ``[balancer]``) or the book's ``[dimensionless]`` form (this
+module), ``[structure]`` + ``[[weights]]`` (:mod:`stand.rotors.scene`) and
+``[weight_model]`` (:mod:`stand.balancers.scene`).
 
 The schema is documented field by field in ``docs/scene.md``.  Every problem
 raises :class:`stand.scene.SceneError` with one message that names the key as
@@ -40,7 +45,7 @@ from .scene import (
     TorqueDrive,
 )
 
-__all__ = ["load_scene", "parse_scene", "scene_from_dimensionless", "MAX_SAMPLES"]
+__all__ = ["load", "load_scene", "parse", "parse_scene", "scene_from_dimensionless", "MAX_SAMPLES"]
 
 TWO_PI = 2.0 * math.pi
 DEG = math.pi / 180.0
@@ -521,11 +526,11 @@ def parse_scene(data: Mapping, text: str = "") -> Scene:
         if key not in tables:
             raise SceneError(f"missing table [{key}] (required)")
 
-    name = ""
+    name = desc = ""
     if "scene" in tables:
         tables["scene"].allow(SCENE_KEYS)
         name = tables["scene"].string("name", default="")
-        tables["scene"].string("description", default="")
+        desc = tables["scene"].string("description", default="")
     run = _run(tables["run"])
     initial = _initial(tables["initial"]) if "initial" in tables else InitialState()
     instruments = _instruments(tables["instruments"]) if "instruments" in tables else {}
@@ -540,7 +545,7 @@ def parse_scene(data: Mapping, text: str = "") -> Scene:
         perturbations = (_perturbations(data["perturbation"], sc.rotor, run.duration)
                          if "perturbation" in data else ())
         return check_derived(dataclasses.replace(sc, name=name, text=text, instruments=instruments,
-                                                 perturbations=perturbations))
+                                                 perturbations=perturbations, description=desc))
 
     rotor = _rotor(tables["rotor"])
     perturbations = (_perturbations(data["perturbation"], rotor, run.duration)
@@ -554,7 +559,27 @@ def parse_scene(data: Mapping, text: str = "") -> Scene:
                          '(drive.type = "torque") (kg*m^2, about the rotor\'s own centre of mass)')
     return check_derived(Scene(rotor=rotor, supports=supports, balancer=balancer, drive=drive,
                                run=run, initial=initial, name=name, text=text,
-                               instruments=instruments, perturbations=perturbations))
+                               instruments=instruments, perturbations=perturbations,
+                               description=desc))
+
+
+def parse(data: Mapping, text: str = "", stem: str = "") -> Scene:
+    """Build the :class:`Scene` of any scene document (the three file forms).
+
+    A ``[structure]`` table selects :func:`stand.rotors.scene.parse_family_scene`,
+    ``[weight_model]`` :func:`stand.balancers.scene.parse_weight_model`, else the planar
+    tables or ``[dimensionless]`` (:func:`parse_scene`).
+    """
+    if isinstance(data, Mapping) and "structure" in data:
+        from .rotors.scene import parse_family_scene
+
+        return parse_family_scene(data, text, stem)
+    if isinstance(data, Mapping) and "weight_model" in data:
+        from .balancers.scene import parse_weight_model
+
+        return parse_weight_model(data, text, stem)
+    scene = parse_scene(data, text=text)
+    return scene if scene.name else dataclasses.replace(scene, name=stem)
 
 
 def _perturbations(items: Any, rotor: Rotor, duration: float) -> tuple:
@@ -690,7 +715,7 @@ def check_derived(scene: Scene) -> Scene:
 
 
 def load_scene(source: Union[str, Path]) -> Scene:
-    """Read a scene from a TOML file, or from TOML text.
+    """Read a scene (any file form) from a TOML file, or from TOML text.
 
     Parameters
     ----------
@@ -727,12 +752,15 @@ def load_scene(source: Union[str, Path]) -> Scene:
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"{label or '<string>: '}TOML syntax error: {exc}") from None
     try:
-        scene = parse_scene(data, text=text)
+        return parse(data, text=text, stem=stem)
     except SceneError as exc:
         if label:
             raise SceneError(f"{label}{exc}") from None
         raise
-    return scene if scene.name else dataclasses.replace(scene, name=stem)
+
+
+#: :func:`stand.load`
+load = load_scene
 
 
 #: public name of the validating table reader, for instrument settings

@@ -7,31 +7,32 @@ import json
 import pytest
 
 from stand.cli import main
-from stand.rotors.run import family_theory, run_family
-from stand.rotors.scene import ROTOR_TYPES, load_family_scene
+import stand
+from stand.rotors.run import family_theory
+from stand.rotors.scene import ROTOR_TYPES
 
 SAMPLES = sorted(glob.glob("data_samples/scenes/family_*.toml") +
                  ["data_samples/scenes/platform_paper004.toml"])
 
 
 def test_one_sample_per_rotor_type():
-    kinds = {load_family_scene(p).rotor_type for p in SAMPLES}
+    kinds = {stand.load(p).structure_type for p in SAMPLES}
     # "cylindrical_hinge" is the section-4.4 stand's model (fixed_point_stand)
     assert set(ROTOR_TYPES) - kinds <= {"cylindrical_hinge"}
 
 
 @pytest.mark.parametrize("path", SAMPLES)
 def test_sample_theory_and_short_run(path, capsys):
-    sc = load_family_scene(path)
+    sc = stand.load(path)
     th = family_theory(sc, floquet=False)
     json.dumps(th)
-    top = sc.programme[-1, 1] / (2 * 3.141592653589793)
+    top = sc.drive.programme[-1, 1] / (2 * 3.141592653589793)
     plane = sc.weights[0].plane
     ranges = th["engineering_criterion"][plane]["working_ranges_hz"]
     # the sample's final speed lies inside a predicted working range
     assert any(a < top < b for a, b in ranges), (top, ranges)
     short = dataclasses.replace(sc, run=dataclasses.replace(sc.run, duration=0.5))
-    run = run_family(short)
+    run = stand.run(short)
     assert run.success and run.t[-1] == pytest.approx(0.5)
     assert main(["theory", path, "--no-floquet"]) == 0
     assert "working ranges" in capsys.readouterr().out

@@ -9,20 +9,22 @@ import pytest
 from stand.cli import main
 from stand.rotors.coupled import PlaneWeights, simulate_coupled
 from stand.rotors.planar_supports import planar_critical_speeds, planar_rotor
-from stand.rotors.scene import load_family_scene, parse_family_scene
+from stand.rotors.scene import parse_family_scene
+from stand.scene_file import load_scene
 from stand.scene import SceneError
 
 SAMPLE = "data_samples/scenes/family_planar.toml"
 
 
 def test_sample_loads_and_theory_matches_the_closed_form(capsys):
-    sc = load_family_scene(SAMPLE)
-    assert sc.rotor_type == "planar" and len(sc.weights) == 1 and sc.weights[0].balancer.count == 2
+    sc = load_scene(SAMPLE)
+    assert sc.structure_type == "planar" and sc.kind == "rotor"
+    assert len(sc.weights) == 1 and sc.weights[0].balancer.count == 2
     assert main(["theory", SAMPLE, "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     crit = doc["engineering_criterion"]["balancer"]["critical_speeds_hz"]
     # (2.29) with the locked balls' mass; light damping moves the edges by O(zeta^2)
-    M = sc.params["mass"] + 2 * 0.045
+    M = sc.structure.params["mass"] + 2 * 0.045
     closed = np.array(planar_critical_speeds(M, 1613.09, 3226.18)) / (2 * math.pi)
     np.testing.assert_allclose(crit, closed, rtol=0.01)
     assert doc["engineering_criterion"]["balancer"]["working_ranges_hz"][-1][1] is None  # unbounded (JSON null)
@@ -35,9 +37,9 @@ def test_run_writes_a_recording(tmp_path):
     out = tmp_path / "r.h5"
     assert main(["run", str(p), "-o", str(out)]) == 0
     with h5py.File(out) as f:
-        assert f["time"].shape == f["shaft/x"].shape == (401,)
-        assert f["weights/relative_angle"].shape == (401, 2)
-        assert f.attrs["rotor_type"] == "planar"
+        assert f["time"].shape == f["shaft/x"].shape == f["planes/balancer/x"].shape == (401,)
+        assert f["weights/ball2/angle"].shape == (401,)
+        assert f.attrs["structure"] == "planar" and f.attrs["main_plane"] == "balancer"
 
 
 def _doc(**structure):

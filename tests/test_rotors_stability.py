@@ -8,7 +8,7 @@ import pytest
 
 from stand.rotors import LinearRotor, Unbalance
 from stand.rotors.coupled import PlaneWeights, simulate_coupled
-from stand.rotors.scene import load_family_scene
+from stand.scene_file import load_scene
 from stand.rotors.stability import _state_guess, main_motion_critical_speeds, main_motion_stability
 from stand.scene import Balancer
 from stand.theory.main_motion import critical_speeds, d_two_balls, spectral_abscissa
@@ -50,16 +50,17 @@ def test_two_mass_main_motion_edges_match_simulation():
     """Model 2.5.2 with finite ball masses: the Floquet onset of the first range
     lies where simulations start to balance (docs/rotors.md: between 9.2 and
     9.4 Hz, criterion 8.99 Hz) -- the finite-mass shift the criterion misses."""
-    sc = load_family_scene("data_samples/scenes/family_two_mass.toml")
+    sc = load_scene("data_samples/scenes/family_two_mass.toml")
+    rotor = sc.linear_rotor()
     w15 = 2 * math.pi * 15.0
-    r15 = main_motion_stability(sc.rotor, sc.weights, w15)
+    r15 = main_motion_stability(rotor, sc.weights, w15)
     assert r15.stable and r15.residual_unbalance < 1e-12
-    g = _state_guess(sc.rotor, sc.weights, r15, w15)
-    _, crit = main_motion_critical_speeds(sc.rotor, sc.weights,
+    g = _state_guess(rotor, sc.weights, r15, w15)
+    _, crit = main_motion_critical_speeds(rotor, sc.weights,
                                           2 * math.pi * np.array([15.0, 10.0, 9.0]), y_guess=g)
     f = crit[0] / (2 * math.pi)
     assert 9.2 < f < 9.4
     for fz, expect in ((f - 0.1, False), (f + 0.1, True)):
         wz = 2 * math.pi * fz
-        run = simulate_coupled(sc.rotor, sc.weights, [[0.0, wz]], 120.0, 4 * fz)
+        run = simulate_coupled(rotor, sc.weights, [[0.0, wz]], 120.0, 4 * fz)
         assert (float(np.hypot(*run.static_residual[-1])) < 1e-4 * 2e-3 * 50) == expect, fz

@@ -1,4 +1,4 @@
-"""Scene files for the weight family: ``[weight_model]`` scenes.
+"""The ``[weight_model]`` form of a scene: a book weight model with its own rotor.
 
 The weights of chapters 6-7 and the liquid balancers are written in the
 books' dimensionless forms (their own rotor models); a scene selects one and
@@ -10,33 +10,29 @@ gives its parameters by the names of the module's parameter dataclass::
     type = "damper"            # two_axis | gravity_pair | damper | liquid_float | liquid_chamber
     R_m = 0.05                 # the dataclass's fields (dimensionless, or SI for the liquids)
     R_omega = 3.0
-    [run]                      # optional: stand run integrates the model
-    duration = 200.0           # dimensionless time tau = omega_0 t (s for liquid_float)
+    [run]                      # optional
+    duration = 200.0           # dimensionless time tau = omega_0 t (s for the liquids)
     samples = 2001
-    initial = [...]            # optional state vector (the module's documented layout)
+    initial = [...]            # optional state vector (stand.balancers.book_run.STATE_COLUMNS)
+    speed = 30.0               # liquid_chamber: the run's constant speed [rad/s]
 
-``stand theory`` prints the model's steady motions (with stability), its
-quasi-periodic motions or efficiency, or the closed-form run-up extrema;
-``stand run`` integrates the model (scipy DOP853) and writes an HDF5 file with
-``time``, ``state`` (columns named in the attribute ``columns``) and the
-scene text.
+:func:`stand.load` builds one :class:`stand.scene.Scene` whose ``structure`` is a
+:class:`stand.scene.BookModel`; ``stand theory`` prints the model's steady
+motions (with stability), its quasi-periodic motions or efficiency, or the
+closed-form run-up extrema (:func:`model_theory`); ``stand run`` integrates it
+(:mod:`stand.balancers.book_run`) into the common recording.
 """
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
-import os
-import tempfile
-import tomllib
-from pathlib import Path
 
 import numpy as np
 
-from ..scene import SceneError
+from ..io.jsonable import to_jsonable
+from ..scene import BookModel, RunSettings, Scene, SceneError, SpeedDrive
 
-__all__ = ["MODEL_TYPES", "load_weight_model", "is_weight_model_scene", "model_theory",
-           "run_weight_model"]
+__all__ = ["MODEL_TYPES", "parse_weight_model", "model_theory"]
 
 MODEL_TYPES = {
     "two_axis": ("stand.balancers.two_axis", "TwoAxisParams", "ch. 6"),
@@ -45,21 +41,7 @@ MODEL_TYPES = {
     "liquid_float": ("stand.balancers.liquid_float", "LiquidFloatParams", "paper 001"),
     "liquid_chamber": ("stand.balancers.liquid_chamber", "LiquidChamberParams", "thesis 002"),
 }
-STATE_COLUMNS = {
-    "two_axis": ["phi", "alpha", "x", "y", "phi'", "alpha'", "x'", "y'"],
-    "gravity_pair": ["phi", "alpha", "x", "y", "phi'", "alpha'", "x'", "y'"],
-    "damper": ["x", "y", "x'", "y'", "n_x", "n_y", "n_z", "W_x", "W_y", "W_z"],
-    "liquid_float": ["xi [m]", "eta [m]", "xi' [m/s]", "eta' [m/s]"],
-}
-
-
-@dataclasses.dataclass(frozen=True)
-class WeightModelScene:
-    name: str
-    kind: str
-    params: object
-    run: dict
-    text: str = ""
+RUN_KEYS = ("duration", "samples", "initial", "rtol", "speed")
 
 
 def _module(kind):
@@ -70,18 +52,18 @@ def _module(kind):
     return m, getattr(m, cls)
 
 
-def is_weight_model_scene(path) -> bool:
-    try:
-        return "weight_model" in tomllib.loads(Path(path).read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
-        return False
+def _number(key, v, unit=""):
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(float(v)):
+        raise SceneError(f"{key} = {v!r}: must be a finite number{f' ({unit})' if unit else ''}")
+    return float(v)
 
 
-def parse_weight_model(data, text="", stem="") -> WeightModelScene:
+def parse_weight_model(data, text="", stem="") -> Scene:
+    """Validate a ``[weight_model]`` document and build the :class:`Scene`."""
     for k in data:
         if k not in ("scene", "weight_model", "run"):
             raise SceneError(f"unknown table [{k}] in a weight-model scene; valid: scene, weight_model, run")
-    if "weight_model" not in data:
+    if not isinstance(data.get("weight_model"), dict):
         raise SceneError("missing table [weight_model]")
     wm = dict(data["weight_model"])
     kind = wm.pop("type", None)
@@ -92,146 +74,75 @@ def parse_weight_model(data, text="", stem="") -> WeightModelScene:
     for k, v in wm.items():
         if k not in names:
             raise SceneError(f"weight_model.{k}: not a parameter of {kind}; valid: {', '.join(names)}")
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(float(v)):
-            raise SceneError(f"weight_model.{k} = {v!r}: must be a finite number")
+        _number(f"weight_model.{k}", v)
     try:
         params = cls(**{k: float(v) for k, v in wm.items()})
     except (TypeError, ValueError) as exc:
         raise SceneError(f"[weight_model] ({kind}): {exc}") from None
-    run = dict(data.get("run", {}))
+    run = data.get("run", {})
+    if not isinstance(run, dict):
+        raise SceneError("[run] must be a table")
+    run = dict(run)
     for k in run:
-        if k not in ("duration", "samples", "initial", "rtol"):
-            raise SceneError(f"run.{k}: unknown; valid: duration, samples, initial, rtol")
-    name = data.get("scene", {}).get("name", stem) if isinstance(data.get("scene"), dict) else stem
-    return WeightModelScene(str(name), kind, params, run, text)
+        if k not in RUN_KEYS:
+            raise SceneError(f"run.{k}: unknown; valid: {', '.join(RUN_KEYS)}")
+    si = kind in ("liquid_float", "liquid_chamber")
+    T = _number("run.duration", run.get("duration", 100.0 if not si else 10.0),
+                "s" if si else "tau = omega_0 t")
+    k = run.get("samples", 1001)
+    if isinstance(k, bool) or not isinstance(k, int) or not 2 <= k <= 10_000_000 or not T > 0:
+        raise SceneError(f"run.duration = {T!r} (> 0) and run.samples = {k!r} (an integer "
+                         "2..1e7) required")
+    rtol = _number("run.rtol", run.get("rtol", 1e-9))
+    if not 0 < rtol < 1:
+        raise SceneError(f"run.rtol = {rtol!r}: must be in (0, 1)")
+    if "speed" in run:
+        _number("run.speed", run["speed"], "rad/s")
+    scene = data.get("scene", {})
+    name = scene.get("name", stem) if isinstance(scene, dict) else stem
+    desc = scene.get("description", "") if isinstance(scene, dict) else ""
+    settings = RunSettings(duration=T, sample_rate=(k - 1) / T, rtol=rtol, atol=1e-12,
+                           method="DOP853")
+    return Scene(drive=SpeedDrive(np.array([[0.0, _speed(kind, params, run)]])), run=settings,
+                 name=str(name), text=text, description=str(desc),
+                 structure=BookModel(kind, params, MODEL_TYPES[kind][2], run))
 
 
-def load_weight_model(path) -> WeightModelScene:
-    p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-        data = tomllib.loads(text)
-    except (OSError, UnicodeDecodeError) as exc:
-        raise SceneError(f"{p}: not readable ({exc})") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"{p}: TOML syntax error: {exc}") from None
-    try:
-        return parse_weight_model(data, text, p.stem)
-    except SceneError as exc:
-        raise SceneError(f"{p}: {exc}") from None
+def _speed(kind, p, run) -> float:
+    """The model's (initial) spin in its own units (information; the model sets its own)."""
+    if kind == "liquid_float":
+        return float(p.omega_0)
+    if kind == "liquid_chamber":
+        return float(run.get("speed", 0.5 * p.critical_speed))
+    return float(p.R_omega)
 
 
-def _plain(obj):
-    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
-        return {f.name: _plain(getattr(obj, f.name)) for f in dataclasses.fields(obj)}
-    if isinstance(obj, dict):
-        return {str(k): _plain(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_plain(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return [_plain(v) for v in obj.tolist()]
-    if isinstance(obj, (complex, np.complexfloating)):
-        return {"re": float(obj.real), "im": float(obj.imag)}
-    if isinstance(obj, (np.floating, float)):
-        v = float(obj)
-        return v if math.isfinite(v) else None
-    if isinstance(obj, (np.integer, np.bool_)):
-        return obj.item()
-    return obj
-
-
-def model_theory(sc: WeightModelScene) -> dict:
+def model_theory(scene: Scene) -> dict:
     """Steady motions (with stability) and the model's characteristic numbers."""
-    mod, _ = _module(sc.kind)
-    out = {"scene": sc.name, "type": sc.kind, "source": MODEL_TYPES[sc.kind][2],
-           "parameters": _plain(sc.params)}
-    p = sc.params
-    if sc.kind == "two_axis":
+    bm = scene.structure
+    kind, p = bm.type, bm.params
+    mod, _ = _module(kind)
+    out = {"scene": scene.name, "type": kind, "source": MODEL_TYPES[kind][2],
+           "parameters": to_jsonable(p)}
+    if kind == "two_axis":
         from . import two_axis_theory as th
 
-        out["steady_motions"] = [_plain(m) | {"stable": bool(m.stable)} for m in mod.steady_motions(p)]
-        out["quasi_periodic"] = _plain(th.qp_motions(p))
-    elif sc.kind == "gravity_pair":
-        out["steady_motions"] = [_plain(m) | {"stable": bool(mod.is_stable(p, m))}
+        out["steady_motions"] = [to_jsonable(m) | {"stable": bool(m.stable)} for m in mod.steady_motions(p)]
+        out["quasi_periodic"] = to_jsonable(th.qp_motions(p))
+    elif kind == "gravity_pair":
+        out["steady_motions"] = [to_jsonable(m) | {"stable": bool(mod.is_stable(p, m))}
                                  for m in mod.steady_motions(p)]
-        out["quasi_periodic_frequency"] = _plain(mod.qp_frequency(p))
-        out["quasi_periodic_family_limit"] = _plain(mod.qp_family_limit(p))
-    elif sc.kind == "damper":
-        out["steady_motions"] = [_plain(m) | {"stable": bool(mod.is_stable(p, m))}
+        out["quasi_periodic_frequency"] = to_jsonable(mod.qp_frequency(p))
+        out["quasi_periodic_family_limit"] = to_jsonable(mod.qp_family_limit(p))
+    elif kind == "damper":
+        out["steady_motions"] = [to_jsonable(m) | {"stable": bool(mod.is_stable(p, m))}
                                  for m in mod.steady_motions(p)]
-        out["efficiency"] = _plain(mod.efficiency(p))
-    elif sc.kind == "liquid_float":
+        out["efficiency"] = to_jsonable(mod.efficiency(p))
+    elif kind == "liquid_float":
         from .runup_closed_form import runup_extrema
 
-        out["runup_extrema"] = _plain(runup_extrema(p))
-    elif sc.kind == "liquid_chamber":
-        w = float(sc.run.get("speed", p.critical_speed * 0.5))
-        out["quasi_static_efficiency"] = _plain(mod.quasi_static_efficiency(p, w))
+        out["runup_extrema"] = to_jsonable(runup_extrema(p))
+    elif kind == "liquid_chamber":
+        w = _speed(kind, p, bm.options)
+        out["quasi_static_efficiency"] = to_jsonable(mod.quasi_static_efficiency(p, w))
     return out
-
-
-def _initial(sc: WeightModelScene):
-    p = sc.params
-    if "initial" in sc.run:
-        y0 = np.asarray(sc.run["initial"], dtype=float)
-        n = len(STATE_COLUMNS[sc.kind])
-        if y0.shape != (n,) or not np.all(np.isfinite(y0)):
-            raise SceneError(f"run.initial: {n} finite numbers ({', '.join(STATE_COLUMNS[sc.kind])})")
-        return y0
-    if sc.kind in ("two_axis", "gravity_pair"):   # weights slightly off neutral, turning with the rotor
-        return np.array([0.3, 0.0, 0.0, 0.0, 0.0, p.R_omega, 0.0, 0.0])
-    if sc.kind == "damper":
-        from .damper import state_from_angles
-
-        return state_from_angles(0.3, 0.0, p.R_omega, frame="fixed")
-    if sc.kind == "liquid_float":
-        from .liquid_float import initial_state
-
-        return initial_state(p, frame="fixed")
-    raise SceneError(f"stand run: {sc.kind} is a quasi-static model (use stand theory)")
-
-
-def run_weight_model(sc: WeightModelScene):
-    """Integrate the model; returns (t, states (k, n), stats dict)."""
-    from scipy.integrate import solve_ivp
-
-    mod, _ = _module(sc.kind)
-    if sc.kind == "liquid_chamber":
-        raise SceneError("stand run: liquid_chamber is a quasi-static model (use stand theory)")
-    T = float(sc.run.get("duration", 100.0))
-    k = int(sc.run.get("samples", 1001))
-    if not (T > 0 and 2 <= k <= 10_000_000):
-        raise SceneError(f"run.duration = {T!r} (> 0) and run.samples = {k!r} (2..1e7) required")
-    y0 = _initial(sc)
-    if sc.kind == "liquid_float":
-        fun = mod.rhs_fixed(sc.params)
-    else:
-        fun = lambda t, y: mod.rhs(t, y, sc.params) if sc.kind != "two_axis" else mod.rhs_fixed(t, y, sc.params)  # noqa: E731
-    t = np.linspace(0.0, T, k)
-    sol = solve_ivp(fun, (0.0, T), y0, method="DOP853", t_eval=t, rtol=float(sc.run.get("rtol", 1e-9)),
-                    atol=1e-12)
-    stats = {"success": bool(sol.success), "message": sol.message, "nfev": int(sol.nfev)}
-    return sol.t, sol.y.T, stats
-
-
-def write_weight_model_recording(sc: WeightModelScene, t, states, stats, path) -> Path:
-    import h5py
-
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=str(path.resolve().parent), prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    try:
-        with h5py.File(tmp, "w") as f:
-            f.attrs["format"] = "autobalancer-stand weight-model recording 1"
-            f.attrs["scene_text"] = sc.text
-            f.attrs["model"] = sc.kind
-            f.attrs["solver"] = json.dumps(stats)
-            d = f.create_dataset("time", data=t)
-            d.attrs["units"] = "s" if sc.kind == "liquid_float" else "tau = omega_0 t (dimensionless)"
-            s = f.create_dataset("state", data=states)
-            s.attrs["columns"] = json.dumps(STATE_COLUMNS[sc.kind])
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-    return path

@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from ..scene import Scene
+from ..scene import Scene, SceneError
 from ..simulate import Trajectory, simulate
 
 FRAME_COMPRESSION = {"compression": "gzip", "compression_opts": 1, "shuffle": True}
@@ -60,7 +60,7 @@ def _screen_plan(scene: Scene):
 
 
 def run_with_instruments(scene: Scene, method: str | None = None, progress: bool = False,
-                         checkpoint=None):
+                         checkpoint=None, rtol: float | None = None, atol: float | None = None):
     """Simulate ``scene`` and prepare its instruments.
 
     Returns
@@ -73,10 +73,15 @@ def run_with_instruments(scene: Scene, method: str | None = None, progress: bool
         to :func:`stand.recording.write_recording`.  None without instruments.
     """
     if not scene.instruments:
-        return simulate(scene, method=method, progress=progress, checkpoint=checkpoint), None
+        return simulate(scene, method=method, progress=progress, checkpoint=checkpoint,
+                        rtol=rtol, atol=atol), None
+    if scene.kind != "planar":
+        raise SceneError(f"[instruments]: attached to the planar rotor only in this version; the "
+                         f"scene's structure is {scene.structure_type}")
     plan = _screen_plan(scene) if "screen" in scene.instruments else None
     extra = None if plan is None else plan[2].ravel()
-    traj = simulate(scene, method=method, progress=progress, extra_times=extra, checkpoint=checkpoint)
+    traj = simulate(scene, method=method, progress=progress, extra_times=extra, checkpoint=checkpoint,
+                    rtol=rtol, atol=atol)
 
     def writer(f):
         write_instruments(f, scene, traj, plan)

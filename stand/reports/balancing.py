@@ -125,48 +125,38 @@ def _read_csv(p: Path) -> dict:
 
 
 def _read_h5(p: Path) -> dict:
-    import h5py
-
     from ..recording import read_recording
 
     rec = read_recording(p)  # RecordingError (a ValueError) names file and dataset
-    scene, scene_error = None, None
-    if rec.scene_text.strip():
-        try:
-            scene = rec.scene()
-        except Exception as exc:  # noqa: BLE001 -- reported, not fatal
-            scene_error = f"{type(exc).__name__}: {exc}"
+    scene, scene_error = rec.scene, None
+    if scene is None and rec.scene_text.strip():
+        scene_error = next((n for n in rec.notes if "stored scene" in n), "scene not readable")
+    elif scene is not None and scene.kind != "planar":
+        scene_error = (f"the recorded scene's structure is {scene.structure_type}: the model-based "
+                       "parts (chapter-5 planar rotor) are skipped")
+        scene = None
     phi = np.asarray(rec.rotor_angle) if np.all(np.isfinite(rec.rotor_angle)) else None
     wa = np.asarray(rec.weight_angle)
     weights = wa if wa.size and np.all(np.isfinite(wa)) else None
     rel = np.asarray(rec.relative_angle) if weights is not None else None
     inst, truth = {}, {}
-    try:
-        with h5py.File(p, "r") as f:
-            def get(key):
-                obj = f.get(key)
-                return obj[()] if isinstance(obj, h5py.Dataset) else None
-
-            ring = get("instruments/screen/ring_radius")
-            if ring is not None:
-                inst["ring_radius"] = np.asarray(ring, float)
-                scr = f["instruments/screen"]
-                try:
-                    inst["screen_settings"] = json.loads(scr.attrs.get("settings", "{}"))
-                except (TypeError, ValueError):
-                    inst["screen_settings"] = {}
-                ts = scr.attrs.get("ring_test_speed_rad_s", None)
-                inst["ring_test_speed_rad_s"] = None if ts is None else float(ts)
-            for key, name in (("instruments/screen/frames", "screen"),
-                              ("instruments/stroboscope/frames", "strobe")):
-                ds = f.get(key)
-                if isinstance(ds, h5py.Dataset) and ds.ndim == 3 and ds.shape[0] > 0:
-                    inst[name + "_frame"] = np.asarray(ds[-1])
-            ru = get("truth/residual_unbalance")
-            if ru is not None and np.ndim(ru) == 2 and np.shape(ru)[0] == rec.t.size:
-                truth["residual_unbalance"] = np.asarray(ru, float)
-    except (OSError, KeyError, ValueError, RuntimeError) as exc:
-        raise ValueError(f"{p}: cannot read the instruments/truth groups ({exc})") from None
+    if rec.shape("instruments/screen/ring_radius") is not None:
+        inst["ring_radius"] = np.asarray(rec.dataset("instruments/screen/ring_radius"), float)
+        attrs = rec.dataset_attrs("instruments/screen")
+        try:
+            inst["screen_settings"] = json.loads(attrs.get("settings", "{}"))
+        except (TypeError, ValueError):
+            inst["screen_settings"] = {}
+        ts = attrs.get("ring_test_speed_rad_s", None)
+        inst["ring_test_speed_rad_s"] = None if ts is None else float(ts)
+    for key, name in (("instruments/screen/frames", "screen"),
+                      ("instruments/stroboscope/frames", "strobe")):
+        shape = rec.shape(key)
+        if shape is not None and len(shape) == 3 and shape[0] > 0:
+            inst[name + "_frame"] = np.asarray(rec.dataset(key, shape[0] - 1))
+    shape = rec.shape("truth/residual_unbalance")
+    if shape is not None and len(shape) == 2 and shape[0] == rec.t.size:
+        truth["residual_unbalance"] = np.asarray(rec.dataset("truth/residual_unbalance"), float)
     return dict(t=np.asarray(rec.t), x=np.asarray(rec.x), y=np.asarray(rec.y), phi=phi,
                 weights=weights, rel=rel, scene=scene, scene_error=scene_error,
                 attrs=rec.attrs, notes=list(rec.notes), solver=rec.solver, inst=inst,
@@ -188,12 +178,6 @@ def _read(path) -> dict:
             raise ValueError(f"{p}: dataset {name!r} contains NaN or inf")
     if np.any(np.diff(t) <= 0):
         raise ValueError(f"{p}: dataset 'time' must be strictly increasing")
-    from ..scene import Scene
-
-    if d["scene"] is not None and not isinstance(d["scene"], Scene):
-        d["scene_error"] = (f"the recorded scene is a {type(d['scene']).__name__}, not a planar "
-                            "Scene: the model-based parts are skipped")
-        d["scene"] = None
     return d
 
 

@@ -1,315 +1,26 @@
-"""Correction weights (balls, pendulums) coupled to any :class:`LinearRotor`.
+"""Run a :class:`LinearRotor` with correction weights in any planes (compiled, O(n) per call).
 
-Weight j (mass m_j, radius l_j, moment of inertia J_j about the shaft axis,
-viscous moment coefficient H_j on its speed relative to the rotor) sits in
-plane p with absolute angle psi_j = phi + alpha_j; its centre is at
-``r_j = T_p q + l_j e_j``, ``e_j = (cos psi_j, sin psi_j)``,
-``n_j = (sin psi_j, -cos psi_j)``.  Lagrange's equations (the corrected
-(5.4)/(5.7) of the planar model, digest ch5 section 0.2, generalised through
-the plane map T_p, and (3.1)-(3.11) of ch. 3)::
-
-    J_j psi_j'' = m_j l_j n_j . (T_p q'' - g_p) - H_j alpha_j'
-    M q'' + (D + Omega G) q' + K q = f_unb + f_grav
-          + sum_j T_p^T [ m_j g_p - m_j (T_p q'' - l_j psi_j'' n_j - l_j psi_j'^2 e_j) ]
-
-(g_p: the transverse gravity acceleration, zero for a vertical axis).
-Eliminating psi_j'' (the weights couple only through the shaft) leaves one
-n x n system for q'' (n = rotor coordinates)::
-
-    [M + sum_j m_j T_p^T T_p - sum_j (m_j^2 l_j^2 / J_j) T_p^T n_j n_j^T T_p] q''
-        = f + sum_j T_p^T [ m_j g_p + m_j l_j psi_j'^2 e_j
-                            - (m_j^2 l_j^2 / J_j)(n_j . g_p) n_j - (m_j l_j H_j alpha_j' / J_j) n_j ]
-
-(forces through the plane's force map F_p^T when it has one, see
-:mod:`stand.rotors.structure`), so one right-hand side costs O(N_weights n^2 + n^3): linear in the number of
-weights.  For point balls (J = m l^2) the bracket is M + sum m T^T e e^T T.
-The weights are point masses in their plane (their own transverse moments of
-inertia are neglected, as in the book's linear models).
-
-The integration reuses the compiled DOP853 loop (:mod:`stand.dop853`) with
-model kind ``GENERIC`` in :mod:`stand.kernels`.  Time is scaled by a
-reference frequency omega_ref (tau = omega_ref t) and each coordinate by its
-own length scale, so that the tolerances mean the same for every rotor.
+The equations, the compiled right-hand side and the packing are in
+:mod:`stand.rotors.coupled_kernel`; this module integrates them through the one
+integrator path (:mod:`stand.integrate.driver`) and returns the samples in SI
+(:class:`CoupledRun`).  :func:`stand.run` turns a scene into the same integration
+and a :class:`stand.result.Run`.
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Optional, Sequence
+from typing import Sequence
 
 import numpy as np
 
-from .._jit import njit
-from ..programme import build_table, programme_kinematics
-from ..scene import Balancer
+from ..programme import programme_kinematics
+from .coupled_kernel import (N_WCOL, W_L, W_M, W_PLANE, CoupledModel, PlaneWeights, build_model,
+                             rhs_generic, with_locked_weights)
 from .structure import LinearRotor
 
 __all__ = ["PlaneWeights", "CoupledModel", "CoupledRun", "build_model", "simulate_coupled",
-           "rhs_generic", "with_locked_weights"]
-
-# header of the scalar parameter vector sp
-H_N, H_NW, H_NPL, H_NUB, H_WREF, H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OGR, H_OGP, \
-    H_OF = range(15)
-N_HEAD = 15
-# weight table columns: plane, mass, radius, inertia, drag, friction (kinetic,
-# static, slip speed, dwell, release), index of its adhesion state (-1: none)
-W_PLANE, W_M, W_L, W_J, W_H, W_MUK, W_MUS, W_VS, W_TD, W_TR, W_Z = range(11)
-N_WCOL = 11
-
-
-@dataclass(frozen=True)
-class PlaneWeights:
-    """Correction weights in one named plane of the rotor (a :class:`stand.scene.Balancer`)."""
-
-    plane: str
-    balancer: Balancer
-    friction: Optional["Friction"] = None    # stand.balancers.friction.Friction
-
-
-def with_locked_weights(rotor: LinearRotor, weights: Sequence[PlaneWeights]) -> LinearRotor:
-    """The rotor with its weights locked (their masses moving with the planes:
-    ``M + sum m_j T_p^T T_p``): the structure the engineering criterion and the
-    calibration rings refer to."""
-    import dataclasses
-
-    M = rotor.M.copy()
-    for w in weights:
-        T = rotor.planes[w.plane]
-        M += float(np.sum(w.balancer.mass)) * (rotor.force_map(w.plane).T @ T)
-    return dataclasses.replace(rotor, M=M)
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy):
-    """Regularised Coulomb moment [N m] on weight j (stand.balancers.friction)."""
-    muk = wt[j, W_MUK]
-    if muk <= 0.0 and wt[j, W_MUS] <= 0.0:
-        return 0.0
-    mu = muk
-    iz = int(wt[j, W_Z])
-    if iz >= 0:
-        mu = muk + (wt[j, W_MUS] - muk) * y[iz]
-    N = m * (l * psid * psid + c * gx + si * gy)
-    if N < 0.0:
-        N = 0.0
-    x = ad / wt[j, W_VS]
-    return mu * N * l * x / math.sqrt(1.0 + x * x)
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def rhs_generic(tau, y, dy, sp, wt, prog):
-    """Right-hand side of a LinearRotor with weights (module docstring), scaled time."""
-    n = int(sp[H_N])
-    nw = int(sp[H_NW])
-    nub = int(sp[H_NUB])
-    wref = sp[H_WREF]
-    oM, oG, oD, oK = int(sp[H_OM]), int(sp[H_OG]), int(sp[H_OD]), int(sp[H_OK])
-    oT, oUB, oL, oGR, oGP = int(sp[H_OT]), int(sp[H_OUB]), int(sp[H_OL]), int(sp[H_OGR]), int(sp[H_OGP])
-    oF = int(sp[H_OF])
-    phi, R, dR = programme_kinematics(tau, prog)
-    Om = R * wref
-    dOm = dR * wref * wref
-    gx = sp[oGP]
-    gy = sp[oGP + 1]
-    ns = n + nw
-    q = np.empty(n)
-    qd = np.empty(n)
-    for i in range(n):
-        L = sp[oL + i]
-        q[i] = L * y[i]
-        qd[i] = wref * L * y[ns + i]
-    A = np.empty((n, n))
-    f = np.empty(n)
-    for i in range(n):
-        acc = sp[oGR + i]
-        for k in range(n):
-            acc -= sp[oK + i * n + k] * q[k]
-            acc -= (sp[oD + i * n + k] + Om * sp[oG + i * n + k]) * qd[k]
-            A[i, k] = sp[oM + i * n + k]
-        f[i] = acc
-    # unbalances
-    for u in range(nub):
-        p = int(sp[oUB + 3 * u])
-        s = sp[oUB + 3 * u + 1]
-        th = phi + sp[oUB + 3 * u + 2]
-        c, si = math.cos(th), math.sin(th)
-        fx = s * (Om * Om * c + dOm * si)
-        fy = s * (Om * Om * si - dOm * c)
-        base = oF + p * 2 * n
-        for i in range(n):
-            f[i] += sp[base + i] * fx + sp[base + n + i] * fy
-    # weights: assemble the Schur complement
-    for j in range(nw):
-        p = int(wt[j, W_PLANE])
-        m = wt[j, W_M]
-        l = wt[j, W_L]
-        J = wt[j, W_J]
-        H = wt[j, W_H]
-        a = y[n + j]
-        ad = wref * y[ns + n + j]
-        psi = phi + a
-        psid = Om + ad
-        c, si = math.cos(psi), math.sin(psi)
-        k2 = m * m * l * l / J
-        ng = si * gx - c * gy
-        Mr = H * ad + _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy)
-        gxw = m * gx + m * l * psid * psid * c - k2 * ng * si - m * l * Mr / J * si
-        gyw = m * gy + m * l * psid * psid * si + k2 * ng * c + m * l * Mr / J * c
-        base = oT + p * 2 * n
-        fbase = oF + p * 2 * n
-        for i in range(n):
-            tx = sp[fbase + i]      # forces act through the force map F_p
-            ty = sp[fbase + n + i]
-            f[i] += tx * gxw + ty * gyw
-            nti = tx * si - ty * c
-            for k in range(n):
-                txk = sp[base + k]
-                tyk = sp[base + n + k]
-                ntk = txk * si - tyk * c
-                A[i, k] += m * (tx * txk + ty * tyk) - k2 * nti * ntk
-    qdd = np.linalg.solve(A, f)
-    for i in range(n):
-        L = sp[oL + i]
-        dy[i] = y[ns + i]
-        dy[ns + i] = qdd[i] / (wref * wref * L)
-    for j in range(nw):
-        p = int(wt[j, W_PLANE])
-        m = wt[j, W_M]
-        l = wt[j, W_L]
-        J = wt[j, W_J]
-        H = wt[j, W_H]
-        psi = phi + y[n + j]
-        ad = wref * y[ns + n + j]
-        c, si = math.cos(psi), math.sin(psi)
-        base = oT + p * 2 * n
-        apx = 0.0
-        apy = 0.0
-        for k in range(n):
-            apx += sp[base + k] * qdd[k]
-            apy += sp[base + n + k] * qdd[k]
-        psid = Om + ad
-        Mr = H * ad + _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy)
-        psidd = (m * l * (si * (apx - gx) - c * (apy - gy)) - Mr) / J
-        dy[n + j] = y[ns + n + j]
-        dy[ns + n + j] = (psidd - dOm) / (wref * wref)
-        iz = int(wt[j, W_Z])
-        if iz >= 0:   # adhesion (sticking after a dwell), stand.balancers.friction
-            z = y[iz]
-            sl = math.exp(-(ad / wt[j, W_VS]) ** 2)
-            dy[iz] = (sl * (1.0 - z) / wt[j, W_TD] - (1.0 - sl) * z / wt[j, W_TR]) / wref
-
-
-@dataclass(frozen=True)
-class CoupledModel:
-    """Packed arrays for :func:`rhs_generic` plus the scales to undo them."""
-
-    rotor: LinearRotor
-    weights: tuple
-    plane_names: tuple
-    sp: np.ndarray
-    wt: np.ndarray
-    prog: np.ndarray
-    omega_ref: float
-    scale: np.ndarray      # per rotor coordinate [m or rad per unit state]
-
-    @property
-    def n(self) -> int:
-        return self.rotor.n
-
-    @property
-    def nw(self) -> int:
-        return int(self.wt.shape[0])
-
-    @property
-    def n_adhesion(self) -> int:
-        """Extra states: one adhesion variable per sticking weight (after the 2(n + nw))."""
-        return int(np.count_nonzero(self.wt[:, W_Z] >= 0)) if self.wt.size else 0
-
-
-def _positive(name, v, unit):
-    v = float(v)
-    if not (math.isfinite(v) and v > 0):
-        raise ValueError(f"{name} = {v!r}: must be > 0 ({unit})")
-    return v
-
-
-def build_model(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,
-                omega_ref: Optional[float] = None) -> CoupledModel:
-    """Pack a rotor, its weights and a speed programme for the compiled RHS.
-
-    Parameters
-    ----------
-    rotor : LinearRotor
-    weights : sequence of PlaneWeights
-        Weights per plane (any number of planes, any number of weights).
-    programme : array (k, 2)
-        Speed programme ``[[t_s, omega_rad_s], ...]``, piecewise linear, held
-        after the last node.
-    omega_ref : float, optional
-        Time scale [rad/s]; default the lowest natural frequency at rest.
-    """
-    names = tuple(rotor.planes)
-    for w in weights:
-        if w.plane not in rotor.planes:
-            raise ValueError(f"weights: plane {w.plane!r} is not a plane of rotor {rotor.name!r} "
-                             f"(planes: {', '.join(names)})")
-    prog_si = np.atleast_2d(np.asarray(programme, dtype=float))
-    if prog_si.ndim != 2 or prog_si.shape[1] != 2 or not np.all(np.isfinite(prog_si)) \
-            or np.any(np.diff(prog_si[:, 0]) <= 0) or prog_si[0, 0] < 0:
-        raise ValueError("programme: expected rows [t_s, omega_rad_s] with increasing times >= 0 (s)")
-    if omega_ref is None:
-        wn = rotor.natural_frequencies(0.0)
-        wn = wn[wn > 0]
-        omega_ref = float(wn[0]) if wn.size else 1.0
-    omega_ref = _positive("omega_ref", omega_ref, "rad/s")
-    n = rotor.n
-    rows = []
-    cap = 0.0
-    nw_total = sum(w.balancer.count for w in weights)
-    n_adh = 0
-    for w in weights:
-        b = w.balancer
-        p = names.index(w.plane)
-        H = b.moment_drag
-        fr = w.friction
-        for k in range(b.count):
-            m = _positive(f"weights[{w.plane}].mass[{k}]", b.mass[k], "kg")
-            l = _positive(f"weights[{w.plane}].radius[{k}]", b.radius[k], "m")
-            J = _positive(f"weights[{w.plane}].inertia[{k}]", b.inertia[k], "kg m^2")
-            row = [p, m, l, J, float(H[k]), 0.0, 0.0, 1.0, 1.0, 1.0, -1.0]
-            if fr is not None:
-                row[W_MUK:W_TR + 1] = [fr.kinetic, fr.static, fr.slip_speed, fr.dwell_time,
-                                       fr.release_time]
-                if fr.sticks:
-                    row[W_Z] = 2 * (n + nw_total) + n_adh
-                    n_adh += 1
-            rows.append(row)
-            cap += m * l
-    wt = np.array(rows, dtype=float).reshape(-1, N_WCOL)
-    # coordinate scales: the high-speed response to the larger of the capacity
-    # and the unbalance, per coordinate (floor 1e-3 of the largest)
-    s_ref = max(cap, sum(abs(u.s) for u in rotor.unbalances), 1e-12)
-    Minv = np.linalg.inv(rotor.M)
-    resp = np.zeros(n)
-    for T in rotor.planes.values():
-        resp = np.maximum(resp, np.abs(Minv @ T.T).max(axis=1) * s_ref)
-    scale = np.maximum(resp, 1e-3 * resp.max()) if resp.max() > 0 else np.ones(n)
-    ub = np.array([[names.index(u.plane), u.s, u.angle] for u in rotor.unbalances],
-                  dtype=float).reshape(-1, 3)
-    parts = [rotor.M.ravel(), rotor.G.ravel(), rotor.D.ravel(), rotor.K.ravel(),
-             np.concatenate([rotor.planes[p].ravel() for p in names]), ub.ravel(), scale,
-             rotor.gravity, rotor.gravity_plane,
-             np.concatenate([rotor.force_map(p).ravel() for p in names])]
-    head = np.zeros(N_HEAD)
-    head[H_N], head[H_NW], head[H_NPL], head[H_NUB], head[H_WREF] = n, wt.shape[0], len(names), \
-        ub.shape[0], omega_ref
-    off = N_HEAD
-    for slot, a in zip((H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OGR, H_OGP, H_OF), parts):
-        head[slot] = off
-        off += a.size
-    sp = np.concatenate([head] + parts)
-    prog = build_table(prog_si[:, 0] * omega_ref, prog_si[:, 1] / omega_ref)
-    return CoupledModel(rotor, tuple(weights), names, sp, wt, prog, omega_ref, scale)
+           "rhs_generic", "with_locked_weights", "initial_state", "samples_si"]
 
 
 @dataclass
@@ -366,77 +77,69 @@ def simulate_coupled(rotor: LinearRotor, weights: Sequence[PlaneWeights], progra
         Initial rotor coordinates [SI] and rates; weights start at their
         balancers' ``initial_angles`` / ``initial_speeds`` (relative).
     """
-    from ..dop853 import DIVERGED, NOT_FINITE, REACHED_END, dop853_loop
-    from ..kernels import GENERIC
+    from ..integrate.driver import run_dop853
+    from ..result import SolverStats
 
     duration = _positive("duration", duration, "s")
     sample_rate = _positive("sample_rate", sample_rate, "Hz")
     model = build_model(rotor, weights, programme, omega_ref)
-    n, nw, w = model.n, model.nw, model.omega_ref
-    y = np.zeros(2 * (n + nw) + model.n_adhesion)
-    if q0 is not None:
-        y[:n] = np.asarray(q0, float) / model.scale
-    if qd0 is not None:
-        y[n + nw:2 * n + nw] = np.asarray(qd0, float) / (model.scale * w)
-    a0 = np.concatenate([np.asarray(pw.balancer.initial_angles, float) for pw in weights]) \
-        if weights else np.zeros(0)
-    s0 = np.concatenate([np.asarray(pw.balancer.initial_speeds, float) for pw in weights]) \
-        if weights else np.zeros(0)
-    y[n:n + nw] = a0
-    y[2 * n + nw:2 * (n + nw)] = s0 / w
+    y = initial_state(model, weights, q0, qd0)
+    w = model.omega_ref
     ts = np.arange(0.0, duration + 0.5 / sample_rate, 1.0 / sample_rate) * w
     ts = ts[ts <= duration * w * (1 + 1e-12)]
     out = np.full((ts.size, y.size), np.nan)
     out[0] = y
-    f = np.empty_like(y)
-    from ..kernels import rhs
-    rhs(GENERIC, 0.0, y, f, model.sp, model.wt, model.prog)
-    cap = np.full(y.size, np.inf)
-    cap[n:n + nw] = np.pi
-    st = np.zeros(3, np.int64)
-    st[2] = 1
-    t, h, k_next = 0.0, 1e-3, 1
-    tau_end = duration * w
-    bps = [b for b in model.prog[1:, 0] if 0 < b < tau_end] + [tau_end]
-    status = REACHED_END
-    for seg_end in bps:
-        while t < seg_end:
-            budget = max_steps - int(st[0] + st[1])
-            if budget <= 0:
-                break
-            status, t, h, k_next = dop853_loop(GENERIC, model.sp, model.wt, model.prog, t, y, f, h,
-                                               seg_end, rtol, atol, cap, np.inf, ts, k_next, out,
-                                               st, budget, 1e12)
-            if status != REACHED_END:
-                break
-        if t < seg_end:
-            break
-        rhs(GENERIC, t, y, f, model.sp, model.wt, model.prog)
-        st[2] += 1
-    ok = t >= tau_end * (1 - 1e-12)
-    msg = "reached the end" if ok else (
-        "diverged" if status == DIVERGED else "non-finite state" if status == NOT_FINITE
-        else f"stopped at t = {t / w:.6g} s (step budget or step-size collapse)")
-    good = np.all(np.isfinite(out), axis=1)
-    out, tt = out[good], ts[good]
+    st = SolverStats(method="DOP853", rtol=rtol, atol=atol)
+    k = run_dop853(model, y, duration * w, rtol, atol, ts, out, st, max_steps, False)
+    stats = dict(n_steps=st.n_steps, n_rejected=st.n_rejected, nfev=st.nfev, success=st.success,
+                 message=st.message)
+    return CoupledRun(*samples_si(model, out[:k], ts[:k]), stats)
+
+
+def _positive(name, v, unit):
+    v = float(v)
+    if not (math.isfinite(v) and v > 0):
+        raise ValueError(f"{name} = {v!r}: must be > 0 ({unit})")
+    return v
+
+
+def initial_state(model: CoupledModel, weights, q0=None, qd0=None) -> np.ndarray:
+    """Scaled initial state: rotor coordinates ``q0`` [SI] and rates ``qd0``; the weights at
+    their balancers' ``initial_angles`` / ``initial_speeds`` (relative to the rotor)."""
+    n, nw, w = model.n, model.nw, model.omega_ref
+    y = np.zeros(model.size)
+    if q0 is not None:
+        y[:n] = np.asarray(q0, float) / model.scale
+    if qd0 is not None:
+        y[n + nw:2 * n + nw] = np.asarray(qd0, float) / (model.scale * w)
+    if weights:
+        y[n:n + nw] = np.concatenate([np.asarray(pw.balancer.initial_angles, float) for pw in weights])
+        y[2 * n + nw:2 * (n + nw)] = np.concatenate(
+            [np.asarray(pw.balancer.initial_speeds, float) for pw in weights]) / w
+    return y
+
+
+def samples_si(model: CoupledModel, out: np.ndarray, tau: np.ndarray) -> tuple:
+    """SI samples from the scaled ones: ``(t, q, qd, rotor_angle, speed, weight_angle
+    (relative), planes, residual)`` (the fields of :class:`CoupledRun` but ``stats``), plus
+    nothing else; weight speeds relative to the rotor are ``out[:, 2n+nw:2(n+nw)] * omega_ref``."""
+    rotor = model.rotor
+    n, nw, w = model.n, model.nw, model.omega_ref
     q = out[:, :n] * model.scale
     qd = out[:, n + nw:2 * n + nw] * model.scale * w
     alpha = out[:, n:n + nw]
-    phis = np.array([programme_kinematics(x, model.prog)[0] for x in tt])
-    speeds = np.array([programme_kinematics(x, model.prog)[1] for x in tt]) * w
+    kin = np.array([programme_kinematics(x, model.prog) for x in tau]).reshape(-1, 3)
+    phis, speeds = kin[:, 0], kin[:, 1] * w
     planes = {p: q @ rotor.planes[p].T for p in model.plane_names}
     residual = {}
     for k, p in enumerate(model.plane_names):
-        U = np.zeros((tt.size, 2))
+        U = np.zeros((tau.size, 2))
         for u in rotor.unbalances:
             if u.plane == p:
                 U += u.s * np.array([math.cos(u.angle), math.sin(u.angle)])
-        sel = model.wt[:, W_PLANE] == k
-        for j in np.nonzero(sel)[0]:
+        for j in np.nonzero(model.wt[:, W_PLANE] == k)[0]:
             ml = model.wt[j, W_M] * model.wt[j, W_L]
             U[:, 0] += ml * np.cos(alpha[:, j])
             U[:, 1] += ml * np.sin(alpha[:, j])
         residual[p] = U
-    stats = dict(n_steps=int(st[0]), n_rejected=int(st[1]), nfev=int(st[2]), success=bool(ok),
-                 message=msg)
-    return CoupledRun(tt / w, q, qd, phis, speeds, alpha, planes, residual, stats)
+    return tau / w, q, qd, phis, speeds, alpha, planes, residual

@@ -1,8 +1,9 @@
-"""Scene files for the rotor family: ``[structure]`` + ``[[weights]]``.
+"""The ``[structure]`` + ``[[weights]]`` form of a scene (any rotor of the family).
 
-A scene with a ``[structure]`` table describes any rotor type of the family
-(the planar scenes of the core simulator keep their own format, see
-docs/scene.md)::
+:func:`stand.load` reads every scene file form into one :class:`stand.scene.Scene`;
+a file with a ``[structure]`` table is parsed here into a Scene whose
+``structure`` is a :class:`stand.scene.RotorStructure` and whose weights sit in
+named planes (``plane_weights``)::
 
     [scene]
     name = "two_mass"
@@ -37,20 +38,14 @@ from __future__ import annotations
 import importlib
 import inspect
 import math
-import tomllib
-from dataclasses import dataclass
-from pathlib import Path
 from typing import Mapping
 
-import numpy as np
-
 from ..balancers.friction import ROLLING_BALL_J, Friction
-from ..scene import RunSettings, SceneError
-from .coupled import PlaneWeights
+from ..scene import RotorStructure, Scene, SceneError, SpeedDrive
+from .coupled_kernel import PlaneWeights
 from .structure import LinearRotor
 
-__all__ = ["ROTOR_TYPES", "FamilyScene", "parse_family_scene", "load_family_scene",
-           "is_family_scene", "build_rotor"]
+__all__ = ["ROTOR_TYPES", "parse_family_scene", "build_rotor"]
 
 #: type name -> (module, builder function, book section)
 ROTOR_TYPES = {
@@ -67,21 +62,6 @@ ROTOR_TYPES = {
 TABLES = ("scene", "structure", "weights", "drive", "run")
 #: dry-friction keys of a [[weights]] table (stand.balancers.friction)
 FRICTION_KEYS = ("friction", "static_friction", "slip_speed", "dwell_time", "release_time")
-
-
-@dataclass(frozen=True)
-class FamilyScene:
-    """A rotor-family scene: the rotor, its weights, the speed programme, run settings."""
-
-    name: str
-    description: str
-    rotor_type: str
-    params: dict
-    rotor: LinearRotor
-    weights: tuple
-    programme: np.ndarray      # (k, 2) [s, rad/s]
-    run: RunSettings
-    text: str = ""
 
 
 def _builder(kind: str):
@@ -147,7 +127,8 @@ def build_rotor(kind: str, params: Mapping) -> LinearRotor:
         raise SceneError(f"[structure] ({kind}): {exc}") from None
 
 
-def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> FamilyScene:
+def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:
+    """Validate a ``[structure]`` document and build the :class:`Scene` (SI)."""
     from ..scene_file import _Table, _balancer, _programme, _run
 
     if not isinstance(data, Mapping):
@@ -220,28 +201,6 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> FamilyS
         raise SceneError("drive.programme: missing required key ([[t (s), speed (rev/s)], ...])")
     programme = _programme(dt, "programme", 1.0)
     run = _run(_Table(data["run"], "run"))
-    return FamilyScene(name, desc, kind, st, rotor, tuple(weights), programme, run, text)
-
-
-def is_family_scene(path) -> bool:
-    """True when the TOML file has a [structure] table (a rotor-family scene)."""
-    try:
-        return "structure" in tomllib.loads(Path(path).read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
-        return False
-
-
-def load_family_scene(path) -> FamilyScene:
-    p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise SceneError(f"scene file not readable: {p} ({exc.strerror})") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"{p}: TOML syntax error: {exc}") from None
-    try:
-        return parse_family_scene(data, text, p.stem)
-    except SceneError as exc:
-        raise SceneError(f"{p}: {exc}") from None
+    return Scene(drive=SpeedDrive(programme), run=run, name=name, text=text, description=desc,
+                 structure=RotorStructure(kind, st, rotor, ROTOR_TYPES[kind][2]),
+                 plane_weights=tuple(weights))

@@ -1,0 +1,120 @@
+"""The flat Python API: ``stand.load``, ``run``, ``read``, ``theory``, ``analyze``, ``report``.
+
+Every function takes every scene (planar rotor, any rotor of the family, a
+book weight model) and every recording::
+
+    import stand
+    scene = stand.load("data_samples/scenes/ball_runup.toml")
+    run = stand.run(scene)                 # stand.Run: t, planes, rotor, weights, stats
+    run.to_frame()                         # pandas, SI units in the column names
+    run.write("runup.h5")                  # the one recording layout
+    rec = stand.read("runup.h5")           # stand.Recording: the same fields
+    stand.analyze(rec)                     # identification (dsp), a dict
+    stand.report(rec, html_path="r.html")  # balancing-quality report
+    stand.theory(scene)                    # what the theory predicts
+"""
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+from typing import Optional, Union
+
+__all__ = ["load", "run", "read", "theory", "analyze", "report"]
+
+
+def load(source: Union[str, os.PathLike]):
+    """Read a scene file (any form) or TOML text into a :class:`stand.scene.Scene`."""
+    from .scene_file import load_scene
+
+    return load_scene(source)
+
+
+def run(scene, method: Optional[str] = None, rtol: Optional[float] = None,
+        atol: Optional[float] = None, progress: bool = False, checkpoint=None):
+    """Integrate a scene (or a scene file) with its instruments; returns a :class:`stand.Run`.
+
+    Parameters
+    ----------
+    scene : Scene, str or os.PathLike
+    method : str, optional
+        ``"auto"``, ``"DOP853"``, ``"Radau"``, ``"BDF"``, ``"LSODA"``, ``"numpy-DOP853"``
+        (overrides the scene's ``run.method``).
+    rtol, atol : float, optional
+        Override the scene's tolerances.
+    progress : bool
+        Progress bar on stderr for long runs.
+    checkpoint : path, optional
+        Resumable compiled DOP853 runs (:func:`stand.simulate.simulate`).
+
+    Returns
+    -------
+    Run
+        ``run.stats.status`` is 0 on success, negative when the run stopped early
+        (what was computed is kept); ``run.write(path)`` also stores the
+        instruments' output.
+    """
+    from .scene import Scene
+
+    if not isinstance(scene, Scene):
+        scene = load(scene)
+    if scene.instruments:
+        from .instruments.pipeline import run_with_instruments
+
+        res, writer = run_with_instruments(scene, method=method, progress=progress,
+                                           checkpoint=checkpoint, rtol=rtol, atol=atol)
+        res.instrument_writer = writer
+        return res
+    from .simulate import simulate
+
+    return simulate(scene, method=method, rtol=rtol, atol=atol, progress=progress,
+                    checkpoint=checkpoint)
+
+
+def read(path: Union[str, os.PathLike]):
+    """Read a recording into a :class:`stand.Recording` (:func:`stand.recording.read_recording`)."""
+    from .recording import read_recording
+
+    return read_recording(path)
+
+
+def theory(scene, max_speed: Optional[float] = None, floquet: bool = True) -> dict:
+    """What the theory says of a scene (:func:`stand.theory.of_scene.theory`); a dict.
+
+    ``max_speed`` [rev/s] is the upper end of the speed scans.
+    """
+    from .scene import Scene
+    from .theory.of_scene import theory as _theory
+
+    if not isinstance(scene, Scene):
+        scene = load(scene)
+    return _theory(scene, max_speed=max_speed, floquet=floquet)
+
+
+def analyze(source, grade_mm_s: float = 6.3, service_speed_rpm: Optional[float] = None) -> dict:
+    """Identification from a recording (:func:`stand.identify.analyze`): a Run, a Recording,
+    or a path (HDF5 or CSV)."""
+    from .identify import analyze as _analyze
+
+    return _analyze(source, grade_mm_s=grade_mm_s, service_speed_rpm=service_speed_rpm)
+
+
+def report(source, *, html_path=None, json_path=None, grade=6.3,
+           service_speed_rpm: Optional[float] = None) -> dict:
+    """Balancing-quality report (:func:`stand.reports.balancing.balancing_report`) of a Run,
+    a Recording or a path; writes ``html_path`` / ``json_path`` when given, returns the
+    report's JSON document."""
+    from .recording import Recording
+    from .reports.balancing import balancing_report
+    from .result import Run
+
+    if isinstance(source, Recording):
+        source = source.path
+    if isinstance(source, Run):   # a run in memory: its recording, in a temporary folder
+        with tempfile.TemporaryDirectory() as d:
+            path = Path(d) / f"{getattr(source.scene, 'name', '') or 'run'}.h5"
+            source.write(path)
+            return balancing_report(str(path), grade=grade, service_speed_rpm=service_speed_rpm,
+                                    html_path=html_path, json_path=json_path)
+    return balancing_report(source, grade=grade, service_speed_rpm=service_speed_rpm,
+                            html_path=html_path, json_path=json_path)

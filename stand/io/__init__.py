@@ -1,0 +1,1 @@
+"""Files in and out: atomic writes (:mod:`.atomic`), JSON (:mod:`.jsonable`)."""
