@@ -216,19 +216,18 @@ def check(obj, path: str, names: Optional[Iterable[str]] = None) -> None:
         object.__setattr__(obj, name, value)
 
 
-def read_table(t, cls, skip: Iterable[str] = ()) -> dict:
+def read_table(t, cls) -> dict:
     """Keyword arguments of ``cls`` from a TOML table (:class:`stand.scene_file.Table`).
 
     Every declared field present in the table is read in its TOML unit and
     converted (a required field must be present); absent ones are left to the
-    dataclass defaults.  Fields in ``skip`` (and lists, see :func:`numbers`)
-    are left to the caller.  Messages are those of the ``Table`` getters:
-    dotted key, value, TOML unit.
+    dataclass defaults.  Lists (:func:`numbers`) are left to the caller.
+    Messages are those of the ``Table`` getters: dotted key, value, TOML unit.
     """
     kw = {}
     for f in dataclasses.fields(cls):
         spec = f.metadata.get(_KEY)
-        if spec is None or spec.read is None or f.name in skip:
+        if spec is None or spec.read is None:
             continue
         required = f.default is MISSING and f.default_factory is MISSING
         if f.name in t or required:
