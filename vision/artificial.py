@@ -53,9 +53,19 @@ CHUNK = 2048                #: sub-sample positions drawn per matrix product
 GUIDE_BITS = 16             #: bucket table of the background inversion: 2**16 entries
 
 
+class _Quantised:
+    """Full scale and frame type of a sensor with ``bit_depth`` bits."""
+
+    __slots__ = ()
+    max_dn = property(lambda self: (1 << self.bit_depth) - 1,
+                      doc="Full scale (saturation) 2**bit_depth - 1 [DN].")
+    dtype = property(lambda self: np.dtype(np.uint8 if self.bit_depth <= 8 else np.uint16),
+                     doc="Frame type: uint8 up to 8 bits, else uint16.")
+
+
 # ---------------------------------------------------------------- spot frames
 @dataclass(frozen=True)
-class Camera:
+class Camera(_Quantised):
     """Sensor and spot of synthetic laser-spot frames (DN: digital numbers).
 
     Attributes
@@ -106,16 +116,6 @@ class Camera:
         su, sv = self.sigma_uv
         if not (su > 0 and sv > 0):
             raise ValueError(f"sigma_px = {self.sigma_px!r}: must be > 0 (px)")
-
-    @property
-    def max_dn(self) -> int:
-        """Saturation value 2**bit_depth - 1 [DN]."""
-        return (1 << self.bit_depth) - 1
-
-    @property
-    def dtype(self):
-        """uint8 for 8 bits, else uint16."""
-        return np.dtype(np.uint8) if self.bit_depth == 8 else np.dtype(np.uint16)
 
     @property
     def sigma_uv(self) -> tuple:
@@ -374,7 +374,7 @@ MARK_SPAN = (0.80, 0.97)    #: reference mark, fractions of the rim radius
 
 
 @dataclass(frozen=True)
-class StrobeSetup:
+class StrobeSetup(_Quantised):
     """The light-slot stroboscope's view of the rotor (lengths in m).
 
     Attributes
@@ -500,8 +500,7 @@ def strobe_frame(relative_angles, setup: StrobeSetup = StrobeSetup(), rng=None, 
         acc = rng.poisson(np.clip(acc, 0, None) * s.full_well) / s.full_well
     if s.read_noise > 0:
         acc = acc + rng.normal(0.0, s.read_noise, acc.shape)
-    dtype = np.uint8 if s.bit_depth <= 8 else np.uint16
-    return np.rint(np.clip(acc, 0.0, 1.0) * ((1 << s.bit_depth) - 1)).astype(dtype)
+    return np.rint(np.clip(acc, 0.0, 1.0) * s.max_dn).astype(s.dtype)
 
 
 def image_multiplicity(angles, blur: float) -> int:
