@@ -37,6 +37,7 @@ import numpy as np
 
 from .errors import SignalError, check_signal
 from .lines import fit_lines, naff, spectrum, window_weights
+from .units import DEG_PER_RAD, converted
 
 __all__ = ["Component", "QPDecomposition", "decompose", "unbalance_from_nutation",
            "damping_from_precession"]
@@ -70,10 +71,7 @@ class Component:
     phase_std_rad: float
     direction: str
 
-    @property
-    def phase_deg(self) -> float:
-        """arg(amplitude) at t_ref [deg]."""
-        return math.degrees(self.phase_rad)
+    phase_deg = converted("phase_rad", DEG_PER_RAD, "arg(amplitude) at t_ref [deg].")
 
 
 @dataclass(frozen=True)

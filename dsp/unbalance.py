@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import SignalError, check_times
+from .units import DEG_PER_RAD, GMM_PER_KG_M, converted
 
 __all__ = ["SynchronousComponent", "synchronous_component", "UnbalanceEstimate",
            "unbalance_from_response", "RingReading", "unbalance_from_rings",
@@ -85,10 +86,8 @@ class SynchronousComponent:
     t_start: float = 0.0
     t_end: float = 0.0
 
-    @property
-    def phase_deg(self) -> float:
-        """Phase of the 1X vector ahead of the reference mark [deg]."""
-        return math.degrees(self.phase_rad)
+    phase_deg = converted("phase_rad", DEG_PER_RAD,
+                          "Phase of the 1X vector ahead of the reference mark [deg].")
 
 
 def _real_signal(v, name, n):
@@ -233,18 +232,14 @@ def synchronous_component(t, x, y, *, keyphasor_times=None, rotor_angle=None,
 
 # ------------------------------------------------------------- model inversion
 
-def _gmm(attr, doc):
-    """Read-only property: the [kg m] attribute ``attr`` in [g mm] (x 1e6)."""
-    return property(lambda self: getattr(self, attr) * 1e6, doc=doc)
-
-
 class _InGramMillimetres:
     """``unbalance_gmm``, ``unbalance_std_gmm`` [g mm] of a result holding
     ``unbalance_kg_m``, ``unbalance_std_kg_m`` [kg m]."""
 
     __slots__ = ()
-    unbalance_gmm = _gmm("unbalance_kg_m", "U [g mm] (1 kg m = 1e6 g mm).")
-    unbalance_std_gmm = _gmm("unbalance_std_kg_m", "Standard uncertainty of U [g mm].")
+    unbalance_gmm = converted("unbalance_kg_m", GMM_PER_KG_M, "U [g mm].")
+    unbalance_std_gmm = converted("unbalance_std_kg_m", GMM_PER_KG_M,
+                                  "Standard uncertainty of U [g mm].")
 
 
 @dataclass(frozen=True)
@@ -271,10 +266,7 @@ class UnbalanceEstimate(_InGramMillimetres):
     vector_kg_m: complex
     speed_ratio: float
 
-    @property
-    def angle_deg(self) -> float:
-        """beta [deg]."""
-        return math.degrees(self.angle_rad)
+    angle_deg = converted("angle_rad", DEG_PER_RAD, "beta [deg].")
 
 
 def _positive(name, v, allow_zero=False):
