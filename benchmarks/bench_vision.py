@@ -1,6 +1,7 @@
-"""Benchmark of vision.spot: frames/s of track() on 640x480 8-bit noisy frames
-(one core, best of 3 repeats), RMS error vs truth, against a least-squares Gaussian fit and
-trackpy.locate (benchmark-only dependency, skipped when not installed).
+"""Benchmark of vision.spot: frames/s of track() on 640x480 8-bit noisy frames drawn by
+vision.artificial (one core, best of 3 repeats), RMS error vs truth, against a
+least-squares Gaussian fit and trackpy.locate (benchmark-only dependency, skipped
+when not installed).
 
     python benchmarks/bench_vision.py [--frames 2000]
 """
@@ -14,8 +15,7 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 import cv2  # noqa: E402
 import numpy as np  # noqa: E402
 
-from stand.instruments.render import render_frames  # noqa: E402
-from stand.instruments.screen import ScreenCamera  # noqa: E402
+from vision import artificial as art  # noqa: E402
 from vision.spot import locate, track  # noqa: E402
 
 cv2.setNumThreads(1)
@@ -43,12 +43,12 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--frames", type=int, default=2000)
     n = ap.parse_args().frames
-    cam = ScreenCamera(pixel_pitch=1e-3 / 8, spot_diameter=1e-3, subsamples=1)   # sigma 2 px
+    cam = art.Camera(sigma_px=2.0)   # 640 x 480, 8 bit, the stand camera's default noise
     t = np.arange(n) / n * 2 * np.pi * 5
     rng = np.random.default_rng(0)
     px = np.column_stack([320 + 150 * np.cos(t) + rng.uniform(-.5, .5, n),
                           240 + 100 * np.sin(1.3 * t) + rng.uniform(-.5, .5, n)])[:, None, :]
-    frames = list(render_frames(px, cam))
+    frames = list(art.spot_frames(px, cam))
     truth = px[:, 0]
     rows = []
     track(frames[:50])   # warm-up
@@ -87,7 +87,7 @@ def main():
         est = np.array(est)
         rows.append(("trackpy.locate (diameter 9, full frame)", k / dt,
                      math.sqrt(np.nanmean((est - truth[:k]) ** 2))))
-    print(f"640x480 uint8, sigma 2 px, ScreenCamera default noise, {n} frames, one core")
+    print(f"640x480 uint8, sigma 2 px, vision.artificial.Camera default noise, {n} frames, one core")
     print(f"{'method':42s} {'frames/s':>10s} {'RMS err [px]':>13s}")
     for name, fps, rms in rows:
         print(f"{name:42s} {fps:10.0f} {rms:13.4f}")
