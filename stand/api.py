@@ -79,12 +79,12 @@ def read(path: Union[str, os.PathLike]):
 
 
 def theory(scene, max_speed: Optional[float] = None, floquet: bool = True) -> dict:
-    """What the theory says of a scene (:func:`stand.theory.of_scene.theory`); a dict.
+    """What the theory says of a scene (:func:`stand.scene_theory.theory`); a dict.
 
     ``max_speed`` [rev/s] is the upper end of the speed scans.
     """
     from .scene import Scene
-    from .theory.of_scene import theory as _theory
+    from .scene_theory import theory as _theory
 
     if not isinstance(scene, Scene):
         scene = load(scene)

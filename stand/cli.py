@@ -227,7 +227,7 @@ def _cmd_stress(args) -> int:
 
 def _cmd_theory(args) -> int:
     from .api import load
-    from .theory.of_scene import theory, theory_lines
+    from .scene_theory import theory, theory_lines
 
     scene = load(args.scene)
     if args.plot and not Path(args.plot).resolve().parent.exists():
@@ -235,7 +235,7 @@ def _cmd_theory(args) -> int:
     doc = theory(scene, max_speed=args.max_speed, floquet=not args.no_floquet)
     if args.plot:
         if doc["kind"] == "chapter5":
-            from .theory.speedmap import plot_speed_map, scene_theory
+            from .planar_theory.speedmap import plot_speed_map, scene_theory
 
             plot_speed_map(scene_theory(scene, R_max=args.max_speed * 2 * np.pi / scene.natural_frequency
                                         if args.max_speed else None), args.plot)

@@ -9,8 +9,8 @@ from dsp.regime import classify_windows, critical_speeds, speed_band
 from stand import experiments as ex
 from stand.scene_file import load_scene
 from stand.simulate import simulate
-from stand.theory import main_motion as mm
-from stand.theory.speedmap import scene_theory
+from stand.planar_theory import main_motion as mm
+from stand.planar_theory.speedmap import scene_theory
 
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 

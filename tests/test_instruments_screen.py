@@ -28,7 +28,7 @@ from stand.instruments.screen import (ScreenCamera, exposure_times, frame_times,
 from stand.scene import RunSettings, SceneError
 from stand.scene_file import Table, load_scene
 from stand.simulate import simulate
-from stand.theory.qp import epitrochoid, spot_law
+from stand.planar_theory.qp import epitrochoid, spot_law
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ROOT / "data_samples" / "scenes"
@@ -390,8 +390,8 @@ def test_simulated_stuck_balls_long_exposure_shows_k_minus_1_petals():
 
     from stand.scene_file import load_scene
     from stand.simulate import simulate
-    from stand.theory.qp import qp_roots
-    from stand.theory.verify import at_speed
+    from stand.planar_theory.qp import qp_roots
+    from stand.planar_theory.verify import at_speed
 
     base = load_scene(Path(__file__).resolve().parents[1] / "data_samples" / "scenes" / "ball_stuck.toml")
     R = brentq(lambda r: r / qp_roots(r, 0.01, 0.05, 0.05)[0] - 3.0, 2.5, 3.2, xtol=1e-13)

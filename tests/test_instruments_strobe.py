@@ -28,7 +28,7 @@ from stand.instruments.timing import wrap
 from stand.scene import SceneError, SpeedDrive
 from stand.scene_file import Table, load_scene
 from stand.simulate import simulate
-from stand.theory.qp import qp_roots
+from stand.planar_theory.qp import qp_roots
 
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 TWO_PI = 2 * math.pi

@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from stand.theory.main_motion import main_eigenvalues
-from stand.theory.qp import qp_roots
+from stand.planar_theory.main_motion import main_eigenvalues
+from stand.planar_theory.qp import qp_roots
 
 from stand.accuracy import closed_form_no_balancer
 from stand.planar import build_planar_model, rhs_planar, rhs_planar_numpy

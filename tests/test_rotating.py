@@ -12,7 +12,7 @@ from stand.planar import build_planar_model
 from stand.rotating import main_motion_state, rotating_jacobian, rotating_rhs
 from stand.scene import RunSettings, SpeedDrive
 from stand.scene_file import scene_from_dimensionless
-from stand.theory.main_motion import main_eigenvalues
+from stand.planar_theory.main_motion import main_eigenvalues
 
 
 def _model(n, W, Rt, h, H, e0):

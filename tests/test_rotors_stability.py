@@ -11,7 +11,7 @@ from stand.rotors.coupled import PlaneWeights, simulate_coupled
 from stand.scene_file import load_scene
 from stand.rotors.stability import _state_guess, main_motion_critical_speeds, main_motion_stability
 from stand.scene import Balancer
-from stand.theory.main_motion import critical_speeds, d_two_balls, spectral_abscissa
+from stand.planar_theory.main_motion import critical_speeds, d_two_balls, spectral_abscissa
 
 
 def _planar(m=0.025, l=0.1, e0=0.5, h=0.3, H=0.1):

@@ -19,7 +19,7 @@ import pytest
 from stand.sweep import (TIMING_COLUMNS, SweepSpecError, add_sweep_arguments, load_sweep,
                          parts_dir, read_results, run_sweep, sweep_main)
 from stand.sweep.maps import critical_speed_map, regime_map
-from stand.theory import main_motion as mm
+from stand.planar_theory import main_motion as mm
 
 ROOT = Path(__file__).resolve().parents[1]
 SWEEPS = ROOT / "data_samples" / "sweeps"
@@ -154,7 +154,7 @@ def test_theory_sweep_10k_points_under_a_minute_and_band_structure(tmp_path):
     is_stable / the QP escape speed, and the band structure of scene_theory."""
     from stand.scene_file import load_scene, parse_scene
     from stand.sweep.spec import point_scene_dict
-    from stand.theory.speedmap import scene_theory
+    from stand.planar_theory.speedmap import scene_theory
 
     spec = load_sweep(SWEEPS / "ball_theory_map.toml")
     assert spec.n_points == 10_000
@@ -215,7 +215,7 @@ def test_theory_with_side_motions_matches_scene_theory(tmp_path):
     """theory.side = true: the full set of stable motions equals scene_theory's band."""
     from stand.scene_file import parse_scene
     from stand.sweep.spec import point_scene_dict
-    from stand.theory.speedmap import scene_theory
+    from stand.planar_theory.speedmap import scene_theory
 
     spec = load_sweep(_spec_text("""
         [sweep]

@@ -14,7 +14,7 @@ from stand.planar import COAST_T0, build_planar_model, rhs_planar
 from stand.rotating import constant_speed_programme
 from stand.scene import RunSettings, SpeedDrive
 from stand.scene_file import scene_from_dimensionless
-from stand.theory.qp import (QPWarning, dspeed_dOmega, epitrochoid, escape_speed,
+from stand.planar_theory.qp import (QPWarning, dspeed_dOmega, epitrochoid, escape_speed,
                              frequency_polynomial, qp_roots, qp_stability, qp_thresholds,
                              speed_of_precession, spot_law)
 
@@ -500,6 +500,6 @@ def test_invalid_inputs_name_the_parameter(name, args):
 
 def test_docstring_examples():
     import doctest
-    import stand.theory.qp as qp
+    import stand.planar_theory.qp as qp
     res = doctest.testmod(qp, optionflags=doctest.NORMALIZE_WHITESPACE)
     assert res.failed == 0 and res.attempted >= 5

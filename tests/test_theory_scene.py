@@ -11,10 +11,10 @@ from stand.regime import classify
 from stand.scene import RunSettings, SpeedDrive
 from stand.scene_file import load_scene, scene_from_dimensionless
 from stand.simulate import simulate
-from stand.theory import main_motion as mm
-from stand.theory import qp
-from stand.theory.speedmap import TheoryError, scene_theory
-from stand.theory.verify import at_speed, check_thresholds
+from stand.planar_theory import main_motion as mm
+from stand.planar_theory import qp
+from stand.planar_theory.speedmap import TheoryError, scene_theory
+from stand.planar_theory.verify import at_speed, check_thresholds
 
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 

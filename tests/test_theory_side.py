@@ -15,7 +15,7 @@ from stand.planar import build_planar_model
 from stand.rotating import rotating_rhs
 from stand.scene import RunSettings, SpeedDrive
 from stand.scene_file import scene_from_dimensionless
-from stand.theory.side import (
+from stand.planar_theory.side import (
     bits_of, identical_side_classes, is_stable, large_unbalance_coefficients,
     main_motion_angles, maximally_balanced_motion, net_unbalance, side_motions, side_window,
     stable_steady_motions, steady_deflection, steady_eigenvalues, steady_residual, steady_state,

@@ -19,7 +19,7 @@ from stand.instruments.screen import ScreenCamera, pixels_to_screen
 from stand.recording import write_recording
 from stand.scene import SpeedDrive
 from stand.scene_file import load_scene
-from stand.theory.qp import qp_roots
+from stand.planar_theory.qp import qp_roots
 from vision.io import iter_frames
 from vision.spot import track
 

@@ -13,7 +13,7 @@ units in ``docs/reports.md``):
   seeds' household and general-machine criteria;
 * ``dynamics`` -- natural frequency and damping (identified with their
   standard uncertainties when the record allows it, and the model's values),
-  critical speeds found vs the theory (:func:`stand.theory.speedmap.scene_theory`),
+  critical speeds found vs the theory (:func:`stand.planar_theory.speedmap.scene_theory`),
   the regime timeline, settling times after each perturbation;
 * ``warnings`` -- capacity exceeded, stuck-ball risk band, friction-limited
   residual, model-validity flags;
@@ -577,7 +577,7 @@ def _dynamics(d, scene, t, x, y, phi, speed, rotating, notes, warn):
         try:
             import warnings as _w
 
-            from ..theory.speedmap import scene_theory
+            from ..planar_theory.speedmap import scene_theory
 
             with _w.catch_warnings():
                 _w.simplefilter("ignore")
@@ -711,7 +711,7 @@ def _scene_warnings(scene, d, bq, dyn, w_service, final_speed, steady_len, t, sp
                  "side)")
     if scene.balancer.count and final_speed:
         from ..scene import dimensionless
-        from ..theory import qp
+        from ..planar_theory import qp
 
         try:
             p = dimensionless(scene)

@@ -26,7 +26,7 @@ rad/s so t [s] = tau):
 * ``balanced`` -- residual unbalance |psi|/S at the end against the main
   motion of the theory: 0 for e0 <= 1, e0 - 1 for e0 > 1 (all weights on
   the light side, digest 4.5); stability of the main motion from
-  :func:`stand.theory.main_motion.is_stable`.
+  :func:`stand.planar_theory.main_motion.is_stable`.
 * ``locked`` -- huge ball drag: the shaft against the closed form of the same
   rotor with the weights locked at their initial angles (the limit h -> inf,
   :func:`stand.accuracy.closed_form_no_balancer`).
@@ -51,7 +51,7 @@ exact steady unbalance response, which it must keep) or ``balanced`` (two
 balls: static residual / unbalance at the end).
 
 ``qp_threshold`` (stuck balls near the escape speed R*_omega = 1 + 2 Rt/(h H)
-of :mod:`stand.theory.qp`, e0 = 0, started on the quasi-periodic motion with a
+of :mod:`stand.planar_theory.qp`, e0 = 0, started on the quasi-periodic motion with a
 small separation of the balls): ``qp_persists`` (R < R*: the precession speed
 must stay Omega_1 of (5.181)) or ``escape`` (R > R*: the balls leave the QP
 motion and balance).
@@ -482,7 +482,7 @@ def _reference(case, scene, tr, res):
 def _kind_dimensionless(case, res):
     from ..accuracy import closed_form_no_balancer
     from ..scene import Balancer, Rotor
-    from ..theory.main_motion import StabilityWarning, d_from_angles, d_two_balls, is_stable
+    from ..planar_theory.main_motion import StabilityWarning, d_from_angles, d_two_balls, is_stable
 
     p, chk = case["params"], case["check"]
     scene = _dimensionless_scene(p)
@@ -506,7 +506,7 @@ def _kind_dimensionless(case, res):
         if stable is False:
             invalid.append(f"the main motion is not asymptotically stable at R_omega = {R:g} "
                            f"(Rt = {p['Rt']:g}, h = {p['h']:g}, H = {p['H']:g}, d = {d:.3g}; "
-                           "stand.theory.main_motion.is_stable): balancing is not predicted")
+                           "stand.planar_theory.main_motion.is_stable): balancing is not predicted")
         final = float(psi[-1]) if len(psi) else float("nan")
         res.update(oracle=f"main motion of the theory: residual {expected:g} S at R_omega = {R:g}"
                    + ("" if stable is None else f" (stable: {stable})"),
@@ -757,7 +757,7 @@ def _qp_scene(p):
     """The stuck-ball (QP) motion of the theory as an initial state, e0 = 0."""
     from ..scene import InitialState, RunSettings, SpeedDrive
     from ..scene_file import scene_from_dimensionless
-    from ..theory.qp import escape_speed, qp_roots
+    from ..planar_theory.qp import escape_speed, qp_roots
 
     Rt, h, H = p["Rt"], p["h"], p["H"]
     Rs = escape_speed(Rt, h, H)
@@ -779,7 +779,7 @@ def _qp_scene(p):
 
 
 def _kind_qp(case, res):
-    from ..theory.qp import qp_stability
+    from ..planar_theory.qp import qp_stability
 
     p, chk = case["params"], case["check"]
     Rt, h, H = p["Rt"], p["h"], p["H"]

@@ -69,8 +69,8 @@ def _error_text(exc: BaseException) -> str:
 @functools.lru_cache(maxsize=4096)
 def _main_d(n: int, e0: float):
     """Configuration parameter d of the main motion (as :func:`scene_theory`); None if none."""
-    from ..theory import main_motion as mm
-    from ..theory import side
+    from ..planar_theory import main_motion as mm
+    from ..planar_theory import side
 
     if not e0 <= 1:
         return None
@@ -81,7 +81,7 @@ def _main_d(n: int, e0: float):
 @functools.lru_cache(maxsize=4096)
 def _critical(Rt: float, h: float, H: float, d: float, R_max: float):
     """Critical speeds of the main motion (R, kind) on (0.05, R_max), cached per worker."""
-    from ..theory import main_motion as mm
+    from ..planar_theory import main_motion as mm
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -98,7 +98,7 @@ def _q(x: float) -> float:
 
 def _main_stable_batch(R: np.ndarray, Rt: float, h: float, H: float, d: float):
     """(abscissa, stable) at the speeds ``R``: :func:`main_motion.is_stable`, vectorised."""
-    from ..theory import main_motion as mm
+    from ..planar_theory import main_motion as mm
 
     if h == 0.0 and H == 0.0:
         marg = mm._conservative_margin_batch(R, Rt, d)
@@ -135,7 +135,7 @@ def _with_speed(scene, key: str, value: float):
 
 
 def _operating_R(scene) -> float:
-    from ..theory.speedmap import _operating_speed
+    from ..planar_theory.speedmap import _operating_speed
 
     d0 = scene.drive
     w1 = scene.natural_frequency
@@ -160,8 +160,8 @@ def _theory_rows(rows: list, scenes: list, opts: dict) -> None:
 
     from ..planar import build_planar_model
     from ..scene import SpeedDrive
-    from ..theory import qp, side
-    from ..theory.speedmap import MAX_WEIGHTS_FOR_SIDE, TheoryError, _check_scope
+    from ..planar_theory import qp, side
+    from ..planar_theory.speedmap import MAX_WEIGHTS_FOR_SIDE, TheoryError, _check_scope
 
     groups: dict = {}
     for i, (row, sc) in enumerate(zip(rows, scenes)):

@@ -35,7 +35,7 @@ Stability
   between the frequencies omega_i = sqrt(-x_i) and the smallest omega_i.  It
   vanishes exactly where two real roots x collide (a discriminant event) or a
   root x passes through 0, and its sign is that of the indicator "some x is
-  non-real or >= 0" (:mod:`stand.theory.main_critical` locates its zeros).
+  non-real or >= 0" (:mod:`stand.planar_theory.main_critical` locates its zeros).
 * Exactly one of h, H zero.  *Not* a neutral case, contrary to what one might
   expect: with h = 0 the coefficient a1 of (5.90) vanishes identically, so by
   Vieta (a1/a0 = -sum 1/l_i) the roots cannot all lie in the open left
@@ -45,7 +45,7 @@ Stability
   (+8e-9 at R = 100 for Rt = 0.05, h = 0.3, d = 0.3) that sinks below round-off
   near R ~ 10^3.  Both verified numerically over Rt in [0.001, 0.45], the other
   damping in [0.001, 20], d in [0, 1].  :func:`is_stable` returns False and
-  :func:`stand.theory.main_critical.critical_speeds` returns [], each with a
+  :func:`stand.planar_theory.main_critical.critical_speeds` returns [], each with a
   :class:`StabilityWarning`.
 * Round-off.  The computed abscissa is trusted down to ``_abscissa_tol(R)``
   (~4e-15 (1 + R)^2); a point whose abscissa lies within it counts as stable and

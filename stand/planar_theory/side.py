@@ -7,11 +7,11 @@ units (digest ch5 section 2.2): R = omega/omega_1, e0 and e_j in units of the
 balancing capacity, shaft deflections in units of r*.  This module gathers the
 theory; the code lives in
 
-* :mod:`stand.theory.steady` -- which steady motions exist: the steady
+* :mod:`stand.planar_theory.steady` -- which steady motions exist: the steady
   equations (5.49) and their conventions (the corrected (5.57) and (5.64)),
   main motions (5.50), the maximally balanced motion, side motions and their
   existence windows (5.61)-(5.75);
-* :mod:`stand.theory.steady_stability` -- their stability: the rotating-frame
+* :mod:`stand.planar_theory.steady_stability` -- their stability: the rotating-frame
   state, the Jacobian's eigenvalues, the e0 > 1 conservative coefficients
   (5.155)-(5.158) and :func:`stable_steady_motions`, all motions at a speed
   with their verdicts.

@@ -1,7 +1,7 @@
 """Critical speeds of the main motion: the speeds at which it gains or loses stability.
 
 Digest ch5 sections 4.2 and 4.4, on the characteristic polynomial (5.90) and
-its conservative form (5.98) of :mod:`stand.theory.main_charpoly` (parameters
+its conservative form (5.98) of :mod:`stand.planar_theory.main_charpoly` (parameters
 and units there: R, Rt, h, H, d, all dimensionless).
 
 * Damped case (h, H > 0).  a0 = Rt^2 R^8 (1 - d^2) > 0, so roots cross the
@@ -16,7 +16,7 @@ and units there: R, Rt, h, H, d, all dimensionless).
   found (checked against brute-force grids of 10^5-10^6 points); each sign change
   is then solved with ``brentq``.
 * Conservative case (h = H = 0).  The same scan is run on the signed margin
-  of :mod:`stand.theory.main_charpoly` (> 0 iff some root x = l^2 of (5.98) is
+  of :mod:`stand.planar_theory.main_charpoly` (> 0 iff some root x = l^2 of (5.98) is
   non-real or >= 0); ``brentq`` on it locates the boundaries to
   ~1e-12 near R ~ 1-3 (a collision is a double root x, so double precision
   limits this to about 1e-10 R^2 at higher speeds).  The touching double root
@@ -24,8 +24,8 @@ and units there: R, Rt, h, H, d, all dimensionless).
   the thin band it opens into for k < 1 is (Rt = 0.05, d = 0.02: (1.67091,
   1.68351)).
 * Exactly one of h, H zero: never asymptotically stable (see
-  :mod:`stand.theory.main_charpoly`); :func:`critical_speeds` returns [] with a
-  :class:`~stand.theory.main_charpoly.StabilityWarning`.
+  :mod:`stand.planar_theory.main_charpoly`); :func:`critical_speeds` returns [] with a
+  :class:`~stand.planar_theory.main_charpoly.StabilityWarning`.
 
 Crossings are found with hysteresis, so that an abscissa lying flat within its
 round-off floor (``_abscissa_tol``, very small damping at high speed) cannot
@@ -283,7 +283,7 @@ def critical_speeds(Rt, h, H, d, R_min=R_MIN_DEFAULT, R_max=R_MAX_DEFAULT, *, n_
     Damped case: scan of f(R) = abscissa(R) - tol(R) with tol the round-off floor
     (~4e-15 (1 + R)^2; moves a crossing by tol / slope, far below any printed
     digit).  Conservative case: the signed margin (notes of
-    :mod:`stand.theory.main_charpoly`, :func:`_conservative_margin_batch`) minus its
+    :mod:`stand.planar_theory.main_charpoly`, :func:`_conservative_margin_batch`) minus its
     noise floor 1e-7 (1 + R) (so a touching double root, (5.107) at k = 1, is not
     taken for a band); each boundary is then re-solved on the margin itself
     (:func:`_polish_conservative`).  Unstable bands narrower than the location

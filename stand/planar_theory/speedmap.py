@@ -2,9 +2,9 @@
 
 This answers a designer's first questions -- *from which speed does the
 balancer balance, what can go wrong below and above, what will the laser spot
-show?* -- for a scene, from the theory of :mod:`stand.theory.main_motion`
-(main motion, (5.90)), :mod:`stand.theory.side` (side motions and the e0 > 1
-main motion, rotating-frame Jacobian) and :mod:`stand.theory.qp`
+show?* -- for a scene, from the theory of :mod:`stand.planar_theory.main_motion`
+(main motion, (5.90)), :mod:`stand.planar_theory.side` (side motions and the e0 > 1
+main motion, rotating-frame Jacobian) and :mod:`stand.planar_theory.qp`
 (quasi-periodic motions, (5.181)-(5.237)).
 
 Scope (the book's chapter 5 model): identical weights with a common relative

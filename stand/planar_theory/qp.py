@@ -18,8 +18,8 @@ All quantities are dimensionless (digest ch5 section 2.2): ``R`` = omega/omega_1
 unbalance in units of the balancing capacity.
 
 The frequency equation and its curve R(Omega) (the inverse of (5.181)) are in
-:mod:`stand.theory.qp_curve`; the laser-spot law (5.237) in
-:mod:`stand.theory.qp_spot`.  This module gathers all of them.
+:mod:`stand.planar_theory.qp_curve`; the laser-spot law (5.237) in
+:mod:`stand.planar_theory.qp_spot`.  This module gathers all of them.
 
 Root finding
 ------------
@@ -28,7 +28,7 @@ P is linear in R, so every Omega > 0 belongs to exactly one speed R(Omega)
 intersections of this curve with the horizontal line R.  The root count
 changes only at the local extrema of R(Omega) (Table 5.1-A), which lie in
 (1, sqrt 5) and exist only for H below about 0.7136 (located in
-:mod:`stand.theory.qp_curve`).  Between consecutive extrema R(Omega) is
+:mod:`stand.planar_theory.qp_curve`).  Between consecutive extrema R(Omega) is
 monotonic and ``brentq`` solves R(Omega) = R on each branch, so nearly double
 roots are never lost.
 

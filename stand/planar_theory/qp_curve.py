@@ -1,7 +1,7 @@
 """The frequency equation (5.181) of the quasi-periodic motions and its curve R(Omega).
 
 Digest ch5 section 5 (book section 5.5); the quasi-periodic ("stuck-ball")
-motions, their parameters and units are described in :mod:`stand.theory.qp`
+motions, their parameters and units are described in :mod:`stand.planar_theory.qp`
 (all dimensionless: R, Omega in units of omega_1, Rt = R~_m, h the ball drag,
 H the support damping).  The torque balance on the stuck balls gives the
 corrected frequency equation (5.181)
@@ -13,7 +13,7 @@ P is linear in R, so every Omega > 0 belongs to exactly one speed,
 
     R(Omega) = Omega + 2 R_mH Omega^5 / D(Omega)                (speed_of_precession)
 
-and the QP roots at a speed R (:func:`stand.theory.qp.qp_roots`) are the
+and the QP roots at a speed R (:func:`stand.planar_theory.qp.qp_roots`) are the
 intersections of this curve with the horizontal line R.  The root count
 changes only at the local extrema of R(Omega) (Table 5.1-A).  Writing x = Omega^2,
 

@@ -10,14 +10,14 @@ damping, d the configuration parameter (5.88).
 
 This module gathers the theory; the code lives in
 
-* :mod:`stand.theory.main_charpoly` -- the polynomial (5.90), its conservative
+* :mod:`stand.planar_theory.main_charpoly` -- the polynomial (5.90), its conservative
   form (5.98), eigenvalues, spectral abscissa, the stability verdict
   :func:`is_stable`, the parameter d (5.88), and the independent check on the
   simulator's rotating-frame Jacobian;
-* :mod:`stand.theory.main_critical` -- the critical speeds (where stability is
+* :mod:`stand.planar_theory.main_critical` -- the critical speeds (where stability is
   gained or lost), the unbalance-independent threshold, the exact high-speed
   ball-drag threshold;
-* :mod:`stand.theory.main_closed_forms` -- the book's closed forms
+* :mod:`stand.planar_theory.main_closed_forms` -- the book's closed forms
   (5.96)-(5.128) and the slow balancing roots.
 """
 from __future__ import annotations

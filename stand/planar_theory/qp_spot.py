@@ -1,7 +1,7 @@
 """The laser-spot law of a quasi-periodic motion: precession plus nutation, (5.229)-(5.243).
 
 Digest ch5 section 5.3 (book section 5.5).  A QP motion (a root Omega of the
-frequency equation (5.181), :func:`stand.theory.qp.qp_roots`) of a rotor with
+frequency equation (5.181), :func:`stand.planar_theory.qp.qp_roots`) of a rotor with
 a small unbalance e0 moves the shaft -- and the laser spot on the screen -- on
 the epitrochoid (5.237), the sum of the precession at Omega and the nutation
 at the rotor speed R.  Dimensionless units (digest ch5 section 2.2): speeds in
@@ -124,7 +124,7 @@ def spot_law(Omega, R, e0, H, R_m=None, *, gamma=0.0, max_denominator=12, rtol=1
     formula gives 10.297, the simulation 10.298) and nutation 0.337 r*
     (first order in e0; the simulation gives 0.3605).
 
-    >>> from stand.theory.qp import qp_roots
+    >>> from stand.planar_theory.qp import qp_roots
     >>> W = qp_roots(3.0, 0.01, 0.05, 0.05)[0]
     >>> s = spot_law(W, 3.0, 0.3, 0.05, R_m=0.02)
     >>> round(s.A_P, 3), round(s.A_N, 3), round(s.k, 3), s.shape

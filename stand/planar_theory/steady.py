@@ -1,7 +1,7 @@
 """Steady motions with the weights fixed relative to the rotor: which exist.
 
 Main motions (5.50), side motions (5.51)-(5.75) and the e0 > 1 "maximally
-balanced" main motion; their stability is in :mod:`stand.theory.steady_stability`.
+balanced" main motion; their stability is in :mod:`stand.planar_theory.steady_stability`.
 
 Digest ch5 sections 3 and 4.5 (book section 5.2 and 5.4).  All quantities are
 dimensionless (digest ch5 section 2.2): ``R`` = omega/omega_1 (the book's

@@ -5,8 +5,8 @@ order (5.125)-(5.127) with their smallness parameter (5.128), the high-speed
 ball-drag threshold (5.96), the conservative series and parametric forms
 (5.102)-(5.107), the stability window for large support damping (5.97) and
 the slow balancing roots.  Dimensionless parameters as in
-:mod:`stand.theory.main_charpoly` (R, Rt, h, H, d); the exact values come from
-:mod:`stand.theory.main_critical`.
+:mod:`stand.planar_theory.main_charpoly` (R, Rt, h, H, d); the exact values come from
+:mod:`stand.planar_theory.main_critical`.
 """
 from __future__ import annotations
 

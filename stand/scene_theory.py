@@ -1,7 +1,7 @@
 """``stand.theory(scene)``: what the theory says of any scene, and why a part does not apply.
 
 * planar rotor with identical balls or pendulums: chapter 5 (speed bands,
-  critical speeds, stuck-ball law; :func:`stand.theory.speedmap.scene_theory`);
+  critical speeds, stuck-ball law; :func:`stand.planar_theory.speedmap.scene_theory`);
 * any other structure, and the planar rotor without weights or outside the
   chapter-5 theory: the structure's natural frequencies, Campbell data,
   critical speeds and the engineering criterion's working ranges per plane
@@ -18,7 +18,7 @@ from __future__ import annotations
 import json
 import math
 
-from ..io.jsonable import to_jsonable
+from .io.jsonable import to_jsonable
 
 __all__ = ["theory", "theory_lines"]
 
@@ -35,11 +35,11 @@ def theory(scene, max_speed: float | None = None, floquet: bool = True) -> dict:
         Rotor structures with weights: include the Floquet scan of the main
         motion (seconds).
     """
-    from .speedmap import TheoryError, scene_theory
+    from .planar_theory.speedmap import TheoryError, scene_theory
 
     na = []
     if scene.kind == "book":
-        from ..balancers.scene import model_theory
+        from .balancers.scene import model_theory
 
         doc = model_theory(scene)
         return {"kind": "book_model", **doc, "not_applicable": na}
@@ -54,7 +54,7 @@ def theory(scene, max_speed: float | None = None, floquet: bool = True) -> dict:
         na.append("correction weights: the scene has none, so there are no steady motions of "
                   "weights, no balancing speed bands and no stuck-ball law; the structure's "
                   "natural frequencies and critical speeds follow")
-    from ..rotors.run import family_theory
+    from .rotors.run import family_theory
 
     doc = family_theory(scene, max_speed * 2 * math.pi if max_speed else None,
                         floquet=floquet and bool(scene.n_weights))

@@ -1,14 +1,14 @@
 """Stability of the steady motions from the rotating-frame Jacobian (book section 5.4).
 
-Digest ch5 section 4.5.  The steady motions of :mod:`stand.theory.steady`
+Digest ch5 section 4.5.  The steady motions of :mod:`stand.planar_theory.steady`
 (main motions (5.50), side motions (5.51)-(5.75), the e0 > 1 main motion) are
 placed in the state of :mod:`stand.rotating`; stability is decided by the
 eigenvalues of the Jacobian of :func:`stand.rotating.rotating_rhs` (the
 simulator's own equations in the rotating frame, central differences) at the
-exact equilibrium.  Dimensionless units as in :mod:`stand.theory.steady`
+exact equilibrium.  Dimensionless units as in :mod:`stand.planar_theory.steady`
 (R = omega/omega_1, e0 and e_j in units of the capacity, deflections in r*);
 the conventions (heavy side on the +real axis, angles alpha_j from it) are
-those of :mod:`stand.theory.steady` too.
+those of :mod:`stand.planar_theory.steady` too.
 """
 from __future__ import annotations
 
@@ -215,7 +215,7 @@ def stable_steady_motions(model, R: float, e0: Optional[float] = None, n: Option
           on the member through d).
         * "main (maximally balanced)" (e0 > 1, or n = 1 and e0 != 1): all
           weights together on the light side
-          (:func:`stand.theory.steady.maximally_balanced_motion`).
+          (:func:`stand.planar_theory.steady.maximally_balanced_motion`).
         * "side k=K", K = 0..n: for each class of (5.75) the two roots (5.66),
           labelled by the number K of weights at the light end of the common
           line (one motion for the class e_k = 0).  A class inside its

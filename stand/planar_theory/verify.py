@@ -1,6 +1,6 @@
 """Theory against simulation: run the simulator on both sides of each predicted threshold.
 
-For every critical speed of :func:`stand.theory.speedmap.scene_theory` the
+For every critical speed of :func:`stand.planar_theory.speedmap.scene_theory` the
 scene is simulated at constant speeds a little below and a little above it
 (after a gentle run-up from rest, like the stand's own experiments), the final
 regime is classified (:func:`stand.regime.classify`), and compared with the
