@@ -5,19 +5,20 @@ A report is a dict (JSON-serialisable, SI units named in the keys, e.g.
 writes one HTML file with the figures embedded as PNG data URIs and every
 number taken from the document (no external URL in ``src``/``href`` except
 ``#anchors``); all text from inputs is escaped.  :func:`write_report` writes
-the HTML and the JSON atomically (temporary file + rename).
+the HTML and the JSON atomically through :mod:`stand.io.atomic` (temporary file
+beside the target, then rename; normal file permissions, 0666 minus the
+umask), the JSON converted by :mod:`stand.io.jsonable`.
 """
 from __future__ import annotations
 
 import base64
 import html
 import io
-import json
-import math
-import os
-import tempfile
-from pathlib import Path
+import re
 from typing import Any, Iterable, Mapping
+
+from ..io.atomic import write_text
+from ..io.jsonable import dumps, to_jsonable
 
 __all__ = ["figure_png", "render_html", "write_report", "atomic_write_text", "jsonable",
            "check_schema"]
@@ -28,31 +29,27 @@ text-align:left;vertical-align:top}th{background:#eee}.fail{color:#b00;font-weig
 .pass{color:#070;font-weight:bold}.warn{color:#a60}img{max-width:100%}code{background:#f4f4f4}"""
 
 
-_PNG_URI = __import__("re").compile(r"data:image/png;base64,[A-Za-z0-9+/]*={0,2}")
+_PNG_URI = re.compile(r"data:image/png;base64,[A-Za-z0-9+/]*={0,2}")
 
-
-def jsonable(x: Any) -> Any:
-    """Plain JSON types: numpy scalars/arrays to Python, non-finite floats to None."""
-    import numpy as np
-
-    if isinstance(x, Mapping):
-        return {str(k): jsonable(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [jsonable(v) for v in x]
-    if isinstance(x, np.ndarray):
-        return jsonable(x.tolist())
-    if isinstance(x, (np.floating, float)):
-        v = float(x)
-        return v if math.isfinite(v) else None
-    if isinstance(x, (np.integer,)):
-        return int(x)
-    if isinstance(x, (np.bool_,)):
-        return bool(x)
-    return x
+#: plain JSON types (numpy to Python, non-finite floats to None): :func:`stand.io.jsonable.to_jsonable`
+jsonable = to_jsonable
+#: atomic text write, normal permissions: :func:`stand.io.atomic.write_text`
+atomic_write_text = write_text
 
 
 def figure_png(fig) -> str:
-    """A matplotlib figure as a ``data:image/png;base64,...`` URI (figure closed)."""
+    """A matplotlib figure as a PNG data URI; the figure is closed.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        Rendered at 90 dpi (pixels per inch of the figure size).
+
+    Returns
+    -------
+    str
+        ``"data:image/png;base64,..."``, for the ``figures`` of :func:`render_html`.
+    """
     import matplotlib.pyplot as plt
 
     buf = io.BytesIO()
@@ -109,9 +106,30 @@ def _rows_table(rows: Iterable[Mapping]) -> str:
 
 def render_html(title: str, doc: Mapping, figures: Mapping[str, str] | None = None,
                 sections: Iterable[str] | None = None) -> str:
-    """HTML text: a title, one section per top-level key of ``doc`` (in
-    ``sections`` order if given), tables of its values, then the figures
-    (``{caption: data URI}``)."""
+    """The HTML text of a report.
+
+    Parameters
+    ----------
+    title : str
+        Page title and heading (escaped).
+    doc : mapping
+        Plain JSON document; one section per top-level key, its values as
+        tables (numbers with 6 significant digits, units as named in the keys).
+    figures : mapping of str to str, optional
+        ``{caption: data URI}``; only embedded PNG data URIs are accepted.
+    sections : iterable of str, optional
+        The top-level keys to show, in this order (default: all, in ``doc`` order).
+
+    Returns
+    -------
+    str
+        One self-contained HTML page (no external URL).
+
+    Raises
+    ------
+    ValueError
+        A figure is not an embedded PNG data URI.
+    """
     parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
              f"<style>{CSS}</style></head><body><h1>{html.escape(title)}</h1>"]
     keys = list(sections) if sections is not None else list(doc)
@@ -142,37 +160,64 @@ def render_html(title: str, doc: Mapping, figures: Mapping[str, str] | None = No
     return "\n".join(parts)
 
 
-def atomic_write_text(path, text: str) -> Path:
-    """Write ``text`` to ``path`` through a temporary file in the same directory."""
-    path = Path(path)
-    if not path.resolve().parent.is_dir():
-        raise FileNotFoundError(f"output directory of {str(path)!r} does not exist")
-    fd, tmp = tempfile.mkstemp(dir=str(path.resolve().parent), prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            f.write(text)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-    return path
-
-
 def write_report(title: str, doc: Mapping, html_path=None, json_path=None, figures=None,
                  sections=None) -> dict:
-    """Write the HTML and/or the JSON of a report; returns the plain JSON document."""
-    plain = jsonable(doc)
+    """Write the HTML and/or the JSON of a report; return the plain JSON document.
+
+    Parameters
+    ----------
+    title : str
+        Title of the HTML page.
+    doc : mapping
+        The report (any values :func:`stand.io.jsonable.to_jsonable` converts;
+        units named in the keys).
+    html_path, json_path : str or os.PathLike, optional
+        Where to write the self-contained HTML and the JSON (indented, strict:
+        no NaN).  Each is written atomically by :func:`stand.io.atomic.write_text`
+        with normal file permissions (0666 minus the umask, or the replaced
+        file's).
+    figures : mapping of str to str, optional
+        ``{caption: PNG data URI}`` (:func:`figure_png`).
+    sections : iterable of str, optional
+        Order of the top-level keys in the HTML.
+
+    Returns
+    -------
+    dict
+        ``doc`` as plain JSON types (non-finite floats as ``None``).
+
+    Raises
+    ------
+    FileNotFoundError
+        The directory of an output path does not exist.
+    """
+    plain = to_jsonable(doc)
     if json_path:
-        atomic_write_text(json_path, json.dumps(plain, indent=2))
+        write_text(json_path, dumps(plain, indent=2))
     if html_path:
-        atomic_write_text(html_path, render_html(title, plain, figures, sections))
+        write_text(html_path, render_html(title, plain, figures, sections))
     return plain
 
 
 def check_schema(doc: Mapping, schema: Mapping, where: str = "") -> list:
-    """Minimal structural check: ``schema`` maps required keys to a type name
-    ("number", "string", "bool", "list", "object", "number|null") or to a
-    nested schema (dict).  Returns a list of problems (empty when valid)."""
+    """Minimal structural check of a JSON document.
+
+    Parameters
+    ----------
+    doc : mapping
+        The document (plain JSON types).
+    schema : mapping
+        Required keys to a type name ("number", "string", "bool", "list",
+        "object", alternatives joined by "|" such as "number|null") or to a
+        nested schema (dict).
+    where : str
+        Prefix of the key paths in the messages (e.g. ``"cases[3]."``).
+
+    Returns
+    -------
+    list of str
+        The problems (missing key, wrong type), empty when ``doc`` is valid.
+    """
     problems = []
     types = {"number": (int, float), "string": (str,), "bool": (bool,), "list": (list,),
              "object": (dict,)}
