@@ -205,6 +205,7 @@ def write_recording(run: Run, path: Union[str, os.PathLike], *,
                 ds.attrs["description"] = _describe(key)
             for axis in ("x", "y"):
                 f[f"shaft/{axis}"] = h5py.SoftLink(f"/planes/{run.main_plane}/{axis}")
+            f.require_group("weights")
             time = f["time"]
             time.make_scale("time")
             for key in data:
@@ -469,9 +470,9 @@ def _read_open(f: "h5py.File", label: str) -> Recording:
     main = attrs.get("main_plane") if isinstance(attrs.get("main_plane"), str) else None
     if main is None and legacy is not None:
         main = legacy.get("main")
-    if "shaft/x" in f or "shaft/y" in f or main not in planes:
+    if (f.get("shaft/x") is not None and f.get("shaft/y") is not None) or main not in planes:
         for key in REQUIRED[1:]:
-            if key not in f:
+            if f.get(key) is None:   # absent, or a link to a deleted plane
                 raise RecordingError(f"{label}: missing dataset '{key}' (required: "
                                      f"{', '.join(REQUIRED)})")
         shaft = np.column_stack([_read_dataset(f, k, label, N) for k in REQUIRED[1:]])

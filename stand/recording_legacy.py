@@ -21,6 +21,8 @@ WEIGHT_MODEL_FORMAT = "autobalancer-stand weight-model recording 1"
 def legacy_layout(f: "h5py.File", attrs: dict, label: str, notes: list):
     """``None`` for this version's files, else ``{"planes", "main", "coordinates", "truth"}``."""
     fmt = attrs.get("format")
+    if not isinstance(fmt, str):
+        return None
     if fmt == FAMILY_FORMAT:
         notes.append(f"{FAMILY_FORMAT!r}: a rotor-family file written before the one layout; "
                      "read through shaft/x|y, planes/<plane> (N, 2) and weights/relative_angle")

@@ -31,11 +31,12 @@ def test_run_ball_runup_json_and_recording(tmp_path, capsys):
     assert doc["whirl_radius_m"] >= 0
     with h5py.File(out, "r") as f:
         expected = {"time": "s", "shaft/x": "m", "shaft/y": "m", "rotor/angle": "rad",
-                    "rotor/speed": "rad/s", "weights/angle": "rad", "weights/speed": "rad/s"}
+                    "rotor/speed": "rad/s", "weights/ball1/angle": "rad",
+                    "weights/ball2/speed": "rad/s"}
         for name, unit in expected.items():
             assert f[name].attrs["units"] == unit
             assert f[name].shape[0] == f["time"].shape[0]
-        assert f["weights/angle"].shape[1] == 2
+        assert sorted(f["weights"]) == ["ball1", "ball2"]
         assert "ball_runup" in f.attrs["scene"]
         assert json.loads(f.attrs["solver"])["method"] == "DOP853"
         assert f.attrs["version"]

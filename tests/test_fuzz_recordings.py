@@ -29,6 +29,7 @@ from hypothesis import strategies as st
 
 from stand.cli import main
 from stand.recording import DATASETS, Recording, RecordingError, read_recording, write_recording
+from stand.result import Run, SolverStats
 from stand.scene_file import load_scene
 
 FAST = settings(max_examples=120, deadline=20_000, derandomize=True, database=None,
@@ -64,10 +65,13 @@ def _trajectory(n=401, weights=2, rotating=True):
     phi = w * t
     z = 1e-4 * np.exp(1j * (phi + 0.3)) + (0 if rotating else 1e-4 * np.exp(-t) * np.cos(19 * t))
     wa = phi[:, None] + np.linspace(1.0, 2.0, weights)[None, :]
-    return SimpleNamespace(t=t, x=z.real, y=z.imag, rotor_angle=phi, rotor_speed=np.full(n, w),
-                           weight_angle=wa, weight_speed=np.full((n, weights), w),
-                           stats={"method": "DOP853", "status": 0, "message": "ok"},
-                           scene=load_scene(SCENE))
+    names = [f"ball{j + 1}" for j in range(weights)]
+    return Run(t=t, planes={"balancer": np.column_stack([z.real, z.imag])}, main_plane="balancer",
+               rotor_angle=phi, rotor_speed=np.full(n, w),
+               weights={nm: {"angle": wa[:, j], "speed": np.full(n, w)} for j, nm in enumerate(names)},
+               weight_planes={nm: "balancer" for nm in names},
+               stats=SolverStats(method="DOP853", rtol=1e-8, atol=1e-10, message="ok"),
+               scene=load_scene(SCENE))
 
 
 @pytest.fixture(scope="module")
@@ -234,7 +238,7 @@ def test_changed_datasets_are_read_or_named(originals, tmp_path_factory, key, ki
 
 
 @FAST
-@given(st.lists(st.sampled_from(KEYS + ["shaft", "rotor", "weights"]), min_size=1, max_size=4,
+@given(st.lists(st.sampled_from(KEYS + ["shaft", "rotor", "weights", "planes"]), min_size=1, max_size=4,
                 unique=True), st.sampled_from(["rot", "free"]))
 def test_deleted_datasets_and_groups_are_read_or_named(originals, tmp_path_factory, keys, which):
     p = tmp_path_factory.mktemp("del") / "del.h5"
@@ -244,7 +248,8 @@ def test_deleted_datasets_and_groups_are_read_or_named(originals, tmp_path_facto
             if k in f:
                 del f[k]
     res = check_read(p)
-    missing_required = any(k in keys for k in ("time", "shaft", "shaft/x", "shaft/y"))
+    # shaft/x|y are links to planes/<main plane>/x|y: the shaft is lost only with the planes
+    missing_required = any(k in keys for k in ("time", "planes"))
     if missing_required:
         assert isinstance(res, RecordingError) and "missing dataset" in str(res)
     else:

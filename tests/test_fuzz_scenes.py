@@ -21,7 +21,8 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from stand.rotors.scene import FamilyScene, parse_family_scene
+from stand.rotors.scene import parse_family_scene
+from stand.scene import Scene as FamilyScene
 from stand.scene import METHODS, Scene, SceneError
 from stand.scene_file import load_scene, parse_scene
 
@@ -655,7 +656,7 @@ def family_or_error(doc):
 def test_valid_family_scenes_parse(doc):
     fs = parse_family_scene(copy.deepcopy(doc))
     assert isinstance(fs, FamilyScene)
-    assert fs.rotor_type == doc["structure"]["type"]
+    assert fs.structure_type == doc["structure"]["type"] and fs.kind == "rotor"
     assert len(fs.weights) == len(doc.get("weights", []))
 
 

@@ -115,7 +115,7 @@ def test_every_function_on_every_scene_api(short_scene, tmp_path):
         np.testing.assert_array_equal(rec.planes[p], xy)
     np.testing.assert_array_equal(rec.x, run.x)
     assert set(rec.weights) == set(run.weights)
-    th = stand.planar_theory(scene, floquet=False)
+    th = stand.theory(scene, floquet=False)
     assert th["kind"] in ("chapter5", "structure", "book_model")
     a1 = stand.analyze(run)
     a2 = stand.analyze(rec)

@@ -53,9 +53,9 @@ sample_rate = 100.0
 """
 
 UNITS = {
-    "time": "s", "shaft/x": "m", "shaft/y": "m", "rotor/angle": "rad",
-    "rotor/speed": "rad/s", "weights/angle": "rad", "weights/speed": "rad/s",
-    "weights/relative_angle": "rad",
+    "time": "s", "shaft/x": "m", "shaft/y": "m", "planes/balancer/x": "m", "planes/balancer/y": "m",
+    "rotor/angle": "rad", "rotor/speed": "rad/s", "weights/ball1/angle": "rad",
+    "weights/ball1/speed": "rad/s", "weights/ball2/angle": "rad", "weights/ball2/speed": "rad/s",
 }
 SOLVER_KEYS = {"method", "rtol", "atol", "n_steps", "n_rejected", "nfev", "wall_time",
                "status", "message"}
@@ -82,11 +82,11 @@ def test_round_trip_arrays_exact(traj, tmp_path):
         assert a.dtype == np.float64 and a.shape == b.shape, name
         assert np.array_equal(a, b), name
     assert rec.weight_angle.shape == (len(traj.t), 2)
-    assert np.array_equal(rec.relative_angle, traj.weight_angle - traj.rotor_angle[:, None])
+    assert np.array_equal(rec.relative_angle, traj.relative_angle)
     assert rec.notes == ()
     assert rec.units == {"t": "s", "x": "m", "y": "m", "rotor_angle": "rad",
-                         "rotor_speed": "rad/s", "weight_angle": "rad",
-                         "weight_speed": "rad/s", "relative_angle": "rad"}
+                         "rotor_speed": "rad/s"}
+    assert set(rec.weights) == {"ball1", "ball2"} and rec.weight_planes["ball2"] == "balancer"
     with pytest.raises(ValueError):
         rec.x[0] = 1.0  # read-only
 
@@ -101,6 +101,10 @@ def test_dataset_attributes_and_storage(traj, tmp_path):
             assert ds.dtype == np.float64
             assert ds.compression == "gzip" and ds.compression_opts == 4 and ds.shuffle, key
             assert ds.chunks is not None
+            if key != "time":   # the time axis is attached as a dimension scale
+                assert ds.dims[0][0].name == "/time", key
+        # shaft/x|y are links to the main plane's datasets, not copies
+        assert f.get("shaft/x", getlink=True).path == "/planes/balancer/x"
 
 
 def test_root_attributes(traj, tmp_path):
@@ -108,14 +112,15 @@ def test_root_attributes(traj, tmp_path):
     rec = read_recording(path)
     a = rec.attrs
     assert a["format"] == FORMAT == "autobalancer-stand recording"
-    assert a["format_version"] == FORMAT_VERSION == 1
+    assert a["format_version"] == FORMAT_VERSION == 2
+    assert a["structure"] == "planar" and a["main_plane"] == "balancer"
     assert a["version"] == rec.version == __version__
     assert a["scene_name"] == "two balls, recording test"
     assert a["created"].endswith("+00:00")
     assert a["operator"] == "test" and a["gain"] == 2.5
     # scene text round-trips and loads to the same scene
     assert rec.scene_text == TWO_BALLS
-    scene = rec.scene()
+    scene = rec.scene
     assert scene.name == traj.scene.name
     assert scene.balancer.count == 2
     np.testing.assert_array_equal(scene.balancer.mass, traj.scene.balancer.mass)
@@ -150,21 +155,19 @@ def test_to_frame(traj, tmp_path):
     rec = read_recording(write_recording(traj, tmp_path / "run.h5"))
     df = rec.to_frame()
     assert list(df.columns) == ["t_s", "x_m", "y_m", "rotor_angle_rad", "rotor_speed_rad_s",
-                                "weight1_angle_rad", "weight1_speed_rad_s",
-                                "weight2_angle_rad", "weight2_speed_rad_s"]
+                                "ball1_angle_rad", "ball1_speed_rad_s",
+                                "ball2_angle_rad", "ball2_speed_rad_s"]
     assert len(df) == len(traj.t)
     assert np.array_equal(df["x_m"].to_numpy(), traj.x)
-    assert np.array_equal(df["weight2_speed_rad_s"].to_numpy(), traj.weight_speed[:, 1])
+    assert np.array_equal(df["ball2_speed_rad_s"].to_numpy(), traj.weight_speed[:, 1])
 
 
-def test_no_balancer_writes_empty_weight_datasets(traj_none, tmp_path):
+def test_no_balancer_writes_an_empty_weights_group(traj_none, tmp_path):
     assert traj_none.scene.balancer.type == "none"
     N = len(traj_none.t)
     path = write_recording(traj_none, tmp_path / "bare.h5")
     with h5py.File(path, "r") as f:
-        for key in ("weights/angle", "weights/speed", "weights/relative_angle"):
-            assert f[key].shape == (N, 0), key
-            assert f[key].attrs["units"] == UNITS[key]
+        assert isinstance(f["weights"], h5py.Group) and len(f["weights"]) == 0
     rec = read_recording(path)
     assert rec.weight_angle.shape == rec.weight_speed.shape == rec.relative_angle.shape == (N, 0)
     assert rec.n_weights == 0
@@ -267,9 +270,11 @@ def test_wrong_length_named(traj, tmp_path):
 
 
 def test_weight_column_mismatch(traj, tmp_path):
+    """A format-1 style file whose weight matrices disagree on the number of weights."""
     path = write_recording(traj, tmp_path / "run.h5")
     with h5py.File(path, "a") as f:
-        del f["weights/speed"]
+        del f["weights"]
+        f["weights/angle"] = np.zeros((len(traj.t), 2))
         f["weights/speed"] = np.zeros((len(traj.t), 3))
     with pytest.raises(RecordingError, match="weights/speed"):
         read_recording(path)
@@ -330,8 +335,7 @@ def test_foreign_file_minimal(tmp_path):
     assert any("time" in n and "units" in n for n in rec.notes)
     assert list(rec.to_frame().columns)[:5] == ["t_s", "x_m", "y_m", "rotor_angle_rad",
                                                 "rotor_speed_rad_s"]
-    with pytest.raises(RecordingError, match="no scene"):
-        rec.scene()
+    assert rec.scene is None and any("scene" in n for n in rec.notes)
 
 
 def test_foreign_file_with_weights_computes_relative_angle(tmp_path):
@@ -345,7 +349,7 @@ def test_foreign_file_with_weights_computes_relative_angle(tmp_path):
         f["weights/angle"] = np.arange(N, dtype=float) * 2  # one weight, stored (N,)
     rec = read_recording(path)
     assert rec.weight_angle.shape == (N, 1)
-    assert np.array_equal(rec.relative_angle[:, 0], np.arange(N, dtype=float))
+    assert np.allclose(rec.relative_angle[:, 0], np.angle(np.exp(1j * np.arange(N))))
     assert np.isnan(rec.weight_speed).all()
     assert any("weights/speed" in n for n in rec.notes)
     assert any("relative_angle" in n for n in rec.notes)
