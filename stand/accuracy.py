@@ -159,7 +159,7 @@ def _rk4_run(scene: Scene, step_s: float, t_samples: np.ndarray):
     import time
 
     from .kernels import PLANAR
-    from .rk4 import rk4_loop
+    from .integrate.rk4 import rk4_loop
 
     model = build_planar_model(scene)
     if model.free or model.impulses.size:

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import json
 import sys
 from pathlib import Path
 
@@ -379,185 +378,47 @@ def _cmd_analyze(args) -> int:
     return 0
 
 
-def _atomic_csv(df, path) -> None:
-    import os
-    import tempfile
+def _write_csv(df, path) -> None:
+    from .io.atomic import atomic_path
 
-    out = os.path.abspath(path)
-    fd, tmp = tempfile.mkstemp(dir=os.path.dirname(out), suffix=".csv.tmp")
-    os.close(fd)
-    try:
+    with atomic_path(path, suffix=".csv.tmp") as tmp:
         df.to_csv(tmp, index=False)
-        os.replace(tmp, out)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-
-
-def _screen_meta(source):
-    """(optical gain, exposure [s], frame rotor angles [rad] or None) of a recording's screen."""
-    import json as _json
-
-    import h5py
-
-    src = str(source).split(":")[0]
-    try:
-        with h5py.File(src, "r") as f:
-            g = f["instruments/screen"]
-            settings = _json.loads(g.attrs.get("settings", "{}"))
-            phi = g["frame_rotor_angle"][:] if "frame_rotor_angle" in g else None
-            return float(settings.get("gain", 1.0)), float(settings.get("exposure", 0.0)), phi
-    except (OSError, KeyError, ValueError):
-        return None, 0.0, None
-
-
-def _analyze_columns(df, args, X, Y):
-    """Columns that `stand analyze` reads from a CSV: t_s, x_m, y_m (shaft
-    displacement = screen displacement / optical gain) and rotor_angle_rad when
-    the source recording has the keyphasor angle of each frame."""
-    import numpy as np
-
-    gain, exposure, phi = _screen_meta(args.source) if str(args.source).split(":")[0].endswith(
-        (".h5", ".hdf5")) else (None, 0.0, None)
-    if args.optical_gain is not None:
-        gain = float(args.optical_gain)
-        if not gain > 0:
-            raise ValueError(f"--optical-gain = {args.optical_gain}: must be > 0")
-    if gain is None:
-        return
-    if "time" in df:
-        df["t_s"] = df["time"] + 0.5 * exposure          # mid-exposure
-    df["x_m"], df["y_m"] = X / gain, Y / gain
-    if phi is not None and len(phi) == len(df):
-        df["rotor_angle_rad"] = phi                          # at the start of each exposure
-
-
-def _calibration_image(path):
-    """The ring image: an image file, or a recording's instruments/screen/calibration_image."""
-    import cv2
-
-    from vision.io import VisionError
-
-    if str(path).lower().endswith((".h5", ".hdf5")):
-        import h5py
-
-        try:
-            with h5py.File(path, "r") as f:
-                return f["instruments/screen/calibration_image"][:]
-        except (OSError, KeyError):
-            raise VisionError(f"--calibration {path!r}: not a recording with "
-                              "instruments/screen/calibration_image") from None
-    img = cv2.imread(str(path), cv2.IMREAD_GRAYSCALE)
-    if img is None:
-        raise VisionError(f"--calibration {path!r}: not a readable image")
-    return img
 
 
 def _cmd_track(args) -> int:
-    import numpy as np
+    from vision.io import VisionError
 
-    from dsp.unbalance import unbalance_from_rings
-    from vision.calibration import detect_rings, fit_homography, px_to_m
-    from vision.io import VisionError, iter_frames
-    from vision.spot import track
-    from vision.trace import track_traces
+    from .tracking import track_frames
 
     if not Path(args.output).resolve().parent.is_dir():
         raise FileNotFoundError(f"output directory of {args.output!r} does not exist")
-    if args.capacity is not None and not (args.capacity > 0):
-        raise ValueError(f"--capacity = {args.capacity}: must be > 0 (g mm)")
-    if args.capacity is not None and not args.trace:
-        raise ValueError("--capacity reads circles against the rings: it needs --trace")
-    frames = iter_frames(args.source, progress=sys.stderr.isatty())
     try:
-        if args.trace:
-            df = track_traces(frames, gain=args.gain, threshold=args.threshold,
-                              spot_sigma_px=args.spot_sigma)
-        else:
-            df = track(frames, gain=args.gain, threshold=args.threshold)
-        if args.calibration:
-            radii = _ring_radii(args)
-            cal = fit_homography(detect_rings(_calibration_image(args.calibration)), radii)
-            X, Y = px_to_m(df["u_px"].to_numpy(), df["v_px"].to_numpy(), cal)
-            df["x_mm"], df["y_mm"] = np.asarray(X) * 1e3, np.asarray(Y) * 1e3
-            df["scale_mm_per_px"] = cal.scale * 1e3
-            if not args.trace:
-                _analyze_columns(df, args, np.asarray(X), np.asarray(Y))
-            if args.trace:
-                # the circle's radius on the screen: the mean scale around the circle
-                df["radius_mm"] = df["radius_px"] * cal.scale * 1e3
-                df["radius_std_mm"] = df["radius_std_px"] * cal.scale * 1e3
-                if args.capacity is not None:
-                    S = args.capacity * 1e-6
-                    zone, U = [], []
-                    for r in df["radius_mm"].to_numpy() * 1e-3:
-                        if np.isfinite(r):
-                            rd = unbalance_from_rings(r, radii, S)
-                            zone.append(rd.zone)
-                            U.append(rd.interpolated_kg_m * 1e6)
-                        else:
-                            zone.append(-1)
-                            U.append(np.nan)
-                    df["zone"] = zone
-                    df["unbalance_gmm"] = U
-        elif args.capacity is not None:
-            raise ValueError("--capacity needs --calibration (the rings)")
+        df = track_frames(args.source, calibration=args.calibration, ring_radii=args.ring_radii,
+                          gain=args.gain, threshold=args.threshold, trace=args.trace,
+                          spot_sigma=args.spot_sigma, capacity_gmm=args.capacity,
+                          optical_gain=args.optical_gain, progress=sys.stderr.isatty())
     except VisionError as exc:
         raise ValueError(str(exc)) from None
-    _atomic_csv(df, args.output)
+    _write_csv(df, args.output)
     ok = int(df["ok"].sum()) if "ok" in df else len(df)
     what = "trace" if args.trace else "spot"
     print(f"{args.source}: {len(df)} frames, {what} found in {ok} -> {args.output}")
     return 0
 
 
-def _ring_radii(args):
-    import numpy as np
-
-    if args.ring_radii:
-        try:
-            return np.array([float(v) for v in args.ring_radii.split(",")])
-        except ValueError:
-            raise ValueError(f"--ring-radii = {args.ring_radii!r}: comma-separated radii in m") from None
-    import h5py
-
-    src = str(args.source).split(":")[0]
-    try:
-        with h5py.File(src, "r") as f:
-            return f["instruments/screen/ring_radius"][:]
-    except (OSError, KeyError):
-        raise ValueError("--calibration needs the rings' radii: give --ring-radii (m, comma-separated) "
-                         "or track a recording that stores instruments/screen/ring_radius") from None
-
-
 def _cmd_strobe(args) -> int:
-    import pandas as pd
+    from vision.io import VisionError
 
-    from vision.io import VisionError, iter_frames
-    from vision.strobe import weight_angles
+    from .tracking import strobe_angles
 
     if not Path(args.output).resolve().parent.is_dir():
         raise FileNotFoundError(f"output directory of {args.output!r} does not exist")
-    rows = []
     try:
-        source = args.source if ":" in str(args.source) or not str(args.source).endswith(".h5") \
-            else (args.source, "instruments/stroboscope/frames")
-        for rec in iter_frames(source):
-            try:
-                a = weight_angles(rec.image, n_weights=args.weights)
-            except VisionError as exc:
-                rows.append({"frame": rec.index, "time": rec.time, "ok": False, "note": str(exc)})
-                continue
-            row = {"frame": rec.index, "time": rec.time, "ok": True, "images": a.n_images,
-                   "mark_deg": float(__import__("math").degrees(a.mark_angle))}
-            for j, (ang, sd) in enumerate(zip(a.angles, a.sigma), start=1):
-                row[f"weight{j}_deg"] = float(__import__("math").degrees(ang))
-                row[f"weight{j}_std_deg"] = float(__import__("math").degrees(sd))
-            rows.append(row)
+        df = strobe_angles(args.source, n_weights=args.weights)
     except VisionError as exc:
         raise ValueError(str(exc)) from None
-    _atomic_csv(pd.DataFrame(rows), args.output)
-    print(f"{args.source}: {len(rows)} strobe frames -> {args.output}")
+    _write_csv(df, args.output)
+    print(f"{args.source}: {len(df)} strobe frames -> {args.output}")
     return 0
 
 

@@ -10,7 +10,7 @@ path :mod:`stand.integrate.driver`.  A book weight model (``[weight_model]``)
 runs its own right-hand side through scipy's solvers
 (:mod:`stand.balancers.book_run`).  Methods:
 
-* ``"DOP853"`` -- compiled explicit 8th-order Runge-Kutta (:mod:`stand.dop853`),
+* ``"DOP853"`` -- compiled explicit 8th-order Runge-Kutta (:mod:`stand.integrate.dop853`),
   the default for ordinary scenes;
 * ``"Radau"``, ``"BDF"``, ``"LSODA"`` -- scipy's implicit/switching solvers on
   the compiled right-hand side with a compiled finite-difference Jacobian; "auto"

@@ -1,6 +1,9 @@
 """dsp.unbalance: 1X order tracking, model inversion, rings, ISO 21940-11 (issue 5 item 2)."""
 import math
-import tomllib
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python 3.10
+    import tomli as tomllib
 from pathlib import Path
 
 import numpy as np

@@ -19,7 +19,6 @@ import shutil
 import time
 from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
-from types import SimpleNamespace
 
 import h5py
 import numpy as np

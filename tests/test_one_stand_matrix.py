@@ -27,7 +27,10 @@ SHORT = {"planar": 4.0, "rotor": 3.0, "book": None}
 
 def _short_text(path: str) -> str:
     """The scene's TOML with a shorter [run].duration (and fewer samples for book models)."""
-    import tomllib
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python 3.10
+        import tomli as tomllib
 
     text = Path(path).read_text()
     doc = tomllib.loads(text)

@@ -157,7 +157,10 @@ sample_rate = 20
 
 
 def test_parse_scene_dict():
-    import tomllib
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python 3.10
+        import tomli as tomllib
     scene = parse_scene(tomllib.loads(VALID), text="x")
     assert scene.text == "x" and scene.balancer.count == 2
 

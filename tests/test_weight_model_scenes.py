@@ -1,7 +1,6 @@
 """[weight_model] scenes: stand theory / stand run for every weight type of issue 8."""
 import json
 
-import h5py
 import numpy as np
 import pytest
 

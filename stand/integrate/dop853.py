@@ -14,10 +14,10 @@ times.
 from __future__ import annotations
 
 import numpy as np
-from scipy.integrate._ivp import dop853_coefficients as _co
+from . import dop853_coefficients as _co
 
-from ._jit import njit
-from .kernels import rhs
+from .._jit import njit
+from ..kernels import rhs
 
 N_STAGES = _co.N_STAGES  # 12
 A = np.ascontiguousarray(_co.A, dtype=float)  # (16, 16)

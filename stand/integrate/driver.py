@@ -9,7 +9,7 @@ where the forcing has a kink; the step restarts there) and ``impulses``
 ``python_rhs(tau, y)``; it is stepped by scipy's solvers only.
 
 * :func:`run_dop853` -- the compiled Dormand-Prince 8(5,3) loop
-  (:mod:`stand.dop853`) in chunks, with optional checkpoints and a progress bar;
+  (:mod:`stand.integrate.dop853`) in chunks, with optional checkpoints and a progress bar;
 * :func:`run_scipy` -- one of scipy's ``OdeSolver`` classes (Radau, BDF,
   LSODA, DOP853) stepped one step at a time on the compiled right-hand side
   with a compiled finite-difference Jacobian, sampling by dense output.
@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from .._jit import njit
-from ..dop853 import DIVERGED, NOT_FINITE, REACHED_END, STEP_BUDGET, dop853_loop
+from .dop853 import DIVERGED, NOT_FINITE, REACHED_END, STEP_BUDGET, dop853_loop
 from ..kernels import rhs
 from ..scene import SceneError
 

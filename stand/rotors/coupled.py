@@ -15,7 +15,7 @@ from typing import Sequence
 import numpy as np
 
 from ..programme import programme_kinematics
-from .coupled_kernel import (N_WCOL, W_L, W_M, W_PLANE, CoupledModel, PlaneWeights, build_model,
+from .coupled_kernel import (W_L, W_M, W_PLANE, CoupledModel, PlaneWeights, build_model,
                              rhs_generic, with_locked_weights)
 from .structure import LinearRotor
 

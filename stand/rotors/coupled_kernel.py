@@ -37,7 +37,7 @@ own length scale, so that the tolerances mean the same for every rotor.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Optional, Sequence
 
 import numpy as np

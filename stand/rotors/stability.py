@@ -42,7 +42,7 @@ ATOL = 1e-13
 
 def _flow(model: CoupledModel, y0: np.ndarray, T: float) -> np.ndarray:
     """State after the scaled time T from y0 at tau = 0 (compiled DOP853)."""
-    from ..dop853 import REACHED_END, dop853_loop
+    from ..integrate.dop853 import REACHED_END, dop853_loop
     from ..kernels import GENERIC, rhs
 
     y = np.array(y0, dtype=float)

@@ -1,0 +1,210 @@
+"""Images to numbers on the stand: spot tracks, ring calibration, ring zones, strobe angles.
+
+The pipelines behind ``stand track`` and ``stand strobe`` as library functions
+(the CLI only parses and prints): :mod:`vision` finds the spot (or the circle
+a long exposure draws) in each frame, the calibration rings turn pixels into
+metres (:mod:`vision.calibration`), and with the balancer's capacity the ring
+zone i·S/16 and the interpolated unbalance of each frame follow
+(:func:`dsp.unbalance.unbalance_from_rings`, the lab's laser method of §4.3).
+Frames, ring images, ring radii and the screen's settings come from an image
+or video (vision.io) or from a recording (read through :mod:`stand.recording`).
+"""
+from __future__ import annotations
+
+import math
+from typing import Optional
+
+import numpy as np
+
+__all__ = ["track_frames", "strobe_angles", "ring_radii_of", "calibration_image"]
+
+SCREEN = "instruments/screen"
+
+
+def _recording_of(source):
+    """The recording behind a frame source ``FILE.h5[:dataset]``, or None."""
+    from .recording import RecordingError, read_recording
+
+    src = str(source).split(":")[0]
+    if not src.lower().endswith((".h5", ".hdf5")):
+        return None
+    try:
+        return read_recording(src)
+    except (RecordingError, OSError):
+        return None
+
+
+def calibration_image(path) -> np.ndarray:
+    """The ring image: an image file, or a recording's ``instruments/screen/calibration_image``."""
+    import cv2
+
+    from vision.io import VisionError
+
+    if str(path).lower().endswith((".h5", ".hdf5")):
+        rec = _recording_of(path)
+        if rec is None or rec.shape(f"{SCREEN}/calibration_image") is None:
+            raise VisionError(f"--calibration {str(path)!r}: not a recording with "
+                              f"{SCREEN}/calibration_image")
+        return np.asarray(rec.dataset(f"{SCREEN}/calibration_image"))
+    img = cv2.imread(str(path), cv2.IMREAD_GRAYSCALE)
+    if img is None:
+        raise VisionError(f"--calibration {str(path)!r}: not a readable image")
+    return img
+
+
+def ring_radii_of(source, ring_radii: Optional[str] = None) -> np.ndarray:
+    """Ring radii [m]: ``"R1,R2,..."`` as given, else those stored in the source recording."""
+    if ring_radii:
+        try:
+            return np.array([float(v) for v in str(ring_radii).split(",")])
+        except ValueError:
+            raise ValueError(f"--ring-radii = {ring_radii!r}: comma-separated radii in m") from None
+    rec = _recording_of(source)
+    if rec is None or rec.shape(f"{SCREEN}/ring_radius") is None:
+        raise ValueError("--calibration needs the rings' radii: give --ring-radii (m, comma-separated) "
+                         f"or track a recording that stores {SCREEN}/ring_radius")
+    return np.asarray(rec.dataset(f"{SCREEN}/ring_radius"), float)
+
+
+def _screen_meta(source):
+    """(optical gain, exposure [s], frame rotor angles [rad] or None) of a recording's screen."""
+    import json
+
+    rec = _recording_of(source)
+    if rec is None or rec.shape(f"{SCREEN}/frames") is None:
+        return None, 0.0, None
+    try:
+        settings = json.loads(rec.dataset_attrs(SCREEN).get("settings", "{}"))
+    except (TypeError, ValueError):
+        settings = {}
+    phi = (np.asarray(rec.dataset(f"{SCREEN}/frame_rotor_angle"))
+           if rec.shape(f"{SCREEN}/frame_rotor_angle") is not None else None)
+    return float(settings.get("gain", 1.0)), float(settings.get("exposure", 0.0)), phi
+
+
+def _shaft_columns(df, source, optical_gain, X, Y) -> None:
+    """Columns that ``stand analyze`` reads from a track: ``t_s``, ``x_m``, ``y_m`` (shaft
+    displacement = screen displacement / optical gain) and ``rotor_angle_rad`` when the source
+    recording has the keyphasor angle of each frame."""
+    gain, exposure, phi = _screen_meta(source)
+    if optical_gain is not None:
+        gain = float(optical_gain)
+        if not gain > 0:
+            raise ValueError(f"--optical-gain = {optical_gain}: must be > 0")
+    if gain is None:
+        return
+    if "time" in df:
+        df["t_s"] = df["time"] + 0.5 * exposure          # mid-exposure
+    df["x_m"], df["y_m"] = X / gain, Y / gain
+    if phi is not None and len(phi) == len(df):
+        df["rotor_angle_rad"] = phi                        # at the start of each exposure
+
+
+def track_frames(source, *, calibration=None, ring_radii=None, gain=None, threshold=None,
+                 trace: bool = False, spot_sigma=None, capacity_gmm=None, optical_gain=None,
+                 progress: bool = False):
+    """Track the laser spot (or, with ``trace``, the circle it draws) in every frame.
+
+    Parameters
+    ----------
+    source : str
+        ``RUN.h5[:dataset]``, a video file, an image folder or a glob (:func:`vision.io.iter_frames`).
+    calibration : str, optional
+        Ring image, or a recording holding one: adds ``x_mm``, ``y_mm`` (screen) and, for spots,
+        ``t_s``, ``x_m``, ``y_m`` (shaft) columns.
+    ring_radii : str, optional
+        ``"R1,R2,..."`` [m]; default: the recording's.
+    gain : float, optional
+        Camera gain [electrons/DN] for the uncertainty.
+    threshold : float, optional
+        Smallest spot amplitude [DN above background].
+    trace : bool
+        Long exposures: fit the circle (centre, radius) instead of the spot.
+    spot_sigma : float, optional
+        With ``trace``: the still spot's sigma [px].
+    capacity_gmm : float, optional
+        With ``trace`` and ``calibration``: the balancer's capacity S [g mm] -> ``zone`` and
+        ``unbalance_gmm`` columns.
+    optical_gain : float, optional
+        Spot displacement / shaft displacement (default: the recording's).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per frame (:func:`vision.spot.track` / :func:`vision.trace.track_traces`
+        columns plus the calibrated ones).
+    """
+    from dsp.unbalance import unbalance_from_rings
+    from vision.calibration import detect_rings, fit_homography, px_to_m
+    from vision.io import iter_frames
+    from vision.spot import track
+    from vision.trace import track_traces
+
+    if capacity_gmm is not None and not (capacity_gmm > 0):
+        raise ValueError(f"--capacity = {capacity_gmm}: must be > 0 (g mm)")
+    if capacity_gmm is not None and not trace:
+        raise ValueError("--capacity reads circles against the rings: it needs --trace")
+    if capacity_gmm is not None and not calibration:
+        raise ValueError("--capacity needs --calibration (the rings)")
+    frames = iter_frames(source, progress=progress)
+    if trace:
+        df = track_traces(frames, gain=gain, threshold=threshold, spot_sigma_px=spot_sigma)
+    else:
+        df = track(frames, gain=gain, threshold=threshold)
+    if not calibration:
+        return df
+    radii = ring_radii_of(source, ring_radii)
+    cal = fit_homography(detect_rings(calibration_image(calibration)), radii)
+    X, Y = (np.asarray(a) for a in px_to_m(df["u_px"].to_numpy(), df["v_px"].to_numpy(), cal))
+    df["x_mm"], df["y_mm"] = X * 1e3, Y * 1e3
+    df["scale_mm_per_px"] = cal.scale * 1e3
+    if not trace:
+        _shaft_columns(df, source, optical_gain, X, Y)
+        return df
+    # the circle's radius on the screen: the mean scale around the circle
+    df["radius_mm"] = df["radius_px"] * cal.scale * 1e3
+    df["radius_std_mm"] = df["radius_std_px"] * cal.scale * 1e3
+    if capacity_gmm is not None:
+        S = capacity_gmm * 1e-6
+        zone, U = [], []
+        for r in df["radius_mm"].to_numpy() * 1e-3:
+            if np.isfinite(r):
+                rd = unbalance_from_rings(r, radii, S)
+                zone.append(rd.zone)
+                U.append(rd.interpolated_kg_m * 1e6)
+            else:
+                zone.append(-1)
+                U.append(np.nan)
+        df["zone"] = zone
+        df["unbalance_gmm"] = U
+    return df
+
+
+def strobe_angles(source, n_weights: Optional[int] = None):
+    """The weights' angles from the mark [deg] in each stroboscope frame (:func:`vision.strobe.weight_angles`).
+
+    ``source``: a recording (default dataset ``instruments/stroboscope/frames``), a video or images.
+    Returns a DataFrame: ``frame``, ``time``, ``ok``, ``images``, ``mark_deg``,
+    ``weight<j>_deg``, ``weight<j>_std_deg`` (a ``note`` where a frame is not read).
+    """
+    import pandas as pd
+
+    from vision.io import VisionError, iter_frames
+    from vision.strobe import weight_angles
+
+    src = source if ":" in str(source) or not str(source).endswith(".h5") \
+        else (source, "instruments/stroboscope/frames")
+    rows = []
+    for rec in iter_frames(src):
+        try:
+            a = weight_angles(rec.image, n_weights=n_weights)
+        except VisionError as exc:
+            rows.append({"frame": rec.index, "time": rec.time, "ok": False, "note": str(exc)})
+            continue
+        row = {"frame": rec.index, "time": rec.time, "ok": True, "images": a.n_images,
+               "mark_deg": math.degrees(a.mark_angle)}
+        for j, (ang, sd) in enumerate(zip(a.angles, a.sigma), start=1):
+            row[f"weight{j}_deg"] = math.degrees(float(ang))
+            row[f"weight{j}_std_deg"] = math.degrees(float(sd))
+        rows.append(row)
+    return pd.DataFrame(rows)
