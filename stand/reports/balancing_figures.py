@@ -1,0 +1,129 @@
+"""Figures of the balancing report (matplotlib, Agg), drawn only from the recording's data."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .html import figure_png
+from .signals import per_revolution
+
+__all__ = ["figures"]
+
+TWO_PI = 2.0 * math.pi
+
+
+def figures(d, t, x, y, phi, speed, rotating, i_st) -> dict:
+    """The report's figures, from the recording's data only.
+
+    Parameters
+    ----------
+    d : dict
+        The recording (:func:`stand.reports.balancing_input.read_input`):
+        instruments (rings, screen settings, camera frames) and weight angles.
+    t, x, y : ndarray
+        Times [s], shaft displacements [m].
+    phi, speed : ndarray or None
+        Unwrapped rotor angle [rad] and speed [rad/s].
+    rotating : bool
+        The rotor turns.
+    i_st : int
+        First sample of the final constant-speed stretch.
+
+    Returns
+    -------
+    dict
+        ``{caption: PNG data URI}``: orbit (mm), 1X amplitude (mm) and phase
+        (deg) against speed (rev/s) when the speed varies, spectrogram (Hz),
+        weights' angles (deg), last camera frames.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    figs = {}
+    inst = d["inst"]
+    # orbit / laser trace
+    fig, axs = plt.subplots(1, 2, figsize=(9, 4.2))
+    if "ring_radius" in inst:
+        st = inst.get("screen_settings", {})
+        g = float(st.get("gain", 1.0))
+        ox, oy = float(st.get("offset_x", 0.0)), float(st.get("offset_y", 0.0))
+        X, Y, unit, sc = g * x + ox, g * y + oy, "screen, mm", 1e3
+    else:
+        X, Y, unit, sc = x, y, "shaft, mm", 1e3
+    sel = slice(i_st, None) if rotating and t.size - i_st > 8 else slice(int(0.7 * t.size), None)
+    for ax, s_, title in ((axs[0], slice(None), "whole record"),
+                          (axs[1], sel, "final stretch")):
+        ax.plot(X[s_] * sc, Y[s_] * sc, lw=0.6)
+        if "ring_radius" in inst:
+            th = np.linspace(0, TWO_PI, 200)
+            for rr in inst["ring_radius"]:
+                if rr > 0:
+                    ax.plot(rr * sc * np.cos(th), rr * sc * np.sin(th), color="0.75", lw=0.5)
+            if title == "final stretch":
+                lim = max(float(np.max(np.hypot(X[s_], Y[s_]))) * sc * 1.2,
+                          float(inst["ring_radius"][min(2, inst["ring_radius"].size - 1)]) * sc)
+                ax.set_xlim(-lim, lim)
+                ax.set_ylim(-lim, lim)
+        ax.set_aspect("equal", adjustable="box")
+        ax.set_xlabel(f"X ({unit})")
+        ax.set_ylabel(f"Y ({unit})")
+        ax.set_title(title)
+    figs["orbit / laser trace (rings: zones i S/16 when recorded)"] = figure_png(fig)
+
+    # 1X amplitude / phase vs speed for varying speed
+    if rotating:
+        try:
+            pr = per_revolution(t, x, y, phi)
+        except Exception:  # noqa: BLE001
+            pr = None
+        if pr is not None and np.ptp(pr[1]) > 0.05 * np.max(pr[1]):
+            tm, wr, vec = pr
+            fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 5), sharex=True)
+            a1.semilogy(wr / TWO_PI, np.maximum(np.abs(vec), 1e-30) * 1e3, ".", ms=2)
+            a1.set_ylabel("1X amplitude (mm)")
+            a2.plot(wr / TWO_PI, np.degrees(np.angle(vec)), ".", ms=2)
+            a2.set_ylabel("1X phase (deg)")
+            a2.set_xlabel("rotor speed (rev/s)")
+            figs["1X amplitude and phase vs speed (one point per revolution)"] = figure_png(fig)
+
+    # spectrogram of the complex orbit
+    from scipy import signal as sg
+
+    fs = (t.size - 1) / (t[-1] - t[0])
+    nper = int(min(max(16, 2 ** round(math.log2(max(fs, 1.0)))), max(16, t.size // 4)))
+    nper = min(nper, t.size)
+    if t.size >= 16:
+        f, tt, Sxx = sg.spectrogram(x + 1j * y, fs=fs, nperseg=nper, noverlap=nper // 2,
+                                    return_onesided=False, detrend=False)
+        f = np.fft.fftshift(f)
+        Sxx = np.fft.fftshift(Sxx, axes=0)
+        fig, ax = plt.subplots(figsize=(8, 4))
+        ax.pcolormesh(tt + t[0], f, 10 * np.log10(Sxx + 1e-30 + Sxx.max() * 1e-12),
+                      shading="auto", cmap="viridis")
+        if rotating:
+            ax.plot(t, speed / TWO_PI, "w--", lw=0.7)
+        ax.set_xlabel("time (s)")
+        ax.set_ylabel("frequency (Hz, + forward whirl)")
+        figs["spectrogram of the orbit x + i y (dashed: rotor speed)"] = figure_png(fig)
+
+    # weights' relative angles
+    rel = d.get("rel")
+    if rel is not None and rel.size:
+        fig, ax = plt.subplots(figsize=(8, 3.5))
+        ax.plot(t, np.degrees(np.angle(np.exp(1j * rel))), ".", ms=1)
+        ax.set_xlabel("time (s)")
+        ax.set_ylabel("angle from the mark (deg)")
+        ax.set_ylim(-180, 180)
+        figs["weights' angles relative to the reference mark"] = figure_png(fig)
+
+    for key, cap in (("strobe_frame", "stroboscope frame (last recorded)"),
+                     ("screen_frame", "screen camera frame (last recorded)")):
+        if key in inst:
+            fig, ax = plt.subplots(figsize=(4, 4))
+            ax.imshow(inst[key], cmap="gray", origin="upper")
+            ax.set_axis_off()
+            figs[cap] = figure_png(fig)
+    return figs

@@ -1,0 +1,144 @@
+"""Input of the balancing report: one recording (HDF5 or CSV) as arrays and metadata.
+
+HDF5 files are read by the one recording reader
+(:func:`stand.recording.read_recording`, every layout it accepts); a CSV has
+the columns ``stand analyze`` accepts.  :func:`read_input` checks what the
+report needs (3 finite samples at least, increasing time) and names the file
+and the field in every error.
+"""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["read_input"]
+
+TWO_PI = 2.0 * math.pi
+
+
+def _read_csv(p: Path) -> dict:
+    """The CSV form; a keyphasor column becomes a rotor angle (linear between pulses)."""
+    import pandas as pd
+
+    try:
+        df = pd.read_csv(p)
+    except Exception as exc:  # any parse error -> one clear line
+        raise ValueError(f"{p}: not a readable CSV ({type(exc).__name__}: {exc})") from None
+    for col in ("t_s", "x_m", "y_m"):
+        if col not in df:
+            raise ValueError(f"{p}: missing column {col!r} (need t_s, x_m, y_m; optional "
+                             "rotor_angle_rad or keyphasor)")
+    try:
+        t = df["t_s"].to_numpy(float)
+        x = df["x_m"].to_numpy(float)
+        y = df["y_m"].to_numpy(float)
+        phi = df["rotor_angle_rad"].to_numpy(float) if "rotor_angle_rad" in df else None
+        kp = t[df["keyphasor"].to_numpy(float) > 0.5] if ("keyphasor" in df and phi is None) \
+            else None
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{p}: non-numeric values in a column ({exc})") from None
+    for name, a in (("t_s", t), ("x_m", x), ("y_m", y)):
+        if a.size < 3 or not np.all(np.isfinite(a)):
+            raise ValueError(f"{p}: column {name!r} needs at least 3 finite values")
+    if np.any(np.diff(t) <= 0):
+        raise ValueError(f"{p}: column 't_s' must be strictly increasing")
+    if phi is not None and not np.all(np.isfinite(phi)):
+        raise ValueError(f"{p}: column 'rotor_angle_rad' has NaN or inf values")
+    if phi is None and kp is not None and kp.size >= 2:
+        # rotor angle from the once-per-revolution pulses (linear between pulses)
+        k = np.arange(kp.size) * TWO_PI
+        inside = (t >= kp[0]) & (t <= kp[-1])
+        phi_k = np.interp(t, kp, k)
+        t, x, y, phi = t[inside], x[inside], y[inside], phi_k[inside]
+    return dict(t=t, x=x, y=y, phi=phi, weights=None, scene=None, scene_error=None,
+                attrs={}, notes=[], solver={}, inst={}, truth={}, fmt="csv")
+
+
+def _read_h5(p: Path) -> dict:
+    """The HDF5 form, through the one reader :func:`stand.recording.read_recording`."""
+    from ..recording import read_recording
+
+    rec = read_recording(p)  # RecordingError (a ValueError) names file and dataset
+    scene, scene_error = rec.scene, None
+    if scene is None and rec.scene_text.strip():
+        scene_error = next((n for n in rec.notes if "stored scene" in n), "scene not readable")
+    elif scene is not None and scene.kind != "planar":
+        scene_error = (f"the recorded scene's structure is {scene.structure_type}: the model-based "
+                       "parts (chapter-5 planar rotor) are skipped")
+        scene = None
+    phi = np.asarray(rec.rotor_angle) if np.all(np.isfinite(rec.rotor_angle)) else None
+    wa = np.asarray(rec.weight_angle)
+    weights = wa if wa.size and np.all(np.isfinite(wa)) else None
+    rel = np.asarray(rec.relative_angle) if weights is not None else None
+    inst, truth = {}, {}
+    if rec.shape("instruments/screen/ring_radius") is not None:
+        inst["ring_radius"] = np.asarray(rec.dataset("instruments/screen/ring_radius"), float)
+        attrs = rec.dataset_attrs("instruments/screen")
+        try:
+            inst["screen_settings"] = json.loads(attrs.get("settings", "{}"))
+        except (TypeError, ValueError):
+            inst["screen_settings"] = {}
+        ts = attrs.get("ring_test_speed_rad_s", None)
+        inst["ring_test_speed_rad_s"] = None if ts is None else float(ts)
+    for key, name in (("instruments/screen/frames", "screen"),
+                      ("instruments/stroboscope/frames", "strobe")):
+        shape = rec.shape(key)
+        if shape is not None and len(shape) == 3 and shape[0] > 0:
+            inst[name + "_frame"] = np.asarray(rec.dataset(key, shape[0] - 1))
+    shape = rec.shape("truth/residual_unbalance")
+    if shape is not None and len(shape) == 2 and shape[0] == rec.t.size:
+        truth["residual_unbalance"] = np.asarray(rec.dataset("truth/residual_unbalance"), float)
+    return dict(t=np.asarray(rec.t), x=np.asarray(rec.x), y=np.asarray(rec.y), phi=phi,
+                weights=weights, rel=rel, scene=scene, scene_error=scene_error,
+                attrs=rec.attrs, notes=list(rec.notes), solver=rec.solver, inst=inst,
+                truth=truth, fmt="hdf5")
+
+
+def read_input(path) -> dict:
+    """Read a recording for the balancing report.
+
+    Parameters
+    ----------
+    path : str or Path
+        HDF5 recording (any layout :func:`stand.recording.read_recording`
+        reads) or CSV (``t_s`` [s], ``x_m``, ``y_m`` [m], optionally
+        ``rotor_angle_rad`` [rad] or ``keyphasor`` (1 on a once-per-revolution
+        pulse)).
+
+    Returns
+    -------
+    dict
+        ``t`` [s], ``x``, ``y`` [m], ``phi`` (rotor angle [rad] or None),
+        ``weights`` (weight angles [rad], samples x weights, or None), ``rel``
+        (weight angles relative to the rotor [rad] or None), ``scene`` (the
+        planar scene or None) and ``scene_error`` (why not), ``attrs``,
+        ``notes``, ``solver``, ``inst`` (ring radii [m], screen settings, ring
+        test speed [rad/s], last camera frames), ``truth`` (residual
+        unbalance [kg m] per sample), ``fmt`` ("hdf5" or "csv").
+
+    Raises
+    ------
+    FileNotFoundError
+        The file does not exist.
+    ValueError
+        Unreadable input (not HDF5/CSV, missing dataset or column, NaN samples,
+        time not increasing): the message names the file and the field.
+    """
+    p = Path(path)
+    if not p.exists():
+        raise FileNotFoundError(2, "recording not found", str(p))
+    if p.is_dir():
+        raise ValueError(f"{p}: is a directory, not a recording")
+    d = _read_csv(p) if p.suffix.lower() == ".csv" else _read_h5(p)
+    t, x, y = d["t"], d["x"], d["y"]
+    if t.size < 3:
+        raise ValueError(f"{p}: 'time' has {t.size} samples; at least 3 are needed")
+    for name, a in (("time", t), ("shaft/x", x), ("shaft/y", y)):
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"{p}: dataset {name!r} contains NaN or inf")
+    if np.any(np.diff(t) <= 0):
+        raise ValueError(f"{p}: dataset 'time' must be strictly increasing")
+    return d
