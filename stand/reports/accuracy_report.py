@@ -5,8 +5,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from .html import check_schema, figure_png, write_report
 
 __all__ = ["accuracy_report", "recommend", "SCHEMA", "DEFAULT_TARGET"]
@@ -27,8 +25,24 @@ ROW_SCHEMA = {"method": "string", "rtol": "number|null", "step_s": "number|null"
 
 
 def recommend(rows, target: float = DEFAULT_TARGET) -> dict:
-    """The fastest successful run whose relative error is <= target (or, if none
-    reaches it, the most accurate run, flagged)."""
+    """The recommended setting: the fastest run that reaches the target.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Runs of the report (:data:`ROW_SCHEMA`; ``relative_error`` [-],
+        ``wall_time_s`` [s]).
+    target : float
+        Relative error the setting must reach [-].
+
+    Returns
+    -------
+    dict
+        ``target_relative_error``, ``reached`` and the chosen row: the fastest
+        successful run with ``relative_error <= target``; if none reaches it,
+        the most accurate successful run (``reached`` False); no row if no run
+        succeeded.
+    """
     ok = [r for r in rows if r["success"] and r["relative_error"] is not None]
     good = [r for r in ok if r["relative_error"] <= target]
     if good:
@@ -41,6 +55,7 @@ def recommend(rows, target: float = DEFAULT_TARGET) -> dict:
 
 
 def _rows(rep) -> list:
+    """The report's rows (:data:`ROW_SCHEMA`) from a :class:`stand.accuracy` report."""
     out = []
     for r in rep.rows:
         out.append({"method": r.method, "rtol": None if r.method == "RK4" else r.rtol,
@@ -54,6 +69,7 @@ def _rows(rep) -> list:
 
 
 def _plot(rows, title):
+    """Work-precision plot (relative error [-] against wall time [s]) as a PNG data URI."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -77,8 +93,29 @@ def accuracy_report(scene, *, rtols=(1e-4, 1e-6, 1e-8, 1e-10), methods=None, rk4
                     target: float = DEFAULT_TARGET, html_path=None, json_path=None) -> dict:
     """Run the accuracy ladder and write the report (HTML and/or JSON).
 
-    ``methods`` default: the compiled DOP853, scipy's LSODA and Radau, and
-    fixed-step RK4 (every available class of method).
+    Parameters
+    ----------
+    scene : Scene
+        The scene to run (:mod:`stand.accuracy` says which scenes have an
+        oracle).
+    rtols : sequence of float
+        Relative tolerances of the adaptive methods [-].
+    methods : sequence of str, optional
+        Default: the compiled DOP853, scipy's LSODA and Radau, and fixed-step
+        RK4 (every available class of method).
+    rk4_steps : sequence of float, optional
+        Fixed steps of RK4 [s]; default chosen by :func:`stand.accuracy.accuracy`.
+    target : float
+        Relative error the recommended setting must reach [-].
+    html_path, json_path : str or Path, optional
+        Where to write the self-contained HTML and the JSON (atomically,
+        through :mod:`stand.io.atomic`).
+
+    Returns
+    -------
+    dict
+        The report (plain JSON types, :data:`SCHEMA`; rows :data:`ROW_SCHEMA`):
+        errors in m and relative to max |r_ref|, times in s.
     """
     from ..accuracy import accuracy
 
