@@ -16,11 +16,9 @@ rev/s.  They are converted here, once (to rad and rad/s).
 from __future__ import annotations
 
 import dataclasses
-import difflib
 import math
-import numbers
 from pathlib import Path
-from typing import Any, Callable, Mapping, Optional, Union
+from typing import Any, Mapping, Union
 
 import numpy as np
 
@@ -29,6 +27,9 @@ try:
 except ModuleNotFoundError:  # Python < 3.11
     import tomli as tomllib
 
+from .dimensionless import (DIMENSIONLESS_KEYS, _dimensionless_params,  # noqa: F401
+                            scene_from_dimensionless)
+from .io.validate import _Table, _fmt, _kind, _number, _suggest  # noqa: F401 (re-exported)
 from .scene import (
     METHODS,
     Impulse,
@@ -85,149 +86,9 @@ TORQUE_MODEL_KEYS = {
 }
 RUN_KEYS = ("duration", "sample_rate", "rtol", "atol", "method", "max_steps")
 INITIAL_KEYS = ("x", "y", "vx", "vy")
-DIMENSIONLESS_KEYS = ("n", "Rt", "h", "H", "e0", "R_omega2", "unbalance_angle",
-                      "initial_angles", "natural_frequency", "total_mass",
-                      "track_radius", "rotor_inertia")
-
-_REQUIRED = object()
 
 
-# ---------------------------------------------------------------- messages
-def _fmt(value: Any) -> str:
-    """A value as the user wrote it (TOML spelling), shortened if long."""
-    if isinstance(value, (bool, np.bool_)):
-        text = "true" if value else "false"
-    elif isinstance(value, str):
-        text = '"' + value.replace('"', '\\"') + '"'
-    elif isinstance(value, float):
-        text = repr(value) if math.isfinite(value) else str(value)
-    elif isinstance(value, (list, tuple)):
-        text = "[" + ", ".join(_fmt(v) for v in value) + "]"
-    elif isinstance(value, Mapping):
-        text = "{" + ", ".join(f"{k} = {_fmt(v)}" for k, v in value.items()) + "}"
-    else:
-        text = str(value)
-    return text if len(text) <= 80 else text[:77] + "..."
 
-
-def _kind(value: Any) -> str:
-    """TOML name of a value's type, for messages."""
-    if isinstance(value, (bool, np.bool_)):
-        return "a boolean"
-    if isinstance(value, str):
-        return "a string"
-    if isinstance(value, (list, tuple)):
-        return "an array"
-    if isinstance(value, Mapping):
-        return "a table"
-    return f"a {type(value).__name__}"
-
-
-def _suggest(word: str, valid) -> str:
-    lower = {v.lower(): v for v in valid}
-    close = difflib.get_close_matches(word.lower(), list(lower), n=1, cutoff=0.6)
-    return f"did you mean {lower[close[0]]!r}? " if close else ""
-
-
-def _number(name: str, value: Any, unit: str, *, gt=None, ge=None, lt=None) -> float:
-    """Check one number; return it as float."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-        raise SceneError(f"{name} = {_fmt(value)}: must be a number ({unit}), not {_kind(value)}")
-    try:
-        x = float(value)
-    except OverflowError:
-        raise SceneError(f"{name} = {_fmt(value)}: out of floating-point range ({unit})") from None
-    if not math.isfinite(x):
-        raise SceneError(f"{name} = {_fmt(value)}: must be finite ({unit})")
-    for bound, ok, sign in ((gt, x > (gt or 0), ">"), (ge, x >= (ge or 0), ">="),
-                            (lt, x < (lt or 0), "<")):
-        if bound is not None and not ok:
-            raise SceneError(f"{name} = {_fmt(value)}: must be {sign} {_fmt(bound)} ({unit})")
-    return x
-
-
-class _Table:
-    """One TOML table with its dotted path; typed getters with messages."""
-
-    def __init__(self, data: Any, path: str):
-        if not isinstance(data, Mapping):
-            raise SceneError(f"{path} = {_fmt(data)}: must be a table [{path}], not {_kind(data)}")
-        self.data, self.path = data, path
-
-    def name(self, key: str) -> str:
-        return f"{self.path}.{key}"
-
-    def __contains__(self, key: str) -> bool:
-        return key in self.data
-
-    def allow(self, keys, why: Optional[Callable[[str], Optional[str]]] = None) -> None:
-        """Reject every key not in ``keys``; ``why(key)`` may explain the rejection."""
-        for key in self.data:
-            if key in keys:
-                continue
-            reason = why(key) if why else None
-            if reason:
-                raise SceneError(reason)
-            raise SceneError(f"unknown key {self.name(key)}: {_suggest(key, keys)}"
-                             f"valid keys in [{self.path}]: {', '.join(keys)}")
-
-    def _get(self, key: str, default: Any, what: str) -> Any:
-        if key in self.data:
-            return self.data[key]
-        if default is _REQUIRED:
-            raise SceneError(f"{self.name(key)}: missing required key ({what})")
-        return default
-
-    def number(self, key: str, unit: str, default: Any = _REQUIRED, **bounds) -> Any:
-        value = self._get(key, default, unit)
-        if key not in self.data:
-            return value
-        return _number(self.name(key), value, unit, **bounds)
-
-    def integer(self, key: str, minimum: int = 1, default: Any = _REQUIRED,
-                maximum: Optional[int] = None) -> int:
-        value = self._get(key, default, "integer")
-        if key in self.data:
-            if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
-                raise SceneError(f"{self.name(key)} = {_fmt(value)}: must be an integer, "
-                                 f"not {_kind(value)}")
-            if value < minimum:
-                raise SceneError(f"{self.name(key)} = {_fmt(value)}: must be >= {minimum}")
-            if maximum is not None and value > maximum:
-                raise SceneError(f"{self.name(key)} = {_fmt(value)}: must be <= {maximum}")
-        return int(value)
-
-    def string(self, key: str, choices=None, default: Any = _REQUIRED) -> str:
-        what = "one of " + ", ".join(f'"{c}"' for c in choices) if choices else "string"
-        value = self._get(key, default, what)
-        if key in self.data:
-            if not isinstance(value, str):
-                raise SceneError(f"{self.name(key)} = {_fmt(value)}: must be a string "
-                                 f"({what}), not {_kind(value)}")
-            if choices and value not in choices:
-                raise SceneError(f"{self.name(key)} = {_fmt(value)}: {_suggest(value, choices)}"
-                                 f"must be {what}")
-        return value
-
-    def per_weight(self, key: str, count: int, count_key: str, unit: str,
-                   default: Any = _REQUIRED, scalar: bool = True, **bounds) -> Any:
-        """A number per weight: a list of ``count`` numbers, or one number for all."""
-        name = self.name(key)
-        value = self._get(key, default, unit)
-        if key not in self.data:
-            return None if value is None else np.full(count, float(value))
-        if isinstance(value, (list, tuple)):
-            if len(value) != count:
-                raise SceneError(f"{name} = {_fmt(value)}: expected {count} values (one per "
-                                 f"weight, {count_key} = {count}), got {len(value)}")
-            return np.array([_number(f"{name}[{i}]", v, unit, **bounds)
-                             for i, v in enumerate(value)])
-        if not scalar:
-            raise SceneError(f"{name} = {_fmt(value)}: must be a list of {count} numbers ({unit})")
-        return np.full(count, _number(name, value, unit, **bounds))
-
-
-# ---------------------------------------------------------------- tables
 def _rotor(t: _Table) -> Rotor:
     t.allow(ROTOR_KEYS)
     return Rotor(
@@ -388,112 +249,6 @@ def _initial(t: _Table) -> InitialState:
     t.allow(INITIAL_KEYS)
     units = {"x": "m", "y": "m", "vx": "m/s", "vy": "m/s"}
     return InitialState(**{k: t.number(k, u, 0.0) for k, u in units.items()})
-
-
-def _dimensionless_params(t: _Table, angle_unit: str) -> dict:
-    """Validated [dimensionless] values (angles still in ``angle_unit``)."""
-    t.allow(DIMENSIONLESS_KEYS)
-    n = t.integer("n", minimum=1, maximum=MAX_WEIGHTS)  # like balancer.count (memory)
-    return dict(
-        n=n,
-        Rt=t.number("Rt", "dimensionless, R~_m, 0 < Rt < 0.5", gt=0, lt=0.5),
-        h=t.number("h", "dimensionless", ge=0),
-        H=t.number("H", "dimensionless", ge=0),
-        e0=t.number("e0", "dimensionless", ge=0),
-        R_omega2=t.number("R_omega2", "dimensionless", 1.0, gt=0),
-        unbalance_angle=t.number("unbalance_angle", angle_unit, 0.0),
-        initial_angles=t.per_weight("initial_angles", n, t.name("n"), angle_unit, None,
-                                    scalar=False),
-        natural_frequency=t.number("natural_frequency", "Hz", 1.0 / TWO_PI, gt=0),
-        total_mass=t.number("total_mass", "kg", 1.0, gt=0),
-        track_radius=t.number("track_radius", "m", 1.0, gt=0),
-        rotor_inertia=t.number("rotor_inertia", "kg*m^2", None, gt=0),
-    )
-
-
-# ---------------------------------------------------------------- public
-def scene_from_dimensionless(n, Rt, h, H, e0, *, drive, run, R_omega2=1.0,
-                             unbalance_angle=0.0, natural_frequency=1.0 / TWO_PI,
-                             total_mass=1.0, track_radius=1.0, initial_angles=None,
-                             initial=None, rotor_inertia=None, name="") -> Scene:
-    """Build a ball-balancer scene from the book's dimensionless parameters.
-
-    Identical point balls (j = 1) on one track, supports with equal damping;
-    the inverse of :func:`stand.scene.dimensionless` (5.12)-(5.14), (5.19)-(5.20).
-
-    Parameters
-    ----------
-    n : int
-        Number of balls.
-    Rt : float
-        R~_m = n m / (2 M_Sigma), 0 < Rt < 0.5.
-    h : float
-        Ball drag h = H_j / (omega_1 J_j) = c_b / (omega_1 m).
-    H : float
-        Support damping H = H_x / (omega_1 M_Sigma) (= 2 zeta); H_y = H_x.
-    e0 : float
-        Rotor unbalance in units of the capacity, M e / (n m l).
-    drive : SpeedDrive or TorqueDrive
-        In SI units.
-    run : RunSettings
-    R_omega2 : float
-        sqrt(c_y / c_x).
-    unbalance_angle : float
-        Heavy side from the reference mark [rad].
-    natural_frequency : float
-        omega_1 / (2 pi) [Hz]; the default makes tau = t in seconds.
-    total_mass : float
-        M_Sigma [kg].
-    track_radius : float
-        l [m].
-    initial_angles : array_like or None
-        Ball angles from the reference mark [rad]; default evenly spaced.
-    initial : InitialState or None
-    rotor_inertia : float or None
-        J_C [kg*m^2]; required with a torque drive.
-    name : str
-
-    Returns
-    -------
-    Scene
-
-    Raises
-    ------
-    SceneError
-        A parameter is out of range, or a torque drive lacks rotor_inertia.
-    """
-    raw = dict(n=n, Rt=Rt, h=h, H=H, e0=e0, R_omega2=R_omega2,
-               unbalance_angle=unbalance_angle, natural_frequency=natural_frequency,
-               total_mass=total_mass, track_radius=track_radius,
-               initial_angles=None if initial_angles is None else list(initial_angles),
-               rotor_inertia=rotor_inertia)
-    p = _dimensionless_params(_Table({k: v for k, v in raw.items() if v is not None},
-                                     "dimensionless"), "rad")
-    if isinstance(drive, TorqueDrive) and p["rotor_inertia"] is None:
-        raise SceneError("dimensionless.rotor_inertia: missing; required with a torque "
-                         "drive (kg*m^2, rotor inertia about its own centre of mass)")
-    n, Ms, l = p["n"], p["total_mass"], p["track_radius"]
-    w1 = TWO_PI * p["natural_frequency"]
-    m = 2.0 * p["Rt"] * Ms / n            # R_m = 2 Rt (j = 1)
-    M = Ms - n * m
-    c_x = Ms * w1 * w1  # float ** raises OverflowError; * gives inf (check_derived reports it)
-    damping = p["H"] * w1 * Ms
-    angles = p["initial_angles"]
-    if angles is None:
-        angles = TWO_PI * np.arange(n) / n
-    return Scene(
-        rotor=Rotor(mass=M, eccentricity=p["e0"] * n * m * l / M,
-                    unbalance_angle=p["unbalance_angle"], inertia=p["rotor_inertia"]),
-        supports=Supports(stiffness_x=c_x, stiffness_y=p["R_omega2"] * p["R_omega2"] * c_x,
-                          damping_x=damping, damping_y=damping),
-        balancer=Balancer(type="balls", mass=np.full(n, m), radius=np.full(n, l),
-                          drag=np.full(n, p["h"] * w1 * m), inertia=np.full(n, m * l * l),
-                          initial_angles=np.asarray(angles, float), initial_speeds=np.zeros(n)),
-        drive=drive,
-        run=run,
-        initial=initial if initial is not None else InitialState(),
-        name=name,
-    )
 
 
 def parse_scene(data: Mapping, text: str = "") -> Scene:
