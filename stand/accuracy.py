@@ -27,6 +27,17 @@ from .simulate import Trajectory, simulate
 DEFAULT_RTOLS = (1e-4, 1e-6, 1e-8, 1e-10)
 
 
+def _free_isotropic(scene: Scene, n_nodes: int) -> bool:
+    """A planar rotor without weights on isotropic supports, driven by a speed programme of
+    ``n_nodes`` nodes without coast-down: where the closed forms hold."""
+    if scene.kind != "planar":
+        return False
+    d, s = scene.drive, scene.supports
+    return not (scene.balancer.count or d.kind != "speed" or len(d.programme) != n_nodes
+                or d.coast_down_start is not None or s.stiffness_x != s.stiffness_y
+                or s.damping_x != s.damping_y)
+
+
 def runup_params(scene: Scene):
     """The closed-form run-up parameters of a scene, or None when it does not apply.
 
@@ -40,15 +51,9 @@ def runup_params(scene: Scene):
     """
     from .balancers.liquid_float import LiquidFloatParams, initial_state as lf_initial
 
-    if scene.kind != "planar":
+    if not _free_isotropic(scene, 2) or scene.rotor.unbalance_angle != 0.0 or scene.perturbations:
         return None
-    d = scene.drive
-    s = scene.supports
-    if (scene.balancer.count or d.kind != "speed" or len(d.programme) != 2
-            or d.coast_down_start is not None or s.stiffness_x != s.stiffness_y
-            or s.damping_x != s.damping_y or scene.rotor.unbalance_angle != 0.0
-            or scene.perturbations):
-        return None
+    d, s = scene.drive, scene.supports
     (t0, w0), (t1, w1) = d.programme
     if t0 != 0.0 or not (w0 > 0 and w1 >= w0):
         return None
@@ -77,14 +82,9 @@ def closed_form_no_balancer(scene: Scene, t: np.ndarray) -> np.ndarray | None:
     whose steady part has the amplitude e R^2 / sqrt((1 - R^2)^2 + (H R)^2)
     (digest ch5 section 8.2), plus the free response fixed by z(0), z'(0).
     """
-    if scene.kind != "planar":
+    if not _free_isotropic(scene, 1):
         return None
-    d = scene.drive
-    s = scene.supports
-    if (scene.balancer.count or d.kind != "speed" or len(d.programme) != 1
-            or d.coast_down_start is not None or s.stiffness_x != s.stiffness_y
-            or s.damping_x != s.damping_y):
-        return None
+    d, s = scene.drive, scene.supports
     model = build_planar_model(scene)
     w1, L = model.omega_1, model.length
     H = s.damping_x / (w1 * scene.total_mass)

@@ -47,18 +47,26 @@ class SolverStats:
     """
 
     method: str
+    """Integration method (``"DOP853"``, ``"Radau"``, ...)."""
     rtol: float
     atol: float
+    """Tolerances on the integrated (scaled) state."""
     n_steps: int = 0
+    """Accepted steps."""
     n_rejected: int = 0
     nfev: int = 0
+    """Right-hand-side evaluations (SciPy's ``nfev``); ``njev``, ``nlu`` likewise."""
     njev: int = 0
     nlu: int = 0
     wall_time: float = 0.0
+    """Integration time [s] (compilation excluded)."""
     status: int = 0
+    """0: reached the end; -1 step-size collapse or solver failure; -2 non-finite or diverged
+    state; -3 step budget."""
     message: str = ""
     success: bool = True
     stiffness_ratio: float = 0.0
+    """Fastest decay rate / fastest frequency of the model (auto picks Radau above 30)."""
     method_reason: str = ""
 
     def to_json(self) -> str:

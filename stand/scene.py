@@ -232,8 +232,10 @@ class UnbalanceChange:
 
     start: float
     duration: float
+    """The change starts at ``start`` and takes ``duration`` [s] (0: discrete)."""
     eccentricity: float
     unbalance_angle: float
+    """The new eccentricity [m] and angle [rad] of the rotor's heavy side."""
     mass: Optional[float] = None
     kind: str = "unbalance"
 
@@ -257,10 +259,13 @@ class SideForce:
 
     start: float
     end: float
+    """The pressure acts for start <= t < end [s]."""
     force_x: float = 0.0
     force_y: float = 0.0
+    """Constant force [N]."""
     stiffness_x: float = 0.0
     stiffness_y: float = 0.0
+    """Extra stiffness [N/m]."""
     kind: str = "side_force"
 
 

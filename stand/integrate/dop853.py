@@ -14,7 +14,7 @@ times.
 from __future__ import annotations
 
 import numpy as np
-from . import dop853_coefficients as _co
+from .vendor import dop853_coefficients as _co
 
 from .._jit import njit
 from ..kernels import rhs

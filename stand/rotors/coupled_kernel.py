@@ -140,7 +140,11 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         base = oF + p * 2 * n
         for i in range(n):
             f[i] += sp[base + i] * fx + sp[base + n + i] * fy
-    # weights: assemble the Schur complement
+    # weights: assemble the Schur complement (the angle's cosine, sine and the resisting
+    # moment are kept for the weights' own accelerations below)
+    cs = np.empty(nw)
+    ss = np.empty(nw)
+    mr = np.empty(nw)
     for j in range(nw):
         p = int(wt[j, W_PLANE])
         m = wt[j, W_M]
@@ -155,6 +159,7 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         k2 = m * m * l * l / J
         ng = si * gx - c * gy
         Mr = H * ad + _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy)
+        cs[j], ss[j], mr[j] = c, si, Mr
         gxw = m * gx + m * l * psid * psid * c - k2 * ng * si - m * l * Mr / J * si
         gyw = m * gy + m * l * psid * psid * si + k2 * ng * c + m * l * Mr / J * c
         base = oT + p * 2 * n
@@ -175,29 +180,20 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         dy[i] = y[ns + i]
         dy[ns + i] = qdd[i] / (wref * wref * L)
     for j in range(nw):
-        p = int(wt[j, W_PLANE])
-        m = wt[j, W_M]
-        l = wt[j, W_L]
-        J = wt[j, W_J]
-        H = wt[j, W_H]
-        psi = phi + y[n + j]
-        ad = wref * y[ns + n + j]
-        c, si = math.cos(psi), math.sin(psi)
-        base = oT + p * 2 * n
+        base = oT + int(wt[j, W_PLANE]) * 2 * n
         apx = 0.0
         apy = 0.0
         for k in range(n):
             apx += sp[base + k] * qdd[k]
             apy += sp[base + n + k] * qdd[k]
-        psid = Om + ad
-        Mr = H * ad + _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy)
-        psidd = (m * l * (si * (apx - gx) - c * (apy - gy)) - Mr) / J
+        ml = wt[j, W_M] * wt[j, W_L]
+        psidd = (ml * (ss[j] * (apx - gx) - cs[j] * (apy - gy)) - mr[j]) / wt[j, W_J]
         dy[n + j] = y[ns + n + j]
         dy[ns + n + j] = (psidd - dOm) / (wref * wref)
         iz = int(wt[j, W_Z])
         if iz >= 0:   # adhesion (sticking after a dwell), stand.balancers.friction
             z = y[iz]
-            sl = math.exp(-(ad / wt[j, W_VS]) ** 2)
+            sl = math.exp(-(wref * y[ns + n + j] / wt[j, W_VS]) ** 2)
             dy[iz] = (sl * (1.0 - z) / wt[j, W_TD] - (1.0 - sl) * z / wt[j, W_TR]) / wref
 
 

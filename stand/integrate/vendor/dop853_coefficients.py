@@ -1,6 +1,6 @@
 """Dormand-Prince 8(5,3) coefficients, vendored from SciPy (``scipy/integrate/_ivp/dop853_coefficients.py``).
 
-Copied so that the compiled loop (:mod:`stand.integrate.dop853`) does not import a
+Copied (unchanged below this docstring) so that the compiled loop (:mod:`stand.integrate.dop853`) does not import a
 private SciPy module.  Source: Hairer, Norsett & Wanner, *Solving Ordinary
 Differential Equations I*, section II.10, and E. Hairer's DOP853 code.
 

@@ -1,0 +1,1 @@
+"""Third-party code kept verbatim (with its licence header): the DOP853 coefficients of SciPy."""
