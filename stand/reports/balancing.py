@@ -39,11 +39,10 @@ import numpy as np
 from ..io.jsonable import to_jsonable
 from .balancing_dynamics import dynamics
 from .balancing_figures import figures
-from .balancing_input import read_input
+from .balancing_input import load_record
 from .balancing_quality import balancing_quality
 from .balancing_schema import FORMAT_VERSION, REGIME_NAMES, SCHEMA, SECTIONS
 from .html import check_schema, write_report
-from .signals import steady_start
 
 __all__ = ["balancing_report", "SCHEMA", "REGIME_NAMES", "FORMAT_VERSION"]
 
@@ -90,21 +89,17 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
             raise ValueError(f"service_speed_rpm = {service_speed_rpm!r}: must be > 0 rpm")
     from .. import __version__
 
-    d = read_input(recording_path)
+    rec = load_record(recording_path)
+    d = rec.data
     notes: list = list(d["notes"])
     warnings: list = []
 
     def warn(code, message, severity="warning"):
         warnings.append({"code": code, "severity": severity, "message": message})
 
-    t, x, y, phi, scene = d["t"], d["x"], d["y"], d["phi"], d["scene"]
+    t, speed, rotating, i_st, scene = rec.t, rec.speed, rec.rotating, rec.steady, rec.scene
     if d["scene_error"]:
         notes.append(f"scene not usable: {d['scene_error']}")
-    speed = None
-    if phi is not None:
-        phi = np.unwrap(phi)
-        speed = np.gradient(phi, t)
-    rotating = speed is not None and float(np.max(np.abs(speed))) > 1e-6
 
     # ---------------- header
     S = scene.balancer.capacity if scene is not None else 0.0
@@ -112,7 +107,6 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
     name = d["attrs"].get("scene_name") or (scene.name if scene is not None else None)
     if not name:
         name = Path(recording_path).stem
-    i_st = steady_start(t, speed) if rotating else 0
     final_speed = float(np.mean(speed[i_st:])) if rotating else None
     steady_len = float(t[-1] - t[i_st]) if rotating else 0.0
     if service_speed_rpm is not None:
@@ -151,14 +145,13 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
                      "is reported in metres")
 
     # ---------------- balancing quality
-    bq = balancing_quality(d, scene, t, x, y, phi, speed, rotating, i_st, w_service, grade, notes,
-                           warn)
+    bq = balancing_quality(rec, w_service, grade, notes, warn)
 
     # ---------------- dynamics
-    dyn = dynamics(d, scene, t, x, y, phi, speed, rotating, notes, warn)
+    dyn = dynamics(rec, notes, warn)
 
     # ---------------- warnings from the scene's theory
-    _scene_warnings(scene, d, bq, dyn, w_service, final_speed, steady_len, t, speed, warn, notes)
+    _scene_warnings(rec, bq, dyn, w_service, final_speed, steady_len, warn, notes)
 
     doc = {
         "report": {"kind": "balancing-quality", "format_version": FORMAT_VERSION,
@@ -174,13 +167,13 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
     problems = check_schema(plain, SCHEMA)
     if problems:  # pragma: no cover -- a bug here, not bad input
         raise RuntimeError("balancing report does not match its schema: " + "; ".join(problems))
-    figs = figures(d, t, x, y, phi, speed, rotating, i_st) if html_path else None
+    figs = figures(rec) if html_path else None
     return write_report(f"Balancing-quality report: {header['scene_name']}", plain,
                         html_path=html_path, json_path=json_path, figures=figs,
                         sections=SECTIONS)
 
 
-def _scene_warnings(scene, d, bq, dyn, w_service, final_speed, steady_len, t, speed, warn, notes):
+def _scene_warnings(rec, bq, dyn, w_service, final_speed, steady_len, warn, notes):
     """The ``warnings`` from the run's solver status, the scene and its theory.
 
     Capacity exceeded (e0 > 1), stuck-ball risk band 1 < R < R* (5.182),
@@ -190,6 +183,7 @@ def _scene_warnings(scene, d, bq, dyn, w_service, final_speed, steady_len, t, sp
     samples per revolution, short final stretch, not settled).  Speeds in
     rad/s, ``steady_len`` in s.
     """
+    scene, d, t = rec.scene, rec.data, rec.t
     if d["solver"] and (d["solver"].get("success") is False or d["solver"].get("status", 0) < 0):
         warn("run_incomplete", f"the simulation stopped early: {d['solver'].get('message', '')}")
     if scene is None:

@@ -21,7 +21,7 @@ __all__ = ["dynamics"]
 TWO_PI = 2.0 * math.pi
 
 
-def _regime_windows(d, scene, t, x, y, phi, speed):
+def _regime_windows(rec):
     """Regime of each window (:func:`dsp.regime.classify_windows`) and the window length [s].
 
     Windows of 4 revolutions at the median speed (at least 1/200, at most 1/3
@@ -29,27 +29,20 @@ def _regime_windows(d, scene, t, x, y, phi, speed):
     """
     from dsp import regime as rg
 
+    t, speed, scene = rec.t, rec.speed, rec.scene
     w_s = max(4 * TWO_PI / max(float(np.median(np.abs(speed))), 1e-9), (t[-1] - t[0]) / 200)
     w_s = min(w_s, (t[-1] - t[0]) / 3)
     thr = scene.balancer.capacity / scene.total_mass / 16
-    return rg.classify_windows(t, phi, d["weights"], x, y, w_s, thr), w_s
+    return rg.classify_windows(t, rec.phi, rec.data["weights"], rec.x, rec.y, w_s, thr), w_s
 
 
-def dynamics(d, scene, t, x, y, phi, speed, rotating, notes, warn):
+def dynamics(rec, notes, warn):
     """The ``dynamics`` section of the report.
 
     Parameters
     ----------
-    d : dict
-        The recording (:func:`stand.reports.balancing_input.read_input`).
-    scene : Scene or None
-        The recording's planar scene.
-    t, x, y : ndarray
-        Times [s], shaft displacements [m].
-    phi, speed : ndarray or None
-        Unwrapped rotor angle [rad] and speed [rad/s].
-    rotating : bool
-        The rotor turns.
+    rec : Record
+        The recording (:func:`stand.reports.balancing_input.load_record`).
     notes : list of str
         Receives what could not be computed and why.
     warn : callable
@@ -68,6 +61,7 @@ def dynamics(d, scene, t, x, y, phi, speed, rotating, notes, warn):
     from dsp import regime as rg
     from dsp.errors import SignalError
 
+    d, scene, t, x, y, phi, rotating = rec.data, rec.scene, rec.t, rec.x, rec.y, rec.phi, rec.rotating
     nf = {"identified_hz": None, "identified_hz_std": None, "damping_ratio": None,
           "damping_ratio_std": None, "method": None, "model_hz": None, "model_damping_ratio": None}
     if scene is not None:
@@ -133,7 +127,7 @@ def dynamics(d, scene, t, x, y, phi, speed, rotating, notes, warn):
     found = []
     if rotating and d["weights"] is not None and scene is not None and scene.balancer.count:
         try:
-            wins, w_s = _regime_windows(d, scene, t, x, y, phi, speed)
+            wins, w_s = _regime_windows(rec)
             segs = []
             for w in wins:
                 nm = REGIME_NAMES.get(w.regime, w.regime)

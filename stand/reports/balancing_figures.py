@@ -13,22 +13,13 @@ __all__ = ["figures"]
 TWO_PI = 2.0 * math.pi
 
 
-def figures(d, t, x, y, phi, speed, rotating, i_st) -> dict:
+def figures(rec) -> dict:
     """The report's figures, from the recording's data only.
 
     Parameters
     ----------
-    d : dict
-        The recording (:func:`stand.reports.balancing_input.read_input`):
-        instruments (rings, screen settings, camera frames) and weight angles.
-    t, x, y : ndarray
-        Times [s], shaft displacements [m].
-    phi, speed : ndarray or None
-        Unwrapped rotor angle [rad] and speed [rad/s].
-    rotating : bool
-        The rotor turns.
-    i_st : int
-        First sample of the final constant-speed stretch.
+    rec : Record
+        The recording (:func:`stand.reports.balancing_input.load_record`).
 
     Returns
     -------
@@ -42,6 +33,8 @@ def figures(d, t, x, y, phi, speed, rotating, i_st) -> dict:
     matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
 
+    d, t, x, y, phi, speed, rotating = rec.data, rec.t, rec.x, rec.y, rec.phi, rec.speed, rec.rotating
+    i_st = rec.steady
     figs = {}
     inst = d["inst"]
     # orbit / laser trace

@@ -4,17 +4,22 @@ HDF5 files are read by the one recording reader
 (:func:`stand.recording.read_recording`, every layout it accepts); a CSV has
 the columns ``stand analyze`` accepts.  :func:`read_input` checks what the
 report needs (3 finite samples at least, increasing time) and names the file
-and the field in every error.
+and the field in every error; :func:`load_record` adds the rotor speed and
+the final constant-speed stretch (:class:`Record`, what every section uses).
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from pathlib import Path
+from typing import Any, Optional
 
 import numpy as np
 
-__all__ = ["read_input"]
+from .signals import steady_start
+
+__all__ = ["read_input", "load_record", "Record"]
 
 TWO_PI = 2.0 * math.pi
 
@@ -142,3 +147,57 @@ def read_input(path) -> dict:
     if np.any(np.diff(t) <= 0):
         raise ValueError(f"{p}: dataset 'time' must be strictly increasing")
     return d
+
+
+@dataclasses.dataclass(frozen=True)
+class Record:
+    """One recording prepared for the report's sections.
+
+    Attributes
+    ----------
+    data : dict
+        What :func:`read_input` returned (weights, instruments, truth, solver
+        status, attributes, notes).
+    t : ndarray
+        Sample times [s].
+    x, y : ndarray
+        Shaft displacements [m].
+    phi : ndarray or None
+        Unwrapped rotor angle [rad].
+    speed : ndarray or None
+        Rotor speed d phi / dt [rad/s].
+    rotating : bool
+        The rotor turns (|speed| > 1e-6 rad/s somewhere).
+    steady : int
+        First sample of the final constant-speed stretch (0 when not rotating).
+    scene : Scene or None
+        The recording's planar scene (masses, capacity, supports, drive).
+    """
+
+    data: dict
+    t: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    phi: Optional[np.ndarray]
+    speed: Optional[np.ndarray]
+    rotating: bool
+    steady: int
+    scene: Any
+
+
+def load_record(path) -> Record:
+    """Read a recording (:func:`read_input`) and derive the rotor speed and steady stretch.
+
+    Raises
+    ------
+    FileNotFoundError, ValueError
+        As :func:`read_input`.
+    """
+    d = read_input(path)
+    t, phi, speed = d["t"], d["phi"], None
+    if phi is not None:
+        phi = np.unwrap(phi)
+        speed = np.gradient(phi, t)
+    rotating = speed is not None and float(np.max(np.abs(speed))) > 1e-6
+    return Record(data=d, t=t, x=d["x"], y=d["y"], phi=phi, speed=speed, rotating=rotating,
+                  steady=steady_start(t, speed) if rotating else 0, scene=d["scene"])

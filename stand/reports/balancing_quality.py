@@ -46,24 +46,13 @@ def zone_label(i):
     return f"zone {i}: between {i} S/16 and {i + 1} S/16"
 
 
-def balancing_quality(d, scene, t, x, y, phi, speed, rotating, i_st, w_service, grade, notes,
-                      warn):
+def balancing_quality(rec, w_service, grade, notes, warn):
     """The ``balancing_quality`` section of the report.
 
     Parameters
     ----------
-    d : dict
-        The recording (:func:`stand.reports.balancing_input.read_input`).
-    scene : Scene or None
-        The recording's planar scene (masses, capacity S, supports).
-    t, x, y : ndarray
-        Times [s], shaft displacements [m].
-    phi, speed : ndarray or None
-        Unwrapped rotor angle [rad] and speed [rad/s].
-    rotating : bool
-        The rotor turns.
-    i_st : int
-        First sample of the final constant-speed stretch.
+    rec : Record
+        The recording (:func:`stand.reports.balancing_input.load_record`).
     w_service : float or None
         Service speed [rad/s] for the ISO grade and the seeds' criteria.
     grade : float
@@ -82,6 +71,7 @@ def balancing_quality(d, scene, t, x, y, phi, speed, rotating, i_st, w_service, 
     from dsp import unbalance as ub
     from dsp.errors import SignalError
 
+    d, scene, t, x, y, phi, speed = rec.data, rec.scene, rec.t, rec.x, rec.y, rec.phi, rec.speed
     S = scene.balancer.capacity if scene is not None else 0.0
     bq = {k: None for k in SCHEMA["balancing_quality"]}
     bq["residual_window_s"] = []
@@ -111,7 +101,7 @@ def balancing_quality(d, scene, t, x, y, phi, speed, rotating, i_st, w_service, 
 
     # residual unbalance: 1X over the end of the final constant-speed stretch
     sc = None
-    if not rotating:
+    if not rec.rotating:
         notes.append("the rotor does not turn: no 1X response, no residual unbalance")
         return bq
     if d["weights"] is not None and d["weights"].shape[1] and phi is not None:
@@ -120,7 +110,7 @@ def balancing_quality(d, scene, t, x, y, phi, speed, rotating, i_st, w_service, 
             notes.append("the weights still move relative to the rotor at the end of the record: "
                          "the residual unbalance varies in time and the 1X value is its mean "
                          "over the window (its standard uncertainty includes the variation)")
-    n0 = i_st
+    n0 = rec.steady
     rev_s = TWO_PI / max(abs(speed[-1]), 1e-12)
     stretch = t[-1] - t[n0]
     if stretch < 2 * rev_s:
