@@ -260,6 +260,32 @@ class Run:
             cols[f"{name}_{unit(u)}"] = a
         return pd.DataFrame({k: np.array(v, dtype=np.float64) for k, v in cols.items()})
 
+    def plot(self, ax=None, kind: str = "time"):
+        """Draw the main plane's motion; returns the matplotlib Figure.
+
+        ``kind="time"``: x and y [mm] against t [s]; ``"orbit"``: y against x [mm].
+        ``ax``: draw into these axes (default: a new backend-free figure).
+        """
+        from .figures import figure_and_axes
+
+        if kind not in ("time", "orbit"):
+            raise ValueError(f"kind = {kind!r}: one of time, orbit")
+        fig, ax = figure_and_axes(ax, figsize=(7, 4) if kind == "time" else (5, 5))
+        name = getattr(self.scene, "name", "") or "run"
+        if kind == "time":
+            ax.plot(self.t, self.x * 1e3, lw=0.8, label="x")
+            ax.plot(self.t, self.y * 1e3, lw=0.8, label="y")
+            ax.set_xlabel("time [s]")
+            ax.set_ylabel(f"plane {self.main_plane} [mm]")
+            ax.legend(loc="upper right")
+        else:
+            ax.plot(self.x * 1e3, self.y * 1e3, lw=0.6)
+            ax.set_aspect("equal", adjustable="datalim")
+            ax.set_xlabel("x [mm]")
+            ax.set_ylabel("y [mm]")
+        ax.set_title(f"{name}: plane {self.main_plane}")
+        return fig
+
     def write(self, path, *, writer=None, extra_attrs=None):
         """Write the one HDF5 recording (atomically), :func:`stand.recording.write_recording`."""
         from .recording import write_recording

@@ -391,22 +391,29 @@ def _conservative(Rt, d, f0) -> dict:
     return out
 
 
-def plot_speed_map(th: SceneTheory, path) -> None:
+def plot_speed_map(th: SceneTheory, path=None, ax=None):
     """Draw the speed map: bands of stable motions over speed, criticals marked.
 
-    Written atomically (temporary file + rename).
-    """
-    import os
-    import tempfile
+    Parameters
+    ----------
+    th : SceneTheory
+    path : str or os.PathLike, optional
+        Also write the figure (PNG) there, atomically.
+    ax : matplotlib.axes.Axes, optional
+        Draw into these axes (default: a new backend-free figure).
 
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib import rcParams
+
+    from ..figures import figure_and_axes, save_figure
 
     labels = sorted({m for b in th.bands for m in b.motions},
                     key=lambda s: (s != "main", s != "main (maximally balanced)", s))
-    fig, ax = plt.subplots(figsize=(9, 1.2 + 0.45 * max(len(labels), 1)))
-    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    fig, ax = figure_and_axes(ax, figsize=(9, 1.2 + 0.45 * max(len(labels), 1)))
+    colors = rcParams["axes.prop_cycle"].by_key()["color"]
     for i, lab in enumerate(labels):
         for b in th.bands:
             if lab in b.motions:
@@ -424,16 +431,6 @@ def plot_speed_map(th: SceneTheory, path) -> None:
     ax.set_title(f"{th.scene or 'scene'}: stable motions (critical speeds: solid = gained, dashed = lost)")
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
     fig.tight_layout()
-    path = os.fspath(path)
-    d = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(dir=d, suffix=".png.tmp")
-    os.close(fd)
-    try:
-        fig.savefig(tmp, dpi=120, format="png")
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
-    finally:
-        plt.close(fig)
+    if path is not None:
+        save_figure(fig, path)
+    return fig
