@@ -305,7 +305,7 @@ def _cmd_experiment(args) -> int:
         sc = ex.impact(base, _need(args, "speed"), _need(args, "at"), _need(args, "velocity"), args.angle)
     elif p == "pressure":
         sc = ex.pressure(base, _need(args, "speed"), _need(args, "at"), _need(args, "end"),
-                         _need(args, "force"), args.stiffness, args.angle)
+                         _need(args, "side_force"), args.stiffness, args.angle)
     else:
         sc = ex.natural_frequency(base, _need(args, "deflection"))
     sc = check_derived(sc)
@@ -505,7 +505,7 @@ def build_parser() -> argparse.ArgumentParser:
     e.add_argument("--angle", type=float, default=0.0, help="angle [deg]")
     e.add_argument("--change-time", type=float, default=0.0, help="0 = discrete change [s]")
     e.add_argument("--velocity", type=float, help="velocity jump of the blow [m/s]")
-    e.add_argument("--force", type=float, help="side force [N]")
+    e.add_argument("--side-force", dest="side_force", type=float, help="pressure programme: side force [N]")
     e.add_argument("--stiffness", type=float, default=0.0, help="extra side stiffness [N/m]")
     e.add_argument("--deflection", type=float, help="initial shaft deflection [m]")
     e.set_defaults(func=_cmd_experiment)
@@ -544,7 +544,35 @@ def build_parser() -> argparse.ArgumentParser:
     sb.add_argument("-o", "--output", required=True, help="CSV to write")
     sb.add_argument("--weights", type=int, default=None, help="number of weights (default: detect)")
     sb.set_defaults(func=_cmd_strobe)
+    for sp in sub.choices.values():
+        if not any("--force" in a.option_strings for a in sp._actions):
+            sp.add_argument("--force", action="store_true",
+                            help="replace an existing output file of another kind (never an input)")
     return p
+
+
+def _table_kind(path) -> str:
+    return "parquet" if str(path).lower().endswith((".parquet", ".pq")) else "csv"
+
+
+def _guard(args) -> None:
+    """Refuse outputs that are inputs or files of another kind (stand.io.guard), before any work."""
+    from .io.guard import check_outputs
+
+    g = lambda name: getattr(args, name, None)  # noqa: E731
+    cmd = args.command
+    inputs = [g("scene"), g("recording"), g("source"), g("calibration"), g("catalogue"), g("spec")]
+    out = g("output")
+    outputs = [(g("json_file"), "json"), (g("plot"), "png"), (g("summary"), _table_kind(g("summary"))),
+               (g("regime_map"), "png"), (g("critical_map"), "png")]
+    kind = {"run": "hdf5", "experiment": "hdf5", "accuracy": "html", "report": "html",
+            "stress": "html", "snapshot": "png", "track": "csv", "strobe": "csv",
+            "sweep": "parquet", "analyze": _table_kind(out)}.get(cmd)
+    if out is not None and kind and not Path(out).is_dir():
+        outputs.append((out, kind))
+    if cmd == "run":
+        outputs.append((g("checkpoint"), "npz"))
+    check_outputs(inputs, outputs, force=bool(g("force")))
 
 
 def main(argv=None) -> int:
@@ -552,6 +580,7 @@ def main(argv=None) -> int:
 
     args = build_parser().parse_args(argv)
     try:
+        _guard(args)
         return args.func(args)
     except (SceneError, ValueError, FileNotFoundError, PermissionError, IsADirectoryError) as exc:
         # TheoryError is a ValueError: out-of-scope scenes end here with their reason

@@ -74,7 +74,7 @@ def test_unbalance_step_is_rebalanced(stand):
 def test_experiment_command_and_errors(tmp_path, capsys):
     out = tmp_path / "p.h5"
     rc = main(["experiment", str(SCENES / "ball_runup.toml"), "pressure", "--speed", "15", "--at", "20",
-               "--end", "25", "--force", "5", "-o", str(out)])
+               "--end", "25", "--side-force", "5", "-o", str(out)])
     assert rc == 0
     with h5py.File(out) as f:
         assert "pressure" in f.attrs["experiment"]
