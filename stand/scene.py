@@ -22,8 +22,7 @@ import numpy as np
 METHODS = ("auto", "DOP853", "Radau", "BDF", "LSODA", "numpy-DOP853")
 
 
-class SceneError(ValueError):
-    """A scene is invalid.  The message names the key, the value and the unit."""
+from .errors import SceneError  # noqa: E402 (re-exported: the scene's error)
 
 
 @dataclass(frozen=True)
@@ -482,4 +481,9 @@ class Scene:
         return 1e-3
 
 
-from .dimensionless import Dimensionless, dimensionless  # noqa: E402,F401 (re-exported)
+def __getattr__(name):  # the book's parameters live in stand.dimensionless (re-exported lazily)
+    if name in ("Dimensionless", "dimensionless"):
+        from . import dimensionless as _d
+
+        return getattr(_d, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -16,7 +16,7 @@ from typing import Any, Callable, Mapping, Optional
 
 import numpy as np
 
-from ..scene import SceneError
+from ..errors import SceneError
 
 __all__ = ["Table", "number", "fmt", "kind", "suggest", "REQUIRED"]
 
