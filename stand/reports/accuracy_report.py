@@ -70,11 +70,10 @@ def _rows(rep) -> list:
 
 def _plot(rows, title):
     """Work-precision plot (relative error [-] against wall time [s]) as a PNG data URI."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    fig = Figure(figsize=(6.4, 4.4))
+    ax = fig.subplots()
     for m in sorted({r["method"] for r in rows}):
         pts = [(r["wall_time_s"], r["relative_error"]) for r in rows
                if r["method"] == m and r["relative_error"] and r["wall_time_s"] > 0]

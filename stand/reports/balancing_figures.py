@@ -1,4 +1,5 @@
-"""Figures of the balancing report (matplotlib, Agg), drawn only from the recording's data."""
+"""Figures of the balancing report (matplotlib's object API, no backend chosen), drawn only
+from the recording's data."""
 from __future__ import annotations
 
 import math
@@ -28,17 +29,15 @@ def figures(rec) -> dict:
         (deg) against speed (rev/s) when the speed varies, spectrogram (Hz),
         weights' angles (deg), last camera frames.
     """
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     d, t, x, y, phi, speed, rotating = rec.data, rec.t, rec.x, rec.y, rec.phi, rec.speed, rec.rotating
     i_st = rec.steady
     figs = {}
     inst = d["inst"]
     # orbit / laser trace
-    fig, axs = plt.subplots(1, 2, figsize=(9, 4.2))
+    fig = Figure(figsize=(9, 4.2))
+    axs = fig.subplots(1, 2)
     if "ring_radius" in inst:
         st = inst.get("screen_settings", {})
         g = float(st.get("gain", 1.0))
@@ -74,7 +73,8 @@ def figures(rec) -> dict:
             pr = None
         if pr is not None and np.ptp(pr[1]) > 0.05 * np.max(pr[1]):
             tm, wr, vec = pr
-            fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 5), sharex=True)
+            fig = Figure(figsize=(8, 5))
+            a1, a2 = fig.subplots(2, 1, sharex=True)
             a1.semilogy(wr / TWO_PI, np.maximum(np.abs(vec), 1e-30) * 1e3, ".", ms=2)
             a1.set_ylabel("1X amplitude (mm)")
             a2.plot(wr / TWO_PI, np.degrees(np.angle(vec)), ".", ms=2)
@@ -93,7 +93,8 @@ def figures(rec) -> dict:
                                     return_onesided=False, detrend=False)
         f = np.fft.fftshift(f)
         Sxx = np.fft.fftshift(Sxx, axes=0)
-        fig, ax = plt.subplots(figsize=(8, 4))
+        fig = Figure(figsize=(8, 4))
+        ax = fig.subplots()
         ax.pcolormesh(tt + t[0], f, 10 * np.log10(Sxx + 1e-30 + Sxx.max() * 1e-12),
                       shading="auto", cmap="viridis")
         if rotating:
@@ -105,7 +106,8 @@ def figures(rec) -> dict:
     # weights' relative angles
     rel = d.get("rel")
     if rel is not None and rel.size:
-        fig, ax = plt.subplots(figsize=(8, 3.5))
+        fig = Figure(figsize=(8, 3.5))
+        ax = fig.subplots()
         ax.plot(t, np.degrees(np.angle(np.exp(1j * rel))), ".", ms=1)
         ax.set_xlabel("time (s)")
         ax.set_ylabel("angle from the mark (deg)")
@@ -115,7 +117,8 @@ def figures(rec) -> dict:
     for key, cap in (("strobe_frame", "stroboscope frame (last recorded)"),
                      ("screen_frame", "screen camera frame (last recorded)")):
         if key in inst:
-            fig, ax = plt.subplots(figsize=(4, 4))
+            fig = Figure(figsize=(4, 4))
+            ax = fig.subplots()
             ax.imshow(inst[key], cmap="gray", origin="upper")
             ax.set_axis_off()
             figs[cap] = figure_png(fig)

@@ -38,7 +38,7 @@ atomic_write_text = write_text
 
 
 def figure_png(fig) -> str:
-    """A matplotlib figure as a PNG data URI; the figure is closed.
+    """A matplotlib figure as a PNG data URI (a pyplot figure is closed).
 
     Parameters
     ----------
@@ -50,11 +50,12 @@ def figure_png(fig) -> str:
     str
         ``"data:image/png;base64,..."``, for the ``figures`` of :func:`render_html`.
     """
-    import matplotlib.pyplot as plt
-
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=90, bbox_inches="tight")
-    plt.close(fig)
+    import sys
+
+    if "matplotlib.pyplot" in sys.modules:   # a figure made by a caller through pyplot
+        sys.modules["matplotlib.pyplot"].close(fig)
     return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
 
 

@@ -231,14 +231,12 @@ def _run_case(case: dict) -> dict:
 # ------------------------------------------------------------------ report
 def _figure(cases):
     """Bar charts of each case's time [s] against its budget and of error / tolerance [-]."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     names = [c["name"] for c in cases]
     y = np.arange(len(cases))
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 0.35 * len(cases) + 1.5), sharey=True)
+    fig = Figure(figsize=(11, 0.35 * len(cases) + 1.5))
+    a1, a2 = fig.subplots(1, 2, sharey=True)
     colors = ["#070" if c["pass"] else "#b00" for c in cases]
     a1.barh(y, [max(c["case_time_s"], 1e-3) for c in cases], color=colors)
     a1.scatter([c["time_budget_s"] for c in cases], y, marker="|", color="k", s=200, label="budget")
