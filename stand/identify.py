@@ -73,17 +73,12 @@ def _from_run(rec):
 
 
 def _steady_window(t, speed, frac=0.3):
-    """Indices of the final stretch where the speed is constant (within 0.1 %)."""
+    """Indices of the final stretch where the speed is constant (within 0.1 %), at most the
+    last ``frac`` of the record."""
+    from .signals import steady_start
+
     n = t.size
-    start = int(n * (1 - frac))
-    if speed is not None:
-        ref = speed[-1]
-        ok = np.abs(speed - ref) <= 1e-3 * max(abs(ref), 1e-12)
-        i = n - 1
-        while i > 0 and ok[i - 1]:
-            i -= 1
-        start = max(start, i)
-    return slice(start, n)
+    return slice(max(int(n * (1 - frac)), steady_start(t, speed)), n)
 
 
 def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = None) -> dict:
@@ -92,10 +87,11 @@ def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = Non
     Every identification that does not apply (e.g. no rotation, no weights
     channel) is ``None`` with the reason in ``notes``.
     """
-    from dsp import frequency as fq
     from dsp import quasiperiodic as qpd
     from dsp import regime as rg
     from dsp import unbalance as ub
+
+    from .signals import plane_free_decay
 
     d = _read(path)
     t, x, y, phi, scene = d["t"], d["x"], d["y"], d["phi"], d["scene"]
@@ -114,16 +110,11 @@ def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = Non
     out.update(natural_frequency_hz=None, natural_frequency_hz_std=None, damping_ratio=None,
                damping_ratio_std=None)
     if not rotating:
-        try:
-            # a plane decay is real: fit the channel that moves most (a complex fit of a
-            # real signal would see two counter-rotating lines)
-            sig = x if np.std(x) >= np.std(y) else y
-            fd = fq.free_decay(t, sig)
+        fd = plane_free_decay(t, x, y, notes)
+        if fd is not None:
             out.update(natural_frequency_hz=fd.natural_frequency_hz,
                        natural_frequency_hz_std=fd.natural_frequency_hz_std,
                        damping_ratio=fd.damping_ratio, damping_ratio_std=fd.damping_ratio_std)
-        except SignalError as exc:
-            notes.append(f"free decay: {exc}")
     elif scene is not None:
         notes.append("rotating record: f0 and damping taken from the scene, not identified")
 

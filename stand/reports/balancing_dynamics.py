@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from .balancing_schema import REGIME_NAMES
-from .signals import per_revolution, plane_free_decay
+from ..signals import per_revolution, plane_free_decay
 
 __all__ = ["dynamics"]
 

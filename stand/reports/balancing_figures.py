@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from .html import figure_png
-from .signals import per_revolution
+from ..signals import per_revolution
 
 __all__ = ["figures"]
 

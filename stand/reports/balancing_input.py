@@ -17,7 +17,7 @@ from typing import Any, Optional
 
 import numpy as np
 
-from .signals import steady_start
+from ..signals import steady_start
 
 __all__ = ["read_input", "load_record", "Record"]
 
