@@ -64,7 +64,8 @@ _DIMLESS = {
     "max_steps": _p(_INT, default=50_000_000, ge=1),
 }
 _SCENE_FILE = {
-    "path": _p(_STR), "rtol": _p(_NUM, _DIMENSIONLESS, None, gt=0),
+    "path": _p(_STR), "duration": _p(_NUM, "s (or the book model's time)", None, gt=0),
+    "rtol": _p(_NUM, _DIMENSIONLESS, None, gt=0),
     "atol": _p(_NUM, "dimensionless state", None, gt=0),
     "method": _p(_STR, default="auto", choices=_METHODS),
 }

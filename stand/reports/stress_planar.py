@@ -308,7 +308,7 @@ def kind_scene_file(case, res):
     run = scene.run
     scene = dataclasses.replace(scene, run=dataclasses.replace(
         run, rtol=p["rtol"] or run.rtol, atol=p["atol"] or (p["rtol"] * 1e-2 if p["rtol"] else run.atol),
-        method=p["method"]))
+        method=p["method"], duration=p.get("duration") or run.duration))
     tr = _run_planar(case, scene, res)
     invalid = []
     if chk == "runup_closed_form":
