@@ -22,10 +22,6 @@ from typing import Any, Mapping, Union
 
 import numpy as np
 
-try:
-    import tomllib
-except ModuleNotFoundError:  # Python < 3.11
-    import tomli as tomllib
 
 from .dimensionless import (DIMENSIONLESS_KEYS, _dimensionless_params,  # noqa: F401
                             scene_from_dimensionless)
@@ -489,23 +485,10 @@ def load_scene(source: Union[str, Path]) -> Scene:
         Missing or unreadable file, TOML syntax error, or an invalid scene; for
         files the message starts with the file name.
     """
-    if isinstance(source, str) and "\n" in source:
-        text, label, stem = source, "", ""
-    else:
-        path = Path(source)
-        label, stem = f"{path}: ", path.stem
-        try:
-            text = path.read_text(encoding="utf-8")
-        except FileNotFoundError:
-            raise SceneError(f"scene file not found: {path}") from None
-        except UnicodeDecodeError as exc:
-            raise SceneError(f"{label}not UTF-8 text ({exc.reason} at byte {exc.start})") from None
-        except OSError as exc:
-            raise SceneError(f"cannot read scene file {path}: {exc.strerror}") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"{label or '<string>: '}TOML syntax error: {exc}") from None
+    from .io.tomlfile import read_toml
+
+    data, text, label = read_toml(source, "scene file")
+    stem = "" if not label else Path(source).stem
     try:
         return parse(data, text=text, stem=stem)
     except SceneError as exc:

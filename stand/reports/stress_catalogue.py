@@ -16,10 +16,6 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Mapping
 
-try:
-    import tomllib
-except ModuleNotFoundError:  # Python < 3.11
-    import tomli as tomllib
 
 from ..scene import SceneError
 from ..scene_file import Table, _fmt, _kind, _suggest
@@ -241,17 +237,10 @@ def load_catalogue(path=DEFAULT_CATALOGUE) -> list:
         Unreadable file, TOML syntax error, or a malformed case: the message
         names the file, the case (number and name) and the field.
     """
+    from ..io.tomlfile import read_toml
+
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise CatalogueError(f"cannot read catalogue {path}: {exc.strerror or exc}") from None
-    except UnicodeDecodeError as exc:
-        raise CatalogueError(f"{path}: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise CatalogueError(f"{path}: TOML syntax error: {exc}") from None
+    data, _, _ = read_toml(path, "catalogue", CatalogueError)
     for key in data:
         if key not in ("case", "catalogue"):
             raise CatalogueError(f"{path}: unknown top-level key {key!r}: "
