@@ -1,18 +1,22 @@
 """Batch processing of recordings: `stand analyze` / `stand report` on a folder
 or a glob, in parallel, with one summary table (issue 10 item 4).
 
-Files are processed by a local process pool (all cores by default) or, with
-``scheduler="tcp://host:port"``, by a dask.distributed cluster -- the same
-function either way.  A file that fails gives a row with ``status = "error"``
-and its message; the others go on.  The summary is written atomically (CSV,
-or Parquet when the name ends in ``.parquet``).
+Files are processed by :class:`stand.executor.Executor`: a local process pool
+(all cores by default) or, with ``scheduler="tcp://host:port"``, a
+dask.distributed cluster -- the same function either way.  A file that fails
+gives a row with ``status = "error"`` and its message; the others go on.  The
+summary is written atomically (CSV, or Parquet when the name ends in
+``.parquet``).
 """
 from __future__ import annotations
 
+import functools
 import glob
-import os
 from pathlib import Path
 from typing import Callable, Optional
+
+from .executor import Executor, ItemError, error_text
+from .io.atomic import atomic_path
 
 __all__ = ["expand_sources", "is_batch_source", "run_batch", "analyze_row", "write_table"]
 
@@ -20,12 +24,37 @@ EXTENSIONS = (".h5", ".hdf5", ".csv")
 
 
 def is_batch_source(source: str) -> bool:
-    """A directory or a glob pattern (several recordings)."""
+    """Whether ``source`` names several recordings: a directory or a glob pattern.
+
+    Parameters
+    ----------
+    source : str
+        A path or a pattern with ``*``, ``?`` or ``[``.
+
+    Returns
+    -------
+    bool
+    """
     return Path(source).is_dir() or any(c in str(source) for c in "*?[")
 
 
 def expand_sources(source: str) -> list:
-    """Sorted recording files of a directory (``*.h5``, ``*.hdf5``, ``*.csv``) or a glob."""
+    """Sorted recording files of a directory (``*.h5``, ``*.hdf5``, ``*.csv``) or a glob.
+
+    Parameters
+    ----------
+    source : str
+        A directory or a glob pattern.
+
+    Returns
+    -------
+    list of str
+
+    Raises
+    ------
+    FileNotFoundError
+        Nothing matches.
+    """
     p = Path(source)
     if p.is_dir():
         files = [str(f) for f in sorted(p.iterdir()) if f.suffix.lower() in EXTENSIONS and f.is_file()]
@@ -37,14 +66,30 @@ def expand_sources(source: str) -> list:
 
 
 def analyze_row(path: str, grade_mm_s: float = 6.3, service_speed_rpm: Optional[float] = None) -> dict:
-    """One summary row of `stand analyze` for ``path`` (never raises)."""
+    """One summary row of ``stand analyze`` for ``path`` (never raises).
+
+    Parameters
+    ----------
+    path : str
+        A recording.
+    grade_mm_s : float
+        Target ISO 21940-11 balance grade [mm/s].
+    service_speed_rpm : float, optional
+        Service speed [rpm].
+
+    Returns
+    -------
+    dict
+        ``file``, ``status`` ("ok"/"error"), ``error`` and the scalar fields of
+        :func:`stand.identify.analyze`.
+    """
     from .identify import analyze
 
     row = {"file": path, "status": "ok", "error": ""}
     try:
         doc = analyze(path, grade_mm_s=grade_mm_s, service_speed_rpm=service_speed_rpm)
     except Exception as exc:   # a bad file must not stop the batch: reported in its row
-        row.update(status="error", error=f"{type(exc).__name__}: {exc}")
+        row.update(status="error", error=error_text(exc))
         return row
     for k, v in doc.items():
         if isinstance(v, (int, float, str, bool)) or v is None:
@@ -52,74 +97,60 @@ def analyze_row(path: str, grade_mm_s: float = 6.3, service_speed_rpm: Optional[
     return row
 
 
-def _chunks(items, n):
-    for i in range(0, len(items), n):
-        yield items[i:i + n]
-
-
-def _run_chunk(func, paths, kwargs):
-    return [func(p, **kwargs) for p in paths]
+def _error_row(failed: ItemError) -> dict:
+    """The row of a file whose call raised (the function did not make its own)."""
+    return {"file": str(failed.item), "status": "error", "error": failed.error}
 
 
 def run_batch(files, func: Callable = analyze_row, *, workers: Optional[int] = None,
               scheduler: Optional[str] = None, progress: bool = False, **kwargs):
-    """Apply ``func(path, **kwargs) -> dict`` to every file; returns a pandas DataFrame
-    (one row per file, in the order of ``files``)."""
+    """Apply ``func(path, **kwargs) -> dict`` to every file (:class:`stand.executor.Executor`).
+
+    Parameters
+    ----------
+    files : iterable of str
+        Recording paths (:func:`expand_sources`).
+    func : callable
+        A picklable function (module level) returning one summary row; default
+        :func:`analyze_row`.
+    workers : int, optional
+        Local worker processes (default: all cores; 1: in this process).
+    scheduler : str, optional
+        A dask.distributed scheduler address ``tcp://host:port`` instead of the
+        local pool.
+    progress : bool
+        Progress bar on stderr (when tqdm is installed).
+    **kwargs
+        Passed to ``func``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per file, in the order of ``files``; a file whose call raised
+        gets ``status = "error"`` and the message in ``error``.
+    """
     import pandas as pd
 
     files = list(files)
-    rows = {}
-    bar = None
-    if progress:
-        try:
-            from tqdm import tqdm
-            bar = tqdm(total=len(files), unit="file")
-        except ImportError:
-            pass
-    if scheduler:
-        from dask.distributed import Client, as_completed
-
-        with Client(scheduler) as client:
-            futs = {client.submit(func, f, pure=False, **kwargs): f for f in files}
-            for fut in as_completed(futs):
-                rows[futs[fut]] = fut.result()
-                if bar is not None:
-                    bar.update(1)
-    elif (workers or os.cpu_count() or 1) == 1 or len(files) == 1:
-        for f in files:
-            rows[f] = func(f, **kwargs)
-            if bar is not None:
-                bar.update(1)
-    else:
-        from concurrent.futures import ProcessPoolExecutor, as_completed as done
-
-        with ProcessPoolExecutor(max_workers=workers) as ex:
-            futs = {ex.submit(func, f, **kwargs): f for f in files}
-            for fut in done(futs):
-                rows[futs[fut]] = fut.result()
-                if bar is not None:
-                    bar.update(1)
-    if bar is not None:
-        bar.close()
-    return pd.DataFrame([rows[f] for f in files])
+    call = functools.partial(func, **kwargs) if kwargs else func
+    with Executor(workers, scheduler) as ex:
+        rows = ex.map(call, files, progress=progress, unit="file", errors="capture")
+    return pd.DataFrame([_error_row(r) if isinstance(r, ItemError) else r for r in rows])
 
 
 def write_table(df, path) -> Path:
-    """Write the summary atomically: CSV, or Parquet for ``*.parquet``."""
-    import tempfile
+    """Write the summary atomically (:func:`stand.io.atomic.atomic_path`): CSV, or
+    Parquet for ``*.parquet``.
 
+    Raises
+    ------
+    FileNotFoundError
+        The output directory does not exist.
+    """
     path = Path(path)
-    if not path.resolve().parent.is_dir():
-        raise FileNotFoundError(f"output directory of {str(path)!r} does not exist")
-    fd, tmp = tempfile.mkstemp(dir=str(path.resolve().parent), prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    try:
+    with atomic_path(path) as tmp:
         if path.suffix.lower() == ".parquet":
             df.to_parquet(tmp, index=False)
         else:
             df.to_csv(tmp, index=False)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
     return path
