@@ -303,6 +303,78 @@ def test_physical_base_e0_H_h_conversions(tmp_path):
     np.testing.assert_allclose(df["p.R"] * df["p.f0_hz"], [9.0, 15.0], rtol=1e-12)
 
 
+# ------------------------------------------------------------------ any scene kind
+TWO_MASS = """
+[base.scene]
+name = "family_two_mass_short"
+[base.structure]
+type = "two_mass"
+body_mass = 2.0
+rotor_mass = 1.0
+body_stiffness = 1.0e4
+rotor_stiffness = 3.0e4
+body_damping = 20.0
+rotor_damping = 20.0
+unbalance = 2.0e-3
+[[base.weights]]
+plane = "balancer"
+type = "balls"
+count = 2
+mass = 0.01
+radius = 0.2
+drag = 0.5
+initial_angles = [60.0, 250.0]
+[base.drive]
+type = "speed"
+programme = [[0.0, 0.0], [1.0, 14.0]]
+[base.run]
+duration = 4.0
+sample_rate = 100.0
+"""
+
+
+def test_structure_base_scene_swept_over_a_structure_parameter(tmp_path):
+    """A [structure] base scene (data_samples/scenes/family_two_mass.toml, shortened) swept
+    over structure.rotor_stiffness: theory (engineering criterion of stand.theory) and
+    simulation; keys that only the planar rotor has are refused by name."""
+    from stand.scene_file import parse
+    from stand.scene_theory import theory
+    from stand.sweep.spec import point_scene_dict
+
+    spec = load_sweep(TWO_MASS + """
+        [sweep]
+        compute = ["theory", "simulate"]
+        [[axis]]
+        key = "structure.rotor_stiffness"
+        values = [2.0e4, 3.0e4]
+    """)
+    assert spec.kind == "rotor" and spec.n_points == 2
+    df = run_sweep(spec, tmp_path / "two_mass.parquet", scheduler="serial", progress=False)
+    assert (df["status"] == "ok").all(), df["error"].tolist()
+    _same(read_results(tmp_path / "two_mass.parquet"), df)
+    for _, r in df.iterrows():
+        sc = parse(point_scene_dict(spec.base, spec.columns, [r["structure.rotor_stiffness"]]))
+        doc = theory(sc, floquet=False)
+        assert r["p.f0_hz"] == pytest.approx(min(doc["natural_frequencies_hz_at_rest"]), rel=1e-9)
+        assert r["p.R"] * r["p.f0_hz"] == pytest.approx(14.0, rel=1e-12)     # the held speed
+        crit = doc["engineering_criterion"]["balancer"]["critical_speeds_hz"]
+        np.testing.assert_allclose(json.loads(r["theory.critical_speeds_hz"]), crit, rtol=1e-9)
+        assert r["theory.n_critical"] == len(crit)
+        assert bool(r["theory.main_stable"])      # 14 rev/s lies in the first working range
+    assert df["sim.success"].all()
+    assert set(df["sim.regime"]) <= {"main", "side", "quasi-periodic", "transient"}
+    assert (df["sim.nfev"] > 0).all() and np.isfinite(df["sim.residual"]).all()
+
+    with pytest.raises(SweepSpecError, match=r"axis\[0\]\.key = \"R_omega\": .*\[structure\] scene.*"
+                                             r"sweep \"speed\""):
+        load_sweep(TWO_MASS + "[[axis]]\nkey = 'R_omega'\nvalues = [1.0]\n")
+    with pytest.raises(SweepSpecError, match=r"unknown key structure\.rotor_stifness: did you mean"):
+        load_sweep(TWO_MASS + "[[axis]]\nkey = 'structure.rotor_stifness'\nvalues = [1.0]\n")
+    book = f"[base]\nscene = \"{(ROOT / 'data_samples' / 'scenes' / 'weight_damper.toml').as_posix()}\"\n"
+    with pytest.raises(SweepSpecError, match=r"sweep\.compute = \"theory\": .*\[weight_model\]"):
+        load_sweep(book + "[[axis]]\nkey = 'weight_model.h'\nvalues = [0.2]\n")
+
+
 # ------------------------------------------------------------------ simulate on Dask
 @pytest.fixture(scope="module")
 def warm_jit():

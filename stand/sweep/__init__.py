@@ -1,10 +1,14 @@
 """Parameter sweeps: many scenes, theory and/or simulation, on a process pool or a
 Dask cluster, with checkpoint/resume.
 
-* :mod:`.spec` -- the ``SWEEP.toml`` format (:func:`load_sweep`);
-* :mod:`.run`  -- execution and checkpoints (:func:`run_sweep`, :func:`sweep_main`
-  for ``stand sweep``);
-* :mod:`.maps` -- regime and critical-speed maps (PNG).
+* :mod:`.spec`  -- the ``SWEEP.toml`` format (:func:`load_sweep`), with
+  :mod:`.axes` (the ``[[axis]]`` tables), :mod:`.keys` (what an axis key means
+  for each scene kind) and :mod:`.checks` (messages);
+* :mod:`.run`   -- execution and checkpoints (:func:`run_sweep`), with
+  :mod:`.compute` and :mod:`.theory_points` (the work of a point),
+  :mod:`.schema` (the table's columns) and :mod:`.store` (the files);
+* :mod:`.command` -- ``stand sweep`` (:func:`sweep_main`);
+* :mod:`.maps`  -- regime and critical-speed maps (PNG).
 
 See ``docs/sweep.md``.
 """

@@ -1,0 +1,240 @@
+"""Compute a chunk of sweep points on a worker: the point's scene, its parameters
+(``p.*``), the theory (``theory.*``, :mod:`.theory_points`) and the simulation
+(``sim.*``), for every scene kind.
+
+``p.*`` by scene kind:
+
+* planar rotor: the book's dimensionless parameters (5.12)-(5.14), (5.88),
+  ``p.R`` = operating speed / omega_1, ``p.f0_hz`` = omega_1 / 2 pi;
+* ``[structure]``: ``p.n`` (weights), ``p.e0`` (the main plane's unbalance /
+  its capacity), ``p.f0_hz`` = the lowest natural frequency at rest with the
+  weights locked, ``p.R`` = operating speed / (2 pi ``p.f0_hz``); Rt, h, H NaN;
+* ``[weight_model]``: ``p.n`` only (the model's parameters are its own).
+
+A point that fails gets ``status = "error"`` and the message; it never stops
+the chunk.
+"""
+from __future__ import annotations
+
+import math
+import time
+import warnings
+
+import numpy as np
+
+from ..executor import error_text
+from .keys import RATIO_KEYS, SPECIAL_KEYS, point_scene_dict, with_speed
+from .theory_points import planar_theory_rows, structure_theory_rows
+
+__all__ = ["compute_chunk", "point_parameters"]
+
+TWO_PI = 2.0 * math.pi
+
+
+# ---------------------------------------------------------------- parameters
+def _reference_frequency(scene) -> float:
+    """omega_ref [rad/s]: omega_1 of the planar rotor; the lowest natural frequency at
+    rest (weights locked) of a family structure; NaN for a book model."""
+    if scene.kind == "planar":
+        return scene.natural_frequency
+    if scene.kind == "book":
+        return math.nan
+    from ..rotors.coupled_kernel import with_locked_weights
+
+    wn = with_locked_weights(scene.linear_rotor(), scene.weights).natural_frequencies(0.0)
+    wn = np.asarray(wn, float)
+    wn = wn[np.isfinite(wn) & (wn > 0)]
+    return float(wn.min()) if wn.size else math.nan
+
+
+def _operating_R(scene, w_ref: float) -> float:
+    """The held speed in units of ``w_ref`` (NaN without one)."""
+    from ..planar_theory.speedmap import _operating_speed
+
+    if scene.drive is None or not math.isfinite(w_ref):
+        return math.nan
+    d0 = scene.drive
+    if d0.kind == "torque" and d0.model == "constant":
+        return d0.torque / d0.rotor_drag / w_ref if d0.rotor_drag > 0 else math.nan
+    return _operating_speed(scene) / w_ref
+
+
+def _plane_e0(scene, plane: str) -> float:
+    """|unbalance of ``plane``| / capacity of its weights (structure scenes)."""
+    S = sum(w.balancer.capacity for w in scene.weights if w.plane == plane)
+    U = sum(u.s * complex(math.cos(u.angle), math.sin(u.angle))
+            for u in scene.linear_rotor().unbalances if u.plane == plane)
+    return abs(U) / S if S > 0 else math.nan
+
+
+def point_parameters(scene) -> dict:
+    """The ``p.*`` columns of a point's scene (module notes).
+
+    Parameters
+    ----------
+    scene : stand.scene.Scene
+
+    Returns
+    -------
+    dict
+    """
+    nan = math.nan
+    if scene.kind == "planar":
+        from ..scene import dimensionless
+
+        p = dimensionless(scene)
+        H = p.H_x if p.H_x == p.H_y else 0.5 * (p.H_x + p.H_y)
+        return {"p.n": p.n, "p.Rt": p.Rt, "p.h": float(p.h[0]) if p.n else nan, "p.H": H,
+                "p.e0": p.e0, "p.R": _operating_R(scene, p.omega_1), "p.f0_hz": p.omega_1 / TWO_PI}
+    out = {"p.n": scene.n_weights, "p.Rt": nan, "p.h": nan, "p.H": nan, "p.e0": nan, "p.R": nan,
+           "p.f0_hz": nan}
+    if scene.kind == "rotor":
+        w = _reference_frequency(scene)
+        out.update({"p.e0": _plane_e0(scene, scene.main_plane), "p.R": _operating_R(scene, w),
+                    "p.f0_hz": w / TWO_PI})
+    return out
+
+
+# ---------------------------------------------------------------- simulation
+def _structure_regime(run, opts: dict, w_ref: float) -> dict:
+    """Regime of a ``[structure]`` run, :func:`dsp.regime.motion_regime` on its mean speeds;
+    balanced: every plane with weights within ``balance_tol`` of its target (0, or
+    e0 - 1 beyond capacity); ``sim.residual``: the largest |psi| / S of those planes."""
+    from dsp.regime import motion_regime
+
+    from ..regime import QP_SPREAD_TOL
+
+    sc = run.scene
+    window = opts.get("window", 0.2)
+    sel = run.t >= run.t[0] + (1 - window) * (run.t[-1] - run.t[0])
+    rotor = float(np.mean(run.rotor_speed[sel]))
+    out = {"sim.rotor_speed_R": rotor / w_ref}
+    if not sc.n_weights:
+        return {**out, "sim.regime": "no weights", "sim.residual": math.nan, "sim.spread_rad": 0.0}
+    ws = np.mean(run.weight_speed[sel], axis=0)
+    rel = run.weight_angle[sel] - run.rotor_angle[sel, None]
+    residual, balanced = 0.0, True
+    for plane in dict.fromkeys(w.plane for w in sc.weights):
+        S = sum(w.balancer.capacity for w in sc.weights if w.plane == plane)
+        U = np.asarray(run.truth[f"residual/{plane}"][0])[-1]
+        psi, e0 = float(np.hypot(U[0], U[1])) / S, _plane_e0(sc, plane)
+        residual = max(residual, psi)
+        balanced &= abs(psi - (e0 - 1.0 if e0 > 1 else 0.0)) < opts.get("balance_tol", 1e-2)
+    name = motion_regime(rotor, ws - rotor, balanced, sync_tol=opts.get("sync_tol", 1e-3),
+                         spread_tol=QP_SPREAD_TOL)
+    return {**out, "sim.regime": name, "sim.residual": residual,
+            "sim.spread_rad": float(np.max(np.ptp(rel, axis=0)))}
+
+
+def _simulate_row(row: dict, scene, opts: dict) -> None:
+    """The ``sim.*`` columns: the run, its regime (planar: :func:`stand.regime.classify`;
+    structure: :func:`_structure_regime`; book model: not classified) and solver stats."""
+    from ..simulate import simulate
+
+    t0 = time.perf_counter()
+    run = simulate(scene, method=opts.get("method"))
+    window = opts.get("window", 0.2)
+    if scene.kind == "planar":
+        from ..regime import classify
+
+        reg = classify(run, window=window, sync_tol=opts.get("sync_tol", 1e-3),
+                       balance_tol=opts.get("balance_tol", 1e-2))
+        row.update({"sim.regime": reg.name, "sim.residual": float(reg.residual),
+                    "sim.rotor_speed_R": float(reg.rotor_speed), "sim.spread_rad": float(reg.spread)})
+    elif scene.kind == "rotor":
+        row.update(_structure_regime(run, opts, TWO_PI * row["p.f0_hz"]))
+    sel = run.t >= run.t[0] + (1 - window) * (run.t[-1] - run.t[0])
+    row.update({"sim.whirl_radius_m": float(np.mean(run.whirl_radius()[sel])),
+                "sim.success": bool(run.stats.success), "sim.message": run.stats.message,
+                "sim.nfev": int(run.stats.nfev), "sim.wall_s": time.perf_counter() - t0})
+
+
+# ---------------------------------------------------------------- a chunk
+def _point_scene(payload: dict, vals, speed: list, cache: dict):
+    """(scene, ``p.*`` columns) of one point.  Theory-only sweeps with a speed axis parse
+    the scene of the non-speed inputs once (``cache``) and apply the speed to the
+    validated drive (the same scaling as :func:`point_scene_dict`)."""
+    from ..scene_file import parse
+
+    keys, base = payload["keys"], payload["base"]
+    if not speed:
+        sc = parse(point_scene_dict(base, keys, vals))
+        return sc, point_parameters(sc)
+    j = speed[0]
+    other = tuple(v for i, v in enumerate(vals) if i != j)
+    if other not in cache:
+        try:
+            ks = [k for i, k in enumerate(keys) if i != j]
+            s0 = parse(point_scene_dict(base, ks, other))
+            cache[other] = (s0, point_parameters(s0), _reference_frequency(s0))
+        except Exception as exc:
+            cache[other] = exc
+    got = cache[other]
+    if isinstance(got, Exception):
+        raise got
+    s0, params, w_ref = got
+    sc = with_speed(s0, keys[j], float(vals[j]), w_ref if keys[j] in RATIO_KEYS else None)
+    return sc, {**params, "p.R": _operating_R(sc, w_ref)}
+
+
+def compute_chunk(payload: dict, indices: list, ids: list, points: list) -> list:
+    """Compute one chunk of points; runs on a worker (local process or Dask).
+
+    Parameters
+    ----------
+    payload : dict
+        :meth:`SweepSpec.to_payload`: plain data only (base scene document,
+        axis keys, compute list, options).
+    indices : list of int
+        Point indices (row order of the final table).
+    ids : list of str
+        Point ids.
+    points : list of list of float
+        Input values, one list per point, in the order of ``payload["keys"]``.
+
+    Returns
+    -------
+    list of dict
+        One row per point (see :data:`stand.sweep.schema.RESULT_SCHEMA`);
+        failures are rows with ``status = "error"``.
+    """
+    keys, compute = payload["keys"], payload["compute"]
+    rows, scenes = [], []
+    t_start = time.perf_counter()
+    speed = [j for j, k in enumerate(keys) if k in SPECIAL_KEYS] if compute == ["theory"] else []
+    cache: dict = {}
+    for idx, pid, vals in zip(indices, ids, points):
+        row = {"point_index": int(idx), "point_id": pid, "status": "ok", "error": ""}
+        row.update({k: float(v) for k, v in zip(keys, vals)})
+        sc = None
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                sc, params = _point_scene(payload, vals, speed, cache)
+            row.update(params)
+        except Exception as exc:
+            row["status"], row["error"] = "error", error_text(exc)
+        rows.append(row)
+        scenes.append(sc)
+    t_setup = (time.perf_counter() - t_start) / max(len(rows), 1)
+    shared = [t_setup] * len(rows)
+    if "theory" in compute:
+        t0 = time.perf_counter()
+        by_kind = {"planar": planar_theory_rows, "rotor": structure_theory_rows}
+        for kind, fill in by_kind.items():
+            sel = [i for i, sc in enumerate(scenes) if sc is not None and sc.kind == kind]
+            if sel:
+                fill([rows[i] for i in sel], [scenes[i] for i in sel], payload.get("theory", {}))
+        dt = (time.perf_counter() - t0) / max(len(rows), 1)
+        shared = [s + dt for s in shared]
+    for row, sc, s in zip(rows, scenes, shared):
+        t0 = time.perf_counter()
+        if "simulate" in compute and row["status"] == "ok":
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    _simulate_row(row, sc, payload.get("simulate", {}))
+            except Exception as exc:
+                row["status"], row["error"] = "error", error_text(exc)
+        row["wall_time_s"] = s + time.perf_counter() - t0
+    return rows

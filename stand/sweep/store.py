@@ -1,0 +1,143 @@
+"""A sweep's files: the checkpoint parts and the final table.
+
+Layout of the results of ``run_sweep(spec, "results.parquet")``::
+
+    results.parquet              # final combined table (written last, atomically)
+    results.parquet.parts/       # one Parquet file per finished chunk
+        part-000000500-3f9c...parquet
+
+Every file is written through :func:`stand.io.atomic.atomic_path` (a temporary
+``.<name>.*.tmp`` beside it, fsync, ``os.replace``), so a killed sweep leaves
+only complete files plus at most a few stray temporaries, which
+:func:`read_parts` deletes.
+"""
+from __future__ import annotations
+
+import uuid
+import warnings
+from pathlib import Path
+from typing import Union
+
+import numpy as np
+import pandas as pd
+
+from ..io.atomic import atomic_path
+from ..io.jsonable import dumps
+from .schema import rows_to_frame
+
+__all__ = ["parts_dir", "read_results", "read_parts", "write_part", "write_table"]
+
+
+def parts_dir(output: Union[str, Path]) -> Path:
+    """Checkpoint directory of an output file: ``<output>.parts``."""
+    return Path(str(output) + ".parts")
+
+
+def _write_parquet(df: pd.DataFrame, path: Path) -> None:
+    with atomic_path(path) as tmp:
+        df.to_parquet(tmp, index=False)
+
+
+def _write_hdf5(df: pd.DataFrame, path: Path, attrs: dict) -> None:
+    """Write the table with h5py: one dataset per column under ``/results``."""
+    import h5py
+
+    with atomic_path(path) as tmp:
+        with h5py.File(tmp, "w") as f:
+            g = f.create_group("results")
+            for k, v in attrs.items():
+                f.attrs[k] = v
+            g.attrs["columns"] = dumps(list(df.columns))
+            for c in df.columns:
+                col = df[c]
+                if col.dtype == "string" or col.dtype == object:
+                    g.create_dataset(c, data=np.array(col.fillna("").astype(str), dtype=object),
+                                     dtype=h5py.string_dtype())
+                elif str(col.dtype) in ("boolean", "Int64"):
+                    g.create_dataset(c, data=col.astype("float64").to_numpy(na_value=np.nan))
+                    g[c].attrs["dtype"] = str(col.dtype)
+                else:
+                    g.create_dataset(c, data=col.to_numpy())
+
+
+def write_table(table: pd.DataFrame, output: Union[str, Path], attrs: dict) -> None:
+    """Write the final table: HDF5 for ``*.h5``/``*.hdf5`` (``attrs`` on the file), else Parquet.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+    output : path
+    attrs : dict
+        Strings stored as HDF5 file attributes (sweep name, fingerprint, ...).
+    """
+    output = Path(output)
+    if output.suffix.lower() in (".h5", ".hdf5"):
+        _write_hdf5(table, output, attrs)
+    else:
+        _write_parquet(table, output)
+
+
+def _read_hdf5(path: Path) -> pd.DataFrame:
+    import json
+
+    import h5py
+
+    with h5py.File(path, "r") as f:
+        g = f["results"]
+        cols = json.loads(g.attrs["columns"])
+        data = {}
+        for c in cols:
+            ds = g[c]
+            kind = ds.attrs.get("dtype")
+            if h5py.check_string_dtype(ds.dtype) is not None:
+                data[c] = pd.array([s.decode() if isinstance(s, bytes) else s for s in ds[()]],
+                                   dtype="string")
+            elif kind in ("boolean", "Int64"):
+                x = ds[()]
+                vals = [None if np.isnan(v) else (bool(v) if kind == "boolean" else int(v)) for v in x]
+                data[c] = pd.array(vals, dtype=kind)
+            else:
+                data[c] = ds[()]
+    return pd.DataFrame(data, columns=cols)
+
+
+def read_results(path: Union[str, Path]) -> pd.DataFrame:
+    """Read a sweep's final table (``.parquet`` or ``.h5``/``.hdf5``).
+
+    Parameters
+    ----------
+    path : path
+
+    Returns
+    -------
+    pandas.DataFrame
+    """
+    path = Path(path)
+    if path.suffix.lower() in (".h5", ".hdf5"):
+        return _read_hdf5(path)
+    return pd.read_parquet(path)
+
+
+def read_parts(pdir: Path) -> list:
+    """All complete part tables of a checkpoint directory; stray temporary files are removed."""
+    frames = []
+    if not pdir.is_dir():
+        return frames
+    for tmp in pdir.glob(".*.tmp"):
+        try:
+            tmp.unlink()
+        except OSError:
+            pass
+    for f in sorted(pdir.glob("part-*.parquet")):
+        try:
+            frames.append(pd.read_parquet(f))
+        except Exception as exc:  # cannot happen with atomic writes; keep going anyway
+            warnings.warn(f"sweep: skipping unreadable part {f.name}: {exc}")
+    return frames
+
+
+def write_part(pdir: Path, rows: list, spec) -> None:
+    """One finished chunk as ``part-<first index>-<random>.parquet`` in ``pdir``."""
+    df = rows_to_frame(rows, spec)
+    first = int(df["point_index"].min()) if len(df) else 0
+    _write_parquet(df, pdir / f"part-{first:09d}-{uuid.uuid4().hex[:8]}.parquet")
