@@ -3,10 +3,11 @@ Dask against the local process pool.
 
     python benchmarks/bench_sweep.py [--points 4000] [--sims 600] [--sim-duration 2000]
 
-Workloads (the universal stand's ball balancer, speed x unbalance):
+Workloads (two balls, the base scene of data_samples/sweeps/ball_simulate_small.toml,
+speed x unbalance):
 
-* theory  -- main/QP stability and critical speeds (data_samples/sweeps/ball_theory_map.toml
-  cut to ``--points``);
+* theory  -- main/QP stability and critical speeds over ``--points`` (speed x unbalance,
+  as data_samples/sweeps/ball_theory_map.toml);
 * simulate -- constant-speed runs (tau = 2000 by default, ~300-1900 revolutions,
   tens of ms each) classified by stand.regime.
 
@@ -23,65 +24,39 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-
-BASE = """
-[base.dimensionless]
-n = 2
-Rt = 0.01
-h = 0.3
-H = 0.3
-e0 = 0.5
-initial_angles = [150.0, 210.0]
-[base.drive]
-type = "speed"
-programme_dimensionless = [[0.0, 3.0]]
-[base.run]
-duration = 40.0
-sample_rate = 5.0
-"""
+#: the base scene of every workload: that of this sample (two balls, dimensionless form)
+SAMPLE = ROOT / "data_samples" / "sweeps" / "ball_simulate_small.toml"
 
 
-def theory_spec(n_speed: int, n_e0: int, critical: bool = True) -> str:
-    return BASE + f"""
-[sweep]
-compute = ["theory"]
-[[axis]]
-key = "R_omega"
-start = 0.5
-stop = 10.0
-num = {n_speed}
-spacing = "log"
-[[axis]]
-key = "e0"
-start = 0.0
-stop = 1.0
-num = {n_e0}
-[theory]
-critical_speeds = {"true" if critical else "false"}
-"""
+def base_scene(duration: float = 40.0) -> dict:
+    """The sample's base scene document with run.duration = ``duration`` (tau)."""
+    from stand.sweep import load_sweep
+
+    base = load_sweep(SAMPLE).base
+    base["run"]["duration"] = duration
+    return base
 
 
-def simulate_spec(n: int, duration: float = 400.0) -> str:
-    return BASE.replace("duration = 40.0", f"duration = {duration}") + f"""
-[sweep]
-compute = ["simulate"]
-[[axis]]
-key = "R_omega"
-start = 0.5
-stop = 6.0
-num = {max(2, n // 10)}
-[[axis]]
-key = "e0"
-start = 0.05
-stop = 1.4
-num = 10
-"""
+def _axis(key: str, start: float, stop: float, num: int, **more) -> dict:
+    return {"key": key, "start": start, "stop": stop, "num": num, **more}
 
 
-def timed(spec_text: str, tmp: Path, name: str, **kw) -> tuple:
+def theory_spec(n_speed: int, n_e0: int, critical: bool = True) -> dict:
+    return {"base": base_scene(), "sweep": {"compute": ["theory"]},
+            "axis": [_axis("R_omega", 0.5, 10.0, n_speed, spacing="log"),
+                     _axis("e0", 0.0, 1.0, n_e0)],
+            "theory": {"critical_speeds": critical}}
+
+
+def simulate_spec(n: int, duration: float = 400.0) -> dict:
+    return {"base": base_scene(duration), "sweep": {"compute": ["simulate"]},
+            "axis": [_axis("R_omega", 0.5, 6.0, max(2, n // 10)), _axis("e0", 0.05, 1.4, 10)]}
+
+
+def timed(spec_doc: dict, tmp: Path, name: str, **kw) -> tuple:
     from stand.sweep import load_sweep, run_sweep
 
-    spec = load_sweep(spec_text)
+    spec = load_sweep(spec_doc)
     t0 = time.perf_counter()
     df = run_sweep(spec, tmp / f"{name}.parquet", resume=False, progress=False, **kw)
     wall = time.perf_counter() - t0
@@ -97,19 +72,19 @@ def main() -> None:
     ap.add_argument("--no-dask", action="store_true")
     a = ap.parse_args()
 
-    from stand.scene_file import load_scene
+    from stand.scene_file import parse
     from stand.simulate import simulate
 
-    simulate(load_scene(BASE.replace("[base.", "[")))    # compile/load the integrator once
+    simulate(parse(base_scene()))    # compile/load the integrator once
     n_e0 = 40
     n_speed = max(2, a.points // n_e0)
     rows = []
     with tempfile.TemporaryDirectory() as d:
         tmp = Path(d)
-        for label, text in (("theory", theory_spec(n_speed, n_e0)),
-                            ("simulate", simulate_spec(a.sims, a.sim_duration))):
+        for label, doc in (("theory", theory_spec(n_speed, n_e0)),
+                           ("simulate", simulate_spec(a.sims, a.sim_duration))):
             for w in (1, 2):
-                n, wall, work = timed(text, tmp, f"{label}{w}", workers=w)
+                n, wall, work = timed(doc, tmp, f"{label}{w}", workers=w)
                 rows.append((f"{label}, local pool", w, n, wall, n / wall, 1e6 * wall / n))
             speedup = rows[-2][3] / rows[-1][3]
             rows.append((f"{label}: speed-up 2 vs 1 workers = {speedup:.2f}", None, None, None,
@@ -126,7 +101,7 @@ def main() -> None:
 
             with LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                               dashboard_address=None) as cluster, Client(cluster) as client:
-                client.run(lambda: __import__("stand.sweep.run"))   # import once per worker
+                client.run(lambda: __import__("stand.sweep.compute"))   # import once per worker
                 timed(cheap, tmp, "dask-warm", scheduler=client, chunk_size=50)
                 n, wall_d, _ = timed(cheap, tmp, "dask", scheduler=client, chunk_size=50)
             over_d = (wall_d * 2 - work) / n
