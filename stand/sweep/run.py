@@ -30,7 +30,8 @@ from ..io.jsonable import dumps
 from .command import add_sweep_arguments, sweep_main
 from .compute import compute_chunk
 from .keys import SPECIAL_KEYS
-from .schema import RESULT_SCHEMA, TIMING_COLUMNS, rows_to_frame
+from .schema import (COMMON_COLUMNS, RESULT_SCHEMA, SIMULATE_COLUMNS,  # noqa: F401
+                     THEORY_COLUMNS, TIMING_COLUMNS, rows_to_frame)
 from .spec import SweepSpec, load_sweep
 from .store import parts_dir, read_parts, read_results, write_part, write_table
 

@@ -77,10 +77,11 @@ except ModuleNotFoundError:  # Python < 3.11
 from .. import scene_file as sf
 from ..io.jsonable import dumps
 from ..io.tomlfile import read_toml
-from .axes import Axis, read_axis
+from .axes import AXIS_KEYS, Axis, read_axis  # noqa: F401  (AXIS_KEYS re-exported)
 from .checks import (MAX_POINTS, SweepSpecError, _allow, _fmt, _integer, _number, _suggest, _table,
                      spec_errors)
-from .keys import DIMENSIONLESS_NAMES, SPECIAL_KEYS, point_scene_dict
+from .keys import (DIMENSIONLESS_NAMES, SCENE_TABLE_KEYS, SPECIAL_KEYS,  # noqa: F401
+                   TWO_PI, point_scene_dict)
 
 __all__ = ["SweepSpecError", "Axis", "SweepSpec", "load_sweep", "parse_sweep", "point_scene_dict",
            "COMPUTE", "SPECIAL_KEYS", "DIMENSIONLESS_NAMES"]
