@@ -280,10 +280,10 @@ def _cmd_snapshot(args) -> int:
 
 
 def _cmd_experiment(args) -> int:
-    from . import experiments as ex
+    from .experiments import PROGRAMMES, programme
     from .instruments.pipeline import run_with_instruments
     from .recording import check_output_path, write_recording
-    from .scene_file import check_derived, load_scene
+    from .scene_file import load_scene
 
     base = load_scene(args.scene)
     out = check_output_path(args.output)
@@ -292,38 +292,24 @@ def _cmd_experiment(args) -> int:
                                f"rotor of chapter 5 in this version; the scene's structure is "
                                f"{base.structure_type}")
     p = args.programme
-    if p == "constant":
-        sc = ex.constant(base, band=args.band, speed=args.speed, duration=args.duration or 60.0)
-    elif p == "run-up":
-        sc = ex.run_up(base, _need(args, "speed"), _need(args, "rate"), hold=args.hold)
-    elif p == "run-down":
-        sc = ex.run_down(base, _need(args, "speed"), time=args.time, exponential=args.exponential)
-    elif p == "unbalance":
-        sc = ex.unbalance(base, _need(args, "speed"), _need(args, "at"), _need(args, "eccentricity"),
-                          args.angle, duration=args.change_time)
-    elif p == "impact":
-        sc = ex.impact(base, _need(args, "speed"), _need(args, "at"), _need(args, "velocity"), args.angle)
-    elif p == "pressure":
-        sc = ex.pressure(base, _need(args, "speed"), _need(args, "at"), _need(args, "end"),
-                         _need(args, "side_force"), args.stiffness, args.angle)
-    else:
-        sc = ex.natural_frequency(base, _need(args, "deflection"))
-    sc = check_derived(sc)
-    traj, writer = run_with_instruments(sc, progress=sys.stderr.isatty())
-    write_recording(traj, out, writer=writer,
-                    extra_attrs={"experiment": {"programme": p, **{k: v for k, v in vars(args).items()
-                                                                    if k not in ("func",)
-                                                                    and v is not None}}})
-    st = traj.stats
+    # the builders' arguments (stand.experiments.PROGRAMMES) from the command's flags
+    opts = dict(speed=args.speed, rate=args.rate, hold=args.hold, band=args.band,
+                duration=args.change_time if p == "unbalance" else args.duration, time=args.time,
+                exponential=args.exponential, at=args.at, start=args.at,
+                eccentricity=args.eccentricity, angle_deg=args.angle, velocity=args.velocity,
+                end=args.end, force=args.side_force, stiffness=args.stiffness,
+                deflection=args.deflection)
+    flag = {"start": "at", "force": "side-force", "angle_deg": "angle"}
+    for k in PROGRAMMES[p][1]:
+        if opts[k] is None:
+            raise ValueError(f"stand experiment {p}: --{flag.get(k, k)} is required")
+    sc = programme(base, p, **opts)
+    res, writer = run_with_instruments(sc, progress=sys.stderr.isatty())
+    write_recording(res, out, writer=writer, extra_attrs={"experiment": {
+        "programme": p, **{k: v for k, v in vars(args).items() if k != "func" and v is not None}}})
+    st = res.stats
     print(f"{sc.name} / {p}: {st.message} [{st.method}, {st.wall_time:.2f} s] -> {out}")
     return 0 if st.success else 1
-
-
-def _need(args, name):
-    v = getattr(args, name)
-    if v is None:
-        raise ValueError(f"stand experiment {args.programme}: --{name.replace('_', '-')} is required")
-    return v
 
 
 def _cmd_analyze(args) -> int:

@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from .scene import (Impulse, InitialState, RunSettings, Scene, SceneError, SideForce, SpeedDrive,
+from .scene import (Impulse, InitialState, Scene, SceneError, SideForce, SpeedDrive,
                     UnbalanceChange)
 
 TWO_PI = 2 * math.pi
@@ -129,3 +129,38 @@ def natural_frequency(scene: Scene, deflection: float, periods: float = 5.0) -> 
 
 PROGRAMMES = {"constant": constant, "run-up": run_up, "run-down": run_down, "unbalance": unbalance,
               "impact": impact, "pressure": pressure, "natural-frequency": natural_frequency}
+
+
+#: programme name -> (builder, required options, optional options with their defaults)
+PROGRAMMES = {
+    "constant": (constant, (), {"band": "super", "speed": None, "duration": 60.0}),
+    "run-up": (run_up, ("speed", "rate"), {"hold": 20.0}),
+    "run-down": (run_down, ("speed",), {"time": 175.0, "exponential": False}),
+    "unbalance": (unbalance, ("speed", "at", "eccentricity"), {"angle_deg": 0.0, "duration": 0.0}),
+    "impact": (impact, ("speed", "at", "velocity"), {"angle_deg": 0.0}),
+    "pressure": (pressure, ("speed", "start", "end", "force"), {"stiffness": 0.0, "angle_deg": 0.0}),
+    "natural-frequency": (natural_frequency, ("deflection",), {}),
+}
+
+
+def programme(scene: Scene, name: str, **options) -> Scene:
+    """The scene of experiment programme ``name`` (:data:`PROGRAMMES`) on the stand ``scene``.
+
+    ``options`` are the builder's arguments by name (None = not given); a missing required
+    one raises ValueError naming it.  Only the planar rotor of chapter 5 runs the
+    programmes in this version (ValueError otherwise, with the reason).
+    """
+    from .scene_file import check_derived
+
+    if name not in PROGRAMMES:
+        raise ValueError(f"programme {name!r}: one of {', '.join(PROGRAMMES)}")
+    if scene.kind != "planar":
+        raise ValueError(f"the programmes of tables 4.2-4.6 drive the planar rotor of chapter 5 in "
+                         f"this version; the scene's structure is {scene.structure_type}")
+    build, required, optional = PROGRAMMES[name]
+    missing = [k for k in required if options.get(k) is None]
+    if missing:
+        raise ValueError(f"programme {name}: {', '.join(missing)} required")
+    kw = {k: options[k] for k in required}
+    kw.update({k: options[k] if options.get(k) is not None else d for k, d in optional.items()})
+    return check_derived(build(scene, **kw))
