@@ -30,7 +30,6 @@ what was filled in is listed in :attr:`Recording.notes`.
 """
 from __future__ import annotations
 
-import dataclasses
 import datetime as _dt
 import json
 import os
@@ -192,8 +191,7 @@ def write_recording(run: Run, path: Union[str, os.PathLike], *,
         "main_plane": run.main_plane,
         "run_notes": json.dumps(list(run.notes)),
         "weight_planes": json.dumps(run.weight_planes),
-        "solver": json.dumps(to_jsonable(dataclasses.asdict(stats) if dataclasses.is_dataclass(stats)
-                                         else dict(stats or {}))),
+        "solver": json.dumps(to_jsonable(dict(stats or {}))),
     }
     with atomic_path(path, suffix=".h5.tmp") as tmp:
         with h5py.File(tmp, "w") as f:
@@ -511,9 +509,7 @@ def _read_open(f: "h5py.File", label: str) -> Recording:
     if not isinstance(scene_text, str):
         raise RecordingError(f"{label}: root attribute 'scene' is not text")
     scene = _scene(scene_text, notes)
-    fields = {f.name for f in dataclasses.fields(SolverStats)}
-    stats = SolverStats(**{"method": "", "rtol": float("nan"), "atol": float("nan"),
-                           **{k: v for k, v in solver.items() if k in fields}})
+    stats = SolverStats(**{k: v for k, v in solver.items() if k in SolverStats.FIELDS})
     return Recording(
         t=_freeze(t), planes={p: _freeze(a) for p, a in planes.items()}, main_plane=main,
         rotor_angle=_freeze(rotor["rotor_angle"]), rotor_speed=_freeze(rotor["rotor_speed"]),

@@ -23,11 +23,11 @@ whole scene) with their plane in :attr:`Run.weight_planes`.
 """
 from __future__ import annotations
 
-import json
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Optional
 
 import numpy as np
+from scipy.optimize import OptimizeResult as _OdeResult
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
@@ -38,42 +38,52 @@ __all__ = ["Run", "SolverStats", "weight_names"]
 WEIGHT_UNITS = {"angle": "rad", "speed": "rad/s", "relative_angle": "rad"}
 
 
-@dataclass
-class SolverStats:
-    """Solver statistics, as a ``scipy.integrate.solve_ivp`` result carries them.
+class SolverStats(_OdeResult):
+    """Solver statistics: a SciPy result (``scipy.optimize.OptimizeResult``, the base of
+    ``solve_ivp``'s ``OdeResult``): a dict whose keys are also attributes.
 
-    ``status`` 0: reached the end; negative: stopped early (non-finite state,
-    step-size collapse, step budget), with the reason in ``message``.
+    Attributes
+    ----------
+    method : str
+        Integration method (``"DOP853"``, ``"Radau"``, ...).
+    rtol, atol : float
+        Tolerances on the integrated (scaled) state.
+    n_steps, n_rejected : int
+        Accepted and rejected steps.
+    nfev, njev, nlu : int
+        Right-hand-side and Jacobian evaluations, LU decompositions (as SciPy's).
+    wall_time : float
+        Integration time [s] (compilation excluded).
+    status : int
+        0: reached the end; -1 step-size collapse or solver failure; -2 non-finite or
+        diverged state; -3 step budget.
+    message : str
+    success : bool
+    stiffness_ratio : float
+        Fastest decay rate / fastest frequency of the model (auto picks Radau above 30).
+    method_reason : str
+        Why the method was chosen.
     """
 
-    method: str
-    """Integration method (``"DOP853"``, ``"Radau"``, ...)."""
-    rtol: float
-    atol: float
-    """Tolerances on the integrated (scaled) state."""
-    n_steps: int = 0
-    """Accepted steps."""
-    n_rejected: int = 0
-    nfev: int = 0
-    """Right-hand-side evaluations (SciPy's ``nfev``); ``njev``, ``nlu`` likewise."""
-    njev: int = 0
-    nlu: int = 0
-    wall_time: float = 0.0
-    """Integration time [s] (compilation excluded)."""
-    status: int = 0
-    """0: reached the end; -1 step-size collapse or solver failure; -2 non-finite or diverged
-    state; -3 step budget."""
-    message: str = ""
-    success: bool = True
-    stiffness_ratio: float = 0.0
-    """Fastest decay rate / fastest frequency of the model (auto picks Radau above 30)."""
-    method_reason: str = ""
+    FIELDS = dict(method="", rtol=float("nan"), atol=float("nan"), n_steps=0, n_rejected=0,
+                  nfev=0, njev=0, nlu=0, wall_time=0.0, status=0, message="", success=True,
+                  stiffness_ratio=0.0, method_reason="")
 
-    def to_json(self) -> str:
-        return json.dumps(asdict(self))
+    def __init__(self, method: str = "", rtol: float = float("nan"), atol: float = float("nan"),
+                 **fields):
+        unknown = sorted(set(fields) - set(self.FIELDS))
+        if unknown:
+            raise TypeError(f"SolverStats: unknown field(s) {', '.join(unknown)}; valid: "
+                            f"{', '.join(self.FIELDS)}")
+        super().__init__({**self.FIELDS, "method": method, "rtol": rtol, "atol": atol, **fields})
 
     def to_dict(self) -> dict:
-        return asdict(self)
+        return dict(self)
+
+    def to_json(self) -> str:
+        from .io.jsonable import dumps
+
+        return dumps(dict(self))
 
 
 def weight_names(weights) -> tuple:
@@ -313,7 +323,7 @@ class Run:
             revolution (or the last 5 % of the run when the rotor is at rest).
         """
         N = len(self.t)
-        out = {"solver": asdict(self.stats) if self.stats is not None else {}}
+        out = {"solver": dict(self.stats) if self.stats is not None else {}}
         if N == 0:
             out["final"] = None
             return out

@@ -10,6 +10,7 @@ from stand import __version__
 from stand.recording import (FORMAT, FORMAT_VERSION, Recording, RecordingError,
                              read_recording, write_recording)
 from stand.scene_file import load_scene
+from stand.result import SolverStats
 from stand.simulate import simulate
 
 # two balls, omega_1 = 1 rad/s (natural_frequency default 1/(2 pi) Hz), R_omega = 3
@@ -137,8 +138,8 @@ def test_root_attributes(traj, tmp_path):
 def test_solver_numpy_scalars_become_plain(traj, tmp_path):
     import dataclasses
 
-    stats = dataclasses.replace(traj.stats, n_steps=np.int64(7), rtol=np.float32(1e-6),
-                                success=np.bool_(True), nfev=np.int32(11))
+    stats = SolverStats(**{**traj.stats, "n_steps": np.int64(7), "rtol": np.float32(1e-6),
+                           "success": np.bool_(True), "nfev": np.int32(11)})
     t2 = dataclasses.replace(traj, stats=stats)
     solver = read_recording(write_recording(t2, tmp_path / "np.h5")).solver
     assert solver["n_steps"] == 7 and solver["nfev"] == 11 and solver["success"] is True

@@ -35,21 +35,23 @@ from ..scene import BookModel, RunSettings, Scene, SceneError, SpeedDrive
 __all__ = ["MODEL_TYPES", "parse_weight_model", "model_theory"]
 
 MODEL_TYPES = {
-    "two_axis": ("stand.balancers.two_axis", "TwoAxisParams", "ch. 6"),
-    "gravity_pair": ("stand.balancers.gravity_pair", "GravityPairParams", "ch. 7.1"),
-    "damper": ("stand.balancers.damper", "DamperParams", "ch. 7.2"),
-    "liquid_float": ("stand.balancers.liquid_float", "LiquidFloatParams", "paper 001"),
-    "liquid_chamber": ("stand.balancers.liquid_chamber", "LiquidChamberParams", "thesis 002"),
+    "two_axis": ("stand.balancers.two_axis:TwoAxisParams", "ch. 6"),
+    "gravity_pair": ("stand.balancers.gravity_pair:GravityPairParams", "ch. 7.1"),
+    "damper": ("stand.balancers.damper:DamperParams", "ch. 7.2"),
+    "liquid_float": ("stand.balancers.liquid_float:LiquidFloatParams", "paper 001"),
+    "liquid_chamber": ("stand.balancers.liquid_chamber:LiquidChamberParams", "thesis 002"),
 }
 RUN_KEYS = ("duration", "samples", "initial", "rtol", "speed")
 
 
 def _module(kind):
+    """(module, parameter class) of a book model."""
     import importlib
 
-    mod, cls, _ = MODEL_TYPES[kind]
-    m = importlib.import_module(mod)
-    return m, getattr(m, cls)
+    from ..registry import resolve
+
+    cls = resolve(MODEL_TYPES, kind, "weight_model.type", "weight model")
+    return importlib.import_module(cls.__module__), cls
 
 
 def _number(key, v, unit=""):
@@ -105,7 +107,7 @@ def parse_weight_model(data, text="", stem="") -> Scene:
                            method="DOP853")
     return Scene(drive=SpeedDrive(np.array([[0.0, _speed(kind, params, run)]])), run=settings,
                  name=str(name), text=text, description=str(desc),
-                 structure=BookModel(kind, params, MODEL_TYPES[kind][2], run))
+                 structure=BookModel(kind, params, MODEL_TYPES[kind][1], run))
 
 
 def _speed(kind, p, run) -> float:
@@ -122,7 +124,7 @@ def model_theory(scene: Scene) -> dict:
     bm = scene.structure
     kind, p = bm.type, bm.params
     mod, _ = _module(kind)
-    out = {"scene": scene.name, "type": kind, "source": MODEL_TYPES[kind][2],
+    out = {"scene": scene.name, "type": kind, "source": MODEL_TYPES[kind][1],
            "parameters": to_jsonable(p)}
     if kind == "two_axis":
         from . import two_axis_theory as th

@@ -37,16 +37,8 @@ def _regime_windows(rec):
 
 
 def dynamics(rec, notes, warn):
-    """The ``dynamics`` section of the report.
-
-    Parameters
-    ----------
-    rec : Record
-        The recording (:func:`stand.reports.balancing_input.load_record`).
-    notes : list of str
-        Receives what could not be computed and why.
-    warn : callable
-        ``warn(code, message, severity="warning")`` adds a warning.
+    """The ``dynamics`` section of the report (``rec``, ``notes``, ``warn`` as for
+    :func:`stand.reports.balancing_quality.balancing_quality`).
 
     Returns
     -------

@@ -94,7 +94,7 @@ def family_theory(scene, max_speed: float | None = None, floquet: bool = True) -
     kind = scene.structure_type
     return {
         "scene": scene.name, "rotor_type": kind,
-        "source": ROTOR_TYPES[kind][2] if kind in ROTOR_TYPES else "5.1, (5.1)-(5.10)",
+        "source": ROTOR_TYPES[kind][1] if kind in ROTOR_TYPES else "5.1, (5.1)-(5.10)",
         "coords": list(rot.coords),
         "natural_frequencies_hz_at_rest": [w / (2 * math.pi) for w in wn0],
         "engineering_criterion": ranges,

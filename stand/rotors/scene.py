@@ -35,7 +35,6 @@ lists the valid ones.  Units are those of the builder's docstring (SI).
 """
 from __future__ import annotations
 
-import importlib
 import inspect
 import math
 from typing import Mapping
@@ -47,17 +46,17 @@ from .structure import LinearRotor
 
 __all__ = ["ROTOR_TYPES", "parse_family_scene", "build_rotor"]
 
-#: type name -> (module, builder function, book section)
+#: rotor type -> ("module:builder", book section) (stand.registry)
 ROTOR_TYPES = {
-    "planar": ("stand.rotors.planar_supports", "planar_rotor", "2.5.1"),
-    "two_mass": ("stand.rotors.two_mass", "two_mass", "2.5.2"),
-    "grinding": ("stand.rotors.grinding", "grinding_rotor", "2.5.3"),
-    "spherical_hinge": ("stand.rotors.fixed_point", "spherical_hinge", "2.6.1"),
-    "cylindrical_hinge": ("stand.rotors.fixed_point", "cylindrical_hinge", "2.6.2"),
-    "fixed_point_stand": ("stand.rotors.fixed_point", "fixed_point_stand", "2.6.2, stand of section 4.4"),
-    "spatial": ("stand.rotors.spatial", "spatial_scene_rotor", "2.7.2-2.7.3"),
-    "flexible": ("stand.rotors.flexible", "flexible_shaft", "2.8"),
-    "platform": ("stand.rotors.platform", "platform_rotor", "paper 004"),
+    "planar": ("stand.rotors.planar_supports:planar_rotor", "2.5.1"),
+    "two_mass": ("stand.rotors.two_mass:two_mass", "2.5.2"),
+    "grinding": ("stand.rotors.grinding:grinding_rotor", "2.5.3"),
+    "spherical_hinge": ("stand.rotors.fixed_point:spherical_hinge", "2.6.1"),
+    "cylindrical_hinge": ("stand.rotors.fixed_point:cylindrical_hinge", "2.6.2"),
+    "fixed_point_stand": ("stand.rotors.fixed_point:fixed_point_stand", "2.6.2, stand of section 4.4"),
+    "spatial": ("stand.rotors.spatial:spatial_scene_rotor", "2.7.2-2.7.3"),
+    "flexible": ("stand.rotors.flexible:flexible_shaft", "2.8"),
+    "platform": ("stand.rotors.platform:platform_rotor", "paper 004"),
 }
 TABLES = ("scene", "structure", "weights", "drive", "run")
 #: dry-friction keys of a [[weights]] table (stand.balancers.friction)
@@ -65,15 +64,9 @@ FRICTION_KEYS = ("friction", "static_friction", "slip_speed", "dwell_time", "rel
 
 
 def _builder(kind: str):
-    if kind not in ROTOR_TYPES:
-        raise SceneError(f'structure.type = "{kind}": unknown rotor type; valid: '
-                         f"{', '.join(ROTOR_TYPES)}")
-    mod, fn, _ = ROTOR_TYPES[kind]
-    try:
-        return getattr(importlib.import_module(mod), fn)
-    except (ImportError, AttributeError):
-        raise SceneError(f'structure.type = "{kind}": this rotor type is not available in '
-                         f"this version ({mod}.{fn} missing)") from None
+    from ..registry import resolve
+
+    return resolve(ROTOR_TYPES, kind, "structure.type", "rotor type")
 
 
 def build_rotor(kind: str, params: Mapping) -> LinearRotor:
@@ -202,5 +195,5 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:
     programme = _programme(dt, "programme", 1.0)
     run = _run(_Table(data["run"], "run"))
     return Scene(drive=SpeedDrive(programme), run=run, name=name, text=text, description=desc,
-                 structure=RotorStructure(kind, st, rotor, ROTOR_TYPES[kind][2]),
+                 structure=RotorStructure(kind, st, rotor, ROTOR_TYPES[kind][1]),
                  plane_weights=tuple(weights))

@@ -204,14 +204,15 @@ def _check_rotor(name: str, key: str, path: list, base: dict) -> None:
 
 def _check_book(name: str, key: str, path: list, base: dict) -> None:
     import dataclasses
-    import importlib
 
     from ..balancers.scene import MODEL_TYPES, RUN_KEYS
 
     table, first = path[0], path[1]
     if table == "weight_model":
-        mod, cls, _ = MODEL_TYPES[base["weight_model"]["type"]]
-        fields = [f.name for f in dataclasses.fields(getattr(importlib.import_module(mod), cls))]
+        from ..registry import resolve
+
+        cls = resolve(MODEL_TYPES, base["weight_model"]["type"], "weight_model.type", "weight model")
+        fields = [f.name for f in dataclasses.fields(cls)]
         if first not in fields:
             raise _unknown_key(name, key, table, first, fields)
     elif table == "run":
