@@ -336,6 +336,9 @@ class BookModel:
         return ("balancer",)
 
 
+#: smallest unbalance-based length scale [m] (below it the rotor counts as balanced)
+MIN_LENGTH_SCALE = 1e-12
+
 #: structure kinds of a scene (:attr:`Scene.kind`)
 KINDS = ("planar", "rotor", "book")
 
@@ -471,12 +474,14 @@ class Scene:
         """L [m] used to make displacements dimensionless.
 
         r* = S / M_Sigma (5.13) when there are weights; otherwise the rotor's
-        static unbalance M e / M_Sigma; otherwise 1 mm.
+        static unbalance M e / M_Sigma when it is at least :data:`MIN_LENGTH_SCALE`
+        (a picometre: smaller is no unbalance, and would put ordinary initial
+        displacements out of floating-point range); otherwise 1 mm.
         """
         S = self.balancer.capacity
         if S > 0:
             return S / self.total_mass
-        if self.rotor.unbalance > 0:
+        if self.rotor.unbalance / self.total_mass >= MIN_LENGTH_SCALE:
             return self.rotor.unbalance / self.total_mass
         return 1e-3
 

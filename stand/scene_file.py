@@ -59,15 +59,15 @@ PERTURBATION_KEYS = {
     "impulse": ("type", "time", "velocity_x", "velocity_y"),
     "side_force": ("type", "start", "end", "force_x", "force_y", "stiffness_x", "stiffness_y"),
 }
-#: [instruments.<name>] -> (module, settings class with ``from_table``)
-INSTRUMENTS = {
-    "screen": ("stand.instruments.screen", "ScreenCamera"),
-    "stroboscope": ("stand.instruments.stroboscope", "Stroboscope"),
-    "photogate": ("stand.instruments.photogate", "PhotoGate"),
-    "keyphasor": ("stand.instruments.probes", "Keyphasor"),
-    "tachometer": ("stand.instruments.probes", "Tachometer"),
-    "probes": ("stand.instruments.probes", "DisplacementProbes"),
-}
+#: [instruments.<name>] -> ("module:settings class" with ``from_table``, section) (stand.registry)
+INSTRUMENTS = dict(
+    screen=("stand.instruments.screen:ScreenCamera", "4.3.2"),
+    stroboscope=("stand.instruments.stroboscope:Stroboscope", "4.3"),
+    photogate=("stand.instruments.photogate:PhotoGate", "4.3, FPM-09"),
+    keyphasor=("stand.instruments.probes:Keyphasor", ""),
+    tachometer=("stand.instruments.probes:Tachometer", ""),
+    probes=("stand.instruments.probes:DisplacementProbes", ""),
+)
 SCENE_KEYS = ("name", "description")
 ROTOR_KEYS = ("mass", "eccentricity", "unbalance_angle", "inertia")
 SUPPORT_KEYS = ("stiffness", "stiffness_x", "stiffness_y", "damping", "damping_x", "damping_y")
@@ -370,15 +370,14 @@ def _perturbations(items: Any, rotor: Rotor, duration: float) -> tuple:
 
 def _instruments(t: _Table) -> dict:
     """Parse ``[instruments.<name>]`` tables with each instrument's own validator."""
-    import importlib
+    from .registry import resolve
 
     out = {}
     for key, value in t.data.items():
         if key not in INSTRUMENTS:
             raise SceneError(f"unknown instrument [instruments.{key}]: {_suggest(key, INSTRUMENTS)}"
                              f"valid instruments: {', '.join(INSTRUMENTS)}")
-        module, cls = INSTRUMENTS[key]
-        settings_cls = getattr(importlib.import_module(module), cls)
+        settings_cls = resolve(INSTRUMENTS, key, f"[instruments.{key}]", "instrument")
         out[key] = settings_cls.from_table(_Table(value, t.name(key)))
     return out
 
