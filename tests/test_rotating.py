@@ -8,26 +8,10 @@ digest's printed eigenvalues) is checked in tests/test_theory_main.py.
 import numpy as np
 import pytest
 
-from stand.planar import build_planar_model
 from stand.rotating import main_motion_state, rotating_jacobian, rotating_rhs
-from stand.scene import RunSettings, SpeedDrive
-from stand.scene_file import scene_from_dimensionless
 from stand.planar_theory.main_motion import main_eigenvalues
 
-
-def _model(n, W, Rt, h, H, e0):
-    sc = scene_from_dimensionless(n, Rt, h, H, e0, drive=SpeedDrive(np.array([[0.0, W]])),
-                                  run=RunSettings(1.0, 1.0))
-    return build_planar_model(sc)
-
-
-def _match(ev, ref, tol):
-    ev = list(ev)
-    for r in ref:
-        i = int(np.argmin(np.abs(np.array(ev) - r)))
-        assert abs(ev[i] - r) < tol, (r, ev[i])
-        ev.pop(i)
-    return ev
+from _helpers import dimensionless_model, match_roots
 
 
 @pytest.mark.parametrize("W", [1.5, 3.0, 7.0])
@@ -42,11 +26,11 @@ def test_three_balls_roots_plus_zero_and_minus_h(W):
     a2 = brentq(f, 0.5, np.pi, xtol=1e-15)
     a3 = np.angle(-3 * e0 - np.exp(1j * np.pi) - np.exp(1j * a2))
     alphas = [np.pi, a2, a3]
-    m = _model(3, W, Rt, h, H, e0)
+    m = dimensionless_model(3, W, Rt, h, H, e0)
     z = main_motion_state(m, alphas)
     # equilibrium up to the root-finder's angle error times R^2
     assert np.max(np.abs(rotating_rhs(m, W, z))) < 1e-12 * W ** 2
     ev = np.linalg.eigvals(rotating_jacobian(m, W, z))
     d = abs(np.mean(np.exp(2j * np.array(alphas))))  # (5.88) for identical point balls
-    rest = _match(ev, main_eigenvalues(W, Rt, h, H, d), 1e-6)
+    rest = match_roots(ev, main_eigenvalues(W, Rt, h, H, d), 1e-6)
     assert sorted(rest, key=lambda x: x.real) == pytest.approx([-h, 0.0], abs=1e-6)

@@ -11,10 +11,7 @@ import numpy as np
 import numpy.polynomial.polynomial as P
 import pytest
 
-from stand.planar import build_planar_model
 from stand.rotating import main_motion_state, rotating_jacobian, rotating_rhs
-from stand.scene import RunSettings, SpeedDrive
-from stand.scene_file import scene_from_dimensionless
 from stand.planar_theory.main_motion import (
     CriticalSpeed, StabilityWarning, R1_first_order, R1_max_closed_form, R1_max_validity,
     R1_refined, R_window_large_H, balancing_rate, charpoly_coefficients,
@@ -24,6 +21,8 @@ from stand.planar_theory.main_motion import (
     jacobian_eigenvalues, main_eigenvalues, spectral_abscissa,
     unbalance_independent_threshold,
 )
+
+from _helpers import dimensionless_model, match_roots
 
 
 def _speeds(cs):
@@ -98,36 +97,21 @@ def test_conservative_form_598_corrected():
 # T2: the simulator's rotating-frame Jacobian has the roots of (5.90)
 # ---------------------------------------------------------------------------
 
-def _model(n, W, Rt, h, H, e0):
-    sc = scene_from_dimensionless(n, Rt, h, H, e0, drive=SpeedDrive(np.array([[0.0, W]])),
-                                  run=RunSettings(1.0, 1.0))
-    return build_planar_model(sc)
-
-
-def _match(ev, ref, tol):
-    ev = list(ev)
-    for r in ref:
-        i = int(np.argmin(np.abs(np.array(ev) - r)))
-        assert abs(ev[i] - r) < tol, (r, ev[i])
-        ev.pop(i)
-    return ev
-
-
 def test_T2_two_balls_printed_numbers():
     W, Rt, h, H, a = 2.3, 0.04, 0.3, 0.2, 0.6
     e0 = math.cos(a)  # balls at pi +- a balance e0 = cos a
-    m = _model(2, W, Rt, h, H, e0)
+    m = dimensionless_model(2, W, Rt, h, H, e0)
     z = main_motion_state(m, [math.pi + a, math.pi - a])
     assert np.max(np.abs(rotating_rhs(m, W, z))) < 1e-14  # an equilibrium (5.50)
     ev = jacobian_eigenvalues(m, W, [math.pi + a, math.pi - a])
     assert ev.size == 8
     printed = [-0.19663 + 0.62607j, -0.11933 + 0.36842j, -0.10419 + 1.29253j, -0.1008 + 3.2967j]
-    _match(ev, printed + [np.conj(p) for p in printed], 1e-4)
+    match_roots(ev, printed + [np.conj(p) for p in printed], 1e-4)
     d = d_two_balls(e0)
     assert d == pytest.approx(0.3624, abs=1e-4)
     assert d == pytest.approx(d_from_angles([math.pi + a, math.pi - a]), abs=1e-15)
     lam = main_eigenvalues(W, Rt, h, H, d)
-    _match(ev, lam, 1e-6)
+    match_roots(ev, lam, 1e-6)
     assert np.all(np.diff(lam.real) <= 0)
     assert spectral_abscissa(W, Rt, h, H, d) == pytest.approx(lam[0].real, abs=1e-15)
 
@@ -139,17 +123,17 @@ def test_T2_family_zero_roots_dropped(n):
     rest = -n * e0 - np.sum(np.exp(1j * np.array(al)))     # e^{ia} + e^{ib} = rest
     th = math.acos(abs(rest) / 2)
     al += [np.angle(rest) + th, np.angle(rest) - th]
-    m = _model(n, W, Rt, h, H, e0)
+    m = dimensionless_model(n, W, Rt, h, H, e0)
     full = np.linalg.eigvals(rotating_jacobian(m, W, main_motion_state(m, al)))
     assert np.sum(np.abs(full) < 1e-9) == n - 2          # the family's zero roots
     ev = jacobian_eigenvalues(m, W, al)
     assert ev.size == 2 * n + 4 - (n - 2)
-    left = _match(ev, main_eigenvalues(W, Rt, h, H, d_from_angles(al)), 1e-6)
+    left = match_roots(ev, main_eigenvalues(W, Rt, h, H, d_from_angles(al)), 1e-6)
     assert np.allclose(left, -h, atol=1e-6)               # relative weight modes
 
 
 def test_jacobian_eigenvalues_rejects_unbalanced_configuration():
-    m = _model(2, 2.0, 0.04, 0.3, 0.2, 0.5)
+    m = dimensionless_model(2, 2.0, 0.04, 0.3, 0.2, 0.5)
     with pytest.raises(ValueError):
         jacobian_eigenvalues(m, 2.0, [0.0, 0.0])
 

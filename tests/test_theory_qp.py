@@ -18,6 +18,8 @@ from stand.planar_theory.qp import (QPWarning, dspeed_dOmega, epitrochoid, escap
                              frequency_polynomial, qp_roots, qp_stability, qp_thresholds,
                              speed_of_precession, spot_law)
 
+from _helpers import match_roots
+
 EX = dict(Rt=0.01, h=0.05, H=0.05)       # the digest's example, R_mH = 0.01, R* = 9
 
 
@@ -239,22 +241,13 @@ def _jacobian_eigs(R, W, Rt, h, H, gamma=0.4):
     return np.linalg.eigvals(J)
 
 
-def _match(ev, ref, tol):
-    ev = list(ev)
-    for r in ref:
-        i = int(np.argmin(np.abs(np.array(ev) - r)))
-        assert abs(ev[i] - r) < tol, (r, ev[i])
-        ev.pop(i)
-    return ev
-
-
 def test_T8_digest_example_roots():
     W1 = roots(3.0)[0]
     s = qp_stability(W1, 3.0, **EX)
     assert s.stable and s.abscissa < 0
-    _match(s.collective_roots, [-0.02514 + 1.96243j, -0.02514 - 1.96243j, -0.02842 + 0.4462j,
-                                -0.02842 - 0.4462j, -0.04492], 1e-5)
-    _match(s.relative_roots, [-0.025 + 0.40014j, -0.025 - 0.40014j], 1e-5)
+    match_roots(s.collective_roots, [-0.02514 + 1.96243j, -0.02514 - 1.96243j, -0.02842 + 0.4462j,
+                                   -0.02842 - 0.4462j, -0.04492], 1e-5)
+    match_roots(s.relative_roots, [-0.025 + 0.40014j, -0.025 - 0.40014j], 1e-5)
     assert abs(s.residual) < 1e-12
 
 
@@ -263,7 +256,7 @@ def test_T8_roots_equal_omega_frame_jacobian_eigenvalues():
     for W in roots(R):
         s = qp_stability(W, R, **EX)
         ev = _jacobian_eigs(R, W, **EX)
-        rest = _match(ev, np.concatenate([s.collective_roots, s.relative_roots]), 1e-7)
+        rest = match_roots(ev, np.concatenate([s.collective_roots, s.relative_roots]), 1e-7)
         assert rest == pytest.approx([0.0], abs=1e-7)     # the family in gamma
 
 

@@ -1,0 +1,63 @@
+"""Helpers shared by several test modules (imported as ``from _helpers import ...``;
+pytest puts tests/ on sys.path since it has no __init__.py)."""
+import json
+
+import numpy as np
+
+from stand.planar import build_planar_model
+from stand.scene import RunSettings, SpeedDrive
+from stand.scene_file import scene_from_dimensionless
+
+
+# ------------------------------------------------------------------ scene texts
+def toml_value(value) -> str:
+    """A TOML literal for a Python value: bool, int, float (its shortest round-trip
+    repr, so it parses back to the same number), str, list/tuple, dict (inline table)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return repr(value)
+    if isinstance(value, str):
+        return json.dumps(value)
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(toml_value(v) for v in value) + "]"
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k} = {toml_value(v)}" for k, v in value.items()) + "}"
+    raise TypeError(f"no TOML literal for {value!r}")
+
+
+def scene_text(**tables) -> str:
+    """The TOML text of a scene file: one ``[name]`` table per keyword, in the order
+    given; a list of dicts gives an array of tables ``[[name]]``; ``__`` in a keyword
+    stands for a dot (``instruments__screen`` -> ``[instruments.screen]``).
+
+    >>> scene_text(rotor=dict(mass=4.0), run=dict(duration=5.0, sample_rate=100))
+    '[rotor]\\nmass = 4.0\\n[run]\\nduration = 5.0\\nsample_rate = 100\\n'
+    """
+    lines = []
+    for name, table in tables.items():
+        name = name.replace("__", ".")
+        blocks = [(f"[[{name}]]", t) for t in table] if isinstance(table, list) else [(f"[{name}]", table)]
+        for head, body in blocks:
+            lines.append(head)
+            lines += [f"{key} = {toml_value(v)}" for key, v in body.items()]
+    return "\n".join(lines) + "\n"
+
+
+# ------------------------------------------------------------------ main-motion theory
+def dimensionless_model(n, W, Rt, h, H, e0):
+    """The planar model of n equal balls in dimensionless units at constant speed W."""
+    sc = scene_from_dimensionless(n, Rt, h, H, e0, drive=SpeedDrive(np.array([[0.0, W]])),
+                                  run=RunSettings(1.0, 1.0))
+    return build_planar_model(sc)
+
+
+def match_roots(ev, ref, tol):
+    """Pair every reference root with the nearest of ev (each used once) within tol;
+    returns the roots of ev left over."""
+    ev = list(ev)
+    for r in ref:
+        i = int(np.argmin(np.abs(np.array(ev) - r)))
+        assert abs(ev[i] - r) < tol, (r, ev[i])
+        ev.pop(i)
+    return ev
