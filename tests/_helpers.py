@@ -9,7 +9,7 @@ from stand.scene import RunSettings, SpeedDrive
 from stand.scene_file import scene_from_dimensionless
 
 
-# ------------------------------------------------------------------ scene texts
+# ------------------------------------------------------------------ scene and sweep texts
 def toml_value(value) -> str:
     """A TOML literal for a Python value: bool, int, float (its shortest round-trip
     repr, so it parses back to the same number), str, list/tuple, dict (inline table)."""
@@ -26,12 +26,12 @@ def toml_value(value) -> str:
     raise TypeError(f"no TOML literal for {value!r}")
 
 
-def scene_text(**tables) -> str:
-    """The TOML text of a scene file: one ``[name]`` table per keyword, in the order
-    given; a list of dicts gives an array of tables ``[[name]]``; ``__`` in a keyword
+def toml_text(**tables) -> str:
+    """The TOML text of a scene or sweep file: one ``[name]`` table per keyword, in the
+    order given; a list of dicts gives an array of tables ``[[name]]``; ``__`` in a keyword
     stands for a dot (``instruments__screen`` -> ``[instruments.screen]``).
 
-    >>> scene_text(rotor=dict(mass=4.0), run=dict(duration=5.0, sample_rate=100))
+    >>> toml_text(rotor=dict(mass=4.0), run=dict(duration=5.0, sample_rate=100))
     '[rotor]\\nmass = 4.0\\n[run]\\nduration = 5.0\\nsample_rate = 100\\n'
     """
     lines = []

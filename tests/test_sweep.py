@@ -21,30 +21,19 @@ from stand.sweep import (TIMING_COLUMNS, SweepSpecError, add_sweep_arguments, lo
 from stand.sweep.maps import critical_speed_map, regime_map
 from stand.planar_theory import main_motion as mm
 
+from _helpers import toml_text
+
 ROOT = Path(__file__).resolve().parents[1]
 SWEEPS = ROOT / "data_samples" / "sweeps"
 
-BALL_DIMLESS = """
-[base.dimensionless]
-n = 2
-Rt = 0.01
-h = 0.3
-H = 0.3
-e0 = 0.5
-initial_angles = [150.0, 210.0]
-
-[base.drive]
-type = "speed"
-programme_dimensionless = [[0.0, 3.0]]
-
-[base.run]
-duration = {duration}
-sample_rate = 5.0
-"""
-
 
 def _spec_text(body: str, duration: float = 30.0) -> str:
-    return BALL_DIMLESS.format(duration=duration) + textwrap.dedent(body)
+    """A sweep over a two-ball dimensionless base scene, then body (dedented)."""
+    base = toml_text(
+        base__dimensionless=dict(n=2, Rt=0.01, h=0.3, H=0.3, e0=0.5, initial_angles=[150.0, 210.0]),
+        base__drive=dict(type="speed", programme_dimensionless=[[0.0, 3.0]]),
+        base__run=dict(duration=duration, sample_rate=5.0))
+    return base + textwrap.dedent(body)
 
 
 def _same(a: pd.DataFrame, b: pd.DataFrame) -> None:
@@ -89,61 +78,35 @@ def test_bad_base_scene_and_missing_file(tmp_path):
         load_sweep(tmp_path / "absent.toml")
 
 
+# a seeded log grid x a seeded random axis: 3 x 4 points
+SEEDED_AXES = """
+[sweep]
+seed = 7
+[[axis]]
+key = "R_omega"
+start = 1.0
+stop = 100.0
+num = 3
+spacing = "log"
+[[axis]]
+key = "e0"
+random = "uniform"
+low = 0.0
+high = 1.0
+count = 4
+"""
+
+
 def test_axes_grids_random_and_ids():
-    spec = load_sweep(_spec_text("""
-        [sweep]
-        seed = 7
-        [[axis]]
-        key = "R_omega"
-        start = 1.0
-        stop = 100.0
-        num = 3
-        spacing = "log"
-        [[axis]]
-        key = "e0"
-        random = "uniform"
-        low = 0.0
-        high = 1.0
-        count = 4
-    """))
+    spec = load_sweep(_spec_text(SEEDED_AXES))
     assert spec.n_points == 12
     pts = spec.points()
     np.testing.assert_allclose(np.unique(pts[:, 0]), [1.0, 10.0, 100.0])
-    again = load_sweep(_spec_text("""
-        [sweep]
-        seed = 7
-        [[axis]]
-        key = "R_omega"
-        start = 1.0
-        stop = 100.0
-        num = 3
-        spacing = "log"
-        [[axis]]
-        key = "e0"
-        random = "uniform"
-        low = 0.0
-        high = 1.0
-        count = 4
-    """))
+    again = load_sweep(_spec_text(SEEDED_AXES))
     np.testing.assert_array_equal(pts, again.points())        # seeded: reproducible
     ids = spec.point_ids()
     assert len(set(ids)) == 12 and ids == again.point_ids()
-    changed = load_sweep(_spec_text("""
-        [sweep]
-        seed = 7
-        [[axis]]
-        key = "R_omega"
-        start = 1.0
-        stop = 100.0
-        num = 3
-        spacing = "log"
-        [[axis]]
-        key = "e0"
-        random = "uniform"
-        low = 0.0
-        high = 1.0
-        count = 4
-    """).replace("h = 0.3", "h = 0.4"))
+    changed = load_sweep(_spec_text(SEEDED_AXES).replace("h = 0.3", "h = 0.4"))
     assert not set(changed.point_ids()) & set(ids)          # other base scene: other ids
 
 
@@ -217,18 +180,12 @@ def test_theory_with_side_motions_matches_scene_theory(tmp_path):
     from stand.sweep.spec import point_scene_dict
     from stand.planar_theory.speedmap import scene_theory
 
-    spec = load_sweep(_spec_text("""
-        [sweep]
-        compute = ["theory"]
-        [[axis]]
-        key = "R_omega"
-        values = [0.6, 0.97, 1.2, 2.5, 6.0, 12.0]
-        [[axis]]
-        key = "e0"
-        values = [0.4, 1.3]
-        [theory]
-        side = true
-    """).replace("h = 0.3", "h = 0.05").replace("H = 0.3", "H = 0.05"))
+    spec = load_sweep(_spec_text(toml_text(
+        sweep=dict(compute=["theory"]),
+        axis=[dict(key="R_omega", values=[0.6, 0.97, 1.2, 2.5, 6.0, 12.0]),
+              dict(key="e0", values=[0.4, 1.3])],
+        theory=dict(side=True),
+    )).replace("h = 0.3", "h = 0.05").replace("H = 0.3", "H = 0.05"))
     df = run_sweep(spec, tmp_path / "side.parquet", scheduler="serial", progress=False)
     assert (df["status"] == "ok").all()
     for e0 in (0.4, 1.3):
@@ -241,16 +198,11 @@ def test_theory_with_side_motions_matches_scene_theory(tmp_path):
 
 
 def test_failing_points_do_not_stop_the_sweep_and_hdf5_output(tmp_path):
-    spec = load_sweep(_spec_text("""
-        [sweep]
-        compute = ["theory"]
-        [[axis]]
-        key = "dimensionless.Rt"
-        values = [0.01, 0.7, 0.02]
-        [[axis]]
-        key = "R_omega"
-        values = [2.0, 3.0]
-    """))
+    spec = load_sweep(_spec_text(toml_text(
+        sweep=dict(compute=["theory"]),
+        axis=[dict(key="dimensionless.Rt", values=[0.01, 0.7, 0.02]),
+              dict(key="R_omega", values=[2.0, 3.0])],
+    )))
     out = tmp_path / "t.h5"
     df = run_sweep(spec, out, scheduler="serial", progress=False)
     bad = df[df["dimensionless.Rt"] == 0.7]
@@ -277,24 +229,11 @@ def test_failing_points_do_not_stop_the_sweep_and_hdf5_output(tmp_path):
 
 def test_physical_base_e0_H_h_conversions(tmp_path):
     """Bare e0, h, H on a physical scene are converted to rotor/balancer/support fields."""
-    spec = load_sweep(f"""
-        [base]
-        scene = "{(ROOT / 'data_samples' / 'scenes' / 'ball_runup.toml').as_posix()}"
-        [sweep]
-        combine = "zip"
-        [[axis]]
-        key = "e0"
-        values = [0.3, 0.8]
-        [[axis]]
-        key = "h"
-        values = [0.1, 0.5]
-        [[axis]]
-        key = "H"
-        values = [0.2, 0.05]
-        [[axis]]
-        key = "speed"
-        values = [9.0, 15.0]
-    """)
+    spec = load_sweep(toml_text(
+        base=dict(scene=(ROOT / "data_samples" / "scenes" / "ball_runup.toml").as_posix()),
+        sweep=dict(combine="zip"),
+        axis=[dict(key="e0", values=[0.3, 0.8]), dict(key="h", values=[0.1, 0.5]),
+              dict(key="H", values=[0.2, 0.05]), dict(key="speed", values=[9.0, 15.0])]))
     df = run_sweep(spec, tmp_path / "p.parquet", scheduler="serial", progress=False)
     assert (df["status"] == "ok").all()
     np.testing.assert_allclose(df["p.e0"], [0.3, 0.8], rtol=1e-12)
