@@ -12,6 +12,8 @@ from stand.scene import (Balancer, InitialState, Rotor, RunSettings, Scene, Spee
 from stand.scene_file import load_scene
 from stand.simulate import simulate
 
+from _helpers import toml_text
+
 
 def test_programme_angle_is_the_integral_of_the_speed():
     prog = build_table(np.array([0.5, 2.0, 3.0, 7.0]), np.array([1.0, 4.0, 4.0, 0.5]))
@@ -78,21 +80,11 @@ def test_unbalanced_free_rotor_slows_at_resonance_sommerfeld():
 
 
 def test_coast_down_scene_file():
-    sc = load_scene("""
-[rotor]
-mass = 4.45
-eccentricity = 1e-4
-[supports]
-stiffness = 1600.0
-damping = 8.0
-[drive]
-type = "speed"
-programme = [[0.0, 0.0], [5.0, 10.0]]
-coast_down = {start = 8.0, time_constant = 2.0}
-[run]
-duration = 12.0
-sample_rate = 100.0
-""")
+    sc = load_scene(toml_text(
+        rotor=dict(mass=4.45, eccentricity=1e-4), supports=dict(stiffness=1600.0, damping=8.0),
+        drive=dict(type="speed", programme=[[0.0, 0.0], [5.0, 10.0]],
+                   coast_down=dict(start=8.0, time_constant=2.0)),
+        run=dict(duration=12.0, sample_rate=100.0)))
     tr = simulate(sc)
     assert tr.success
     i = np.searchsorted(tr.t, 10.0)

@@ -31,31 +31,18 @@ from stand.recording import DATASETS, Recording, RecordingError, read_recording,
 from stand.result import Run, SolverStats
 from stand.scene_file import load_scene
 
+from _helpers import toml_text
+
 FAST = settings(max_examples=120, deadline=20_000, derandomize=True, database=None,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
                                        HealthCheck.function_scoped_fixture])
 TIME_BOUND = 30.0  #: s, for one ``stand analyze`` of a small file
 
-SCENE = """[scene]
-name = "fuzz"
-[rotor]
-mass = 4.45
-eccentricity = 1e-4
-[supports]
-stiffness = 1613.09
-damping = 8.5577
-[balancer]
-type = "balls"
-count = 2
-mass = 0.045
-radius = 0.08
-[drive]
-type = "speed"
-programme = [[0.0, 10.0]]
-[run]
-duration = 2.0
-sample_rate = 200.0
-"""
+SCENE = toml_text(
+    scene=dict(name="fuzz"), rotor=dict(mass=4.45, eccentricity=1e-4),
+    supports=dict(stiffness=1613.09, damping=8.5577),
+    balancer=dict(type="balls", count=2, mass=0.045, radius=0.08),
+    drive=dict(type="speed", programme=[[0.0, 10.0]]), run=dict(duration=2.0, sample_rate=200.0))
 
 
 def _trajectory(n=401, weights=2, rotating=True):

@@ -14,6 +14,8 @@ from stand.scene import (Balancer, Impulse, Rotor, RunSettings, Scene, SideForce
 from stand.scene_file import load_scene, SceneError
 from stand.simulate import simulate
 
+from _helpers import toml_text
+
 M, C, H = 4.0, 1600.0, 0.1
 W1 = math.sqrt(C / M)
 D = H * W1 * M
@@ -92,34 +94,12 @@ def test_side_force_static_deflection():
 
 
 def test_perturbations_from_a_scene_file():
-    text = """
-[rotor]
-mass = 4.0
-eccentricity = 1e-3
-[supports]
-stiffness = 1600.0
-damping = 4.0
-[drive]
-type = "speed"
-programme = [[0.0, 10.0]]
-[run]
-duration = 5.0
-sample_rate = 100.0
-[[perturbation]]
-type = "unbalance"
-time = 1.0
-eccentricity = 2e-3
-unbalance_angle = 90.0
-[[perturbation]]
-type = "impulse"
-time = 2.0
-velocity_x = 0.01
-[[perturbation]]
-type = "side_force"
-start = 3.0
-end = 4.0
-force_y = 2.0
-"""
+    text = toml_text(
+        rotor=dict(mass=4.0, eccentricity=1e-3), supports=dict(stiffness=1600.0, damping=4.0),
+        drive=dict(type="speed", programme=[[0.0, 10.0]]), run=dict(duration=5.0, sample_rate=100.0),
+        perturbation=[dict(type="unbalance", time=1.0, eccentricity=2e-3, unbalance_angle=90.0),
+                      dict(type="impulse", time=2.0, velocity_x=0.01),
+                      dict(type="side_force", start=3.0, end=4.0, force_y=2.0)])
     sc = load_scene(text)
     kinds = [p.kind for p in sc.perturbations]
     assert kinds == ["unbalance", "impulse", "side_force"]

@@ -13,45 +13,18 @@ from stand.scene_file import load_scene
 from stand.result import SolverStats
 from stand.simulate import simulate
 
+from _helpers import toml_text
+
 # two balls, omega_1 = 1 rad/s (natural_frequency default 1/(2 pi) Hz), R_omega = 3
-TWO_BALLS = """\
-[scene]
-name = "two balls, recording test"
-
-[dimensionless]
-n = 2
-Rt = 0.01
-h = 0.5
-H = 0.1
-e0 = 0.3
-
-[drive]
-type = "speed"
-programme_dimensionless = [[0.0, 3.0]]
-
-[run]
-duration = 20.0
-sample_rate = 100.0
-"""
+TWO_BALLS = toml_text(
+    scene=dict(name="two balls, recording test"),
+    dimensionless=dict(n=2, Rt=0.01, h=0.5, H=0.1, e0=0.3),
+    drive=dict(type="speed", programme_dimensionless=[[0.0, 3.0]]), run=dict(duration=20.0, sample_rate=100.0))
 
 # rotor on supports, no [balancer] table -> Balancer() of type "none"
-NO_BALANCER = """\
-[rotor]
-mass = 1.0
-eccentricity = 1e-3
-
-[supports]
-stiffness = 1.0
-damping = 0.1
-
-[drive]
-type = "speed"
-programme_dimensionless = [[0.0, 3.0]]
-
-[run]
-duration = 5.0
-sample_rate = 100.0
-"""
+NO_BALANCER = toml_text(
+    rotor=dict(mass=1.0, eccentricity=1e-3), supports=dict(stiffness=1.0, damping=0.1),
+    drive=dict(type="speed", programme_dimensionless=[[0.0, 3.0]]), run=dict(duration=5.0, sample_rate=100.0))
 
 UNITS = {
     "time": "s", "shaft/x": "m", "shaft/y": "m", "planes/balancer/x": "m", "planes/balancer/y": "m",

@@ -8,6 +8,8 @@ import pytest
 from stand.scene import RunSettings, SceneError, SpeedDrive, TorqueDrive, dimensionless
 from stand.scene_file import load_scene, parse_scene, scene_from_dimensionless
 
+from _helpers import toml_text
+
 VALID = """\
 [scene]
 name = "two balls"
@@ -129,25 +131,11 @@ def test_dimensionless_round_trip():
 
 
 def test_dimensionless_table():
-    text = """\
-[dimensionless]
-n = 2
-Rt = 0.01
-h = 0.05
-H = 0.1
-e0 = 0.5
-unbalance_angle = 90
-initial_angles = [0, 90]
-
-[drive]
-type = "speed"
-programme_dimensionless = [[0, 0], [100, 3]]
-
-[run]
-duration = 50
-sample_rate = 20
-"""
-    scene = load_scene(text)
+    scene = load_scene(toml_text(
+        dimensionless=dict(n=2, Rt=0.01, h=0.05, H=0.1, e0=0.5, unbalance_angle=90,
+                           initial_angles=[0, 90]),
+        drive=dict(type="speed", programme_dimensionless=[[0, 0], [100, 3]]),
+        run=dict(duration=50, sample_rate=20)))
     d = dimensionless(scene)
     assert (d.n, d.Rt, d.h[0], d.H, d.e0) == pytest.approx((2, 0.01, 0.05, 0.1, 0.5), rel=1e-12)
     assert d.omega_1 == pytest.approx(1.0)

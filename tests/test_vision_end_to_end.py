@@ -23,6 +23,8 @@ from stand.planar_theory.qp import qp_roots
 from vision.io import iter_frames
 from vision.spot import track
 
+from _helpers import toml_text
+
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 
 
@@ -72,36 +74,16 @@ def test_stuck_balls_frequencies_from_filmed_spot_within_0_1_percent(tmp_path):
     assert dec.precession_hz == pytest.approx(Omega * f1, rel=1e-3)
 
 
-LOCKED_STAND = """
-# stand_cameras.toml with the balancer locked (the calibration condition of the
-# rings): no moving weights, their mass in the rotor, the same unbalance 0.5 S.
-[rotor]
-mass = 4.54
-eccentricity = {ecc!r}
-[supports]
-stiffness = 1613.09
-damping = 8.5577
-[drive]
-type = "speed"
-programme = [[0.0, 15.0], [1.0, 15.0]]
-[run]
-duration = 11.0
-sample_rate = 200.0
-[instruments.screen]
-gain = 6.0
-pixel_pitch = 1.0e-4
-width = 320
-height = 320
-frame_rate = 2.0
-exposure = 0.2
-start_time = 8.0
-spot_diameter = 0.8e-3
-peak = 4000.0
-background = 8.0
-read_noise = 1.0
-bit_depth = 8
-seed = 3
-"""
+def locked_stand(ecc: float) -> str:
+    """stand_cameras.toml with the balancer locked (the calibration condition of the
+    rings): no moving weights, their mass in the rotor, the same unbalance 0.5 S."""
+    return toml_text(
+        rotor=dict(mass=4.54, eccentricity=ecc), supports=dict(stiffness=1613.09, damping=8.5577),
+        drive=dict(type="speed", programme=[[0.0, 15.0], [1.0, 15.0]]),
+        run=dict(duration=11.0, sample_rate=200.0),
+        instruments__screen=dict(gain=6.0, pixel_pitch=1.0e-4, width=320, height=320, frame_rate=2.0,
+                                 exposure=0.2, start_time=8.0, spot_diameter=0.8e-3, peak=4000.0,
+                                 background=8.0, read_noise=1.0, bit_depth=8, seed=3))
 
 
 def test_stand_track_trace_reads_the_unbalance_through_the_rings(tmp_path):
@@ -113,7 +95,7 @@ def test_stand_track_trace_reads_the_unbalance_through_the_rings(tmp_path):
     S_gmm = 2 * 0.045 * 0.08 * 1e6          # stand_cameras.toml: two 45 g balls at 80 mm
     U_true_gmm = 4.45 * 8.0899e-4 * 1e6     # its rotor unbalance (0.5 S)
     scene = tmp_path / "locked.toml"
-    scene.write_text(LOCKED_STAND.format(ecc=U_true_gmm * 1e-6 / 4.54))
+    scene.write_text(locked_stand(U_true_gmm * 1e-6 / 4.54))
     rec = tmp_path / "locked.h5"
     assert main(["run", str(scene), "-o", str(rec)]) == 0
     with h5py.File(root / "data_samples" / "recordings" / "stand_cameras.h5") as f:
