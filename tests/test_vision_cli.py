@@ -11,16 +11,22 @@ ROOT = Path(__file__).resolve().parents[1]
 REC = ROOT / "data_samples" / "recordings" / "stand_cameras.h5"
 
 
-def test_track_with_ring_calibration_matches_the_truth(tmp_path):
+def _track_with_rings(tmp_path, *datasets):
+    """`stand track` of the sample recording with the ring calibration: the CSV path,
+    its table and the named datasets of the recording."""
     out = tmp_path / "track.csv"
     assert main(["track", str(REC), "-o", str(out), "--calibration",
                  str(ROOT / "data_samples" / "images" / "calibration_rings.png")]) == 0
     df = pd.read_csv(out)
     with h5py.File(REC) as f:
-        truth_px = f["truth/screen/centre_px"][:]
-        truth_m = f["truth/screen/centre_m"][:]
-        inside = f["truth/screen/in_frame"][:]
-        pitch = 1e-4  # the sample camera's pixel_pitch
+        arrays = [f[name][:] for name in datasets]
+    return (out, df, *arrays)
+
+
+def test_track_with_ring_calibration_matches_the_truth(tmp_path):
+    _, df, truth_px, truth_m, inside = _track_with_rings(
+        tmp_path, "truth/screen/centre_px", "truth/screen/centre_m", "truth/screen/in_frame")
+    pitch = 1e-4  # the sample camera's pixel_pitch
     assert np.array_equal(df["ok"].to_numpy(bool), inside)
     good = inside & ~df["flags"].fillna("").str.contains("saturated").to_numpy()
     err_px = np.hypot(df["u_px"] - truth_px[:, 0], df["v_px"] - truth_px[:, 1])[good]
@@ -51,12 +57,7 @@ def test_track_errors(tmp_path, capsys):
 
 
 def test_track_writes_the_columns_stand_analyze_reads(tmp_path):
-    out = tmp_path / "track.csv"
-    assert main(["track", str(REC), "-o", str(out), "--calibration",
-                 str(ROOT / "data_samples" / "images" / "calibration_rings.png")]) == 0
-    df = pd.read_csv(out)
-    with h5py.File(REC) as f:
-        phi = f["instruments/screen/frame_rotor_angle"][:]
+    out, df, phi = _track_with_rings(tmp_path, "instruments/screen/frame_rotor_angle")
     # shaft displacement = screen displacement / optical gain (6 on the sample stand)
     np.testing.assert_allclose(df["x_m"], df["x_mm"] * 1e-3 / 6.0)
     np.testing.assert_allclose(df["t_s"], df["time"] + 0.1)           # mid-exposure (0.2 s)
