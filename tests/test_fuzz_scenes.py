@@ -360,9 +360,10 @@ def check_scene_error_names(exc: SceneError, *names: str):
     assert any(n in msg for n in names), f"message {msg!r} does not name any of {names}"
 
 
-def parse_or_scene_error(doc):
+def parse_or_scene_error(doc, parse=parse_scene):
+    """parse(doc), or the SceneError it raises."""
     try:
-        return parse_scene(doc)
+        return parse(doc)
     except SceneError as exc:
         return exc
 
@@ -644,13 +645,6 @@ def family_docs(draw):
     return doc
 
 
-def family_or_error(doc):
-    try:
-        return parse_family_scene(doc)
-    except SceneError as exc:
-        return exc
-
-
 @FAST
 @given(family_docs())
 def test_valid_family_scenes_parse(doc):
@@ -673,7 +667,7 @@ def test_family_scene_bad_structure_values_name_the_key(doc, data):
     # a signed unbalance s = M e is meaningful (the heavy side turned by 180 deg)
     assume(not (key == "unbalance" and isinstance(bad, float) and math.isfinite(bad)))
     doc["structure"][key] = bad
-    res = family_or_error(doc)
+    res = parse_or_scene_error(doc, parse_family_scene)
     assert isinstance(res, SceneError), f"structure.{key} = {bad!r} accepted"
     check_scene_error_names(res, key)
 
@@ -707,7 +701,7 @@ def test_family_scene_bad_weights_and_tables_are_scene_errors(doc, data):
         assume(doc["structure"]["type"] not in ("planar", "two_mass"))
     else:
         doc = bad
-    res = family_or_error(doc)
+    res = parse_or_scene_error(doc, parse_family_scene)
     assert isinstance(res, SceneError), f"{what}: {bad!r} accepted"
     assert str(res)
 
@@ -720,7 +714,7 @@ def test_family_scene_bad_weights_and_tables_are_scene_errors(doc, data):
                         ch, max_size=4),
                     max_leaves=14))
 def test_arbitrary_family_documents_never_crash(doc):
-    res = family_or_error(doc)
+    res = parse_or_scene_error(doc, parse_family_scene)
     assert isinstance(res, (FamilyScene, SceneError))
 
 
