@@ -50,3 +50,19 @@ def test_old_recordings_analyse_and_report(name, tmp_path, capsys):
     assert (tmp_path / "r.html").stat().st_size > 1000
     out = capsys.readouterr().out
     assert "report ->" in out
+
+
+def test_xarray_sees_the_time_axis_of_every_group(tmp_path):
+    """time is an HDF5 dimension scale attached to every channel (netCDF-4 readers see it)."""
+    xr = pytest.importorskip("xarray")
+    pytest.importorskip("h5netcdf")
+    scene = stand.load(str(DATA.parents[1] / "data_samples/scenes/no_balancer.toml"))
+    import dataclasses
+
+    scene = dataclasses.replace(scene, run=dataclasses.replace(scene.run, duration=1.0))
+    path = stand.run(scene).write(tmp_path / "r.h5")
+    for group, names in (("planes/balancer", {"x", "y"}), ("rotor", {"angle", "speed"})):
+        ds = xr.open_dataset(path, engine="h5netcdf", group=group, phony_dims="access",
+                             decode_timedelta=False)
+        assert set(ds.data_vars) == names and dict(ds.sizes) == {"time": 201}
+        np.testing.assert_array_equal(ds["time"].values, stand.read(path).t)

@@ -99,19 +99,12 @@ class Checkpoint:
         return d
 
     def save(self, t, y, h, k_next, seg_done, st, out):
-        import tempfile
+        from ..io.atomic import atomic_path
 
-        fd, tmp = tempfile.mkstemp(dir=str(self.path.resolve().parent),
-                                   prefix=f".{self.path.name}.", suffix=".tmp.npz")
-        self._os.close(fd)
-        try:
+        with atomic_path(self.path, suffix=".tmp.npz") as tmp:
             np.savez(tmp, fingerprint=np.array(self.fp), t=np.array(t), y=y, h=np.array(h),
                      k_next=np.array(k_next), seg_done=np.array(seg_done), st=st,
                      out=out[:k_next])
-            self._os.replace(tmp, self.path)
-        finally:
-            if self._os.path.exists(tmp):
-                self._os.remove(tmp)
 
     def remove(self):
         if self.path.exists():
