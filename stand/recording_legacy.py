@@ -18,7 +18,7 @@ FAMILY_FORMAT = "autobalancer-stand rotor-family recording 1"
 WEIGHT_MODEL_FORMAT = "autobalancer-stand weight-model recording 1"
 
 
-def legacy_layout(f: "h5py.File", attrs: dict, label: str, notes: list):
+def legacy_layout(f: "h5py.Group", attrs: dict, label: str, notes: list):
     """``None`` for this version's files, else ``{"planes", "main", "coordinates", "truth"}``."""
     fmt = attrs.get("format")
     if not isinstance(fmt, str):
