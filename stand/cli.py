@@ -561,6 +561,16 @@ def _guard(args) -> None:
     check_outputs(inputs, outputs, force=bool(g("force")))
 
 
+def _naming_the_input(args, exc) -> str:
+    """The error as one line that names the input it is about."""
+    msg = " ".join(str(exc).split())
+    src = next((getattr(args, k) for k in ("scene", "recording", "source", "spec", "catalogue")
+                if getattr(args, k, None)), None)
+    if src is not None and Path(str(src)).name not in msg:
+        msg = f"{src}: {msg}"
+    return msg
+
+
 def main(argv=None) -> int:
     from .scene import SceneError
 
@@ -570,7 +580,7 @@ def main(argv=None) -> int:
         return args.func(args)
     except (SceneError, ValueError, FileNotFoundError, PermissionError, IsADirectoryError) as exc:
         # TheoryError is a ValueError: out-of-scope scenes end here with their reason
-        print(f"stand {args.command}: error: {exc}", file=sys.stderr)
+        print(f"stand {args.command}: error: {_naming_the_input(args, exc)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print(f"stand {args.command}: interrupted", file=sys.stderr)

@@ -38,7 +38,7 @@ def calibration_image(path) -> np.ndarray:
     """The ring image: an image file, or a recording's ``instruments/screen/calibration_image``."""
     import cv2
 
-    from vision.io import VisionError
+    from vision.io import VisionError, read_image
 
     if str(path).lower().endswith((".h5", ".hdf5")):
         rec = _recording_of(path)
@@ -46,10 +46,7 @@ def calibration_image(path) -> np.ndarray:
             raise VisionError(f"--calibration {str(path)!r}: not a recording with "
                               f"{SCREEN}/calibration_image")
         return np.asarray(rec.dataset(f"{SCREEN}/calibration_image"))
-    img = cv2.imread(str(path), cv2.IMREAD_GRAYSCALE)
-    if img is None:
-        raise VisionError(f"--calibration {str(path)!r}: not a readable image")
-    return img
+    return read_image(path, cv2.IMREAD_GRAYSCALE)
 
 
 def ring_radii_of(source, ring_radii: Optional[str] = None) -> np.ndarray:

@@ -112,15 +112,36 @@ def _iter_video(path):
         cap.release()
 
 
+def read_image(path, flags=None) -> np.ndarray:
+    """Read one image file (``cv2.imread``, unchanged depth by default).
+
+    Raises
+    ------
+    VisionError
+        The file is not an image, is corrupt, or declares more pixels than the
+        decoder accepts (OpenCV's ``CV_IO_MAX_IMAGE_PIXELS``); the message names it.
+    """
+    import cv2
+
+    try:
+        img = cv2.imread(str(path), cv2.IMREAD_UNCHANGED if flags is None else flags)
+    except cv2.error as exc:
+        reason = str(exc).strip().splitlines()[-1] if str(exc).strip() else type(exc).__name__
+        if "MAX_IMAGE_PIXELS" in str(exc) or "validateInputImageSize" in str(exc):
+            reason = "the image declares more pixels than the decoder accepts (too large)"
+        raise VisionError(f"{path}: cannot read the image: {reason}") from None
+    if img is None:
+        raise VisionError(f"{path}: cv2.imread cannot read it (corrupt or not an image)")
+    return img
+
+
 def _iter_images(paths):
     import cv2
 
     if not paths:
         raise VisionError("no image files found")
     for i, p in enumerate(paths):
-        img = cv2.imread(str(p), cv2.IMREAD_UNCHANGED)
-        if img is None:
-            raise VisionError(f"{p}: cv2.imread cannot read it (corrupt or not an image)")
+        img = read_image(p)
         if img.ndim == 3:
             code = cv2.COLOR_BGRA2GRAY if img.shape[2] == 4 else cv2.COLOR_BGR2GRAY
             img = cv2.cvtColor(img, code)

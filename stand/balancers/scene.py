@@ -42,6 +42,10 @@ MODEL_TYPES = {
     "liquid_chamber": ("stand.balancers.liquid_chamber:LiquidChamberParams", "thesis 002"),
 }
 RUN_KEYS = ("duration", "samples", "initial", "rtol", "speed")
+#: the models written in dimensionless ratios, and the largest |ratio| accepted
+DIMENSIONLESS_MODELS = ("two_axis", "gravity_pair", "damper")
+MAX_RATIO = 1e6
+MAX_REVOLUTIONS = 1e8   #: as the planar scenes (stand.scene_file.MAX_CYCLES)
 
 
 def _module(kind):
@@ -81,6 +85,12 @@ def parse_weight_model(data, text="", stem="") -> Scene:
         params = cls(**{k: float(v) for k, v in wm.items()})
     except (TypeError, ValueError) as exc:
         raise SceneError(f"[weight_model] ({kind}): {exc}") from None
+    if kind in DIMENSIONLESS_MODELS:
+        for k, v in wm.items():
+            if abs(float(v)) > MAX_RATIO:
+                raise SceneError(f"weight_model.{k} = {v!r}: out of the model's range (a dimensionless "
+                                 f"ratio, |value| <= {MAX_RATIO:g}: beyond it the model's time scales "
+                                 "differ too much for a run to end)")
     run = data.get("run", {})
     if not isinstance(run, dict):
         raise SceneError("[run] must be a table")
@@ -100,6 +110,10 @@ def parse_weight_model(data, text="", stem="") -> Scene:
         raise SceneError(f"run.rtol = {rtol!r}: must be in (0, 1)")
     if "speed" in run:
         _number("run.speed", run["speed"], "rad/s")
+    top = abs(_speed(kind, params, run)) + (2 * abs(params.epsilon) * T if kind == "liquid_float" else 0)
+    if T * top / (2 * math.pi) > MAX_REVOLUTIONS:
+        raise SceneError(f"run.duration = {T!r}: {T * top / (2 * math.pi):.3g} revolutions at the "
+                         f"model's speed; at most {MAX_REVOLUTIONS:g}")
     scene = data.get("scene", {})
     name = scene.get("name", stem) if isinstance(scene, dict) else stem
     desc = scene.get("description", "") if isinstance(scene, dict) else ""

@@ -118,7 +118,10 @@ def run_dop853(model, y0, tau_end, rtol, atol, ts, out, stats, max_steps, progre
     cap = np.where(model.angle_mask(), np.pi, np.inf)
     y = y0.copy()
     f = np.empty_like(y)
-    rhs(kind, 0.0, y, f, sp, wt, prog)
+    try:
+        rhs(kind, 0.0, y, f, sp, wt, prog)
+    except np.linalg.LinAlgError:       # a singular or non-finite mass matrix
+        f[:] = np.nan
     if not (np.all(np.isfinite(y)) and np.all(np.isfinite(f))):
         stats.status, stats.success = -2, False
         stats.message = ("Non-finite initial state or right-hand side at t = 0 s: a scene parameter is "
@@ -148,9 +151,12 @@ def run_dop853(model, y0, tau_end, rtol, atol, ts, out, stats, max_steps, progre
             if budget <= 0:
                 status = STEP_BUDGET
                 break
-            status, t, h, k_next = dop853_loop(kind, sp, wt, prog, t, y, f, h, seg_end, rtol,
-                                               atol, cap, np.inf, ts, k_next, out, st, budget,
-                                               DIVERGENCE_LIMIT)
+            try:
+                status, t, h, k_next = dop853_loop(kind, sp, wt, prog, t, y, f, h, seg_end, rtol,
+                                                   atol, cap, np.inf, ts, k_next, out, st, budget,
+                                                   DIVERGENCE_LIMIT)
+            except np.linalg.LinAlgError:   # the compiled solve met a non-finite mass matrix
+                status = NOT_FINITE
             if bar is not None:
                 bar.update(t / model.omega_1 - bar.n)
             if status not in (REACHED_END, STEP_BUDGET):

@@ -39,6 +39,8 @@ import inspect
 import math
 from typing import Mapping
 
+import numpy as np
+
 from ..balancers.friction import ROLLING_BALL_J, Friction
 from ..scene import RotorStructure, Scene, SceneError, SpeedDrive
 from .coupled_kernel import PlaneWeights
@@ -115,9 +117,15 @@ def build_rotor(kind: str, params: Mapping) -> LinearRotor:
     if missing:
         raise SceneError(f"[structure] type = \"{kind}\": missing {', '.join(missing)}")
     try:
-        return fn(**params)
-    except (ValueError, TypeError) as exc:
+        rotor = fn(**params)
+        wn = rotor.natural_frequencies(0.0)
+    except (ValueError, TypeError, np.linalg.LinAlgError) as exc:
         raise SceneError(f"[structure] ({kind}): {exc}") from None
+    if not np.all(np.isfinite(wn)):
+        raise SceneError(f"[structure] ({kind}): the natural frequencies are out of floating-point "
+                         "range: a parameter's magnitude is absurd (check masses, stiffnesses, "
+                         "lengths in SI units)")
+    return rotor
 
 
 def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:

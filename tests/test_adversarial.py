@@ -1,0 +1,346 @@
+"""One adversarial harness for every command: bad inputs x the commands that read them.
+
+A catalogue of bad inputs -- scene mutations (missing / unknown keys, wrong types,
+NaN / inf, negatives, absurd sizes, binary garbage, a string where a table is
+expected), recording mutations (truncations, flipped bytes, deleted datasets, NaN
+stretches, non-monotonic or zero-length time, wrong units), table mutations
+(missing columns, text in numbers, one row, semicolons, a BOM) and image mutations
+(blank, saturated, two spots, zero-size, a PNG declaring 50 000 x 50 000 pixels) --
+is crossed with every command that reads that kind of input.  Each cell must end in
+exit 2 with one line naming the input and the problem, or in a result (exit 0/1)
+with the problem stated; never a traceback, a hang (per-cell time limit), memory
+beyond the bound, or a changed input (hash before and after).  Seeds are fixed.
+
+``python tests/test_adversarial.py`` prints the table; under pytest the table is
+printed at the end of the run (tests/conftest.py).
+"""
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import random
+import resource
+import signal
+import struct
+import sys
+import time
+import zlib
+from contextlib import redirect_stderr, redirect_stdout
+from pathlib import Path
+
+import numpy as np
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python 3.10
+    import tomli as tomllib
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _helpers import toml_text  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENES = ROOT / "data_samples" / "scenes"
+CELL_TIME_LIMIT_S = 20.0       #: a cell that runs longer is a hang
+MEMORY_BOUND_BYTES = 4 << 30   #: peak resident memory of the whole harness
+SEED = 20261125
+
+
+# ---------------------------------------------------------------- inputs
+def _short(doc: dict) -> dict:
+    doc = json.loads(json.dumps(doc))
+    if "weight_model" in doc:
+        doc.setdefault("run", {})["duration"] = 20.0
+        doc["run"]["samples"] = 201
+    else:
+        doc["run"]["duration"] = 1.0
+    return doc
+
+
+BASES = {name: _short(tomllib.loads((SCENES / f"{name}.toml").read_text()))
+         for name in ("ball_runup", "family_two_mass", "weight_damper")}
+
+
+def _scene_text(doc) -> str:
+    tables = {}
+    for k, v in doc.items():
+        if isinstance(v, dict) and any(isinstance(x, dict) for x in v.values()):
+            for sub, body in v.items():
+                tables[f"{k}__{sub}"] = body
+        else:
+            tables[k] = v
+    return toml_text(**tables)
+
+
+def scene_mutations(base: str, rng: random.Random):
+    """(label, bytes) of invalid scene files built from the base scene."""
+    doc = BASES[base]
+    out = [("empty file", b""), ("binary garbage", bytes(rng.getrandbits(8) for _ in range(300))),
+           ("not TOML", b"this is = = not toml [[\n"), ("latin-1 text", "name = 'é'\n".encode("latin-1"))]
+    for table in list(doc):
+        if table == "scene":
+            continue
+        d = {k: v for k, v in doc.items() if k != table}
+        out.append((f"missing [{table}]", _scene_text(d).encode()))
+        d = json.loads(json.dumps(doc))
+        if isinstance(d[table], dict):
+            d[table]["unknwon_key"] = 1.0
+            out.append((f"unknown key in [{table}]", _scene_text(d).encode()))
+        d = json.loads(json.dumps(doc))
+        d[table] = "a string"
+        text = _scene_text({k: v for k, v in d.items() if k != table}) + f'{table} = "a string"\n'
+        out.append((f"string where [{table}] is a table", text.encode()))
+    numeric = [(t, k) for t, body in doc.items() if isinstance(body, dict)
+               for k, v in body.items() if isinstance(v, (int, float)) and not isinstance(v, bool)]
+    for t, k in rng.sample(numeric, min(5, len(numeric))):
+        for label, value in (("text", "'x'"), ("nan", "nan"), ("inf", "inf"), ("negative", None),
+                             ("absurd", "1e300")):
+            d = json.loads(json.dumps(doc))
+            if label == "negative":
+                value = repr(-abs(float(d[t][k])) - 1.0)
+            text = _scene_text(d).replace(f"\n{k} = {json.dumps(d[t][k])}\n", f"\n{k} = {value}\n", 1)
+            out.append((f"{t}.{k} {label}", text.encode()))
+    d = json.loads(json.dumps(doc))
+    if "balancer" in d:
+        d["balancer"]["count"] = 10 ** 9
+        out.append(("10^9 weights", _scene_text(d).encode()))
+    d = json.loads(json.dumps(doc))
+    d["run"]["duration"] = 1e12
+    out.append(("10^12 s", _scene_text(d).encode()))
+    return out
+
+
+def recording_mutations(good: Path, rng: random.Random):
+    """(label, writer(path)) of damaged recordings made from a good one."""
+    import h5py
+
+    data = good.read_bytes()
+
+    def copy_then(edit):
+        def make(p: Path):
+            p.write_bytes(data)
+            with h5py.File(p, "r+") as f:
+                edit(f)
+        return make
+
+    def flipped(k):
+        def make(p: Path):
+            b = bytearray(data)
+            for i in random.Random(k).sample(range(len(b) // 4, len(b)), 64):
+                b[i] ^= 0xFF
+            p.write_bytes(bytes(b))
+        return make
+
+    def replace(key, fn):
+        def edit(f):
+            a = f[key][()]
+            del f[key]
+            f[key] = fn(a)
+        return edit
+
+    out = [(f"truncated at {q:.0%}", (lambda q: lambda p: p.write_bytes(data[:int(len(data) * q)]))(q))
+           for q in (0.05, 0.3, 0.6, 0.95)]
+    out += [(f"flipped bytes #{k}", flipped(k)) for k in range(3)]
+    for key in ("time", "planes", "rotor", "weights", "shaft"):
+        out.append((f"deleted {key}", copy_then(lambda f, key=key: f.__delitem__(key))))
+    out += [
+        ("NaN stretch in x", copy_then(replace("planes/balancer/x",
+                                               lambda a: np.where(np.arange(a.size) % 50 < 10, np.nan, a)))),
+        ("non-monotonic time", copy_then(replace("time", lambda a: a[::-1].copy()))),
+        ("zero-length time", copy_then(replace("time", lambda a: a[:0]))),
+        ("wrong units", copy_then(lambda f: f["planes/balancer/x"].attrs.__setitem__("units", "furlong"))),
+        ("text scene attribute", copy_then(lambda f: f.attrs.__setitem__("scene", "[[[ not toml"))),
+    ]
+    return out
+
+
+def table_mutations():
+    t = np.linspace(0, 2, 401)
+    good = "t_s,x_m,y_m\n" + "".join(f"{a},{1e-4 * np.cos(60 * a)},{1e-4 * np.sin(60 * a)}\n" for a in t)
+    rows = good.splitlines()
+    return [
+        ("missing column", "\n".join(r.rsplit(",", 1)[0] for r in rows).encode()),
+        ("text in a number", good.replace("\n1.0,", "\nabc,", 1).encode()),
+        ("one row", ("\n".join(rows[:2]) + "\n").encode()),
+        ("semicolons", good.replace(",", ";").encode()),
+        ("BOM", ("\ufeff" + good).encode("utf-8")),
+        ("empty", b""),
+    ]
+
+
+def _png(width: int, height: int, pixels: bytes = b"") -> bytes:
+    def chunk(kind, body):
+        return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
+    head = struct.pack(">IIBBBBB", width, height, 8, 0, 0, 0, 0)
+    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", head) + chunk(b"IDAT", zlib.compress(pixels)) + \
+        chunk(b"IEND", b"")
+
+
+def image_mutations():
+    import cv2
+
+    def enc(img):
+        return cv2.imencode(".png", img)[1].tobytes()
+
+    yy, xx = np.mgrid[0:120, 0:160]
+    spot = lambda x, y: 200 * np.exp(-((xx - x) ** 2 + (yy - y) ** 2) / 8.0)  # noqa: E731
+    return [
+        ("blank", enc(np.zeros((120, 160), np.uint8))),
+        ("saturated", enc(np.full((120, 160), 255, np.uint8))),
+        ("two spots", enc((10 + spot(40, 60) + spot(120, 60)).clip(0, 255).astype(np.uint8))),
+        ("zero-size file", b""),
+        ("PNG declaring 50000 x 50000", _png(50_000, 50_000)),
+    ]
+
+
+# ---------------------------------------------------------------- cells
+class _Hang(BaseException):   # not an Exception: the CLI's last-resort handler must not swallow it
+    pass
+
+
+def _alarm(signum, frame):
+    raise _Hang()
+
+
+def _digest(paths) -> dict:
+    return {str(p): hashlib.sha256(p.read_bytes()).hexdigest() for p in paths if p.is_file()}
+
+
+def run_cell(argv, inputs) -> dict:
+    """Run ``stand <argv>`` in this process; classify the outcome."""
+    from stand.cli import main
+
+    before = _digest(inputs)
+    out, err = io.StringIO(), io.StringIO()
+    old = signal.signal(signal.SIGALRM, _alarm)
+    signal.setitimer(signal.ITIMER_REAL, CELL_TIME_LIMIT_S)
+    t0 = time.perf_counter()
+    try:
+        with redirect_stdout(out), redirect_stderr(err):
+            code = main([str(a) for a in argv])
+    except _Hang:
+        code = "hang"
+    except SystemExit as exc:        # argparse
+        code = exc.code
+    except BaseException as exc:     # noqa: BLE001 -- a crash of the harness' subject
+        code = f"raised {type(exc).__name__}: {exc}"
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
+    wall = time.perf_counter() - t0
+    e, o = err.getvalue(), out.getvalue()
+    changed = _digest(inputs) != before
+    if code == "hang" or isinstance(code, str):
+        verdict = "crash" if code != "hang" else "hang"
+    elif "Traceback" in e + o or code == 3:
+        verdict = "crash"
+    elif changed:
+        verdict = "changed input"
+    elif code == 2:
+        lines = [ln for ln in e.splitlines() if ln.strip()]
+        named = any(Path(str(p)).name in e for p in inputs)
+        verdict = "clear error" if len(lines) == 1 and named else f"unclear error: {e.strip()[:200]!r}"
+    elif code in (0, 1):
+        verdict = "partial result"
+    else:
+        verdict = f"exit {code}"
+    return {"argv": [str(a) for a in argv], "verdict": verdict, "wall": wall}
+
+
+def cells(tmp: Path):
+    """Yield (command, input label, argv, inputs) for every cell of the catalogue."""
+    from stand.cli import main
+
+    rng = random.Random(SEED)
+    for base in BASES:
+        for i, (label, blob) in enumerate(scene_mutations(base, rng)):
+            p = tmp / f"scene_{base}_{i}.toml"
+            p.write_bytes(blob)
+            for cmd, extra in (("run", ["-o", tmp / "out.h5"]), ("theory", ["--no-floquet"]),
+                               ("accuracy", ["--fast"]),
+                               ("experiment", ["constant", "-o", tmp / "out_e.h5", "--duration", "1"])):
+                yield cmd, f"{base}: {label}", [cmd, p, *extra], [p]
+    good = tmp / "good.h5"
+    scene = tmp / "good_scene.toml"
+    scene.write_text(_scene_text(BASES["ball_runup"]))
+    with redirect_stdout(io.StringIO()):
+        main(["run", str(scene), "-o", str(good)])
+    for i, (label, make) in enumerate(recording_mutations(good, rng)):
+        p = tmp / f"rec_{i}.h5"
+        make(p)
+        for cmd, extra in (("analyze", []), ("report", ["-o", tmp / "r.html"]),
+                           ("snapshot", ["-o", tmp / "s.png"]), ("track", ["-o", tmp / "t.csv"]),
+                           ("strobe", ["-o", tmp / "sb.csv"])):
+            yield cmd, f"recording: {label}", [cmd, p, *extra], [p]
+    for i, (label, blob) in enumerate(table_mutations()):
+        p = tmp / f"table_{i}.csv"
+        p.write_bytes(blob)
+        for cmd, extra in (("analyze", []), ("report", ["-o", tmp / "rt.html"])):
+            yield cmd, f"table: {label}", [cmd, p, *extra], [p]
+    for i, (label, blob) in enumerate(image_mutations()):
+        d = tmp / f"img_{i}"
+        d.mkdir()
+        p = d / "frame_000.png"
+        p.write_bytes(blob)
+        for cmd, extra in (("track", [d, "-o", tmp / "ti.csv"]), ("strobe", [d, "-o", tmp / "si.csv"]),
+                           ("track", [good, "-o", tmp / "tc.csv", "--calibration", p,
+                                      "--ring-radii", "0.01,0.02,0.03"])):
+            yield (f"{cmd}{' --calibration' if '--calibration' in extra else ''}",
+                   f"image: {label}", [cmd, *extra], [p, good])
+
+
+def run_harness(tmp: Path) -> tuple:
+    """All cells; returns (rows, table text)."""
+    import warnings
+
+    rows = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for cmd, label, argv, inputs in cells(tmp):
+            r = run_cell(argv, inputs)
+            r.update(command=cmd, input=label)
+            rows.append(r)
+    table = {}
+    for r in rows:
+        t = table.setdefault(r["command"], {"tried": 0, "clear error": 0, "partial result": 0,
+                                            "bad": 0})
+        t["tried"] += 1
+        if r["verdict"] in ("clear error", "partial result"):
+            t[r["verdict"]] += 1
+        else:
+            t["bad"] += 1
+    lines = [f"{'command':<22}{'tried':>7}{'clear error':>13}{'partial result':>16}"
+             f"{'crash/hang/unclear/changed':>28}"]
+    for cmd, t in table.items():
+        lines.append(f"{cmd:<22}{t['tried']:>7}{t['clear error']:>13}{t['partial result']:>16}"
+                     f"{t['bad']:>28}")
+    tot = {k: sum(t[k] for t in table.values()) for k in ("tried", "clear error", "partial result", "bad")}
+    lines.append(f"{'all':<22}{tot['tried']:>7}{tot['clear error']:>13}{tot['partial result']:>16}"
+                 f"{tot['bad']:>28}")
+    return rows, "\n".join(lines)
+
+
+def test_every_command_against_the_bad_input_catalogue(tmp_path, record_property):
+    t0 = time.perf_counter()
+    rows, table = run_harness(tmp_path)
+    wall = time.perf_counter() - t0
+    record_property("adversarial_table", f"adversarial harness ({wall:.0f} s):\n{table}")
+    bad = [r for r in rows if r["verdict"] not in ("clear error", "partial result")]
+    assert len(rows) >= 300
+    assert not bad, "\n".join(f"{r['command']} / {r['input']}: {r['verdict']}  ({' '.join(r['argv'])})"
+                              for r in bad[:40])
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    assert peak < MEMORY_BOUND_BYTES, f"peak memory {peak / 2**30:.2f} GiB"
+
+
+if __name__ == "__main__":  # pragma: no cover
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as d:
+        t0 = time.perf_counter()
+        rows, table = run_harness(Path(d))
+        print(table)
+        print(f"{len(rows)} cells in {time.perf_counter() - t0:.0f} s")
+        for r in rows:
+            if r["verdict"] not in ("clear error", "partial result"):
+                print(f"  {r['command']} / {r['input']}: {r['verdict']}")
