@@ -562,7 +562,16 @@ def _guard(args) -> None:
 
 
 def _naming_the_input(args, exc) -> str:
-    """The error as one line that names the input it is about."""
+    """The error as one line that names the input (or, for a failed write, the output) it is about."""
+    import errno
+
+    out = getattr(args, "output", None)
+    if isinstance(exc, OSError) and out and (exc.errno in (errno.EFBIG, errno.ENOSPC, errno.EROFS,
+                                                            errno.EACCES, errno.EPERM, errno.EDQUOT)
+                                             or "write" in str(exc).lower()):
+        why = exc.strerror or " ".join(str(exc).split())
+        return (f"cannot write {out}: {why}; nothing was written under that name (an existing "
+                f"file is unchanged)")
     msg = " ".join(str(exc).split())
     src = next((getattr(args, k) for k in ("scene", "recording", "source", "spec", "catalogue")
                 if getattr(args, k, None)), None)
@@ -578,7 +587,9 @@ def main(argv=None) -> int:
     try:
         _guard(args)
         return args.func(args)
-    except (SceneError, ValueError, FileNotFoundError, PermissionError, IsADirectoryError) as exc:
+    except (SceneError, ValueError, OSError) as exc:
+        # OSError: missing files, permissions, a full disk or a file-size limit (EFBIG): the
+        # outputs are written atomically, so what existed before is intact
         # TheoryError is a ValueError: out-of-scope scenes end here with their reason
         print(f"stand {args.command}: error: {_naming_the_input(args, exc)}", file=sys.stderr)
         return 2

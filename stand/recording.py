@@ -31,6 +31,7 @@ what was filled in is listed in :attr:`Recording.notes`.
 from __future__ import annotations
 
 import datetime as _dt
+import io
 import json
 import os
 from dataclasses import dataclass, field
@@ -57,6 +58,8 @@ COMPRESS_ABOVE = 1000
 GZIP_LEVEL = 4
 #: target size of one chunk [bytes]
 CHUNK_BYTES = 256 * 1024
+#: recordings up to this size are assembled in memory, then written in one piece [bytes]
+IN_MEMORY_BYTES = 256 * 1024 * 1024
 
 #: the fixed datasets: path -> (Recording field, units, description)
 DATASETS = {
@@ -193,8 +196,14 @@ def write_recording(run: Run, path: Union[str, os.PathLike], *,
         "weight_planes": json.dumps(run.weight_planes),
         "solver": json.dumps(to_jsonable(dict(stats or {}))),
     }
+    estimate = sum(a.nbytes for a, _ in data.values()) + getattr(writer, "estimated_bytes",
+                                                                 0 if writer is None else np.inf)
     with atomic_path(path, suffix=".h5.tmp") as tmp:
-        with h5py.File(tmp, "w") as f:
+        # up to IN_MEMORY_BYTES the file is assembled in memory and then written with one plain
+        # write: a full disk or a file-size limit is then a clean OSError, not a failure inside
+        # the HDF5 library; larger files (long videos) are streamed to the temporary file
+        target = io.BytesIO() if estimate <= IN_MEMORY_BYTES else tmp
+        with h5py.File(target, "w") as f:
             for key, value in {**root, **extra}.items():
                 f.attrs[key] = value
             for key, (a, units) in data.items():
@@ -211,6 +220,9 @@ def write_recording(run: Run, path: Union[str, os.PathLike], *,
                     f[key].dims[0].attach_scale(time)
             if writer is not None:
                 writer(f)  # instruments: frames streamed in, truth, settings
+        if target is not tmp:
+            with open(tmp, "wb") as fh:
+                fh.write(target.getbuffer())
     return path
 
 

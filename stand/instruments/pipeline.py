@@ -86,6 +86,14 @@ def run_with_instruments(scene: Scene, method: str | None = None, progress: bool
     def writer(f):
         write_instruments(f, scene, traj, plan)
 
+    # an upper bound of what the instruments store (16-bit frames, uncompressed), so the
+    # recording writer knows whether it may assemble the file in memory (stand.recording)
+    n_frames = 0 if plan is None else len(plan[1])
+    cam = scene.instruments.get("screen")
+    frame_bytes = 2 * cam.width * cam.height if cam is not None else 0
+    writer.estimated_bytes = (n_frames + 1) * frame_bytes + \
+        (MAX_STROBE_FRAMES * 2 * 1024 * 1024 if "stroboscope" in scene.instruments else 0) + \
+        64 * traj.t.size * 8
     return traj, writer
 
 

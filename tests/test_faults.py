@@ -1,0 +1,132 @@
+"""Faults: a full disk, a read-only output folder, kill -9 of a batch report.
+
+Every output is written atomically (stand.io.atomic): a failure leaves no partial
+file under the final name and the previous output intact; the command ends with
+exit 2 and one line naming the output.  (kill -9 and resume of ``stand run
+--checkpoint`` and ``stand sweep``: tests/test_checkpoint.py, tests/test_sweep.py.)
+"""
+from __future__ import annotations
+
+import hashlib
+import os
+import resource
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
+
+
+def _stand(*argv, limit_bytes=None, **kw):
+    def preexec():
+        if limit_bytes is not None:   # a full disk, as the process sees it
+            signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+            resource.setrlimit(resource.RLIMIT_FSIZE, (limit_bytes, limit_bytes))
+    return subprocess.run([sys.executable, "-m", "stand", *map(str, argv)], capture_output=True,
+                          text=True, preexec_fn=preexec, timeout=300, **kw)
+
+
+def _digest(p: Path) -> str:
+    return hashlib.sha256(p.read_bytes()).hexdigest()
+
+
+def _short_scene(tmp_path) -> Path:
+    p = tmp_path / "scene.toml"
+    p.write_text((SCENES / "no_balancer.toml").read_text().replace("duration = 40.0", "duration = 4.0"))
+    return p
+
+
+def _leftovers(folder: Path) -> list:
+    return sorted(p.name for p in folder.iterdir() if p.name.startswith(".") and "tmp" in p.name)
+
+
+@pytest.mark.parametrize("command", ["run", "report"])
+def test_full_disk_keeps_the_previous_output(tmp_path, command):
+    scene = _short_scene(tmp_path)
+    rec = tmp_path / "run.h5"
+    assert _stand("run", scene, "-o", rec).returncode == 0
+    if command == "run":
+        out = tmp_path / "old.h5"
+        shutil.copy(rec, out)
+        argv = ("run", scene, "-o", out)
+    else:
+        out = tmp_path / "report.html"
+        assert _stand("report", rec, "-o", out).returncode == 0
+        argv = ("report", rec, "-o", out)
+    before = _digest(out)
+    r = _stand(*argv, limit_bytes=20_000)
+    assert r.returncode == 2, r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and "File too large" in lines[0] and str(out) in lines[0], r.stderr
+    assert _digest(out) == before
+    assert _leftovers(tmp_path) == []
+
+
+def _make_read_only(folder: Path):
+    """chattr +i as root (root ignores permissions), chmod 555 otherwise; None if impossible."""
+    if os.geteuid() == 0:
+        if shutil.which("chattr") is None or subprocess.run(["chattr", "+i", str(folder)],
+                                                            capture_output=True).returncode:
+            return None
+        return lambda: subprocess.run(["chattr", "-i", str(folder)], check=False)
+    folder.chmod(0o555)
+    return lambda: folder.chmod(0o755)
+
+
+def test_read_only_output_folder_is_a_clear_error(tmp_path):
+    scene = _short_scene(tmp_path)
+    out_dir = tmp_path / "out"
+    out_dir.mkdir()
+    out = out_dir / "run.h5"
+    assert _stand("run", scene, "-o", out).returncode == 0
+    before = _digest(out)
+    undo = _make_read_only(out_dir)
+    if undo is None:
+        pytest.skip("cannot make a folder read-only here (root without chattr)")
+    try:
+        r = _stand("run", scene, "-o", out)
+    finally:
+        undo()
+    assert r.returncode == 2, r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and str(out) in lines[0], r.stderr
+    assert "not permitted" in lines[0] or "Permission denied" in lines[0], r.stderr
+    assert _digest(out) == before and _leftovers(out_dir) == []
+
+
+def test_batch_report_killed_then_rerun_equals_an_uninterrupted_run(tmp_path):
+    scene = _short_scene(tmp_path)
+    recs = tmp_path / "recs"
+    recs.mkdir()
+    for k in range(6):
+        assert _stand("run", scene, "-o", recs / f"r{k}.h5").returncode == 0
+    clean_dir, killed_dir = tmp_path / "clean", tmp_path / "killed"
+    clean_dir.mkdir()
+    killed_dir.mkdir()
+    assert _stand("report", recs, "-o", clean_dir, "--summary", clean_dir / "s.csv",
+                  "--workers", "1").returncode == 0
+    proc = subprocess.Popen([sys.executable, "-m", "stand", "report", str(recs), "-o", str(killed_dir),
+                             "--summary", str(killed_dir / "s.csv"), "--workers", "1"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    deadline = time.time() + 120
+    while time.time() < deadline and not any(killed_dir.glob("*.html")):
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.wait()
+    # nothing partial under a final name: every HTML there is complete, no summary yet
+    for html in killed_dir.glob("*.html"):
+        assert html.read_text().rstrip().endswith("</html>")
+    assert not (killed_dir / "s.csv").exists()
+    assert _stand("report", recs, "-o", killed_dir, "--summary", killed_dir / "s.csv",
+                  "--workers", "1").returncode == 0
+    a = pd.read_csv(clean_dir / "s.csv").drop(columns=["report"])
+    b = pd.read_csv(killed_dir / "s.csv").drop(columns=["report"])
+    pd.testing.assert_frame_equal(a, b)
+    assert sorted(p.name for p in killed_dir.glob("*.html")) == \
+        sorted(p.name for p in clean_dir.glob("*.html"))
