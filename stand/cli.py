@@ -409,7 +409,7 @@ def _cmd_strobe(args) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from .simulate import METHODS
+    from .scene import METHODS
 
     p = argparse.ArgumentParser(prog="stand", description="Virtual autobalancer test stand")
     sub = p.add_subparsers(dest="command", required=True)
@@ -425,7 +425,7 @@ def build_parser() -> argparse.ArgumentParser:
     rp.add_argument("--scheduler", default=None, help="batch: dask.distributed scheduler address")
     rp.set_defaults(func=_cmd_report)
     sw = sub.add_parser("sweep", help="parameter sweep (theory and/or simulation) on a process pool or a Dask cluster")
-    from .sweep import add_sweep_arguments
+    from .sweep.command import add_sweep_arguments
     add_sweep_arguments(sw)
     sw.set_defaults(func=_cmd_sweep)
     st = sub.add_parser("stress", help="numerical stability on the stiff and extreme catalogue (HTML + JSON)")

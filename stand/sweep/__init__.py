@@ -12,11 +12,24 @@ Dask cluster, with checkpoint/resume.
 
 See ``docs/sweep.md``.
 """
-from .spec import Axis, SweepSpec, SweepSpecError, load_sweep, parse_sweep, point_scene_dict
-from .run import (RESULT_SCHEMA, TIMING_COLUMNS, add_sweep_arguments, compute_chunk, parts_dir,
-                  read_results, run_sweep, sweep_main)
-from .maps import critical_speed_map, regime_map
-
 __all__ = ["Axis", "SweepSpec", "SweepSpecError", "load_sweep", "parse_sweep", "point_scene_dict",
            "RESULT_SCHEMA", "TIMING_COLUMNS", "add_sweep_arguments", "compute_chunk", "parts_dir",
            "read_results", "run_sweep", "sweep_main", "critical_speed_map", "regime_map"]
+
+#: where each public name lives (imported on first use: ``stand --help`` needs no pandas)
+_HOME = {**dict.fromkeys(("Axis", "SweepSpec", "SweepSpecError", "load_sweep", "parse_sweep",
+                          "point_scene_dict"), "spec"),
+         **dict.fromkeys(("RESULT_SCHEMA", "TIMING_COLUMNS", "compute_chunk", "parts_dir",
+                          "read_results", "run_sweep"), "run"),
+         "add_sweep_arguments": "command", "sweep_main": "command",
+         "critical_speed_map": "maps", "regime_map": "maps"}
+
+
+def __getattr__(name):
+    if name in _HOME:
+        import importlib
+
+        value = getattr(importlib.import_module(f".{_HOME[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
