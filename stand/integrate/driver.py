@@ -231,7 +231,28 @@ def initial_step(model, y, f, rtol, atol, cap):
     return h if (np.isfinite(h) and h > 0) else 1e-6
 
 
+_ANNOUNCED = []
+
+
+def _announce_compilation() -> None:
+    """Say on stderr, once per process, that the kernels are being compiled (no cached
+    compilation of the integrator yet: the first run after an install or an edit)."""
+    from .._jit import HAVE_NUMBA
+
+    if _ANNOUNCED or not HAVE_NUMBA or dop853_loop.signatures:
+        return
+    _ANNOUNCED.append(True)
+    cache = Path(__file__).resolve().parent / "__pycache__"
+    if not any(cache.glob("dop853.dop853_loop-*.nbi")):
+        import sys
+
+        print("stand: compiling the integrator kernels (one time after an install or an edit; "
+              "about half a minute)...", file=sys.stderr, flush=True)
+
+
 def warm_up(model):
+    """Compile (or load from the cache) the integrator for ``model``'s kind, outside any timing."""
+    _announce_compilation()
     y = np.zeros(model.size)
     out = np.zeros((1, model.size))
     dop853_loop(model.kind, model.sp, model.wt, model.prog, 0.0, y, y.copy(), 1.0, 0.0, 1e-8, 1e-10,
