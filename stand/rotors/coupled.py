@@ -15,6 +15,7 @@ from typing import Sequence
 import numpy as np
 
 from ..programme import programme_kinematics
+from .bodies import body_channels, body_initial
 from .coupled_kernel import (W_L, W_M, W_PLANE, CoupledModel, PlaneWeights, build_model,
                              rhs_generic, with_locked_weights)
 from .structure import LinearRotor
@@ -46,6 +47,7 @@ class CoupledRun:
     planes: dict
     residual: dict
     stats: dict = field(default_factory=dict)
+    bodies: list = field(default_factory=list)   #: per body weight: coordinate -> array (SI)
 
     @property
     def success(self) -> bool:
@@ -62,7 +64,7 @@ class CoupledRun:
 def simulate_coupled(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,
                      duration: float, sample_rate: float, *, rtol: float = 1e-8,
                      atol: float = 1e-10, q0=None, qd0=None, omega_ref=None,
-                     max_steps: int = 10_000_000) -> CoupledRun:
+                     max_steps: int = 10_000_000, bodies=()) -> CoupledRun:
     """Integrate a rotor with its weights under a speed programme (compiled DOP853).
 
     Parameters
@@ -82,7 +84,7 @@ def simulate_coupled(rotor: LinearRotor, weights: Sequence[PlaneWeights], progra
 
     duration = _positive("duration", duration, "s")
     sample_rate = _positive("sample_rate", sample_rate, "Hz")
-    model = build_model(rotor, weights, programme, omega_ref)
+    model = build_model(rotor, weights, programme, omega_ref, bodies)
     y = initial_state(model, weights, q0, qd0)
     w = model.omega_ref
     ts = np.arange(0.0, duration + 0.5 / sample_rate, 1.0 / sample_rate) * w
@@ -93,7 +95,11 @@ def simulate_coupled(rotor: LinearRotor, weights: Sequence[PlaneWeights], progra
     k = run_dop853(model, y, duration * w, rtol, atol, ts, out, st, max_steps, False)
     stats = dict(n_steps=st.n_steps, n_rejected=st.n_rejected, nfev=st.nfev, success=st.success,
                  message=st.message)
-    return CoupledRun(*samples_si(model, out[:k], ts[:k]), stats)
+    res = CoupledRun(*samples_si(model, out[:k], ts[:k]), stats)
+    if model.bodies:
+        res.bodies, _ = body_channels(model.bt, model.bodies, out[:k], w, res.rotor_angle,
+                                      res.planes)
+    return res
 
 
 def _positive(name, v, unit):
@@ -116,6 +122,11 @@ def initial_state(model: CoupledModel, weights, q0=None, qd0=None) -> np.ndarray
         y[n:n + nw] = np.concatenate([np.asarray(pw.balancer.initial_angles, float) for pw in weights])
         y[2 * n + nw:2 * (n + nw)] = np.concatenate(
             [np.asarray(pw.balancer.initial_speeds, float) for pw in weights]) / w
+    if model.bodies:
+        q = y[:n] * model.scale
+        planes = {p: model.rotor.planes[p] @ q for p in model.plane_names}
+        omega0 = programme_kinematics(0.0, model.prog)[1] * w
+        body_initial(model.bt, model.bodies, y, w, omega0, planes)
     return y
 
 
@@ -142,4 +153,8 @@ def samples_si(model: CoupledModel, out: np.ndarray, tau: np.ndarray) -> tuple:
             U[:, 0] += ml * np.cos(alpha[:, j])
             U[:, 1] += ml * np.sin(alpha[:, j])
         residual[p] = U
+    if model.bodies:
+        _, unb = body_channels(model.bt, model.bodies, out, w, phis, planes)
+        for pb, U in zip(model.bodies, unb):
+            residual[pb.plane] = residual[pb.plane] + U
     return tau / w, q, qd, phis, speeds, alpha, planes, residual

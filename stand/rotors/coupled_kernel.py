@@ -37,7 +37,7 @@ own length scale, so that the tolerances mean the same for every rotor.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Optional, Sequence
 
 import numpy as np
@@ -45,14 +45,16 @@ import numpy as np
 from .._jit import njit
 from ..programme import build_table, programme_kinematics
 from ..scene import Balancer
+from .bodies import PlaneBody, body_rows
+from .bodies_kernel import B_PLANE, N_BCOL, body_derivatives, body_reaction
 from .structure import LinearRotor
 
 __all__ = ["PlaneWeights", "CoupledModel", "build_model", "rhs_generic", "with_locked_weights"]
 
 # header of the scalar parameter vector sp
 H_N, H_NW, H_NPL, H_NUB, H_WREF, H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OGR, H_OGP, \
-    H_OF = range(15)
-N_HEAD = 15
+    H_OF, H_NB, H_OB = range(17)
+N_HEAD = 17
 # weight table columns: plane, mass, radius, inertia, drag, friction (kinetic,
 # static, slip speed, dwell, release), index of its adhesion state (-1: none)
 W_PLANE, W_M, W_L, W_J, W_H, W_MUK, W_MUS, W_VS, W_TD, W_TR, W_Z = range(11)
@@ -68,16 +70,19 @@ class PlaneWeights:
     friction: Optional["Friction"] = None    # stand.balancers.friction.Friction
 
 
-def with_locked_weights(rotor: LinearRotor, weights: Sequence[PlaneWeights]) -> LinearRotor:
+def with_locked_weights(rotor: LinearRotor, weights: Sequence[PlaneWeights],
+                        bodies: Sequence[PlaneBody] = ()) -> LinearRotor:
     """The rotor with its weights locked (their masses moving with the planes:
-    ``M + sum m_j T_p^T T_p``): the structure the engineering criterion and the
-    calibration rings refer to."""
+    ``M + sum m_j T_p^T T_p``, body weights included): the structure the engineering
+    criterion and the calibration rings refer to."""
     import dataclasses
 
     M = rotor.M.copy()
     for w in weights:
         T = rotor.planes[w.plane]
         M += float(np.sum(w.balancer.mass)) * (rotor.force_map(w.plane).T @ T)
+    for b in bodies:
+        M += b.mass * (rotor.force_map(b.plane).T @ rotor.planes[b.plane])
     return dataclasses.replace(rotor, M=M)
 
 
@@ -174,11 +179,46 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
                 tyk = sp[base + n + k]
                 ntk = txk * si - tyk * c
                 A[i, k] += m * (tx * txk + ty * tyk) - k2 * nti * ntk
+    # body weights (stand.rotors.bodies_kernel): reaction F = R a + r on their plane point
+    nb = int(sp[H_NB])
+    oB = int(sp[H_OB])
+    Rr = np.empty(6)
+    zb = np.empty((nb, 4))
+    for b in range(nb):
+        row = sp[oB + b * N_BCOL:oB + (b + 1) * N_BCOL]
+        base = oT + int(row[B_PLANE]) * 2 * n
+        fbase = oF + int(row[B_PLANE]) * 2 * n
+        zx = zy = zdx = zdy = 0.0
+        for k in range(n):
+            zx += sp[base + k] * q[k]
+            zy += sp[base + n + k] * q[k]
+            zdx += sp[base + k] * qd[k]
+            zdy += sp[base + n + k] * qd[k]
+        zb[b, 0], zb[b, 1], zb[b, 2], zb[b, 3] = zx, zy, zdx, zdy
+        body_reaction(row, y, wref, Om, dOm, gx, gy, zx, zy, zdx, zdy, Rr)
+        for i in range(n):
+            tx = sp[fbase + i]
+            ty = sp[fbase + n + i]
+            f[i] += tx * Rr[4] + ty * Rr[5]
+            for k in range(n):
+                txk = sp[base + k]
+                tyk = sp[base + n + k]
+                A[i, k] -= tx * (Rr[0] * txk + Rr[1] * tyk) + ty * (Rr[2] * txk + Rr[3] * tyk)
     qdd = np.linalg.solve(A, f)
     for i in range(n):
         L = sp[oL + i]
         dy[i] = y[ns + i]
         dy[ns + i] = qdd[i] / (wref * wref * L)
+    for b in range(nb):
+        row = sp[oB + b * N_BCOL:oB + (b + 1) * N_BCOL]
+        base = oT + int(row[B_PLANE]) * 2 * n
+        apx = 0.0
+        apy = 0.0
+        for k in range(n):
+            apx += sp[base + k] * qdd[k]
+            apy += sp[base + n + k] * qdd[k]
+        body_derivatives(row, y, dy, wref, Om, dOm, gx, gy, zb[b, 0], zb[b, 1], zb[b, 2],
+                         zb[b, 3], apx, apy)
     for j in range(nw):
         base = oT + int(wt[j, W_PLANE]) * 2 * n
         apx = 0.0
@@ -209,6 +249,9 @@ class CoupledModel:
     prog: np.ndarray
     omega_ref: float
     scale: np.ndarray      # per rotor coordinate [m or rad per unit state]
+    bodies: tuple = ()     #: PlaneBody weights (stand.rotors.bodies)
+    bt: np.ndarray = field(default_factory=lambda: np.zeros((0, N_BCOL)))   #: packed rows
+    n_body_states: int = 0
 
     @property
     def n(self) -> int:
@@ -234,12 +277,21 @@ class CoupledModel:
 
     @property
     def size(self) -> int:
+        return 2 * (self.n + self.nw) + self.n_adhesion + self.n_body_states
+
+    @property
+    def first_body_state(self) -> int:
         return 2 * (self.n + self.nw) + self.n_adhesion
 
     def angle_mask(self) -> np.ndarray:
         """True for the weights' angles (error scale capped at pi)."""
+        from .bodies_kernel import B_KIND, B_OFF, TILT
+
         mask = np.zeros(self.size, bool)
         mask[self.n:self.n + self.nw] = True
+        for row in self.bt:
+            if int(row[B_KIND]) == TILT:
+                mask[int(row[B_OFF]):int(row[B_OFF]) + 2] = True
         return mask
 
     def breakpoints(self) -> np.ndarray:
@@ -255,7 +307,7 @@ def _positive(name, v, unit):
 
 
 def build_model(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,
-                omega_ref: Optional[float] = None) -> CoupledModel:
+                omega_ref: Optional[float] = None, bodies: Sequence[PlaneBody] = ()) -> CoupledModel:
     """Pack a rotor, its weights and a speed programme for the compiled RHS.
 
     Parameters
@@ -268,9 +320,12 @@ def build_model(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,
         after the last node.
     omega_ref : float, optional
         Time scale [rad/s]; default the lowest natural frequency at rest.
+    bodies : sequence of PlaneBody, optional
+        Body weights (two-axis pendulums, coupled pairs, dampers, liquids;
+        :mod:`stand.rotors.bodies`); their states follow the point weights'.
     """
     names = tuple(rotor.planes)
-    for w in weights:
+    for w in tuple(weights) + tuple(bodies):
         if w.plane not in rotor.planes:
             raise ValueError(f"weights: plane {w.plane!r} is not a plane of rotor {rotor.name!r} "
                              f"(planes: {', '.join(names)})")
@@ -309,6 +364,7 @@ def build_model(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,
     wt = np.array(rows, dtype=float).reshape(-1, N_WCOL)
     # coordinate scales: the high-speed response to the larger of the capacity
     # and the unbalance, per coordinate (floor 1e-3 of the largest)
+    cap += sum(b.body.capacity for b in bodies)
     s_ref = max(cap, sum(abs(u.s) for u in rotor.unbalances), 1e-12)
     Minv = np.linalg.inv(rotor.M)
     resp = np.zeros(n)
@@ -321,15 +377,21 @@ def build_model(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,
              np.concatenate([rotor.planes[p].ravel() for p in names]), ub.ravel(), scale,
              rotor.gravity, rotor.gravity_plane,
              np.concatenate([rotor.force_map(p).ravel() for p in names])]
+    length = float(np.max(np.abs(np.concatenate([rotor.planes[p] for p in names], axis=1))
+                          @ scale)) or 1.0
+    bt, nbs = body_rows(bodies, names, 2 * (n + wt.shape[0]) + n_adh, length)
+    parts.append(bt.ravel())
     head = np.zeros(N_HEAD)
     head[H_N], head[H_NW], head[H_NPL], head[H_NUB], head[H_WREF] = n, wt.shape[0], len(names), \
         ub.shape[0], omega_ref
     off = N_HEAD
-    for slot, a in zip((H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OGR, H_OGP, H_OF), parts):
+    head[H_NB] = bt.shape[0]
+    for slot, a in zip((H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OGR, H_OGP, H_OF, H_OB), parts):
         head[slot] = off
         off += a.size
     sp = np.concatenate([head] + parts)
     prog = build_table(prog_si[:, 0] * omega_ref, prog_si[:, 1] / omega_ref)
-    return CoupledModel(rotor, tuple(weights), names, sp, wt, prog, omega_ref, scale)
+    return CoupledModel(rotor, tuple(weights), names, sp, wt, prog, omega_ref, scale,
+                        tuple(bodies), bt, nbs)
 
 
