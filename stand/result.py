@@ -35,7 +35,9 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = ["Run", "SolverStats", "weight_names"]
 
 #: units of the weights' standard coordinates
-WEIGHT_UNITS = {"angle": "rad", "speed": "rad/s", "relative_angle": "rad"}
+WEIGHT_UNITS = {"angle": "rad", "speed": "rad/s", "relative_angle": "rad", "tilt": "rad",
+                "tilt_rate": "rad/s", "n_x": "1", "n_y": "1", "n_z": "1", "liquid_x": "m",
+                "liquid_y": "m", "surface_x": "m", "surface_y": "m"}
 
 
 class SolverStats(_OdeResult):

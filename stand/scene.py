@@ -418,7 +418,13 @@ class Scene:
             from .rotors.coupled import PlaneWeights
 
             return (PlaneWeights("balancer", self.balancer),)
-        return tuple(self.plane_weights)
+        return tuple(w for w in self.plane_weights if hasattr(w, "balancer"))
+
+    @property
+    def bodies(self) -> tuple:
+        """The body weights (two-axis pendulums, coupled pairs, dampers, liquids) in their
+        planes: a tuple of :class:`stand.rotors.bodies.PlaneBody` (empty without)."""
+        return tuple(w for w in self.plane_weights if not hasattr(w, "balancer"))
 
     @property
     def n_weights(self) -> int:
@@ -428,7 +434,7 @@ class Scene:
     def main_plane(self) -> str:
         """The plane recorded as ``shaft/x|y``: the first plane with weights, else
         ``"balancer"`` when the structure has one, else its first plane."""
-        for w in self.weights:
+        for w in self.weights + self.bodies:
             return w.plane
         planes = self.planes
         return "balancer" if "balancer" in planes else planes[0]

@@ -53,7 +53,7 @@ MAX_CYCLES = 1e8  #: largest number of rotor revolutions or natural periods in o
 MAX_IMAGE_PIXELS = 16e6  #: largest instrument image (width x height) accepted
 
 TABLES = ("scene", "rotor", "supports", "balancer", "drive", "run", "initial", "dimensionless",
-          "instruments", "perturbation")
+          "instruments", "perturbation", "weights")
 PERTURBATION_KEYS = {
     "unbalance": ("type", "time", "duration", "eccentricity", "unbalance_angle"),
     "impulse": ("type", "time", "velocity_x", "velocity_y"),
@@ -268,7 +268,8 @@ def parse_scene(data: Mapping, text: str = "") -> Scene:
         if key not in TABLES:
             raise SceneError(f"unknown table [{key}]: {_suggest(key, TABLES)}"
                              f"valid tables: {', '.join(TABLES)}")
-    tables = {key: _Table(value, key) for key, value in data.items() if key != "perturbation"}
+    tables = {key: _Table(value, key) for key, value in data.items()
+              if key not in ("perturbation", "weights")}
     physical = [k for k in ("rotor", "supports", "balancer") if k in tables]
     if "dimensionless" in tables and physical:
         raise SceneError(f"[dimensionless] cannot be combined with [{physical[0]}]: a "
@@ -308,10 +309,42 @@ def parse_scene(data: Mapping, text: str = "") -> Scene:
     if isinstance(drive, TorqueDrive) and rotor.inertia is None:
         raise SceneError("rotor.inertia: missing; required with a torque drive "
                          '(drive.type = "torque") (kg*m^2, about the rotor\'s own centre of mass)')
+    bodies = _bodies(data.get("weights"), rotor, supports, drive, perturbations)
     return check_derived(Scene(rotor=rotor, supports=supports, balancer=balancer, drive=drive,
                                run=run, initial=initial, name=name, text=text,
                                instruments=instruments, perturbations=perturbations,
-                               description=desc))
+                               description=desc, plane_weights=bodies))
+
+
+def _bodies(items, rotor, supports, drive, perturbations) -> tuple:
+    """``[[weights]]`` of body kinds on the planar rotor (stand.rotors.bodies_scene)."""
+    if items is None:
+        return ()
+    from .rotors.bodies_scene import BODY_TYPES, parse_body
+    from .rotors.planar_supports import planar_rotor
+
+    if not isinstance(items, list):
+        raise SceneError("[weights] must be an array of tables: write [[weights]]")
+    lin = planar_rotor(rotor.mass, supports.stiffness_x, supports.stiffness_y,
+                       supports.damping_x, supports.damping_y)
+    out = []
+    for i, item in enumerate(items):
+        where = f"weights[{i}]"
+        if not isinstance(item, Mapping):
+            raise SceneError(f"{where}: must be a table")
+        item = dict(item)
+        plane = item.pop("plane", "balancer")
+        if plane != "balancer":
+            raise SceneError(f'{where}.plane = {_fmt(plane)}: the planar rotor has one plane, '
+                             '"balancer"')
+        if item.get("type") not in BODY_TYPES:
+            raise SceneError(f"{where}.type = {_fmt(item.get('type'))}: one of "
+                             f"{', '.join(BODY_TYPES)} (balls and pendulums go in [balancer])")
+        out.append(parse_body(item, where, plane, lin))
+    if out and (drive.kind != "speed" or drive.coast_down_start is not None or perturbations):
+        raise SceneError("weights: body weights run on the generic kernel: a speed programme "
+                         '(drive.type = "speed", no coast_down) and no [[perturbation]]')
+    return tuple(out)
 
 
 def parse(data: Mapping, text: str = "", stem: str = "") -> Scene:

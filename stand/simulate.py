@@ -136,7 +136,9 @@ def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
         from .balancers.book_run import run_book
 
         return run_book(scene, method=method, rtol=rtol, atol=atol)
-    if scene.kind == "rotor" or kernel == "generic":
+    if scene.kind == "rotor" or kernel == "generic" or scene.bodies:
+        if kernel == "planar" and scene.bodies:
+            raise SceneError('kernel = "planar": body weights run on the generic kernel')
         return _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoint,
                                  checkpoint_steps)
     model = build_planar_model(scene)
@@ -170,7 +172,7 @@ def auto_method(scene: Scene) -> str:
     from .rotors.coupled import build_model
 
     return choose_method(build_model(scene.linear_rotor(), scene.weights,
-                                     scene.drive.programme), "auto")[0]
+                                     scene.drive.programme, bodies=scene.bodies), "auto")[0]
 
 
 def _integrate(scene, model, y0, tau_end, ts, out, stats, method, progress, checkpoint,
@@ -212,7 +214,7 @@ def _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoi
     run = scene.run
     rotor = scene.linear_rotor()
     weights = scene.weights
-    model = build_model(rotor, weights, scene.drive.programme)
+    model = build_model(rotor, weights, scene.drive.programme, bodies=scene.bodies)
     method, ratio, reason = choose_method(model, method)
     if method == "numpy-DOP853":
         raise SceneError("run.method = \"numpy-DOP853\": the pure-numpy reference path exists for "
@@ -248,6 +250,15 @@ def _generic_run(scene, model, out, tau, stats) -> Run:
     names, wplanes = weight_names(scene.weights)
     weights = {nm: {"angle": phi + alpha[:, j], "speed": speed + dalpha[:, j]}
                for j, nm in enumerate(names)}
+    notes = ()
+    if model.bodies:
+        from .rotors.bodies import body_channels, body_names, liquid_notes
+
+        bnames, bplanes = body_names(model.bodies)
+        bcoords, _ = body_channels(model.bt, model.bodies, out, w, phi, planes)
+        weights.update(zip(bnames, bcoords))
+        names, wplanes = names + bnames, wplanes + bplanes
+        notes = liquid_notes(model.bodies, planes)
     coords = {}
     for i, c in enumerate(model.rotor.coords):
         name, _, unit = c.partition(" [")
@@ -255,7 +266,7 @@ def _generic_run(scene, model, out, tau, stats) -> Run:
     truth = {f"residual/{p}": (U, "kg*m") for p, U in residual.items()}
     return Run(t=t, planes=planes, main_plane=scene.main_plane, rotor_angle=phi,
                rotor_speed=speed, weights=weights, weight_planes=dict(zip(names, wplanes)),
-               stats=stats, scene=scene, coordinates=coords, truth=truth, state=out)
+               stats=stats, scene=scene, coordinates=coords, truth=truth, state=out, notes=notes)
 
 
 def _merge_times(ts_rec, extra_times, duration, w1):

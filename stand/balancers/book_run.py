@@ -87,8 +87,13 @@ def _rhs(kind, p):
     return lambda t, y: mod.rhs(t, y, p)
 
 
-def run_book(scene, method: str = "DOP853", rtol=None, atol=None) -> Run:
-    """Integrate a ``[weight_model]`` scene; returns the common :class:`Run`."""
+def run_book(scene, method: str = "DOP853", rtol=None, atol=None, compiled: bool = True) -> Run:
+    """Integrate a ``[weight_model]`` scene; returns the common :class:`Run`.
+
+    ``compiled=True`` (default): the model's generic composition (planar rotor x body
+    weight, :mod:`stand.balancers.composition`) on the compiled kernel; ``False``: the
+    book's own right-hand side (Python) on scipy's solver -- the oracle path.
+    """
     from ..integrate.driver import run_scipy
     from ..simulate import sample_times
 
@@ -100,6 +105,8 @@ def run_book(scene, method: str = "DOP853", rtol=None, atol=None) -> Run:
     rtol = run.rtol if rtol is None else rtol
     atol = run.atol if atol is None else atol
     y0 = initial_state(kind, p, bm.options)
+    if compiled and not (kind == "damper" and p.friction is not None):
+        return _run_composed(scene, y0, method, rtol, atol)
     ts = sample_times(run.duration, run.sample_rate)
     out = np.full((ts.size, y0.size), np.nan)
     out[0] = y0
@@ -111,6 +118,57 @@ def run_book(scene, method: str = "DOP853", rtol=None, atol=None) -> Run:
                   stats, method, run.max_steps)
     stats.wall_time = _time.perf_counter() - t0
     return _book_channels(scene, ts[:k], out[:k], stats)
+
+
+def _run_composed(scene, y0, method, rtol, atol) -> Run:
+    """The book model as a generic composition on the compiled kernel (same samples,
+    same ``state/<column>`` coordinates as the oracle path)."""
+    from ..rotors.coupled import build_model, initial_state as generic_initial
+    from ..simulate import _generic_run, _integrate, sample_times
+    from .composition import composition
+
+    bm, run = scene.structure, scene.run
+    kind, p = bm.type, bm.params
+    comp = composition(kind, p, run.duration, y0)
+    book_units = kind != "liquid_float"
+    model = build_model(comp.rotor, (), comp.programme, 1.0 if book_units else None,
+                        (comp.body,))
+    y = generic_initial(model, (), comp.q0, comp.qd0)
+    if kind == "damper":
+        o = model.first_body_state
+        y[o:o + 3] = comp.initial_body[:3]
+        y[o + 3:o + 6] = comp.initial_body[3:] / model.omega_ref
+    w = model.omega_1
+    ts = sample_times(run.duration, run.sample_rate) * w
+    out = np.full((ts.size, y.size), np.nan)
+    out[0] = y
+    stats = SolverStats(method=method, rtol=rtol, atol=atol,
+                        method_reason="book model as its generic composition (planar rotor x "
+                                      "body weight) on the compiled kernel")
+    k = _integrate(scene, model, y, run.duration * w, ts, out, stats, method, False, None, None)
+    res = _generic_run(scene, model, out[:k], ts[:k], stats)
+    xy = res.planes["balancer"]
+    v = out[:k, model.n:2 * model.n] * model.scale * w
+    name = next(iter(res.weights)) if res.weights else None
+    ch = res.weights.get(name, {})
+    if kind in ("two_axis", "gravity_pair"):
+        cols = [ch["tilt"], ch["angle"], xy[:, 0], xy[:, 1], ch["tilt_rate"], ch["speed"],
+                v[:, 0], v[:, 1]]
+    elif kind == "damper":
+        o = model.first_body_state
+        W = out[:k, o + 3:o + 6] * w
+        cols = [xy[:, 0], xy[:, 1], v[:, 0], v[:, 1], ch["n_x"], ch["n_y"], ch["n_z"],
+                W[:, 0], W[:, 1], W[:, 2]]
+    else:
+        cols = [xy[:, 0], xy[:, 1], v[:, 0], v[:, 1]]
+    state = np.column_stack(cols) if k else np.zeros((0, len(STATE_COLUMNS[kind])))
+    names = STATE_COLUMNS[kind]
+    res.coordinates.update({f"state/{c.split(' [')[0]}": (state[:, i], (c.split(" [")[1].rstrip("]")
+                                                          if " [" in c else "1"))
+                            for i, c in enumerate(names)})
+    res.state = state
+    res.notes = tuple(res.notes) + ((DIMENSIONLESS_NOTE,) if book_units else ())
+    return res
 
 
 def _book_channels(scene, t, y, stats) -> Run:

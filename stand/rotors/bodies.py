@@ -45,7 +45,7 @@ import numpy as np
 from . import bodies_kernel as bk
 
 __all__ = ["TiltingWeight", "SphericalWeight", "LiquidWeight", "PlaneBody", "BODY_KINDS",
-           "body_rows", "body_initial", "body_channels", "body_names"]
+           "body_rows", "body_initial", "body_channels", "body_names", "liquid_notes"]
 
 G_STANDARD = 9.80665
 
@@ -328,3 +328,18 @@ def body_channels(table: np.ndarray, bodies: Sequence[PlaneBody], out: np.ndarra
         mdx, mdy = b.mass * d[:, 0], b.mass * d[:, 1]
         unb.append(np.column_stack([c * mdx + s * mdy, -s * mdx + c * mdy]))
     return coords, unb
+
+
+def liquid_notes(bodies: Sequence[PlaneBody], planes: dict) -> tuple:
+    """Notes for liquids whose free surface left the chamber (sufficiency condition (3.4))."""
+    notes = []
+    for pb in bodies:
+        b = pb.body
+        if isinstance(b, LiquidWeight) and b.kind == "liquid_chamber" and len(planes[pb.plane]):
+            f = float(np.max(np.hypot(*planes[pb.plane].T)))
+            if f > b.gap:
+                notes.append(f"liquid chamber in plane {pb.plane!r}: the shaft offset reached "
+                             f"{f:.3g} m > R - r = {b.gap:.3g} m: the free surface touched the wall "
+                             "(sufficiency condition (3.4) of thesis 002); the annulus model "
+                             "is outside its validity there")
+    return tuple(notes)

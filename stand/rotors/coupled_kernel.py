@@ -103,6 +103,40 @@ def _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy):
     return mu * N * l * x / math.sqrt(1.0 + x * x)
 
 
+@njit(cache=True, error_model="numpy")
+def solve_small(A, f, x, n):
+    """Solve ``A x = f`` in place (A, f overwritten): Gaussian elimination with partial
+    pivoting for n <= 12 -- at these sizes LAPACK's call and copy overhead (np.linalg.solve)
+    costs more than the arithmetic, inside a right-hand side called millions of times --
+    and np.linalg.solve above.  A singular A gives non-finite x (the integrator stops)."""
+    if n > 12:
+        x[:] = np.linalg.solve(A, f)
+        return
+    for k in range(n):
+        p = k
+        big = abs(A[k, k])
+        for i in range(k + 1, n):
+            if abs(A[i, k]) > big:
+                big = abs(A[i, k])
+                p = i
+        if p != k:
+            for j in range(k, n):
+                A[k, j], A[p, j] = A[p, j], A[k, j]
+            f[k], f[p] = f[p], f[k]
+        piv = A[k, k]
+        for i in range(k + 1, n):
+            r = A[i, k] / piv
+            if r != 0.0:
+                for j in range(k + 1, n):
+                    A[i, j] -= r * A[k, j]
+                f[i] -= r * f[k]
+    for k in range(n - 1, -1, -1):
+        acc = f[k]
+        for j in range(k + 1, n):
+            acc -= A[k, j] * x[j]
+        x[k] = acc / A[k, k]
+
+
 @njit(cache=True, inline="always", error_model="numpy")
 def rhs_generic(tau, y, dy, sp, wt, prog):
     """Right-hand side of a LinearRotor with weights (module docstring), scaled time."""
@@ -119,14 +153,19 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
     gx = sp[oGP]
     gy = sp[oGP + 1]
     ns = n + nw
-    q = np.empty(n)
-    qd = np.empty(n)
+    nb = int(sp[H_NB])
+    # one scratch buffer for every per-call array (allocation dominates at small n)
+    buf = np.empty(2 * n + n * n + 2 * n + 3 * nw + 6 + 4 * nb)
+    q = buf[0:n]
+    qd = buf[n:2 * n]
     for i in range(n):
         L = sp[oL + i]
         q[i] = L * y[i]
         qd[i] = wref * L * y[ns + i]
-    A = np.empty((n, n))
-    f = np.empty(n)
+    A = buf[2 * n:2 * n + n * n].reshape((n, n))
+    f = buf[2 * n + n * n:3 * n + n * n]
+    qdd = buf[3 * n + n * n:4 * n + n * n]
+    o = 4 * n + n * n
     for i in range(n):
         acc = sp[oGR + i]
         for k in range(n):
@@ -147,9 +186,10 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
             f[i] += sp[base + i] * fx + sp[base + n + i] * fy
     # weights: assemble the Schur complement (the angle's cosine, sine and the resisting
     # moment are kept for the weights' own accelerations below)
-    cs = np.empty(nw)
-    ss = np.empty(nw)
-    mr = np.empty(nw)
+    cs = buf[o:o + nw]
+    ss = buf[o + nw:o + 2 * nw]
+    mr = buf[o + 2 * nw:o + 3 * nw]
+    o += 3 * nw
     for j in range(nw):
         p = int(wt[j, W_PLANE])
         m = wt[j, W_M]
@@ -180,10 +220,9 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
                 ntk = txk * si - tyk * c
                 A[i, k] += m * (tx * txk + ty * tyk) - k2 * nti * ntk
     # body weights (stand.rotors.bodies_kernel): reaction F = R a + r on their plane point
-    nb = int(sp[H_NB])
     oB = int(sp[H_OB])
-    Rr = np.empty(6)
-    zb = np.empty((nb, 4))
+    Rr = buf[o:o + 6]
+    zb = buf[o + 6:o + 6 + 4 * nb].reshape((nb, 4))
     for b in range(nb):
         row = sp[oB + b * N_BCOL:oB + (b + 1) * N_BCOL]
         base = oT + int(row[B_PLANE]) * 2 * n
@@ -204,7 +243,7 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
                 txk = sp[base + k]
                 tyk = sp[base + n + k]
                 A[i, k] -= tx * (Rr[0] * txk + Rr[1] * tyk) + ty * (Rr[2] * txk + Rr[3] * tyk)
-    qdd = np.linalg.solve(A, f)
+    solve_small(A, f, qdd, n)
     for i in range(n):
         L = sp[oL + i]
         dy[i] = y[ns + i]
@@ -377,7 +416,7 @@ def build_model(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,
              np.concatenate([rotor.planes[p].ravel() for p in names]), ub.ravel(), scale,
              rotor.gravity, rotor.gravity_plane,
              np.concatenate([rotor.force_map(p).ravel() for p in names])]
-    length = float(np.max(np.abs(np.concatenate([rotor.planes[p] for p in names], axis=1))
+    length = float(np.max(np.abs(np.concatenate([rotor.planes[p] for p in names], axis=0))
                           @ scale)) or 1.0
     bt, nbs = body_rows(bodies, names, 2 * (n + wt.shape[0]) + n_adh, length)
     parts.append(bt.ravel())

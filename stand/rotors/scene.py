@@ -43,6 +43,7 @@ import numpy as np
 
 from ..balancers.friction import ROLLING_BALL_J, Friction
 from ..scene import RotorStructure, Scene, SceneError, SpeedDrive
+from .bodies_scene import BODY_TYPES, parse_body
 from .coupled_kernel import PlaneWeights
 from .structure import LinearRotor
 
@@ -63,6 +64,14 @@ ROTOR_TYPES = {
 TABLES = ("scene", "structure", "weights", "drive", "run")
 #: dry-friction keys of a [[weights]] table (stand.balancers.friction)
 FRICTION_KEYS = ("friction", "static_friction", "slip_speed", "dwell_time", "release_time")
+
+
+def _body(item, where, plane, rotor, kind):
+    """A body weight (stand.rotors.bodies_scene) in a plane of the rotor."""
+    if not isinstance(plane, str) or plane not in rotor.planes:
+        raise SceneError(f"{where}.plane = {plane!r}: not a plane of rotor type \"{kind}\"; "
+                         f"planes: {', '.join(rotor.planes)}")
+    return parse_body(item, where, plane, rotor)
 
 
 def _builder(kind: str):
@@ -160,6 +169,9 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:
             raise SceneError(f"weights[{i}]: must be a table")
         item = dict(item)
         plane = item.pop("plane", "balancer")
+        if item.get("type") in BODY_TYPES:
+            weights.append(_body(item, f"weights[{i}]", plane, rotor, kind))
+            continue
         fkeys = {k: item.pop(k) for k in list(item) if k in FRICTION_KEYS}
         rolling = item.pop("rolling", False)
         if not isinstance(rolling, bool):
