@@ -459,8 +459,9 @@ class Scene:
 
     @property
     def total_mass(self) -> float:
-        """M_Sigma = M + sum m_j [kg] (planar rotor)."""
-        return self._planar("total_mass").mass + float(np.sum(self.balancer.mass))
+        """M_Sigma = M + sum m_j [kg] (planar rotor; body weights included)."""
+        return (self._planar("total_mass").mass + float(np.sum(self.balancer.mass))
+                + sum(b.mass for b in self.bodies))
 
     @property
     def natural_frequency(self) -> float:

@@ -102,7 +102,8 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
         notes.append(f"scene not usable: {d['scene_error']}")
 
     # ---------------- header
-    S = scene.balancer.capacity if scene is not None else 0.0
+    S = (scene.balancer.capacity + sum(b.body.capacity for b in scene.bodies)
+         if scene is not None else 0.0)
     Ms = scene.total_mass if scene is not None else None
     name = d["attrs"].get("scene_name") or (scene.name if scene is not None else None)
     if not name:
@@ -125,8 +126,10 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
         "description": (scene.description or None) if scene is not None else None,
         "rotor_mass_kg": scene.rotor.mass if scene is not None else None,
         "total_mass_kg": Ms,
-        "balancer_type": scene.balancer.type if scene is not None else None,
-        "weights": scene.balancer.count if scene is not None else None,
+        "balancer_type": (" + ".join([scene.balancer.type] * bool(scene.balancer.count)
+                                     + [b.kind for b in scene.bodies]) or scene.balancer.type)
+                         if scene is not None else None,
+        "weights": scene.balancer.count + len(scene.bodies) if scene is not None else None,
         "capacity_gmm": S * 1e6 if scene is not None else None,
         "rotor_unbalance_gmm": scene.rotor.unbalance * 1e6 if scene is not None else None,
         "e0": e0,

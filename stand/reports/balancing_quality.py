@@ -72,7 +72,8 @@ def balancing_quality(rec, w_service, grade, notes, warn):
     from dsp.errors import SignalError
 
     d, scene, t, x, y, phi, speed = rec.data, rec.scene, rec.t, rec.x, rec.y, rec.phi, rec.speed
-    S = scene.balancer.capacity if scene is not None else 0.0
+    S = (scene.balancer.capacity + sum(b.body.capacity for b in scene.bodies)
+         if scene is not None else 0.0)
     bq = {k: None for k in SCHEMA["balancing_quality"]}
     bq["residual_window_s"] = []
     bq["seed_criteria"] = []

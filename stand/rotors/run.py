@@ -76,7 +76,7 @@ def family_theory(scene, max_speed: float | None = None, floquet: bool = True) -
     ``max_speed`` [rad/s]: upper end of the scan (default 4 x the largest of the
     natural frequencies at rest and the programme's top speed).
     """
-    rot = with_locked_weights(scene.linear_rotor(), scene.weights)
+    rot = with_locked_weights(scene.linear_rotor(), scene.weights, scene.bodies)
     wn0 = rot.natural_frequencies(0.0)
     top = float(np.max(scene.drive.programme[:, 1])) if scene.drive.kind == "speed" else \
         float(max(scene.drive.target_speed, scene.drive.initial_speed))
