@@ -50,6 +50,16 @@ def programme_kinematics(tau, prog):
 
 
 @njit(cache=True, error_model="numpy")
+def programme_kinematics_many(taus, prog):
+    """(k, 3) array of :func:`programme_kinematics` at the times ``taus`` (k,)."""
+    out = np.empty((taus.size, 3))
+    for i in range(taus.size):
+        a, b, c = programme_kinematics(taus[i], prog)
+        out[i, 0], out[i, 1], out[i, 2] = a, b, c
+    return out
+
+
+@njit(cache=True, error_model="numpy")
 def rotor_kinematics(tau, prog, coast_t0, coast_T, coast_R0, coast_phi0):
     """Rotor angle, speed and acceleration (phi, phi', phi'') at ``tau``.
 

@@ -88,9 +88,9 @@ N_BCOL = 14
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _tilt_terms(b, y, o, wref, Om, gx, gy):
+def _tilt_terms(sp, rb, y, o, wref, Om, gx, gy):
     """Offsets' derivatives D_phi, D_alpha, velocity acceleration c and generalised forces Q."""
-    m, l, ga = b[B_M], b[B_L], b[B_GA]
+    m, l, ga = sp[rb + B_M], sp[rb + B_L], sp[rb + B_GA]
     ph, al = y[o], y[o + 1]
     dph, dal = wref * y[o + 2], wref * y[o + 3]
     sf, cf, sa, ca = math.sin(ph), math.cos(ph), math.sin(al), math.cos(al)
@@ -100,22 +100,22 @@ def _tilt_terms(b, y, o, wref, Om, gx, gy):
     w2 = dph * dph + dal * dal
     cx = l * (w2 * sf * sa - 2.0 * dph * dal * cf * ca)
     cy = l * (-w2 * sf * ca - 2.0 * dph * dal * cf * sa)
-    qph = -b[B_H1] * dph - m * ga * l * sf + m * (dpx * gx + dpy * gy)
-    qal = -b[B_H2] * (dal - Om) + m * (dax * gx + day * gy)
+    qph = -sp[rb + B_H1] * dph - m * ga * l * sf + m * (dpx * gx + dpy * gy)
+    qal = -sp[rb + B_H2] * (dal - Om) + m * (dax * gx + day * gy)
     return dpx, dpy, dax, day, cx, cy, qph, qal
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _sphere_terms(b, y, o, wref, Om, gx, gy):
+def _sphere_terms(sp, rb, y, o, wref, Om, gx, gy):
     """Unit direction n, absolute angular velocity W [rad/s] and the known part G of W'."""
-    m, l, A = b[B_M], b[B_L], b[B_A]
+    m, l, A = sp[rb + B_M], sp[rb + B_L], sp[rb + B_A]
     n0, n1, n2 = y[o], y[o + 1], y[o + 2]
     nn = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
     n0, n1, n2 = n0 / nn, n1 / nn, n2 / nn
     W0, W1, W2 = wref * y[o + 3], wref * y[o + 4], wref * y[o + 5]
     k = m * l / A
-    h = b[B_H1] / A
-    g2 = -b[B_GA]
+    h = sp[rb + B_H1] / A
+    g2 = -sp[rb + B_GA]
     # G = (m l / A) n x g3 - (H1 / A)(W - Omega e_z)
     G0 = k * (n1 * g2 - n2 * gy) - h * W0
     G1 = k * (n2 * gx - n0 * g2) - h * W1
@@ -124,9 +124,9 @@ def _sphere_terms(b, y, o, wref, Om, gx, gy):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _lag_sigma(b, y, o, zx, zy, zdx, zdy, Om, dOm):
+def _lag_sigma(sp, rb, y, o, zx, zy, zdx, zdy, Om, dOm):
     """Offset sigma [m], its rate and its acceleration without the plane's acceleration."""
-    Ls, tl = b[B_LS], b[B_TAU]
+    Ls, tl = sp[rb + B_LS], sp[rb + B_TAU]
     sx, sy = Ls * y[o], Ls * y[o + 1]
     sdx = -Om * sy - (sx + zx) / tl
     sdy = Om * sx - (sy + zy) / tl
@@ -136,85 +136,86 @@ def _lag_sigma(b, y, o, zx, zy, zdx, zdy, Om, dOm):
 
 
 @njit(cache=True, error_model="numpy")
-def body_reaction(b, y, wref, Om, dOm, gx, gy, zx, zy, zdx, zdy, Rr):
-    """Fill ``Rr = [R00, R01, R10, R11, r0, r1]``: the reaction ``F = R a + r`` [kg, N].
+def body_reaction(sp, rb, y, wref, Om, dOm, gx, gy, zx, zy, zdx, zdy, Rr, oR):
+    """Fill ``Rr[oR:oR + 6] = [R00, R01, R10, R11, r0, r1]``: the reaction ``F = R a + r``
+    [kg, N] of the body whose row starts at ``sp[rb]``.
 
     ``(zx, zy)``, ``(zdx, zdy)``: the plane point's displacement [m] and velocity [m/s]
     (used by ``LAG`` only).
     """
-    kind = int(b[B_KIND])
-    o = int(b[B_OFF])
-    m = b[B_M]
+    kind = int(sp[rb + B_KIND])
+    o = int(sp[rb + B_OFF])
+    m = sp[rb + B_M]
     if kind == TILT:
-        dpx, dpy, dax, day, cx, cy, qph, qal = _tilt_terms(b, y, o, wref, Om, gx, gy)
-        iA, iB = 1.0 / b[B_A], 1.0 / b[B_B]
+        dpx, dpy, dax, day, cx, cy, qph, qal = _tilt_terms(sp, rb, y, o, wref, Om, gx, gy)
+        iA, iB = 1.0 / sp[rb + B_A], 1.0 / sp[rb + B_B]
         m2 = m * m
-        Rr[0] = -m + m2 * (dpx * dpx * iA + dax * dax * iB)
-        Rr[1] = m2 * (dpx * dpy * iA + dax * day * iB)
-        Rr[2] = Rr[1]
-        Rr[3] = -m + m2 * (dpy * dpy * iA + day * day * iB)
-        Rr[4] = -m * (dpx * qph * iA + dax * qal * iB) - m * cx + m * gx
-        Rr[5] = -m * (dpy * qph * iA + day * qal * iB) - m * cy + m * gy
+        Rr[oR + 0] = -m + m2 * (dpx * dpx * iA + dax * dax * iB)
+        Rr[oR + 1] = m2 * (dpx * dpy * iA + dax * day * iB)
+        Rr[oR + 2] = Rr[oR + 1]
+        Rr[oR + 3] = -m + m2 * (dpy * dpy * iA + day * day * iB)
+        Rr[oR + 4] = -m * (dpx * qph * iA + dax * qal * iB) - m * cx + m * gx
+        Rr[oR + 5] = -m * (dpy * qph * iA + day * qal * iB) - m * cy + m * gy
     elif kind == SPHERE:
-        n0, n1, n2, W0, W1, W2, G0, G1, G2 = _sphere_terms(b, y, o, wref, Om, gx, gy)
-        l = b[B_L]
-        kap = m * l * l / b[B_A]
+        n0, n1, n2, W0, W1, W2, G0, G1, G2 = _sphere_terms(sp, rb, y, o, wref, Om, gx, gy)
+        l = sp[rb + B_L]
+        kap = m * l * l / sp[rb + B_A]
         # q = G x n + W x (W x n) (horizontal part)
         wn = W0 * n0 + W1 * n1 + W2 * n2
         ww = W0 * W0 + W1 * W1 + W2 * W2
         q0 = (G1 * n2 - G2 * n1) + W0 * wn - n0 * ww
         q1 = (G2 * n0 - G0 * n2) + W1 * wn - n1 * ww
-        Rr[0] = -m + m * kap * (1.0 - n0 * n0)
-        Rr[1] = -m * kap * n0 * n1
-        Rr[2] = Rr[1]
-        Rr[3] = -m + m * kap * (1.0 - n1 * n1)
-        Rr[4] = -m * l * q0 + m * gx
-        Rr[5] = -m * l * q1 + m * gy
+        Rr[oR + 0] = -m + m * kap * (1.0 - n0 * n0)
+        Rr[oR + 1] = -m * kap * n0 * n1
+        Rr[oR + 2] = Rr[oR + 1]
+        Rr[oR + 3] = -m + m * kap * (1.0 - n1 * n1)
+        Rr[oR + 4] = -m * l * q0 + m * gx
+        Rr[oR + 5] = -m * l * q1 + m * gy
     elif kind == LEVER:
-        lam = b[B_LAM]
-        Rr[0] = -m * lam
-        Rr[1] = 0.0
-        Rr[2] = 0.0
-        Rr[3] = -m * lam
-        Rr[4] = m * gx
-        Rr[5] = m * gy
+        lam = sp[rb + B_LAM]
+        Rr[oR + 0] = -m * lam
+        Rr[oR + 1] = 0.0
+        Rr[oR + 2] = 0.0
+        Rr[oR + 3] = -m * lam
+        Rr[oR + 4] = m * gx
+        Rr[oR + 5] = m * gy
     else:   # LAG
-        sx, sy, sdx, sdy, sddx, sddy = _lag_sigma(b, y, o, zx, zy, zdx, zdy, Om, dOm)
-        kap = b[B_LAM]
-        Rr[0] = -m
-        Rr[1] = 0.0
-        Rr[2] = 0.0
-        Rr[3] = -m
-        Rr[4] = m * kap * sddx + m * gx
-        Rr[5] = m * kap * sddy + m * gy
+        sx, sy, sdx, sdy, sddx, sddy = _lag_sigma(sp, rb, y, o, zx, zy, zdx, zdy, Om, dOm)
+        kap = sp[rb + B_LAM]
+        Rr[oR + 0] = -m
+        Rr[oR + 1] = 0.0
+        Rr[oR + 2] = 0.0
+        Rr[oR + 3] = -m
+        Rr[oR + 4] = m * kap * sddx + m * gx
+        Rr[oR + 5] = m * kap * sddy + m * gy
 
 
 @njit(cache=True, error_model="numpy")
-def body_derivatives(b, y, dy, wref, Om, dOm, gx, gy, zx, zy, zdx, zdy, ax, ay):
+def body_derivatives(sp, rb, y, dy, wref, Om, dOm, gx, gy, zx, zy, zdx, zdy, ax, ay):
     """Write the body's scaled state derivatives into ``dy`` given the plane point's
     absolute acceleration ``(ax, ay)`` [m/s^2]."""
-    kind = int(b[B_KIND])
-    o = int(b[B_OFF])
-    m = b[B_M]
+    kind = int(sp[rb + B_KIND])
+    o = int(sp[rb + B_OFF])
+    m = sp[rb + B_M]
     w2 = wref * wref
     if kind == TILT:
-        dpx, dpy, dax, day, cx, cy, qph, qal = _tilt_terms(b, y, o, wref, Om, gx, gy)
-        ddph = (qph - m * (dpx * ax + dpy * ay)) / b[B_A]
-        ddal = (qal - m * (dax * ax + day * ay)) / b[B_B]
+        dpx, dpy, dax, day, cx, cy, qph, qal = _tilt_terms(sp, rb, y, o, wref, Om, gx, gy)
+        ddph = (qph - m * (dpx * ax + dpy * ay)) / sp[rb + B_A]
+        ddal = (qal - m * (dax * ax + day * ay)) / sp[rb + B_B]
         dy[o] = y[o + 2]
         dy[o + 1] = y[o + 3]
         dy[o + 2] = ddph / w2
         dy[o + 3] = ddal / w2
     elif kind == SPHERE:
-        n0, n1, n2, W0, W1, W2, G0, G1, G2 = _sphere_terms(b, y, o, wref, Om, gx, gy)
-        k = m * b[B_L] / b[B_A]
+        n0, n1, n2, W0, W1, W2, G0, G1, G2 = _sphere_terms(sp, rb, y, o, wref, Om, gx, gy)
+        k = m * sp[rb + B_L] / sp[rb + B_A]
         # W' = G - (m l / A) n x a3,  n x a3 = (-n2 ay, n2 ax, n0 ay - n1 ax)
         dW0 = G0 + k * n2 * ay
         dW1 = G1 - k * n2 * ax
         dW2 = G2 - k * (n0 * ay - n1 * ax)
         r0, r1, r2 = y[o], y[o + 1], y[o + 2]
         s0, s1, s2 = y[o + 3], y[o + 4], y[o + 5]
-        st = 0.5 * b[B_KC] * (1.0 - (r0 * r0 + r1 * r1 + r2 * r2))
+        st = 0.5 * sp[rb + B_KC] * (1.0 - (r0 * r0 + r1 * r1 + r2 * r2))
         dy[o] = s1 * r2 - s2 * r1 + st * r0
         dy[o + 1] = s2 * r0 - s0 * r2 + st * r1
         dy[o + 2] = s0 * r1 - s1 * r0 + st * r2
@@ -222,7 +223,7 @@ def body_derivatives(b, y, dy, wref, Om, dOm, gx, gy, zx, zy, zdx, zdy, ax, ay):
         dy[o + 4] = dW1 / w2
         dy[o + 5] = dW2 / w2
     elif kind == LAG:
-        sx, sy, sdx, sdy, sddx, sddy = _lag_sigma(b, y, o, zx, zy, zdx, zdy, Om, dOm)
-        Ls = b[B_LS]
+        sx, sy, sdx, sdy, sddx, sddy = _lag_sigma(sp, rb, y, o, zx, zy, zdx, zdy, Om, dOm)
+        Ls = sp[rb + B_LS]
         dy[o] = sdx / (wref * Ls)
         dy[o + 1] = sdy / (wref * Ls)

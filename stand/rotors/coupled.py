@@ -14,7 +14,7 @@ from typing import Sequence
 
 import numpy as np
 
-from ..programme import programme_kinematics
+from ..programme import programme_kinematics, programme_kinematics_many
 from .bodies import body_channels, body_initial
 from .coupled_kernel import (W_L, W_M, W_PLANE, CoupledModel, PlaneWeights, build_model,
                              rhs_generic, with_locked_weights)
@@ -139,7 +139,7 @@ def samples_si(model: CoupledModel, out: np.ndarray, tau: np.ndarray) -> tuple:
     q = out[:, :n] * model.scale
     qd = out[:, n + nw:2 * n + nw] * model.scale * w
     alpha = out[:, n:n + nw]
-    kin = np.array([programme_kinematics(x, model.prog) for x in tau]).reshape(-1, 3)
+    kin = programme_kinematics_many(np.ascontiguousarray(tau, dtype=float), model.prog)
     phis, speeds = kin[:, 0], kin[:, 1] * w
     planes = {p: q @ rotor.planes[p].T for p in model.plane_names}
     residual = {}

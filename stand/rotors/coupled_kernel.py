@@ -104,37 +104,44 @@ def _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy):
 
 
 @njit(cache=True, error_model="numpy")
-def solve_small(A, f, x, n):
-    """Solve ``A x = f`` in place (A, f overwritten): Gaussian elimination with partial
-    pivoting for n <= 12 -- at these sizes LAPACK's call and copy overhead (np.linalg.solve)
+def solve_small(buf, oA, of, ox, n):
+    """Solve ``A x = f`` held in the flat buffer (A row-major at ``oA``, f at ``of``, x
+    written at ``ox``; A and f overwritten): Gaussian elimination with partial pivoting
+    for n <= 12 -- at these sizes LAPACK's call and copy overhead (np.linalg.solve)
     costs more than the arithmetic, inside a right-hand side called millions of times --
     and np.linalg.solve above.  A singular A gives non-finite x (the integrator stops)."""
     if n > 12:
-        x[:] = np.linalg.solve(A, f)
+        x = np.linalg.solve(buf[oA:oA + n * n].copy().reshape((n, n)), buf[of:of + n].copy())
+        for i in range(n):
+            buf[ox + i] = x[i]
         return
     for k in range(n):
         p = k
-        big = abs(A[k, k])
+        big = abs(buf[oA + k * n + k])
         for i in range(k + 1, n):
-            if abs(A[i, k]) > big:
-                big = abs(A[i, k])
+            if abs(buf[oA + i * n + k]) > big:
+                big = abs(buf[oA + i * n + k])
                 p = i
         if p != k:
             for j in range(k, n):
-                A[k, j], A[p, j] = A[p, j], A[k, j]
-            f[k], f[p] = f[p], f[k]
-        piv = A[k, k]
+                tmp = buf[oA + k * n + j]
+                buf[oA + k * n + j] = buf[oA + p * n + j]
+                buf[oA + p * n + j] = tmp
+            tmp = buf[of + k]
+            buf[of + k] = buf[of + p]
+            buf[of + p] = tmp
+        piv = buf[oA + k * n + k]
         for i in range(k + 1, n):
-            r = A[i, k] / piv
+            r = buf[oA + i * n + k] / piv
             if r != 0.0:
                 for j in range(k + 1, n):
-                    A[i, j] -= r * A[k, j]
-                f[i] -= r * f[k]
+                    buf[oA + i * n + j] -= r * buf[oA + k * n + j]
+                buf[of + i] -= r * buf[of + k]
     for k in range(n - 1, -1, -1):
-        acc = f[k]
+        acc = buf[of + k]
         for j in range(k + 1, n):
-            acc -= A[k, j] * x[j]
-        x[k] = acc / A[k, k]
+            acc -= buf[oA + k * n + j] * buf[ox + j]
+        buf[ox + k] = acc / buf[oA + k * n + k]
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -154,25 +161,30 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
     gy = sp[oGP + 1]
     ns = n + nw
     nb = int(sp[H_NB])
-    # one scratch buffer for every per-call array (allocation dominates at small n)
-    buf = np.empty(2 * n + n * n + 2 * n + 3 * nw + 6 + 4 * nb)
-    q = buf[0:n]
-    qd = buf[n:2 * n]
+    oB = int(sp[H_OB])
+    # one flat scratch buffer, indexed by offsets (views and allocations dominate at small n):
+    # q, qd, A (row-major), f, q'', then per point weight cos, sin, moment, then the body
+    # reaction and each body's plane point state
+    oq, oqd, oA = 0, n, 2 * n
+    of = oA + n * n
+    ox = of + n
+    oc = ox + n
+    os_ = oc + nw
+    om = os_ + nw
+    oR = om + nw
+    oz = oR + 6
+    buf = np.empty(oz + 4 * nb)
     for i in range(n):
         L = sp[oL + i]
-        q[i] = L * y[i]
-        qd[i] = wref * L * y[ns + i]
-    A = buf[2 * n:2 * n + n * n].reshape((n, n))
-    f = buf[2 * n + n * n:3 * n + n * n]
-    qdd = buf[3 * n + n * n:4 * n + n * n]
-    o = 4 * n + n * n
+        buf[oq + i] = L * y[i]
+        buf[oqd + i] = wref * L * y[ns + i]
     for i in range(n):
         acc = sp[oGR + i]
         for k in range(n):
-            acc -= sp[oK + i * n + k] * q[k]
-            acc -= (sp[oD + i * n + k] + Om * sp[oG + i * n + k]) * qd[k]
-            A[i, k] = sp[oM + i * n + k]
-        f[i] = acc
+            acc -= sp[oK + i * n + k] * buf[oq + k]
+            acc -= (sp[oD + i * n + k] + Om * sp[oG + i * n + k]) * buf[oqd + k]
+            buf[oA + i * n + k] = sp[oM + i * n + k]
+        buf[of + i] = acc
     # unbalances
     for u in range(nub):
         p = int(sp[oUB + 3 * u])
@@ -183,13 +195,9 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         fy = s * (Om * Om * si - dOm * c)
         base = oF + p * 2 * n
         for i in range(n):
-            f[i] += sp[base + i] * fx + sp[base + n + i] * fy
+            buf[of + i] += sp[base + i] * fx + sp[base + n + i] * fy
     # weights: assemble the Schur complement (the angle's cosine, sine and the resisting
     # moment are kept for the weights' own accelerations below)
-    cs = buf[o:o + nw]
-    ss = buf[o + nw:o + 2 * nw]
-    mr = buf[o + 2 * nw:o + 3 * nw]
-    o += 3 * nw
     for j in range(nw):
         p = int(wt[j, W_PLANE])
         m = wt[j, W_M]
@@ -204,7 +212,7 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         k2 = m * m * l * l / J
         ng = si * gx - c * gy
         Mr = H * ad + _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy)
-        cs[j], ss[j], mr[j] = c, si, Mr
+        buf[oc + j], buf[os_ + j], buf[om + j] = c, si, Mr
         gxw = m * gx + m * l * psid * psid * c - k2 * ng * si - m * l * Mr / J * si
         gyw = m * gy + m * l * psid * psid * si + k2 * ng * c + m * l * Mr / J * c
         base = oT + p * 2 * n
@@ -212,61 +220,63 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         for i in range(n):
             tx = sp[fbase + i]      # forces act through the force map F_p
             ty = sp[fbase + n + i]
-            f[i] += tx * gxw + ty * gyw
+            buf[of + i] += tx * gxw + ty * gyw
             nti = tx * si - ty * c
             for k in range(n):
                 txk = sp[base + k]
                 tyk = sp[base + n + k]
                 ntk = txk * si - tyk * c
-                A[i, k] += m * (tx * txk + ty * tyk) - k2 * nti * ntk
+                buf[oA + i * n + k] += m * (tx * txk + ty * tyk) - k2 * nti * ntk
     # body weights (stand.rotors.bodies_kernel): reaction F = R a + r on their plane point
-    oB = int(sp[H_OB])
-    Rr = buf[o:o + 6]
-    zb = buf[o + 6:o + 6 + 4 * nb].reshape((nb, 4))
     for b in range(nb):
-        row = sp[oB + b * N_BCOL:oB + (b + 1) * N_BCOL]
-        base = oT + int(row[B_PLANE]) * 2 * n
-        fbase = oF + int(row[B_PLANE]) * 2 * n
+        rb = oB + b * N_BCOL
+        pl = int(sp[rb + B_PLANE])
+        base = oT + pl * 2 * n
+        fbase = oF + pl * 2 * n
         zx = zy = zdx = zdy = 0.0
         for k in range(n):
-            zx += sp[base + k] * q[k]
-            zy += sp[base + n + k] * q[k]
-            zdx += sp[base + k] * qd[k]
-            zdy += sp[base + n + k] * qd[k]
-        zb[b, 0], zb[b, 1], zb[b, 2], zb[b, 3] = zx, zy, zdx, zdy
-        body_reaction(row, y, wref, Om, dOm, gx, gy, zx, zy, zdx, zdy, Rr)
+            zx += sp[base + k] * buf[oq + k]
+            zy += sp[base + n + k] * buf[oq + k]
+            zdx += sp[base + k] * buf[oqd + k]
+            zdy += sp[base + n + k] * buf[oqd + k]
+        zo = oz + 4 * b
+        buf[zo], buf[zo + 1], buf[zo + 2], buf[zo + 3] = zx, zy, zdx, zdy
+        body_reaction(sp, rb, y, wref, Om, dOm, gx, gy, zx, zy, zdx, zdy, buf, oR)
+        R0, R1, R2, R3 = buf[oR], buf[oR + 1], buf[oR + 2], buf[oR + 3]
         for i in range(n):
             tx = sp[fbase + i]
             ty = sp[fbase + n + i]
-            f[i] += tx * Rr[4] + ty * Rr[5]
+            buf[of + i] += tx * buf[oR + 4] + ty * buf[oR + 5]
             for k in range(n):
                 txk = sp[base + k]
                 tyk = sp[base + n + k]
-                A[i, k] -= tx * (Rr[0] * txk + Rr[1] * tyk) + ty * (Rr[2] * txk + Rr[3] * tyk)
-    solve_small(A, f, qdd, n)
+                buf[oA + i * n + k] -= tx * (R0 * txk + R1 * tyk) + ty * (R2 * txk + R3 * tyk)
+    solve_small(buf, oA, of, ox, n)
     for i in range(n):
         L = sp[oL + i]
         dy[i] = y[ns + i]
-        dy[ns + i] = qdd[i] / (wref * wref * L)
+        dy[ns + i] = buf[ox + i] / (wref * wref * L)
     for b in range(nb):
-        row = sp[oB + b * N_BCOL:oB + (b + 1) * N_BCOL]
-        base = oT + int(row[B_PLANE]) * 2 * n
+        rb = oB + b * N_BCOL
+        base = oT + int(sp[rb + B_PLANE]) * 2 * n
         apx = 0.0
         apy = 0.0
         for k in range(n):
-            apx += sp[base + k] * qdd[k]
-            apy += sp[base + n + k] * qdd[k]
-        body_derivatives(row, y, dy, wref, Om, dOm, gx, gy, zb[b, 0], zb[b, 1], zb[b, 2],
-                         zb[b, 3], apx, apy)
+            apx += sp[base + k] * buf[ox + k]
+            apy += sp[base + n + k] * buf[ox + k]
+        zo = oz + 4 * b
+        body_derivatives(sp, rb, y, dy, wref, Om, dOm, gx, gy, buf[zo], buf[zo + 1],
+                         buf[zo + 2], buf[zo + 3], apx, apy)
     for j in range(nw):
         base = oT + int(wt[j, W_PLANE]) * 2 * n
         apx = 0.0
         apy = 0.0
         for k in range(n):
-            apx += sp[base + k] * qdd[k]
-            apy += sp[base + n + k] * qdd[k]
+            apx += sp[base + k] * buf[ox + k]
+            apy += sp[base + n + k] * buf[ox + k]
         ml = wt[j, W_M] * wt[j, W_L]
-        psidd = (ml * (ss[j] * (apx - gx) - cs[j] * (apy - gy)) - mr[j]) / wt[j, W_J]
+        psidd = (ml * (buf[os_ + j] * (apx - gx) - buf[oc + j] * (apy - gy)) - buf[om + j]) \
+            / wt[j, W_J]
         dy[n + j] = y[ns + n + j]
         dy[ns + n + j] = (psidd - dOm) / (wref * wref)
         iz = int(wt[j, W_Z])
