@@ -30,7 +30,8 @@ DEFAULT_RTOLS = (1e-4, 1e-6, 1e-8, 1e-10)
 def _free_isotropic(scene: Scene, n_nodes: int) -> bool:
     """A planar rotor without weights on isotropic supports, driven by a speed programme of
     ``n_nodes`` nodes without coast-down: where the closed forms hold."""
-    if scene.kind != "planar":
+    if scene.kind != "planar" or len(scene.bodies) > 1 or (
+            scene.bodies and _lever(scene) is None):
         return False
     d, s = scene.drive, scene.supports
     return not (scene.balancer.count or d.kind != "speed" or len(d.programme) != n_nodes
@@ -38,14 +39,28 @@ def _free_isotropic(scene: Scene, n_nodes: int) -> bool:
                 or s.damping_x != s.damping_y)
 
 
+def _lever(scene: Scene):
+    """(mass [kg], lever lambda [-]) of the scene's one liquid whose centre of mass follows the
+    shaft at once (paper 001's M1 float, or a chamber without relaxation), else None."""
+    from .rotors.bodies import LiquidWeight
+
+    (pb,) = scene.bodies
+    b = pb.body
+    if isinstance(b, LiquidWeight) and b.relaxation_time == 0.0:
+        return b.mass, b.lever
+    return None
+
+
 def runup_params(scene: Scene):
     """The closed-form run-up parameters of a scene, or None when it does not apply.
 
     Applies to: no weights, isotropic supports, a speed programme of two nodes
-    (constant angular acceleration a >= 0 from omega_0 > 0, held afterwards, no
+    (constant angular acceleration a > 0 from omega_0 >= 0, held afterwards, no
     coast-down), an initial state equal to the stationary whirl at omega_0
     ((7) of paper 001), unbalance angle 0.  The scene is then model M1 of
-    paper 001 with psi = 1: Omega^2 = c / M, n = d / M, e = s / M,
+    paper 001 with psi = 1: Omega^2 = c / M, n = d / M, e = s / M, or -- with one
+    liquid body whose centre of mass follows the shaft at once (float, or chamber
+    without relaxation) -- M1 itself, psi = M / (M + m lambda),
     epsilon = a / 2 (papers digest 4.1).  The closed form holds until the
     programme's last node.
     """
@@ -55,13 +70,18 @@ def runup_params(scene: Scene):
         return None
     d, s = scene.drive, scene.supports
     (t0, w0), (t1, w1) = d.programme
-    if t0 != 0.0 or not (w0 > 0 and w1 >= w0):
+    if t0 != 0.0 or not (w0 >= 0 and w1 > w0):   # from rest too: Z(0) = Z'(0) = 0
         return None
     M = scene.total_mass
+    psi = 1.0
+    if scene.bodies:       # model M1 itself: rotor m1 carrying e, liquid lever m2 lambda
+        m2, lam = _lever(scene)
+        M = scene.rotor.mass
+        psi = M / (M + m2 * lam)
     try:
-        p = LiquidFloatParams(Omega_0=float(np.sqrt(s.stiffness_x / M)), psi=1.0,
+        p = LiquidFloatParams(Omega_0=float(np.sqrt(s.stiffness_x / M)), psi=psi,
                               n=s.damping_x / M, e=scene.rotor.unbalance / M, omega_0=w0,
-                              epsilon=0.5 * (w1 - w0) / t1)
+                              epsilon=0.5 * (w1 - w0) / t1, m1=M)
     except ValueError:
         return None
     y0 = lf_initial(p, frame="fixed")
@@ -254,7 +274,8 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None,
         ref, ref_vel = runup_closed_form_state(params, np.where(valid, t, 0.0))
         ref = np.where(valid, ref, np.nan)
         kern = "Fresnel integrals" if params.n == 0 else "Faddeeva function"
-        ref_name = (f"closed form run-up ({kern}; no weights, constant acceleration "
+        what = "paper 001 model M1, liquid lever" if scene.bodies else "no weights"
+        ref_name = (f"closed form run-up ({kern}; {what}, constant acceleration "
                     f"{2 * params.epsilon:g} rad/s^2 from the stationary whirl), up to t = {t_end:g} s")
         ref_err = 0.0
     elif exact is not None:

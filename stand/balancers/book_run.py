@@ -99,11 +99,16 @@ def run_book(scene, method: str = "DOP853", rtol=None, atol=None, compiled: bool
 
     bm = scene.structure
     kind, p, run = bm.type, bm.params, scene.run
-    if kind == "liquid_chamber":
+    if kind == "liquid_chamber" and not compiled:
         return _run_chamber(scene, method, rtol, atol)
     method = "DOP853" if method in ("auto", "numpy-DOP853") else method
     rtol = run.rtol if rtol is None else rtol
     atol = run.atol if atol is None else atol
+    if kind == "liquid_chamber":
+        w = float(bm.options.get("speed", 0.5 * p.critical_speed))
+        if not (math.isfinite(w) and w > 0):
+            raise SceneError(f"run.speed = {w!r}: must be > 0 (rad/s)")
+        return _run_composed(scene, w, method, rtol, atol)
     y0 = initial_state(kind, p, bm.options)
     if compiled and not (kind == "damper" and p.friction is not None):
         return _run_composed(scene, y0, method, rtol, atol)
@@ -130,7 +135,7 @@ def _run_composed(scene, y0, method, rtol, atol) -> Run:
     bm, run = scene.structure, scene.run
     kind, p = bm.type, bm.params
     comp = composition(kind, p, run.duration, y0)
-    book_units = kind != "liquid_float"
+    book_units = kind not in ("liquid_float", "liquid_chamber")
     model = build_model(comp.rotor, (), comp.programme, 1.0 if book_units else None,
                         (comp.body,))
     y = generic_initial(model, (), comp.q0, comp.qd0)
@@ -154,6 +159,20 @@ def _run_composed(scene, y0, method, rtol, atol) -> Run:
     if kind in ("two_axis", "gravity_pair"):
         cols = [ch["tilt"], ch["angle"], xy[:, 0], xy[:, 1], ch["tilt_rate"], ch["speed"],
                 v[:, 0], v[:, 1]]
+    elif kind == "liquid_chamber":
+        b = comp.body.body
+        w_load = math.sqrt(comp.rotor.K[0, 0] / (comp.rotor.M[0, 0] + b.mass * b.lever))
+        speed = float(comp.programme[0, 1])
+        res.notes = tuple(res.notes) + (
+            "liquid chamber as a dynamic model (stand.rotors.bodies): free surface concentric "
+            "with the bearing axis, liquid centre of mass at r^2/(R^2 - r^2) times the offset "
+            "(thesis l.668); its steady state solves (2.12); "
+            + (f"below the critical speed of the liquid-loaded rotor ({w_load:.4g} rad/s) it is "
+               "the root with the liquid on the heavy side (l.806), not (2.13): the liquid adds "
+               "to the unbalance" if speed < w_load else
+               f"above the critical speed of the liquid-loaded rotor ({w_load:.4g} rad/s) it is "
+               "the corrected (2.13)"),)
+        return res
     elif kind == "damper":
         o = model.first_body_state
         W = out[:k, o + 3:o + 6] * w

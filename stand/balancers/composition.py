@@ -61,9 +61,10 @@ def composition(kind: str, p, duration: float = 1.0, initial=None) -> Compositio
     p : the model's parameter dataclass
     duration : float
         Run length [s] (the programme is extended to it; paper 001's run-up).
-    initial : array, optional
+    initial : array or float, optional
         The book model's fixed-frame initial state (its ``STATE_COLUMNS``); the
-        body starts from the same state.
+        body starts from the same state.  For the liquid chamber: the constant
+        speed [rad/s] (default half the critical speed).
     """
     if kind in ("two_axis", "gravity_pair"):
         R_m, R_rho = p.R_m, p.R_rho
@@ -97,7 +98,7 @@ def composition(kind: str, p, duration: float = 1.0, initial=None) -> Compositio
                            [[0.0, p.R_omega]], (x0, y0), (dx0, dy0))
         comp.initial_body = np.concatenate([n, W])
         return comp
-    if kind in ("liquid_float", "liquid_chamber"):
+    if kind == "liquid_float":
         m1 = p.m1
         lever = 2.0
         m2 = m1 * (1.0 / p.psi - 1.0) / lever
@@ -114,4 +115,19 @@ def composition(kind: str, p, duration: float = 1.0, initial=None) -> Compositio
 
             initial = initial_state(p, frame="fixed")
         return Composition(rotor, PlaneBody("balancer", body), prog, initial[:2], initial[2:4])
-    raise ValueError(f"kind = {kind!r}: one of two_axis, gravity_pair, damper, liquid_float")
+    if kind == "liquid_chamber":
+        # thesis 002: dry rotor M (disk + chamber + unbalance mass), liquid m = rho V, the
+        # critical speed and decay rate of (2.5) of the rotor with the liquid (M + m); the
+        # in-plane gravity of an inclined shaft is left out, as in the thesis (digest 2.2)
+        Mt = p.total_mass
+        c = Mt * p.critical_speed ** 2
+        chi = 2.0 * p.n * Mt
+        R, h, V = p.chamber_radius, p.chamber_height, p.liquid_volume
+        r = math.sqrt(R * R - V / (math.pi * h))
+        body = LiquidWeight("liquid_chamber", p.liquid_mass, R, r, height=h, volume=V,
+                            density=p.liquid_density, viscosity=p.kinematic_viscosity)
+        rotor = planar_rotor(p.dry_mass, c, c, chi, chi, unbalance=p.rotor_unbalance)
+        speed = float(initial) if initial is not None else 0.5 * p.critical_speed
+        return Composition(rotor, PlaneBody("balancer", body), [[0.0, speed]])
+    raise ValueError(f"kind = {kind!r}: one of two_axis, gravity_pair, damper, liquid_float, "
+                     "liquid_chamber")
