@@ -131,3 +131,80 @@ def composition(kind: str, p, duration: float = 1.0, initial=None) -> Compositio
         return Composition(rotor, PlaneBody("balancer", body), [[0.0, speed]])
     raise ValueError(f"kind = {kind!r}: one of two_axis, gravity_pair, damper, liquid_float, "
                      "liquid_chamber")
+
+
+def book_params(scene, speed: float | None = None):
+    """The book model of a planar scene with one body weight: ``(kind, params)`` or None.
+
+    The inverse of :func:`composition`: the planar rotor on isotropic supports
+    with one body weight in the plane ``"balancer"`` (and no balls) is the book's
+    stand, so its dimensionless parameters follow from (6.9)-(6.11), (7.3)-(7.5),
+    (7.48)-(7.50) (``M_Sigma = M + m``, ``omega0 = sqrt(c/M_Sigma)``,
+    ``R_omega = speed/omega0``); paper 001's M1 for a liquid whose centre of
+    mass follows at once; thesis 002's parameters for a chamber.
+
+    Parameters
+    ----------
+    scene : stand.scene.Scene
+    speed : float, optional
+        Spin [rad/s] (default: the programme's last speed).
+    """
+    from ..rotors.bodies import LiquidWeight, SphericalWeight, TiltingWeight
+
+    if scene.kind != "planar" or len(scene.bodies) != 1 or scene.balancer.count:
+        return None
+    s, r = scene.supports, scene.rotor
+    if s.stiffness_x != s.stiffness_y or s.damping_x != s.damping_y:
+        return None
+    b = scene.bodies[0].body
+    c, chi, M = s.stiffness_x, s.damping_x, r.mass
+    prog = scene.drive.programme if scene.drive.kind == "speed" else None
+    w = float(speed if speed is not None else (prog[-1, 1] if prog is not None else 0.0))
+    Ms = M + b.mass
+    w0 = math.sqrt(c / Ms)
+    common = dict(R_omega=w / w0, H=chi / (Ms * w0))
+    if isinstance(b, TiltingWeight):
+        m, l, A, B = b.mass, b.arm, b.inertia_tilt, b.inertia_axial
+        rho2 = A / m
+        kw = dict(R_m=m * l * l / (Ms * rho2), R_rho=math.sqrt(B / A), h1=b.tilt_drag / (A * w0),
+                  h2=b.turn_drag / (B * w0), e0=r.unbalance / (m * l), **common)
+        if b.kind == "coupled_pair":
+            from .gravity_pair import GravityPairParams
+
+            return "gravity_pair", GravityPairParams(gamma=r.unbalance_angle, **kw)
+        from .two_axis import TwoAxisParams
+
+        return "two_axis", TwoAxisParams(R_g=math.sqrt(b.axial_gravity * l / (rho2 * w0 * w0)),
+                                         **kw)
+    if isinstance(b, SphericalWeight):
+        from .damper import DamperParams
+
+        m, l, A = b.mass, b.arm, b.inertia
+        rho2 = A / m
+        return "damper", DamperParams(R_m=m * l * l / (Ms * rho2),
+                                      R_g=math.sqrt(b.axial_gravity * l / (rho2 * w0 * w0)),
+                                      h=b.drag / (A * w0), e0=r.unbalance / (m * l),
+                                      gamma=r.unbalance_angle, **common)
+    if isinstance(b, LiquidWeight) and b.kind == "liquid_float":
+        from .liquid_float import LiquidFloatParams
+
+        w_start = float(prog[0, 1]) if prog is not None else w
+        eps = 0.0
+        if prog is not None and len(prog) >= 2 and prog[1, 0] > prog[0, 0]:
+            eps = 0.5 * (prog[1, 1] - prog[0, 1]) / (prog[1, 0] - prog[0, 0])
+        return "liquid_float", LiquidFloatParams(
+            Omega_0=math.sqrt(c / M), psi=M / (M + b.mass * b.lever), n=chi / M,
+            e=r.eccentricity, omega_0=w_start, epsilon=eps, m1=M)
+    if isinstance(b, LiquidWeight):
+        from .liquid_chamber import LiquidChamberParams
+
+        D0 = r.unbalance
+        horizontal = any(abs(g) > 0 for g in scene.linear_rotor().gravity_plane)
+        return "liquid_chamber", LiquidChamberParams(
+            rotor_mass=max(M - D0, 0.0), chamber_mass=0.0, unbalance_mass=D0,
+            unbalance_radius=1.0, critical_speed=math.sqrt(c / (M + b.mass)),
+            chamber_radius=b.chamber_radius, chamber_height=b.height, liquid_volume=b.volume,
+            liquid_density=b.density, kinematic_viscosity=b.viscosity,
+            damping_rate=chi / (2.0 * (M + b.mass)),
+            inclination=0.0 if horizontal else math.pi / 2)
+    return None
