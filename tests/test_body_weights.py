@@ -299,3 +299,32 @@ def test_body_channels_in_the_recording(tmp_path):
     phi = rec.rotor_angle
     d = 0.1 * 0.03 * (n[:, 0] + 1j * n[:, 1]) * np.exp(-1j * phi)
     assert np.allclose(U[:, 0] + 1j * U[:, 1], 3.0 * 2e-4 + d, atol=1e-12)
+
+
+def test_si_scene_and_its_book_parameters_move_alike(tmp_path):
+    """A planar SI scene with a two-axis pendulum and the book model of its parameters
+    (composition.book_params, (6.9)-(6.11)) give the same motion: x_book = x l / rho1^2
+    at tau = omega0 t (the scalings checked both ways)."""
+    from stand.balancers.composition import book_params
+
+    p = tmp_path / "s.toml"
+    p.write_text(SCENE.replace('programme = [[0.0, 0.0], [2.0, 20.0]]',
+                               'programme = [[0.0, 25.0]]').replace("duration = 3.0",
+                                                                     "duration = 1.0")
+                 .format(weights='type = "two_axis_pendulum"\nmass = 0.1\narm = 0.03\n'
+                                 'inertia_tilt = 1.2e-4\ninertia_axial = 1.0e-4\n'
+                                 'tilt_drag = 2e-4\nturn_drag = 3e-4\ninitial_tilt = 5.0'))
+    sc = stand.load(p)
+    run = stand.run(sc, rtol=1e-12, atol=1e-15)
+    kind, bp = book_params(sc)
+    assert kind == "two_axis"
+    Ms, w0 = 3.1, math.sqrt(3.0e4 / 3.1)
+    y0 = np.array([math.radians(5.0), 0.0, 0.0, 0.0, 0.0, bp.R_omega, 0.0, 0.0])
+    ts = run.t * w0
+    yb = solve_ivp(_rhs("two_axis", bp), (0, ts[-1]), y0, method="DOP853", rtol=RTOL,
+                   atol=1e-16, t_eval=ts).y
+    scale = 0.03 / (1.2e-4 / 0.1)                      # l / rho1^2 [1/m]
+    zb = yb[2] + 1j * yb[3]
+    z = (run.x + 1j * run.y) * scale
+    assert np.max(np.abs(z - zb)) / np.max(np.abs(zb)) < 1e-8
+    assert np.max(np.abs(run.weights["two_axis1"]["tilt"] - yb[0])) < 1e-8
