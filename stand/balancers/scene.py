@@ -134,31 +134,27 @@ def _speed(kind, p, run) -> float:
 
 
 def model_theory(scene: Scene) -> dict:
-    """Steady motions (with stability) and the model's characteristic numbers."""
+    """Steady motions (with stability) and the model's characteristic numbers.
+
+    The content is :func:`stand.balancers.weight_theory.weight_theory` of the
+    scene's model at the scene's speed (the parameters' own speed; for the
+    liquid chamber ``run.speed``, default half the critical speed), merged
+    under ``scene``, ``type``, ``source`` and ``parameters``.  The earlier keys
+    stay: ``quasi_periodic_frequency`` and ``quasi_periodic_family_limit``
+    (gravity pair) and ``efficiency`` (damper, (7.54)).
+    """
+    from .weight_theory import weight_theory
+
     bm = scene.structure
     kind, p = bm.type, bm.params
-    mod, _ = _module(kind)
+    speed = _speed(kind, p, bm.options) if kind == "liquid_chamber" else None
+    wt = weight_theory(kind, p, speed)
     out = {"scene": scene.name, "type": kind, "source": MODEL_TYPES[kind][1],
            "parameters": to_jsonable(p)}
-    if kind == "two_axis":
-        from . import two_axis_theory as th
-
-        out["steady_motions"] = [to_jsonable(m) | {"stable": bool(m.stable)} for m in mod.steady_motions(p)]
-        out["quasi_periodic"] = to_jsonable(th.qp_motions(p))
-    elif kind == "gravity_pair":
-        out["steady_motions"] = [to_jsonable(m) | {"stable": bool(mod.is_stable(p, m))}
-                                 for m in mod.steady_motions(p)]
-        out["quasi_periodic_frequency"] = to_jsonable(mod.qp_frequency(p))
-        out["quasi_periodic_family_limit"] = to_jsonable(mod.qp_family_limit(p))
+    out |= {k: v for k, v in wt.items() if k not in ("model", "source", "parameters")}
+    if kind == "gravity_pair":
+        out["quasi_periodic_frequency"] = wt["quasi_periodic"].get("frequency_Omega")
+        out["quasi_periodic_family_limit"] = wt["quasi_periodic"].get("family_limit_R_omega")
     elif kind == "damper":
-        out["steady_motions"] = [to_jsonable(m) | {"stable": bool(mod.is_stable(p, m))}
-                                 for m in mod.steady_motions(p)]
-        out["efficiency"] = to_jsonable(mod.efficiency(p))
-    elif kind == "liquid_float":
-        from .runup_closed_form import runup_extrema
-
-        out["runup_extrema"] = to_jsonable(runup_extrema(p))
-    elif kind == "liquid_chamber":
-        w = _speed(kind, p, bm.options)
-        out["quasi_static_efficiency"] = to_jsonable(mod.quasi_static_efficiency(p, w))
+        out["efficiency"] = wt["balancing_efficiency"].get("value")
     return out
