@@ -137,6 +137,25 @@ def build_rotor(kind: str, params: Mapping) -> LinearRotor:
     return rotor
 
 
+def _check_cycles(rotor: LinearRotor, run, programme) -> None:
+    """Bound the run as the planar scenes are (stand.scene_file.MAX_CYCLES): periods of the
+    fastest natural frequency and rotor revolutions, so that no scene asks for a run
+    that never ends (e.g. an absurd stiffness)."""
+    from ..scene_file import MAX_CYCLES
+
+    wn = rotor.natural_frequencies(0.0)
+    fastest = float(np.max(wn)) if wn.size else 0.0
+    for label, w in (("periods of the fastest natural frequency "
+                      f"({fastest / (2 * math.pi):.3g} Hz)", fastest),
+                     ("rotor revolutions", float(np.max(np.abs(programme[:, 1])))
+                      if len(programme) else 0.0)):
+        cycles = run.duration * w / (2 * math.pi)
+        if not cycles <= MAX_CYCLES:
+            raise SceneError(f"run.duration = {run.duration:g} s: the run spans {cycles:.3g} "
+                             f"{label}, more than {MAX_CYCLES:.0e}; shorten run.duration or "
+                             "check the structure's stiffnesses and masses (SI units)")
+
+
 def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:
     """Validate a ``[structure]`` document and build the :class:`Scene` (SI)."""
     from ..scene_file import _Table, _balancer, _programme, _run
@@ -214,6 +233,7 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:
         raise SceneError("drive.programme: missing required key ([[t (s), speed (rev/s)], ...])")
     programme = _programme(dt, "programme", 1.0)
     run = _run(_Table(data["run"], "run"))
+    _check_cycles(rotor, run, programme)
     return Scene(drive=SpeedDrive(programme), run=run, name=name, text=text, description=desc,
                  structure=RotorStructure(kind, st, rotor, ROTOR_TYPES[kind][1]),
                  plane_weights=tuple(weights))
