@@ -49,7 +49,8 @@ def theory(scene, max_speed: float | None = None, floquet: bool = True) -> dict:
             return {"kind": "chapter5", **to_jsonable(th.to_dict()), "not_applicable": na}
         except TheoryError as exc:
             na.append(f"chapter-5 theory (speed bands, stuck-ball law): {exc}")
-    if not scene.n_weights:
+    models = _body_models(scene, na)
+    if not scene.n_weights and not scene.bodies:
         na.append("correction weights: the scene has none, so there are no steady motions of "
                   "weights, no balancing speed bands and no stuck-ball law; the structure's "
                   "natural frequencies and critical speeds follow")
@@ -57,7 +58,29 @@ def theory(scene, max_speed: float | None = None, floquet: bool = True) -> dict:
 
     doc = family_theory(scene, max_speed * 2 * math.pi if max_speed else None,
                         floquet=floquet and bool(scene.n_weights))
-    return {"kind": "structure", **to_jsonable(doc), "not_applicable": na}
+    return {"kind": "structure", **to_jsonable(doc), "weight_models": models,
+            "not_applicable": na}
+
+
+def _body_models(scene, na: list) -> list:
+    """The book theory of each body weight where the scene is the book's stand: a planar
+    rotor on isotropic supports with that one body (stand.balancers.composition.book_params)."""
+    if not scene.bodies:
+        return []
+    from .balancers.composition import book_params
+    from .balancers.weight_theory import weight_theory
+
+    bp = book_params(scene)
+    if bp is None:
+        na.append("weight-model theory (steady motions, efficiency, quasi-periodic motions, "
+                  "optimal fill): the books derive it for one body weight on the planar rotor "
+                  "with isotropic supports; this scene's "
+                  f"{', '.join(b.kind for b in scene.bodies)} on {scene.structure_type} is outside it")
+        return []
+    kind, params = bp
+    doc = weight_theory(kind, params)
+    return [{"scene": scene.name, "plane": scene.bodies[0].plane, "weight": scene.bodies[0].kind,
+             "type": kind, **doc}]
 
 
 def _hz(v) -> str:
@@ -273,6 +296,9 @@ def theory_lines(doc: dict) -> list:
         elif mm.get("note"):
             out.append(f"  main motion: {mm['note']}")
         out += [f"  note: {n}" for n in doc.get("notes", [])]
+        for wm in doc.get("weight_models", []):
+            out.append(f"weight {wm['weight']} in plane {wm['plane']} as the book's model:")
+            out += _book_model_lines(wm)
     else:
         out += _book_model_lines(doc)
     out += [f"not applicable: {n}" for n in doc.get("not_applicable", [])]

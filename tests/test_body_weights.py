@@ -328,3 +328,25 @@ def test_si_scene_and_its_book_parameters_move_alike(tmp_path):
     z = (run.x + 1j * run.y) * scale
     assert np.max(np.abs(z - zb)) / np.max(np.abs(zb)) < 1e-8
     assert np.max(np.abs(run.weights["two_axis1"]["tilt"] - yb[0])) < 1e-8
+
+
+def test_theory_of_a_body_scene_holds_the_book_model(tmp_path, capsys):
+    """stand theory on an SI scene with one liquid chamber: the structure's natural
+    frequencies (liquid locked) and the thesis's optimal fill and liquid choice."""
+    import json
+
+    from stand.cli import main
+
+    p = tmp_path / "c.toml"
+    p.write_text(SCENE.format(weights='type = "liquid_chamber"\nchamber_radius = 0.1\n'
+                                      'chamber_height = 0.03\nfill_volume = 2e-4'))
+    assert main(["theory", str(p), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    (wm,) = doc["weight_models"]
+    assert wm["type"] == "liquid_chamber" and wm["plane"] == "balancer"
+    # locked liquid: f0 = sqrt(c / (M + rho V)) / 2 pi
+    assert doc["natural_frequencies_hz_at_rest"][0] == pytest.approx(
+        math.sqrt(3.0e4 / 3.2) / (2 * math.pi), rel=1e-9)
+    ov = wm["optimal_volume"]
+    assert ov["D0_kg_m"] == pytest.approx(3.0 * 2e-4, rel=1e-12)
+    assert wm["liquid_choice"]["chosen"]
