@@ -344,9 +344,10 @@ def test_theory_of_a_body_scene_holds_the_book_model(tmp_path, capsys):
     doc = json.loads(capsys.readouterr().out)
     (wm,) = doc["weight_models"]
     assert wm["type"] == "liquid_chamber" and wm["plane"] == "balancer"
-    # locked liquid: f0 = sqrt(c / (M + rho V)) / 2 pi
+    # locked liquid: the damped frequency of c = 3e4 N/m, d = 20 N s/m, M + rho V = 3.2 kg
+    wn, zeta = math.sqrt(3.0e4 / 3.2), 20.0 / (2 * math.sqrt(3.0e4 * 3.2))
     assert doc["natural_frequencies_hz_at_rest"][0] == pytest.approx(
-        math.sqrt(3.0e4 / 3.2) / (2 * math.pi), rel=1e-9)
+        wn * math.sqrt(1 - zeta ** 2) / (2 * math.pi), rel=1e-9)
     ov = wm["optimal_volume"]
     assert ov["D0_kg_m"] == pytest.approx(3.0 * 2e-4, rel=1e-12)
     assert wm["liquid_choice"]["chosen"]
