@@ -177,31 +177,109 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
     return df
 
 
+STROBE = "instruments/stroboscope"
+
+
+def _strobe_meta(source):
+    """(settings, drawn weights, first flash time of each frame [s] or None) of a
+    recording's stroboscope (``instruments/stroboscope`` attrs ``settings`` and
+    ``weights``, JSON; ``flash_time``), or ``({}, [], None)`` for other sources; the
+    drawn weights are ``[]`` for recordings written before that attribute existed."""
+    import json
+
+    rec = _recording_of(source)
+    if rec is None or rec.shape(f"{STROBE}/frames") is None:
+        return {}, [], None
+    attrs = rec.dataset_attrs(STROBE)
+    out = []
+    for key, empty in (("settings", {}), ("weights", [])):
+        try:
+            v = json.loads(attrs.get(key, "null"))
+        except (TypeError, ValueError):
+            v = None
+        out.append(v if isinstance(v, type(empty)) else empty)
+    shape = rec.shape(f"{STROBE}/flash_time")
+    times = None
+    if shape is not None and len(shape) == 2 and shape[1] >= 1:
+        times = np.asarray(rec.dataset(f"{STROBE}/flash_time"), float)[:, 0]
+    return out[0], out[1], times
+
+
+def _bob_columns(row, image, bobs, balls, pitch) -> None:
+    """Read the bobs of the body weights ``bobs`` (drawn-weight dicts) into ``row``."""
+    from vision.strobe_bodies import bob_angles
+
+    b = bob_angles(image, n_bobs=len(bobs),
+                   exclude_tracks_px=[(w["track_radius_px"], w["ball_radius_px"]) for w in balls])
+    row.setdefault("mark_deg", math.degrees(b.mark_angle))
+    for w, ang, sd, rad, rsd in zip(bobs, b.angles, b.sigma, b.radius_px, b.radius_sigma_px):
+        nm = w["name"]
+        row[f"{nm}_deg"] = math.degrees(float(ang))
+        row[f"{nm}_std_deg"] = math.degrees(float(sd))
+        if pitch:
+            r = float(rad) * pitch
+            row[f"{nm}_radius_mm"] = r * 1e3
+            row[f"{nm}_radius_std_mm"] = float(rsd) * pitch * 1e3
+            arm = float(w.get("arm_m", 0.0))
+            if arm > 0:
+                row[f"{nm}_tilt_deg"] = math.degrees(math.asin(min(1.0, r / arm)))
+
+
 def strobe_angles(source, n_weights: Optional[int] = None):
     """The weights' angles from the mark [deg] in each stroboscope frame (:func:`vision.strobe.weight_angles`).
 
     ``source``: a recording (default dataset ``instruments/stroboscope/frames``), a video or images.
-    Returns a DataFrame: ``frame``, ``time``, ``ok``, ``images``, ``mark_deg``,
+    Returns a DataFrame: ``frame``, ``time`` [s] (a recording's frames: the first flash of
+    each frame), ``ok``, ``images``, ``mark_deg``,
     ``weight<j>_deg``, ``weight<j>_std_deg`` (a ``note`` where a frame is not read).
+
+    Body weights drawn as a bob on a rod (two-axis pendulums, coupled pairs, dampers;
+    known from the recording's ``instruments/stroboscope`` attrs ``weights``) are read
+    as blobs (:func:`vision.strobe_bodies.bob_angles`): columns ``<name>_deg`` (the bob's
+    direction from the rotor centre, relative to the mark, i.e. the body's centre-of-mass
+    azimuth), ``<name>_std_deg``, ``<name>_radius_mm`` (its apparent radial offset, with
+    the recording's ``pixel_pitch``), ``<name>_radius_std_mm`` and ``<name>_tilt_deg``
+    (``asin(radius / arm)``, folded to [0, 90] deg).  Several bobs are named in the order
+    of their angles.  Liquids' crescents are not read.  Balls are read as before, on the
+    track radius the attrs give when the frames also hold bobs.
     """
     import pandas as pd
 
     from vision.io import VisionError, iter_frames
-    from vision.strobe import weight_angles
+    from vision.strobe import reference_mark, weight_angles
 
     src = source if ":" in str(source) or not str(source).endswith(".h5") \
         else (source, "instruments/stroboscope/frames")
+    settings, drawn, flash_t = _strobe_meta(source)
+    own = ":" not in str(source)          # the recording's own frames: their flash times
+    bobs = [w for w in drawn if w.get("drawn") == "pendulum" and "arm_px" in w]
+    balls = [w for w in drawn if "track_radius_px" in w]
+    pitch = float(settings.get("pixel_pitch", 0.0) or 0.0)
     rows = []
     for rec in iter_frames(src):
+        t = rec.time
+        if own and flash_t is not None and not (t == t) and 0 <= rec.index < flash_t.size:
+            t = float(flash_t[rec.index])        # the frame's first flash
+        row = {"frame": rec.index, "time": t, "ok": True}
         try:
-            a = weight_angles(rec.image, n_weights=n_weights)
+            if drawn and not bobs and not balls:     # liquids only: their crescents are not read
+                mark, _ = reference_mark(rec.image)
+                row.update({"mark_deg": math.degrees(mark),
+                            "note": "liquid crescents are not read; mark only"})
+            elif not bobs or balls:
+                kw = {}
+                if bobs:   # the bobs would confuse the track's search: the drawn track
+                    kw = {"track_radius_px": balls[0]["track_radius_px"],
+                          "ball_radius_px": balls[0]["ball_radius_px"]}
+                a = weight_angles(rec.image, n_weights=n_weights, **kw)
+                row.update({"images": a.n_images, "mark_deg": math.degrees(a.mark_angle)})
+                for j, (ang, sd) in enumerate(zip(a.angles, a.sigma), start=1):
+                    row[f"weight{j}_deg"] = math.degrees(float(ang))
+                    row[f"weight{j}_std_deg"] = math.degrees(float(sd))
+            if bobs:
+                _bob_columns(row, rec.image, bobs, balls, pitch)
         except VisionError as exc:
-            rows.append({"frame": rec.index, "time": rec.time, "ok": False, "note": str(exc)})
+            rows.append({"frame": rec.index, "time": t, "ok": False, "note": str(exc)})
             continue
-        row = {"frame": rec.index, "time": rec.time, "ok": True, "images": a.n_images,
-               "mark_deg": math.degrees(a.mark_angle)}
-        for j, (ang, sd) in enumerate(zip(a.angles, a.sigma), start=1):
-            row[f"weight{j}_deg"] = math.degrees(float(ang))
-            row[f"weight{j}_std_deg"] = math.degrees(float(sd))
         rows.append(row)
     return pd.DataFrame(rows)

@@ -36,7 +36,7 @@ import numpy as np
 
 from .calibration import VisionError
 
-__all__ = ["VisionError", "StrobeAngles", "weight_angles", "rotor_disk"]
+__all__ = ["VisionError", "StrobeAngles", "weight_angles", "rotor_disk", "reference_mark"]
 
 TWO_PI = 2.0 * math.pi
 N_ANGLES = 1440          #: angular bins of the polar resampling (0.25 deg)
@@ -161,6 +161,57 @@ def _runs(above):
     return runs
 
 
+def _find_mark(P, r, th, R, base, mark, who):
+    """Reference mark in the polar image ``P[angle, radius]``.
+
+    Returns ``(mark_angle, mark_sigma, r_in)``: the mark's absolute angle and its
+    1-sigma [rad], and the inner radius of the mark annulus [px] (weights are
+    looked for inside it); ``mark`` None: ``(0, 0, 0.97 R)``.
+    """
+    if mark is None:
+        return 0.0, 0.0, 0.97 * R
+    m0, m1 = mark
+    band = (r >= (m0 + 0.02) * R) & (r <= (m1 - 0.02) * R)
+    prof = np.median(P[:, band], axis=1) - base
+    noise_m = 1.4826 * float(np.median(np.abs(prof - np.median(prof)))) + 1e-6
+    k = int(np.argmax(prof))
+    if not prof[k] > 8 * noise_m:
+        raise VisionError(f"{who}: no reference mark found in the mark annulus")
+    above = prof > 0.5 * prof[k]
+    run = next(rr for rr in _runs(above) if k in rr)
+    ext = np.concatenate([run, (run[[0]] - np.arange(1, 3)) % N_ANGLES,
+                          (run[[-1]] + np.arange(1, 3)) % N_ANGLES])
+    w = np.clip(prof[ext], 0, None)
+    mark_angle, s = _circ_centroid(th[ext], w)
+    rm = 0.5 * (m0 + m1) * R
+    d = _wrap(th[ext] - mark_angle)
+    mark_sigma = math.sqrt(float(np.sum(d * d)) * noise_m ** 2 / s ** 2 + (0.1 / rm) ** 2)
+    return mark_angle, mark_sigma, m0 * R
+
+
+def reference_mark(frame, *, centre_px=None, mark=(0.80, 0.97)) -> tuple:
+    """The reference mark alone: ``(mark_angle, mark_sigma)`` [rad], absolute, anticlockwise
+    from +X (frames whose weights are not read here, e.g. a liquid's crescent).
+
+    Parameters as :func:`weight_angles`; ``mark`` must not be None.
+
+    Raises
+    ------
+    VisionError
+        Blank frame, no rotor, no mark.
+    """
+    if mark is None:
+        raise VisionError("reference_mark: mark = None (no mark to find)")
+    img = _gray(frame)
+    (uc, vc), R, _, _ = rotor_disk(img)
+    if centre_px is not None:
+        uc, vc = float(centre_px[0]), float(centre_px[1])
+    r, th, P = _polar(img, (uc, vc), R, int(math.ceil(R)) * 2 + 1)
+    base = float(np.median(P[:, (r > 0.15 * R) & (r < 0.75 * R)]))
+    a, s, _ = _find_mark(P, r, th, R, base, mark, "reference_mark")
+    return float(_wrap(a)), float(s)
+
+
 def weight_angles(frame, *, centre_px=None, track_radius_px=None, mark=(0.80, 0.97),
                   n_weights: Optional[int] = None, ball_radius_px: Optional[float] = None,
                   min_contrast: float = 0.08) -> StrobeAngles:
@@ -199,26 +250,7 @@ def weight_angles(frame, *, centre_px=None, track_radius_px=None, mark=(0.80, 0.
     inside = P[:, (r > 0.15 * R) & (r < 0.75 * R)]
     base = float(np.median(inside))
     # ---- the mark
-    if mark is not None:
-        m0, m1 = mark
-        band = (r >= (m0 + 0.02) * R) & (r <= (m1 - 0.02) * R)
-        prof = np.median(P[:, band], axis=1) - base
-        noise_m = 1.4826 * float(np.median(np.abs(prof - np.median(prof)))) + 1e-6
-        k = int(np.argmax(prof))
-        if not prof[k] > 8 * noise_m:
-            raise VisionError("weight_angles: no reference mark found in the mark annulus")
-        above = prof > 0.5 * prof[k]
-        run = next(rr for rr in _runs(above) if k in rr)
-        ext = np.concatenate([run, (run[[0]] - np.arange(1, 3)) % N_ANGLES,
-                              (run[[-1]] + np.arange(1, 3)) % N_ANGLES])
-        w = np.clip(prof[ext], 0, None)
-        mark_angle, s = _circ_centroid(th[ext], w)
-        rm = 0.5 * (m0 + m1) * R
-        d = _wrap(th[ext] - mark_angle)
-        mark_sigma = math.sqrt(float(np.sum(d * d)) * noise_m ** 2 / s ** 2 + (0.1 / rm) ** 2)
-        r_in = m0 * R
-    else:
-        mark_angle, mark_sigma, r_in = 0.0, 0.0, 0.97 * R
+    mark_angle, mark_sigma, r_in = _find_mark(P, r, th, R, base, mark, "weight_angles")
     # ---- the track
     ok = (r > 0.05 * R) & (r < r_in - 1.0)
     if track_radius_px is None:

@@ -13,6 +13,14 @@ Recording layout (HDF5, beside the core datasets of :mod:`stand.recording`)::
     instruments/<name>/...        what the instrument outputs (frames, times, readings)
     instruments/<name>.attrs      its settings as JSON (SI units)
     truth/<name>/...              the ground truth for scoring identification
+
+Scenes with body weights (two-axis pendulums, coupled pairs, the damper,
+liquids; they run on the generic kernel) are seen too: the screen films the
+shaft's spot whatever the weights; the stroboscope draws each body as it looks
+and records, per body, ``truth/stroboscope/<name>/<coordinate>`` (frame, flash)
+at the flashes, and what it draws of each weight in the attrs ``weights``
+(JSON) of ``instruments/stroboscope``; ``truth/capacity`` and the calibration
+rings count the bodies' capacities (:func:`stand.instruments.rings.scene_capacity`).
 """
 from __future__ import annotations
 
@@ -24,6 +32,7 @@ import numpy as np
 
 from ..scene import Scene, SceneError
 from ..simulate import Trajectory, simulate
+from .rings import scene_capacity
 
 FRAME_COMPRESSION = {"compression": "gzip", "compression_opts": 1, "shuffle": True}
 #: at most this many stroboscope frames per recording (one flash per revolution adds up)
@@ -174,7 +183,7 @@ def _write_screen(f, scene: Scene, traj: Trajectory, plan) -> None:
         frames[i] = img
     # calibration rings at the test (operating) speed: zones i S/16, i = 0..20
     test_speed = _max_speed(scene)
-    if scene.balancer.count and test_speed > 0:
+    if scene_capacity(scene) > 0 and test_speed > 0:
         radii = ring_radii(scene, speed=test_speed, cam=cam)
         g.attrs["ring_test_speed_rad_s"] = test_speed
         ds = g.create_dataset("ring_radius", data=radii)
@@ -194,8 +203,25 @@ def _write_screen(f, scene: Scene, traj: Trajectory, plan) -> None:
     ds.attrs["units"] = "s"
 
 
+#: units of the body coordinates stored as stroboscope truth
+_BODY_UNITS = {"angle": "rad", "tilt": "rad", "n_x": "1", "n_y": "1", "n_z": "1",
+               "liquid_x": "m", "liquid_y": "m", "surface_x": "m", "surface_y": "m",
+               "offset_x": "m", "offset_y": "m", "radius": "m", "azimuth": "rad",
+               "relative_azimuth": "rad", "px": "px"}
+_BODY_DESCRIPTIONS = {
+    "offset_x": "drawn centre of mass (bob; liquid's centre of mass) from the shaft point, fixed X",
+    "offset_y": "drawn centre of mass (bob; liquid's centre of mass) from the shaft point, fixed Y",
+    "radius": "apparent radial offset of the centre of mass from the shaft point",
+    "azimuth": "absolute direction of the centre of mass from the shaft point",
+    "relative_azimuth": "direction of the centre of mass from the reference mark, wrapped to (-pi, pi]",
+    "px": "drawn bob centre, liquids: free-surface centre (column, row)",
+    "surface_x": "free-surface centre from the chamber centre, fixed X",
+    "surface_y": "free-surface centre from the chamber centre, fixed Y",
+}
+
+
 def _write_strobe(f, scene: Scene, traj: Trajectory) -> None:
-    from .stroboscope import render_strobe_frames
+    from .stroboscope import drawn_weights, render_strobe_frames
 
     strobe = scene.instruments["stroboscope"]
     speed = np.abs(traj.rotor_speed)
@@ -204,13 +230,19 @@ def _write_strobe(f, scene: Scene, traj: Trajectory) -> None:
     g = f.require_group("instruments/stroboscope")
     g.attrs["settings"] = _settings_json(strobe)
     g.attrs["description"] = "frames lit by the slot once per revolution; flash times per frame"
+    g.attrs["weights"] = json.dumps(drawn_weights(scene, strobe))
+    g.attrs["weights_description"] = ("what the frames show of each weight (JSON list): balls "
+                                      "and pendulums on their track; body weights as a bob on a "
+                                      "rod from the pivot (drawn = pendulum) or a liquid's "
+                                      "crescent (drawn = crescent); lengths in m and px")
     if t_start is None or float(np.max(speed)) * (traj.t[-1] - t_start) < 2 * math.pi:
         g.attrs["note"] = "the rotor does not complete a revolution: no flashes, no frames"
         return
     g.attrs["t_start_s"] = t_start
     g.attrs["t_start_rule"] = "first sample with the rotor above 10 % of its largest speed"
     frames = None
-    times, rel, rot = [], [], []
+    times, rel, rot, centre = [], [], [], []
+    bodies: dict = {}
     for i, fr in enumerate(render_strobe_frames(traj, strobe, t_start=t_start,
                                                 max_frames=MAX_STROBE_FRAMES)):
         if frames is None:
@@ -223,6 +255,10 @@ def _write_strobe(f, scene: Scene, traj: Trajectory) -> None:
         times.append(fr.t)
         rel.append(fr.relative_angle)
         rot.append(fr.rotor_angle)
+        centre.append(fr.centre_px)
+        for name, coords in fr.bodies.items():
+            for key, a in coords.items():
+                bodies.setdefault(name, {}).setdefault(key, []).append(a)
     g.attrs["frames_limit"] = MAX_STROBE_FRAMES
     g.attrs["truncated"] = bool(len(times) >= MAX_STROBE_FRAMES)
     ds = g.create_dataset("flash_time", data=np.array(times).reshape(len(times), -1))
@@ -230,8 +266,25 @@ def _write_strobe(f, scene: Scene, traj: Trajectory) -> None:
     ds = g.create_dataset("flash_rotor_angle", data=np.array(rot).reshape(len(rot), -1))
     ds.attrs["units"] = "rad"
     t = f.require_group("truth/stroboscope")
-    ds = t.create_dataset("relative_angle", data=np.array(rel).reshape(len(rel), -1, scene.balancer.count))
-    ds.attrs["units"] = "rad"
+    n = int(np.shape(rel[0])[-1]) if rel else 0
+    if n:
+        ds = t.create_dataset("relative_angle", data=np.array(rel).reshape(len(rel), -1, n))
+        ds.attrs["units"] = "rad"
+        ds.attrs["description"] = ("balls / pendulums: angle from the reference mark at each "
+                                   "flash (frame, flash, weight)")
+    if centre:
+        ds = t.create_dataset("centre_px", data=np.array(centre).reshape(len(centre), -1, 2))
+        ds.attrs["units"] = "px"
+        ds.attrs["description"] = "drawn rotor centre (shaft point) at each flash (column, row)"
+    for name, coords in bodies.items():
+        b = t.require_group(name)
+        b.attrs["description"] = (f"body weight {name} at each flash (frame, flash[, 2]): its "
+                                  "coordinates and what the frame shows of it")
+        for key, a in coords.items():
+            ds = b.create_dataset(key, data=np.array(a))
+            ds.attrs["units"] = _BODY_UNITS.get(key, "1")
+            if key in _BODY_DESCRIPTIONS:
+                ds.attrs["description"] = _BODY_DESCRIPTIONS[key]
 
 
 def _write_photogate(f, scene: Scene, traj: Trajectory) -> None:
@@ -270,5 +323,7 @@ def _write_truth(f, scene: Scene, traj: Trajectory) -> None:
     ds.attrs["units"] = "kg*m"
     ds.attrs["description"] = ("total unbalance rotor + weights in the rotor frame (x along the "
                                "reference mark), on the recording's time grid")
-    ds = t.create_dataset("capacity", data=scene.balancer.capacity)
+    ds = t.create_dataset("capacity", data=scene_capacity(scene))
     ds.attrs["units"] = "kg*m"
+    ds.attrs["description"] = ("balancing capacity of the main plane: sum m l of the balls / "
+                               "pendulums plus the body weights' capacities")

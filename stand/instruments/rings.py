@@ -27,15 +27,27 @@ import numpy as np
 from ..scene import (Balancer, InitialState, Rotor, RunSettings, Scene, SceneError,
                      SpeedDrive)
 
-__all__ = ["ring_radii", "ring_radii_by_simulation", "calibration_scene", "render_ring_image",
-           "zone_of", "check_spot_size", "ZONES", "PARTS"]
+__all__ = ["scene_capacity", "ring_radii", "ring_radii_by_simulation", "calibration_scene",
+           "render_ring_image", "zone_of", "check_spot_size", "ZONES", "PARTS"]
 
 PARTS = 16                 #: the capacity is divided into 16 parts
 ZONES = range(0, 21)       #: zones 0..20, up to 1.25 S
 
 
+def scene_capacity(scene: Scene) -> float:
+    """Balancing capacity S of the main plane [kg m]: ``sum m l`` of the balls / pendulums
+    plus each body weight's ``capacity`` (tilting weights and the damper m l, a liquid
+    m kappa (R - r); :mod:`stand.rotors.bodies`)."""
+    if getattr(scene, "structure", None) is None:
+        S = float(scene.balancer.capacity)
+    else:
+        S = float(sum(w.balancer.capacity for w in scene.weights if w.plane == scene.main_plane))
+    return S + float(sum(pb.body.capacity for pb in getattr(scene, "bodies", ())
+                         if pb.plane == scene.main_plane))
+
+
 def _capacity(scene: Scene) -> float:
-    S = scene.balancer.capacity
+    S = scene_capacity(scene)
     if not S > 0:
         raise SceneError("calibration rings: the scene has no balancer (capacity S = 0); the "
                          "rings are drawn for unbalances i S / 16")
@@ -75,7 +87,8 @@ def ring_radii(scene: Scene, speed: Optional[float] = None, zones: Iterable[int]
     Parameters
     ----------
     scene : Scene
-        Supplies S (balancer capacity), M_Sigma, supports.
+        Supplies S (balancer capacity, body weights' included: :func:`scene_capacity`),
+        M_Sigma, supports.
     speed : float, optional
         Test speed [rad/s]; default the last speed of the scene's programme
         (torque drive: its target speed).

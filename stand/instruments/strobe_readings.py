@@ -14,6 +14,17 @@ slot_radius`` rad (:attr:`Stroboscope.blur`).  A weight group running at
 Omega while the rotor runs at omega shows several images in an exposure over
 several flashes (:func:`image_multiplicity`, :func:`multiplicity_for_ratio`).
 
+Body weights (issue 16: two-axis pendulums, coupled pairs, the
+autobalancer-damper, liquids) are seen as they look (:class:`BodyLook`,
+:func:`body_looks`, :func:`body_coordinates`): a tilting weight or the
+damper's weight as a bob at its centre of mass, whose horizontal offset from
+the shaft point is ``arm sin(tilt) (-sin angle, cos angle)`` (tilting: the
+tilt direction's azimuth is ``angle``, the bob lies 90 deg ahead of it) or
+``arm (n_x, n_y)`` (damper); a liquid as the crescent between its chamber and
+its free surface, whose centre is offset from the chamber centre by
+``-liquid / kappa`` (``liquid``: the liquid's centre of mass from the chamber
+centre, ``kappa = r^2/(R^2 - r^2)``).
+
 The frames a camera films through the slot are drawn by
 :mod:`stand.instruments.strobe_render`; :mod:`stand.instruments.stroboscope`
 gathers both.
@@ -21,22 +32,26 @@ gathers both.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Optional
 
 import numpy as np
 
 from ..scene import SceneError
 from ._settings import boolean, check, integer, keys, number, read_table, rebased
-from .timing import crossing_times, sample_trajectory, time_window, wrap
+from .timing import crossing_times, hermite, sample_trajectory, time_window, wrap
 
 __all__ = ["Stroboscope", "StrobeReading", "reading_error", "flash_times", "strobe_angles",
-           "image_multiplicity", "multiplicity_for_ratio", "default_ball_radius", "STROBE_KEYS"]
+           "image_multiplicity", "multiplicity_for_ratio", "default_ball_radius", "STROBE_KEYS",
+           "BodyLook", "body_looks", "body_coordinates", "point_weights", "HOUSING_FACTOR"]
 
 TWO_PI = 2.0 * math.pi
 DEG = math.pi / 180.0
 PATH = "instruments.stroboscope"
 STEEL_DENSITY = 7850.0  #: kg/m^3, for the default drawn ball size
+#: drawn housing of a tilting weight or a damper: radius = HOUSING_FACTOR * arm (the scene
+#: file's housing_radius is checked, not stored)
+HOUSING_FACTOR = 1.25
 
 
 def reading_error(slot_width: float, slot_radius: float) -> float:
@@ -200,6 +215,11 @@ class StrobeReading:
     relative_angle : (K, n)  weight angles from the reference mark, wrapped to (-pi, pi] [rad]
     x, y : (K,)              shaft displacement [m]
     rotor_speed : (K,)       [rad/s]
+    bodies : dict            body weight name -> its coordinates at the flashes
+                             (:func:`body_coordinates`); empty without body weights
+
+    ``weight_angle`` and ``relative_angle`` are those of the balls and
+    pendulums only (n of them); body weights are in ``bodies``.
     """
 
     t: np.ndarray
@@ -209,6 +229,7 @@ class StrobeReading:
     x: np.ndarray
     y: np.ndarray
     rotor_speed: np.ndarray
+    bodies: dict = field(default_factory=dict)
 
 
 def flash_times(traj, strobe: Stroboscope, t_start: Optional[float] = None,
@@ -250,14 +271,247 @@ def strobe_angles(traj, strobe: Stroboscope, t_start: Optional[float] = None,
     samples per revolution, much better for smooth weight motion).
     """
     tf = flash_times(traj, strobe, t_start, t_end)
-    n = int(np.shape(traj.weight_angle)[1]) if np.ndim(traj.weight_angle) == 2 else 0
+    view = point_weights(traj)
+    looks = body_looks(getattr(traj, "scene", None), strobe)
+    n = int(np.shape(view.weight_angle)[1]) if np.ndim(view.weight_angle) == 2 else 0
     if tf.size == 0:
         z = np.zeros(0)
-        return StrobeReading(z, z, np.zeros((0, n)), np.zeros((0, n)), z, z, z)
-    s = sample_trajectory(traj, tf)
+        return StrobeReading(z, z, np.zeros((0, n)), np.zeros((0, n)), z, z, z,
+                             bodies=body_coordinates(traj, looks, z, z))
+    s = sample_trajectory(view, tf)
     return StrobeReading(t=tf, rotor_angle=s.rotor_angle, weight_angle=s.weight_angle,
                          relative_angle=wrap(s.weight_angle - s.rotor_angle[:, None]),
-                         x=s.x, y=s.y, rotor_speed=s.rotor_speed)
+                         x=s.x, y=s.y, rotor_speed=s.rotor_speed,
+                         bodies=body_coordinates(traj, looks, tf, s.rotor_angle))
+
+
+# ---------------------------------------------------------------- body weights
+class _PointWeights:
+    """A trajectory seen with its balls and pendulums only.
+
+    A run's ``weight_angle`` stacks every weight with an ``angle`` coordinate,
+    the tilting weights and the damper included; the stroboscope draws those
+    as bodies (:func:`body_coordinates`), so their columns are left out here.
+    Every other attribute is the trajectory's.
+    """
+
+    def __init__(self, traj, names):
+        self._traj = traj
+        self._names = tuple(names)
+
+    def __getattr__(self, key):
+        return getattr(self._traj, key)
+
+    def _stack(self, coord):
+        cols = [self._traj.weights[nm][coord] for nm in self._names]
+        return np.column_stack(cols) if cols else np.zeros((len(self._traj.t), 0))
+
+    @property
+    def weight_angle(self) -> np.ndarray:
+        """(N, n) absolute angles of the balls / pendulums [rad]."""
+        return self._stack("angle")
+
+    @property
+    def weight_speed(self) -> np.ndarray:
+        """(N, n) absolute speeds of the balls / pendulums [rad/s]."""
+        return self._stack("speed")
+
+
+def point_weights(traj):
+    """``traj`` itself, or a view of it whose ``weight_angle`` / ``weight_speed`` hold the
+    balls and pendulums only when its scene has body weights (:class:`_PointWeights`)."""
+    scene = getattr(traj, "scene", None)
+    if scene is None or not getattr(scene, "bodies", ()) or not isinstance(
+            getattr(traj, "weights", None), dict):
+        return traj
+    from ..result import weight_names
+
+    names = [nm for nm in weight_names(scene.weights)[0] if nm in traj.weights]
+    return _PointWeights(traj, names)
+
+
+@dataclass(frozen=True)
+class BodyLook:
+    """How the stroboscope draws one body weight (SI units).
+
+    Attributes
+    ----------
+    name : str
+        The body's name in the run (``two_axis1``, ``coupled_pair1``, ``damper1``, ``liquid1``).
+    type : str
+        Its ``[[weights]]`` type (``two_axis_pendulum``, ``coupled_pair``, ``damper``,
+        ``liquid_float``, ``liquid_chamber``).
+    drawn : {"pendulum", "crescent"}
+        A rod from the shaft point to a bob at the centre of mass (tilting weights,
+        damper), or the liquid's crescent between the chamber wall and the free surface.
+    mass : float
+        [kg].
+    arm : float
+        Pivot to centre of mass [m] (0 for liquids).
+    bob_radius : float
+        Drawn bob radius [m]: ``ball_radius`` of the settings, else a steel ball of the
+        body's mass (0 for liquids).
+    housing_radius : float
+        Drawn housing around the pivot, ``HOUSING_FACTOR * arm`` [m]; the chamber radius
+        for liquids.
+    chamber_radius, surface_radius : float
+        Liquids: chamber radius R and free-surface (float) radius r [m]; 0 otherwise.
+    kappa : float
+        Liquids: r^2/(R^2 - r^2) [-], liquid centre-of-mass offset per unit free-surface
+        offset; 0 otherwise.
+    """
+
+    name: str
+    type: str
+    drawn: str
+    mass: float
+    arm: float = 0.0
+    bob_radius: float = 0.0
+    housing_radius: float = 0.0
+    chamber_radius: float = 0.0
+    surface_radius: float = 0.0
+    kappa: float = 0.0
+
+    @property
+    def reach(self) -> float:
+        """Largest distance from the shaft point drawn for this body [m]."""
+        if self.drawn == "crescent":
+            return self.chamber_radius
+        return max(self.arm + self.bob_radius, self.housing_radius)
+
+    def to_dict(self, pixel_pitch: Optional[float] = None) -> dict:
+        """Plain dict (JSON) with the SI lengths, and in px when ``pixel_pitch`` [m/px] is given."""
+        d = {"name": self.name, "type": self.type, "drawn": self.drawn, "mass_kg": self.mass}
+        keys = (("arm", self.arm), ("bob_radius", self.bob_radius),
+                ("housing_radius", self.housing_radius)) if self.drawn == "pendulum" else \
+            (("chamber_radius", self.chamber_radius), ("surface_radius", self.surface_radius))
+        for k, v in keys:
+            d[f"{k}_m"] = float(v)
+            if pixel_pitch:
+                d[f"{k}_px"] = float(v) / pixel_pitch
+        if self.drawn == "crescent":
+            d["kappa"] = float(self.kappa)
+        return d
+
+
+def body_looks(scene, strobe: Optional[Stroboscope] = None) -> tuple:
+    """The :class:`BodyLook` of every body weight of ``scene`` (empty without).
+
+    Parameters
+    ----------
+    scene : Scene or None
+    strobe : Stroboscope, optional
+        Its ``ball_radius`` [m] sizes the bobs; default a steel ball of each body's mass.
+    """
+    bodies = tuple(getattr(scene, "bodies", ()) or ()) if scene is not None else ()
+    if not bodies:
+        return ()
+    from ..rotors.bodies import LiquidWeight, body_names
+
+    names, _ = body_names(bodies)
+    looks = []
+    for nm, pb in zip(names, bodies):
+        b = pb.body
+        if isinstance(b, LiquidWeight):
+            looks.append(BodyLook(nm, b.kind, "crescent", float(b.mass),
+                                  housing_radius=float(b.chamber_radius),
+                                  chamber_radius=float(b.chamber_radius),
+                                  surface_radius=float(b.surface_radius), kappa=float(b.kappa)))
+            continue
+        bob = strobe.ball_radius if (strobe is not None and strobe.ball_radius is not None) \
+            else float(default_ball_radius(b.mass))
+        looks.append(BodyLook(nm, b.kind, "pendulum", float(b.mass), arm=float(b.arm),
+                              bob_radius=float(bob), housing_radius=HOUSING_FACTOR * float(b.arm)))
+    return tuple(looks)
+
+
+def _interp(t, y, dy, tq):
+    """Cubic Hermite of ``y`` at ``tq``; slopes ``dy``, or second-order finite differences
+    when the derivative is not recorded."""
+    y = np.asarray(y, float)
+    if dy is None:
+        dy = np.gradient(y, t, edge_order=2) if y.size > 2 else np.gradient(y, t)
+    return hermite(t, y, np.asarray(dy, float), tq)
+
+
+def body_coordinates(traj, looks, tq, rotor_angle=None) -> dict:
+    """Each body weight's coordinates at the times ``tq`` [s], as the stroboscope shows them.
+
+    Interpolation: tilting weights from (angle, speed) and (tilt, tilt_rate),
+    cubic Hermite with the recorded derivatives; the damper's direction
+    (n_x, n_y, n_z) and the liquids' offsets cubic Hermite with finite-difference
+    slopes (the damper's direction renormalised).
+
+    Parameters
+    ----------
+    traj : Run
+        With ``weights[name]`` for every body (:attr:`stand.result.Run.weights`).
+    looks : sequence of BodyLook
+    tq : array_like (M,)
+        Times [s] inside the run.
+    rotor_angle : array_like (M,), optional
+        Rotor angle at ``tq`` [rad]; adds ``relative_azimuth``.
+
+    Returns
+    -------
+    dict
+        name -> dict of (M,) arrays: the body's own coordinates (``angle``, ``tilt`` [rad];
+        ``n_x``, ``n_y``, ``n_z`` [-]; ``liquid_x``, ``liquid_y``, ``surface_x``,
+        ``surface_y`` [m], fixed frame from the chamber centre) and what the picture shows:
+        ``offset_x``, ``offset_y`` [m] the drawn centre of mass (the bob; the liquid's
+        centre of mass) from the shaft point, fixed frame; ``radius`` [m] its length (the
+        apparent radial offset ``arm |sin(tilt)|`` of a tilting weight); ``azimuth`` [rad]
+        its absolute direction and ``relative_azimuth`` [rad] that direction from the
+        reference mark, wrapped to (-pi, pi].
+
+    Raises
+    ------
+    SceneError
+        The run carries no coordinates for a body.
+    """
+    tq = np.atleast_1d(np.asarray(tq, float))
+    out = {}
+    if not looks:
+        return out
+    weights = getattr(traj, "weights", None) or {}
+    t = np.asarray(traj.t, float)
+    for lk in looks:
+        w = weights.get(lk.name)
+        if w is None:
+            raise SceneError(f"{PATH}: the run carries no coordinates for the body weight "
+                             f"{lk.name!r} (weights: {', '.join(weights) or 'none'})")
+        if tq.size == 0:
+            d = {}
+        elif lk.drawn == "crescent":
+            lx = _interp(t, w["liquid_x"], None, tq)
+            ly = _interp(t, w["liquid_y"], None, tq)
+            if "surface_x" in w:
+                sx = _interp(t, w["surface_x"], None, tq)
+                sy = _interp(t, w["surface_y"], None, tq)
+            else:
+                sx, sy = -lx / lk.kappa, -ly / lk.kappa
+            d = {"liquid_x": lx, "liquid_y": ly, "surface_x": sx, "surface_y": sy,
+                 "offset_x": lx, "offset_y": ly}
+        elif "n_x" in w:
+            n = np.column_stack([_interp(t, w[c], None, tq) for c in ("n_x", "n_y", "n_z")])
+            n = n / np.linalg.norm(n, axis=1)[:, None]
+            d = {"n_x": n[:, 0], "n_y": n[:, 1], "n_z": n[:, 2],
+                 "tilt": np.arccos(np.clip(-n[:, 2], -1.0, 1.0)),
+                 "offset_x": lk.arm * n[:, 0], "offset_y": lk.arm * n[:, 1]}
+        else:
+            al = _interp(t, w["angle"], w.get("speed"), tq)
+            ph = _interp(t, w["tilt"], w.get("tilt_rate"), tq)
+            r = lk.arm * np.sin(ph)
+            d = {"angle": al, "tilt": ph, "offset_x": -r * np.sin(al), "offset_y": r * np.cos(al)}
+        if tq.size == 0:
+            z = np.zeros(0)
+            d = {"offset_x": z, "offset_y": z}
+        d["radius"] = np.hypot(d["offset_x"], d["offset_y"])
+        d["azimuth"] = np.arctan2(d["offset_y"], d["offset_x"])
+        if rotor_angle is not None:
+            d["relative_azimuth"] = wrap(d["azimuth"] - np.asarray(rotor_angle, float))
+        out[lk.name] = d
+    return out
 
 
 # ---------------------------------------------------------------- multiplicity

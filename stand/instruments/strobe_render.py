@@ -18,7 +18,18 @@ What is drawn (intensities as fractions of full scale, see the ``LEVEL_*``
 constants): outside the rotor the housing at ``background``; inside the rotor
 outline (radius ``slot_radius``) the lit interior; the rim; the reference mark
 (a radial bar at 0.80..0.97 of the rim radius); the weights -- balls as discs,
-pendulums as a rod from the shaft axis (the pivot) plus a bob.  Every flash is
+pendulums as a rod from the shaft axis (the pivot) plus a bob.  Body weights
+(:class:`stand.instruments.strobe_readings.BodyLook`): a tilting weight
+(two-axis pendulum, coupled pair) or the damper's weight as a faint housing
+circle (``HOUSING_FACTOR * arm`` around the pivot), a rod from the pivot and a
+bob (a steel ball of its mass unless ``ball_radius`` is set) at its centre of
+mass -- at the apparent radial offset ``arm |sin(tilt)|`` (damper ``arm
+|(n_x, n_y)|``) in the direction the body's coordinates give; a liquid as the
+crescent between its chamber wall (radius R, centred on the shaft point) and
+its free-surface circle (radius r, centred ``-liquid / kappa`` from the
+chamber centre), a float drawn inside the free surface for ``liquid_float``.
+Liquids are drawn under the reference mark, bodies over it, balls last.
+Every flash is
 the average of sub-images across the slot's angular width (the rotor turns by
 ``slot_width / slot_radius`` rad while the slots overlap; the light is taken as
 uniform over that span); a frame is the mean of its flashes (a weight seen in
@@ -30,17 +41,19 @@ Then shot noise (Poisson, ``full_well`` electrons at full scale), read noise
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Iterator, Optional
 
 import numpy as np
 
 from ..scene import SceneError
-from .strobe_readings import PATH, TWO_PI, Stroboscope, default_ball_radius, flash_times
+from .strobe_readings import (PATH, TWO_PI, Stroboscope, body_coordinates, body_looks,
+                              default_ball_radius, flash_times, point_weights)
 from .timing import sample_trajectory, shaft_velocity, time_window, wrap
 
-__all__ = ["StrobeFrame", "render_strobe_frames", "LEVEL_INTERIOR", "LEVEL_RIM", "LEVEL_MARK",
-           "LEVEL_ROD", "LEVEL_BALL", "MARK_SPAN"]
+__all__ = ["StrobeFrame", "render_strobe_frames", "drawn_weights", "LEVEL_INTERIOR", "LEVEL_RIM",
+           "LEVEL_MARK", "LEVEL_ROD", "LEVEL_BALL", "LEVEL_LIQUID", "LEVEL_FLOAT",
+           "LEVEL_HOUSING", "MARK_SPAN"]
 
 # intensities, fractions of full scale
 LEVEL_INTERIOR = 0.20
@@ -48,6 +61,9 @@ LEVEL_RIM = 0.45
 LEVEL_MARK = 0.50
 LEVEL_ROD = 0.70
 LEVEL_BALL = 0.95
+LEVEL_LIQUID = 0.32        #: liquid in a chamber (darker than the mark: the mark stays seen)
+LEVEL_FLOAT = 0.26         #: the float of a liquid_float balancer
+LEVEL_HOUSING = 0.30       #: housing circle of a tilting weight / damper, chamber wall
 MARK_SPAN = (0.80, 0.97)   #: reference mark, fractions of the rim radius
 MAX_SUBPOSITIONS = 64
 MAX_PIXELS = 4096 * 4096
@@ -67,6 +83,13 @@ class StrobeFrame:
     relative_angle : (K, n)     weight angles from the reference mark, wrapped [rad]
     centre_px : (K, 2)          drawn rotor centre (column, row) [px]
     weight_px : (K, n, 2)       drawn weight centres (column, row) at the flash centre [px]
+    bodies : dict               body weight name -> its coordinates at the flashes
+                                (:func:`stand.instruments.strobe_readings.body_coordinates`,
+                                (K,) arrays) plus ``px`` (K, 2): the drawn bob centre, or for a
+                                liquid the free-surface centre (column, row) [px]
+
+    ``weight_angle``, ``relative_angle`` and ``weight_px`` cover the balls and
+    pendulums (n of them); body weights are in ``bodies``.
     """
 
     index: int
@@ -77,6 +100,7 @@ class StrobeFrame:
     relative_angle: np.ndarray
     centre_px: np.ndarray
     weight_px: np.ndarray
+    bodies: dict = field(default_factory=dict)
 
     @property
     def time(self) -> float:
@@ -122,9 +146,12 @@ class _Canvas:
 
 
 def _weight_geometry(scene, strobe: Stroboscope, n: int):
-    """Per-weight drawn radius of the centres [m], ball radius [m], kind."""
+    """Per-weight drawn radius of the centres [m], ball radius [m], kind (balls and
+    pendulums; ``n`` of them)."""
     b = scene.balancer if scene is not None else None
     kind = b.type if (b is not None and b.count == n) else "balls"
+    if n == 0:
+        return np.zeros(0), np.zeros(0), kind
     if strobe.track_radius is not None:
         track = np.full(n, strobe.track_radius)
     elif b is not None and b.count == n:
@@ -159,7 +186,10 @@ def render_strobe_frames(traj, strobe: Stroboscope, t_start: Optional[float] = N
         Needs ``t, x, y, rotor_angle, rotor_speed, weight_angle, weight_speed``,
         the shaft velocity (:func:`stand.instruments.timing.shaft_velocity`) when
         ``shaft_motion``, and ``scene.balancer`` for the weights' kind and size
-        unless ``track_radius`` and ``ball_radius`` are set.
+        unless ``track_radius`` and ``ball_radius`` are set.  Body weights
+        (``scene.bodies``) are drawn from their coordinates in ``traj.weights``
+        (a :class:`stand.result.Run`); ``weight_angle`` then means the balls and
+        pendulums only.
     strobe : Stroboscope
     t_start, t_end : float, optional
         Window [s].
@@ -193,9 +223,12 @@ def render_strobe_frames(traj, strobe: Stroboscope, t_start: Optional[float] = N
     if strobe.width * strobe.height > MAX_PIXELS:
         raise SceneError(f"{PATH}.width * height = {strobe.width * strobe.height}: more than "
                          f"{MAX_PIXELS} px")
-    n = int(np.shape(traj.weight_angle)[1]) if np.ndim(traj.weight_angle) == 2 else 0
+    view = point_weights(traj)
+    n = int(np.shape(view.weight_angle)[1]) if np.ndim(view.weight_angle) == 2 else 0
     scene = getattr(traj, "scene", None)
     track, ball, kind = _weight_geometry(scene, strobe, n)
+    looks = body_looks(scene, strobe)
+    body_coordinates(traj, looks, traj.t[:1])   # every body's coordinates are in the run
     half_w = 0.5 * strobe.width * strobe.pixel_pitch
     half_h = 0.5 * strobe.height * strobe.pixel_pitch
     if n and float(np.max(track + ball)) > min(half_w, half_h):
@@ -204,14 +237,98 @@ def render_strobe_frames(traj, strobe: Stroboscope, t_start: Optional[float] = N
                          f"in the {strobe.width} x {strobe.height} px image "
                          f"({2 * half_w:.4g} x {2 * half_h:.4g} m); lower pixel_pitch or "
                          f"enlarge width/height (m/px)")
+    for lk in looks:
+        if lk.reach > min(half_w, half_h):
+            raise SceneError(f"{PATH}.pixel_pitch = {strobe.pixel_pitch!r}: the body weight "
+                             f"{lk.name} (drawn out to {lk.reach:.4g} m from the shaft) does not "
+                             f"fit in the {strobe.width} x {strobe.height} px image "
+                             f"({2 * half_w:.4g} x {2 * half_h:.4g} m); lower pixel_pitch or "
+                             f"enlarge width/height (m/px)")
     n_frames = 0 if tf.size < K else (tf.size - K) // stride + 1
     if max_frames is not None:
         n_frames = min(n_frames, int(max_frames))
     velocities = shaft_velocity(traj) if strobe.shaft_motion else None
-    return _frames(traj, strobe, tf, n_frames, track, ball, kind, velocities)
+    return _frames(traj, view, strobe, tf, n_frames, track, ball, kind, looks, velocities)
 
 
-def _frames(traj, strobe, tf, n_frames, track, ball, kind, velocities):
+def drawn_weights(scene, strobe: Stroboscope) -> list:
+    """What the frames show of each weight, as plain dicts (stored with the frames, JSON).
+
+    Balls and pendulums: ``name``, ``type``, ``drawn`` (``"ball"`` / ``"pendulum"``),
+    ``track_radius_m`` / ``_px``, ``ball_radius_m`` / ``_px``; body weights:
+    :meth:`stand.instruments.strobe_readings.BodyLook.to_dict` (``drawn`` ``"pendulum"``:
+    ``arm``, ``bob_radius``, ``housing_radius``; ``"crescent"``: ``chamber_radius``,
+    ``surface_radius``, ``kappa``), lengths in m and px.  Empty when the geometry of the
+    balls is unknown (no balancer and no ``track_radius``/``ball_radius`` settings).
+    """
+    from ..result import weight_names
+
+    out = []
+    pitch = strobe.pixel_pitch
+    if scene is not None:
+        names = weight_names(scene.weights)[0]
+        try:
+            track, ball, kind = _weight_geometry(scene, strobe, len(names))
+        except SceneError:
+            track = ball = np.zeros(0)
+            kind = "balls"
+        for nm, tr, bl in zip(names, track, ball):
+            out.append({"name": nm, "type": kind, "drawn": "pendulum" if kind == "pendulums"
+                        else "ball", "track_radius_m": float(tr), "track_radius_px": float(tr) / pitch,
+                        "ball_radius_m": float(bl), "ball_radius_px": float(bl) / pitch})
+    out.extend(lk.to_dict(pitch) for lk in body_looks(scene, strobe))
+    return out
+
+
+def _draw(img, sl, cov, level):
+    """Blend ``level`` into ``img[sl]`` with the coverage ``cov`` in [0, 1]."""
+    img[sl] += (level - img[sl]) * cov
+
+
+def _draw_liquid(img, canvas, cx, cy, lk, sx, sy, pitch):
+    """The chamber wall, the liquid's crescent and (liquid_float) the float, one flash."""
+    R = lk.chamber_radius / pitch
+    r = lk.surface_radius / pitch
+    fx, fy = cx + sx / pitch, cy - sy / pitch        # free-surface centre [px]
+    bx = canvas.box(np.array([cx - R, cx + R]), np.array([cy - R, cy + R]), 2.0)
+    if bx is None:
+        return
+    sl, X, Y = bx
+    surface = _cov_disk(X, Y, fx, fy, r)
+    _draw(img, sl, _cov_disk(X, Y, cx, cy, R) * (1.0 - surface), LEVEL_LIQUID)
+    if lk.type == "liquid_float":
+        _draw(img, sl, surface, LEVEL_FLOAT)
+    _draw(img, sl, _cov_ring(X, Y, cx, cy, R, 1.0), LEVEL_HOUSING)
+
+
+def _draw_pendulum_body(img, canvas, cx, cy, lk, ox, oy, pitch, n_sub):
+    """Housing circle, rod and bob of a tilting weight / the damper over the sub-instants
+    of one flash (``ox``, ``oy``: the centre of mass from the pivot [m], per sub-instant)."""
+    H = lk.housing_radius / pitch
+    bx = canvas.box(np.array([cx - H, cx + H]), np.array([cy - H, cy + H]), 2.0)
+    if bx is not None:
+        sl, X, Y = bx
+        _draw(img, sl, 0.6 * _cov_ring(X, Y, cx, cy, H, 0.5), LEVEL_HOUSING)
+    px = cx + np.asarray(ox) / pitch
+    py = cy - np.asarray(oy) / pitch
+    bob = lk.bob_radius / pitch
+    bx = canvas.box(np.append(px, cx), np.append(py, cy), 3.0)
+    if bx is not None:
+        sl, X, Y = bx
+        cov = np.zeros_like(X)
+        for a, b_ in zip(px, py):
+            cov += _cov_segment(X, Y, cx, cy, a, b_, 1.0)
+        _draw(img, sl, cov / n_sub, LEVEL_ROD)
+    bx = canvas.box(px, py, bob + 2.0)
+    if bx is not None:
+        sl, X, Y = bx
+        cov = np.zeros_like(X)
+        for a, b_ in zip(px, py):
+            cov += _cov_disk(X, Y, a, b_, bob)
+        _draw(img, sl, cov / n_sub, LEVEL_BALL)
+
+
+def _frames(traj, view, strobe, tf, n_frames, track, ball, kind, looks, velocities):
     K, stride = strobe.exposure_flashes, strobe.stride
     pitch = strobe.pixel_pitch
     W, H = strobe.width, strobe.height
@@ -221,7 +338,8 @@ def _frames(traj, strobe, tf, n_frames, track, ball, kind, velocities):
     rng = np.random.default_rng(strobe.seed)
     n = track.size
     R_rot = strobe.slot_radius / pitch
-    reach = max(R_rot, float(np.max(track)) / pitch if n else 0.0)
+    reach = max([R_rot, float(np.max(track)) / pitch if n else 0.0]
+                + [lk.reach / pitch for lk in looks])
     n_sub = int(np.clip(math.ceil(strobe.blur * reach / 0.25), 1, MAX_SUBPOSITIONS))
     offsets = (np.arange(n_sub) + 0.5) / n_sub - 0.5 if n_sub > 1 else np.zeros(1)
     offsets = offsets * strobe.blur            # rotor angle offsets across the slot [rad]
@@ -231,13 +349,15 @@ def _frames(traj, strobe, tf, n_frames, track, ball, kind, velocities):
     for i in range(n_frames):
         tk = tf[i * stride:i * stride + K]
         # the flash centre and the sub-instants across the slot
-        s0 = sample_trajectory(traj, tk, velocities if velocities is not None else zeros_v)
+        s0 = sample_trajectory(view, tk, velocities if velocities is not None else zeros_v)
         w = np.where(np.abs(s0.rotor_speed) > 0, s0.rotor_speed, np.inf)
         tsub = (tk[:, None] + offsets[None, :] / w[:, None]).ravel()
         tsub = np.clip(tsub, traj.t[0], traj.t[-1])
-        ss = sample_trajectory(traj, tsub, velocities if velocities is not None else zeros_v)
+        ss = sample_trajectory(view, tsub, velocities if velocities is not None else zeros_v)
         phi_sub = ss.rotor_angle.reshape(K, n_sub)
         wa_sub = ss.weight_angle.reshape(K, n_sub, n)
+        b0 = body_coordinates(traj, looks, tk, s0.rotor_angle)
+        bsub = body_coordinates(traj, looks, tsub)
         if strobe.shaft_motion:
             cxs = cx0 + s0.x / pitch
             cys = cy0 - s0.y / pitch
@@ -251,6 +371,11 @@ def _frames(traj, strobe, tf, n_frames, track, ball, kind, velocities):
             inside = _cov_disk(Xg, Yg, cx, cy, R_rot)
             img += (LEVEL_INTERIOR - img) * inside
             img += (LEVEL_RIM - img) * _cov_ring(Xg, Yg, cx, cy, R_rot, 1.0)
+            for lk in looks:               # liquids under the mark
+                if lk.drawn == "crescent":
+                    d = b0[lk.name]
+                    _draw_liquid(img, canvas, cx, cy, lk, d["surface_x"][k], d["surface_y"][k],
+                                 pitch)
             # reference mark: radial bar at the rotor angle of each sub-instant
             ang = phi_sub[k]
             r_a, r_b = MARK_SPAN[0] * R_rot, MARK_SPAN[1] * R_rot
@@ -265,6 +390,12 @@ def _frames(traj, strobe, tf, n_frames, track, ball, kind, velocities):
                                         cx + r_b * math.cos(a), cy - r_b * math.sin(a), 1.5)
                 cov /= n_sub
                 img[sl] += (LEVEL_MARK - img[sl]) * cov
+            for lk in looks:               # tilting weights and the damper over it
+                if lk.drawn == "pendulum":
+                    d = bsub[lk.name]
+                    _draw_pendulum_body(img, canvas, cx, cy, lk,
+                                        d["offset_x"].reshape(K, n_sub)[k],
+                                        d["offset_y"].reshape(K, n_sub)[k], pitch, n_sub)
             for j in range(n):
                 th = wa_sub[k, :, j]
                 px = cx + track_px[j] * np.cos(th)
@@ -294,6 +425,11 @@ def _frames(traj, strobe, tf, n_frames, track, ball, kind, velocities):
         rel = wrap(s0.weight_angle - s0.rotor_angle[:, None])
         wpx = np.stack([cxs[:, None] + track_px[None, :] * np.cos(s0.weight_angle),
                         cys[:, None] - track_px[None, :] * np.sin(s0.weight_angle)], axis=-1)
+        for lk in looks:
+            d = b0[lk.name]
+            ox, oy = (d["surface_x"], d["surface_y"]) if lk.drawn == "crescent" else \
+                (d["offset_x"], d["offset_y"])
+            d["px"] = np.column_stack([cxs + ox / pitch, cys - oy / pitch])
         yield StrobeFrame(index=i, image=image, t=tk, rotor_angle=s0.rotor_angle,
                           weight_angle=s0.weight_angle, relative_angle=rel,
-                          centre_px=np.column_stack([cxs, cys]), weight_px=wpx)
+                          centre_px=np.column_stack([cxs, cys]), weight_px=wpx, bodies=b0)

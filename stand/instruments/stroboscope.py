@@ -24,20 +24,27 @@ This module gathers the instrument; the code lives in
   weights' angles at the flashes, the image multiplicity;
 * :mod:`stand.instruments.strobe_render` -- the frames the camera films
   (image conventions, what is drawn, noise and quantisation).
+
+Body weights (two-axis pendulums, coupled pairs, the damper, liquids) are
+drawn as they look: a bob at the centre of mass on a rod from the pivot, a
+liquid's crescent (:class:`BodyLook`); their coordinates at the flashes are
+the ground truth (:func:`body_coordinates`).
 """
 from __future__ import annotations
 
 # every name the module had, the constants too (they are not in __all__)
 from .strobe_readings import (  # noqa: F401
-    DEG, PATH, STEEL_DENSITY, STROBE_KEYS, TWO_PI, StrobeReading, Stroboscope,
-    default_ball_radius, flash_times, image_multiplicity, multiplicity_for_ratio, reading_error,
-    strobe_angles,
+    DEG, HOUSING_FACTOR, PATH, STEEL_DENSITY, STROBE_KEYS, TWO_PI, BodyLook, StrobeReading,
+    Stroboscope, body_coordinates, body_looks, default_ball_radius, flash_times,
+    image_multiplicity, multiplicity_for_ratio, point_weights, reading_error, strobe_angles,
 )
 from .strobe_render import (  # noqa: F401
-    LEVEL_BALL, LEVEL_INTERIOR, LEVEL_MARK, LEVEL_RIM, LEVEL_ROD, MARK_SPAN, MAX_PIXELS,
-    MAX_SUBPOSITIONS, StrobeFrame, render_strobe_frames,
+    LEVEL_BALL, LEVEL_FLOAT, LEVEL_HOUSING, LEVEL_INTERIOR, LEVEL_LIQUID, LEVEL_MARK, LEVEL_RIM,
+    LEVEL_ROD, MARK_SPAN, MAX_PIXELS, MAX_SUBPOSITIONS, StrobeFrame, drawn_weights,
+    render_strobe_frames,
 )
 
 __all__ = ["Stroboscope", "StrobeReading", "StrobeFrame", "reading_error", "flash_times",
            "strobe_angles", "render_strobe_frames", "image_multiplicity",
-           "multiplicity_for_ratio", "default_ball_radius", "STROBE_KEYS"]
+           "multiplicity_for_ratio", "default_ball_radius", "STROBE_KEYS", "BodyLook",
+           "body_looks", "body_coordinates", "drawn_weights"]

@@ -265,9 +265,37 @@ def shaft_velocity(traj) -> tuple[np.ndarray, np.ndarray]:
         raise ValueError("shaft_velocity: the trajectory has neither vx, vy nor the "
                          "dimensionless state (Trajectory.state); the shaft velocity is unknown "
                          "(record shaft velocities to use the instruments on a recording)")
+    generic = _generic_velocity(traj, state)
+    if generic is not None:
+        return generic
     nq = state.shape[1] // 2
     scale = traj.scene.length_scale * traj.scene.natural_frequency
     return state[:, nq] * scale, state[:, nq + 1] * scale
+
+
+def _generic_velocity(traj, state):
+    """Main-plane velocity (vx, vy) [m/s] of a run of the generic kernel, or None.
+
+    Scenes with body weights (and the rotor family) run on the generic kernel
+    (:mod:`stand.rotors.coupled`), whose state is ``[q, alpha, q', alpha', body
+    states]`` scaled per coordinate: the planar layout (half the state width)
+    does not apply.  The model is rebuilt from the scene (cheap: tables only)
+    for its layout and scales.
+    """
+    scene = getattr(traj, "scene", None)
+    if scene is None or not (getattr(scene, "kind", None) == "rotor" or getattr(scene, "bodies", ())):
+        return None
+    from ..rotors.coupled import build_model
+
+    model = build_model(scene.linear_rotor(), scene.weights, scene.drive.programme,
+                        bodies=scene.bodies)
+    n, nw = model.n, model.nw
+    if state.shape[1] != model.size:
+        return None
+    qd = state[:, n + nw:2 * n + nw] * model.scale * model.omega_ref
+    plane = getattr(traj, "main_plane", None) or model.plane_names[0]
+    v = qd @ np.asarray(model.rotor.planes[plane], float).T
+    return v[:, 0], v[:, 1]
 
 
 @dataclass
