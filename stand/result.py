@@ -174,7 +174,10 @@ class Run:
         return self.planes[self.main_plane][:, 1]
 
     def _stack(self, coord: str) -> np.ndarray:
-        cols = [w[coord] for w in self.weights.values() if coord in w]
+        """(N, n) ``coord`` of every weight with an angle (NaN where one lacks ``coord``, e.g.
+        a damaged recording), so that angles and speeds always have the same columns."""
+        nan = np.full(len(self.t), np.nan)
+        cols = [np.asarray(w.get(coord, nan)) for w in self.weights.values() if "angle" in w]
         if not cols:
             return np.zeros((len(self.t), 0))
         return np.column_stack(cols)
@@ -224,7 +227,9 @@ class Run:
         if self.scene is None:
             return 0.0
         return float(sum(w.balancer.capacity for w in self.scene.weights
-                         if w.plane == self.main_plane))
+                         if w.plane == self.main_plane)
+                     + sum(b.body.capacity for b in self.scene.bodies
+                           if b.plane == self.main_plane))
 
     # ------------------------------------------------------------ channels
     def channels(self) -> dict:
