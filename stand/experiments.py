@@ -17,6 +17,14 @@ recording.  Speeds are in rev/s and times in s at this edge, converted once.
 
 Orientation changes (gravity direction, table 4.6) need the rotor models with
 gravity (the rotor-family issue); the planar vertical-axis model has none.
+
+Body weights (two-axis pendulum, coupled pair, damper, liquids in ``[[weights]]``
+of a planar scene) run on the generic kernel, which takes a speed programme
+and an initial state but no perturbations: ``constant``, ``run-up``,
+``run-down`` (the exponential coast-down as a piecewise-linear programme of
+:data:`EXP_NODES` nodes, relative error below 1e-4) and ``natural-frequency``
+run; ``unbalance``, ``impact`` and ``pressure`` are not applicable
+(:func:`not_applicable` says why; :func:`programme` raises :class:`NotApplicable`).
 """
 from __future__ import annotations
 
@@ -31,6 +39,26 @@ from .scene import (Impulse, InitialState, Scene, SceneError, SideForce, SpeedDr
 TWO_PI = 2 * math.pi
 #: table 4.2 speed bands (fractions of f0) and the speed used in each
 BANDS = {"sub": 0.7, "near": 1.0, "super": 1.5}
+#: nodes of the piecewise-linear exponential coast-down on the generic kernel (body weights):
+#: steps of time/EXP_NODES = tau/40 (tau = time/5), interpolation error < (1/40)^2/8 < 1e-4
+EXP_NODES = 200
+#: programmes that need a perturbation of the planar kernel, and why they do not apply to
+#: a scene with body weights (the generic kernel runs a speed programme and an initial state)
+GENERIC_KERNEL_WHY = {
+    "unbalance": "an unbalance change at speed (table 4.5) is a perturbation of the planar "
+                 "kernel; the generic kernel that runs body weights keeps the rotor's unbalance "
+                 "fixed",
+    "impact": "a blow to the housing (table 4.6) is a shaft-velocity jump during the run, a "
+              "perturbation of the planar kernel; the generic kernel that runs body weights "
+              "takes the shaft velocity only at the start",
+    "pressure": "a side pressure (table 4.6) adds a force and a stiffness during the run, a "
+                "perturbation of the planar kernel; the generic kernel that runs body weights "
+                "has fixed supports",
+}
+
+
+class NotApplicable(ValueError):
+    """A programme that does not apply to the scene; the message says why."""
 
 
 def _f0(scene: Scene) -> float:
@@ -83,6 +111,11 @@ def run_down(scene: Scene, speed: float, time: float = 175.0, exponential: bool 
     """
     speed = _positive("speed", speed, "rev/s")
     time = _positive("time", time, "s")
+    if exponential and scene.bodies:
+        # the generic kernel has no coast-down law: the exponential as a programme
+        tk = np.linspace(0.0, time, EXP_NODES + 1)
+        rows = [[0.0, speed]] + [[settle + t, speed * math.exp(-5.0 * t / time)] for t in tk]
+        return _with(scene, rows, settle + time)
     if exponential:
         return _with(scene, [[0.0, speed]], settle + time, coast=(settle, time / 5.0))
     return _with(scene, [[0.0, speed], [settle, speed], [settle + time, 0.0]], settle + time)
@@ -143,20 +176,37 @@ PROGRAMMES = {
 }
 
 
+def not_applicable(scene: Scene, name: str):
+    """Why programme ``name`` does not apply to ``scene`` (a sentence), or None when it does.
+
+    The programmes drive the planar rotor of chapter 5; with body weights it runs on
+    the generic kernel, which carries out no perturbation (:data:`GENERIC_KERNEL_WHY`).
+    """
+    if scene.kind != "planar":
+        return (f"the programmes of tables 4.2-4.6 drive the planar rotor of chapter 5 in this "
+                f"version; the scene's structure is {scene.structure_type}")
+    if scene.bodies and name in GENERIC_KERNEL_WHY:
+        kinds = ", ".join(dict.fromkeys(pb.kind for pb in scene.bodies))
+        return (f"programme {name} on a scene with body weights ({kinds}): "
+                f"{GENERIC_KERNEL_WHY[name]}")
+    return None
+
+
 def programme(scene: Scene, name: str, **options) -> Scene:
     """The scene of experiment programme ``name`` (:data:`PROGRAMMES`) on the stand ``scene``.
 
     ``options`` are the builder's arguments by name (None = not given); a missing required
     one raises ValueError naming it.  Only the planar rotor of chapter 5 runs the
-    programmes in this version (ValueError otherwise, with the reason).
+    programmes in this version, and with body weights only those without a perturbation
+    (:class:`NotApplicable`, a ValueError, otherwise, with the reason: :func:`not_applicable`).
     """
     from .scene_file import check_derived
 
     if name not in PROGRAMMES:
         raise ValueError(f"programme {name!r}: one of {', '.join(PROGRAMMES)}")
-    if scene.kind != "planar":
-        raise ValueError(f"the programmes of tables 4.2-4.6 drive the planar rotor of chapter 5 in "
-                         f"this version; the scene's structure is {scene.structure_type}")
+    why = not_applicable(scene, name)
+    if why:
+        raise NotApplicable(why)
     build, required, optional = PROGRAMMES[name]
     missing = [k for k in required if options.get(k) is None]
     if missing:

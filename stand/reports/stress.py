@@ -56,6 +56,15 @@ small separation of the balls): ``qp_persists`` (R < R*: the precession speed
 must stay Omega_1 of (5.181)) or ``escape`` (R > R*: the balls leave the QP
 motion and balance).
 
+``body_scene`` (a TOML scene with body weights -- two-axis pendulum, coupled
+pair, damper, liquid float, liquid chamber -- on the generic kernel,
+:mod:`stand.reports.stress_bodies`): ``runup_closed_form`` (one liquid lever
+on the planar rotor is paper 001's model M1 itself: closed-form run-up,
+free-whirl drift undamped), ``steady_theory`` (one tilting weight or damper on
+the planar rotor held at speed: residual unbalance / M e at the end against
+the book's stable main motions, spread over the last 30 % as the drift) or
+``reference``.
+
 Pass rule: the solver succeeded, the error (and the drift, where checked) is
 within the tolerance, the method is the expected one if the case names it,
 the case ran within its time budget, and the case is inside the model's

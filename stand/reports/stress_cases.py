@@ -6,7 +6,8 @@ fields of ``res`` (:func:`outcome`: method and why, solver status, oracle,
 error and its measure, conserved quantity and drift, details) and returns the
 reasons it found the case outside the model's validity (empty when inside).
 :data:`RUNNERS` maps each kind to its runner: the planar-rotor kinds are in
-:mod:`stand.reports.stress_planar`, the liquid float balancer (paper 001) and
+:mod:`stand.reports.stress_planar`, the scenes with body weights in
+:mod:`stand.reports.stress_bodies`, the liquid float balancer (paper 001) and
 the suspended platform (paper 004) here.  :func:`warm` compiles a case's
 kernels before its timed region.
 
@@ -22,6 +23,7 @@ from typing import Callable
 
 import numpy as np
 
+from .stress_bodies import kind_body_scene
 from .stress_catalogue import CatalogueError
 from .stress_planar import (PLANAR_KINDS, kind_dimensionless, kind_qp, kind_scene_file, rel_max,
                             warm_planar)
@@ -168,6 +170,7 @@ RUNNERS: dict[str, Callable] = {
     "liquid_runup": _kind_liquid,
     "platform": _kind_platform,
     "qp_threshold": kind_qp,
+    "body_scene": kind_body_scene,
 }
 
 
@@ -180,8 +183,8 @@ def warm(case: dict) -> None:
     case : dict
         One case of :func:`stand.reports.stress_catalogue.load_catalogue`.
     """
-    if case["kind"] in PLANAR_KINDS:
-        warm_planar(case)
+    if case["kind"] in PLANAR_KINDS or case["kind"] == "body_scene":
+        warm_planar(case)   # a scene file: a tiny run of it compiles its kernels
     elif case["kind"] == "platform":
         from ..rotors.coupled import PlaneWeights, simulate_coupled
         from ..rotors.platform import platform_rotor

@@ -65,6 +65,8 @@ _SCENE_FILE = {
     "atol": _p(_NUM, "dimensionless state", None, gt=0),
     "method": _p(_STR, default="auto", choices=_METHODS),
 }
+#: kind body_scene (stand.reports.stress_bodies): a scene with body weights, same fields
+_BODY_SCENE = dict(_SCENE_FILE)
 _LIQUID = {
     "psi": _p(_NUM, "m1/m", gt=0), "n": _p(_NUM, "1/s", 0.0, ge=0),
     "Omega_0": _p(_NUM, "rad/s", 1000.0, gt=0), "e": _p(_NUM, "m", 1e-4, gt=0),
@@ -99,6 +101,7 @@ KINDS = {
     "liquid_runup": (_LIQUID, ("runup_closed_form",)),
     "platform": (_PLATFORM, ("steady_response", "balanced")),
     "qp_threshold": (_QP, ("qp_persists", "escape")),
+    "body_scene": (_BODY_SCENE, ("runup_closed_form", "steady_theory", "reference")),
 }
 
 

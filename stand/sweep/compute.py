@@ -11,6 +11,13 @@
   weights locked, ``p.R`` = operating speed / (2 pi ``p.f0_hz``); Rt, h, H NaN;
 * ``[weight_model]``: ``p.n`` only (the model's parameters are its own).
 
+Body weights (two-axis pendulum, coupled pair, damper, liquids) count as
+weights: ``p.n`` counts them and ``p.e0`` divides the main plane's unbalance by
+the capacity of all its weights (balls ``sum m l``, bodies
+:attr:`~stand.rotors.bodies.TiltingWeight.capacity` ...).  A scene with body
+weights is classified by :func:`_body_regime` and gets the structure theory
+(natural frequencies, critical speeds) whatever its rotor.
+
 A point that fails gets ``status = "error"`` and the message; it never stops
 the chunk.
 """
@@ -59,9 +66,16 @@ def _operating_R(scene, w_ref: float) -> float:
     return _operating_speed(scene) / w_ref
 
 
+def _plane_capacity(scene, plane: str) -> float:
+    """Capacity S [kg m] of the weights of ``plane``: balls and body weights."""
+    return (sum(w.balancer.capacity for w in scene.weights if w.plane == plane)
+            + sum(pb.body.capacity for pb in scene.bodies if pb.plane == plane))
+
+
 def _plane_e0(scene, plane: str) -> float:
-    """|unbalance of ``plane``| / capacity of its weights (structure scenes)."""
-    S = sum(w.balancer.capacity for w in scene.weights if w.plane == plane)
+    """|unbalance of ``plane``| / capacity of its weights (structure scenes; any scene with
+    body weights)."""
+    S = _plane_capacity(scene, plane)
     U = sum(u.s * complex(math.cos(u.angle), math.sin(u.angle))
             for u in scene.linear_rotor().unbalances if u.plane == plane)
     return abs(U) / S if S > 0 else math.nan
@@ -84,10 +98,13 @@ def point_parameters(scene) -> dict:
 
         p = dimensionless(scene)
         H = p.H_x if p.H_x == p.H_y else 0.5 * (p.H_x + p.H_y)
-        return {"p.n": p.n, "p.Rt": p.Rt, "p.h": float(p.h[0]) if p.n else nan, "p.H": H,
-                "p.e0": p.e0, "p.R": _operating_R(scene, p.omega_1), "p.f0_hz": p.omega_1 / TWO_PI}
-    out = {"p.n": scene.n_weights, "p.Rt": nan, "p.h": nan, "p.H": nan, "p.e0": nan, "p.R": nan,
-           "p.f0_hz": nan}
+        out = {"p.n": p.n, "p.Rt": p.Rt, "p.h": float(p.h[0]) if p.n else nan, "p.H": H,
+               "p.e0": p.e0, "p.R": _operating_R(scene, p.omega_1), "p.f0_hz": p.omega_1 / TWO_PI}
+        if scene.bodies:
+            out.update({"p.n": p.n + len(scene.bodies), "p.e0": _plane_e0(scene, scene.main_plane)})
+        return out
+    out = {"p.n": scene.n_weights + len(scene.bodies), "p.Rt": nan, "p.h": nan, "p.H": nan,
+           "p.e0": nan, "p.R": nan, "p.f0_hz": nan}
     if scene.kind == "rotor":
         w = _reference_frequency(scene)
         out.update({"p.e0": _plane_e0(scene, scene.main_plane), "p.R": _operating_R(scene, w),
@@ -126,15 +143,78 @@ def _structure_regime(run, opts: dict, w_ref: float) -> dict:
             "sim.spread_rad": float(np.max(np.ptp(rel, axis=0)))}
 
 
+def _body_slips(run, sel, rotor: float) -> list:
+    """Mean speed relative to the rotor [rad/s] over ``sel`` of every weight that has an
+    azimuth: balls, the tilting weights (``speed``) and the damper (rate of ``angle``);
+    a liquid has none (its centre of mass follows the shaft)."""
+    slips = []
+    t = run.t[sel]
+    for name, ch in run.weights.items():
+        if "tilt" in ch and "n_z" in ch:          # damper: the azimuth of its direction n
+            if len(t) > 1 and t[-1] > t[0]:
+                a = np.unwrap(np.asarray(ch["angle"])[sel])
+                slips.append(float((a[-1] - a[0]) / (t[-1] - t[0])) - rotor)
+        elif "speed" in ch:                        # balls, two-axis pendulum, coupled pair
+            slips.append(float(np.mean(np.asarray(ch["speed"])[sel])) - rotor)
+    return slips
+
+
+def _body_regime(run, opts: dict, w_ref: float) -> dict:
+    """Regime of a run with body weights (any rotor).
+
+    Synchronous (every weight with an azimuth within ``sync_tol`` of the rotor speed)
+    and steady (the residual unbalance of every plane with weights, truth in the rotor
+    frame, moves by less than ``balance_tol`` x its capacity over the window):
+    ``"main"`` when balanced (|psi| / S within ``balance_tol`` of 0, or of e0 - 1 beyond
+    capacity), else ``"steady"`` -- a synchronous motion that leaves a residual: the
+    main motion of a device that cannot balance fully (a pendulum against gravity, a
+    liquid, whose correction follows the deflection) or a side motion, which the run
+    alone does not tell apart.  Weights slipping back together: ``"quasi-periodic"``;
+    otherwise ``"transient"``.  ``sim.residual``: the largest final |psi| / S.
+    """
+    from dsp.regime import motion_regime
+
+    from ..regime import QP_SPREAD_TOL
+
+    sc = run.scene
+    window = opts.get("window", 0.2)
+    tol = opts.get("balance_tol", 1e-2)
+    sel = run.t >= run.t[0] + (1 - window) * (run.t[-1] - run.t[0])
+    rotor = float(np.mean(run.rotor_speed[sel]))
+    planes = list(dict.fromkeys([w.plane for w in sc.weights] + [pb.plane for pb in sc.bodies]))
+    residual, balanced, steady = 0.0, True, True
+    for plane in planes:
+        S = _plane_capacity(sc, plane)
+        U = np.asarray(run.truth[f"residual/{plane}"][0])
+        psi, e0 = float(np.hypot(*U[-1])) / S, _plane_e0(sc, plane)
+        move = float(np.max(np.hypot(*(U[sel] - U[-1]).T))) / S if np.any(sel) else 0.0
+        residual = max(residual, psi)
+        balanced &= abs(psi - (e0 - 1.0 if e0 > 1 else 0.0)) < tol
+        steady &= move < tol
+    slips = _body_slips(run, sel, rotor)
+    name = motion_regime(rotor, slips, balanced, sync_tol=opts.get("sync_tol", 1e-3),
+                         spread_tol=QP_SPREAD_TOL)
+    if name in ("main", "side"):
+        name = "transient" if not steady else ("main" if name == "main" else "steady")
+    out = {"sim.rotor_speed_R": rotor / w_ref, "sim.regime": name, "sim.residual": residual}
+    rel = [np.ptp(np.asarray(ch["angle"])[sel] - run.rotor_angle[sel])
+           for ch in run.weights.values() if "angle" in ch and np.any(sel)]
+    out["sim.spread_rad"] = float(max(rel)) if rel else 0.0
+    return out
+
+
 def _simulate_row(row: dict, scene, opts: dict) -> None:
     """The ``sim.*`` columns: the run, its regime (planar: :func:`stand.regime.classify`;
-    structure: :func:`_structure_regime`; book model: not classified) and solver stats."""
+    structure: :func:`_structure_regime`; body weights: :func:`_body_regime`; book model:
+    not classified) and solver stats."""
     from ..simulate import simulate
 
     t0 = time.perf_counter()
     run = simulate(scene, method=opts.get("method"))
     window = opts.get("window", 0.2)
-    if scene.kind == "planar":
+    if scene.kind in ("planar", "rotor") and scene.bodies:
+        row.update(_body_regime(run, opts, TWO_PI * row["p.f0_hz"]))
+    elif scene.kind == "planar":
         from ..regime import classify
 
         reg = classify(run, window=window, sync_tol=opts.get("sync_tol", 1e-3),
@@ -145,7 +225,10 @@ def _simulate_row(row: dict, scene, opts: dict) -> None:
         row.update(_structure_regime(run, opts, TWO_PI * row["p.f0_hz"]))
     sel = run.t >= run.t[0] + (1 - window) * (run.t[-1] - run.t[0])
     row.update({"sim.whirl_radius_m": float(np.mean(run.whirl_radius()[sel])),
-                "sim.success": bool(run.stats.success), "sim.message": run.stats.message,
+                "sim.success": bool(run.stats.success),
+                # the solver's message, then the run's notes (e.g. a liquid's free surface that
+                # touched the chamber wall: outside the model)
+                "sim.message": " | note: ".join((run.stats.message,) + tuple(run.notes or ())),
                 "sim.nfev": int(run.stats.nfev), "sim.wall_s": time.perf_counter() - t0})
 
 
@@ -222,7 +305,9 @@ def compute_chunk(payload: dict, indices: list, ids: list, points: list) -> list
         t0 = time.perf_counter()
         by_kind = {"planar": planar_theory_rows, "rotor": structure_theory_rows}
         for kind, fill in by_kind.items():
-            sel = [i for i, sc in enumerate(scenes) if sc is not None and sc.kind == kind]
+            # body weights: the structure theory (the chapter-5 theory is that of balls)
+            sel = [i for i, sc in enumerate(scenes) if sc is not None and
+                   ("rotor" if sc.bodies else sc.kind) == kind]
             if sel:
                 fill([rows[i] for i in sel], [scenes[i] for i in sel], payload.get("theory", {}))
         dt = (time.perf_counter() - t0) / max(len(rows), 1)

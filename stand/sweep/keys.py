@@ -9,7 +9,10 @@
 Keys by base scene kind (:attr:`stand.scene.Scene.kind`):
 
 * every kind: dotted scene keys ``table.key``; ``[[weights]]`` tables by index,
-  ``weights[0].drag``;
+  ``weights[0].drag``; a body weight's keys by its ``type`` (:func:`body_keys`:
+  ``weights[0].fill_volume``, ``weights[0].arm``, ``weights[0].tilt_drag``, ...;
+  its dimensionless sugar as ``weights[0].dimensionless.R_m``) on the planar
+  rotor and on ``[structure]`` rotors;
 * ``"planar"`` (``[rotor]``/``[supports]``/``[balancer]`` or ``[dimensionless]``):
   also ``R_omega`` (speed in units of omega_1), the bare dimensionless names
   and, on a physical scene, the conversions of ``e0``, ``h`` and ``H``;
@@ -32,8 +35,8 @@ from .. import scene_file as sf
 from ..scene import SceneError
 from .checks import SweepSpecError, _fmt, _suggest
 
-__all__ = ["SPECIAL_KEYS", "RATIO_KEYS", "DIMENSIONLESS_NAMES", "SCENE_TABLE_KEYS", "scene_kind",
-           "check_key", "point_scene_dict", "with_speed"]
+__all__ = ["SPECIAL_KEYS", "RATIO_KEYS", "DIMENSIONLESS_NAMES", "SCENE_TABLE_KEYS", "BODY_TYPES",
+           "body_keys", "scene_kind", "check_key", "point_scene_dict", "with_speed"]
 
 TWO_PI = 2.0 * math.pi
 #: speed keys handled by the sweep itself (not scene-file keys)
@@ -49,6 +52,12 @@ SCENE_TABLE_KEYS = {
     "dimensionless": sf.DIMENSIONLESS_KEYS,
     "drive": tuple(dict.fromkeys(sf.SPEED_KEYS + sf.TORQUE_KEYS + ("torque", "c1", "c2", "target_speed"))),
 }
+#: the body weights' ``type`` values (:data:`stand.rotors.bodies_scene.BODY_TYPES`)
+BODY_TYPES = ("two_axis_pendulum", "coupled_pair", "damper", "liquid_float", "liquid_chamber")
+#: keys of the ``dimensionless`` sugar table of a body weight (``weights[i].dimensionless.<name>``)
+BODY_SUGAR_KEYS = {"two_axis_pendulum": ("R_m", "R_rho", "R_g", "h1", "h2"),
+                   "coupled_pair": ("R_m", "R_rho", "R_g", "h1", "h2"),
+                   "damper": ("R_m", "R_g", "h")}
 #: key endings whose values must be integers
 INTEGER_KEYS = (".count", ".samples", ".max_steps")
 _PART = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)((?:\[\d+\])*)$")
@@ -140,6 +149,12 @@ def _check_bare(name: str, key: str, base: dict, kind: str) -> None:
         raise SweepSpecError(f"{name} = {_fmt(key)}: needs a [dimensionless] base scene (with a "
                              "physical base scene only e0, h, H, R_omega, speed are converted); "
                              "sweep the physical scene key instead")
+    if not dimless and key == "e0" and base.get("balancer", {}).get("type", "none") == "none":
+        raise SweepSpecError(f"{name} = \"e0\": converted to rotor.eccentricity with the capacity "
+                             "of the [balancer] balls, and the base scene has none"
+                             + (" (its body weights' capacity depends on their kind)"
+                                if base.get("weights") else "")
+                             + "; sweep rotor.eccentricity instead")
     if not dimless and key == "h" and base.get("balancer", {}).get("type") != "balls":
         raise SweepSpecError(f"{name} = \"h\": converted to balancer.drag only for "
                              "balancer.type = \"balls\"; sweep balancer.drag instead")
@@ -161,6 +176,9 @@ def _check_planar(name: str, key: str, path: list, base: dict) -> None:
     valid = [t for t in sf.TABLES if t != "perturbation"]
     if table not in valid:
         raise _unknown_table(name, key, table, valid, base)
+    if table == "weights":
+        _check_weights(name, key, path, base, ())
+        return
     known = SCENE_TABLE_KEYS.get(table)
     if known is not None and first not in known:
         raise _unknown_key(name, key, table, first, known)
@@ -182,14 +200,8 @@ def _check_rotor(name: str, key: str, path: list, base: dict) -> None:
         if first not in params:
             raise _unknown_key(name, key, table, first, params)
     elif table == "weights":
-        items = base.get("weights", [])
-        if not isinstance(first, int) or first >= len(items):
-            raise SweepSpecError(f"{name} = {_fmt(key)}: the base scene has {len(items)} [[weights]] "
-                                 f"table(s); write weights[i].key with i < {len(items)}")
-        known = tuple(k for k in sf.BALANCER_KEYS if k != "type") + FRICTION_KEYS
-        if len(path) < 3 or path[2] not in known:
-            raise _unknown_key(name, key, f"weights[{first}]", path[2] if len(path) > 2 else "",
-                               known)
+        _check_weights(name, key, path, base,
+                       tuple(k for k in sf.BALANCER_KEYS if k != "type") + FRICTION_KEYS)
     elif table == "run":
         known = tuple(k for k in sf.RUN_KEYS if k != "method")
         if first not in known:
@@ -200,6 +212,57 @@ def _check_rotor(name: str, key: str, path: list, base: dict) -> None:
                              "which scales it")
     else:
         raise _unknown_table(name, key, table, ("structure", "weights", "run"), base)
+
+
+def body_keys(kind: str) -> tuple:
+    """The keys of a body weight's ``[[weights]]`` table of type ``kind`` (empty if not a body;
+    :mod:`stand.rotors.bodies_scene`, imported here only: ``stand --help`` loads this module)."""
+    from ..rotors import bodies_scene as bs
+
+    return {"two_axis_pendulum": bs._TILT_KEYS, "coupled_pair": bs._TILT_KEYS,
+            "damper": bs._DAMPER_KEYS, "liquid_float": bs._FLOAT_KEYS,
+            "liquid_chamber": bs._CHAMBER_KEYS}.get(kind, ())
+
+
+def _check_weights(name: str, key: str, path: list, base: dict, ball_keys: tuple) -> None:
+    """``weights[i].<key>``: ``i`` within the base's ``[[weights]]`` tables and ``<key>`` a
+    numeric key of that table's ``type`` (balls: ``ball_keys``; a body: :func:`body_keys`)."""
+    items = base.get("weights", [])
+    first = path[1]
+    if not isinstance(first, int) or first >= len(items):
+        raise SweepSpecError(f"{name} = {_fmt(key)}: the base scene has {len(items)} [[weights]] "
+                             f"table(s); write weights[i].key with i < {len(items)}")
+    item = items[first] if isinstance(items[first], dict) else {}
+    kind = item.get("type", "balls")
+    where = f"weights[{first}]"
+    if kind in BODY_TYPES:
+        known = tuple(k for k in body_keys(kind) if k != "dimensionless")
+        sugar = BODY_SUGAR_KEYS.get(kind, ())
+        if len(path) == 4 and path[2] == "dimensionless" and sugar:
+            if path[3] not in sugar:
+                raise _unknown_key(name, key, f"{where}.dimensionless", path[3], sugar)
+            if "dimensionless" not in item:
+                raise SweepSpecError(f"{name} = {_fmt(key)}: {where} (type {kind!r}) of the base "
+                                     "scene gives SI keys, not the dimensionless sugar; sweep its "
+                                     f"SI keys ({', '.join(known)})")
+            return
+        if len(path) != 3 or path[2] not in known:
+            raise SweepSpecError(f"{name} = {_fmt(key)}: unknown key of {where} (type {kind!r}): "
+                                 f"{_suggest(str(path[2]) if len(path) > 2 else '', known)}"
+                                 f"valid keys: {', '.join(known)}"
+                                 + (f"; or {where}.dimensionless.<{'|'.join(sugar)}>"
+                                    if sugar else ""))
+        if "dimensionless" in item and path[2] in ("inertia_tilt", "inertia_axial", "tilt_drag",
+                                                   "turn_drag", "inertia", "drag", "axial_gravity"):
+            raise SweepSpecError(f"{name} = {_fmt(key)}: {where} of the base scene gives the "
+                                 f"dimensionless sugar; sweep {where}.dimensionless.<name> instead")
+        return
+    if not ball_keys:
+        raise SweepSpecError(f"{name} = {_fmt(key)}: {where} has type {kind!r}; on the planar "
+                             "rotor the balls are swept as balancer.<key>, [[weights]] holds the "
+                             f"body weights ({', '.join(BODY_TYPES)})")
+    if len(path) != 3 or path[2] not in ball_keys:
+        raise _unknown_key(name, key, where, path[2] if len(path) > 2 else "", ball_keys)
 
 
 def _check_book(name: str, key: str, path: list, base: dict) -> None:
@@ -246,7 +309,24 @@ def _natural_frequency(doc: dict) -> float:
         return TWO_PI * float(doc["dimensionless"].get("natural_frequency", 1.0 / TWO_PI))
     s, r, b = doc.get("supports", {}), doc.get("rotor", {}), doc.get("balancer", {})
     c = float(s.get("stiffness", s.get("stiffness_x", math.nan)))
-    return math.sqrt(c / (float(r.get("mass", math.nan)) + _weights_mass(b)))
+    return math.sqrt(c / (float(r.get("mass", math.nan)) + _weights_mass(b)
+                          + _bodies_mass(doc.get("weights", []))))
+
+
+def _bodies_mass(items) -> float:
+    """Mass [kg] of the body weights of a planar document (as ``Scene.total_mass`` counts them)."""
+    total = 0.0
+    for w in items if isinstance(items, list) else []:
+        if not isinstance(w, dict):
+            continue
+        kind = w.get("type")
+        if kind in ("two_axis_pendulum", "coupled_pair", "damper"):
+            total += float(w.get("mass", 0.0))
+        elif kind == "liquid_float":
+            total += float(w.get("liquid_mass", 0.0))
+        elif kind == "liquid_chamber":
+            total += float(w.get("density", 1000.0)) * float(w.get("fill_volume", 0.0))
+    return total
 
 
 def _per_weight(b: dict, key: str) -> np.ndarray:
@@ -346,7 +426,7 @@ def _physical(doc: dict, phys: dict) -> None:
         S = float(np.sum(_per_weight(b, "mass") * _per_weight(b, "radius")))
         r["eccentricity"] = phys["e0"] * S / float(r["mass"])
     if "H" in phys:
-        Ms = float(r["mass"]) + _weights_mass(b)
+        Ms = float(r["mass"]) + _weights_mass(b) + _bodies_mass(doc.get("weights", []))
         for k in ("damping_x", "damping_y"):
             s.pop(k, None)
         s["damping"] = phys["H"] * w1 * Ms

@@ -252,6 +252,11 @@ def _base(data: Mapping, base_dir: Union[str, Path, None]) -> tuple:
 
 def _check_compute(compute: tuple, theory: dict, base: dict, kind: str) -> None:
     """What the compute list asks of the base scene's kind."""
+    bodies = [w.get("type") for w in base.get("weights", []) if isinstance(w, Mapping)
+              and w.get("type", "balls") != "balls"]
+    if "theory" in compute and theory.get("side") and bodies:
+        raise SweepSpecError(f"theory.side = true: the side motions of chapter 5 are those of "
+                             f"balls; the base scene carries body weights ({', '.join(bodies)})")
     if "theory" not in compute or kind == "planar":
         return
     if kind == "book":

@@ -198,8 +198,14 @@ def structure_theory_rows(rows: list, scenes: list, opts: dict) -> None:
             ranges = doc["engineering_criterion"]
             working = all(any(a <= speed_hz and (b is None or speed_hz <= b)
                               for a, b in ranges[p]["working_ranges_hz"]) for p in ranges)
-            row["theory.main_stable"] = bool(working and sc.n_weights)
-            row["theory.stable_motions"] = "main" if row["theory.main_stable"] else ""
+            if sc.bodies and not sc.n_weights:
+                # the engineering criterion (2.15) is that of point weights; a body weight's
+                # main motion needs its own theory (stand theory on the scene)
+                row["theory.main_stable"] = None
+                row["theory.stable_motions"] = ""
+            else:
+                row["theory.main_stable"] = bool(working and sc.n_weights)
+                row["theory.stable_motions"] = "main" if row["theory.main_stable"] else ""
             row["theory.natural_frequencies_hz"] = dumps(doc["natural_frequencies_hz_at_rest"])
             if opts.get("critical_speeds", True):
                 main = ranges.get(sc.main_plane) or next(iter(ranges.values()))

@@ -1,0 +1,227 @@
+"""Runner of the stress cases on scenes with body weights: kind ``body_scene`` of ``stand stress``.
+
+A ``body_scene`` case names a scene file (``params.path``, any form: the
+planar rotor or a ``[structure]`` rotor) whose ``[[weights]]`` carry body
+weights (two-axis pendulum, coupled pair, damper, liquid float, liquid chamber;
+:mod:`stand.rotors.bodies_scene`), optionally shortened (``params.duration``)
+or run at other tolerances.  It runs on the generic compiled kernel
+(:func:`stand.simulate.simulate`) and is judged by one of three checks:
+
+* ``runup_closed_form`` -- the planar rotor with one liquid whose centre of
+  mass follows the shaft at once (paper 001's float, or a chamber without
+  relaxation) is model M1 of paper 001 itself (``psi = M / (M + m lambda)``):
+  run up at constant acceleration from the stationary whirl, the shaft must
+  follow the closed form (Fresnel integrals undamped, Faddeeva damped;
+  :func:`stand.accuracy.runup_params`) up to the programme's last node; error
+  ``max |r - r_exact| / max |r_exact|`` and, undamped, the drift of the free-whirl
+  amplitude ``|c+|`` left after the passage.  A float that touches the chamber
+  wall (``max |r| > r1 - r2``) is outside the model.
+* ``steady_theory`` -- the planar rotor with one tilting weight or damper
+  (the book's stand, :func:`stand.balancers.composition.book_params`) held at
+  its last speed over the last 30 % of the run: the residual unbalance of the
+  plane (truth, rotor frame) divided by the rotor's unbalance ``M e`` at the end
+  against the theory's stable main motions (ch. 6 (6.40): efficiency ``n`` of
+  :func:`stand.balancers.two_axis_steady.steady_motions`; ch. 7.1 (7.7): 0, or
+  ``(e0 - 1) / e0`` above capacity; ch. 7.2 (7.54):
+  :func:`stand.balancers.damper_steady.efficiency` of the stable main motions;
+  without gravity 0).  The error is the distance to the nearest stable main
+  motion; the drift is the spread of that ratio over the last 30 %.
+* ``reference`` -- the run against itself at ``reference_rtol``.
+
+Units: SI (the dimensionless book parameters only inside the oracle).
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from .stress_catalogue import CatalogueError
+from .stress_planar import _reference, _run_planar, rel_max, scene_path
+
+__all__ = ["BODY_CHECKS", "kind_body_scene", "load_body_scene"]
+
+#: the checks of kind ``body_scene``
+BODY_CHECKS = ("runup_closed_form", "steady_theory", "reference")
+#: fraction of the run at its end that must be steady (check ``steady_theory``)
+STEADY_TAIL = 0.3
+
+
+def load_body_scene(case):
+    """The case's scene with the overrides of its params (duration, tolerances, method).
+
+    Raises
+    ------
+    CatalogueError
+        The scene file is invalid, or it carries no body weight.
+    """
+    from ..scene import SceneError
+    from ..scene_file import load_scene
+
+    p = case["params"]
+    try:
+        scene = load_scene(scene_path(case))
+    except SceneError as exc:
+        raise CatalogueError(f"case {case['name']!r}: field params.path: {exc}") from None
+    if not scene.bodies:
+        raise CatalogueError(f"case {case['name']!r}: field params.path: the scene has no body "
+                             "weight ([[weights]] of type two_axis_pendulum, coupled_pair, damper, "
+                             "liquid_float or liquid_chamber); use kind 'scene_file'")
+    run = scene.run
+    rtol = p["rtol"] or run.rtol
+    atol = p["atol"] or (p["rtol"] * 1e-2 if p["rtol"] else run.atol)
+    return dataclasses.replace(scene, run=dataclasses.replace(
+        run, rtol=rtol, atol=atol, method=p["method"], duration=p["duration"] or run.duration))
+
+
+def _shaft_velocity(tr):
+    """Velocity d(x + i y)/dt [m/s] of the main plane of a generic-kernel run, from its state."""
+    from ..rotors.coupled import build_model, samples_si
+
+    sc = tr.scene
+    model = build_model(sc.linear_rotor(), sc.weights, sc.drive.programme, bodies=sc.bodies)
+    qd = samples_si(model, tr.state, tr.t * model.omega_ref)[2]
+    v = qd @ model.rotor.planes[tr.main_plane].T
+    return v[:, 0] + 1j * v[:, 1]
+
+
+def _runup(scene, tr, res) -> list:
+    from ..accuracy import runup_params
+    from ..balancers.runup_closed_form import free_whirl_amplitudes, runup_closed_form_state
+    from ..rotors.bodies import LiquidWeight
+
+    invalid = []
+    ru = runup_params(scene)
+    if ru is None:
+        invalid.append("the closed-form run-up needs the planar rotor with one liquid lever (float, "
+                       "or chamber without relaxation), isotropic supports, a two-node speed "
+                       "programme (constant acceleration) and the stationary whirl as initial state "
+                       "(stand.accuracy.runup_params); none applies")
+        res.update(oracle="none (closed form not applicable)", error_measure="")
+        return invalid
+    prm, t_end = ru
+    t = tr.t
+    valid = t <= t_end
+    Z, Zd = runup_closed_form_state(prm, np.where(valid, t, 0.0))
+    z = tr.x + 1j * tr.y
+    err = rel_max(np.where(valid, z, 0), np.where(valid, Z, 0))
+    res.update(oracle=(f"closed-form run-up of paper 001's model M1 with psi = {prm.psi:.6g} "
+                       f"(critical speed {prm.Omega:.6g} rad/s; "
+                       + ("Fresnel integrals" if prm.n == 0 else "Faddeeva function")
+                       + f"), {2 * prm.epsilon:g} rad/s^2 from {prm.omega_0:g} rad/s up to "
+                       f"t = {t_end:g} s"),
+               error=err, error_measure="max |r - r_exact| / max |r_exact| [-]", reference_error=0.0)
+    revs = float(tr.rotor_angle[-1] / (2 * math.pi)) if len(t) else 0.0
+    res["details"].update(revolutions=revs, psi=prm.psi, critical_speed_rad_s=prm.Omega,
+                          max_whirl_m=float(np.max(np.abs(z))) if len(t) else 0.0)
+    if prm.n == 0 and len(t) and valid.any():
+        k = int(np.nonzero(valid)[0][-1])
+        v = _shaft_velocity(tr)
+        c_num = free_whirl_amplitudes(prm, t[k:k + 1], z[k:k + 1], v[k:k + 1])[0][0]
+        c_ref = free_whirl_amplitudes(prm, t[k:k + 1], Z[k:k + 1], Zd[k:k + 1])[0][0]
+        res.update(conserved_quantity="free-whirl amplitude |c+| after the passage (undamped)",
+                   drift=float((c_num - c_ref) / c_ref))
+        res["_drift_checked"] = True
+    b = scene.bodies[0].body
+    if isinstance(b, LiquidWeight) and b.kind == "liquid_float" and len(t):
+        top = float(np.max(np.abs(z)))
+        if top > b.gap:
+            invalid.append(f"the shaft offset reached {top:.3g} m > r1 - r2 = {b.gap:.3g} m: the "
+                           "float touched the chamber wall (paper 001 assumes it stays centred in "
+                           "the liquid)")
+    return invalid
+
+
+def _expected_ratios(kind, prm) -> tuple:
+    """(stable main motions' |U| / (M e) [-], description) of the book model ``kind``."""
+    e0 = prm.e0
+    over = max(e0 - 1.0, 0.0) / e0 if e0 > 0 else 0.0
+    if kind == "gravity_pair" or getattr(prm, "R_g", 1.0) == 0.0:
+        return [over], ("main motions (7.7): exact balance" if e0 < 1 else
+                        "main motion above capacity: residual (e0 - 1) S")
+    if kind == "two_axis":
+        from ..balancers.two_axis_steady import steady_motions
+
+        mains = [m for m in steady_motions(prm) if m.kind.startswith("main") and m.stable]
+        return ([float(m.n) for m in mains],
+                "stable main motions of ch. 6, efficiency n (6.40): "
+                + ", ".join(f"{m.kind} n = {m.n:.6g}" for m in mains))
+    from ..balancers.damper_steady import efficiency, is_stable, steady_motions
+
+    mains = [m for m in steady_motions(prm) if m.kind == "main" and is_stable(prm, m)]
+    ns = [float(efficiency(prm, m.u)) for m in mains]
+    return ns, ("stable main motions of ch. 7.2, efficiency (7.54): "
+                + ", ".join(f"motion {m.label} n = {n:.6g}" for m, n in zip(mains, ns)))
+
+
+def _steady(scene, tr, res) -> list:
+    from ..balancers.composition import book_params
+
+    invalid = []
+    bp = book_params(scene)
+    if bp is None or bp[0] not in ("two_axis", "gravity_pair", "damper"):
+        invalid.append("the steady-motion theory needs the planar rotor on isotropic supports "
+                       "with one tilting weight or damper and no balls (the book's stand, "
+                       "stand.balancers.composition.book_params)")
+        res.update(oracle="none (no book model)", error_measure="")
+        return invalid
+    kind, prm = bp
+    prog = scene.drive.programme
+    t = tr.t
+    T = scene.run.duration
+    if scene.drive.kind != "speed" or scene.drive.coast_down_start is not None or (
+            prog[-1, 0] > (1.0 - STEADY_TAIL) * T):
+        invalid.append(f"the speed is not held over the last {STEADY_TAIL:.0%} of the run (the "
+                       f"programme's last node at {prog[-1, 0]:g} s, duration {T:g} s): no steady "
+                       "motion to compare with")
+    expected, what = _expected_ratios(kind, prm)
+    Me = scene.rotor.unbalance
+    if not Me > 0:
+        invalid.append("the rotor has no unbalance (M e = 0): the residual ratio is undefined")
+        res.update(oracle=f"{kind} book model", error_measure="")
+        return invalid
+    ratio = np.abs(tr.residual_unbalance()) / Me
+    if not len(t):
+        return invalid
+    final = float(ratio[-1])
+    tail = ratio[t >= (1.0 - STEADY_TAIL) * t[-1]]
+    spread = float(np.max(tail) - np.min(tail)) if tail.size > 1 else 0.0
+    res["details"].update(book_model=kind, book_params=dataclasses.asdict(prm),
+                          final_residual_ratio=final, expected_ratios=expected,
+                          rotor_unbalance_kg_m=Me)
+    if not expected:
+        invalid.append(f"no stable main motion at R_omega = {prm.R_omega:.6g}: balancing is not "
+                       "predicted")
+        res.update(oracle=f"{kind} book model: {what}", error_measure="")
+        return invalid
+    best = min(expected, key=lambda n: abs(final - n))
+    res.update(oracle=f"{kind} book model at R_omega = {prm.R_omega:.6g}: {what}",
+               error=abs(final - best),
+               error_measure="| |U_end| / (M e) - n | for the nearest stable main motion [-]",
+               conserved_quantity=f"residual unbalance |U| / (M e) over the last {STEADY_TAIL:.0%} "
+                                  "of the run (max - min; steady motion)",
+               drift=spread)
+    res["details"]["matched_ratio"] = best
+    res["_drift_checked"] = True
+    return invalid
+
+
+def kind_body_scene(case, res):
+    """Run a ``body_scene`` case (module docstring); returns its validity violations."""
+    scene = load_body_scene(case)
+    chk = case["check"]
+    tr = _run_planar(case, scene, res)
+    res["details"].update(bodies=[pb.kind for pb in scene.bodies],
+                          structure=scene.structure_type)
+    invalid = []
+    if chk == "runup_closed_form":
+        invalid = _runup(scene, tr, res)
+    elif chk == "steady_theory":
+        invalid = _steady(scene, tr, res)
+    ref = _reference(case, scene, tr, res)
+    if ref is not None and chk != "reference":
+        res["reference_error"] = ref[1]
+    for note in getattr(tr, "notes", ()) or ():
+        invalid.append(f"run note: {note}")
+    return invalid
