@@ -280,17 +280,16 @@ def _cmd_snapshot(args) -> int:
 
 
 def _cmd_experiment(args) -> int:
-    from .experiments import PROGRAMMES, programme
+    from .experiments import PROGRAMMES, not_applicable, programme
     from .instruments.pipeline import run_with_instruments
     from .recording import check_output_path, write_recording
     from .scene_file import load_scene
 
     base = load_scene(args.scene)
     out = check_output_path(args.output)
-    if base.kind != "planar":
-        return _not_applicable("experiment", f"the programmes of tables 4.2-4.6 drive the planar "
-                               f"rotor of chapter 5 in this version; the scene's structure is "
-                               f"{base.structure_type}")
+    why = not_applicable(base, args.programme)
+    if why:
+        return _not_applicable("experiment", why)
     p = args.programme
     # the builders' arguments (stand.experiments.PROGRAMMES) from the command's flags
     opts = dict(speed=args.speed, rate=args.rate, hold=args.hold, band=args.band,
