@@ -103,13 +103,19 @@ def _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy):
     return mu * N * l * x / math.sqrt(1.0 + x * x)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy")
 def solve_small(buf, oA, of, ox, n):
     """Solve ``A x = f`` held in the flat buffer (A row-major at ``oA``, f at ``of``, x
     written at ``ox``; A and f overwritten): Gaussian elimination with partial pivoting
     for n <= 12 -- at these sizes LAPACK's call and copy overhead (np.linalg.solve)
     costs more than the arithmetic, inside a right-hand side called millions of times --
     and np.linalg.solve above.  A singular A gives non-finite x (the integrator stops)."""
+    if n == 2:      # Cramer's rule (the planar rotor, the liquid's paper-001 stand)
+        a, b, c, d = buf[oA], buf[oA + 1], buf[oA + 2], buf[oA + 3]
+        det = a * d - b * c
+        buf[ox] = (d * buf[of] - b * buf[of + 1]) / det
+        buf[ox + 1] = (a * buf[of + 1] - c * buf[of]) / det
+        return
     if n > 12:
         x = np.linalg.solve(buf[oA:oA + n * n].copy().reshape((n, n)), buf[of:of + n].copy())
         for i in range(n):
