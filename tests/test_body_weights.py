@@ -351,3 +351,35 @@ def test_theory_of_a_body_scene_holds_the_book_model(tmp_path, capsys):
     ov = wm["optimal_volume"]
     assert ov["D0_kg_m"] == pytest.approx(3.0 * 2e-4, rel=1e-12)
     assert wm["liquid_choice"]["chosen"]
+
+
+@pytest.mark.parametrize("kind", ["two_axis", "gravity_pair", "damper"])
+def test_book_steady_motions_are_equilibria_of_the_derived_rotating_form(kind):
+    """The books' steady motions ((6.12) steady states, (7.6), (7.51)) are equilibria of
+    the rotating-frame form derived from the one fixed-frame composition
+    (stand.rotors.bodies_rotating) to 1e-10."""
+    from stand.balancers import damper_steady, gravity_pair_steady, two_axis_steady
+    from stand.rotors.bodies_rotating import rotating_rhs
+
+    p = CASES[kind]
+    comp = composition(kind, p, 1.0)
+    model = build_model(comp.rotor, (), comp.programme, 1.0, (comp.body,))
+    o, L = model.first_body_state, model.scale[0]
+    if kind == "two_axis":
+        motions = [m.state for m in two_axis_steady.steady_motions(p)]
+    elif kind == "gravity_pair":
+        motions = [m.state for m in gravity_pair_steady.steady_motions(p)]
+    else:
+        motions = [m.state(p.R_omega) for m in damper_steady.steady_motions(p)]
+    assert motions
+    for s in motions:
+        z = np.zeros(model.size)
+        if kind == "damper":     # [xi, eta, xi', eta', n (3), W (3)], rotating components
+            z[0], z[1] = s[0] / L, s[1] / L
+            z[o:o + 3] = s[4:7]
+            z[o + 3:o + 6] = s[7:10]
+        else:                    # [phi, psi, xi, eta, ...] at rest in the rotating frame
+            z[0], z[1] = s[2] / L, s[3] / L
+            z[o], z[o + 1] = s[0], s[1]
+        dz = rotating_rhs(model, p.R_omega, z)
+        assert np.max(np.abs(dz)) < 1e-10, (kind, s, dz)
