@@ -403,3 +403,20 @@ def test_bodies_on_the_spatial_rigid_rotor():
     rotor_u = sum(u.s * np.exp(1j * u.angle) for u in sc.linear_rotor().unbalances
                   if u.plane == "balancer1")
     assert np.allclose(U[:, 0] + 1j * U[:, 1], rotor_u + (d_p + d_l) * e, atol=1e-15)
+
+
+@pytest.mark.parametrize("kind,table", [
+    ("two_axis_pendulum", "{ R_m = 0.02, R_rho = 0.7, R_g = 0.4, h1 = 0.1, h2 = 0.2 }"),
+    ("damper", "{ R_m = 0.02, R_g = 0.3, h = 0.25 }")])
+def test_dimensionless_sugar_round_trips(tmp_path, kind, table):
+    """The book's dimensionless form of a body weight (with its SI mass and arm) gives back
+    the same book parameters (composition.book_params)."""
+    from stand.balancers.composition import book_params
+
+    p = tmp_path / "d.toml"
+    p.write_text(SCENE.format(weights=f'type = "{kind}"\nmass = 0.1\narm = 0.03\n'
+                                      f'dimensionless = {table}'))
+    _, bp = book_params(stand.load(p))
+    want = dict(x.split("=") for x in table.strip("{} ").replace(" ", "").split(","))
+    for k, v in want.items():
+        assert getattr(bp, k) == pytest.approx(float(v), rel=1e-12), k
