@@ -407,6 +407,11 @@ def _cmd_strobe(args) -> int:
     return 0
 
 
+def _cmd_influence(args) -> int:
+    from .influence import cli_influence
+    return cli_influence(args.recordings, args.trial, args.sensors, as_json=args.json)
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .scene import METHODS
 
@@ -529,6 +534,12 @@ def build_parser() -> argparse.ArgumentParser:
     sb.add_argument("-o", "--output", required=True, help="CSV to write")
     sb.add_argument("--weights", type=int, default=None, help="number of weights (default: detect)")
     sb.set_defaults(func=_cmd_strobe)
+    fi = sub.add_parser("influence", help="influence-coefficient balancing: a reference and one trial-weight run per plane")
+    fi.add_argument("recordings", nargs="+", metavar="RUN", help="reference recording, then one trial recording per --trial")
+    fi.add_argument("--trial", action="append", required=True, help="trial weight PLANE:MASS_G:ANGLE_DEG:RADIUS_MM (repeat)")
+    fi.add_argument("--sensors", required=True, help="measurement planes, comma-separated (e.g. probe1,probe2)")
+    fi.add_argument("--json", action="store_true", help="print the result as JSON")
+    fi.set_defaults(func=_cmd_influence)
     for sp in sub.choices.values():
         if not any("--force" in a.option_strings for a in sp._actions):
             sp.add_argument("--force", action="store_true",

@@ -24,15 +24,15 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass
-from typing import Optional, Sequence, Union
+from typing import Optional, Sequence
 
 import numpy as np
 
 from dsp.influence import InfluenceBalance, influence_balance
-from dsp.unbalance import SynchronousComponent, synchronous_component
+from dsp.unbalance import synchronous_component
 
 __all__ = ["TrialWeight", "parse_trial", "steady_window", "run_phasors",
-           "influence_from_recordings", "model_correction"]
+           "influence_from_recordings", "model_correction", "format_result", "cli_influence"]
 
 
 @dataclass(frozen=True)
@@ -72,7 +72,8 @@ def _load(run, what):
     if isinstance(run, (str, os.PathLike)):
         from .api import read
 
-        return read(run), f"{what} {os.fspath(run)!r}"
+        name = f"{os.fspath(run)!r}"
+        return read(run), what if name in what else f"{what} {name}"
     return run, what
 
 
@@ -201,3 +202,36 @@ def model_correction(scene, planes: Sequence[str]) -> np.ndarray:
         out[j] = -sum(u.s * complex(math.cos(u.angle), math.sin(u.angle))
                       for u in rotor.unbalances if u.plane == p)
     return out
+
+
+def format_result(res: InfluenceBalance) -> str:
+    """The text the CLI prints: one line per correction plane, then the sensors."""
+    lines = [f"influence-coefficient balancing at {res.speed_rad_s / (2 * math.pi):.6g} rev/s "
+             f"(condition number of A {res.condition:.3g})"]
+    for j, p in enumerate(res.planes):
+        lines.append(f"  {p}: correction {res.mass_g[j]:.5g} +- {res.mass_std_g[j]:.2g} g at "
+                     f"{res.angle_deg[j]:.2f} +- {res.angle_std_deg[j]:.2g} deg, radius "
+                     f"{res.radius_m[j] * 1e3:.4g} mm ({res.correction_gmm[j]:.5g} g*mm)")
+    for i, s in enumerate(res.sensors):
+        v = res.reference_m[i]
+        lines.append(f"  sensor {s}: 1X {abs(v) * 1e6:.4g} um at "
+                     f"{math.degrees(math.atan2(v.imag, v.real)) % 360:.1f} deg, after correction "
+                     f"(predicted) {abs(res.residual_m[i]) * 1e6:.2g} um")
+    return "\n".join(lines)
+
+
+def cli_influence(recordings: Sequence[str], trials: Sequence[str], sensors: str,
+                  as_json: bool = False) -> int:
+    """``stand influence REF TRIAL1 TRIAL2 ... --trial ... --sensors a,b [--json]``."""
+    recordings = list(recordings)
+    if len(recordings) < 2:
+        raise ValueError("give the reference recording and one trial recording per --trial")
+    res = influence_from_recordings(recordings[0], recordings[1:], list(trials),
+                                    [s.strip() for s in sensors.split(",") if s.strip()])
+    if as_json:
+        from .io.jsonable import dumps
+
+        print(dumps(res.to_dict(), indent=2))
+    else:
+        print(format_result(res))
+    return 0
