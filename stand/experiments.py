@@ -19,7 +19,7 @@ Orientation changes (gravity direction, table 4.6) need the rotor models with
 gravity (the rotor-family issue); the planar vertical-axis model has none.
 
 Body weights (two-axis pendulum, coupled pair, damper, liquids in ``[[weights]]``
-of a planar scene) run on the generic kernel, which takes a speed programme
+of a planar scene) and every ``[structure]`` rotor run on the generic kernel, which takes a speed programme
 and an initial state but no perturbations: ``constant``, ``run-up``,
 ``run-down`` (the exponential coast-down as a piecewise-linear programme of
 :data:`EXP_NODES` nodes, relative error below 1e-4) and ``natural-frequency``
@@ -62,7 +62,19 @@ class NotApplicable(ValueError):
 
 
 def _f0(scene: Scene) -> float:
-    return scene.natural_frequency / TWO_PI
+    """f0 [Hz]: (5.12) on the planar rotor; the lowest natural frequency of the structure
+    with its weights locked otherwise."""
+    if scene.kind == "planar":
+        return scene.natural_frequency / TWO_PI
+    from .rotors.coupled import with_locked_weights
+
+    wn = with_locked_weights(scene.linear_rotor(), scene.weights,
+                             scene.bodies).natural_frequencies(0.0)
+    wn = wn[wn > 0]
+    if not wn.size:
+        raise SceneError("the structure has no natural frequency at rest (no stiffness): "
+                         "give the programme a --speed")
+    return float(wn[0]) / TWO_PI
 
 
 def _positive(name, value, unit):
@@ -111,7 +123,7 @@ def run_down(scene: Scene, speed: float, time: float = 175.0, exponential: bool 
     """
     speed = _positive("speed", speed, "rev/s")
     time = _positive("time", time, "s")
-    if exponential and scene.bodies:
+    if exponential and (scene.bodies or scene.kind != "planar"):
         # the generic kernel has no coast-down law: the exponential as a programme
         tk = np.linspace(0.0, time, EXP_NODES + 1)
         rows = [[0.0, speed]] + [[settle + t, speed * math.exp(-5.0 * t / time)] for t in tk]
@@ -154,7 +166,7 @@ def pressure(scene: Scene, speed: float, start: float, end: float, force: float,
 
 def natural_frequency(scene: Scene, deflection: float, periods: float = 5.0) -> Scene:
     """The photo-gate test: not spinning, shaft released from ``deflection`` [m] along x."""
-    T = TWO_PI / scene.natural_frequency
+    T = 1.0 / _f0(scene)
     run = dataclasses.replace(scene.run, sample_rate=max(scene.run.sample_rate, 400.0 / T))
     sc = _with(scene, [[0.0, 0.0]], periods * T, initial=InitialState(x=float(deflection)))
     return dataclasses.replace(sc, run=run)
@@ -182,9 +194,13 @@ def not_applicable(scene: Scene, name: str):
     The programmes drive the planar rotor of chapter 5; with body weights it runs on
     the generic kernel, which carries out no perturbation (:data:`GENERIC_KERNEL_WHY`).
     """
-    if scene.kind != "planar":
-        return (f"the programmes of tables 4.2-4.6 drive the planar rotor of chapter 5 in this "
-                f"version; the scene's structure is {scene.structure_type}")
+    if scene.kind == "book":
+        return ("a [weight_model] scene is the book's model in its own units; write the stand as "
+                "an SI scene with the body weight (data_samples/scenes/body_*.toml) to run the "
+                "programmes of tables 4.2-4.6")
+    if scene.kind == "rotor" and name in GENERIC_KERNEL_WHY:
+        return (f"programme {name} on a {scene.structure_type} rotor: "
+                f"{GENERIC_KERNEL_WHY[name].replace('that runs body weights', 'of the rotor family')}")
     if scene.bodies and name in GENERIC_KERNEL_WHY:
         kinds = ", ".join(dict.fromkeys(pb.kind for pb in scene.bodies))
         return (f"programme {name} on a scene with body weights ({kinds}): "
@@ -196,9 +212,10 @@ def programme(scene: Scene, name: str, **options) -> Scene:
     """The scene of experiment programme ``name`` (:data:`PROGRAMMES`) on the stand ``scene``.
 
     ``options`` are the builder's arguments by name (None = not given); a missing required
-    one raises ValueError naming it.  Only the planar rotor of chapter 5 runs the
-    programmes in this version, and with body weights only those without a perturbation
-    (:class:`NotApplicable`, a ValueError, otherwise, with the reason: :func:`not_applicable`).
+    one raises ValueError naming it.  The planar rotor runs every programme; with body
+    weights, and on every ``[structure]`` rotor (the generic kernel), only those without a
+    perturbation (:class:`NotApplicable`, a ValueError, otherwise, with the reason:
+    :func:`not_applicable`).
     """
     from .scene_file import check_derived
 
@@ -213,4 +230,10 @@ def programme(scene: Scene, name: str, **options) -> Scene:
         raise ValueError(f"programme {name}: {', '.join(missing)} required")
     kw = {k: options[k] for k in required}
     kw.update({k: options[k] if options.get(k) is not None else d for k, d in optional.items()})
-    return check_derived(build(scene, **kw))
+    sc = build(scene, **kw)
+    if sc.kind == "planar":
+        return check_derived(sc)
+    from .rotors.scene import _check_cycles
+
+    _check_cycles(sc.linear_rotor(), sc.run, sc.drive.programme)
+    return sc

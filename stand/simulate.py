@@ -223,9 +223,14 @@ def _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoi
     ts_rec = sample_times(run.duration, run.sample_rate) * w
     ts, rec_idx, ex_idx = _merge_times(ts_rec, extra_times, run.duration, w)
     q0 = qd0 = None
+    ini = scene.initial
     if scene.kind == "planar":
-        q0 = [scene.initial.x, scene.initial.y]
-        qd0 = [scene.initial.vx, scene.initial.vy]
+        q0 = [ini.x, ini.y]
+        qd0 = [ini.vx, ini.vy]
+    elif any((ini.x, ini.y, ini.vx, ini.vy)):
+        # the main plane's displacement and velocity: the least-norm coordinates giving them
+        Tp = np.linalg.pinv(rotor.planes[scene.main_plane])
+        q0, qd0 = Tp @ [ini.x, ini.y], Tp @ [ini.vx, ini.vy]
     y0 = generic_initial(model, weights, q0, qd0)
     out = np.full((ts.size, model.size), np.nan)
     out[0] = y0
