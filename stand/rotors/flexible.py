@@ -183,13 +183,22 @@ def shaft_working_ranges(a: float, length: float, mass_per_length: float, EJ: fl
     The critical speeds are the sign changes of (2.165): the resonances w_j whose
     mode has no node at a, plus one speed w_j* in (w_j, w_{j+1}) after each.
     Exact closed form by default, or the J-mode truncation (``n_modes``).  ``lo``
-    defaults to ``w_1 / 10``.  Returns the format of
+    defaults to ``w_1 / 10``.  The poles w_j are bracketed exactly and each zero is
+    root-found, so no gap narrower than the grid spacing is stepped over.  Returns the format of
     :func:`stand.rotors.structure.working_ranges`.
     """
     w1 = shaft_natural_frequencies(length, mass_per_length, EJ, 1)[0]
     lo = 0.1 * w1 if lo is None else float(lo)
     f = lambda w: shaft_criterion(w, a, length, mass_per_length, EJ, n_modes)   # noqa: E731
-    crit = sign_changes(f, lo, hi, n)
+    # the poles: every natural frequency in the scan (a mode with a node exactly at a
+    # has no pole; sampling around it does no harm).  A mode with a node *near* a has a
+    # tiny residue, so the zero after its pole lies very close to it: bracketing the
+    # pole is what keeps such a narrow gap (issue 17 part 6).  Between two poles the
+    # receptance is increasing in w^2 (a sum of positive residues over w_j^2 - w^2),
+    # so there is at most one zero there and the sign check at the samples finds it.
+    J = n_modes if n_modes is not None else int(math.sqrt(hi / w1)) + 1
+    crit = sign_changes(f, lo, hi, n, poles=shaft_natural_frequencies(length, mass_per_length,
+                                                                      EJ, J))
     edges = np.concatenate([[lo], crit, [hi]])
     ranges = []
     for x0, x1 in zip(edges[:-1], edges[1:]):

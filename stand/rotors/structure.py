@@ -44,7 +44,8 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-__all__ = ["LinearRotor", "Unbalance", "working_ranges", "sign_changes"]
+__all__ = ["LinearRotor", "Unbalance", "working_ranges", "sign_changes", "synchronous_poles",
+           "criterion_matrices", "generalised_working_ranges"]
 
 
 @dataclass(frozen=True)
@@ -218,25 +219,83 @@ class LinearRotor:
         return np.array([self.natural_frequencies(w) for w in np.atleast_1d(speeds)])
 
 
-def sign_changes(f, lo: float, hi: float, n: int = 20000, xtol: float = 1e-13):
-    """Points in (lo, hi) where the sign of f changes (zeros and poles alike),
-    found on a geometric grid of n points and refined by bisection on the sign."""
+#: relative offset of the samples taken on either side of a pole (a synchronous critical speed)
+POLE_OFFSET = 1e-10
+
+
+def synchronous_poles(rotor: LinearRotor, lo: float = 0.0, hi: float = math.inf) -> np.ndarray:
+    """Speeds w [rad/s] in (lo, hi) where the undamped synchronous dynamic stiffness
+    ``K - w^2 (M - i G)`` is singular: the poles of the criterion's receptance
+    (the natural frequencies at synchronous whirl; D is left out, so for a damped
+    rotor these are where the criterion is steepest).  Sorted, duplicates (the x / y
+    pair of an isotropic rotor) merged to 1e-9 relative."""
+    from scipy import linalg
+
+    x = linalg.eigvals(rotor.K.astype(complex), rotor.M - 1j * rotor.G)
+    x = x[np.isfinite(x)]
+    x = x[(np.abs(x.imag) <= 1e-8 * np.abs(x)) & (x.real > 0)].real
+    w = np.sort(np.sqrt(x))
+    w = w[(w > lo) & (w < hi)]
+    out = []
+    for v in w:
+        if not out or v > out[-1] * (1 + 1e-9):
+            out.append(float(v))
+    return np.array(out)
+
+
+def _samples(lo: float, hi: float, n: int, poles) -> tuple:
+    """The scan's points: a geometric grid of n points over [lo, hi] and each pole's
+    two sides ``P (1 -+ POLE_OFFSET)``; returns (points, index of the pole each
+    point's right-hand interval straddles or -1)."""
+    poles = [float(p) for p in np.atleast_1d(np.asarray(poles, dtype=float)) if lo < p < hi]
     x = np.geomspace(lo, hi, n)
-    v = np.sign(f(x))
+    for p in poles:
+        x = x[np.abs(x - p) > 2 * POLE_OFFSET * p]
+    x = np.sort(np.concatenate([x, [p * (1 - POLE_OFFSET) for p in poles],
+                                [p * (1 + POLE_OFFSET) for p in poles]]))
+    straddle = np.full(x.size, -1)
+    for k, p in enumerate(poles):
+        i = int(np.searchsorted(x, p)) - 1
+        straddle[i] = k
+    return x, np.array(poles), straddle
+
+
+def sign_changes(f, lo: float, hi: float, n: int = 20000, xtol: float = 1e-13, poles=()):
+    """Points in (lo, hi) where the sign of f changes (zeros and poles alike).
+
+    ``poles`` [same unit as lo, hi]: the points where f blows up (a pole of the
+    receptance, :func:`synchronous_poles`).  They are sampled on both sides
+    (``P (1 -+ 1e-10)``), so a sign change at a pole is reported as the pole itself
+    and a zero between a pole and the next grid point is not stepped over (a fixed
+    grid alone misses a narrow gap next to a pole whose mode has a node near the
+    plane, issue 17 part 6).  Every other sign change between consecutive samples is
+    refined by Brent's method on f (continuous there) to ``xtol`` relative."""
+    from scipy.optimize import brentq
+
+    x, P, straddle = _samples(lo, hi, n, poles)
+    fx = np.asarray(f(x), dtype=float)
+    v = np.sign(fx)
     out = []
     for k in np.nonzero(v[:-1] * v[1:] < 0)[0]:
         a, b = x[k], x[k + 1]
-        sa = v[k]
-        while b - a > xtol * b:
-            m = 0.5 * (a + b)
-            sm = np.sign(f(np.array([m]))[0])
-            if sm == 0 or not np.isfinite(sm):
-                break
-            if sm == sa:
-                a = m
-            else:
-                b = m
-        out.append(0.5 * (a + b))
+        if straddle[k] >= 0:
+            out.append(float(P[straddle[k]]))
+            continue
+        try:
+            out.append(brentq(lambda w: float(np.asarray(f(np.array([w])), float)[0]), a, b,
+                              xtol=1e-300, rtol=max(xtol, 4 * np.finfo(float).eps), maxiter=500))
+        except (ValueError, RuntimeError):      # f not finite inside: bisection on the sign
+            sa = v[k]
+            while b - a > xtol * b:
+                m = 0.5 * (a + b)
+                sm = np.sign(f(np.array([m]))[0])
+                if sm == 0 or not np.isfinite(sm):
+                    break
+                if sm == sa:
+                    a = m
+                else:
+                    b = m
+            out.append(0.5 * (a + b))
     return np.array(out)
 
 
@@ -244,15 +303,108 @@ def working_ranges(rotor: LinearRotor, plane: str, lo: float, hi: float, n: int 
     """Critical speeds [rad/s] and the working ranges of a balancer in ``plane``
     by the engineering criterion over (lo, hi).
 
+    The receptance's poles (:func:`synchronous_poles`) are bracketed exactly and
+    each other sign change is root-found (:func:`sign_changes`).
     Returns ``(critical_speeds, ranges)``; ranges is a list of (start, end)
     pairs with ``end = inf`` when the last range reaches ``hi``.
     """
     f = lambda w: rotor.criterion(w, plane)        # noqa: E731
-    crit = sign_changes(f, lo, hi, n)
+    crit = sign_changes(f, lo, hi, n, poles=synchronous_poles(rotor, lo, hi))
     edges = np.concatenate([[lo], crit, [hi]])
     ranges = []
     for a, b in zip(edges[:-1], edges[1:]):
         mid = math.sqrt(a * b)
         if f(np.array([mid]))[0] < 0:
             ranges.append((float(a), math.inf if b == hi else float(b)))
+    return crit, ranges
+
+
+def criterion_matrices(rotor: LinearRotor, omegas, planes: Sequence[str]) -> np.ndarray:
+    """:meth:`LinearRotor.criterion_matrix` at every speed of ``omegas`` [rad/s] at once:
+    shape (N, 2k, 2k).  A speed where the dynamic stiffness is singular gives nan."""
+    om = np.atleast_1d(np.asarray(omegas, dtype=float))
+    Tm = np.vstack([rotor.planes[p] for p in planes])            # (2k, n)
+    Fm = np.vstack([rotor.force_map(p) for p in planes])
+    k = len(planes)
+    H = (rotor.K[None] - (om ** 2)[:, None, None] * rotor.M[None]
+         + 1j * om[:, None, None] * (rotor.D[None] + om[:, None, None] * rotor.G[None]))
+    # right-hand sides: unit unbalance along xi (angle 0) and eta (pi/2) of each plane
+    rhs = np.zeros((rotor.n, 2 * k), complex)
+    for b in range(k):
+        base = Fm[2 * b:2 * b + 2].T @ np.array([1.0, -1j])
+        rhs[:, 2 * b] = base
+        rhs[:, 2 * b + 1] = 1j * base
+    Q = np.full((om.size, 2 * k, 2 * k), np.nan)
+    for i in range(om.size):
+        try:
+            R = Tm @ np.linalg.solve(H[i], rhs) * om[i] ** 2         # (2k, 2k) complex
+        except np.linalg.LinAlgError:
+            continue
+        X, Y = R[0::2], R[1::2]
+        q = np.empty((2 * k, 2 * k))
+        q[0::2] = 0.5 * (X + 1j * Y).real
+        q[1::2] = 0.5 * (Y - 1j * X).real
+        Q[i] = 0.5 * (q + q.T)
+    return Q
+
+
+def _positive_count(rotor, planes, om) -> np.ndarray:
+    """Number of eigenvalues >= 0 of the criterion matrix at each speed (0: the
+    generalised criterion holds); a singular speed counts as -1 (unknown)."""
+    Q = criterion_matrices(rotor, om, planes)
+    out = np.full(Q.shape[0], -1)
+    ok = np.all(np.isfinite(Q), axis=(1, 2))
+    if ok.any():
+        out[ok] = np.sum(np.linalg.eigvalsh(Q[ok]) >= 0.0, axis=1)
+    return out
+
+
+def generalised_working_ranges(rotor: LinearRotor, planes: Sequence[str], lo: float, hi: float,
+                               n: int = 4000, xtol: float = 1e-13):
+    """Generalised criterion (paper 003 (1)/(24)-(26); for two distinct planes of a rigid
+    rotor: K_xi and K_eta negative definite) over (lo, hi) [rad/s].
+
+    Returns ``(critical_speeds, ranges)`` as :func:`working_ranges`: the critical speeds
+    are every speed where an eigenvalue of :meth:`LinearRotor.criterion_matrix` changes
+    sign (the count of non-negative eigenvalues changes), the ranges where the matrix
+    is negative definite.  The poles (:func:`synchronous_poles`) are bracketed on both
+    sides (the count changes there through infinity: for two planes of a rigid rotor the
+    onsets are the critical speeds (40)-(41) themselves); every other change of the count
+    between samples is located by bisection on the count to ``xtol`` relative (several
+    eigenvalues crossing between two samples are all found when the count is monotone
+    there, as it is between poles for an undamped rotor with M - iG positive definite).
+    """
+    planes = list(planes)
+    x, P, straddle = _samples(lo, hi, n, synchronous_poles(rotor, lo, hi))
+    cnt = _positive_count(rotor, planes, x)
+    count = lambda w: int(_positive_count(rotor, planes, np.array([w]))[0])   # noqa: E731
+
+    def jumps(a, ca, b, cb):
+        if ca == cb:
+            return []
+        if b - a <= xtol * b:
+            return [0.5 * (a + b)]
+        m = 0.5 * (a + b)
+        cm = count(m)
+        if cm < 0:                       # a singular speed inside: it is the edge
+            return [m]
+        return jumps(a, ca, m, cm) + jumps(m, cm, b, cb)
+
+    crit = []
+    for k in range(x.size - 1):
+        if cnt[k] == cnt[k + 1] or cnt[k] < 0 or cnt[k + 1] < 0:
+            continue
+        if straddle[k] >= 0:
+            crit.append(float(P[straddle[k]]))
+        else:
+            crit += jumps(x[k], cnt[k], x[k + 1], cnt[k + 1])
+    crit = np.array(sorted(crit))
+    edges = np.concatenate([[lo], crit, [hi]])
+    ranges = []
+    for a, b in zip(edges[:-1], edges[1:]):
+        if count(math.sqrt(a * b)) == 0:
+            if ranges and ranges[-1][1] == a:          # an eigenvalue crossing inside a
+                ranges[-1] = (ranges[-1][0], math.inf if b == hi else float(b))  # working range
+            else:                                      # cannot happen (count 0 on both sides)
+                ranges.append((float(a), math.inf if b == hi else float(b)))
     return crit, ranges
