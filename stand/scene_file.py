@@ -401,8 +401,15 @@ def _perturbations(items: Any, rotor: Rotor, duration: float) -> tuple:
     return tuple(out)
 
 
-def _instruments(t: _Table) -> dict:
-    """Parse ``[instruments.<name>]`` tables with each instrument's own validator."""
+def _instruments(t: _Table, planes=("balancer",), kind: str = "planar") -> dict:
+    """Parse ``[instruments.<name>]`` tables with each instrument's own validator.
+
+    Shared by every scene form: ``plane`` / ``axial_position`` (where the instrument
+    is attached, :mod:`stand.instruments.placement`) are taken out of each table and
+    checked against the scene's ``planes`` and rotor ``kind``; the rest is the
+    instrument's own settings.
+    """
+    from .instruments.placement import attach, check_placement, split_placement
     from .registry import resolve
 
     out = {}
@@ -411,7 +418,9 @@ def _instruments(t: _Table) -> dict:
             raise SceneError(f"unknown instrument [instruments.{key}]: {_suggest(key, INSTRUMENTS)}"
                              f"valid instruments: {', '.join(INSTRUMENTS)}")
         settings_cls = resolve(INSTRUMENTS, key, f"[instruments.{key}]", "instrument")
-        out[key] = settings_cls.from_table(_Table(value, t.name(key)))
+        value, where = split_placement(value, t.name(key))
+        out[key] = attach(settings_cls.from_table(_Table(value, t.name(key))), where)
+        check_placement(out[key], planes, kind)
     return out
 
 

@@ -32,6 +32,7 @@ import numpy as np
 
 from ..scene import Scene, SceneError
 from ..simulate import Trajectory, simulate
+from .placement import instrument_plane, placement_of, with_axis_planes
 from .rings import scene_capacity
 
 FRAME_COMPRESSION = {"compression": "gzip", "compression_opts": 1, "shuffle": True}
@@ -50,6 +51,60 @@ def _settings_json(settings) -> str:
         return v
     d = dataclasses.asdict(settings) if dataclasses.is_dataclass(settings) else dict(settings)
     return json.dumps({k: plain(v) for k, v in d.items()}, default=str)
+
+
+def plane_view(traj, scene: Scene, settings):
+    """``(view, plane, names)``: the run as the instrument ``settings`` sees it.
+
+    Planar scenes: the run itself (one plane).  Rotor-family scenes: the run whose
+    main plane is the instrument's plane (:func:`stand.instruments.placement.instrument_plane`)
+    -- ``x``, ``y`` and the shaft velocity are that plane's -- and whose scene and weights
+    are those of that plane only (the stroboscope draws the weights of the plane it looks
+    at); the weights are renamed as a scene with that plane's weights only numbers them
+    (``names``: view name -> name in the run).
+    """
+    plane = instrument_plane(scene, settings)
+    if scene.kind != "rotor" or traj is None:
+        return traj, plane, {}
+    from ..result import weight_names
+    from ..scene import Balancer
+    from .timing import shaft_velocity
+
+    full = dataclasses.replace(traj, main_plane=plane, extra=None)
+    pw = tuple(w for w in scene.plane_weights if w.plane == plane)
+    balls = [w for w in pw if hasattr(w, "balancer")]
+    vscene = dataclasses.replace(scene, plane_weights=pw,
+                                 balancer=balls[0].balancer if len(balls) == 1 else Balancer())
+
+    def named(sc):
+        n, p = weight_names(sc.weights)
+        if sc.bodies:
+            from ..rotors.bodies import body_names
+
+            bn, bp = body_names(sc.bodies)
+            n, p = n + bn, p + bp
+        return [nm for nm, pl in zip(n, p) if pl == plane]
+
+    names = dict(zip(named(vscene), named(scene)))
+    view = dataclasses.replace(full, scene=vscene,
+                               weights={new: traj.weights[old] for new, old in names.items()
+                                        if old in traj.weights},
+                               weight_planes={new: plane for new in names})
+    try:
+        view.vx, view.vy = shaft_velocity(full)
+    except ValueError:
+        pass
+    return view, plane, names
+
+
+def _place_attrs(g, plane: str, settings, names=None) -> None:
+    """Where the instrument looks, stored with its output."""
+    g.attrs["plane"] = plane
+    p = placement_of(settings)
+    if p.axial_position is not None:
+        g.attrs["axial_position_m"] = float(p.axial_position)
+    if names and any(k != v for k, v in names.items()):
+        g.attrs["weight_names_in_run"] = json.dumps(names)
 
 
 def _max_speed(scene: Scene) -> float:
@@ -84,9 +139,12 @@ def run_with_instruments(scene: Scene, method: str | None = None, progress: bool
     if not scene.instruments:
         return simulate(scene, method=method, progress=progress, checkpoint=checkpoint,
                         rtol=rtol, atol=atol), None
-    if scene.kind != "planar":
-        raise SceneError(f"[instruments]: attached to the planar rotor only in this version; the "
-                         f"scene's structure is {scene.structure_type}")
+    if scene.kind == "book":
+        raise SceneError(f"[instruments]: not available on a book weight model (the scene's "
+                         f"structure is {scene.structure_type}); write it with [structure] + "
+                         "[[weights]] to attach instruments")
+    if scene.kind == "rotor":   # the instruments' axis points become planes of the run
+        scene = with_axis_planes(scene)
     plan = _screen_plan(scene) if "screen" in scene.instruments else None
     extra = None if plan is None else plan[2].ravel()
     traj = simulate(scene, method=method, progress=progress, extra_times=extra, checkpoint=checkpoint,
@@ -109,6 +167,9 @@ def run_with_instruments(scene: Scene, method: str | None = None, progress: bool
 def write_instruments(f, scene: Scene, traj: Trajectory, plan=None) -> None:
     """Store the output and truth of every instrument of ``scene`` into the open file ``f``."""
     inst = scene.instruments
+    if scene.kind == "rotor" and any(placement_of(s).axial_position is not None
+                                     for s in inst.values()):
+        scene = with_axis_planes(scene)     # (idempotent: the run's scene already has them)
     if "screen" in inst:
         _write_screen(f, scene, traj, plan or _screen_plan(scene))
     if "stroboscope" in inst:
@@ -135,7 +196,10 @@ def write_instruments(f, scene: Scene, traj: Trajectory, plan=None) -> None:
 
         g = f.require_group("instruments/probes")
         g.attrs["settings"] = _settings_json(inst["probes"])
-        _write_dict(g, probe_signals(traj, inst["probes"]),
+        view, plane, _ = plane_view(traj, scene, inst["probes"])
+        if scene.kind == "rotor":
+            _place_attrs(g, plane, inst["probes"])
+        _write_dict(g, probe_signals(view, inst["probes"]),
                     {"time": "s", "signal": "m", "displacement": "m", "runout": "m", "noise": "m",
                      "rotor_angle": "rad", "angles": "rad"})
     _write_truth(f, scene, traj)
@@ -157,7 +221,7 @@ def _write_screen(f, scene: Scene, traj: Trajectory, plan) -> None:
     from .screen import frame_truth, spot_positions
 
     cam, starts, times = plan
-    ex = traj.extra
+    ex, plane, _ = plane_view(traj.extra, scene, cam)
     F, K = times.shape
     n_ok = min(F, ex.t.size // K)  # a run that stopped early renders the frames it has
     shape = (n_ok, K)
@@ -176,6 +240,11 @@ def _write_screen(f, scene: Scene, traj: Trajectory, plan) -> None:
     ds.attrs["units"] = "rad"
     ds.attrs["description"] = "rotor angle (reference mark) at the first exposure sub-sample"
     g.attrs["exposure_s"] = float(cam.exposure)
+    if scene.kind == "rotor":
+        _place_attrs(g, plane, cam)
+        g.attrs["plane_description"] = ("the spot shows this plane's fixed-frame translation "
+                                        "(planes/<plane> of the run; axis@<d>m: the point of "
+                                        "the shaft axis at axial distance d) times the gain")
     frames = g.create_dataset("frames", shape=(n_ok, cam.height, cam.width), dtype=cam.dtype,
                               chunks=(1, cam.height, cam.width), **FRAME_COMPRESSION)
     frames.attrs["units"] = "DN"
@@ -184,7 +253,7 @@ def _write_screen(f, scene: Scene, traj: Trajectory, plan) -> None:
     # calibration rings at the test (operating) speed: zones i S/16, i = 0..20
     test_speed = _max_speed(scene)
     if scene_capacity(scene) > 0 and test_speed > 0:
-        radii = ring_radii(scene, speed=test_speed, cam=cam)
+        radii = ring_radii(scene, speed=test_speed, cam=cam, plane=plane)
         g.attrs["ring_test_speed_rad_s"] = test_speed
         ds = g.create_dataset("ring_radius", data=radii)
         ds.attrs["units"] = "m"
@@ -224,6 +293,8 @@ def _write_strobe(f, scene: Scene, traj: Trajectory) -> None:
     from .stroboscope import drawn_weights, render_strobe_frames
 
     strobe = scene.instruments["stroboscope"]
+    traj, plane, names = plane_view(traj, scene, strobe)
+    scene = getattr(traj, "scene", None) or scene
     speed = np.abs(traj.rotor_speed)
     moving = np.nonzero(speed > 0.1 * max(float(np.max(speed)), 1e-12))[0]
     t_start = float(traj.t[moving[0]]) if moving.size else None
@@ -231,6 +302,8 @@ def _write_strobe(f, scene: Scene, traj: Trajectory) -> None:
     g.attrs["settings"] = _settings_json(strobe)
     g.attrs["description"] = "frames lit by the slot once per revolution; flash times per frame"
     g.attrs["weights"] = json.dumps(drawn_weights(scene, strobe))
+    if scene.kind == "rotor":
+        _place_attrs(g, plane, strobe, names)
     g.attrs["weights_description"] = ("what the frames show of each weight (JSON list): balls "
                                       "and pendulums on their track; body weights as a bob on a "
                                       "rod from the pivot (drawn = pendulum) or a liquid's "
@@ -293,6 +366,7 @@ def _write_photogate(f, scene: Scene, traj: Trajectory) -> None:
 
     gate = scene.instruments["photogate"]
     screen = scene.instruments.get("screen")
+    traj, plane, _ = plane_view(traj, scene, gate)
     gain = getattr(screen, "gain", 1.0)  # the gate sits on the screen: the camera's optical gain
     vx, vy = shaft_velocity(traj)
     X, dX = screen_coordinate(gain * traj.x, gain * traj.y, gain * vx, gain * vy, gate)
@@ -300,6 +374,8 @@ def _write_photogate(f, scene: Scene, traj: Trajectory) -> None:
     g = f.require_group("instruments/photogate")
     g.attrs["settings"] = _settings_json(gate)
     g.attrs["gain"] = float(gain)
+    if scene.kind == "rotor":
+        _place_attrs(g, plane, gate)
     if screen is None:
         g.attrs["gain_note"] = "no [instruments.screen]: spot displacement = shaft displacement (gain 1)"
     for key in ("enter", "leave", "centre"):

@@ -27,8 +27,8 @@ import numpy as np
 from ..scene import (Balancer, InitialState, Rotor, RunSettings, Scene, SceneError,
                      SpeedDrive)
 
-__all__ = ["scene_capacity", "ring_radii", "ring_radii_by_simulation", "calibration_scene",
-           "render_ring_image", "zone_of", "check_spot_size", "ZONES", "PARTS"]
+__all__ = ["scene_capacity", "ring_radii", "family_ring_radii", "ring_radii_by_simulation",
+           "calibration_scene", "render_ring_image", "zone_of", "check_spot_size", "ZONES", "PARTS"]
 
 PARTS = 16                 #: the capacity is divided into 16 parts
 ZONES = range(0, 21)       #: zones 0..20, up to 1.25 S
@@ -70,7 +70,7 @@ def _gain(cam) -> float:
 
 
 def ring_radii(scene: Scene, speed: Optional[float] = None, zones: Iterable[int] = ZONES,
-               cam=None) -> np.ndarray:
+               cam=None, plane: Optional[str] = None) -> np.ndarray:
     """Radius on the screen [m] of the steady spot circle for unbalance i S / 16.
 
     Closed form for the weights locked to the rotor (rigid rotor of mass
@@ -96,11 +96,16 @@ def ring_radii(scene: Scene, speed: Optional[float] = None, zones: Iterable[int]
         i values; default 0..20.
     cam : ScreenCamera, optional
         Supplies the optical ``gain`` (default 1: shaft displacement).
+    plane : str, optional
+        Rotor-family scenes: the plane the screen films (default the main plane);
+        see :func:`family_ring_radii`.
 
     Returns
     -------
     ndarray (len(zones),)
     """
+    if getattr(scene, "kind", "planar") == "rotor":
+        return family_ring_radii(scene, speed, zones, cam, plane)
     S = _capacity(scene)
     w = _speed(scene, speed)
     zones = np.asarray(list(zones), dtype=float)
@@ -113,6 +118,34 @@ def ring_radii(scene: Scene, speed: Optional[float] = None, zones: Iterable[int]
     A = 0.5 * (X + 1j * Y)
     B = 0.5 * (np.conj(X) + 1j * np.conj(Y))
     return _gain(cam) * U * (abs(A) + abs(B))
+
+
+def family_ring_radii(scene: Scene, speed: Optional[float] = None,
+                      zones: Iterable[int] = ZONES, cam=None,
+                      plane: Optional[str] = None) -> np.ndarray:
+    """Ring radii [m] of a rotor-family scene: the steady response of the locked-weights
+    rotor (:func:`stand.rotors.coupled.with_locked_weights`, every weight's mass moving
+    with its plane) to the unbalance i S / 16 in the main plane (where the balancer of
+    capacity S sits), seen in ``plane`` (the screen's; an axis point ``axis@<d>m`` too).
+
+    The steady orbit ``z = A e^{i w t} + B e^{-i w t}`` of the plane is a circle for an
+    isotropic rotor and an ellipse otherwise; the radius is its semi-major axis
+    ``|A| + |B|`` (as the planar closed form).  The phase of the unbalance does not change it.
+    """
+    from ..rotors.coupled import with_locked_weights
+
+    S = _capacity(scene)
+    w = _speed(scene, speed)
+    zones = np.asarray(list(zones), dtype=float)
+    rotor = with_locked_weights(scene.linear_rotor(), scene.weights, scene.bodies)
+    at = plane or scene.main_plane
+    if at not in rotor.planes:
+        raise SceneError(f"calibration rings: plane {at!r} is not a plane of the rotor "
+                         f"({', '.join(rotor.planes)})")
+    X, Y = rotor.unbalance_response(w, scene.main_plane, s=1.0, at=at)
+    A = 0.5 * (X + 1j * Y)
+    B = 0.5 * (np.conj(X) + 1j * np.conj(Y))
+    return _gain(cam) * zones * S / PARTS * float(abs(A) + abs(B))
 
 
 def calibration_scene(scene: Scene, unbalance: float, speed: float, duration: float,

@@ -61,7 +61,7 @@ ROTOR_TYPES = {
     "flexible": ("stand.rotors.flexible:flexible_shaft", "2.8"),
     "platform": ("stand.rotors.platform:platform_rotor", "paper 004"),
 }
-TABLES = ("scene", "structure", "weights", "drive", "run")
+TABLES = ("scene", "structure", "weights", "drive", "run", "instruments")
 #: dry-friction keys of a [[weights]] table (stand.balancers.friction)
 FRICTION_KEYS = ("friction", "static_friction", "slip_speed", "dwell_time", "release_time")
 
@@ -234,6 +234,17 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:
     programme = _programme(dt, "programme", 1.0)
     run = _run(_Table(data["run"], "run"))
     _check_cycles(rotor, run, programme)
-    return Scene(drive=SpeedDrive(programme), run=run, name=name, text=text, description=desc,
-                 structure=RotorStructure(kind, st, rotor, ROTOR_TYPES[kind][1]),
-                 plane_weights=tuple(weights))
+    instruments = {}
+    if "instruments" in data:   # the planar scenes' parser (plane / axial_position included)
+        from ..scene_file import _instruments
+
+        instruments = _instruments(_Table(data["instruments"], "instruments"),
+                                   tuple(rotor.planes), kind)
+    scene = Scene(drive=SpeedDrive(programme), run=run, name=name, text=text, description=desc,
+                  structure=RotorStructure(kind, st, rotor, ROTOR_TYPES[kind][1]),
+                  plane_weights=tuple(weights), instruments=instruments)
+    if instruments:
+        from ..instruments.placement import check_instruments
+
+        check_instruments(scene)
+    return scene
