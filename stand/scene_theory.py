@@ -287,6 +287,14 @@ def theory_lines(doc: dict) -> list:
                        + " rev/s; working ranges "
                        + (", ".join(f"({_hz(a)}, {_hz(b)})" for a, b in d["working_ranges_hz"])
                           or "none"))
+        gc = doc.get("generalised_criterion")
+        if gc:
+            out.append(f"  generalised criterion, planes {', '.join(gc['planes'])} "
+                       f"({gc['condition']}): onsets/losses "
+                       + (", ".join(f"{c:.6g}" for c in gc["onsets_hz"]) or "none")
+                       + " rev/s; working ranges "
+                       + (", ".join(f"({_hz(a)}, {_hz(b)})" for a, b in gc["working_ranges_hz"])
+                          or "none"))
         mm = doc.get("main_motion") or {}
         if mm.get("critical_speeds_hz") is not None:
             out.append("  main motion (Floquet, finite weight masses): critical speeds "

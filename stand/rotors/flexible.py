@@ -69,7 +69,8 @@ def shaft_natural_frequencies(length: float, mass_per_length: float, EJ: float,
 
 
 def flexible_shaft(length: float, mass_per_length: float, EJ: float, n_modes: int = 20,
-                   damping_ratio=0.0, planes: Optional[dict] = None,
+                   damping_ratio: "float | Sequence[float] | None" = None,
+                   planes: Optional[dict] = None,
                    unbalances: Sequence = (), g=(0.0, 0.0)) -> LinearRotor:
     """Simply supported uniform shaft (model 2.8) truncated to ``n_modes`` modes.
 
@@ -86,7 +87,8 @@ def flexible_shaft(length: float, mass_per_length: float, EJ: float, n_modes: in
         critical speeds converge like J^-3.  J = 30 gives about 4 significant digits
         of the table-6.2 edges below 25 w_1, and J = 100 about 6.
     damping_ratio : float or sequence of J floats, optional
-        Modal viscous damping ratios zeta_j [-] (not in the book; default 0).
+        Modal viscous damping ratios zeta_j [-] (not in the book; default None = 0);
+        a scene file takes a number or a list of J numbers.
     planes : dict of str -> float, optional
         Named planes at axial positions z [m], 0 < z < l; default ``{"balancer": l/2}``.
     unbalances : sequence of Unbalance or (plane, s [kg m], angle [rad]) tuples, optional
@@ -105,7 +107,7 @@ def flexible_shaft(length: float, mass_per_length: float, EJ: float, n_modes: in
     m = positive("mass_per_length", mass_per_length, "kg/m")
     J = _n_modes(n_modes)
     w = shaft_natural_frequencies(l, m, EJ, J)
-    zeta = per_coordinate("damping_ratio", damping_ratio, J, "-")
+    zeta = per_coordinate("damping_ratio", 0.0 if damping_ratio is None else damping_ratio, J, "-")
     mj = 0.5 * m * l                                   # modal mass of sin(pi j z / l)
     two = np.eye(2)
     M = mj * np.eye(2 * J)

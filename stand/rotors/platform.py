@@ -104,11 +104,13 @@ import numpy as np
 from scipy import linalg
 
 from ._build import finite
-from .platform_params import Hanger, PlatformParams, default_params, quadrifilar_hangers
+from .platform_params import (SCENE_KEYS, Hanger, PlatformParams, default_hangers, default_params,
+                              quadrifilar_hangers, scene_params)
 from .structure import LinearRotor, Unbalance
 
 __all__ = [
-    "Hanger", "PlatformParams", "default_params", "quadrifilar_hangers",
+    "Hanger", "PlatformParams", "default_params", "quadrifilar_hangers", "default_hangers",
+    "scene_params",
     "linkage_coefficients", "hanger_vector", "mass_matrix", "gyro_matrix",
     "damping_matrix", "stiffness_matrix", "plane_map", "force_amplitude",
     "generalized_force", "platform_rotor", "modal_frequencies", "campbell",
@@ -325,7 +327,22 @@ def generalized_force(params: PlatformParams, phi, phi_dot, phi_ddot=0.0,
 
 # ------------------------------------------------------------------ the rotor
 def platform_rotor(params: Optional[PlatformParams] = None, paper_exact: bool = False,
-                   delta_offset_term: bool = True) -> LinearRotor:
+                   delta_offset_term: bool = True, *,
+                   m: Optional[float] = None, m2: Optional[float] = None,
+                   I_a1: Optional[float] = None, I_b1: Optional[float] = None,
+                   I_c1: Optional[float] = None, I_p: Optional[float] = None,
+                   S1: Optional[float] = None, S2: Optional[float] = None,
+                   b1: Optional[float] = None, b2: Optional[float] = None,
+                   h: Optional[float] = None, z_k: Optional[float] = None,
+                   c2x: Optional[float] = None, c2y: Optional[float] = None,
+                   c2z: Optional[float] = None, x_M: Optional[float] = None,
+                   y_M: Optional[float] = None, z_M: Optional[float] = None,
+                   x_D: Optional[float] = None, y_D: Optional[float] = None,
+                   z_D: Optional[float] = None, e: Optional[float] = None,
+                   g: Optional[float] = None, z_B: Optional[float] = None,
+                   rod_stiffness: Optional[float] = None, rod_damping: Optional[float] = None,
+                   rim_damping: Optional[float] = None, rim_radius: Optional[float] = None,
+                   rim_length: Optional[float] = None) -> LinearRotor:
     """The paper-004 system as a :class:`LinearRotor` (K = A, G per unit spin).
 
     Parameters
@@ -337,6 +354,15 @@ def platform_rotor(params: Optional[PlatformParams] = None, paper_exact: bool = 
         docstring lists every difference).
     delta_offset_term : bool
         Keep the printed third numerator term of delta_1, delta_2 (33).
+    m, m2, I_a1, ..., z_B, rod_stiffness, rod_damping, rim_damping, rim_radius, rim_length
+        Keyword parameters (SI units, each None = the :func:`default_params` value; the
+        scene file's ``[structure]`` keys): the :class:`PlatformParams` fields m [kg],
+        m2 [kg], I_a1, I_b1, I_c1, I_p [kg m^2], S1, S2, b1, b2, h, z_k [m], c2x, c2y,
+        c2z [N/m], x_M, y_M, z_M, x_D, y_D, z_D [m], e [m], g [m/s^2], z_B [m], and the
+        hangers of :func:`default_hangers` (rebuilt from the linkage geometry):
+        rod_stiffness [N/m] and rod_damping [N s/m] of each of the four rods,
+        rim_damping [N s/m] of each of the four horizontal rim dampers at rim_radius [m]
+        (rods of rim_length [m]).  Not allowed together with ``params``.
 
     Returns
     -------
@@ -346,7 +372,22 @@ def platform_rotor(params: Optional[PlatformParams] = None, paper_exact: bool = 
         ``Unbalance("rotor", m2 e, 0)``.  With ``paper_exact`` the printed F is
         not ``T^T(...)``: use :func:`force_amplitude` / :func:`generalized_force`.
     """
-    p = default_params() if params is None else params
+    given = {k: v for k, v in (("m", m), ("m2", m2), ("I_a1", I_a1), ("I_b1", I_b1),
+                               ("I_c1", I_c1), ("I_p", I_p), ("S1", S1), ("S2", S2), ("b1", b1),
+                               ("b2", b2), ("h", h), ("z_k", z_k), ("c2x", c2x), ("c2y", c2y),
+                               ("c2z", c2z), ("x_M", x_M), ("y_M", y_M), ("z_M", z_M),
+                               ("x_D", x_D), ("y_D", y_D), ("z_D", z_D), ("e", e), ("g", g),
+                               ("z_B", z_B), ("rod_stiffness", rod_stiffness),
+                               ("rod_damping", rod_damping), ("rim_damping", rim_damping),
+                               ("rim_radius", rim_radius), ("rim_length", rim_length))
+             if v is not None}
+    if isinstance(params, dict):       # a scene file's `params = {...}` table: the same keys
+        given = {**params, **given}
+        params = None
+    if params is not None and given:
+        raise ValueError(f"give either params (a PlatformParams) or the keyword parameters "
+                         f"{', '.join(given)}, not both")
+    p = params if params is not None else (scene_params(**given) if given else default_params())
     M = mass_matrix(p, paper_exact)
     try:
         np.linalg.cholesky(M)

@@ -24,7 +24,8 @@ import numpy as np
 
 from ._build import check
 
-__all__ = ["Hanger", "quadrifilar_hangers", "PlatformParams", "default_params"]
+__all__ = ["Hanger", "quadrifilar_hangers", "PlatformParams", "default_params", "default_hangers",
+           "scene_params", "SCENE_KEYS"]
 
 
 def _store_checked(obj, prefix: str, rule: str, *specs) -> None:
@@ -217,6 +218,57 @@ class PlatformParams:
         return self.z_D if self.z_B is None else self.z_B
 
 
+def default_hangers(S1: float = 1.0, S2: float = 1.0, b1: float = 0.8, b2: float = 0.8,
+                    h: float = 2.0, z_k: float = 0.3, rod_stiffness: float = 3.75e6,
+                    rod_damping: float = 750.0, rim_damping: float = 10.0,
+                    rim_radius: float = 0.4, rim_length: float = 0.5) -> tuple:
+    """The hangers of :func:`default_params` for any linkage geometry: the four rods of
+    :func:`quadrifilar_hangers` (each ``rod_stiffness`` [N/m], ``rod_damping`` [N s/m])
+    and four horizontal pure dampers (``rim_damping`` [N s/m] each, rods of
+    ``rim_length`` [m]) at the platform rim, ``rim_radius`` [m] from the axis at z = -z_k,
+    for the pendulum and torsion modes (``rim_damping = 0`` leaves them out)."""
+    rods = quadrifilar_hangers(S1, S2, b1, b2, h, z_k, c=rod_stiffness, damping=rod_damping)
+    check("rim_damping", rim_damping, "N s/m", "nonnegative")
+    if rim_damping == 0:
+        return rods
+    r = check("rim_radius", rim_radius, "m", "positive")
+    q = 0.5 * math.pi
+    return rods + (
+        Hanger(0.0, r, -z_k, rim_length, q, 0.0, 0.0, rim_damping),
+        Hanger(0.0, -r, -z_k, rim_length, q, 0.0, 0.0, rim_damping),
+        Hanger(r, 0.0, -z_k, rim_length, q, q, 0.0, rim_damping),
+        Hanger(-r, 0.0, -z_k, rim_length, q, q, 0.0, rim_damping),
+    )
+
+
+#: the scene-file keys of the platform (:func:`scene_params`): the PlatformParams fields
+#: other than ``hangers``, then the arguments of :func:`default_hangers`
+SCENE_KEYS = ("m", "m2", "I_a1", "I_b1", "I_c1", "I_p", "S1", "S2", "b1", "b2", "h", "z_k",
+              "c2x", "c2y", "c2z", "x_M", "y_M", "z_M", "x_D", "y_D", "z_D", "e", "g", "z_B",
+              "rod_stiffness", "rod_damping", "rim_damping", "rim_radius", "rim_length")
+
+
+def scene_params(**overrides) -> PlatformParams:
+    """:func:`default_params` with any of :data:`SCENE_KEYS` replaced (SI units; a value
+    of None keeps the default).  The hangers are rebuilt by :func:`default_hangers`
+    from the (possibly changed) linkage geometry and rod/damper keys, so the defaults
+    give exactly :func:`default_params`."""
+    bad = sorted(set(overrides) - set(SCENE_KEYS))
+    if bad:
+        raise ValueError(f"unknown platform parameter(s) {', '.join(bad)}; valid: "
+                         f"{', '.join(SCENE_KEYS)}")
+    base = default_params()
+    kw = {k: getattr(base, k) for k in SCENE_KEYS[:24]}
+    hk = dict(rod_stiffness=3.75e6, rod_damping=750.0, rim_damping=10.0, rim_radius=0.4,
+              rim_length=0.5)
+    for k, v in overrides.items():
+        if v is None:
+            continue
+        (hk if k in hk else kw)[k] = v
+    hangers = default_hangers(kw["S1"], kw["S2"], kw["b1"], kw["b2"], kw["h"], kw["z_k"], **hk)
+    return PlatformParams(hangers=hangers, **kw)
+
+
 def default_params() -> PlatformParams:
     """An ASSUMED plausible parameter set (paper 004 gives no numbers, digest 3.8).
 
@@ -233,13 +285,9 @@ def default_params() -> PlatformParams:
     return PlatformParams(
         m=60.0, m2=15.0, I_a1=2.5, I_b1=2.5, I_c1=3.0, I_p=0.5,
         S1=S, S2=S, b1=b, b2=b, h=h, z_k=zk,
-        hangers=quadrifilar_hangers(S, S, b, b, h, zk, c=3.75e6, damping=750.0) + (
-            # horizontal pure dampers (c = 0) for the pendulum and torsion modes
-            Hanger(0.0, 0.4, -zk, 0.5, 0.5 * math.pi, 0.0, 0.0, 10.0),
-            Hanger(0.0, -0.4, -zk, 0.5, 0.5 * math.pi, 0.0, 0.0, 10.0),
-            Hanger(0.4, 0.0, -zk, 0.5, 0.5 * math.pi, 0.5 * math.pi, 0.0, 10.0),
-            Hanger(-0.4, 0.0, -zk, 0.5, 0.5 * math.pi, 0.5 * math.pi, 0.0, 10.0),
-        ),
+        # four rods, and horizontal pure dampers (c = 0) for the pendulum and torsion modes
+        hangers=default_hangers(S, S, b, b, h, zk, rod_stiffness=3.75e6, rod_damping=750.0,
+                                rim_damping=10.0, rim_radius=0.4, rim_length=0.5),
         c2x=200.0, c2y=200.0, c2z=1000.0, x_M=0.0, y_M=0.0, z_M=0.4,
         x_D=0.02, y_D=-0.01, z_D=0.35, e=5e-4, g=9.81,
     )

@@ -12,7 +12,7 @@ import numpy as np
 
 from .coupled import with_locked_weights
 from .scene import ROTOR_TYPES
-from .structure import working_ranges
+from .structure import generalised_working_ranges, working_ranges
 
 __all__ = ["family_theory"]
 
@@ -70,8 +70,29 @@ def _floquet_scan(scene, ranges: dict, lo: float, hi: float, n: int = 14) -> dic
                       "operating speed (finite weight masses included)"}
 
 
+def _generalised(rot, planes, lo: float, hi: float) -> dict:
+    """The generalised criterion of several balancer planes (paper 003 (1)/(24)-(26)):
+    the revolution-averaged form of the elementary unbalances of all planes,
+    :meth:`LinearRotor.criterion_matrix`, must be negative definite (for two planes of
+    a rigid rotor: K_xi and K_eta negative definite); its working ranges and the speeds
+    where its definiteness changes (the onsets and losses)."""
+    crit, rg = generalised_working_ranges(rot, planes, lo, hi)
+    edges = sorted({x for r in rg for x in r if math.isfinite(x) and x > lo})
+    return {"planes": list(planes),
+            "condition": "criterion matrix (paper 003 (24)-(26)) negative definite"
+                         + (" <=> K_xi and K_eta negative definite (rigid rotor, two planes)"
+                            if rot.n == 4 and len(planes) == 2 else ""),
+            "onsets_hz": [e / (2 * math.pi) for e in edges],
+            "eigenvalue_sign_changes_hz": [c / (2 * math.pi) for c in crit],
+            "working_ranges_hz": [[a / (2 * math.pi), b / (2 * math.pi)] for a, b in rg],
+            "method": "inertia of LinearRotor.criterion_matrix on a grid with the synchronous "
+                      "poles bracketed on both sides; each change located by bisection to 1e-13"}
+
+
 def family_theory(scene, max_speed: float | None = None, floquet: bool = True) -> dict:
-    """Natural frequencies, Campbell data and the criterion's working ranges per plane.
+    """Natural frequencies, Campbell data and the criterion's working ranges per plane;
+    with two or more balancer planes also the generalised criterion (``generalised_criterion``:
+    working ranges and the speeds where the criterion matrix changes definiteness).
 
     ``max_speed`` [rad/s]: upper end of the scan (default 4 x the largest of the
     natural frequencies at rest and the programme's top speed).
@@ -88,6 +109,7 @@ def family_theory(scene, max_speed: float | None = None, floquet: bool = True) -
         crit, rg = working_ranges(rot, p, lo, hi)
         ranges[p] = {"critical_speeds_hz": [c / (2 * math.pi) for c in crit],
                      "working_ranges_hz": [[a / (2 * math.pi), b / (2 * math.pi)] for a, b in rg]}
+    general = _generalised(rot, planes, lo, hi) if len(planes) >= 2 else None
     speeds = np.linspace(0.0, hi, 41)
     camp = rot.campbell(speeds)
     main = _floquet_scan(scene, ranges, lo, hi) if (floquet and scene.weights) else None
@@ -98,6 +120,7 @@ def family_theory(scene, max_speed: float | None = None, floquet: bool = True) -
         "coords": list(rot.coords),
         "natural_frequencies_hz_at_rest": [w / (2 * math.pi) for w in wn0],
         "engineering_criterion": ranges,
+        "generalised_criterion": general,
         "main_motion": main,
         "steady_response_without_weights": _steady(scene, rot),
         "campbell": {"speed_hz": (speeds / (2 * math.pi)).tolist(),

@@ -131,7 +131,8 @@ def spatial_rotor(M: float, A: float, C: float, supports: SupportStiffness,
 def spatial_scene_rotor(mass, A, C, l1, l2, c1, c2=None, balancer_positions=(0.0,),
                         unbalance=0.0, unbalance_position=0.0, unbalance_angle=0.0,
                         couple_unbalance=0.0, couple_positions=(0.0, 0.0),
-                        stiffness_damping=0.0, screen_positions=()) -> LinearRotor:
+                        stiffness_damping=0.0, screen_positions=(),
+                        axial_convention: str = "book") -> LinearRotor:
     """Scene-file form of :func:`spatial_rotor` (plain numbers only): a rigid
     rotor on two isotropic supports (Table 2.4 row 1 with c1 = c2 left, c3 = c4
     right; supports at distances l1, l2 [m] from the centre of mass).
@@ -147,12 +148,27 @@ def spatial_scene_rotor(mass, A, C, l1, l2, c1, c2=None, balancer_positions=(0.0
     couple_unbalance : float  s [kg m] of a couple (s at couple_positions[0],
         -s at couple_positions[1]) [m]
     stiffness_damping : float  beta [s]: damping matrix beta K (stiffness-proportional)
+    axial_convention : "book" or "paper003"
+        Where the supports sit on the axial coordinate zeta (from the centre of mass,
+        the coordinate of every plane position above): ``"book"`` (default, Table 2.4)
+        support 1 (c1) at ``zeta = +l1`` and support 2 (c2) at ``-l2``; ``"paper003"``
+        (paper 003 (12), (14)) support 1 at ``-l1`` and support 2 at ``+l2``.  The
+        same rotor is ``paper003`` with (l1, l2, c1, c2) = ``book`` with (l2, l1, c2, c1).
     screen_positions : list of float  axial positions [m] of laser screens: the
         beam along the shaft axis hits a screen at distance y where the axis
         line is, x + y beta, y - y alpha (2.131): planes "screen1", "screen2", ...
         (two screens give both correction planes, (4.2)-(4.3), :mod:`dsp.two_plane`)
     """
-    sup = isotropic_supports(l1, l2, c1, c1 if c2 is None else c2)
+    c2 = c1 if c2 is None else c2
+    if axial_convention == "book":
+        sup = isotropic_supports(l1, l2, c1, c2)
+    elif axial_convention == "paper003":       # support 1 at -l1, support 2 at +l2
+        sup = isotropic_supports(l2, l1, c2, c1)
+        sup = dataclasses.replace(sup, source="paper 003 (12), (14): support 1 at -l1, "
+                                              "support 2 at +l2")
+    else:
+        raise ValueError(f'axial_convention = {axial_convention!r}: must be "book" (Table 2.4, '
+                         'support 1 at zeta = +l1) or "paper003" (support 1 at zeta = -l1)')
     unb = []
     if unbalance:
         unb += static_unbalance(unbalance, unbalance_angle, unbalance_position)
