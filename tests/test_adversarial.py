@@ -65,8 +65,12 @@ def _scene_text(doc) -> str:
     tables = {}
     for k, v in doc.items():
         if isinstance(v, dict) and any(isinstance(x, dict) for x in v.values()):
+            plain = {a: b for a, b in v.items() if not isinstance(b, dict)}
+            if plain:            # keys of the table itself, e.g. a mutation's unknown key
+                tables[k] = plain
             for sub, body in v.items():
-                tables[f"{k}__{sub}"] = body
+                if isinstance(body, dict):
+                    tables[f"{k}__{sub}"] = body
         else:
             tables[k] = v
     return toml_text(**tables)
