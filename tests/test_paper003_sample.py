@@ -1,0 +1,40 @@
+"""The paper-003 sample with two balancers: the generalised criterion in stand theory, and
+the run above its onset balancing both planes."""
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import stand
+
+SAMPLE = Path(__file__).resolve().parents[1] / "data_samples" / "scenes" / "paper003_two_balancers.toml"
+
+
+def test_theory_json_holds_the_generalised_criterion_of_the_sample():
+    out = subprocess.run([sys.executable, "-m", "stand", "theory", str(SAMPLE), "--json"],
+                         capture_output=True, text=True, check=True).stdout
+    gc = json.loads(out)["generalised_criterion"]
+    assert gc["planes"] == ["balancer1", "balancer2"]
+    sc = stand.load(SAMPLE)
+    from stand.rotors.coupled import with_locked_weights
+
+    rot = with_locked_weights(sc.linear_rotor(), sc.weights)
+
+    def definite(f_hz):
+        M = rot.criterion_matrix(2 * np.pi * f_hz, gc["planes"])
+        return bool(np.all(np.linalg.eigvalsh(0.5 * (M + M.T)) < 0))
+
+    (onset,) = gc["onsets_hz"]
+    assert not definite(onset * (1 - 1e-6)) and definite(onset * (1 + 1e-6))
+    assert gc["working_ranges_hz"] == [[onset, None]]
+    assert onset == pytest.approx(21.4688, rel=1e-5)
+
+
+def test_the_pair_balances_above_the_onset():
+    run = stand.run(stand.load(SAMPLE))
+    assert run.success and run.rotor_speed[-1] / (2 * np.pi) == pytest.approx(30.0)
+    for p in ("balancer1", "balancer2"):
+        assert np.hypot(*run.planes[p][-1]) < 1e-9          # m: balanced (2e-3 kg m unbalance)
