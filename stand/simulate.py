@@ -171,8 +171,12 @@ def auto_method(scene: Scene) -> str:
         return choose_method(build_planar_model(scene), "auto")[0]
     from .rotors.coupled import build_model
 
-    return choose_method(build_model(scene.linear_rotor(), scene.weights,
-                                     scene.drive.programme, bodies=scene.bodies), "auto")[0]
+    d = scene.drive
+    torque = d.kind == "torque"
+    return choose_method(build_model(
+        scene.linear_rotor(), scene.weights, d if torque else d.programme, bodies=scene.bodies,
+        inertia=scene.rotor.inertia_about_shaft if torque and scene.kind == "planar" else None),
+        "auto")[0]
 
 
 def _integrate(scene, model, y0, tau_end, ts, out, stats, method, progress, checkpoint,
@@ -205,16 +209,25 @@ def _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoi
     """Any LinearRotor with its weights (stand.rotors.coupled_kernel) -> Run."""
     from .rotors.coupled import build_model, initial_state as generic_initial
 
+    torque = scene.drive.kind == "torque"
     if scene.kind == "planar":
-        if scene.drive.kind != "speed" or scene.perturbations:
+        if scene.perturbations:
             raise SceneError("kernel = \"generic\": the planar rotor runs on the generic kernel "
-                             "with a speed programme and no perturbations only")
-        if scene.drive.coast_down_start is not None:
+                             "without perturbations only")
+        if not torque and scene.drive.coast_down_start is not None:
             raise SceneError("kernel = \"generic\": no exponential coast-down on the generic kernel")
+        if torque and scene.rotor.inertia_about_shaft is None:
+            raise SceneError("drive.type = \"torque\": rotor.inertia is required")
     run = scene.run
     rotor = scene.linear_rotor()
     weights = scene.weights
-    model = build_model(rotor, weights, scene.drive.programme, bodies=scene.bodies)
+    try:
+        model = build_model(rotor, weights, scene.drive if torque else scene.drive.programme,
+                            bodies=scene.bodies,
+                            inertia=scene.rotor.inertia_about_shaft
+                            if torque and scene.kind == "planar" else None)
+    except ValueError as exc:
+        raise SceneError(str(exc)) from None
     method, ratio, reason = choose_method(model, method)
     if method == "numpy-DOP853":
         raise SceneError("run.method = \"numpy-DOP853\": the pure-numpy reference path exists for "

@@ -15,13 +15,24 @@ from typing import Sequence
 import numpy as np
 
 from ..programme import programme_kinematics, programme_kinematics_many
+from ..scene import TorqueDrive
 from .bodies import body_channels, body_initial
-from .coupled_kernel import (W_L, W_M, W_PLANE, CoupledModel, PlaneWeights, build_model,
+from .coupled_kernel import (H_W0, W_L, W_M, W_PLANE, CoupledModel, PlaneWeights, build_model,
                              rhs_generic, with_locked_weights)
 from .structure import LinearRotor
 
 __all__ = ["PlaneWeights", "CoupledModel", "CoupledRun", "build_model", "simulate_coupled",
-           "rhs_generic", "with_locked_weights", "initial_state", "samples_si"]
+           "rhs_generic", "with_locked_weights", "initial_state", "samples_si",
+           "RotorTorqueDrive"]
+
+
+@dataclass(frozen=True)
+class RotorTorqueDrive(TorqueDrive):
+    """A torque drive (:class:`stand.scene.TorqueDrive`, the book's models 1-3) on a
+    ``[structure]`` scene, with the rotor's polar moment of inertia about the shaft
+    ``inertia`` [kg m^2] (the planar scenes take it from ``rotor.inertia``)."""
+
+    inertia: float = None
 
 
 @dataclass
@@ -122,10 +133,13 @@ def initial_state(model: CoupledModel, weights, q0=None, qd0=None) -> np.ndarray
         y[n:n + nw] = np.concatenate([np.asarray(pw.balancer.initial_angles, float) for pw in weights])
         y[2 * n + nw:2 * (n + nw)] = np.concatenate(
             [np.asarray(pw.balancer.initial_speeds, float) for pw in weights]) / w
+    if model.free:      # torque drive: phi = 0, Omega = the drive's initial speed
+        y[model.i_phi + 1] = model.sp[H_W0] / w
     if model.bodies:
         q = y[:n] * model.scale
         planes = {p: model.rotor.planes[p] @ q for p in model.plane_names}
-        omega0 = programme_kinematics(0.0, model.prog)[1] * w
+        omega0 = (y[model.i_phi + 1] * w if model.free
+                  else programme_kinematics(0.0, model.prog)[1] * w)
         body_initial(model.bt, model.bodies, y, w, omega0, planes)
     return y
 
@@ -139,8 +153,11 @@ def samples_si(model: CoupledModel, out: np.ndarray, tau: np.ndarray) -> tuple:
     q = out[:, :n] * model.scale
     qd = out[:, n + nw:2 * n + nw] * model.scale * w
     alpha = out[:, n:n + nw]
-    kin = programme_kinematics_many(np.ascontiguousarray(tau, dtype=float), model.prog)
-    phis, speeds = kin[:, 0], kin[:, 1] * w
+    if model.free:
+        phis, speeds = out[:, model.i_phi].copy(), out[:, model.i_phi + 1] * w
+    else:
+        kin = programme_kinematics_many(np.ascontiguousarray(tau, dtype=float), model.prog)
+        phis, speeds = kin[:, 0], kin[:, 1] * w
     planes = {p: q @ rotor.planes[p].T for p in model.plane_names}
     residual = {}
     for k, p in enumerate(model.plane_names):

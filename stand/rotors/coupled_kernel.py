@@ -26,6 +26,37 @@ weights.  For point balls (J = m l^2) the bracket is M + sum m T^T e e^T T.
 The weights are point masses in their plane (their own transverse moments of
 inertia are neglected, as in the book's linear models).
 
+**Torque drive** (the rotor angle phi and speed Omega = phi' are states, the last two
+of ``y``; header flag ``H_FREE`` = index of phi, 0 for a speed programme, whose path is
+unchanged).  The book's free rotor of section 5.1.1 ((5.1)-(5.10); digest ch5 sections
+1-2: the corrected (5.7), with the drag reaction nu_j = H_j/(omega_1 J_0) of correction 4)
+generalised to any LinearRotor.  An unbalance s_u = m e at angle phi + theta_u in plane p
+sits at ``T_p q + e e_u`` (``e_u = (cos, sin)(phi + theta_u)``, ``n_u = (sin, -cos)(...)``);
+its Lagrange terms give, besides the weights' equations above (unchanged: psi_j is
+absolute, so the weights' elimination does not involve phi'')::
+
+    M q'' + ... = ... + F_p^T s_u (phi'^2 e_u + phi'' n_u)           (translations)
+    J_p phi'' = M_drive(phi', phi, t) - H0 phi' + sum_j (H_j alpha_j' + M_fric,j)
+                + sum_b M_b + sum_u s_u n_u . (T_p q'' - g_p)          (spin)
+
+(J_p: the rotor's polar moment of inertia about the shaft, m e^2 included, the weights
+not; the weights' drag and friction moments act back on the rotor; body weights' turn
+drags M_b = H2 (alpha' - Omega) (tilting weights) and the damper's drag z-moment
+H1 (W_z - Omega) likewise; a liquid exerts no moment about the shaft in its models.)
+The gyroscopic matrix takes the state Omega.  phi'' enters the translations linearly
+(through the unbalances and, for the ``LAG`` liquid, through the body reaction, whose
+phi''-part is found by evaluating it at phi'' = 1 and 0), so the accelerations solve one
+augmented (n+1) system::
+
+    [ A_schur            -sum_u s_u F_p^T n_u ] [ q''  ]   [ f (phi'' = 0)                      ]
+    [ -sum_u s_u n_u^T T_p       J_p           ] [ phi'' ] = [ M_drive - H0 Omega + moments - sum_u s_u n_u . g_p ]
+
+with A_schur and f the speed-programme system above (the body reactions' phi'' column
+added to the first block column); for the planar rotor this is the book's 3x3 Schur
+complement of (5.4)-(5.10) (:func:`stand.planar.rhs_planar`), which the generic path
+reproduces to 1e-8 (tests/test_family_torque.py).  Drive models (``DRIVE_MODELS``, book
+models 1-3): constant M; c1 (omega - phi'); c1 (omega - phi') + c2 (omega t - phi).
+
 The integration is the one integrator path (:mod:`stand.integrate.driver`,
 compiled DOP853 or scipy's methods) with model kind ``GENERIC`` in
 :mod:`stand.kernels`; this module holds the compiled right-hand side and the
@@ -46,7 +77,8 @@ from .._jit import njit
 from ..programme import build_table, programme_kinematics
 from ..scene import Balancer
 from .bodies import PlaneBody, body_rows
-from .bodies_kernel import B_PLANE, N_BCOL, body_derivatives, body_reaction
+from .bodies_kernel import (B_H1, B_H2, B_KIND, B_OFF, B_PLANE, N_BCOL, SPHERE, TILT,
+                            body_derivatives, body_reaction)
 from .structure import LinearRotor
 
 __all__ = ["PlaneWeights", "CoupledModel", "build_model", "rhs_generic", "with_locked_weights"]
@@ -54,7 +86,13 @@ __all__ = ["PlaneWeights", "CoupledModel", "build_model", "rhs_generic", "with_l
 # header of the scalar parameter vector sp
 H_N, H_NW, H_NPL, H_NUB, H_WREF, H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OGR, H_OGP, \
     H_OF, H_NB, H_OB = range(17)
-N_HEAD = 17
+# torque drive (rotor angle and speed are states): index of phi in y (0: speed programme,
+# phi and Omega from ``prog``), polar inertia J_p [kg m^2], drive model (0 constant,
+# 1 speed feedback, 2 angle feedback), torque [N m], c1 [N m s], c2 [N m], target speed
+# [rad/s], rotor drag H0 [N m s], initial speed [rad/s]
+H_FREE, H_JP, H_DMODEL, H_TQ, H_C1, H_C2, H_WT, H_H0, H_W0 = range(17, 26)
+N_HEAD = 26
+DRIVE_MODELS = {"constant": 0, "speed_feedback": 1, "angle_feedback": 2}
 # weight table columns: plane, mass, radius, inertia, drag, friction (kinetic,
 # static, slip speed, dwell, release), index of its adhesion state (-1: none)
 W_PLANE, W_M, W_L, W_J, W_H, W_MUK, W_MUS, W_VS, W_TD, W_TR, W_Z = range(11)
@@ -151,6 +189,32 @@ def solve_small(buf, oA, of, ox, n):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
+def drive_moment(t, phi, Om, sp):
+    """Drive torque M_drive [N m] of the book's models 1-3 (section 5.1.1) at time t [s]."""
+    model = sp[H_DMODEL]
+    if model == 0.0:
+        return sp[H_TQ]
+    m = sp[H_C1] * (sp[H_WT] - Om)
+    if model == 2.0:
+        m += sp[H_C2] * (sp[H_WT] * t - phi)
+    return m
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def body_spin_moment(sp, rb, y, wref, Om):
+    """Moment [N m] about the shaft that body weight ``rb`` exerts on the rotor: the
+    reaction of its turn drag (TILT: H2 (alpha' - Omega); SPHERE: the z-component
+    H1 (W_z - Omega) of the damper's drag); none for the liquids."""
+    kind = int(sp[rb + B_KIND])
+    o = int(sp[rb + B_OFF])
+    if kind == TILT:
+        return sp[rb + B_H2] * (wref * y[o + 3] - Om)
+    if kind == SPHERE:
+        return sp[rb + B_H1] * (wref * y[o + 5] - Om)
+    return 0.0
+
+
+@njit(cache=True, inline="always", error_model="numpy")
 def rhs_generic(tau, y, dy, sp, wt, prog):
     """Right-hand side of a LinearRotor with weights (module docstring), scaled time."""
     n = int(sp[H_N])
@@ -160,9 +224,17 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
     oM, oG, oD, oK = int(sp[H_OM]), int(sp[H_OG]), int(sp[H_OD]), int(sp[H_OK])
     oT, oUB, oL, oGR, oGP = int(sp[H_OT]), int(sp[H_OUB]), int(sp[H_OL]), int(sp[H_OGR]), int(sp[H_OGP])
     oF = int(sp[H_OF])
-    phi, R, dR = programme_kinematics(tau, prog)
-    Om = R * wref
-    dOm = dR * wref * wref
+    ifree = int(sp[H_FREE])
+    if ifree == 0:      # speed programme
+        phi, R, dR = programme_kinematics(tau, prog)
+        Om = R * wref
+        dOm = dR * wref * wref
+        ld = n
+    else:               # torque drive: phi, Omega states, phi'' the (n+1)-th unknown
+        phi = y[ifree]
+        Om = wref * y[ifree + 1]
+        dOm = 0.0
+        ld = n + 1
     gx = sp[oGP]
     gy = sp[oGP + 1]
     ns = n + nw
@@ -172,9 +244,9 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
     # q, qd, A (row-major), f, q'', then per point weight cos, sin, moment, then the body
     # reaction and each body's plane point state
     oq, oqd, oA = 0, n, 2 * n
-    of = oA + n * n
-    ox = of + n
-    oc = ox + n
+    of = oA + ld * ld
+    ox = of + ld
+    oc = ox + ld
     os_ = oc + nw
     om = os_ + nw
     oR = om + nw
@@ -189,8 +261,13 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         for k in range(n):
             acc -= sp[oK + i * n + k] * buf[oq + k]
             acc -= (sp[oD + i * n + k] + Om * sp[oG + i * n + k]) * buf[oqd + k]
-            buf[oA + i * n + k] = sp[oM + i * n + k]
+            buf[oA + i * ld + k] = sp[oM + i * n + k]
         buf[of + i] = acc
+    if ifree != 0:      # the phi'' column and the spin row
+        for i in range(ld):
+            buf[oA + i * ld + n] = 0.0
+            buf[oA + n * ld + i] = 0.0
+        buf[of + n] = 0.0
     # unbalances
     for u in range(nub):
         p = int(sp[oUB + 3 * u])
@@ -202,6 +279,12 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         base = oF + p * 2 * n
         for i in range(n):
             buf[of + i] += sp[base + i] * fx + sp[base + n + i] * fy
+        if ifree != 0:  # s phi'' (sin, -cos) = s phi'' n_u: moved to the left; the spin row
+            tb = oT + p * 2 * n
+            for i in range(n):
+                buf[oA + i * ld + n] -= s * (sp[base + i] * si - sp[base + n + i] * c)
+                buf[oA + n * ld + i] -= s * (sp[tb + i] * si - sp[tb + n + i] * c)
+            buf[of + n] -= s * (si * gx - c * gy)
     # weights: assemble the Schur complement (the angle's cosine, sine and the resisting
     # moment are kept for the weights' own accelerations below)
     for j in range(nw):
@@ -232,7 +315,7 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
                 txk = sp[base + k]
                 tyk = sp[base + n + k]
                 ntk = txk * si - tyk * c
-                buf[oA + i * n + k] += m * (tx * txk + ty * tyk) - k2 * nti * ntk
+                buf[oA + i * ld + k] += m * (tx * txk + ty * tyk) - k2 * nti * ntk
     # body weights (stand.rotors.bodies_kernel): reaction F = R a + r on their plane point
     for b in range(nb):
         rb = oB + b * N_BCOL
@@ -247,7 +330,19 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
             zdy += sp[base + n + k] * buf[oqd + k]
         zo = oz + 4 * b
         buf[zo], buf[zo + 1], buf[zo + 2], buf[zo + 3] = zx, zy, zdx, zdy
-        body_reaction(sp, rb, y, wref, Om, dOm, gx, gy, zx, zy, zdx, zdy, buf, oR)
+        if ifree != 0:
+            # the reaction's part proportional to phi'' (LAG), and the drag moments about
+            # the shaft that act back on the rotor
+            body_reaction(sp, rb, y, wref, Om, 1.0, gx, gy, zx, zy, zdx, zdy, buf, oR)
+            d4, d5 = buf[oR + 4], buf[oR + 5]
+            body_reaction(sp, rb, y, wref, Om, 0.0, gx, gy, zx, zy, zdx, zdy, buf, oR)
+            d4 -= buf[oR + 4]
+            d5 -= buf[oR + 5]
+            for i in range(n):
+                buf[oA + i * ld + n] -= sp[fbase + i] * d4 + sp[fbase + n + i] * d5
+            buf[of + n] += body_spin_moment(sp, rb, y, wref, Om)
+        else:
+            body_reaction(sp, rb, y, wref, Om, dOm, gx, gy, zx, zy, zdx, zdy, buf, oR)
         R0, R1, R2, R3 = buf[oR], buf[oR + 1], buf[oR + 2], buf[oR + 3]
         for i in range(n):
             tx = sp[fbase + i]
@@ -256,8 +351,19 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
             for k in range(n):
                 txk = sp[base + k]
                 tyk = sp[base + n + k]
-                buf[oA + i * n + k] -= tx * (R0 * txk + R1 * tyk) + ty * (R2 * txk + R3 * tyk)
-    solve_small(buf, oA, of, ox, n)
+                buf[oA + i * ld + k] -= tx * (R0 * txk + R1 * tyk) + ty * (R2 * txk + R3 * tyk)
+    if ifree != 0:
+        mw = 0.0
+        for j in range(nw):
+            mw += buf[om + j]       # the weights' drag and friction act back on the rotor
+        buf[oA + n * ld + n] = sp[H_JP]
+        buf[of + n] += drive_moment(tau / wref, phi, Om, sp) - sp[H_H0] * Om + mw
+        solve_small(buf, oA, of, ox, ld)
+        dOm = buf[ox + n]
+        dy[ifree] = y[ifree + 1]
+        dy[ifree + 1] = dOm / (wref * wref)
+    else:
+        solve_small(buf, oA, of, ox, n)
     for i in range(n):
         L = sp[oL + i]
         dy[i] = y[ns + i]
@@ -307,6 +413,7 @@ class CoupledModel:
     bodies: tuple = ()     #: PlaneBody weights (stand.rotors.bodies)
     bt: np.ndarray = field(default_factory=lambda: np.zeros((0, N_BCOL)))   #: packed rows
     n_body_states: int = 0
+    free: bool = False     #: torque drive: the rotor angle and speed are the last two states
 
     @property
     def n(self) -> int:
@@ -332,7 +439,13 @@ class CoupledModel:
 
     @property
     def size(self) -> int:
-        return 2 * (self.n + self.nw) + self.n_adhesion + self.n_body_states
+        return 2 * (self.n + self.nw) + self.n_adhesion + self.n_body_states + 2 * self.free
+
+    @property
+    def i_phi(self) -> int:
+        """Index of the rotor angle phi [rad] in the state (torque drive; Omega / omega_ref
+        follows it); ``None`` under a speed programme."""
+        return int(self.sp[H_FREE]) if self.free else None
 
     @property
     def first_body_state(self) -> int:
@@ -347,10 +460,14 @@ class CoupledModel:
         for row in self.bt:
             if int(row[B_KIND]) == TILT:
                 mask[int(row[B_OFF]):int(row[B_OFF]) + 2] = True
+        if self.free:
+            mask[self.i_phi] = True
         return mask
 
     def breakpoints(self) -> np.ndarray:
         """Dimensionless times where the programme's acceleration jumps."""
+        if self.free:
+            return np.zeros(0)
         return np.array([b for b in self.prog[1:, 0] if b > 0 and np.isfinite(b)])
 
 
@@ -362,7 +479,8 @@ def _positive(name, v, unit):
 
 
 def build_model(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,
-                omega_ref: Optional[float] = None, bodies: Sequence[PlaneBody] = ()) -> CoupledModel:
+                omega_ref: Optional[float] = None, bodies: Sequence[PlaneBody] = (),
+                inertia: Optional[float] = None) -> CoupledModel:
     """Pack a rotor, its weights and a speed programme for the compiled RHS.
 
     Parameters
@@ -370,20 +488,36 @@ def build_model(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,
     rotor : LinearRotor
     weights : sequence of PlaneWeights
         Weights per plane (any number of planes, any number of weights).
-    programme : array (k, 2)
+    programme : array (k, 2) or TorqueDrive
         Speed programme ``[[t_s, omega_rad_s], ...]``, piecewise linear, held
-        after the last node.
+        after the last node; or a torque drive (:class:`stand.scene.TorqueDrive`):
+        the rotor angle and speed become states (module docstring).
     omega_ref : float, optional
         Time scale [rad/s]; default the lowest natural frequency at rest.
     bodies : sequence of PlaneBody, optional
         Body weights (two-axis pendulums, coupled pairs, dampers, liquids;
         :mod:`stand.rotors.bodies`); their states follow the point weights'.
+    inertia : float, optional
+        Torque drive: the rotor's polar moment of inertia J_p about the shaft [kg m^2]
+        (default ``programme.inertia``); required then.
     """
     names = tuple(rotor.planes)
     for w in tuple(weights) + tuple(bodies):
         if w.plane not in rotor.planes:
             raise ValueError(f"weights: plane {w.plane!r} is not a plane of rotor {rotor.name!r} "
                              f"(planes: {', '.join(names)})")
+    drive = None
+    if getattr(programme, "kind", None) == "torque":
+        drive = programme
+        if inertia is None:
+            inertia = getattr(drive, "inertia", None)
+        if inertia is None:
+            raise ValueError("torque drive: the rotor's polar moment of inertia (inertia, "
+                             "kg m^2) is required")
+        inertia = _positive("drive.inertia", inertia, "kg m^2")
+        if drive.model not in DRIVE_MODELS:
+            raise ValueError(f"drive.model = {drive.model!r}: one of {', '.join(DRIVE_MODELS)}")
+        programme = [[0.0, max(abs(float(drive.initial_speed)), abs(float(drive.target_speed)))]]
     prog_si = np.atleast_2d(np.asarray(programme, dtype=float))
     if prog_si.ndim != 2 or prog_si.shape[1] != 2 or not np.all(np.isfinite(prog_si)) \
             or np.any(np.diff(prog_si[:, 0]) <= 0) or prog_si[0, 0] < 0:
@@ -441,12 +575,18 @@ def build_model(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,
         ub.shape[0], omega_ref
     off = N_HEAD
     head[H_NB] = bt.shape[0]
+    if drive is not None:
+        head[H_FREE] = 2 * (n + wt.shape[0]) + n_adh + nbs
+        head[H_JP], head[H_DMODEL] = inertia, DRIVE_MODELS[drive.model]
+        head[H_TQ], head[H_C1], head[H_C2] = drive.torque, drive.c1, drive.c2
+        head[H_WT], head[H_H0] = drive.target_speed, drive.rotor_drag
+        head[H_W0] = drive.initial_speed
     for slot, a in zip((H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OGR, H_OGP, H_OF, H_OB), parts):
         head[slot] = off
         off += a.size
     sp = np.concatenate([head] + parts)
     prog = build_table(prog_si[:, 0] * omega_ref, prog_si[:, 1] / omega_ref)
     return CoupledModel(rotor, tuple(weights), names, sp, wt, prog, omega_ref, scale,
-                        tuple(bodies), bt, nbs)
+                        tuple(bodies), bt, nbs, drive is not None)
 
 

@@ -226,12 +226,29 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:
         if bal.count:
             weights.append(PlaneWeights(plane, bal, fr))
     dt = _Table(data["drive"], "drive")
-    dt.allow(("type", "programme"))
-    if dt.string("type", ("speed",), "speed") != "speed":  # pragma: no cover
-        raise SceneError('drive.type: rotor-family scenes take a speed programme (drive.type = "speed")')
-    if "programme" not in dt:
-        raise SceneError("drive.programme: missing required key ([[t (s), speed (rev/s)], ...])")
-    programme = _programme(dt, "programme", 1.0)
+    if dt.string("type", ("speed", "torque"), "speed") == "torque":
+        # the planar scenes' torque models (section 5.1.1) plus the rotor's polar moment of
+        # inertia about the shaft J_p (stand.rotors.coupled_kernel: phi and Omega are states)
+        from ..scene_file import _drive
+        from .coupled import RotorTorqueDrive
+
+        rest = {k: v for k, v in dt.data.items() if k != "inertia"}
+        inertia = dt.number("inertia", "kg*m^2, the rotor's polar moment of inertia about the "
+                            "shaft; required with a torque drive", gt=0)
+        td = _drive(_Table(rest, "drive"), 1.0)
+        drive = RotorTorqueDrive(**{f: getattr(td, f) for f in
+                                    ("model", "torque", "c1", "c2", "target_speed",
+                                     "rotor_drag", "initial_speed")}, inertia=inertia)
+        programme = np.array([[0.0, max(drive.initial_speed, drive.target_speed)]])
+    else:
+        dt.allow(("type", "programme"),
+                 lambda k: f'drive.{k}: only valid with drive.type = "torque"'
+                 if k in ("model", "torque", "c1", "c2", "target_speed", "rotor_drag",
+                          "initial_speed", "inertia") else None)
+        if "programme" not in dt:
+            raise SceneError("drive.programme: missing required key ([[t (s), speed (rev/s)], ...])")
+        programme = _programme(dt, "programme", 1.0)
+        drive = SpeedDrive(programme)
     run = _run(_Table(data["run"], "run"))
     _check_cycles(rotor, run, programme)
     instruments = {}
@@ -240,7 +257,7 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:
 
         instruments = _instruments(_Table(data["instruments"], "instruments"),
                                    tuple(rotor.planes), kind)
-    scene = Scene(drive=SpeedDrive(programme), run=run, name=name, text=text, description=desc,
+    scene = Scene(drive=drive, run=run, name=name, text=text, description=desc,
                   structure=RotorStructure(kind, st, rotor, ROTOR_TYPES[kind][1]),
                   plane_weights=tuple(weights), instruments=instruments)
     if instruments:
