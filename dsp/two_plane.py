@@ -20,11 +20,14 @@ Everything here works on real numbers or on complex phasors (x + i z of a
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .errors import SignalError
 
-__all__ = ["shaft_axis_points", "principal_axis_offsets", "two_plane_unbalances"]
+__all__ = ["shaft_axis_points", "principal_axis_offsets", "two_plane_unbalances",
+           "rotor_frame_phasor", "propagate", "iso_two_plane_allocation"]
 
 
 def _check_distances(y1, y2):
@@ -85,3 +88,55 @@ def two_plane_unbalances(displacements, influence):
         raise SignalError("influence matrix is singular: the two planes cannot be separated "
                           "(planes too close, or a node of the response)")
     return np.linalg.solve(H, d)
+
+
+def rotor_frame_phasor(x, y, rotor_angle, blur_angle=0.0):
+    """The synchronous (1X forward) phasor of a point from sparse frames.
+
+    Each frame's position ``x + i y`` [m] (fixed frame) at the rotor angle ``phi``
+    [rad] of its mid-exposure is turned into the rotor frame, ``z e^{-i phi}``; at a
+    constant speed the steady whirl is one constant there, and what is not
+    synchronous (a backward part, noise, a transient's remains) scatters and averages
+    out over frames taken at many rotor angles.  ``blur_angle`` [rad]: the angle the
+    rotor turns during one exposure; the centroid of the arc is shortened by
+    ``sinc``, which is divided out.
+
+    Returns ``(phasor, standard error)``: complex [m], and the standard error of the
+    mean of the scatter [m] (per complex component sqrt(var/2), i.e. the radius
+    of a circular 1-sigma error), from at least 3 frames.
+    """
+    z = np.asarray(x, float) + 1j * np.asarray(y, float)
+    phi = np.asarray(rotor_angle, float)
+    ok = np.isfinite(z) & np.isfinite(phi)
+    if np.count_nonzero(ok) < 3:
+        raise SignalError(f"rotor-frame phasor: {np.count_nonzero(ok)} usable frame(s); needs 3")
+    w = z[ok] * np.exp(-1j * phi[ok])
+    h = 0.5 * float(blur_angle)
+    shrink = math.sin(h) / h if h else 1.0
+    Z = w.mean() / shrink
+    se = float(np.sqrt(np.mean(np.abs(w - w.mean()) ** 2) / (w.size - 1))) / shrink
+    return complex(Z), se
+
+
+def propagate(A, sigma):
+    """Standard errors of ``A @ z`` for independent circular errors ``sigma`` of ``z``."""
+    A = np.asarray(A, dtype=complex)
+    return np.sqrt(np.abs(A) ** 2 @ np.asarray(sigma, float) ** 2)
+
+
+def iso_two_plane_allocation(permissible, a1, a2, centre=0.0, limits=(0.3, 0.7)):
+    """ISO 21940-11 (7.3): the permissible residual unbalance ``permissible`` (any unit)
+    split between two planes at axial positions ``a1``, ``a2`` [m] by the lever rule
+    about the centre of mass at ``centre``: ``U1 = U b2 / b``, ``U2 = U b1 / b``
+    (``b1``, ``b2`` the planes' distances from the centre of mass, ``b = |a2 - a1|``),
+    each kept within ``limits`` (the standard's 30 % / 70 %) of ``U`` -- the case of the
+    centre of mass outside the middle of the span, or outside the planes.
+
+    Returns ``(U1, U2)``."""
+    a1, a2 = _check_distances(a1, a2)
+    b = abs(a2 - a1)
+    lo, hi = limits
+    f1 = abs(a2 - centre) / b
+    f2 = abs(a1 - centre) / b
+    f1, f2 = (min(max(f, lo), hi) for f in (f1, f2))
+    return permissible * f1, permissible * f2

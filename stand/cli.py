@@ -182,7 +182,7 @@ def _cmd_report(args) -> int:
     if not args.output and not args.json_file and not args.json:
         raise ValueError("stand report: give -o REPORT.html, --json-file REPORT.json or --json")
     doc = balancing_report(args.recording, grade=grade, service_speed_rpm=args.service_speed,
-                           html_path=args.output, json_path=args.json_file)
+                           html_path=args.output, json_path=args.json_file, tracks=args.tracks)
     if args.json:
         _print_json(doc)
         return 0
@@ -333,6 +333,15 @@ def _cmd_analyze(args) -> int:
         return 0
     if not Path(args.recording).exists():
         raise FileNotFoundError(f"recording not found: {args.recording}")
+    if args.tracks:
+        from .identify import two_plane
+        doc = two_plane(args.recording, args.tracks, grade_mm_s=args.grade, service_speed_rpm=args.service_speed)
+        if args.json:
+            return _print_json(doc) or 0
+        for r in doc["planes"]:
+            print(f"  {r['plane']} ({r['axial_position_m']:g} m): {r['unbalance_gmm']:.6g} +- {r['unbalance_gmm_std']:.2g} g*mm "
+                  f"at {r['angle_deg']:.4g} +- {r['angle_deg_std']:.2g} deg; permissible {r['permissible_gmm']:.4g}: {'pass' if r['passed'] else 'FAIL'}")
+        return 0
     try:
         doc = analyze(args.recording, grade_mm_s=args.grade, service_speed_rpm=args.service_speed)
     except (RecordingError, SignalError) as exc:
@@ -381,7 +390,7 @@ def _cmd_track(args) -> int:
         df = track_frames(args.source, calibration=args.calibration, ring_radii=args.ring_radii,
                           gain=args.gain, threshold=args.threshold, trace=args.trace,
                           spot_sigma=args.spot_sigma, capacity_gmm=args.capacity,
-                          optical_gain=args.optical_gain, progress=sys.stderr.isatty())
+                          optical_gain=args.optical_gain, progress=sys.stderr.isatty(), screen=args.screen)
     except VisionError as exc:
         raise ValueError(str(exc)) from None
     _write_csv(df, args.output)
@@ -424,6 +433,7 @@ def build_parser() -> argparse.ArgumentParser:
     rp.add_argument("--json-file", default=None, help="write the JSON report (the source of the HTML)")
     rp.add_argument("--grade", default="G6.3", help="ISO 21940-11 grade (G6.3 or 6.3, mm/s)")
     rp.add_argument("--service-speed", type=float, default=None, help="service speed [rpm]")
+    rp.add_argument("--tracks", nargs=2, default=None, metavar="CSV", help="two screens' tracks: two-plane section")
     rp.add_argument("--summary", default=None, help="batch: summary table (CSV or .parquet)")
     rp.add_argument("--workers", type=int, default=None, help="batch: local worker processes")
     rp.add_argument("--scheduler", default=None, help="batch: dask.distributed scheduler address")
@@ -505,6 +515,8 @@ def build_parser() -> argparse.ArgumentParser:
     a2.add_argument("--json", action="store_true", help="print JSON")
     a2.add_argument("--grade", type=_grade, default=6.3, help="ISO 21940-11 target grade (G6.3 or 6.3, mm/s)")
     a2.add_argument("--service-speed", type=float, default=None, help="service speed [rpm] (default: the recorded speed)")
+    a2.add_argument("--tracks", nargs=2, default=None, metavar="CSV", help="two-plane balancing: the "
+                    "`stand track --screen NAME` CSVs of the recording's two screens")
     a2.add_argument("-o", "--output", default=None,
                     help="folder/glob input: write one summary table (CSV, or .parquet)")
     a2.add_argument("--workers", type=int, default=None, help="local worker processes (default: all cores)")
@@ -520,6 +532,8 @@ def build_parser() -> argparse.ArgumentParser:
     tk.add_argument("--optical-gain", type=float, default=None,
                     help="spot displacement / shaft displacement (default: from the recording): adds "
                          "t_s, x_m, y_m[, rotor_angle_rad] for `stand analyze`")
+    tk.add_argument("--screen", default=None, help="a recording's named screen ([instruments.screen.NAME]): "
+                    "its frames; x_m, y_m of the point it shows (for `stand analyze --tracks`)")
     tk.add_argument("--threshold", type=float, default=None,
                     help="smallest spot amplitude [DN above background] (default 10 x background noise)")
     tk.add_argument("--trace", action="store_true",

@@ -418,9 +418,45 @@ def _instruments(t: _Table, planes=("balancer",), kind: str = "planar") -> dict:
             raise SceneError(f"unknown instrument [instruments.{key}]: {_suggest(key, INSTRUMENTS)}"
                              f"valid instruments: {', '.join(INSTRUMENTS)}")
         settings_cls = resolve(INSTRUMENTS, key, f"[instruments.{key}]", "instrument")
-        value, where = split_placement(value, t.name(key))
-        out[key] = attach(settings_cls.from_table(_Table(value, t.name(key))), where)
-        check_placement(out[key], planes, kind)
+        for name, table in _named_instances(key, value, t.name(key)):
+            table, where = split_placement(table, t.name(name))
+            out[name] = attach(settings_cls.from_table(_Table(table, t.name(name))), where)
+            check_placement(out[name], planes, kind)
+    return out
+
+
+#: instruments of which a scene may hold several named instances, ``[instruments.<type>.<name>]``
+NAMED_INSTRUMENTS = ("screen",)
+
+
+def _named_instances(key: str, value, path: str) -> list:
+    """``[(instrument name, table)]`` of one ``[instruments.<key>]`` table.
+
+    One instance (``[instruments.screen]``, name ``"screen"``), or -- for the types of
+    :data:`NAMED_INSTRUMENTS` -- named instances ``[instruments.screen.front]``,
+    ``[instruments.screen.rear]`` (names ``"screen.front"``, ``"screen.rear"``): the
+    sub-tables; the keys of ``[instruments.screen]`` itself are then the settings they
+    share (each sub-table overrides them).
+    """
+    if not isinstance(value, dict):
+        return [(key, value)]
+    subs = {k: v for k, v in value.items() if isinstance(v, dict)}
+    if not subs:
+        return [(key, value)]
+    if key not in NAMED_INSTRUMENTS:
+        k = next(iter(subs))
+        raise SceneError(f"[{path}.{k}]: [instruments.{key}] takes no named sub-tables (only "
+                         f"{', '.join(NAMED_INSTRUMENTS)} may have several named instances)")
+    shared = {k: v for k, v in value.items() if k not in subs}
+    if "plane" in shared or "axial_position" in shared:
+        raise SceneError(f"[{path}]: plane / axial_position belong to each named instance "
+                         f"([{path}.<name>]), not to the shared settings")
+    out = []
+    for name, sub in subs.items():
+        if not name.isidentifier():
+            raise SceneError(f"[{path}.{name}]: the instance name must be a plain identifier "
+                             "(letters, digits, _)")
+        out.append((f"{key}.{name}", {**shared, **sub}))
     return out
 
 

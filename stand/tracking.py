@@ -16,9 +16,86 @@ from typing import Optional
 
 import numpy as np
 
-__all__ = ["track_frames", "strobe_angles", "ring_radii_of", "calibration_image"]
+__all__ = ["track_frames", "strobe_angles", "ring_radii_of", "calibration_image", "screen_group"]
 
 SCREEN = "instruments/screen"
+
+
+def screen_group(name=None) -> str:
+    """The recording group of a screen: ``None`` / ``"screen"`` -> ``instruments/screen``;
+    ``"front"`` or ``"screen.front"`` (``[instruments.screen.front]``) -> ``instruments/screen.front``."""
+    if name is None or str(name) in ("", "screen"):
+        return SCREEN
+    name = str(name)
+    return f"instruments/{name if name.startswith('screen.') else 'screen.' + name}"
+
+
+def _named_screen(source, screen):
+    """``(frame source, recording, group)`` of the named screen of a recording ``source``."""
+    group = screen_group(screen)
+    if ":" in str(source):
+        raise ValueError(f"--screen {screen}: give the recording alone (not {source!r}); the "
+                         f"frames are {group}/frames")
+    rec = _recording_of(source)
+    if rec is None:
+        raise ValueError(f"--screen {screen}: {source!r} is not a readable recording (.h5)")
+    if rec.shape(f"{group}/frames") is None:
+        names = sorted({k.split("/")[1] for k in _screen_keys(rec)})
+        raise ValueError(f"--screen {screen}: {source} has no {group}/frames; its screens: "
+                         f"{', '.join(names) or 'none'}")
+    return f"{source}:{group}/frames", rec, group
+
+
+def _screen_keys(rec):
+    import h5py
+
+    try:
+        with h5py.File(rec.path, "r") as f:
+            g = f.get("instruments")
+            return [f"instruments/{k}" for k in (g.keys() if g is not None else ())
+                    if k == "screen" or k.startswith("screen.")]
+    except (OSError, TypeError):
+        return []
+
+
+def _screen_columns(df, rec, group, optical_gain=None) -> None:
+    """Without a ring calibration: the spot through the recorded camera geometry
+    (its homography, offsets and optical gain, attrs ``settings`` of ``group``) ->
+    ``x_mm``, ``y_mm`` (screen) and ``t_s``, ``x_m``, ``y_m``, ``rotor_angle_rad`` (the
+    shaft or axis point the screen shows); with the screen's ``screen``, ``plane`` and
+    ``axial_position_m``."""
+    import json
+
+    attrs = rec.dataset_attrs(group)
+    try:
+        st = json.loads(attrs.get("settings", "{}"))
+    except (TypeError, ValueError):
+        st = {}
+    H = st.get("homography")
+    if H is not None:
+        Hi = np.linalg.inv(np.asarray(H, float))
+        u, v = df["u_px"].to_numpy(float), df["v_px"].to_numpy(float)
+        w = Hi[2, 0] * u + Hi[2, 1] * v + Hi[2, 2]
+        X = (Hi[0, 0] * u + Hi[0, 1] * v + Hi[0, 2]) / w
+        Y = (Hi[1, 0] * u + Hi[1, 1] * v + Hi[1, 2]) / w
+        X, Y = X - float(st.get("offset_x", 0.0)), Y - float(st.get("offset_y", 0.0))
+        df["x_mm"], df["y_mm"] = X * 1e3, Y * 1e3
+        gain = float(optical_gain) if optical_gain is not None else float(st.get("gain", 1.0))
+        if not gain > 0:
+            raise ValueError(f"--optical-gain = {optical_gain}: must be > 0")
+        if "time" in df:
+            df["t_s"] = df["time"] + 0.5 * float(st.get("exposure", 0.0))    # mid-exposure
+        df["x_m"], df["y_m"] = X / gain, Y / gain
+        if rec.shape(f"{group}/frame_rotor_angle") is not None:
+            phi = np.asarray(rec.dataset(f"{group}/frame_rotor_angle"), float)
+            if len(phi) == len(df):
+                df["rotor_angle_rad"] = phi               # at the start of each exposure
+        if float(st.get("misalignment", 0.0)):
+            df.attrs["note"] = "the beam's misalignment circle is in x_m, y_m (a 1X term)"
+    df["screen"] = group.split("/", 1)[1]
+    df["plane"] = str(attrs.get("plane", ""))
+    if "axial_position_m" in attrs:
+        df["axial_position_m"] = float(attrs["axial_position_m"])
 
 
 def _recording_of(source):
@@ -49,7 +126,7 @@ def calibration_image(path) -> np.ndarray:
     return read_image(path, cv2.IMREAD_GRAYSCALE)
 
 
-def ring_radii_of(source, ring_radii: Optional[str] = None) -> np.ndarray:
+def ring_radii_of(source, ring_radii: Optional[str] = None, group: str = SCREEN) -> np.ndarray:
     """Ring radii [m]: ``"R1,R2,..."`` as given, else those stored in the source recording."""
     if ring_radii:
         try:
@@ -57,33 +134,33 @@ def ring_radii_of(source, ring_radii: Optional[str] = None) -> np.ndarray:
         except ValueError:
             raise ValueError(f"--ring-radii = {ring_radii!r}: comma-separated radii in m") from None
     rec = _recording_of(source)
-    if rec is None or rec.shape(f"{SCREEN}/ring_radius") is None:
+    if rec is None or rec.shape(f"{group}/ring_radius") is None:
         raise ValueError("--calibration needs the rings' radii: give --ring-radii (m, comma-separated) "
-                         f"or track a recording that stores {SCREEN}/ring_radius")
-    return np.asarray(rec.dataset(f"{SCREEN}/ring_radius"), float)
+                         f"or track a recording that stores {group}/ring_radius")
+    return np.asarray(rec.dataset(f"{group}/ring_radius"), float)
 
 
-def _screen_meta(source):
+def _screen_meta(source, group=SCREEN):
     """(optical gain, exposure [s], frame rotor angles [rad] or None) of a recording's screen."""
     import json
 
     rec = _recording_of(source)
-    if rec is None or rec.shape(f"{SCREEN}/frames") is None:
+    if rec is None or rec.shape(f"{group}/frames") is None:
         return None, 0.0, None
     try:
-        settings = json.loads(rec.dataset_attrs(SCREEN).get("settings", "{}"))
+        settings = json.loads(rec.dataset_attrs(group).get("settings", "{}"))
     except (TypeError, ValueError):
         settings = {}
-    phi = (np.asarray(rec.dataset(f"{SCREEN}/frame_rotor_angle"))
-           if rec.shape(f"{SCREEN}/frame_rotor_angle") is not None else None)
+    phi = (np.asarray(rec.dataset(f"{group}/frame_rotor_angle"))
+           if rec.shape(f"{group}/frame_rotor_angle") is not None else None)
     return float(settings.get("gain", 1.0)), float(settings.get("exposure", 0.0)), phi
 
 
-def _shaft_columns(df, source, optical_gain, X, Y) -> None:
+def _shaft_columns(df, source, optical_gain, X, Y, group=SCREEN) -> None:
     """Columns that ``stand analyze`` reads from a track: ``t_s``, ``x_m``, ``y_m`` (shaft
     displacement = screen displacement / optical gain) and ``rotor_angle_rad`` when the source
     recording has the keyphasor angle of each frame."""
-    gain, exposure, phi = _screen_meta(source)
+    gain, exposure, phi = _screen_meta(str(source).split(":")[0], group)
     if optical_gain is not None:
         gain = float(optical_gain)
         if not gain > 0:
@@ -99,7 +176,7 @@ def _shaft_columns(df, source, optical_gain, X, Y) -> None:
 
 def track_frames(source, *, calibration=None, ring_radii=None, gain=None, threshold=None,
                  trace: bool = False, spot_sigma=None, capacity_gmm=None, optical_gain=None,
-                 progress: bool = False):
+                 progress: bool = False, screen=None):
     """Track the laser spot (or, with ``trace``, the circle it draws) in every frame.
 
     Parameters
@@ -124,6 +201,13 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
         ``unbalance_gmm`` columns.
     optical_gain : float, optional
         Spot displacement / shaft displacement (default: the recording's).
+    screen : str, optional
+        A recording's named screen (``[instruments.screen.<name>]``: ``"front"`` or
+        ``"screen.front"``): its frames, rings and settings.  Without ``calibration`` the
+        spot goes through the recorded camera geometry to ``x_m``, ``y_m`` (the point
+        the screen shows, e.g. the axis point at its axial position), with ``t_s``,
+        ``rotor_angle_rad``, ``screen``, ``plane``, ``axial_position_m`` -- the input of
+        ``stand analyze --tracks`` (two-plane balancing).
 
     Returns
     -------
@@ -143,20 +227,27 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
         raise ValueError("--capacity reads circles against the rings: it needs --trace")
     if capacity_gmm is not None and not calibration:
         raise ValueError("--capacity needs --calibration (the rings)")
+    rec = group = None
+    if screen is not None:
+        source, rec, group = _named_screen(source, screen)
     frames = iter_frames(source, progress=progress)
     if trace:
         df = track_traces(frames, gain=gain, threshold=threshold, spot_sigma_px=spot_sigma)
     else:
         df = track(frames, gain=gain, threshold=threshold)
     if not calibration:
+        if rec is not None and not trace and len(df):
+            _screen_columns(df, rec, group, optical_gain)
         return df
-    radii = ring_radii_of(source, ring_radii)
+    radii = ring_radii_of(source, ring_radii, group or SCREEN)
     cal = fit_homography(detect_rings(calibration_image(calibration)), radii)
     X, Y = (np.asarray(a) for a in px_to_m(df["u_px"].to_numpy(), df["v_px"].to_numpy(), cal))
     df["x_mm"], df["y_mm"] = X * 1e3, Y * 1e3
     df["scale_mm_per_px"] = cal.scale * 1e3
     if not trace:
-        _shaft_columns(df, source, optical_gain, X, Y)
+        _shaft_columns(df, source, optical_gain, X, Y, group or SCREEN)
+        if rec is not None:
+            df["screen"] = group.split("/", 1)[1]
         return df
     # the circle's radius on the screen: the mean scale around the circle
     df["radius_mm"] = df["radius_px"] * cal.scale * 1e3

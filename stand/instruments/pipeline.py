@@ -32,7 +32,7 @@ import numpy as np
 
 from ..scene import Scene, SceneError
 from ..simulate import Trajectory, simulate
-from .placement import instrument_plane, placement_of, with_axis_planes
+from .placement import instrument_plane, placement_of, screens, with_axis_planes
 from .rings import scene_capacity
 
 FRAME_COMPRESSION = {"compression": "gzip", "compression_opts": 1, "shuffle": True}
@@ -114,13 +114,29 @@ def _max_speed(scene: Scene) -> float:
     return float(max(abs(d.target_speed), abs(d.initial_speed)))
 
 
-def _screen_plan(scene: Scene):
+def _screen_plan(scene: Scene, name: str = "screen"):
     from .screen import exposure_times, frame_times
 
-    cam = scene.instruments["screen"]
+    cam = scene.instruments[name]
     starts = frame_times(scene.run.duration, cam)
     times = exposure_times(starts, cam, max_rotor_speed=_max_speed(scene))
     return cam, starts, times
+
+
+def _screen_plans(scene: Scene):
+    """``(plans, extra)``: per screen name ``(cam, starts, times, index)`` -- ``index`` (F x K)
+    of each exposure sub-sample in the run's extra samples -- and the extra sample times
+    (the screens' exposure sub-samples merged; one screen: its own, unchanged)."""
+    plans = {name: _screen_plan(scene, name) for name in screens(scene.instruments)}
+    if not plans:
+        return {}, None
+    if len(plans) == 1:
+        (name, (cam, starts, times)), = plans.items()
+        return {name: (cam, starts, times, np.arange(times.size).reshape(times.shape))}, \
+            times.ravel()
+    extra = np.unique(np.concatenate([p[2].ravel() for p in plans.values()]))
+    return {name: (cam, starts, times, np.searchsorted(extra, times))
+            for name, (cam, starts, times) in plans.items()}, extra
 
 
 def run_with_instruments(scene: Scene, method: str | None = None, progress: bool = False,
@@ -145,33 +161,36 @@ def run_with_instruments(scene: Scene, method: str | None = None, progress: bool
                          "[[weights]] to attach instruments")
     if scene.kind == "rotor":   # the instruments' axis points become planes of the run
         scene = with_axis_planes(scene)
-    plan = _screen_plan(scene) if "screen" in scene.instruments else None
-    extra = None if plan is None else plan[2].ravel()
+    plans, extra = _screen_plans(scene)
     traj = simulate(scene, method=method, progress=progress, extra_times=extra, checkpoint=checkpoint,
                     rtol=rtol, atol=atol)
 
     def writer(f):
-        write_instruments(f, scene, traj, plan)
+        write_instruments(f, scene, traj, plans)
 
     # an upper bound of what the instruments store (16-bit frames, uncompressed), so the
     # recording writer knows whether it may assemble the file in memory (stand.recording)
-    n_frames = 0 if plan is None else len(plan[1])
-    cam = scene.instruments.get("screen")
-    frame_bytes = 2 * cam.width * cam.height if cam is not None else 0
-    writer.estimated_bytes = (n_frames + 1) * frame_bytes + \
+    frame_bytes = sum((len(p[1]) + 1) * 2 * p[0].width * p[0].height for p in plans.values())
+    writer.estimated_bytes = frame_bytes + \
         (MAX_STROBE_FRAMES * 2 * 1024 * 1024 if "stroboscope" in scene.instruments else 0) + \
         64 * traj.t.size * 8
     return traj, writer
 
 
-def write_instruments(f, scene: Scene, traj: Trajectory, plan=None) -> None:
-    """Store the output and truth of every instrument of ``scene`` into the open file ``f``."""
+def write_instruments(f, scene: Scene, traj: Trajectory, plans=None) -> None:
+    """Store the output and truth of every instrument of ``scene`` into the open file ``f``.
+
+    Each screen ``name`` (``"screen"``, or ``"screen.<n>"`` for the named screens
+    ``[instruments.screen.<n>]``) writes ``instruments/<name>`` and ``truth/<name>``.
+    """
     inst = scene.instruments
     if scene.kind == "rotor" and any(placement_of(s).axial_position is not None
                                      for s in inst.values()):
         scene = with_axis_planes(scene)     # (idempotent: the run's scene already has them)
-    if "screen" in inst:
-        _write_screen(f, scene, traj, plan or _screen_plan(scene))
+    if plans is None:
+        plans = _screen_plans(scene)[0]
+    for name, plan in plans.items():
+        _write_screen(f, scene, traj, plan, name)
     if "stroboscope" in inst:
         _write_strobe(f, scene, traj)
     if "photogate" in inst:
@@ -215,21 +234,22 @@ def _write_dict(g, d: dict, units: dict) -> None:
             ds.attrs["units"] = units[k]
 
 
-def _write_screen(f, scene: Scene, traj: Trajectory, plan) -> None:
+def _write_screen(f, scene: Scene, traj: Trajectory, plan, name: str = "screen") -> None:
     from .render import render_frames
     from .rings import check_spot_size, render_ring_image, ring_radii
     from .screen import frame_truth, spot_positions
 
-    cam, starts, times = plan
+    cam, starts, times, index = plan
     ex, plane, _ = plane_view(traj.extra, scene, cam)
     F, K = times.shape
-    n_ok = min(F, ex.t.size // K)  # a run that stopped early renders the frames it has
+    # a run that stopped early renders the frames it has
+    n_ok = int(np.count_nonzero(np.all(index < ex.t.size, axis=1)))
     shape = (n_ok, K)
-    sl = slice(0, n_ok * K)
+    sl = index[:n_ok].ravel()
     screen_m, px = spot_positions(ex.x[sl].reshape(shape), ex.y[sl].reshape(shape),
                                   ex.rotor_angle[sl].reshape(shape), cam)
     truth = frame_truth(screen_m, px, cam)
-    g = f.require_group("instruments/screen")
+    g = f.require_group(f"instruments/{name}")
     g.attrs["settings"] = _settings_json(cam.to_attrs() if hasattr(cam, "to_attrs") else cam)
     g.attrs["description"] = ("camera filming the laser spot on the screen: frames (row = image "
                               "row, column = image column), exposure start times")
@@ -264,7 +284,7 @@ def _write_screen(f, scene: Scene, traj: Trajectory, plan) -> None:
             check_spot_size(cam, radii)
         except ValueError as exc:  # a warning for the user, kept with the data
             g.attrs["warning"] = str(exc)
-    t = f.require_group("truth/screen")
+    t = f.require_group(f"truth/{name}")
     for key, unit in (("centre_px", "px"), ("centre_m", "m"), ("in_frame", "1")):
         ds = t.create_dataset(key, data=np.asarray(truth[key])[:n_ok])
         ds.attrs["units"] = unit
@@ -365,7 +385,7 @@ def _write_photogate(f, scene: Scene, traj: Trajectory) -> None:
     from .timing import shaft_velocity
 
     gate = scene.instruments["photogate"]
-    screen = scene.instruments.get("screen")
+    screen = scene.instruments.get("screen") or next(iter(screens(scene.instruments).values()), None)
     traj, plane, _ = plane_view(traj, scene, gate)
     gain = getattr(screen, "gain", 1.0)  # the gate sits on the screen: the camera's optical gain
     vx, vy = shaft_velocity(traj)

@@ -40,7 +40,7 @@ from ..scene import SceneError
 
 __all__ = ["Placement", "PLACEMENT_KEYS", "AXIS_MAPS", "NO_TILT", "split_placement",
            "attach", "placement_of", "instrument_plane", "axis_plane_name", "axis_map",
-           "with_axis_planes", "check_placement"]
+           "with_axis_planes", "check_placement", "is_screen", "screens"]
 
 #: keys of an ``[instruments.<name>]`` table that place the instrument (not its settings)
 PLACEMENT_KEYS = ("plane", "axial_position")
@@ -234,6 +234,16 @@ def with_axis_planes(scene):
     return dataclasses.replace(scene, structure=dataclasses.replace(st, rotor=rotor))
 
 
+def is_screen(name: str) -> bool:
+    """``[instruments.screen]`` (name ``"screen"``) or a named one ``[instruments.screen.<n>]``."""
+    return name == "screen" or name.startswith("screen.")
+
+
+def screens(instruments) -> dict:
+    """The screen cameras of a scene's instruments, name -> settings, in the scene's order."""
+    return {k: v for k, v in instruments.items() if is_screen(k)}
+
+
 def check_instruments(scene) -> None:
     """The checks :func:`stand.scene_file.check_derived` makes of the instruments of a
     planar scene, for a rotor-family scene: placements (axis maps built), image sizes,
@@ -250,19 +260,20 @@ def check_instruments(scene) -> None:
         if w * h > MAX_IMAGE_PIXELS:
             raise SceneError(f"{getattr(inst, 'table', 'instruments')}: width x height = {w} x "
                              f"{h} px: more than {MAX_IMAGE_PIXELS / 1e6:.0f} Mpx per image")
-    cam = scene.instruments.get("screen")
     run = scene.run
-    if cam is not None:
+    nbytes, what = 0, []
+    for name, cam in screens(scene.instruments).items():
         from .screen import exposure_times, frame_times
 
         top_w = float(np.max(np.abs(scene.drive.programme[:, 1])))
         n_frames = frame_times(run.duration, cam).size
         k = exposure_times(np.zeros(1), cam, max_rotor_speed=top_w).shape[1]
         width = 2 * (scene.linear_rotor().n + scene.n_weights) + 8 * len(scene.bodies)
-        nbytes = n_frames * k * width * 8 * 3
+        nbytes += n_frames * k * width * 8 * 3
+        what.append(f"{n_frames} frames x {k} exposure sub-samples ({name})")
         if nbytes > MAX_STATE_BYTES / 4:
             raise SceneError(
-                f"instruments.screen: {n_frames} frames x {k} exposure sub-samples need about "
+                f"instruments.screen: {' + '.join(what)} need about "
                 f"{nbytes / 1e9:.3g} GB of simulated samples (limit {MAX_STATE_BYTES / 4e9:.0f} GB): "
                 "lower frame_rate or subsamples, or film a part of the run with start_time")
     for inst in scene.instruments.values():

@@ -50,7 +50,7 @@ TWO_PI = 2.0 * math.pi
 
 
 def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_path=None,
-                     json_path=None) -> dict:
+                     json_path=None, tracks=None) -> dict:
     """Balancing-quality report of one recording; returns the JSON document (plain types).
 
     Parameters
@@ -65,6 +65,10 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
     html_path, json_path : path, optional
         Where to write the self-contained HTML and the JSON (atomically, through
         :mod:`stand.io.atomic`).
+    tracks : two paths, optional
+        ``stand track RUN.h5 --screen NAME`` CSVs of a recording's two screens: adds the
+        ``two_plane`` section (per-plane residual unbalance, its ISO 21940-11 share,
+        pass/fail; :mod:`.balancing_two_plane`).
 
     Returns
     -------
@@ -166,14 +170,20 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
         "warnings": warnings,
         "notes": notes,
     }
+    sections = SECTIONS
+    if tracks:
+        from .balancing_two_plane import TWO_PLANE_SCHEMA, two_plane_section
+
+        doc["two_plane"] = two_plane_section(recording_path, tracks, grade, service_speed_rpm, warn)
+        sections = SECTIONS[:-2] + ("two_plane",) + SECTIONS[-2:]
     plain = to_jsonable(doc)
-    problems = check_schema(plain, SCHEMA)
+    problems = check_schema(plain, dict(SCHEMA, **({"two_plane": TWO_PLANE_SCHEMA} if tracks else {})))
     if problems:  # pragma: no cover -- a bug here, not bad input
         raise RuntimeError("balancing report does not match its schema: " + "; ".join(problems))
     figs = figures(rec) if html_path else None
     return write_report(f"Balancing-quality report: {header['scene_name']}", plain,
                         html_path=html_path, json_path=json_path, figures=figs,
-                        sections=SECTIONS)
+                        sections=sections)
 
 
 def _scene_warnings(rec, bq, dyn, w_service, final_speed, steady_len, warn, notes):
