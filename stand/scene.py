@@ -458,6 +458,28 @@ class Scene:
                             unbalance=r.unbalance, unbalance_angle=r.unbalance_angle)
 
     @property
+    def operating_speed(self) -> float:
+        """The speed the run ends at or aims for [rad/s]: the speed programme's last speed, or
+        a torque drive's target speed (its initial speed without a target)."""
+        d = self.drive
+        if d is None:
+            return 0.0
+        if d.kind == "speed":
+            return float(d.programme[-1, 1])
+        return float(d.target_speed or d.initial_speed)
+
+    @property
+    def top_speed(self) -> float:
+        """The largest speed of the drive [rad/s] (programme maximum; a torque drive's
+        larger of target and initial speed)."""
+        d = self.drive
+        if d is None:
+            return 0.0
+        if d.kind == "speed":
+            return float(np.max(np.abs(d.programme[:, 1])))
+        return float(max(abs(d.target_speed), abs(d.initial_speed)))
+
+    @property
     def total_mass(self) -> float:
         """M_Sigma = M + sum m_j [kg] (planar rotor; body weights included)."""
         return (self._planar("total_mass").mass + float(np.sum(self.balancer.mass))

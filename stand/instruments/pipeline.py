@@ -108,10 +108,7 @@ def _place_attrs(g, plane: str, settings, names=None) -> None:
 
 
 def _max_speed(scene: Scene) -> float:
-    d = scene.drive
-    if d.kind == "speed":
-        return float(np.max(np.abs(d.programme[:, 1])))
-    return float(max(abs(d.target_speed), abs(d.initial_speed)))
+    return scene.top_speed
 
 
 def _screen_plan(scene: Scene, name: str = "screen"):

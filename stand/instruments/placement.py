@@ -265,7 +265,7 @@ def check_instruments(scene) -> None:
     for name, cam in screens(scene.instruments).items():
         from .screen import exposure_times, frame_times
 
-        top_w = float(np.max(np.abs(scene.drive.programme[:, 1])))
+        top_w = scene.top_speed
         n_frames = frame_times(run.duration, cam).size
         k = exposure_times(np.zeros(1), cam, max_rotor_speed=top_w).shape[1]
         width = 2 * (scene.linear_rotor().n + scene.n_weights) + 8 * len(scene.bodies)

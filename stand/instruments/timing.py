@@ -287,8 +287,12 @@ def _generic_velocity(traj, state):
         return None
     from ..rotors.coupled import build_model
 
-    model = build_model(scene.linear_rotor(), scene.weights, scene.drive.programme,
-                        bodies=scene.bodies)
+    d = scene.drive
+    torque = d.kind != "speed"
+    model = build_model(scene.linear_rotor(), scene.weights, d if torque else d.programme,
+                        bodies=scene.bodies,
+                        inertia=scene.rotor.inertia_about_shaft
+                        if torque and scene.kind == "planar" else None)
     n, nw = model.n, model.nw
     if state.shape[1] != model.size:
         return None

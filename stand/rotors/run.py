@@ -20,7 +20,7 @@ __all__ = ["family_theory"]
 def _steady(scene, rot) -> dict:
     """1X response of every plane to the rotor's unbalances at the operating speed
     (weights locked, i.e. the rotor as it would run without balancing)."""
-    w = float(scene.drive.programme[-1, 1])
+    w = scene.operating_speed
     if not (w > 0 and rot.unbalances):
         return {}
     out = {"speed_hz": w / (2 * math.pi), "planes": {}}
@@ -37,7 +37,7 @@ def _floquet_scan(scene, ranges: dict, lo: float, hi: float, n: int = 14) -> dic
     """Main-motion critical speeds by Floquet continuation from the operating speed."""
     from .stability import _state_guess, main_motion_critical_speeds, main_motion_stability
 
-    w0 = float(scene.drive.programme[-1, 1])
+    w0 = scene.operating_speed
     if not w0 > 0:
         return {"note": "operating speed 0: no main motion to continue"}
     rotor = scene.linear_rotor()
@@ -99,8 +99,7 @@ def family_theory(scene, max_speed: float | None = None, floquet: bool = True) -
     """
     rot = with_locked_weights(scene.linear_rotor(), scene.weights, scene.bodies)
     wn0 = rot.natural_frequencies(0.0)
-    top = float(np.max(scene.drive.programme[:, 1])) if scene.drive.kind == "speed" else \
-        float(max(scene.drive.target_speed, scene.drive.initial_speed))
+    top = scene.top_speed
     hi = max_speed or 4.0 * max(float(wn0.max()) if wn0.size else 1.0, top)
     lo = 1e-3 * hi
     planes = sorted({w.plane for w in scene.weights} or {scene.main_plane})
