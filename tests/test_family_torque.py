@@ -138,3 +138,22 @@ def test_family_torque_drive_keys():
     with pytest.raises(SceneError, match="c1"):
         _family(_two_mass_torque_text('type = "torque"\nmodel = "constant"\ntorque = 0.3\n'
                                       "c1 = 0.1\ninertia = 0.02"))
+
+
+def test_commands_on_a_torque_driven_family_scene(tmp_path, capsys):
+    """theory, run (with a stroboscope), analyze and report take a torque-driven [structure]
+    scene (the drive has no programme: its operating speed is the target speed)."""
+    from stand.cli import main
+
+    text = _two_mass_torque_text(SPEED_FEEDBACK, duration=3.0) + (
+        "\n[instruments.stroboscope]\nflash_angle = 90.0\nslot_width = 0.003\n"
+        "slot_radius = 0.12\nframe_every = 40\nwidth = 96\nheight = 96\npixel_pitch = 5e-3\n")
+    p = tmp_path / "t.toml"
+    p.write_text(text)
+    assert main(["theory", str(p)]) == 0
+    assert "two_mass" in capsys.readouterr().out
+    rec = tmp_path / "t.h5"
+    assert main(["run", str(p), "-o", str(rec), "--no-progress"]) == 0
+    assert stand.read(rec).shape("instruments/stroboscope/frames")[0] >= 1
+    assert main(["analyze", str(rec)]) == 0
+    assert main(["report", str(rec), "-o", str(tmp_path / "r")]) == 0
