@@ -290,7 +290,9 @@ def test_experiment_programmes_on_a_planar_scene_with_a_body(tmp_path):
         with pytest.raises(ex.NotApplicable, match="perturbation"):
             ex.programme(scene, name, **opts)
     assert ex.not_applicable(scene, "run-up") is None
-    assert ex.not_applicable(stand.load(SCENES / "family_two_mass.toml"), "run-up")
+    family = stand.load(SCENES / "family_two_mass.toml")   # the generic kernel too
+    assert ex.not_applicable(family, "run-up") is None
+    assert "generic kernel" in ex.not_applicable(family, "impact")
 
 
 def test_experiment_command_on_a_body_scene(tmp_path):
