@@ -23,7 +23,7 @@ of a planar scene) and every ``[structure]`` rotor run on the generic kernel, wh
 and an initial state but no perturbations: ``constant``, ``run-up``,
 ``run-down`` (the exponential coast-down as a piecewise-linear programme of
 :data:`EXP_NODES` nodes, relative error below 1e-4) and ``natural-frequency``
-run; ``unbalance``, ``impact`` and ``pressure`` are not applicable
+and ``impact`` (a jump of the scaled state at the blow) run; ``unbalance`` and ``pressure`` are not applicable
 (:func:`not_applicable` says why; :func:`programme` raises :class:`NotApplicable`).
 """
 from __future__ import annotations
@@ -48,9 +48,6 @@ GENERIC_KERNEL_WHY = {
     "unbalance": "an unbalance change at speed (table 4.5) is a perturbation of the planar "
                  "kernel; the generic kernel that runs body weights keeps the rotor's unbalance "
                  "fixed",
-    "impact": "a blow to the housing (table 4.6) is a shaft-velocity jump during the run, a "
-              "perturbation of the planar kernel; the generic kernel that runs body weights "
-              "takes the shaft velocity only at the start",
     "pressure": "a side pressure (table 4.6) adds a force and a stiffness during the run, a "
                 "perturbation of the planar kernel; the generic kernel that runs body weights "
                 "has fixed supports",

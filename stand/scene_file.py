@@ -341,9 +341,11 @@ def _bodies(items, rotor, supports, drive, perturbations) -> tuple:
             raise SceneError(f"{where}.type = {_fmt(item.get('type'))}: one of "
                              f"{', '.join(BODY_TYPES)} (balls and pendulums go in [balancer])")
         out.append(parse_body(item, where, plane, lin))
-    if out and (drive.kind != "speed" or drive.coast_down_start is not None or perturbations):
+    if out and (drive.kind != "speed" or drive.coast_down_start is not None
+                or any(p.kind != "impulse" for p in perturbations)):
         raise SceneError("weights: body weights run on the generic kernel: a speed programme "
-                         '(drive.type = "speed", no coast_down) and no [[perturbation]]')
+                         '(drive.type = "speed", no coast_down) and of the [[perturbation]]s '
+                         'only impulses')
     return tuple(out)
 
 

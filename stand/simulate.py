@@ -210,10 +210,12 @@ def _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoi
     from .rotors.coupled import build_model, initial_state as generic_initial
 
     torque = scene.drive.kind == "torque"
+    blows = [p for p in scene.perturbations if p.kind == "impulse"]
+    if len(blows) != len(scene.perturbations):
+        raise SceneError("kernel = \"generic\": of the perturbations the generic kernel takes "
+                         "the blows to the housing (impact) only; an unbalance change or a side "
+                         "pressure runs on the planar kernel")
     if scene.kind == "planar":
-        if scene.perturbations:
-            raise SceneError("kernel = \"generic\": the planar rotor runs on the generic kernel "
-                             "without perturbations only")
         if not torque and scene.drive.coast_down_start is not None:
             raise SceneError("kernel = \"generic\": no exponential coast-down on the generic kernel")
         if torque and scene.rotor.inertia_about_shaft is None:
@@ -228,6 +230,8 @@ def _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoi
                             if torque and scene.kind == "planar" else None)
     except ValueError as exc:
         raise SceneError(str(exc)) from None
+    if blows:
+        model = _with_blows(model, scene, blows)
     method, ratio, reason = choose_method(model, method)
     if method == "numpy-DOP853":
         raise SceneError("run.method = \"numpy-DOP853\": the pure-numpy reference path exists for "
@@ -257,6 +261,26 @@ def _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoi
     res = _generic_run(scene, model, out[r], ts[r], stats)
     res.extra = _generic_run(scene, model, out[e], ts[e], stats)
     return res
+
+
+def _with_blows(model, scene, blows):
+    """The model with the blows to the housing (table 4.6) as jumps of its scaled state: the
+    main plane's velocity jumps by (velocity_x, velocity_y) [m/s], carried by the least-norm
+    coordinate rates."""
+    import dataclasses
+
+    T = model.rotor.planes[scene.main_plane]
+    n, nw = model.n, model.nw
+    rows = []
+    for b in blows:
+        row = np.zeros(1 + model.size)
+        row[0] = b.start * model.omega_1
+        dqd = np.linalg.pinv(T) @ [b.velocity_x, b.velocity_y]
+        row[1 + n + nw:1 + 2 * n + nw] = dqd / (model.scale * model.omega_ref)
+        rows.append(row)
+    m = dataclasses.replace(model)
+    object.__setattr__(m, "impulses", np.array(rows))
+    return m
 
 
 def _generic_run(scene, model, out, tau, stats) -> Run:

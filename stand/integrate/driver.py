@@ -197,9 +197,18 @@ def run_dop853(model, y0, tau_end, rtol, atol, ts, out, stats, max_steps, progre
 
 
 def apply_impulses(model, tau, y):
-    """Shaft velocity jumps of the blows to the housing that happen at ``tau``."""
+    """Shaft velocity jumps of the blows to the housing that happen at ``tau``.
+
+    ``model.impulses``: rows ``(tau, dvx, dvy)`` on the planar state layout, or rows
+    ``(tau, dy_0, ..., dy_{size-1})`` -- a jump of the whole scaled state -- on the
+    generic one (:class:`stand.rotors.coupled_kernel.CoupledModel`)."""
     imp = model.impulses
     if imp is None or imp.size == 0:
+        return
+    if imp.shape[1] == y.size + 1:
+        for row in imp:
+            if row[0] == tau:
+                y += row[1:]
         return
     nq = model.nq
     for t_i, dvx, dvy in imp:

@@ -430,6 +430,7 @@ class CoupledModel:
 
     # the model protocol of stand.integrate.driver
     kind = 1                 #: stand.kernels.GENERIC
+    #: blows to the housing: rows (tau, jump of the scaled state) (stand.integrate.driver)
     impulses = None
 
     @property
@@ -466,9 +467,10 @@ class CoupledModel:
 
     def breakpoints(self) -> np.ndarray:
         """Dimensionless times where the programme's acceleration jumps."""
-        if self.free:
-            return np.zeros(0)
-        return np.array([b for b in self.prog[1:, 0] if b > 0 and np.isfinite(b)])
+        pts = [] if self.free else [b for b in self.prog[1:, 0] if b > 0 and np.isfinite(b)]
+        if self.impulses is not None:
+            pts += [t for t in self.impulses[:, 0] if t > 0]
+        return np.array(sorted(set(pts)))
 
 
 def _positive(name, v, unit):
