@@ -10,15 +10,22 @@ import pytest
 
 import stand
 
-SAMPLE = Path(__file__).resolve().parents[1] / "data_samples" / "scenes" / "paper003_two_balancers.toml"
+SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
+SAMPLE = SCENES / "paper003_two_balancers.toml"
 
 
-def test_theory_json_holds_the_generalised_criterion_of_the_sample():
-    out = subprocess.run([sys.executable, "-m", "stand", "theory", str(SAMPLE), "--json"],
+@pytest.mark.parametrize("name,onset_hz", [("paper003_two_balancers", 21.4688),
+                                           ("paper003_two_screens", 21.6068)])
+def test_theory_json_holds_the_generalised_criterion_of_the_sample(name, onset_hz):
+    """With balancers (two_balancers) or without (two_screens: the rotor's two correction
+    planes), stand theory --json holds the two-plane criterion; its onset is where
+    criterion_matrix turns negative definite."""
+    path = SCENES / f"{name}.toml"
+    out = subprocess.run([sys.executable, "-m", "stand", "theory", str(path), "--json"],
                          capture_output=True, text=True, check=True).stdout
     gc = json.loads(out)["generalised_criterion"]
     assert gc["planes"] == ["balancer1", "balancer2"]
-    sc = stand.load(SAMPLE)
+    sc = stand.load(path)
     from stand.rotors.coupled import with_locked_weights
 
     rot = with_locked_weights(sc.linear_rotor(), sc.weights)
@@ -30,7 +37,7 @@ def test_theory_json_holds_the_generalised_criterion_of_the_sample():
     (onset,) = gc["onsets_hz"]
     assert not definite(onset * (1 - 1e-6)) and definite(onset * (1 + 1e-6))
     assert gc["working_ranges_hz"] == [[onset, None]]
-    assert onset == pytest.approx(21.4688, rel=1e-5)
+    assert onset == pytest.approx(onset_hz, rel=1e-5)
 
 
 def test_the_pair_balances_above_the_onset():

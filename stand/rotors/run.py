@@ -102,7 +102,11 @@ def family_theory(scene, max_speed: float | None = None, floquet: bool = True) -
     top = scene.top_speed
     hi = max_speed or 4.0 * max(float(wn0.max()) if wn0.size else 1.0, top)
     lo = 1e-3 * hi
-    planes = sorted({w.plane for w in scene.weights} or {scene.main_plane})
+    # the planes with weights; without weights the rotor's balancer (correction) planes, where
+    # a balancer would sit (e.g. the two-screen balancing sample), else the main plane
+    correction = [p for p in rot.planes if p.startswith("balancer")]
+    planes = sorted({w.plane for w in tuple(scene.weights) + tuple(scene.bodies)}
+                    or set(correction) or {scene.main_plane})
     ranges = {}
     for p in planes:
         crit, rg = working_ranges(rot, p, lo, hi)
