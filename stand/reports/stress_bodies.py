@@ -33,12 +33,11 @@ Units: SI (the dimensionless book parameters only inside the oracle).
 from __future__ import annotations
 
 import dataclasses
-import math
 
 import numpy as np
 
 from .stress_catalogue import CatalogueError
-from .stress_planar import _reference, _run_planar, rel_max, scene_path
+from .stress_planar import _reference, _run_planar, scene_path
 
 __all__ = ["BODY_CHECKS", "kind_body_scene", "load_body_scene"]
 
@@ -75,54 +74,19 @@ def load_body_scene(case):
         run, rtol=rtol, atol=atol, method=p["method"], duration=p["duration"] or run.duration))
 
 
-def _shaft_velocity(tr):
-    """Velocity d(x + i y)/dt [m/s] of the main plane of a generic-kernel run, from its state."""
-    from ..rotors.coupled import build_model, samples_si
-
-    sc = tr.scene
-    model = build_model(sc.linear_rotor(), sc.weights, sc.drive.programme, bodies=sc.bodies)
-    qd = samples_si(model, tr.state, tr.t * model.omega_ref)[2]
-    v = qd @ model.rotor.planes[tr.main_plane].T
-    return v[:, 0] + 1j * v[:, 1]
-
-
 def _runup(scene, tr, res) -> list:
     from ..accuracy import runup_params
-    from ..balancers.runup_closed_form import free_whirl_amplitudes, runup_closed_form_state
     from ..rotors.bodies import LiquidWeight
+    from .stress_planar import runup_check
 
-    invalid = []
-    ru = runup_params(scene)
-    if ru is None:
-        invalid.append("the closed-form run-up needs the planar rotor with one liquid lever (float, "
-                       "or chamber without relaxation), isotropic supports, a two-node speed "
-                       "programme (constant acceleration) and the stationary whirl as initial state "
-                       "(stand.accuracy.runup_params); none applies")
-        res.update(oracle="none (closed form not applicable)", error_measure="")
+    invalid = runup_check(scene, tr, res, "the closed-form run-up needs the planar rotor with "
+                          "one liquid lever (float, or chamber without relaxation)")
+    if invalid:
         return invalid
-    prm, t_end = ru
-    t = tr.t
-    valid = t <= t_end
-    Z, Zd = runup_closed_form_state(prm, np.where(valid, t, 0.0))
-    z = tr.x + 1j * tr.y
-    err = rel_max(np.where(valid, z, 0), np.where(valid, Z, 0))
-    res.update(oracle=(f"closed-form run-up of paper 001's model M1 with psi = {prm.psi:.6g} "
-                       f"(critical speed {prm.Omega:.6g} rad/s; "
-                       + ("Fresnel integrals" if prm.n == 0 else "Faddeeva function")
-                       + f"), {2 * prm.epsilon:g} rad/s^2 from {prm.omega_0:g} rad/s up to "
-                       f"t = {t_end:g} s"),
-               error=err, error_measure="max |r - r_exact| / max |r_exact| [-]", reference_error=0.0)
-    revs = float(tr.rotor_angle[-1] / (2 * math.pi)) if len(t) else 0.0
-    res["details"].update(revolutions=revs, psi=prm.psi, critical_speed_rad_s=prm.Omega,
+    prm, _ = runup_params(scene)
+    t, z = tr.t, tr.x + 1j * tr.y
+    res["details"].update(psi=prm.psi, critical_speed_rad_s=prm.Omega,
                           max_whirl_m=float(np.max(np.abs(z))) if len(t) else 0.0)
-    if prm.n == 0 and len(t) and valid.any():
-        k = int(np.nonzero(valid)[0][-1])
-        v = _shaft_velocity(tr)
-        c_num = free_whirl_amplitudes(prm, t[k:k + 1], z[k:k + 1], v[k:k + 1])[0][0]
-        c_ref = free_whirl_amplitudes(prm, t[k:k + 1], Z[k:k + 1], Zd[k:k + 1])[0][0]
-        res.update(conserved_quantity="free-whirl amplitude |c+| after the passage (undamped)",
-                   drift=float((c_num - c_ref) / c_ref))
-        res["_drift_checked"] = True
     b = scene.bodies[0].body
     if isinstance(b, LiquidWeight) and b.kind == "liquid_float" and len(t):
         top = float(np.max(np.abs(z)))

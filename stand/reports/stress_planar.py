@@ -75,12 +75,56 @@ def _shaft(tr):
 
 
 def _velocity(tr):
-    """The shaft's velocity dr/dt [m/s] of a planar run, from its state."""
+    """The shaft's velocity dr/dt [m/s] of a run, from its state (the generic kernel's
+    layout through :func:`stand.instruments.timing.shaft_velocity`)."""
     from ..planar import build_planar_model
 
+    if tr.scene.kind != "planar" or tr.scene.bodies:
+        from ..instruments.timing import shaft_velocity
+
+        vx, vy = shaft_velocity(tr)
+        return vx + 1j * vy
     model = build_planar_model(tr.scene)
     k = 2 + tr.scene.balancer.count + (1 if model.free else 0)
     return (tr.state[:, k] + 1j * tr.state[:, k + 1]) * model.length * model.omega_1
+
+
+def runup_check(scene, tr, res, needs: str) -> list:
+    """Judge a run-up against the closed form of paper 001 (:func:`stand.accuracy.runup_params`:
+    a weight-free rotor, or model M1 itself with one liquid lever); fills ``res`` (oracle,
+    error, revolutions, the undamped free-whirl drift) and returns the reasons it does not
+    apply (``needs``: what the case kind requires, for the message)."""
+    from ..accuracy import runup_params
+    from ..balancers.runup_closed_form import free_whirl_amplitudes, runup_closed_form_state
+
+    ru = runup_params(scene)
+    if ru is None:
+        res.update(oracle="none (closed form not applicable)", error_measure="")
+        return [f"{needs}, isotropic supports, a two-node speed programme (constant "
+                "acceleration) and the stationary whirl as initial state "
+                "(stand.accuracy.runup_params); none applies"]
+    prm, t_end = ru
+    t = tr.t
+    valid = t <= t_end
+    Z, Zd = runup_closed_form_state(prm, np.where(valid, t, 0.0))
+    z = _shaft(tr)
+    err = rel_max(np.where(valid, z, 0), np.where(valid, Z, 0))
+    what = f"paper 001's model M1 with psi = {prm.psi:.6g}, " if prm.psi != 1.0 else ""
+    res.update(oracle=(f"closed-form run-up ({what}"
+                       + ("Fresnel integrals" if prm.n == 0 else "Faddeeva function")
+                       + f"), {2 * prm.epsilon:g} rad/s^2 from {prm.omega_0:g} rad/s, up to "
+                       f"t = {t_end:g} s"),
+               error=err, error_measure="max |r - r_exact| / max |r_exact| [-]", reference_error=0.0)
+    res["details"].update(revolutions=float(tr.rotor_angle[-1] / (2 * math.pi)) if len(t) else 0.0)
+    if prm.n == 0 and len(t) and valid.any():
+        k = int(np.nonzero(valid)[0][-1])
+        v = _velocity(tr)
+        c_num = free_whirl_amplitudes(prm, t[k:k + 1], z[k:k + 1], v[k:k + 1])[0][0]
+        c_ref = free_whirl_amplitudes(prm, t[k:k + 1], Z[k:k + 1], Zd[k:k + 1])[0][0]
+        res.update(conserved_quantity="free-whirl amplitude |c+| after the passage (undamped)",
+                   drift=float((c_num - c_ref) / c_ref))
+        res["_drift_checked"] = True
+    return []
 
 
 def _dot(a, b):
@@ -295,8 +339,7 @@ def scene_path(case) -> Path:
 
 
 def kind_scene_file(case, res):
-    from ..accuracy import closed_form_no_balancer, runup_params
-    from ..balancers.runup_closed_form import free_whirl_amplitudes, runup_closed_form_state
+    from ..accuracy import closed_form_no_balancer
     from ..scene import SceneError
     from ..scene_file import load_scene
 
@@ -312,33 +355,9 @@ def kind_scene_file(case, res):
     tr = _run_planar(case, scene, res)
     invalid = []
     if chk == "runup_closed_form":
-        ru = runup_params(scene)
-        if ru is None:
-            invalid.append("the closed-form run-up needs no weights, isotropic supports, a two-node "
-                           "speed programme from omega_0 > 0 and the stationary whirl as initial state "
-                           "(stand.accuracy.runup_params); none applies")
-            res.update(oracle="none (closed form not applicable)", error_measure="")
+        invalid += runup_check(scene, tr, res, "the closed-form run-up needs no weights")
+        if invalid:
             return invalid
-        prm, t_end = ru
-        t = tr.t
-        valid = t <= t_end
-        Z, Zd = runup_closed_form_state(prm, np.where(valid, t, 0.0))
-        z = _shaft(tr)
-        err = rel_max(np.where(valid, z, 0), np.where(valid, Z, 0))
-        res.update(oracle=("closed-form run-up (Fresnel integrals)" if prm.n == 0 else
-                           "closed-form run-up (Faddeeva function)")
-                   + f", {2 * prm.epsilon:g} rad/s^2 from {prm.omega_0:g} rad/s, up to t = {t_end:g} s",
-                   error=err, error_measure="max |r - r_exact| / max |r_exact| [-]", reference_error=0.0)
-        revs = float(tr.rotor_angle[-1] / (2 * math.pi)) if len(tr.t) else 0.0
-        res["details"].update(revolutions=revs)
-        if prm.n == 0 and len(t) and valid.any():
-            k = int(np.nonzero(valid)[0][-1])
-            v = _velocity(tr)
-            c_num = free_whirl_amplitudes(prm, t[k:k + 1], z[k:k + 1], v[k:k + 1])[0][0]
-            c_ref = free_whirl_amplitudes(prm, t[k:k + 1], Z[k:k + 1], Zd[k:k + 1])[0][0]
-            res.update(conserved_quantity="free-whirl amplitude |c+| after the passage (undamped)",
-                       drift=float((c_num - c_ref) / c_ref))
-            res["_drift_checked"] = True
     elif chk == "closed_form":
         ref = closed_form_no_balancer(scene, tr.t)
         if ref is None:
