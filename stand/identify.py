@@ -213,12 +213,9 @@ def _track_of(path, rec):
     name = str(df["screen"].iloc[0]) if "screen" in df and len(df) else ""
     d = None
     if name and getattr(rec, "path", None):
-        import h5py
-
-        with h5py.File(rec.path, "r") as f:
-            g = f.get(f"instruments/{name}")
-            if g is not None and "axial_position_m" in g.attrs:
-                d = float(g.attrs["axial_position_m"])
+        a = rec.dataset_attrs(f"instruments/{name}")
+        if "axial_position_m" in a:
+            d = float(a["axial_position_m"])
     if d is None and "axial_position_m" in df:
         d = float(df["axial_position_m"].iloc[0])
     if d is None or not math.isfinite(d):

@@ -312,6 +312,12 @@ class Recording(Run):
             obj = f.get(key)
             return {} if obj is None else {k: _decode(v) for k, v in obj.attrs.items()}
 
+    def members(self, key: str) -> list:
+        """Names of the members of group ``key`` (empty if absent or not a group)."""
+        with h5py.File(self.path, "r") as f:
+            obj = f.get(key)
+            return list(obj.keys()) if isinstance(obj, h5py.Group) else []
+
     def shape(self, key: str) -> Optional[tuple]:
         """Shape of dataset ``key``, or None if the file has no such dataset."""
         with h5py.File(self.path, "r") as f:

@@ -47,14 +47,10 @@ def _named_screen(source, screen):
 
 
 def _screen_keys(rec):
-    import h5py
-
     try:
-        with h5py.File(rec.path, "r") as f:
-            g = f.get("instruments")
-            return [f"instruments/{k}" for k in (g.keys() if g is not None else ())
-                    if k == "screen" or k.startswith("screen.")]
-    except (OSError, TypeError):
+        return [f"instruments/{k}" for k in rec.members("instruments")
+                if k == "screen" or k.startswith("screen.")]
+    except (OSError, TypeError, AttributeError):
         return []
 
 
