@@ -9,9 +9,16 @@ Measured in the same run, best of N (warm caches unless said):
 * ``stand analyze`` on data_samples/recordings/stand_cameras.h5;
 * the Python API equivalent of ``stand run`` in one process (``stand.run`` + ``write``), and
   its integration alone;
-* ``--cold``: the first ``stand run`` after the numba caches are dropped (compilation).
+* ``--cold``: the first ``stand run`` after every compiled cache is dropped (numba's and the
+  precompiled kernels with their C helper objects: a fresh install), and the same with
+  numba's just-in-time compilation only (``STAND_KERNELS=jit``);
+* ``--fallback``: the integration of a 2 s ball_runup on the pure-Python/numpy fallback
+  (``STAND_DISABLE_JIT=1``) against the compiled kernels, in process.
 
-Usage: ``python benchmarks/bench_startup.py [--repeat 5] [--cold]``
+The warm ``stand run`` uses the precompiled kernels (built by the first run or by
+``stand warmup``); "stand run, numba JIT cache" shows the same with ``STAND_KERNELS=jit``.
+
+Usage: ``python benchmarks/bench_startup.py [--repeat 5] [--cold] [--fallback]``
 """
 from __future__ import annotations
 
@@ -29,27 +36,43 @@ SCENE = ROOT / "data_samples" / "scenes" / "ball_runup.toml"
 RECORDING = ROOT / "data_samples" / "recordings" / "stand_cameras.h5"
 
 
-def wall(argv, repeat):
+def wall(argv, repeat, env=None):
     best = float("inf")
     for _ in range(repeat):
         t0 = time.perf_counter()
-        r = subprocess.run(argv, capture_output=True, text=True, cwd=ROOT)
+        r = subprocess.run(argv, capture_output=True, text=True, cwd=ROOT,
+                           env=None if env is None else {**os.environ, **env})
         best = min(best, time.perf_counter() - t0)
         if r.returncode not in (0, 1):
             raise SystemExit(f"{' '.join(map(str, argv))}: exit {r.returncode}\n{r.stderr}")
     return best
 
 
-def drop_numba_caches():
+def drop_compiled_caches():
+    """numba's caches and the precompiled kernels (with the cached C helper objects)."""
     for d in (ROOT / "stand").rglob("__pycache__"):
         for f in list(d.glob("*.nbi")) + list(d.glob("*.nbc")):
             f.unlink()
+    shutil.rmtree(ROOT / "stand" / "__pycache__" / "precompiled", ignore_errors=True)
+
+
+FALLBACK = """
+import os, sys, time
+import stand
+sc = stand.load({scene!r})
+from dataclasses import replace
+sc = replace(sc, run=replace(sc.run, duration=2.0))
+stand.run(sc)                       # compile / load
+best = min(stand.run(sc).stats.wall_time for _ in range(3 if os.environ.get("STAND_DISABLE_JIT") != "1" else 1))
+print(best)
+"""
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--cold", action="store_true", help="also time the first run after dropping the caches")
+    ap.add_argument("--fallback", action="store_true", help="also time the pure-Python fallback")
     a = ap.parse_args()
     py = sys.executable
     stand = [py, "-m", "stand"]
@@ -64,20 +87,40 @@ def main():
         rows.append(("stand theory ball_runup.toml", wall([*stand, "theory", SCENE], a.repeat)))
         rows.append(("stand run ball_runup.toml -o r.h5 (README)",
                      wall([*stand, "run", SCENE, "-o", out, "--force"], a.repeat)))
+        jit = {"STAND_KERNELS": "jit"}
+        wall([*stand, "run", SCENE, "-o", out, "--force"], 1, jit)     # numba's cache
+        rows.append(("stand run, numba JIT cache (STAND_KERNELS=jit)",
+                     wall([*stand, "run", SCENE, "-o", out, "--force"], a.repeat, jit)))
         rows.append(("stand analyze stand_cameras.h5", wall([*stand, "analyze", RECORDING], a.repeat)))
         rows.append(("python: stand.run + write (whole process)", wall([py, "-c", api], a.repeat)))
         r = subprocess.run([py, "-c", api], capture_output=True, text=True, cwd=ROOT)
         inproc, integ = (float(v) for v in r.stdout.split())
         if a.cold:
-            drop_numba_caches()
-            rows.append(("cold first stand run (caches dropped)",
+            drop_compiled_caches()
+            rows.append(("cold first stand run (all compiled caches dropped)",
                          wall([*stand, "run", SCENE, "-o", out, "--force"], 1)))
+            drop_compiled_caches()
+            rows.append(("cold first stand run, numba JIT only",
+                         wall([*stand, "run", SCENE, "-o", out, "--force"], 1, jit)))
+            wall([*stand, "run", SCENE, "-o", out, "--force"], 1)      # leave the caches warm
+        fallback = None
+        if a.fallback:
+            code = FALLBACK.format(scene=str(SCENE))
+            t_c = float(subprocess.run([py, "-c", code], capture_output=True, text=True,
+                                       cwd=ROOT, check=True).stdout)
+            t_p = float(subprocess.run([py, "-c", code], capture_output=True, text=True, cwd=ROOT,
+                                       check=True, env={**os.environ, "STAND_DISABLE_JIT": "1"}).stdout)
+            fallback = (t_c, t_p)
     base = rows[0][1]
     print(f"{'what':<48}{'wall [s]':>10}{'/ baseline':>12}")
     for name, t in rows:
         print(f"{name:<48}{t:>10.3f}{t / base:>12.2f}")
     print(f"{'in process: stand.run + write':<48}{inproc:>10.3f}")
     print(f"{'in process: integration alone':<48}{integ:>10.4f}")
+    if fallback is not None:
+        t_c, t_p = fallback
+        print(f"{'2 s of ball_runup, compiled kernels':<48}{t_c:>10.4f}")
+        print(f"{'2 s of ball_runup, pure-Python fallback':<48}{t_p:>10.3f}{t_p / t_c:>11.0f}x")
 
 
 if __name__ == "__main__":

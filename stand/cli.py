@@ -8,6 +8,7 @@
     stand analyze RUN.h5|RUN.csv [--json] [--grade G] [--service-speed RPM]
     stand track FRAMES -o track.csv [--calibration RINGS.png] [--ring-radii R1,R2,...]
     stand strobe FRAMES -o angles.csv [--weights N]
+    stand warmup [--all]
 
 Exit codes: 0 success; 1 the simulation stopped early (what was computed is
 still written); 2 invalid input (scene, arguments, files).
@@ -421,6 +422,13 @@ def _cmd_influence(args) -> int:
     return cli_influence(args.recordings, args.trial, args.sensors, as_json=args.json)
 
 
+def _cmd_warmup(args) -> int:
+    from .warmup import warmup
+
+    warmup(every_kind=args.all)
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .scene import METHODS
 
@@ -449,6 +457,10 @@ def build_parser() -> argparse.ArgumentParser:
     st.add_argument("--catalogue", default=None, help="catalogue TOML (default: the built-in one)")
     st.add_argument("--cases", default=None, help="comma-separated case names, or 'fast'")
     st.set_defaults(func=_cmd_stress)
+    wu = sub.add_parser("warmup", help="compile the kernels ahead (one time after an install)")
+    wu.add_argument("--all", action="store_true",
+                    help="every model kind and every compiled function, not only the planar rotor")
+    wu.set_defaults(func=_cmd_warmup)
     r = sub.add_parser("run", help="simulate a scene and write an HDF5 recording")
     r.add_argument("scene", help="scene file (TOML)")
     r.add_argument("-o", "--output", required=True, help="recording to write (HDF5)")

@@ -35,7 +35,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._jit import njit
-from .programme import build_table, breakpoints, programme_kinematics, rotor_kinematics
+from .programme import (build_table, breakpoints, programme_kinematics,
+                        programme_kinematics_many, rotor_kinematics)
 from .scene import Scene, SpeedDrive
 from .structure import PlanarStructure
 from .weights import EPS, H, MU, NU, weight_table
@@ -287,15 +288,19 @@ def side_forces(tau, xi, eta, sp, table, start):
     return fx, fy
 
 
-@njit(cache=True, error_model="numpy")
 def rotor_kinematics_many(tau, prog, sp):
-    """Rotor angle and speed of the prescribed programme at many times."""
-    phi = np.empty_like(tau)
-    R = np.empty_like(tau)
-    for i in range(tau.shape[0]):
-        phi[i], R[i], _ = rotor_kinematics(tau[i], prog, sp[COAST_T0], sp[COAST_T],
-                                           sp[COAST_R0], sp[COAST_PHI0])
-    return phi, R
+    """Rotor angle and speed (phi, phi') of the prescribed programme with its coast-down at
+    many times, in numpy (the compiled kernels use :func:`rotor_kinematics`)."""
+    tau = np.asarray(tau, dtype=float)
+    kin = programme_kinematics_many(tau, prog)
+    phi, R = kin[:, 0].copy(), kin[:, 1].copy()
+    t0, T, R0, phi0 = sp[COAST_T0], sp[COAST_T], sp[COAST_R0], sp[COAST_PHI0]
+    coast = tau >= t0
+    if coast.any():
+        ex = np.exp(-(tau[coast] - t0) / T)
+        R[coast] = R0 * ex
+        phi[coast] = phi0 + R0 * T * (1.0 - ex)
+    return phi.reshape(tau.shape), R.reshape(tau.shape)
 
 
 @njit(cache=True, error_model="numpy")

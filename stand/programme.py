@@ -49,13 +49,27 @@ def programme_kinematics(tau, prog):
     return prog[i, 2] + prog[i, 1] * dt + 0.5 * a * dt * dt, prog[i, 1] + a * dt, a
 
 
-@njit(cache=True, error_model="numpy")
 def programme_kinematics_many(taus, prog):
-    """(k, 3) array of :func:`programme_kinematics` at the times ``taus`` (k,)."""
+    """(k, 3) array of :func:`programme_kinematics` at the times ``taus`` (k,), in numpy
+    (post-processing: no compiled code, so reading a run's rotor angle needs no numba)."""
+    taus = np.asarray(taus, dtype=float).reshape(-1)
+    k = prog.shape[0]
     out = np.empty((taus.size, 3))
-    for i in range(taus.size):
-        a, b, c = programme_kinematics(taus[i], prog)
-        out[i, 0], out[i, 1], out[i, 2] = a, b, c
+    t0, tl = prog[0, 0], prog[k - 1, 0]
+    if k >= 2:
+        i = np.clip(np.searchsorted(prog[:, 0], taus, side="right") - 1, 0, k - 2)
+        dt = taus - prog[i, 0]
+        with np.errstate(all="ignore"):
+            a = (prog[i + 1, 1] - prog[i, 1]) / (prog[i + 1, 0] - prog[i, 0])
+        out[:, 0] = prog[i, 2] + prog[i, 1] * dt + 0.5 * a * dt * dt
+        out[:, 1] = prog[i, 1] + a * dt
+        out[:, 2] = a
+    lo = taus <= t0
+    hi = (taus >= tl) & ~lo
+    for mask, r in ((lo, 0), (hi, k - 1)):
+        out[mask, 0] = prog[r, 2] + prog[r, 1] * (taus[mask] - prog[r, 0])
+        out[mask, 1] = prog[r, 1]
+        out[mask, 2] = 0.0
     return out
 
 

@@ -27,7 +27,6 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Optional
 
 import numpy as np
-from scipy.optimize import OptimizeResult as _OdeResult
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
@@ -40,9 +39,34 @@ WEIGHT_UNITS = {"angle": "rad", "speed": "rad/s", "relative_angle": "rad", "tilt
                 "liquid_y": "m", "surface_x": "m", "surface_y": "m"}
 
 
+class _OdeResult(dict):
+    """SciPy's result type (``scipy.optimize.OptimizeResult``, the base of ``solve_ivp``'s
+    ``OdeResult``): a dict whose keys are also attributes, printed as aligned ``key: value``
+    lines.  The same behaviour without importing scipy.optimize, which alone takes
+    longer (0.35 s) than a whole run from the precompiled kernels."""
+
+    def __getattr__(self, name):
+        try:
+            return self[name]
+        except KeyError as e:
+            raise AttributeError(name) from e
+
+    __setattr__ = dict.__setitem__
+    __delattr__ = dict.__delitem__
+
+    def __repr__(self):
+        if not self:
+            return f"{type(self).__name__}()"
+        w = max(map(len, self)) + 1
+        return "\n".join(f"{k.rjust(w)}: {v!r}" for k, v in self.items())
+
+    def __dir__(self):
+        return list(self.keys())
+
+
 class SolverStats(_OdeResult):
-    """Solver statistics: a SciPy result (``scipy.optimize.OptimizeResult``, the base of
-    ``solve_ivp``'s ``OdeResult``): a dict whose keys are also attributes.
+    """Solver statistics shaped like SciPy's ``OdeResult`` (a dict whose keys are also
+    attributes).
 
     Attributes
     ----------

@@ -18,7 +18,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .planar import COAST_T0, FREE, N_FORCE, N_PROG, N_UB, PlanarModel, rhs_planar
+from .integrate.kernel_set import kernels
+from .kernels import PLANAR
+from .planar import COAST_T0, FREE, N_FORCE, N_PROG, N_UB, PlanarModel
 from .programme import build_table
 
 
@@ -47,7 +49,7 @@ def rotating_rhs(model: PlanarModel, R: float, z: np.ndarray) -> np.ndarray:
     sp = model.sp.copy()
     sp[COAST_T0] = np.inf  # no coast-down
     sp[N_PROG], sp[N_UB], sp[N_FORCE] = 1, 0, 0  # constant speed and unbalance, no side force
-    rhs_planar(0.0, y, dy, sp, model.wt, prog)
+    kernels(PLANAR).evaluate(0.0, y, dy, sp, model.wt, prog)
     out = dy.copy()
     out[0], out[1] = du, dv
     out[nq] = dy[nq] + 2 * R * dv + R * R * u

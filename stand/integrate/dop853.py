@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from .vendor import dop853_coefficients as _co
 
-from .._jit import njit
+from .._jit import literally, njit
 from ..kernels import rhs
 
 N_STAGES = _co.N_STAGES  # 12
@@ -88,6 +88,7 @@ def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_
     -------
     status, t, h_abs, k_next
     """
+    literally(kind)  # one compiled loop per model kind, with that kind's right-hand side
     n = y.shape[0]
     n_samples = out.shape[0]
     K = np.empty((16, n))

@@ -25,8 +25,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .._jit import njit
-from .dop853 import DIVERGED, NOT_FINITE, REACHED_END, STEP_BUDGET, dop853_loop
+from .._jit import literally, njit
+from .dop853 import DIVERGED, NOT_FINITE, REACHED_END, STEP_BUDGET
+from .kernel_set import kernels
 from ..kernels import rhs
 from ..scene import SceneError
 
@@ -48,6 +49,8 @@ def segments(model, tau_end: float) -> list:
 
 @njit(cache=True)
 def jac_fd(kind, t, y, f0, sp, wt, prog, J):
+    """Forward-difference Jacobian of model ``kind``'s right-hand side into ``J``."""
+    literally(kind)
     n = y.shape[0]
     yy = y.copy()
     df = np.empty(n)
@@ -115,11 +118,12 @@ class Checkpoint:
 def run_dop853(model, y0, tau_end, rtol, atol, ts, out, stats, max_steps, progress, ck=None,
                 chunk=CHUNK_STEPS):
     kind, sp, wt, prog = model.kind, model.sp, model.wt, model.prog
+    ks = kernels(kind)
     cap = np.where(model.angle_mask(), np.pi, np.inf)
-    y = y0.copy()
+    y = np.array(y0, dtype=float)
     f = np.empty_like(y)
     try:
-        rhs(kind, 0.0, y, f, sp, wt, prog)
+        ks.evaluate(0.0, y, f, sp, wt, prog)
     except np.linalg.LinAlgError:       # a singular or non-finite mass matrix
         f[:] = np.nan
     if not (np.all(np.isfinite(y)) and np.all(np.isfinite(f))):
@@ -140,7 +144,7 @@ def run_dop853(model, y0, tau_end, rtol, atol, ts, out, stats, max_steps, progre
         k_next, seg_done = int(saved["k_next"]), int(saved["seg_done"])
         st[:] = saved["st"]
         out[:k_next] = saved["out"]
-        rhs(kind, t, y, f, sp, wt, prog)
+        ks.evaluate(t, y, f, sp, wt, prog)
     bar = _progress_bar(tau_end / model.omega_1) if progress else None
     status = REACHED_END
     for i_seg, seg_end in enumerate(segments(model, tau_end)):
@@ -152,9 +156,9 @@ def run_dop853(model, y0, tau_end, rtol, atol, ts, out, stats, max_steps, progre
                 status = STEP_BUDGET
                 break
             try:
-                status, t, h, k_next = dop853_loop(kind, sp, wt, prog, t, y, f, h, seg_end, rtol,
-                                                   atol, cap, np.inf, ts, k_next, out, st, budget,
-                                                   DIVERGENCE_LIMIT)
+                status, t, h, k_next = ks.dop853(sp, wt, prog, t, y, f, h, seg_end, rtol, atol,
+                                                 cap, np.inf, ts, k_next, out, st, budget,
+                                                 DIVERGENCE_LIMIT)
             except np.linalg.LinAlgError:   # the compiled solve met a non-finite mass matrix
                 status = NOT_FINITE
             if bar is not None:
@@ -167,7 +171,7 @@ def run_dop853(model, y0, tau_end, rtol, atol, ts, out, stats, max_steps, progre
             break
         if seg_end < tau_end:  # restart the derivative after a kink of the programme
             apply_impulses(model, t, y)
-            rhs(kind, t, y, f, sp, wt, prog)
+            ks.evaluate(t, y, f, sp, wt, prog)
             st[2] += 1
         seg_done = i_seg + 1
         if ck is not None and seg_end < tau_end:
@@ -230,7 +234,7 @@ def initial_step(model, y, f, rtol, atol, cap):
         if not (np.isfinite(h0) and h0 > 0):
             return 1e-6
         f1 = np.empty_like(y)
-        rhs(model.kind, float(h0), y + h0 * f, f1, model.sp, model.wt, model.prog)
+        kernels(model.kind).evaluate(float(h0), y + h0 * f, f1, model.sp, model.wt, model.prog)
         d2 = nrm((f1 - f) / scale) / h0
         if d1 <= 1e-15 and d2 <= 1e-15:
             h1 = max(1e-6, h0 * 1e-3)
@@ -240,32 +244,9 @@ def initial_step(model, y, f, rtol, atol, cap):
     return h if (np.isfinite(h) and h > 0) else 1e-6
 
 
-_ANNOUNCED = []
-
-
-def _announce_compilation() -> None:
-    """Say on stderr, once per process, that the kernels are being compiled (no cached
-    compilation of the integrator yet: the first run after an install or an edit)."""
-    from .._jit import HAVE_NUMBA
-
-    if _ANNOUNCED or not HAVE_NUMBA or dop853_loop.signatures:
-        return
-    _ANNOUNCED.append(True)
-    cache = Path(__file__).resolve().parent / "__pycache__"
-    if not any(cache.glob("dop853.dop853_loop-*.nbi")):
-        import sys
-
-        print("stand: compiling the integrator kernels (one time after an install or an edit; "
-              "about half a minute)...", file=sys.stderr, flush=True)
-
-
 def warm_up(model):
-    """Compile (or load from the cache) the integrator for ``model``'s kind, outside any timing."""
-    _announce_compilation()
-    y = np.zeros(model.size)
-    out = np.zeros((1, model.size))
-    dop853_loop(model.kind, model.sp, model.wt, model.prog, 0.0, y, y.copy(), 1.0, 0.0, 1e-8, 1e-10,
-                np.full(model.size, np.inf), np.inf, np.zeros(1), 1, out, np.zeros(3, np.int64), 1, 1e12)
+    """Load (or compile) the integrator's kernels for ``model``'s kind, outside any timing."""
+    kernels(model.kind)
 
 
 def _progress_bar(total_s):
@@ -317,16 +298,18 @@ def run_scipy(model, y0, tau_end, rtol, atol, ts_all, out, stats, method, max_st
 
         cls, kw = DOP853, {}
     else:
+        ev = kernels(kind).evaluate
+
         def fun(t, y):
             dy = np.empty_like(y)
-            rhs(kind, t, y, dy, sp, wt, prog)
+            ev(t, y, dy, sp, wt, prog)
             if not np.all(np.isfinite(dy)):
                 raise _NonFinite(t)
             return dy
 
         def jac(t, y):
             f0 = np.empty_like(y)
-            rhs(kind, t, y, f0, sp, wt, prog)
+            ev(t, y, f0, sp, wt, prog)
             J = np.empty((y.size, y.size))
             jac_fd(kind, t, y, f0, sp, wt, prog, J)
             return J

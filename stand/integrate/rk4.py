@@ -12,7 +12,7 @@ from typing import Callable
 
 import numpy as np
 
-from .._jit import njit
+from .._jit import literally, njit
 from ..kernels import rhs
 
 __all__ = ["rk4_loop", "rk4_fixed_step"]
@@ -23,6 +23,7 @@ def rk4_loop(kind, sp, wt, prog, y, h, n_steps, every, out):
     """Advance ``n_steps`` steps of size ``h`` from t = 0, writing ``y`` into
     ``out[k]`` after every ``every`` steps (``out[0]`` = initial state).
     Returns the number of RHS evaluations."""
+    literally(kind)  # one compiled loop per model kind
     n = y.size
     k1 = np.empty(n)
     k2 = np.empty(n)

@@ -27,7 +27,9 @@ from __future__ import annotations
 import numpy as np
 
 from . import bodies_kernel as bk
-from .coupled_kernel import CoupledModel, rhs_generic
+from .coupled_kernel import CoupledModel
+from ..integrate.kernel_set import kernels
+from ..kernels import GENERIC
 
 __all__ = ["rotating_rhs", "rotating_to_fixed"]
 
@@ -65,7 +67,7 @@ def rotating_rhs(model: CoupledModel, R: float, z: np.ndarray) -> np.ndarray:
     ns = n + nw
     y = rotating_to_fixed(model, R, z)
     dy = np.zeros_like(y)
-    rhs_generic(0.0, y, dy, model.sp, model.wt, model.prog)
+    kernels(GENERIC).evaluate(0.0, y, dy, model.sp, model.wt, model.prog)
     dz = np.array(dy)
     u, v, du, dv = z[0], z[1], z[ns], z[ns + 1]
     dz[0], dz[1] = du, dv

@@ -42,18 +42,20 @@ ATOL = 1e-13
 
 def _flow(model: CoupledModel, y0: np.ndarray, T: float) -> np.ndarray:
     """State after the scaled time T from y0 at tau = 0 (compiled DOP853)."""
-    from ..integrate.dop853 import REACHED_END, dop853_loop
-    from ..kernels import GENERIC, rhs
+    from ..integrate.dop853 import REACHED_END
+    from ..integrate.kernel_set import kernels
+    from ..kernels import GENERIC
 
+    ks = kernels(GENERIC)
     y = np.array(y0, dtype=float)
     f = np.empty_like(y)
-    rhs(GENERIC, 0.0, y, f, model.sp, model.wt, model.prog)
+    ks.evaluate(0.0, y, f, model.sp, model.wt, model.prog)
     ts = np.array([0.0, T])
     out = np.empty((2, y.size))
     cap = np.full(y.size, np.inf)
     st = np.zeros(3, np.int64)
-    status, t, _, _ = dop853_loop(GENERIC, model.sp, model.wt, model.prog, 0.0, y, f, T / 50.0, T,
-                                  RTOL, ATOL, cap, np.inf, ts, 1, out, st, 1_000_000, 1e12)
+    status, t, _, _ = ks.dop853(model.sp, model.wt, model.prog, 0.0, y, f, T / 50.0, T, RTOL, ATOL,
+                                cap, np.inf, ts, 1, out, st, 1_000_000, 1e12)
     if status != REACHED_END or t < T:
         raise RuntimeError("one-revolution flow did not reach its end (diverged or stiff)")
     return out[1]

@@ -1,0 +1,187 @@
+"""The compiled functions the integrator calls for one model kind, from the fastest source.
+
+:func:`kernels` returns, for a model kind, the DOP853 loop and the right-hand
+side evaluation from (in this order):
+
+1. the precompiled extension module (:mod:`stand.integrate.precompiled`): no numba
+   import, ready in a millisecond;
+2. building that module now (the first run after an install or an edit of the
+   kernel's sources; said on stderr with the elapsed time), when
+   ``STAND_KERNELS`` is ``auto`` (default) and a C compiler is present;
+3. numba's just-in-time compilation with its on-disk cache (``STAND_KERNELS=jit``,
+   or when precompiling is impossible);
+4. plain Python/numpy (``STAND_DISABLE_JIT=1``; slow, the tested fallback).
+
+``STAND_KERNELS=jit`` skips 1-2 (what the test suite uses to compare both).
+"""
+from __future__ import annotations
+
+import os
+import sys
+import threading
+import time
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from .. import _jit
+from ..kernels import KIND_NAMES
+
+#: about how long building a kind's kernels takes on a 2-core machine [s]
+BUILD_SECONDS = {0: 7, 1: 40}
+JIT_SECONDS = {0: 5, 1: 30}
+
+_CACHE: dict = {}
+
+
+@dataclass(frozen=True)
+class KernelSet:
+    """The integrator's compiled functions for one model kind.
+
+    Attributes
+    ----------
+    kind : int
+    source : str
+        ``"precompiled"``, ``"jit"`` or ``"python"``.
+    dop853 : callable
+        ``dop853(sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_step, ts, k_next,
+        out, stats, max_steps, limit) -> (status, t, h_abs, k_next)`` (see
+        :func:`stand.integrate.dop853.dop853_loop`).
+    evaluate : callable
+        ``evaluate(t, y, dy, sp, wt, prog)``: the right-hand side into ``dy``.
+    """
+
+    kind: int
+    source: str
+    dop853: Callable
+    evaluate: Callable
+
+
+def _mode() -> str:
+    mode = os.environ.get("STAND_KERNELS", "auto").strip().lower() or "auto"
+    if mode not in ("auto", "jit", "precompiled"):
+        raise ValueError(f"STAND_KERNELS = {mode!r}: one of auto, jit, precompiled")
+    return mode
+
+
+class _Announce:
+    """'compiling the ... kernel (one time, about N s)' on stderr when the work lasts more than
+    ``delay`` seconds (loading from a cache does not), the elapsed seconds updated in place on
+    a terminal, and the time taken at the end."""
+
+    def __init__(self, what: str, about_s: float, delay: float = 2.0):
+        self.what, self.about, self.delay = what, about_s, delay
+        self._stop = threading.Event()
+        self._shown = False
+
+    def _run(self):
+        if self._stop.wait(self.delay):
+            return
+        tty = sys.stderr.isatty()
+        msg = f"stand: compiling the {self.what} (one time, about {self.about:.0f} s)..."
+        print(msg, end="" if tty else "\n", file=sys.stderr, flush=True)
+        self._shown = True
+        while tty and not self._stop.wait(1.0):
+            print(f"\r{msg} {time.perf_counter() - self.t0:.0f} s", end="", file=sys.stderr,
+                  flush=True)
+
+    def __enter__(self):
+        self.t0 = time.perf_counter()
+        self._thread = threading.Thread(target=self._run, daemon=True)
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc):
+        self._stop.set()
+        self._thread.join()
+        if self._shown:
+            tail = "done" if exc[0] is None else "failed"
+            cr = "\r" if sys.stderr.isatty() else ""
+            print(f"{cr}stand: compiling the {self.what}: {tail} in "
+                  f"{time.perf_counter() - self.t0:.1f} s" + " " * 24, file=sys.stderr, flush=True)
+        return False
+
+
+def _wrap_precompiled(kind: int, mod) -> KernelSet:
+    loop, ev = mod.dop853, mod.evaluate
+
+    def dop853(sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_step, ts, k_next, out,
+               stats, max_steps, limit):
+        for a, dt in ((y, np.float64), (f, np.float64), (out, np.float64), (stats, np.int64)):
+            if not (a.dtype == dt and a.flags.c_contiguous):  # written in place: as compiled
+                return _jit_set(kind).dop853(sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap,
+                                             max_step, ts, k_next, out, stats, max_steps, limit)
+        c = np.ascontiguousarray
+        return loop(c(sp, float), c(wt, float), c(prog, float), float(t), y, f, float(h_abs),
+                    float(t_end), float(rtol), float(atol), c(cap, float), float(max_step),
+                    c(ts, float), int(k_next), out, stats, int(max_steps), float(limit))
+
+    def evaluate(t, y, dy, sp, wt, prog):
+        if not (dy.dtype == np.float64 and dy.flags.c_contiguous):
+            return _jit_set(kind).evaluate(t, y, dy, sp, wt, prog)
+        c = np.ascontiguousarray
+        ev(float(t), c(y, float), dy, c(sp, float), c(wt, float), c(prog, float))
+
+    return KernelSet(kind, "precompiled", dop853, evaluate)
+
+
+def _jit_set(kind: int) -> KernelSet:
+    from ..kernels import evaluate as ev
+    from .dop853 import dop853_loop
+
+    def dop853(*args):
+        return dop853_loop(kind, *args)
+
+    def evaluate(t, y, dy, sp, wt, prog):
+        ev(kind, t, y, dy, sp, wt, prog)
+
+    return KernelSet(kind, "jit" if _jit.HAVE_NUMBA else "python", dop853, evaluate)
+
+
+def warm_jit(ks: KernelSet, size: int = 4) -> None:
+    """Compile (or load from numba's cache) a JIT kernel set, announcing a compilation."""
+    if ks.source != "jit":
+        return
+    y = np.zeros(size)
+    sp = np.zeros(1)
+    wt = np.zeros((0, 1))
+    prog = np.zeros((1, 1))
+
+    def go():  # compiles for the argument types only: the loop returns at once (t_end = t)
+        ks.dop853(sp, wt, prog, 0.0, y, y.copy(), 1.0, 0.0, 1e-8, 1e-10, np.full(size, np.inf),
+                  np.inf, np.zeros(1), 1, np.zeros((1, size)), np.zeros(3, np.int64), 1, 1e12)
+
+    with _Announce(f"{KIND_NAMES[ks.kind]} kernel", JIT_SECONDS.get(ks.kind, 30)):
+        go()
+
+
+def kernels(kind: int) -> KernelSet:
+    """The integrator's functions for model ``kind`` (module docstring for the order)."""
+    if kind in _CACHE:
+        return _CACHE[kind]
+    mode = _mode()
+    ks = None
+    if _jit.HAVE_NUMBA and mode != "jit":
+        from . import precompiled
+
+        mod = precompiled.load(kind)
+        why = None if mod is not None else precompiled.available()
+        if mod is None and why is None:
+            try:
+                with _Announce(f"{KIND_NAMES[kind]} kernel", BUILD_SECONDS.get(kind, 30)):
+                    mod = precompiled.build(kind)
+            except Exception as exc:  # noqa: BLE001 - any build failure: use numba's JIT
+                if mode == "precompiled":
+                    raise
+                print(f"stand: precompiling failed ({type(exc).__name__}: {exc}); using numba's "
+                      "just-in-time compilation", file=sys.stderr)
+        elif mod is None and mode == "precompiled":
+            raise RuntimeError(f"STAND_KERNELS=precompiled: {why}")
+        if mod is not None:
+            ks = _wrap_precompiled(kind, mod)
+    if ks is None:
+        ks = _jit_set(kind)
+        warm_jit(ks)
+    _CACHE[kind] = ks
+    return ks

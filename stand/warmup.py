@@ -1,0 +1,60 @@
+"""``stand warmup``: compile ahead, so that no later command waits for a compiler.
+
+* the integrator kernels of the planar rotor (``--all``: of every model kind) are
+  precompiled (:mod:`stand.integrate.precompiled`), or compiled into numba's cache
+  where precompiling is impossible;
+* with ``--all`` also numba's cache of the other compiled functions, for every
+  kind: the fixed-step RK4 loop (``stand accuracy``), the finite-difference
+  Jacobian (Radau/BDF/LSODA runs) and the right-hand side evaluation.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from . import _jit
+from .kernels import KIND_NAMES
+
+
+def _jit_extras(kind: int) -> None:
+    """Compile (or load) the RK4 loop and the finite-difference Jacobian of ``kind`` for the
+    argument types the stand passes (C-contiguous float64 arrays, Python floats and ints)."""
+    numba = _jit.import_numba()
+    from numba import typeof, types
+
+    from .integrate.driver import jac_fd
+    from .integrate.rk4 import rk4_loop
+    from .kernels import evaluate
+
+    lit = types.literal(kind)
+    a1, a2 = typeof(np.zeros(1)), typeof(np.zeros((1, 1)))
+    f8, i8 = types.float64, types.int64
+    rk4_loop.compile((lit, a1, a2, a2, a1, f8, i8, i8, a2))
+    jac_fd.compile((lit, f8, a1, a1, a1, a2, a2, a2))
+    evaluate.compile((lit, f8, a1, a1, a1, a2, a2))
+    del numba
+
+
+def warmup(every_kind: bool = False, say=print) -> list:
+    """Compile ahead (module docstring); returns one dict per item: ``what``, ``source``
+    (precompiled / jit / python), ``seconds``."""
+    from .integrate.kernel_set import kernels
+
+    kinds = sorted(KIND_NAMES) if every_kind else [0]
+    done = []
+    for kind in kinds:
+        t0 = time.perf_counter()
+        ks = kernels(kind)
+        row = {"what": f"{KIND_NAMES[kind]} integrator kernel", "source": ks.source,
+               "seconds": time.perf_counter() - t0}
+        done.append(row)
+        say(f"{row['what']}: {row['source']} ({row['seconds']:.1f} s)")
+        if every_kind and _jit.HAVE_NUMBA:
+            t0 = time.perf_counter()
+            _jit_extras(kind)
+            row = {"what": f"{KIND_NAMES[kind]} RK4 loop, Jacobian and right-hand side",
+                   "source": "jit", "seconds": time.perf_counter() - t0}
+            done.append(row)
+            say(f"{row['what']}: {row['source']} ({row['seconds']:.1f} s)")
+    return done

@@ -1,0 +1,237 @@
+"""Start fast: lazy imports, one compiled kernel per model kind, precompiled kernels, cache keys.
+
+Timings are measured by benchmarks/bench_startup.py, not here; these tests check the
+mechanisms the timings rest on (what a command imports, what a run compiles, that the
+precompiled and the just-in-time kernels compute the same numbers, that a cache is
+dropped exactly when a source it was compiled from changes).
+"""
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import stand
+from stand import _jit
+from stand.integrate import precompiled
+from stand.integrate.kernel_set import _Announce
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENES = ROOT / "data_samples" / "scenes"
+RUNUP = SCENES / "ball_runup.toml"
+
+
+def _python(code: str, env=None) -> str:
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
+                       env={**os.environ, **(env or {})}, timeout=600)
+    assert r.returncode == 0, r.stderr
+    return r.stdout
+
+
+def _modules_after(argv) -> set:
+    """Top-level modules imported by ``stand ARGV`` run in a fresh process."""
+    code = ("import sys, json\nfrom stand.cli import main\n"
+            f"try:\n    main({list(map(str, argv))!r})\nexcept SystemExit:\n    pass\n"
+            "print('@@' + json.dumps(sorted({m.split('.')[0] for m in sys.modules})))")
+    out = _python(code)
+    return set(json.loads(out.split("@@")[-1]))
+
+
+HEAVY = {"numba", "pandas", "dask", "matplotlib", "cv2", "llvmlite"}
+
+
+def test_help_imports_nothing_heavy():
+    mods = _modules_after(["--help"])
+    assert not mods & (HEAVY | {"scipy", "h5py"}), mods & (HEAVY | {"scipy", "h5py"})
+
+
+def test_theory_and_analyze_import_no_numba_pandas_dask_matplotlib():
+    assert not _modules_after(["theory", RUNUP]) & HEAVY
+    rec = ROOT / "data_samples" / "recordings" / "stand_cameras.h5"
+    assert not _modules_after(["analyze", rec]) & HEAVY
+
+
+def test_importing_the_kernels_does_not_import_numba():
+    out = _python("import sys\nimport stand.planar, stand.integrate.driver, stand.simulate\n"
+                  "from stand._jit import LazyKernel, HAVE_NUMBA\n"
+                  "import stand.planar as p\n"
+                  "print('numba' in sys.modules, isinstance(p.rhs_planar, LazyKernel) or not HAVE_NUMBA)")
+    assert out.split() == ["False", "True"]
+
+
+def test_first_call_turns_every_stand_in_into_a_dispatcher():
+    if not _jit.HAVE_NUMBA:
+        pytest.skip("numba not installed")
+    out = _python(
+        "import numpy as np\nimport stand.programme as pr, stand.planar as pl\n"
+        "from stand._jit import LazyKernel\n"
+        "prog = np.array([[0.0, 1.0, 0.0], [1.0, 2.0, 1.5]])\n"
+        "v = pr.programme_kinematics(0.5, prog)\n"
+        "print(type(pr.programme_kinematics).__name__, type(pl.rhs_planar).__name__,\n"
+        "      type(pl.programme_kinematics).__name__, v[1])")
+    a, b, c, speed = out.split()
+    assert a == b == c == "CPUDispatcher"
+    assert float(speed) == pytest.approx(1.5, abs=1e-15)   # 1 + (2 - 1) * 0.5 / 1
+
+
+def test_planar_run_compiles_only_the_planar_kernel():
+    """Each model kind has its own compiled loop: a planar run (numba JIT) compiles the loop
+    for kind 0 only and never the generic right-hand side."""
+    if not _jit.HAVE_NUMBA:
+        pytest.skip("numba not installed")
+    out = _python(
+        "import stand\nsc = stand.load(%r)\n"
+        "from dataclasses import replace\nsc = replace(sc, run=replace(sc.run, duration=0.5))\n"
+        "stand.run(sc)\nfrom stand.integrate.dop853 import dop853_loop\n"
+        "from stand.rotors import coupled_kernel as ck\n"
+        "print(sorted(str(s[0]) for s in dop853_loop.signatures), len(ck.rhs_generic.signatures))"
+        % str(RUNUP), env={"STAND_KERNELS": "jit"})
+    assert out.strip() == "['Literal[int](0)'] 0"
+
+
+def _short(path, duration):
+    from dataclasses import replace
+
+    sc = stand.load(path)
+    return replace(sc, run=replace(sc.run, duration=duration))
+
+
+@pytest.mark.parametrize("scene, duration", [("ball_runup.toml", 3.0),
+                                             ("body_two_axis_pendulum.toml", 0.5)])
+def test_precompiled_and_jit_kernels_agree(scene, duration, monkeypatch):
+    """The precompiled module and numba's JIT compile the same source; the samples agree to
+    rounding (different code generation may reassociate nothing: we allow 1e-12)."""
+    if precompiled.available() is not None:
+        pytest.skip(f"precompiling unavailable: {precompiled.available()}")
+    from stand.integrate import kernel_set
+
+    sc = _short(SCENES / scene, duration)
+    runs = {}
+    for mode in ("precompiled", "jit"):
+        monkeypatch.setenv("STAND_KERNELS", mode)
+        monkeypatch.setattr(kernel_set, "_CACHE", {})
+        r = stand.run(sc)
+        assert r.stats.success, r.stats.message
+        runs[mode] = r
+    a, b = runs["precompiled"], runs["jit"]
+    assert a.stats.nfev == b.stats.nfev and a.stats.n_steps == b.stats.n_steps
+    sa, sb = np.asarray(a.state), np.asarray(b.state)
+    assert sa.shape == sb.shape and sa.shape[0] > 100
+    scale = np.max(np.abs(sb), axis=0) + 1e-300
+    assert np.max(np.abs(sa - sb) / scale) <= 1e-12
+
+
+def test_warm_run_imports_no_numba():
+    """With the precompiled kernel present, a whole `stand run` never imports numba."""
+    if precompiled.available() is not None:
+        pytest.skip(f"precompiling unavailable: {precompiled.available()}")
+    _python("from stand.integrate.kernel_set import kernels\nkernels(0)")
+    out = _python(
+        "import sys, tempfile, os, stand\nsc = stand.load(%r)\n"
+        "from dataclasses import replace\nsc = replace(sc, run=replace(sc.run, duration=1.0))\n"
+        "r = stand.run(sc)\nd = tempfile.mkdtemp()\nr.write(os.path.join(d, 'r.h5'))\n"
+        "print(r.stats.success, 'numba' in sys.modules, 'scipy' in sys.modules)" % str(RUNUP),
+        env={"STAND_KERNELS": "auto"})
+    assert out.split() == ["True", "False", "False"]
+
+
+def test_kernel_modes_are_validated(monkeypatch):
+    from stand.integrate import kernel_set
+
+    monkeypatch.setenv("STAND_KERNELS", "fast")
+    monkeypatch.setattr(kernel_set, "_CACHE", {})
+    with pytest.raises(ValueError, match="STAND_KERNELS = 'fast'"):
+        kernel_set.kernels(0)
+
+
+def test_precompiled_module_name_follows_its_sources():
+    """Each kind's module is named by the sources it is compiled from: the planar kernel's
+    name does not depend on the generic kernel's files, and both depend on the loop."""
+    planar = set(precompiled.kernel_modules(0))
+    generic = set(precompiled.kernel_modules(1))
+    assert "stand.planar" in planar and "stand.rotors.coupled_kernel" not in planar
+    assert {"stand.rotors.coupled_kernel", "stand.rotors.bodies_kernel"} <= generic
+    assert "stand.planar" not in generic
+    assert {"stand.integrate.dop853", "stand.kernels"} <= planar & generic
+    assert precompiled.module_name(0) != precompiled.module_name(1)
+
+
+def test_import_scan_finds_every_import_the_parser_finds():
+    import ast
+
+    def by_ast(path, name):
+        pkg = name.split(".")[:-1] if path.name != "__init__.py" else name.split(".")
+        out = set()
+        for node in ast.walk(ast.parse(path.read_bytes())):
+            if isinstance(node, ast.ImportFrom):
+                base = pkg[: len(pkg) - node.level + 1] if node.level else []
+                mod = ".".join(base + (node.module.split(".") if node.module else []))
+                if mod.startswith("stand"):
+                    out.add(mod)
+                    out.update(f"{mod}.{a.name}" for a in node.names)
+            elif isinstance(node, ast.Import):
+                out.update(a.name for a in node.names if a.name.startswith("stand"))
+        return {m for m in out if _jit._module_file(m) is not None}
+
+    checked = 0
+    for f in _jit.PACKAGE.rglob("*.py"):
+        parts = f.relative_to(_jit.PACKAGE.parent).with_suffix("").parts
+        name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+        missing = by_ast(f, name) - _jit._imports(f, name)
+        assert not missing, (name, missing)
+        checked += 1
+    assert checked > 100
+
+
+def _fake_package(tmp_path):
+    pkg = tmp_path / "stand"
+    (pkg / "__pycache__").mkdir(parents=True)
+    (pkg / "__init__.py").write_text("")
+    (pkg / "a.py").write_text("from .b import g\n@njit\ndef f(): pass\n")
+    (pkg / "b.py").write_text("@njit\ndef g(): pass\n")
+    (pkg / "c.py").write_text("@njit\ndef h(): pass\n")
+    for stem in "abc":
+        (pkg / "__pycache__" / f"{stem}.f-1.py311.nbi").write_text("x")
+        (pkg / "__pycache__" / f"{stem}.f-1.py311.1.nbc").write_text("x")
+    return pkg
+
+
+def test_a_cache_is_dropped_when_a_module_it_imports_changes(tmp_path, monkeypatch):
+    pkg = _fake_package(tmp_path)
+    monkeypatch.setattr(_jit, "PACKAGE", pkg)
+    monkeypatch.setattr(_jit, "DYNAMIC_IMPORTS", {})
+    cache = pkg / "__pycache__"
+    _jit.drop_stale_caches()          # first sight: no stamps yet, every cache dropped
+    for stem in "abc":
+        (cache / f"{stem}.f-1.py311.nbi").write_text("x")
+    _jit.drop_stale_caches()          # nothing changed: all kept
+    assert {p.name.split(".")[0] for p in cache.glob("*.nbi")} == {"a", "b", "c"}
+    (pkg / "b.py").write_text("@njit\ndef g(): return 1\n")
+    _jit.drop_stale_caches()          # b changed: b's and its importer a's caches go, c's stays
+    assert {p.name.split(".")[0] for p in cache.glob("*.nbi")} == {"c"}
+
+
+def test_compilation_is_announced_only_when_it_takes_time(capsys):
+    with _Announce("planar kernel", 7, delay=0.0) as a:
+        while not a._shown:            # wait for the message (no fixed sleep)
+            a._thread.join(0.01)
+    err = capsys.readouterr().err
+    assert "compiling the planar kernel (one time, about 7 s)" in err
+    assert "done in" in err
+    with _Announce("planar kernel", 7, delay=5.0):
+        pass
+    assert capsys.readouterr().err == ""
+
+
+def test_warmup_command(capsys):
+    from stand.cli import main
+
+    assert main(["warmup"]) == 0
+    out = capsys.readouterr().out
+    assert "planar integrator kernel: " in out
+    assert any(s in out for s in ("precompiled", "jit", "python"))
