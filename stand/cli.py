@@ -626,6 +626,17 @@ def _naming_the_input(args, exc) -> str:
     return msg
 
 
+def _background_precompile() -> None:
+    """A command that ran a kernel on numba's JIT starts the build of its precompiled module
+    (stand.integrate.kernel_set), so that the next command starts without numba."""
+    ks = sys.modules.get("stand.integrate.kernel_set")
+    if ks is not None:
+        try:
+            ks.precompile_in_background()
+        except Exception:  # noqa: BLE001 - never let a background build spoil the command
+            pass
+
+
 def main(argv=None) -> int:
     from .scene import SceneError
 
@@ -650,6 +661,8 @@ def main(argv=None) -> int:
         print(f"stand {args.command}: internal error: {type(exc).__name__}: {exc} "
               "(please report this with the scene file)", file=sys.stderr)
         return 3
+    finally:
+        _background_precompile()
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -45,7 +45,7 @@ def warmup(every_kind: bool = False, say=print) -> list:
     done = []
     for kind in kinds:
         t0 = time.perf_counter()
-        ks = kernels(kind)
+        ks = kernels(kind, build=True)
         row = {"what": f"{KIND_NAMES[kind]} integrator kernel", "source": ks.source,
                "seconds": time.perf_counter() - t0}
         done.append(row)

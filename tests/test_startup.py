@@ -130,7 +130,7 @@ def test_warm_run_imports_no_numba():
     """With the precompiled kernel present, a whole `stand run` never imports numba."""
     if precompiled.available() is not None:
         pytest.skip(f"precompiling unavailable: {precompiled.available()}")
-    _python("from stand.integrate.kernel_set import kernels\nkernels(0)")
+    _python("from stand.integrate.kernel_set import kernels\nkernels(0, build=True)")
     out = _python(
         "import sys, tempfile, os, stand\nsc = stand.load(%r)\n"
         "from dataclasses import replace\nsc = replace(sc, run=replace(sc.run, duration=1.0))\n"
@@ -235,3 +235,63 @@ def test_warmup_command(capsys):
     out = capsys.readouterr().out
     assert "planar integrator kernel: " in out
     assert any(s in out for s in ("precompiled", "jit", "python"))
+
+
+def test_programme_in_numpy_equals_the_compiled_scalar_programme():
+    """Reading a run's rotor angle and speed needs no compiled code: the numpy version of the
+    programme equals the kernel's scalar one exactly, at random times, at the knots and
+    before / after the table, with a repeated knot time (a jump in acceleration)."""
+    from stand.planar import rotor_kinematics_many
+    from stand.programme import programme_kinematics, programme_kinematics_many, rotor_kinematics
+
+    rng = np.random.default_rng(7)
+    for k in (1, 2, 3, 6, 17):
+        t = np.sort(rng.uniform(0.0, 10.0, k))
+        t[0] = 0.0
+        if k > 3:
+            t[2] = t[3]
+        prog = np.column_stack([t, rng.uniform(0.0, 5.0, k), np.cumsum(rng.uniform(0.0, 1.0, k))])
+        taus = np.concatenate([rng.uniform(-1.0, 11.0, 300), t])
+        ref = np.array([programme_kinematics(x, prog) for x in taus])
+        np.testing.assert_array_equal(programme_kinematics_many(taus, prog), ref)
+    sp = np.zeros(64)
+    from stand.planar import COAST_PHI0, COAST_R0, COAST_T, COAST_T0
+    sp[COAST_T0], sp[COAST_T], sp[COAST_R0], sp[COAST_PHI0] = 5.0, 2.0, 3.0, 11.0
+    taus = np.linspace(0.0, 9.0, 301)
+    phi, R = rotor_kinematics_many(taus, prog, sp)
+    ref = np.array([rotor_kinematics(x, prog, 5.0, 2.0, 3.0, 11.0) for x in taus])
+    # the coast-down's exponential: numpy's vectorised exp and libm's differ by an ulp
+    np.testing.assert_allclose(phi, ref[:, 0], rtol=4e-16, atol=0)
+    np.testing.assert_allclose(R, ref[:, 1], rtol=4e-16, atol=0)
+
+
+def test_a_jit_run_starts_one_background_build(monkeypatch):
+    """After a command ran a kind on numba's JIT, the command line starts one detached build
+    of that kind's precompiled module, unless the module exists or is being built."""
+    import subprocess as sp
+
+    from stand.integrate import kernel_set
+
+    started = []
+    monkeypatch.setattr(sp, "Popen", lambda argv, **kw: started.append((argv, kw)))
+    monkeypatch.setenv("STAND_KERNELS", "auto")
+    monkeypatch.setattr(precompiled, "available", lambda: None)
+    monkeypatch.setattr(precompiled, "load", lambda kind: None)
+    monkeypatch.setattr(precompiled, "building", lambda kind: kind == 1)
+    monkeypatch.setattr(kernel_set, "_JIT_USED", {0, 1})
+    assert kernel_set.precompile_in_background(say=False) == ["planar"]
+    (argv, kw), = started
+    assert argv[1:] == ["-m", "stand.integrate.precompiled", "planar"]
+    assert kw["start_new_session"] and kw["stdout"] == sp.DEVNULL
+    assert kernel_set.precompile_in_background(say=False) == []      # once per process
+    monkeypatch.setattr(kernel_set, "_JIT_USED", {0})
+    monkeypatch.setattr(precompiled, "load", lambda kind: object())  # already built
+    assert kernel_set.precompile_in_background(say=False) == []
+    monkeypatch.setenv("STAND_KERNELS", "jit")
+    monkeypatch.setattr(precompiled, "load", lambda kind: None)
+    assert kernel_set.precompile_in_background(say=False) == []      # jit: never builds
+
+
+def test_background_build_entry_point_refuses_unknown_kinds(capsys):
+    assert precompiled.main(["spherical"]) == 2
+    assert "usage: python -m stand.integrate.precompiled {planar,generic}" in capsys.readouterr().err

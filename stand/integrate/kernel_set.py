@@ -5,14 +5,21 @@ side evaluation from (in this order):
 
 1. the precompiled extension module (:mod:`stand.integrate.precompiled`): no numba
    import, ready in a millisecond;
-2. building that module now (the first run after an install or an edit of the
-   kernel's sources; said on stderr with the elapsed time), when
-   ``STAND_KERNELS`` is ``auto`` (default) and a C compiler is present;
-3. numba's just-in-time compilation with its on-disk cache (``STAND_KERNELS=jit``,
-   or when precompiling is impossible);
-4. plain Python/numpy (``STAND_DISABLE_JIT=1``; slow, the tested fallback).
+2. numba's just-in-time compilation with its on-disk cache (the first run after an
+   install or an edit of the kernel's sources compiles: said on stderr with the
+   elapsed time; about 5 s for the planar rotor).  The command line then builds
+   the precompiled module in a detached background process
+   (:func:`precompile_in_background`), and ``stand warmup`` builds it in the
+   foreground;
+3. plain Python/numpy (``STAND_DISABLE_JIT=1``; slow, the tested fallback).
 
-``STAND_KERNELS=jit`` skips 1-2 (what the test suite uses to compare both).
+``STAND_KERNELS=jit`` skips 1 and never builds (what the tests use to compare the
+two); ``STAND_KERNELS=precompiled`` requires 1, building it now if missing.
+
+Why numba's JIT first: a cold build of the precompiled module compiles the same
+kernels plus an object file and numba's C helpers (about 2-3 s more than the JIT
+compile), which the first run should not wait for; built afterwards from numba's
+cache it costs 3-5 s of background time.
 """
 from __future__ import annotations
 
@@ -28,9 +35,9 @@ import numpy as np
 from .. import _jit
 from ..kernels import KIND_NAMES
 
-#: about how long building a kind's kernels takes on a 2-core machine [s]
-BUILD_SECONDS = {0: 7, 1: 40}
-JIT_SECONDS = {0: 5, 1: 30}
+#: about how long building / JIT-compiling a kind's kernels takes on a 2-core machine [s]
+BUILD_SECONDS = {0: 8, 1: 25}
+JIT_SECONDS = {0: 5, 1: 20}
 
 _CACHE: dict = {}
 
@@ -156,32 +163,72 @@ def warm_jit(ks: KernelSet, size: int = 4) -> None:
         go()
 
 
-def kernels(kind: int) -> KernelSet:
-    """The integrator's functions for model ``kind`` (module docstring for the order)."""
-    if kind in _CACHE:
-        return _CACHE[kind]
+def kernels(kind: int, build: bool = False) -> KernelSet:
+    """The integrator's functions for model ``kind`` (module docstring for the order).
+
+    ``build``: compile the precompiled module now if it is missing (``stand warmup``; also
+    with ``STAND_KERNELS=precompiled``).  Otherwise a missing module means numba's JIT for
+    this process, and the command line starts building the module in the background
+    when the command ends (:func:`precompile_in_background`).
+    """
     mode = _mode()
+    if kind in _CACHE and (_CACHE[kind].source == "precompiled" or not build):
+        return _CACHE[kind]
+    build = build or mode == "precompiled"
     ks = None
     if _jit.HAVE_NUMBA and mode != "jit":
         from . import precompiled
 
         mod = precompiled.load(kind)
-        why = None if mod is not None else precompiled.available()
-        if mod is None and why is None:
-            try:
-                with _Announce(f"{KIND_NAMES[kind]} kernel", BUILD_SECONDS.get(kind, 30)):
-                    mod = precompiled.build(kind)
-            except Exception as exc:  # noqa: BLE001 - any build failure: use numba's JIT
+        if mod is None and build:
+            why = precompiled.available()
+            if why is not None:
                 if mode == "precompiled":
-                    raise
-                print(f"stand: precompiling failed ({type(exc).__name__}: {exc}); using numba's "
-                      "just-in-time compilation", file=sys.stderr)
-        elif mod is None and mode == "precompiled":
-            raise RuntimeError(f"STAND_KERNELS=precompiled: {why}")
+                    raise RuntimeError(f"STAND_KERNELS=precompiled: {why}")
+            else:
+                try:
+                    with _Announce(f"{KIND_NAMES[kind]} kernel", BUILD_SECONDS.get(kind, 30)):
+                        mod = precompiled.build(kind)
+                except Exception as exc:  # noqa: BLE001 - any build failure: use numba's JIT
+                    if mode == "precompiled":
+                        raise
+                    print(f"stand: precompiling failed ({type(exc).__name__}: {exc}); using "
+                          "numba's just-in-time compilation", file=sys.stderr)
         if mod is not None:
             ks = _wrap_precompiled(kind, mod)
     if ks is None:
         ks = _jit_set(kind)
         warm_jit(ks)
+        if _jit.HAVE_NUMBA and mode == "auto":
+            _JIT_USED.add(kind)
     _CACHE[kind] = ks
     return ks
+
+
+_JIT_USED: set = set()
+
+
+def precompile_in_background(say: bool = True) -> list:
+    """Start, detached, the build of the precompiled module of every kind this process ran
+    on numba's JIT (and that nobody is building): the next command starts without numba.
+    The command line calls this when a command ends; returns the kinds' names."""
+    if not _JIT_USED or _mode() != "auto":
+        return []
+    import subprocess
+
+    from . import precompiled
+
+    started = []
+    for kind in sorted(_JIT_USED):
+        if (precompiled.load(kind) is not None or precompiled.available() is not None
+                or precompiled.building(kind)):
+            continue
+        subprocess.Popen([sys.executable, "-m", "stand.integrate.precompiled", KIND_NAMES[kind]],
+                         stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                         stderr=subprocess.DEVNULL, start_new_session=True, close_fds=True)
+        started.append(KIND_NAMES[kind])
+    _JIT_USED.clear()
+    if started and say:
+        print(f"stand: precompiling the {', '.join(started)} kernel in the background (later "
+              "commands start without compiling)", file=sys.stderr)
+    return started

@@ -194,9 +194,43 @@ def build(kind: int):
     from ..io.lock import file_lock
 
     out = cache_dir()
-    with file_lock(out / f".{KIND_NAMES[kind]}.lock"):   # concurrent builds: one compiles
+    with file_lock(_lock_path(kind)):   # concurrent builds: one compiles, the others load it
         mod = load(kind)
         return mod if mod is not None else _build(kind, numba, out)
+
+
+def _lock_path(kind: int) -> Path:
+    return cache_dir() / f".{KIND_NAMES[kind]}.lock"
+
+
+def building(kind: int) -> bool:
+    """Whether another process is building kind ``kind``'s module now."""
+    from ..io.lock import is_locked
+
+    return is_locked(_lock_path(kind))
+
+
+def main(argv=None) -> int:
+    """``python -m stand.integrate.precompiled KIND``: build quietly at low priority (the
+    command line's background build); a failure is logged beside the modules."""
+    import traceback
+
+    args = sys.argv[1:] if argv is None else argv
+    names = {v: k for k, v in KIND_NAMES.items()}
+    if len(args) != 1 or args[0] not in names:
+        print(f"usage: python -m stand.integrate.precompiled {{{','.join(names)}}}", file=sys.stderr)
+        return 2
+    try:
+        os.nice(10)
+    except (AttributeError, OSError):  # pragma: no cover
+        pass
+    try:
+        build(names[args[0]])
+    except Exception:  # noqa: BLE001 - a background build must not fail loudly
+        cache_dir().mkdir(parents=True, exist_ok=True)
+        (cache_dir() / f"build-{args[0]}.log").write_text(traceback.format_exc())
+        return 1
+    return 0
 
 
 def _build(kind, numba, out):
@@ -244,3 +278,7 @@ def _build(kind, numba, out):
     if mod is None:  # pragma: no cover
         raise RuntimeError(f"built {_path(name)} but could not import it")
     return mod
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
