@@ -297,6 +297,10 @@ def run_harness(tmp: Path) -> tuple:
     """All cells; returns (rows, table text)."""
     import warnings
 
+    from stand.warmup import warmup
+
+    # compile ahead: a cell's time limit is about input handling, not a cold compiler
+    warmup(every_kind=True, say=lambda line: None)
     rows = []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

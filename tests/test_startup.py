@@ -295,3 +295,32 @@ def test_a_jit_run_starts_one_background_build(monkeypatch):
 def test_background_build_entry_point_refuses_unknown_kinds(capsys):
     assert precompiled.main(["spherical"]) == 2
     assert "usage: python -m stand.integrate.precompiled {planar,generic}" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("mode", ["jit", "precompiled"])
+def test_kernel_set_takes_any_array_layout(mode, monkeypatch):
+    """The kernel set's entry points take C-contiguous float64 arrays; other layouts (a
+    strided output, integer or Fortran-ordered inputs) give the same numbers."""
+    if mode == "precompiled" and precompiled.available() is not None:
+        pytest.skip(f"precompiling unavailable: {precompiled.available()}")
+    from stand.integrate import kernel_set
+    from stand.planar import build_planar_model, initial_state
+
+    monkeypatch.setenv("STAND_KERNELS", mode)
+    monkeypatch.setattr(kernel_set, "_CACHE", {})
+    ks = kernel_set.kernels(0)
+    assert ks.source == mode
+    sc = stand.load(RUNUP)
+    m = build_planar_model(sc)
+    y = initial_state(sc, m) + 0.01
+    ref = np.empty_like(y)
+    ks.evaluate(0.3, y, ref, m.sp, m.wt, m.prog)
+    strided = np.zeros((y.size, 2))[:, 0]
+    ks.evaluate(0.3, list(y), strided, m.sp, np.asfortranarray(m.wt), m.prog)
+    np.testing.assert_array_equal(strided, ref)
+    J = np.empty((y.size, y.size))
+    Jf = np.asfortranarray(np.empty((y.size, y.size)))
+    ks.jacobian(0.3, y, ref, m.sp, m.wt, m.prog, J)
+    ks.jacobian(0.3, y, ref, m.sp, m.wt, m.prog, Jf)
+    np.testing.assert_array_equal(J, Jf)
+    assert np.all(np.isfinite(J)) and np.any(J != 0)

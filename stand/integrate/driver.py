@@ -298,7 +298,8 @@ def run_scipy(model, y0, tau_end, rtol, atol, ts_all, out, stats, method, max_st
 
         cls, kw = DOP853, {}
     else:
-        ev = kernels(kind).evaluate
+        ks = kernels(kind)
+        ev = ks.evaluate
 
         def fun(t, y):
             dy = np.empty_like(y)
@@ -311,7 +312,7 @@ def run_scipy(model, y0, tau_end, rtol, atol, ts_all, out, stats, method, max_st
             f0 = np.empty_like(y)
             ev(t, y, f0, sp, wt, prog)
             J = np.empty((y.size, y.size))
-            jac_fd(kind, t, y, f0, sp, wt, prog, J)
+            ks.jacobian(t, y, f0, sp, wt, prog, J)
             return J
 
         cls = {"Radau": Radau, "BDF": BDF, "LSODA": LSODA}[method]

@@ -28,6 +28,7 @@ import sys
 import threading
 import time
 from dataclasses import dataclass
+from functools import partial
 from typing import Callable
 
 import numpy as np
@@ -57,12 +58,16 @@ class KernelSet:
         :func:`stand.integrate.dop853.dop853_loop`).
     evaluate : callable
         ``evaluate(t, y, dy, sp, wt, prog)``: the right-hand side into ``dy``.
+    jacobian : callable
+        ``jacobian(t, y, f0, sp, wt, prog, J)``: forward-difference Jacobian into ``J``
+        (``f0`` = the right-hand side at ``(t, y)``; compiled on first use).
     """
 
     kind: int
     source: str
     dop853: Callable
     evaluate: Callable
+    jacobian: Callable
 
 
 def _mode() -> str:
@@ -110,57 +115,96 @@ class _Announce:
         return False
 
 
-def _wrap_precompiled(kind: int, mod) -> KernelSet:
-    loop, ev = mod.dop853, mod.evaluate
+def _checked(kind: int, source: str, loop, ev, jac) -> KernelSet:
+    """A kernel set around compiled entry points that take exactly C-contiguous float64
+    arrays (int64 for the statistics) and plain scalars: inputs are converted, and arrays
+    written in place that are not in that form go to numba's type-dispatching call."""
+    c = np.ascontiguousarray
+
+    def ok(a, dt=np.float64):
+        return a.dtype == dt and a.flags.c_contiguous and a.flags.writeable
 
     def dop853(sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_step, ts, k_next, out,
                stats, max_steps, limit):
-        for a, dt in ((y, np.float64), (f, np.float64), (out, np.float64), (stats, np.int64)):
-            if not (a.dtype == dt and a.flags.c_contiguous):  # written in place: as compiled
-                return _jit_set(kind).dop853(sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap,
-                                             max_step, ts, k_next, out, stats, max_steps, limit)
-        c = np.ascontiguousarray
+        if not (ok(y) and ok(f) and ok(out) and ok(stats, np.int64)):
+            from .dop853 import dop853_loop
+            return dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap,
+                               max_step, ts, k_next, out, stats, max_steps, limit)
         return loop(c(sp, float), c(wt, float), c(prog, float), float(t), y, f, float(h_abs),
                     float(t_end), float(rtol), float(atol), c(cap, float), float(max_step),
                     c(ts, float), int(k_next), out, stats, int(max_steps), float(limit))
 
     def evaluate(t, y, dy, sp, wt, prog):
-        if not (dy.dtype == np.float64 and dy.flags.c_contiguous):
-            return _jit_set(kind).evaluate(t, y, dy, sp, wt, prog)
-        c = np.ascontiguousarray
+        if not ok(dy):
+            from ..kernels import evaluate as dispatch
+            return dispatch(kind, t, y, dy, sp, wt, prog)
         ev(float(t), c(y, float), dy, c(sp, float), c(wt, float), c(prog, float))
 
-    return KernelSet(kind, "precompiled", dop853, evaluate)
+    def jacobian(t, y, f0, sp, wt, prog, J):
+        if not ok(J):
+            from .driver import jac_fd
+            return jac_fd(kind, t, y, f0, sp, wt, prog, J)
+        jac()(float(t), c(y, float), c(f0, float), c(sp, float), c(wt, float), c(prog, float), J)
+
+    return KernelSet(kind, source, dop853, evaluate, jacobian)
+
+
+def _wrap_precompiled(kind: int, mod) -> KernelSet:
+    jac = []
+
+    def jit_jacobian():   # the finite-difference Jacobian (stiff methods) is not precompiled
+        if not jac:
+            jac.append(_entry_points(kind, jacobian_only=True))
+        return jac[0]
+
+    return _checked(kind, "precompiled", mod.dop853, mod.evaluate, jit_jacobian)
+
+
+def _entry_points(kind: int, jacobian_only: bool = False):
+    """numba's compiled entry points of kind ``kind`` (loaded from numba's cache or compiled):
+    calling them skips numba's type dispatch, which for a kernel that asks for a literal
+    kind costs milliseconds per call (a typing attempt, then the literal retry)."""
+    numba = _jit.import_numba()
+    from numba import typeof, types
+
+    from ..kernels import evaluate
+    from .dop853 import dop853_loop
+    from .driver import jac_fd
+
+    lit = types.literal(kind)
+    a1, a2 = typeof(np.zeros(1)), typeof(np.zeros((1, 1)))
+    i1, f8, i8 = typeof(np.zeros(1, np.int64)), types.float64, types.int64
+    # the entry points take the kind too (its value is compiled in; any int is accepted)
+    jac = lambda: partial(jac_fd.compile((lit, f8, a1, a1, a1, a2, a2, a2)), kind)  # noqa: E731
+    if jacobian_only:
+        return jac()
+    loop = dop853_loop.compile((lit, a1, a2, a2, f8, a1, a1, f8, f8, f8, f8, a1, f8, a1, i8, a2,
+                                i1, i8, f8))
+    ev = evaluate.compile((lit, f8, a1, a1, a1, a2, a2))
+    del numba
+    return partial(loop, kind), partial(ev, kind), jac
 
 
 def _jit_set(kind: int) -> KernelSet:
-    from ..kernels import evaluate as ev
-    from .dop853 import dop853_loop
+    """numba's JIT kernels of ``kind`` (compiled now, announced if it takes a while), or the
+    plain-Python ones when numba is disabled."""
+    if not _jit.HAVE_NUMBA:
+        from ..kernels import evaluate as ev
+        from .dop853 import dop853_loop
+        from .driver import jac_fd
 
-    def dop853(*args):
-        return dop853_loop(kind, *args)
+        return KernelSet(kind, "python", lambda *a: dop853_loop(kind, *a),
+                         lambda *a: ev(kind, *a), lambda *a: jac_fd(kind, *a))
+    with _Announce(f"{KIND_NAMES[kind]} kernel", JIT_SECONDS.get(kind, 30)):
+        loop, ev, jac = _entry_points(kind)
+    compiled = []
 
-    def evaluate(t, y, dy, sp, wt, prog):
-        ev(kind, t, y, dy, sp, wt, prog)
+    def jacobian_entry():
+        if not compiled:
+            compiled.append(jac())
+        return compiled[0]
 
-    return KernelSet(kind, "jit" if _jit.HAVE_NUMBA else "python", dop853, evaluate)
-
-
-def warm_jit(ks: KernelSet, size: int = 4) -> None:
-    """Compile (or load from numba's cache) a JIT kernel set, announcing a compilation."""
-    if ks.source != "jit":
-        return
-    y = np.zeros(size)
-    sp = np.zeros(1)
-    wt = np.zeros((0, 1))
-    prog = np.zeros((1, 1))
-
-    def go():  # compiles for the argument types only: the loop returns at once (t_end = t)
-        ks.dop853(sp, wt, prog, 0.0, y, y.copy(), 1.0, 0.0, 1e-8, 1e-10, np.full(size, np.inf),
-                  np.inf, np.zeros(1), 1, np.zeros((1, size)), np.zeros(3, np.int64), 1, 1e12)
-
-    with _Announce(f"{KIND_NAMES[ks.kind]} kernel", JIT_SECONDS.get(ks.kind, 30)):
-        go()
+    return _checked(kind, "jit", loop, ev, jacobian_entry)
 
 
 def kernels(kind: int, build: bool = False) -> KernelSet:
@@ -198,7 +242,6 @@ def kernels(kind: int, build: bool = False) -> KernelSet:
             ks = _wrap_precompiled(kind, mod)
     if ks is None:
         ks = _jit_set(kind)
-        warm_jit(ks)
         if _jit.HAVE_NUMBA and mode == "auto":
             _JIT_USED.add(kind)
     _CACHE[kind] = ks
