@@ -36,16 +36,17 @@ def _jit_extras(kind: int) -> None:
     del numba
 
 
-def warmup(every_kind: bool = False, say=print) -> list:
+def warmup(every_kind: bool = False, say=print, precompile: bool = True) -> list:
     """Compile ahead (module docstring); returns one dict per item: ``what``, ``source``
-    (precompiled / jit / python), ``seconds``."""
+    (precompiled / jit / python), ``seconds``.  ``precompile=False``: numba's JIT only
+    (enough for work in this process)."""
     from .integrate.kernel_set import kernels
 
     kinds = sorted(KIND_NAMES) if every_kind else [0]
     done = []
     for kind in kinds:
         t0 = time.perf_counter()
-        ks = kernels(kind, build=True)
+        ks = kernels(kind, build=precompile)
         row = {"what": f"{KIND_NAMES[kind]} integrator kernel", "source": ks.source,
                "seconds": time.perf_counter() - t0}
         done.append(row)

@@ -300,7 +300,7 @@ def run_harness(tmp: Path) -> tuple:
     from stand.warmup import warmup
 
     # compile ahead: a cell's time limit is about input handling, not a cold compiler
-    warmup(every_kind=True, say=lambda line: None)
+    warmup(every_kind=True, say=lambda line: None, precompile=False)
     rows = []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
