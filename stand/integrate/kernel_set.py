@@ -189,12 +189,12 @@ def _jit_set(kind: int) -> KernelSet:
     """numba's JIT kernels of ``kind`` (compiled now, announced if it takes a while), or the
     plain-Python ones when numba is disabled."""
     if not _jit.HAVE_NUMBA:
-        from ..kernels import evaluate as ev
+        from ..kernels import evaluate
         from .dop853 import dop853_loop
         from .driver import jac_fd
 
         return KernelSet(kind, "python", lambda *a: dop853_loop(kind, *a),
-                         lambda *a: ev(kind, *a), lambda *a: jac_fd(kind, *a))
+                         lambda *a: evaluate(kind, *a), lambda *a: jac_fd(kind, *a))
     with _Announce(f"{KIND_NAMES[kind]} kernel", JIT_SECONDS.get(kind, 30)):
         loop, ev, jac = _entry_points(kind)
     compiled = []
