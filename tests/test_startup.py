@@ -51,7 +51,13 @@ def test_help_imports_nothing_heavy():
 
 
 def test_theory_and_analyze_import_no_numba_pandas_dask_matplotlib():
-    assert not _modules_after(["theory", RUNUP]) & HEAVY
+    """(``stand theory`` evaluates the right-hand side in its residual checks: from the
+    precompiled kernel, built here first if this machine can build it.)"""
+    if precompiled.available() is None:
+        _python("from stand.integrate.kernel_set import kernels\nkernels(0, build=True)")
+        assert not _modules_after(["theory", RUNUP]) & HEAVY
+    else:
+        assert not _modules_after(["theory", RUNUP]) & (HEAVY - {"numba", "llvmlite"})
     rec = ROOT / "data_samples" / "recordings" / "stand_cameras.h5"
     assert not _modules_after(["analyze", rec]) & HEAVY
 
