@@ -1,6 +1,8 @@
 """Helpers shared by several test modules (imported as ``from _helpers import ...``;
 pytest puts tests/ on sys.path since it has no __init__.py)."""
 import json
+import subprocess
+import time
 
 import numpy as np
 
@@ -61,3 +63,19 @@ def match_roots(ev, ref, tol):
         assert abs(ev[i] - r) < tol, (r, ev[i])
         ev.pop(i)
     return ev
+
+
+# ------------------------------------------------------------------ child processes
+def wait_for(condition, proc: subprocess.Popen, timeout_s: float = 120.0, poll_s: float = 0.05) -> bool:
+    """Wait until ``condition()`` is true, the child ``proc`` has ended or ``timeout_s``
+    has passed; returns ``condition()``.  Between two looks at the condition the test
+    waits on the child itself (``proc.wait``), not in a sleep: a child that ends (done
+    or crashed) ends the wait at once."""
+    end = time.monotonic() + timeout_s
+    while not condition() and time.monotonic() < end:
+        try:
+            proc.wait(timeout=poll_s)
+        except subprocess.TimeoutExpired:
+            continue
+        break
+    return condition()
