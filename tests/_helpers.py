@@ -1,8 +1,10 @@
 """Helpers shared by several test modules (imported as ``from _helpers import ...``;
 pytest puts tests/ on sys.path since it has no __init__.py)."""
+import io
 import json
 import subprocess
 import time
+from contextlib import redirect_stderr, redirect_stdout
 
 import numpy as np
 
@@ -79,3 +81,16 @@ def wait_for(condition, proc: subprocess.Popen, timeout_s: float = 120.0, poll_s
             continue
         break
     return condition()
+
+
+# ------------------------------------------------------------------ the stand program, in process
+def stand_stdout(*argv) -> str:
+    """``stand <argv>`` run in this process (stand.cli.main, as the ``stand`` program
+    runs it): asserts exit 0 and returns what it printed on stdout."""
+    from stand.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        code = main([str(a) for a in argv])
+    assert code == 0, f"stand {' '.join(map(str, argv))}: exit {code}\n{err.getvalue()}"
+    return out.getvalue()
