@@ -1,6 +1,13 @@
 """Helpers shared by several test modules (imported as ``from _helpers import ...``;
 pytest puts tests/ on sys.path since it has no __init__.py)."""
+import copy
+import inspect
+import io
 import json
+import subprocess
+import sys
+import time
+from contextlib import contextmanager, redirect_stderr, redirect_stdout
 
 import numpy as np
 
@@ -61,3 +68,81 @@ def match_roots(ev, ref, tol):
         assert abs(ev[i] - r) < tol, (r, ev[i])
         ev.pop(i)
     return ev
+
+
+# ------------------------------------------------------------------ child processes
+def wait_for(condition, proc: subprocess.Popen, timeout_s: float = 120.0, poll_s: float = 0.05) -> bool:
+    """Wait until ``condition()`` is true, the child ``proc`` has ended or ``timeout_s``
+    has passed; returns ``condition()``.  Between two looks at the condition the test
+    waits on the child itself (``proc.wait``), not in a sleep: a child that ends (done
+    or crashed) ends the wait at once."""
+    end = time.monotonic() + timeout_s
+    while not condition() and time.monotonic() < end:
+        try:
+            proc.wait(timeout=poll_s)
+        except subprocess.TimeoutExpired:
+            continue
+        break
+    return condition()
+
+
+# ------------------------------------------------------------------ the stand program, in process
+def stand_stdout(*argv) -> str:
+    """``stand <argv>`` run in this process (stand.cli.main, as the ``stand`` program
+    runs it): asserts exit 0 and returns what it printed on stdout."""
+    from stand.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        code = main([str(a) for a in argv])
+    assert code == 0, f"stand {' '.join(map(str, argv))}: exit {code}\n{err.getvalue()}"
+    return out.getvalue()
+
+
+# ------------------------------------------------------------------ theory computed once
+def _scene_key(scene) -> str:
+    """The scene's TOML text and every field at full precision (numpy arrays unabbreviated,
+    floats in their exact round-trip form): equal keys, equal theory inputs."""
+    with np.printoptions(threshold=sys.maxsize, floatmode="unique"):
+        return f"{scene.text}\n{scene!r}"
+
+
+def _memoized(fn, cache: dict):
+    signature = inspect.signature(fn)
+
+    def wrapper(*args, **kwargs):
+        bound = signature.bind(*args, **kwargs)   # f(s), f(s, None), f(s, R_max=None): one key
+        bound.apply_defaults()
+        scene, *rest = bound.arguments.values()
+        key = (fn.__module__, fn.__qualname__, _scene_key(scene), repr(rest))
+        if key not in cache:                 # an exception is not stored: raised every time
+            cache[key] = fn(*args, **kwargs)
+        return copy.deepcopy(cache[key])     # no caller sees another caller's changes
+    wrapper.__wrapped__ = fn
+    return wrapper
+
+
+@contextmanager
+def theory_computed_once():
+    """Within the block, the chapter-5 speed map (planar_theory.speedmap.scene_theory) and
+    the structure theory (rotors.run.family_theory) of a scene are computed once per
+    (scene, arguments) and a deep copy of that result is handed to every later caller
+    (``stand theory``, ``theory --json``, ``stand.theory``, the report's dynamics
+    section): both are deterministic functions of the scene and their arguments, so a
+    test that runs several commands on one scene checks each command's own code (argument
+    handling, serialisation, text, report) on the same numbers without recomputing them.
+    The first caller's computation is the real one; their results are checked against the
+    physics, without this, in test_theory_scene.py, test_rotors_*.py, test_report_*.py.
+    Every caller imports them at call time from their modules, where they are replaced;
+    the originals are put back when the block ends."""
+    from stand.planar_theory import speedmap
+    from stand.rotors import run as rotors_run
+
+    cache: dict = {}
+    saved = speedmap.scene_theory, rotors_run.family_theory
+    speedmap.scene_theory = _memoized(saved[0], cache)
+    rotors_run.family_theory = _memoized(saved[1], cache)
+    try:
+        yield cache
+    finally:
+        speedmap.scene_theory, rotors_run.family_theory = saved

@@ -4,7 +4,7 @@ import os
 import signal
 import subprocess
 import sys
-import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -12,6 +12,8 @@ import pytest
 from stand.scene import SceneError
 from stand.scene_file import load_scene
 from stand.simulate import simulate
+
+from _helpers import wait_for
 
 SCENE = "data_samples/scenes/paper001_runup.toml"   # ~3 s of integration, 1e5 revolutions
 CHILD = """
@@ -23,17 +25,20 @@ simulate(sc, checkpoint=sys.argv[2], checkpoint_steps=20000)
 """
 
 
-def test_killed_run_resumes_to_the_same_samples(tmp_path):
-    sc = load_scene(SCENE)
+def test_killed_run_resumes_to_the_same_samples(tmp_path, tmp_path_factory):
+    # the first 100 of the sample's 248 s (through the critical speed at 1000 rad/s;
+    # 2.7e5 steps = 13 checkpoints instead of 52): enough chunks to be killed between
+    scene = tmp_path_factory.mktemp("scene") / "runup.toml"     # not among tmp_path's leftovers
+    text = Path(SCENE).read_text()
+    assert "duration = 248.0" in text
+    scene.write_text(text.replace("duration = 248.0", "duration = 100.0"))
+    sc = load_scene(scene)
     # reference: the same chunking without interruption (chunk boundaries restart the
     # step controller's sampling, so a different chunk size differs at ~1e-9 relative)
     ref = simulate(sc, checkpoint=tmp_path / "ref.npz", checkpoint_steps=20000)
     ck = tmp_path / "run.ckpt.npz"
-    proc = subprocess.Popen([sys.executable, "-c", CHILD, SCENE, str(ck)], cwd=os.getcwd())
-    t0 = time.time()
-    while not ck.exists() and time.time() - t0 < 120 and proc.poll() is None:
-        time.sleep(0.05)
-    time.sleep(0.2)
+    proc = subprocess.Popen([sys.executable, "-c", CHILD, str(scene), str(ck)], cwd=os.getcwd())
+    wait_for(ck.exists, proc, timeout_s=120)     # the first checkpoint is on disk
     proc.send_signal(signal.SIGKILL)
     proc.wait()
     if not ck.exists():

@@ -8,17 +8,20 @@ exit 2 and one line naming the output.  (kill -9 and resume of ``stand run
 from __future__ import annotations
 
 import hashlib
+import io
 import os
 import resource
 import shutil
 import signal
 import subprocess
 import sys
-import time
+from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
 import pandas as pd
 import pytest
+
+from _helpers import wait_for
 
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 
@@ -32,13 +35,23 @@ def _stand(*argv, limit_bytes=None, **kw):
                           text=True, preexec_fn=preexec, timeout=300, **kw)
 
 
+def _stand_here(*argv) -> int:
+    """``stand <argv>`` in this process: for the set-up steps (a recording, a previous
+    output, the uninterrupted reference) that need no process of their own."""
+    from stand.cli import main
+
+    with redirect_stdout(io.StringIO()), redirect_stderr(io.StringIO()):
+        return main([str(a) for a in argv])
+
+
 def _digest(p: Path) -> str:
     return hashlib.sha256(p.read_bytes()).hexdigest()
 
 
-def _short_scene(tmp_path) -> Path:
+def _short_scene(tmp_path, duration: float = 4.0) -> Path:
     p = tmp_path / "scene.toml"
-    p.write_text((SCENES / "no_balancer.toml").read_text().replace("duration = 40.0", "duration = 4.0"))
+    p.write_text((SCENES / "no_balancer.toml").read_text().replace("duration = 40.0",
+                                                                   f"duration = {duration}"))
     return p
 
 
@@ -50,14 +63,14 @@ def _leftovers(folder: Path) -> list:
 def test_full_disk_keeps_the_previous_output(tmp_path, command):
     scene = _short_scene(tmp_path)
     rec = tmp_path / "run.h5"
-    assert _stand("run", scene, "-o", rec).returncode == 0
+    assert _stand_here("run", scene, "-o", rec) == 0
     if command == "run":
         out = tmp_path / "old.h5"
         shutil.copy(rec, out)
         argv = ("run", scene, "-o", out)
     else:
         out = tmp_path / "report.html"
-        assert _stand("report", rec, "-o", out).returncode == 0
+        assert _stand_here("report", rec, "-o", out) == 0
         argv = ("report", rec, "-o", out)
     before = _digest(out)
     r = _stand(*argv, limit_bytes=20_000)
@@ -84,7 +97,7 @@ def test_read_only_output_folder_is_a_clear_error(tmp_path):
     out_dir = tmp_path / "out"
     out_dir.mkdir()
     out = out_dir / "run.h5"
-    assert _stand("run", scene, "-o", out).returncode == 0
+    assert _stand_here("run", scene, "-o", out) == 0
     before = _digest(out)
     undo = _make_read_only(out_dir)
     if undo is None:
@@ -101,22 +114,21 @@ def test_read_only_output_folder_is_a_clear_error(tmp_path):
 
 
 def test_batch_report_killed_then_rerun_equals_an_uninterrupted_run(tmp_path):
-    scene = _short_scene(tmp_path)
+    scene = _short_scene(tmp_path, duration=1.0)   # 1 s: each report ~0.2 s instead of ~0.4 s
     recs = tmp_path / "recs"
     recs.mkdir()
     for k in range(6):
-        assert _stand("run", scene, "-o", recs / f"r{k}.h5").returncode == 0
+        assert _stand_here("run", scene, "-o", recs / f"r{k}.h5") == 0
     clean_dir, killed_dir = tmp_path / "clean", tmp_path / "killed"
     clean_dir.mkdir()
     killed_dir.mkdir()
-    assert _stand("report", recs, "-o", clean_dir, "--summary", clean_dir / "s.csv",
-                  "--workers", "1").returncode == 0
+    # the uninterrupted reference; the killed report and its rerun are processes of their own
+    assert _stand_here("report", recs, "-o", clean_dir, "--summary", clean_dir / "s.csv",
+                       "--workers", "1") == 0
     proc = subprocess.Popen([sys.executable, "-m", "stand", "report", str(recs), "-o", str(killed_dir),
                              "--summary", str(killed_dir / "s.csv"), "--workers", "1"],
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
-    deadline = time.time() + 120
-    while time.time() < deadline and not any(killed_dir.glob("*.html")):
-        time.sleep(0.05)
+    wait_for(lambda: any(killed_dir.glob("*.html")), proc, timeout_s=120)
     os.killpg(proc.pid, signal.SIGKILL)
     proc.wait()
     # nothing partial under a final name: every HTML there is complete, no summary yet

@@ -20,6 +20,8 @@ import pytest
 import stand
 from stand.cli import main
 
+from _helpers import theory_computed_once
+
 SCENES = sorted(glob.glob(str(Path(__file__).resolve().parents[1] / "data_samples/scenes/*.toml")))
 #: simulated seconds kept per scene kind (the matrix checks the plumbing, not the physics)
 SHORT = {"planar": 4.0, "rotor": 3.0, "book": None}
@@ -58,6 +60,16 @@ def _cli(*argv):
     with redirect_stdout(out), redirect_stderr(err):
         code = main([str(a) for a in argv])
     return code, out.getvalue(), err.getvalue()
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _theory_once_per_scene():
+    """The matrix asks for the same scene's theory up to five times (``theory``,
+    ``theory --json``, ``stand.theory`` and the dynamics section of both reports), always
+    with the same arguments: computed once per scene and process (tests/_helpers.py,
+    theory_computed_once); every command and function still runs its own code on it."""
+    with theory_computed_once():
+        yield
 
 
 @pytest.fixture(scope="module", params=SCENES, ids=lambda p: Path(p).stem)

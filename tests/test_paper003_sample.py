@@ -1,14 +1,14 @@
 """The paper-003 sample with two balancers: the generalised criterion in stand theory, and
 the run above its onset balancing both planes."""
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 import stand
+
+from _helpers import stand_stdout
 
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 SAMPLE = SCENES / "paper003_two_balancers.toml"
@@ -21,8 +21,7 @@ def test_theory_json_holds_the_generalised_criterion_of_the_sample(name, onset_h
     planes), stand theory --json holds the two-plane criterion; its onset is where
     criterion_matrix turns negative definite."""
     path = SCENES / f"{name}.toml"
-    out = subprocess.run([sys.executable, "-m", "stand", "theory", str(path), "--json"],
-                         capture_output=True, text=True, check=True).stdout
+    out = stand_stdout("theory", path, "--json")
     gc = json.loads(out)["generalised_criterion"]
     assert gc["planes"] == ["balancer1", "balancer2"]
     sc = stand.load(path)

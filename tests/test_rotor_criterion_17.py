@@ -20,6 +20,8 @@ from stand.rotors.flexible import (flexible_shaft, shaft_criterion, shaft_natura
 from stand.rotors.structure import (criterion_matrices, generalised_working_ranges,
                                     sign_changes, synchronous_poles, working_ranges)
 
+from _helpers import stand_stdout
+
 HZ = 2 * math.pi
 
 # ---------------------------------------------------------------- part 6: narrow gap
@@ -146,13 +148,10 @@ def test_theory_json_holds_the_generalised_criterion(scene003):
     003's critical speeds (40) (K_xi negative definite only above both), and the
     working ranges are where the matrix is negative definite."""
     import json
-    import subprocess
-    import sys
 
     from stand.rotors.spatial import two_support_rotor
     path, sc = scene003
-    out = subprocess.run([sys.executable, "-m", "stand", "theory", str(path), "--json",
-                          "--no-floquet"], capture_output=True, text=True, check=True).stdout
+    out = stand_stdout("theory", path, "--json", "--no-floquet")
     doc = json.loads(out)
     gc = doc["generalised_criterion"]
     assert gc["planes"] == ["balancer1", "balancer2"]
@@ -179,8 +178,7 @@ def test_theory_json_holds_the_generalised_criterion(scene003):
     for w in (0.5 * w40[0], 0.5 * (w40[0] + w40[1]), 1.5 * w40[1]):
         assert _definite(bare, planes, w) == ts.is_stable(w)
     # and the text of stand theory prints it
-    txt = subprocess.run([sys.executable, "-m", "stand", "theory", str(path), "--no-floquet"],
-                         capture_output=True, text=True, check=True).stdout
+    txt = stand_stdout("theory", path, "--no-floquet")
     assert "generalised criterion, planes balancer1, balancer2" in txt
     assert f"{gc['onsets_hz'][0]:.6g}" in txt
 

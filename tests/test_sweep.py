@@ -21,7 +21,7 @@ from stand.sweep import (TIMING_COLUMNS, SweepSpecError, add_sweep_arguments, lo
 from stand.sweep.maps import critical_speed_map, regime_map
 from stand.planar_theory import main_motion as mm
 
-from _helpers import toml_text
+from _helpers import toml_text, wait_for
 
 ROOT = Path(__file__).resolve().parents[1]
 SWEEPS = ROOT / "data_samples" / "sweeps"
@@ -391,14 +391,10 @@ def test_kill_minus_9_then_resume_equals_uninterrupted(tmp_path):
     proc = subprocess.Popen([sys.executable, "-c", code], cwd=ROOT, start_new_session=True,
                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     pdir = parts_dir(out)
-    deadline = time.monotonic() + 120
     try:
-        while time.monotonic() < deadline:
-            if pdir.is_dir() and len(list(pdir.glob("part-*.parquet"))) >= 4:
-                break
+        if not wait_for(lambda: pdir.is_dir() and len(list(pdir.glob("part-*.parquet"))) >= 4,
+                        proc, timeout_s=120, poll_s=0.01):
             assert proc.poll() is None, proc.stderr.read().decode()
-            time.sleep(0.01)
-        else:
             pytest.fail("no part files within 120 s")
     finally:
         if proc.poll() is None:

@@ -16,12 +16,22 @@ from stand.planar_theory import qp
 from stand.planar_theory.speedmap import TheoryError, scene_theory
 from stand.planar_theory.verify import at_speed, check_thresholds
 
+from _helpers import theory_computed_once
+
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
+
+
+@pytest.fixture(scope="module")
+def runup():
+    """ball_runup.toml and its speed map (computed once for the tests that read it)."""
+    sc = load_scene(SCENES / "ball_runup.toml")
+    return sc, scene_theory(sc)
 
 
 def test_stand_theory_json_ball_runup(capsys, tmp_path):
     png = tmp_path / "map.png"
-    assert main(["theory", str(SCENES / "ball_runup.toml"), "--json", "--plot", str(png)]) == 0
+    with theory_computed_once():   # --plot draws the speed map the JSON was made of: computed once
+        assert main(["theory", str(SCENES / "ball_runup.toml"), "--json", "--plot", str(png)]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert png.stat().st_size > 1000
     f0 = doc["natural_frequency_hz"]
@@ -109,10 +119,10 @@ def test_balancing_decay_rate_is_the_least_damped_eigenvalue():
 
 
 @pytest.mark.slow
-def test_theory_vs_simulation_on_both_sides_of_each_threshold():
-    sc = load_scene(SCENES / "ball_runup.toml")
-    checks = check_thresholds(sc)
-    assert len(checks) == 2 * len(scene_theory(sc).critical_speeds)
+def test_theory_vs_simulation_on_both_sides_of_each_threshold(runup):
+    sc, th = runup
+    checks = check_thresholds(sc, th)      # th is scene_theory(sc), what it computes by default
+    assert len(checks) == 2 * len(th.critical_speeds)
     bad = [c for c in checks if not c.match]
     assert not bad, bad
 
@@ -141,13 +151,13 @@ def test_band_between_two_close_thresholds_is_kept():
     assert band.R_from == pytest.approx(c, rel=1e-12) and band.R_to == pytest.approx(R_star, rel=1e-12)
 
 
-def test_torque_drive_is_analysed_at_its_target_speed():
+def test_torque_drive_is_analysed_at_its_target_speed(runup):
     import dataclasses as dc
     from stand.scene import TorqueDrive
-    s = load_scene(SCENES / "ball_runup.toml")
+    s, a = runup
     st = dc.replace(s, rotor=dc.replace(s.rotor, inertia=0.05),
                     drive=TorqueDrive("speed_feedback", c1=0.5, target_speed=2 * np.pi * 15))
-    a, b = scene_theory(s), scene_theory(st)
+    b = scene_theory(st)
     assert [c.R for c in a.critical_speeds] == pytest.approx([c.R for c in b.critical_speeds])
     assert b.operating_speed_R == pytest.approx(a.operating_speed_R)
 

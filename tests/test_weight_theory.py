@@ -6,8 +6,6 @@ volume of thesis section 3.3 with its full-chamber regression.
 """
 import json
 import math
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +18,8 @@ from stand.balancers.liquid_chamber import LiquidChamberParams
 from stand.balancers.liquid_float import LiquidFloatParams
 from stand.balancers.two_axis import TwoAxisParams
 from stand.balancers.weight_theory import LIQUIDS, weight_theory
+
+from _helpers import stand_stdout
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ROOT / "data_samples" / "scenes"
@@ -278,10 +278,7 @@ def test_weight_theory_from_physical_parameters_is_json():
 
 # =========================================================================== stand theory
 def _stand(*args):
-    r = subprocess.run([sys.executable, "-m", "stand", *args], cwd=ROOT, capture_output=True,
-                       text=True, timeout=300)
-    assert r.returncode == 0, r.stderr
-    return r.stdout
+    return stand_stdout(*args)     # stand.cli.main in this process (exit 0 asserted)
 
 
 def test_stand_theory_gravity_pair_json_and_text():
