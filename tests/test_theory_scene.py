@@ -28,6 +28,13 @@ def runup():
     return sc, scene_theory(sc)
 
 
+@pytest.fixture(scope="module")
+def stuck():
+    """ball_stuck.toml and its speed map (computed once for the tests that read it)."""
+    sc = load_scene(SCENES / "ball_stuck.toml")
+    return sc, scene_theory(sc)
+
+
 def test_stand_theory_json_ball_runup(capsys, tmp_path):
     png = tmp_path / "map.png"
     with theory_computed_once():   # --plot draws the speed map the JSON was made of: computed once
@@ -59,9 +66,8 @@ def test_stand_theory_json_ball_runup(capsys, tmp_path):
     assert "main" in band["motions"] and "quasi-periodic" not in band["motions"]
 
 
-def test_speed_map_edges_are_the_exact_thresholds():
-    sc = load_scene(SCENES / "ball_stuck.toml")
-    th = scene_theory(sc)
+def test_speed_map_edges_are_the_exact_thresholds(stuck):
+    sc, th = stuck
     p = th.parameters
     R_star = qp.escape_speed(p["Rt"], p["h"], p["H"])
     assert R_star == pytest.approx(9.0)
@@ -85,10 +91,9 @@ def test_theory_refuses_out_of_scope_scenes():
         scene_theory(load_scene(SCENES / "no_balancer.toml"))
 
 
-def test_stuck_balls_speed_is_the_stable_qp_root():
+def test_stuck_balls_speed_is_the_stable_qp_root(stuck):
     """Acceptance: simulated ball speed of ball_stuck.toml = the stable root of (5.181), 0.1 %."""
-    sc = load_scene(SCENES / "ball_stuck.toml")
-    th = scene_theory(sc)
+    sc, th = stuck
     reg = classify(simulate(sc))
     assert reg.name == "quasi-periodic"
     assert np.allclose(reg.weight_speed, th.qp["stable_root_R"], rtol=1e-3)
@@ -178,12 +183,12 @@ def test_anisotropic_supports_give_the_engineering_criterion(capsys):
     assert band["motions"] == []
 
 
-def test_no_qp_motion_without_damping_and_petals_always_reported():
+def test_no_qp_motion_without_damping_and_petals_always_reported(stuck):
     th = scene_theory(_dimless(2, 0.01, 0.0, 0.1, 0.3))
     assert all("quasi-periodic" not in b.motions for b in th.bands)
-    stuck = scene_theory(load_scene(SCENES / "ball_stuck.toml")).qp
+    qp_stuck = stuck[1].qp
     # k = 3 / 0.96135 = 3.12: about 2 petals, the pattern turns slowly (digest 5.3)
-    assert stuck["petals"] == 2 and stuck["pattern_closed"] is False
+    assert qp_stuck["petals"] == 2 and qp_stuck["pattern_closed"] is False
 
 
 def test_beyond_capacity_no_spurious_critical_speed_at_resonance():
