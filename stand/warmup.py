@@ -36,13 +36,17 @@ def _jit_extras(kind: int) -> None:
     del numba
 
 
-def warmup(every_kind: bool = False, say=print, precompile: bool = True) -> list:
+def warmup(every_kind: bool = False, say=print, precompile: bool = True, kinds=None) -> list:
     """Compile ahead (module docstring); returns one dict per item: ``what``, ``source``
     (precompiled / jit / python), ``seconds``.  ``precompile=False``: numba's JIT only
-    (enough for work in this process)."""
+    (enough for work in this process).  ``kinds``: these model kinds only (with everything
+    ``every_kind`` compiles for each), e.g. one per process to use several cores."""
     from .integrate.kernel_set import kernels
 
-    kinds = sorted(KIND_NAMES) if every_kind else [0]
+    if kinds is not None:
+        kinds, every_kind = sorted(kinds), True
+    else:
+        kinds = sorted(KIND_NAMES) if every_kind else [0]
     done = []
     for kind in kinds:
         t0 = time.perf_counter()

@@ -1,5 +1,13 @@
-"""Test-session hooks: print the adversarial harness' table at the end of the run
-(tests/test_adversarial.py records it as a user property; this works under pytest-xdist)."""
+"""Test-session hooks.
+
+* Compile ahead, once, before the test processes start: every model kind's kernels
+  (numba's cache and the precompiled modules), one process per kind in parallel, so
+  that pytest-xdist's workers load them instead of each compiling the same kernels.
+* Print the adversarial harness' table at the end of the run (tests/test_adversarial.py
+  records it as a user property; this works under pytest-xdist).
+"""
+import subprocess
+import sys
 
 _TABLES = []
 
@@ -15,3 +23,14 @@ def pytest_terminal_summary(terminalreporter):
     for table in _TABLES:
         terminalreporter.write_sep("-", "adversarial harness")
         terminalreporter.write_line(table)
+
+
+def pytest_configure(config):
+    if hasattr(config, "workerinput"):   # an xdist worker: the controller compiled already
+        return
+    from stand.kernels import KIND_NAMES
+
+    code = "from stand.warmup import warmup; warmup(kinds=[{k}], say=lambda s: None)"
+    procs = [subprocess.Popen([sys.executable, "-c", code.format(k=k)]) for k in sorted(KIND_NAMES)]
+    for p in procs:
+        p.wait()
