@@ -13,6 +13,10 @@ numba is imported :func:`njit` is ``numba.njit`` itself.
 Set ``STAND_DISABLE_JIT=1`` to run every kernel as plain Python/numpy (slow;
 the tested fallback path, see ``benchmarks/bench_startup.py``).
 
+Your own numba functions that call a stand kernel: import numba before stand
+(the stand then makes real dispatchers at once), or call :func:`import_numba`
+before compiling them, so that they see dispatchers and not stand-ins.
+
 Stale caches.  numba invalidates a cached function only when *its own* file
 changes, not when a kernel it calls or inlines from another module does: a
 stale cache would silently run old physics.  :func:`drop_stale_caches` keeps,
