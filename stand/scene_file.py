@@ -513,29 +513,9 @@ def check_derived(scene: Scene) -> Scene:
                              f"samples of {width} state components need about {nbytes / 1e9:.3g} GB; "
                              f"the limit is {MAX_STATE_BYTES / 1e9:.0f} GB: lower run.sample_rate "
                              "or shorten run.duration")
-        for inst in scene.instruments.values():
-            w, hgt = getattr(inst, "width", 0), getattr(inst, "height", 0)
-            if w * hgt > MAX_IMAGE_PIXELS:
-                raise SceneError(f"{getattr(inst, 'table', 'instruments')}: width x height = {w} x "
-                                 f"{hgt} px: more than {MAX_IMAGE_PIXELS / 1e6:.0f} Mpx per image")
-        cam = scene.instruments.get("screen")
-        if cam is not None:
-            from .instruments.screen import exposure_times, frame_times
-            d0 = scene.drive
-            top_w = (float(np.max(np.abs(d0.programme[:, 1]))) if d0.kind == "speed"
-                     else max(d0.target_speed, d0.initial_speed))
-            n_frames = frame_times(run.duration, cam).size
-            k = exposure_times(np.zeros(1), cam, max_rotor_speed=top_w).shape[1]
-            nbytes = n_frames * k * width * 8 * 3
-            if nbytes > MAX_STATE_BYTES / 4:
-                raise SceneError(
-                    f"instruments.screen: {n_frames} frames x {k} exposure sub-samples need about "
-                    f"{nbytes / 1e9:.3g} GB of simulated samples (limit {MAX_STATE_BYTES / 4e9:.0f} GB): "
-                    "lower frame_rate or subsamples, or film a part of the run with start_time")
-        for inst in scene.instruments.values():
-            check = getattr(inst, "check_against_run", None)
-            if check is not None:
-                check(run)
+        from .instruments.placement import check_instrument_budget
+
+        check_instrument_budget(scene, width)
         ini = scene.initial
         if not all(np.isfinite(v / L) for v in (ini.x, ini.y)) or not all(
                 np.isfinite(v / (L * w1)) for v in (ini.vx, ini.vy)):

@@ -246,16 +246,25 @@ def screens(instruments) -> dict:
 
 def check_instruments(scene) -> None:
     """The checks :func:`stand.scene_file.check_derived` makes of the instruments of a
-    planar scene, for a rotor-family scene: placements (axis maps built), image sizes,
-    the screen's exposure sub-samples, each instrument against the run settings."""
-    from ..scene_file import MAX_IMAGE_PIXELS, MAX_STATE_BYTES
-
+    planar scene, for a rotor-family scene: placements (axis maps built), then
+    :func:`check_instrument_budget`."""
     if scene.kind == "book":
         raise SceneError("[instruments]: not available on a book weight model ([weight_model]); "
                          "write the scene with [structure] + [[weights]]")
     planes, kind = tuple(scene.planes), scene.structure_type
     for inst in scene.instruments.values():
         check_placement(inst, planes, kind, scene)
+    width = 2 * (scene.linear_rotor().n + scene.n_weights) + 8 * len(scene.bodies)
+    check_instrument_budget(scene, width)
+
+
+def check_instrument_budget(scene, width: int) -> None:
+    """Every scene's instruments: image sizes, the memory of all screens' exposure
+    sub-samples (simulated state rows of ``width`` numbers), each instrument against the
+    run settings.  Errors name the table, the value and the limit."""
+    from ..scene_file import MAX_IMAGE_PIXELS, MAX_STATE_BYTES
+
+    for inst in scene.instruments.values():
         w, h = getattr(inst, "width", 0), getattr(inst, "height", 0)
         if w * h > MAX_IMAGE_PIXELS:
             raise SceneError(f"{getattr(inst, 'table', 'instruments')}: width x height = {w} x "
@@ -265,10 +274,8 @@ def check_instruments(scene) -> None:
     for name, cam in screens(scene.instruments).items():
         from .screen import exposure_times, frame_times
 
-        top_w = scene.top_speed
         n_frames = frame_times(run.duration, cam).size
-        k = exposure_times(np.zeros(1), cam, max_rotor_speed=top_w).shape[1]
-        width = 2 * (scene.linear_rotor().n + scene.n_weights) + 8 * len(scene.bodies)
+        k = exposure_times(np.zeros(1), cam, max_rotor_speed=scene.top_speed).shape[1]
         nbytes += n_frames * k * width * 8 * 3
         what.append(f"{n_frames} frames x {k} exposure sub-samples ({name})")
         if nbytes > MAX_STATE_BYTES / 4:
