@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._jit import njit
-from .programme import (build_table, breakpoints, programme_kinematics,
+from .programme import (build_table, breakpoints, drive_torque_law, programme_kinematics,
                         programme_kinematics_many, rotor_kinematics)
 from .scene import Scene, SpeedDrive
 from .structure import PlanarStructure
@@ -306,13 +306,7 @@ def rotor_kinematics_many(tau, prog, sp):
 @njit(cache=True, error_model="numpy")
 def drive_torque(tau, phi, dphi, sp):
     """Dimensionless drive torque m_rot = M_rot / (J_0 omega_1^2), models 1-3."""
-    model = sp[MODEL]
-    if model == 0.0:
-        return sp[MROT]
-    m = sp[C1] * (sp[WTARGET] - dphi)
-    if model == 2.0:
-        m += sp[C2] * (sp[WTARGET] * tau - phi)
-    return m
+    return drive_torque_law(sp[MODEL], sp[MROT], sp[C1], sp[C2], sp[WTARGET], tau, phi, dphi)
 
 
 @njit(cache=True, inline="always", error_model="numpy")

@@ -95,6 +95,18 @@ def rotor_kinematics(tau, prog, coast_t0, coast_T, coast_R0, coast_phi0):
     return programme_kinematics(tau, prog)
 
 
+@njit(cache=True, inline="always", error_model="numpy")
+def drive_torque_law(model, m0, c1, c2, w_target, t, phi, speed):
+    """Drive torque of the book's models 1-3 (section 5.1.1), in any consistent units:
+    model 0 a constant ``m0``; 1 ``c1 (w_target - speed)``; 2 adds ``c2 (w_target t - phi)``."""
+    if model == 0.0:
+        return m0
+    m = c1 * (w_target - speed)
+    if model == 2.0:
+        m += c2 * (w_target * t - phi)
+    return m
+
+
 def breakpoints(prog: np.ndarray, coast_t0: float) -> np.ndarray:
     """Times where phi'' jumps: integration restarts there for accuracy."""
     pts = list(prog[:, 0])

@@ -74,7 +74,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from .._jit import njit
-from ..programme import build_table, programme_kinematics
+from ..programme import build_table, drive_torque_law, programme_kinematics
 from ..scene import Balancer
 from .bodies import PlaneBody, body_rows
 from .bodies_kernel import (B_H1, B_H2, B_KIND, B_OFF, B_PLANE, N_BCOL, SPHERE, TILT,
@@ -191,13 +191,7 @@ def solve_small(buf, oA, of, ox, n):
 @njit(cache=True, inline="always", error_model="numpy")
 def drive_moment(t, phi, Om, sp):
     """Drive torque M_drive [N m] of the book's models 1-3 (section 5.1.1) at time t [s]."""
-    model = sp[H_DMODEL]
-    if model == 0.0:
-        return sp[H_TQ]
-    m = sp[H_C1] * (sp[H_WT] - Om)
-    if model == 2.0:
-        m += sp[H_C2] * (sp[H_WT] * t - phi)
-    return m
+    return drive_torque_law(sp[H_DMODEL], sp[H_TQ], sp[H_C1], sp[H_C2], sp[H_WT], t, phi, Om)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
