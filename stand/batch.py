@@ -65,7 +65,8 @@ def expand_sources(source: str) -> list:
     return files
 
 
-def analyze_row(path: str, grade_mm_s: float = 6.3, service_speed_rpm: Optional[float] = None) -> dict:
+def analyze_row(path: str, grade_mm_s: float = 6.3, service_speed_rpm: Optional[float] = None,
+                recording_map=None) -> dict:
     """One summary row of ``stand analyze`` for ``path`` (never raises).
 
     Parameters
@@ -76,6 +77,8 @@ def analyze_row(path: str, grade_mm_s: float = 6.3, service_speed_rpm: Optional[
         Target ISO 21940-11 balance grade [mm/s].
     service_speed_rpm : float, optional
         Service speed [rpm].
+    recording_map : stand.lab.recording_map.RecordingMap, optional
+        Columns of lab tables.
 
     Returns
     -------
@@ -87,7 +90,8 @@ def analyze_row(path: str, grade_mm_s: float = 6.3, service_speed_rpm: Optional[
 
     row = {"file": path, "status": "ok", "error": ""}
     try:
-        doc = analyze(path, grade_mm_s=grade_mm_s, service_speed_rpm=service_speed_rpm)
+        doc = analyze(path, grade_mm_s=grade_mm_s, service_speed_rpm=service_speed_rpm,
+                      recording_map=recording_map)
     except Exception as exc:   # a bad file must not stop the batch: reported in its row
         row.update(status="error", error=error_text(exc))
         return row

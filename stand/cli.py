@@ -135,14 +135,15 @@ def _cmd_accuracy(args) -> int:
     return 0
 
 
-def _report_row(path, grade, service_speed_rpm, html_dir):
+def _report_row(path, grade, service_speed_rpm, html_dir, recording_map=None):
     """One row of a batch report (never raises): writes <stem>.html next to the others."""
     from .reports.balancing import balancing_report
 
     row = {"file": path, "status": "ok", "error": "", "report": ""}
     try:
         out = str(Path(html_dir) / (Path(path).stem + ".html")) if html_dir else None
-        doc = balancing_report(path, grade=grade, service_speed_rpm=service_speed_rpm, html_path=out)
+        doc = balancing_report(path, grade=grade, service_speed_rpm=service_speed_rpm, html_path=out,
+                               recording_map=recording_map)
         row["report"] = out or ""
         q = doc.get("balancing_quality", {})
         for k, v in q.items():
@@ -162,7 +163,10 @@ def _cmd_report(args) -> int:
 
     from .cli_parser import _grade
 
+    from .lab.recording_map import map_from_options
+
     grade = _grade(args.grade)
+    rmap = map_from_options(args.columns, args.map)
     for o in (args.output, args.json_file):
         if o and not Path(o).resolve().parent.is_dir():
             raise FileNotFoundError(f"output directory of {o!r} does not exist")
@@ -174,7 +178,7 @@ def _cmd_report(args) -> int:
         html_dir = args.output if args.output and Path(args.output).is_dir() else None
         df = run_batch(files, _report_row, workers=args.workers, scheduler=args.scheduler,
                        progress=sys.stderr.isatty(), grade=grade,
-                       service_speed_rpm=args.service_speed, html_dir=html_dir)
+                       service_speed_rpm=args.service_speed, html_dir=html_dir, recording_map=rmap)
         write_table(df, summary)
         print(f"{len(df)} recordings reported ({int((df['status'] != 'ok').sum())} failed) -> {summary}")
         return 0
@@ -183,7 +187,8 @@ def _cmd_report(args) -> int:
     if not args.output and not args.json_file and not args.json:
         raise ValueError("stand report: give -o REPORT.html, --json-file REPORT.json or --json")
     doc = balancing_report(args.recording, grade=grade, service_speed_rpm=args.service_speed,
-                           html_path=args.output, json_path=args.json_file, tracks=args.tracks)
+                           html_path=args.output, json_path=args.json_file, tracks=args.tracks,
+                           recording_map=rmap)
     if args.json:
         _print_json(doc)
         return 0
@@ -312,6 +317,16 @@ def _cmd_experiment(args) -> int:
     return 0 if st.success else 1
 
 
+def _print_recognised(doc) -> None:
+    """A table read without a map: which column was taken for what (stderr)."""
+    inp = doc.get("input") or {}
+    if inp.get("recognised"):
+        print("columns recognised (give --columns or --map to choose): "
+              + "; ".join(inp["recognised"]), file=sys.stderr)
+    for e in inp.get("excluded") or []:
+        print(f"excluded rows {e['rows']}: {e['reason']}", file=sys.stderr)
+
+
 def _cmd_analyze(args) -> int:
     from dsp.errors import SignalError
 
@@ -319,6 +334,9 @@ def _cmd_analyze(args) -> int:
     from .batch import analyze_row, expand_sources, is_batch_source, run_batch, write_table
     from .recording import RecordingError
 
+    from .lab.recording_map import map_from_options
+
+    rmap = map_from_options(args.columns, args.map)
     if is_batch_source(args.recording):
         files = expand_sources(args.recording)
         if not args.output:
@@ -327,7 +345,7 @@ def _cmd_analyze(args) -> int:
             raise FileNotFoundError(f"output directory of {args.output!r} does not exist")
         df = run_batch(files, analyze_row, workers=args.workers, scheduler=args.scheduler,
                        progress=sys.stderr.isatty(), grade_mm_s=args.grade,
-                       service_speed_rpm=args.service_speed)
+                       service_speed_rpm=args.service_speed, recording_map=rmap)
         write_table(df, args.output)
         bad = int((df["status"] != "ok").sum())
         print(f"{len(df)} recordings analysed ({bad} failed) -> {args.output}")
@@ -344,9 +362,11 @@ def _cmd_analyze(args) -> int:
                   f"at {r['angle_deg']:.4g} +- {r['angle_deg_std']:.2g} deg; permissible {r['permissible_gmm']:.4g}: {'pass' if r['passed'] else 'FAIL'}")
         return 0
     try:
-        doc = analyze(args.recording, grade_mm_s=args.grade, service_speed_rpm=args.service_speed)
+        doc = analyze(args.recording, grade_mm_s=args.grade, service_speed_rpm=args.service_speed,
+                      recording_map=rmap)
     except (RecordingError, SignalError) as exc:
         raise ValueError(str(exc)) from None
+    _print_recognised(doc)
     if args.json:
         _print_json({k: v for k, v in doc.items() if k != "regime_timeline"})
         return 0
@@ -364,6 +384,11 @@ def _cmd_analyze(args) -> int:
         g = doc["iso_grade"]
         print(f"  ISO 21940-11: G {g['grade_mm_s']:.3g} mm/s ({g['class']}), target G {g['target_mm_s']}: "
               + ("pass" if g["passed"] else "FAIL"))
+    if doc.get("programme"):
+        print(f"  programme {doc['programme']['kind']}; speed from {doc.get('speed_source')}")
+    if doc.get("critical_speed_hz") is not None:
+        print(f"  critical speed {fmt(doc['critical_speed_hz'], doc.get('critical_speed_hz_std'), 'rev/s')} "
+              f"({doc['critical_speed_method']})")
     print(f"  precession {fmt(doc['precession_hz'], None, 'Hz')}, nutation {fmt(doc['nutation_hz'], None, 'Hz')}, "
           f"petals {doc['petals']}, shape {doc['shape']}; regime {doc['regime']}")
     for c in doc["critical_speeds_hz"]:

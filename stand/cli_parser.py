@@ -20,6 +20,17 @@ def _grade(text) -> float:
     return g
 
 
+def _table_options(sp) -> None:
+    """``--columns`` and ``--map``: which column of a lab table is what (stand.lab.recording_map)."""
+    sp.add_argument("--columns", default=None, metavar="SPEC",
+                    help="lab table columns: ROLE=COLUMN[unit],... e.g. time=time_s,x=disp_x_um[um],"
+                         "y=disp_y_um[um],speed=tacho_rpm[rpm] (roles: time, x, y, speed, angle, "
+                         "keyphasor, photogate; a probe in volts: x=px[V, 7.87 V/mm])")
+    sp.add_argument("--map", default=None, metavar="MAP.toml",
+                    help="recording map file: [columns], [table] layout, [rotor] mass and service "
+                         "speed (docs/lab_recordings.md)")
+
+
 def build_parser(handlers: dict) -> argparse.ArgumentParser:
     """The argument parser; ``handlers`` maps each command to its function (stand.cli)."""
     from .scene import METHODS
@@ -27,7 +38,8 @@ def build_parser(handlers: dict) -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="stand", description="Virtual autobalancer test stand")
     sub = p.add_subparsers(dest="command", required=True)
     rp = sub.add_parser("report", help="balancing-quality report (HTML + JSON) of a recording, or a folder/glob")
-    rp.add_argument("recording", help="HDF5 or CSV recording, or a folder / glob of them")
+    rp.add_argument("recording", help="HDF5 recording or lab table (CSV, Parquet), or a folder / glob of them")
+    _table_options(rp)
     rp.add_argument("-o", "--output", default=None, help="HTML report (batch: a directory for one HTML per file)")
     rp.add_argument("--json", action="store_true", help="print the JSON report on stdout")
     rp.add_argument("--json-file", default=None, help="write the JSON report (the source of the HTML)")
@@ -114,8 +126,10 @@ def build_parser(handlers: dict) -> argparse.ArgumentParser:
     e.add_argument("--deflection", type=float, help="initial shaft deflection [m]")
     e.set_defaults(func=handlers["experiment"])
     a2 = sub.add_parser("analyze", help="identify f0, damping, unbalance, components, regime from a recording")
-    a2.add_argument("recording", help="HDF5 recording, or CSV with columns t_s, x_m, y_m[, rotor_angle_rad | keyphasor]; "
-                    "or a folder / glob of them (with -o)")
+    a2.add_argument("recording", help="HDF5 recording, or a lab table (CSV with any delimiter, "
+                    "Parquet, pandas HDF5) of time, x, y and optionally keyphasor / tachometer / "
+                    "angle; or a folder / glob of them (with -o)")
+    _table_options(a2)
     a2.add_argument("--json", action="store_true", help="print JSON")
     a2.add_argument("--grade", type=_grade, default=6.3, help="ISO 21940-11 target grade (G6.3 or 6.3, mm/s)")
     a2.add_argument("--service-speed", type=float, default=None, help="service speed [rpm] (default: the recorded speed)")

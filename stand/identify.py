@@ -5,9 +5,15 @@ Orchestrates the leaf package :mod:`dsp` on a recording (HDF5 written by
 recording carries its scene, uses the scene for the model parameters (mass,
 natural frequency, damping) that turn a 1X response into an unbalance.
 
-CSV columns (header line required; SI units): ``t_s``, ``x_m``, ``y_m`` and
-optionally ``rotor_angle_rad`` (unwrapped or wrapped) or ``keyphasor``
-(1 on the samples where a once-per-revolution pulse occurs).
+Lab tables (CSV with any delimiter, decimal commas and header lines, Parquet,
+pandas HDF5) are read by :func:`stand.lab.table.read_table`: columns mapped by
+a recording map (``--columns`` or ``--map``, units converted at the edge) or
+recognised by their well-known names (``t_s``, ``time_ms``, ``x_m``,
+``disp_x_um``, ``rotor_angle_rad``, ``keyphasor``, ``tacho_rpm``, ...).  The
+speed comes from an encoder angle, a keyphasor pulse channel, a tachometer,
+or -- with none -- from the 1X line (flagged as estimated).  Swept records
+(run-up, run-down, coast-down) add the Bode data, the sweep-corrected
+critical speed and the model fit (:mod:`stand.runup_identify`).
 """
 from __future__ import annotations
 
@@ -21,45 +27,45 @@ from dsp.errors import SignalError
 TWO_PI = 2 * math.pi
 
 
-def _read(path):
+def _read(path, recording_map=None):
+    """The arrays of a Run, a Recording, a stand recording file or a lab table."""
+    from .lab.table import _is_pandas_hdf, is_table_file
     from .recording import read_recording
     from .result import Run
 
     if isinstance(path, Run):
         return _from_run(path)
     p = Path(path)
-    if p.suffix.lower() == ".csv":
-        import pandas as pd
-
-        try:
-            df = pd.read_csv(p)
-        except Exception as exc:  # parse errors of any kind -> one clear line
-            reason = " ".join(str(exc).split())  # pandas messages hold newlines
-            raise ValueError(f"{p}: not a readable CSV ({reason})") from None
-        for col in ("t_s", "x_m", "y_m"):
-            if col not in df:
-                raise ValueError(f"{p}: missing column {col!r} (need t_s, x_m, y_m; optional "
-                                 "rotor_angle_rad or keyphasor)")
-
-        def column(col, unit):
-            """A numeric column; text in a number cell is an error naming file, column, row."""
-            raw = df[col]
-            num = pd.to_numeric(raw, errors="coerce")
-            bad = np.flatnonzero((num.isna() & raw.notna()).to_numpy())
-            if bad.size:
-                i = int(bad[0])
-                raise ValueError(f"{p}: column {col!r} ({unit}), data row {i + 1}: "
-                                 f"{str(raw.iloc[i])[:40]!r} is not a number")
-            return num.to_numpy(float)
-
-        t = column("t_s", "s")
-        phi = column("rotor_angle_rad", "rad") if "rotor_angle_rad" in df else None
-        kp = None
-        if phi is None and "keyphasor" in df:
-            kp = t[column("keyphasor", "1 on a once-per-revolution pulse, else 0") > 0.5]
-        return dict(t=t, x=column("x_m", "m"), y=column("y_m", "m"), phi=phi,
-                    kp=kp, weights=None, scene=None)
+    if is_table_file(p) or (p.suffix.lower() in (".h5", ".hdf5", ".hdf") and p.is_file()
+                            and _is_pandas_hdf(p) is not None):
+        return _from_table(p, recording_map)
+    if recording_map is not None and recording_map.columns:
+        raise ValueError(f"{p}: --columns / --map apply to tables (CSV, Parquet, pandas HDF5); "
+                         "this is a stand recording")
     return _from_run(read_recording(p))
+
+
+def _from_table(p, recording_map):
+    """A lab table (:func:`stand.lab.table.read_table`) and its rotor angle."""
+    from .lab.speed_source import rotor_angle_of
+    from .lab.table import read_table
+
+    tab = read_table(p, recording_map)
+    notes = [f"excluded rows {e['rows']}: {e['reason']}" for e in tab.excluded]
+    angle, how = rotor_angle_of(tab, notes)
+    t, x, y = tab.t, tab.signals["x"], tab.signals["y"]
+    phi = None
+    if angle is not None and angle.referenced:
+        c = angle.covered
+        if not c.all():
+            notes.append(f"samples outside the first and last keyphasor pulse left out "
+                         f"({int((~c).sum())})")
+        t, x, y, phi = t[c], x[c], y[c], angle.angle_rad[c]
+        angle = type(angle)(angle.angle_rad[c], angle.speed_rad_s[c], angle.acceleration_rad_s2[c],
+                            np.ones(int(c.sum()), bool), angle.source, angle.referenced,
+                            angle.estimated, angle.pulses_s)
+    return dict(t=t, x=x, y=y, phi=phi, kp=None, weights=None, scene=None, notes=notes,
+                angle=angle, speed_how=how, table=tab)
 
 
 def _from_run(rec):
@@ -68,8 +74,19 @@ def _from_run(rec):
     scene = rec.scene if getattr(rec.scene, "kind", None) == "planar" else None
     phi = rec.rotor_angle if np.all(np.isfinite(rec.rotor_angle)) else None
     w = rec.weight_angle if rec.weight_angle.size and np.all(np.isfinite(rec.weight_angle)) else None
-    return dict(t=np.asarray(rec.t), x=np.asarray(rec.x), y=np.asarray(rec.y), phi=phi, kp=None,
-                weights=w, scene=scene, notes=list(rec.notes))
+    angle = None
+    t = np.asarray(rec.t)
+    if phi is not None and t.size > 1:
+        from dsp.speed import RotorAngle
+
+        ph = np.unwrap(np.asarray(phi, float))
+        wr = np.gradient(ph, t)
+        angle = RotorAngle(ph, wr, np.gradient(wr, t), np.ones(t.size, bool), "rotor angle",
+                           referenced=True)
+    return dict(t=t, x=np.asarray(rec.x), y=np.asarray(rec.y), phi=phi, kp=None,
+                weights=w, scene=scene, notes=list(rec.notes), angle=angle,
+                speed_how="the recording's rotor angle" if phi is not None else "no rotor angle",
+                table=None, rec_scene=rec.scene)
 
 
 def _steady_window(t, speed, frac=0.3):
@@ -81,19 +98,31 @@ def _steady_window(t, speed, frac=0.3):
     return slice(max(int(n * (1 - frac)), steady_start(t, speed)), n)
 
 
-def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = None) -> dict:
+def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = None,
+            recording_map=None) -> dict:
     """Identify what a lab would from one recording; returns a JSON-able dict.
 
     Every identification that does not apply (e.g. no rotation, no weights
     channel) is ``None`` with the reason in ``notes``.
+
+    Parameters
+    ----------
+    path : str, Path, Run or Recording
+    grade_mm_s : float
+        Required ISO 21940-11 grade G [mm/s].
+    service_speed_rpm : float, optional
+        Service speed [rpm] of the grade (default: the map's, else the measured speed).
+    recording_map : stand.lab.recording_map.RecordingMap, optional
+        Columns, units and the machine's data of a lab table.
     """
     from dsp import quasiperiodic as qpd
     from dsp import regime as rg
     from dsp import unbalance as ub
 
+    from .runup_identify import sweep_identification
     from .signals import plane_free_decay
 
-    d = _read(path)
+    d = _read(path, recording_map)
     t, x, y, phi, scene = d["t"], d["x"], d["y"], d["phi"], d["scene"]
     if t.size < 2:  # np.gradient of the rotor angle needs two samples
         raise ValueError(f"{path}: {t.size} sample(s) in time (s); stand analyze needs at least 2")
@@ -101,10 +130,30 @@ def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = Non
                                             if hasattr(path, "scene") else str(path))
     out = {"recording": str(label), "notes": list(d.get("notes") or [])}
     notes = out["notes"]
+    tab = d.get("table")
+    rmap = tab.recording_map if tab is not None else recording_map
+    mass = getattr(rmap, "mass_kg", None)
+    if tab is not None:
+        out["input"] = tab.input_summary()
+    angle = d.get("angle")
+    out["speed_source"] = d.get("speed_how")
     speed = None
     if phi is not None:
         speed = np.gradient(np.unwrap(phi), t)
+    elif angle is not None:                    # a tachometer: speed without a mark
+        speed = angle.speed_rad_s
     rotating = speed is not None and np.max(np.abs(speed)) > 1e-6 or d["kp"] is not None
+    if speed is None and tab is not None:      # no speed channel: does the shaft whirl?
+        rotating = _whirls(t, x, y)
+
+    # the speed programme
+    out["programme"] = None
+    if speed is not None and rotating:
+        from dsp.speed import speed_programme
+
+        from .runup_identify import _programme_dict
+
+        out["programme"] = _programme_dict(speed_programme(t, speed))
 
     # natural frequency and damping: free decay of a non-spinning rotor
     out.update(natural_frequency_hz=None, natural_frequency_hz_std=None, damping_ratio=None,
@@ -115,55 +164,78 @@ def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = Non
             out.update(natural_frequency_hz=fd.natural_frequency_hz,
                        natural_frequency_hz_std=fd.natural_frequency_hz_std,
                        damping_ratio=fd.damping_ratio, damping_ratio_std=fd.damping_ratio_std)
+        if tab is not None and "photogate" in tab.signals:
+            out["photogate"] = _photogate(tab, notes)
     elif scene is not None:
         notes.append("rotating record: f0 and damping taken from the scene, not identified")
+
+    # run-up / run-down: Bode data, sweep-corrected critical speed, model fit
+    out.update(runup=None, critical_speed_hz=None, critical_speed_method=None)
+    model_ok = scene is None and (d.get("rec_scene") is None or _no_weights(d.get("rec_scene")))
+    if rotating and (tab is not None or model_ok or scene is not None):
+        sw = sweep_identification(t, x, y, angle, notes, fit_model=model_ok or tab is not None)
+        if sw is not None:
+            out["runup"] = sw
+            if sw["speed_estimated"]:
+                out["speed_source"] = sw["speed_source"]
+                if out["programme"] is None:
+                    out["programme"] = sw["programme"]
+            fit, res = sw["model_fit"], sw["resonance"]
+            if res is not None:
+                out.update(critical_speed_hz=res["critical_speed_hz"],
+                           critical_speed_method=f"1X peak of the {res['stretch']}, sweep-rate lag "
+                           "removed (papers 001/003/004 4.3, 5.4)")
+            elif fit is not None:
+                out.update(critical_speed_hz=fit["critical_speed_hz"],
+                           critical_speed_hz_std=fit["critical_speed_hz_std"],
+                           critical_speed_method="rigid-rotor model fitted to the whole record")
+            if fit is not None:
+                out.update(natural_frequency_hz=fit["natural_frequency_hz"],
+                           natural_frequency_hz_std=fit["natural_frequency_hz_std"],
+                           damping_ratio=fit["damping_ratio"],
+                           damping_ratio_std=fit["damping_ratio_std"],
+                           natural_frequency_method="rigid-rotor model fitted to the whole "
+                           "record (dsp.response_fit)")
 
     # 1X and unbalance over the final constant-speed stretch
     out.update(unbalance_gmm=None, unbalance_gmm_std=None, unbalance_angle_deg=None,
                iso_grade=None, response_1x_m=None, speed_hz=None)
     sl = _steady_window(t, speed)
-    if rotating:
+    if tab is not None and out["programme"] and out["programme"]["stretches"] \
+            and getattr(angle, "source", None) != "angle":
+        last = out["programme"]["stretches"][-1]      # a lab speed wobbles: the programme's stretch
+        if last["kind"] == "constant":
+            i0 = int(np.searchsorted(t, last["t_start_s"]))
+            sl = slice(max(int(t.size * 0.7), i0), t.size)
+    sc1 = None
+    if rotating and (phi is not None or d["kp"] is not None):
         try:
             sc1 = ub.synchronous_component(t[sl], x[sl], y[sl],
                                            rotor_angle=None if phi is None else phi[sl],
                                            keyphasor_times=d["kp"])
             out["response_1x_m"] = sc1.amplitude_m
             out["speed_hz"] = sc1.speed_rad_s / TWO_PI
-            if scene is not None:
-                s = scene.supports
-                Ms = scene.total_mass
-                f0 = scene.natural_frequency / TWO_PI
-                zeta = s.damping_x / (2 * math.sqrt(s.stiffness_x * Ms))
-                est = ub.unbalance_from_response(sc1, sc1.speed_rad_s, Ms, f0, zeta)
-                out.update(unbalance_gmm=est.unbalance_gmm, unbalance_gmm_std=est.unbalance_std_gmm,
-                           unbalance_angle_deg=est.angle_deg)
-                w_service = (service_speed_rpm * TWO_PI / 60.0 if service_speed_rpm
-                             else sc1.speed_rad_s)
-                g = ub.iso_21940_grade(est.unbalance_gmm, scene.rotor.mass, w_service,
-                                       target_grade_mm_s=grade_mm_s,
-                                       unbalance_std_gmm=est.unbalance_std_gmm)
-                out["iso_grade"] = {"grade_mm_s": g.grade_mm_s, "grade_mm_s_std": g.grade_std_mm_s,
-                                    "class": g.label, "target_mm_s": grade_mm_s,
-                                    "passed": g.passed, "permissible_gmm": getattr(g, "permissible_gmm", None),
-                                    "service_speed_rpm": w_service * 60 / TWO_PI}
-            else:
-                notes.append("no scene in the recording: the 1X response is not converted to an "
-                             "unbalance (needs mass, f0, damping)")
         except SignalError as exc:
             notes.append(f"1X / unbalance: {exc}")
+    elif rotating:
+        _line_1x(t[sl], x[sl] + 1j * y[sl], out, notes)
+    if rotating:
+        _unbalance(out, scene, sc1, d, rmap, mass, grade_mm_s, service_speed_rpm, notes)
 
     # quasi-periodic decomposition of the orbit
     out.update(components=[], precession_hz=None, nutation_hz=None, petals=None, shape=None)
-    if rotating:
+    if rotating and out["speed_hz"] is not None:
         try:
             f_rot = out["speed_hz"]
             dec = qpd.decompose(t[sl], (x + 1j * y)[sl], rotor_speed_hz=f_rot)
             out["components"] = [{"frequency_hz": c.frequency_hz, "frequency_hz_std": c.frequency_std_hz,
                                   "amplitude_m": c.amplitude_m, "phase_deg": math.degrees(c.phase_rad),
                                   "direction": c.direction} for c in dec.components]
-            out.update(precession_hz=dec.precession_hz, precession_hz_std=dec.precession_std_hz,
+            qp = dec.precession is not None
+            out.update(precession_hz=dec.precession_hz if qp else None,
+                       precession_hz_std=dec.precession_std_hz if qp else None,
                        nutation_hz=dec.nutation_hz, nutation_hz_std=dec.nutation_std_hz,
-                       precession_amplitude_m=dec.precession_amplitude_m,
+                       precession_amplitude_m=dec.precession_amplitude_m if qp else None,
                        nutation_amplitude_m=dec.nutation_amplitude_m,
                        petals=dec.petals if dec.precession is not None else None,
                        shape=dec.shape if dec.precession is not None else None)
@@ -197,6 +269,164 @@ def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = Non
             notes.append(f"{key}: not finite ({value}); the input values are out of "
                          "floating-point range for this identification")
     return out
+
+
+def _no_weights(scene) -> bool:
+    """The recording's scene has no correction weights (the rigid-rotor model applies)."""
+    bal = getattr(scene, "balancer", None)
+    if getattr(scene, "kind", None) == "planar":
+        return bal is None or not getattr(bal, "count", 0)
+    return not getattr(scene, "weights", None) and not getattr(scene, "bodies", None) \
+        and getattr(scene, "kind", None) != "rotor"
+
+
+def _whirls(t, x, y) -> bool:
+    """Without a speed channel: the shaft whirls when the phase of x + i y (mean removed)
+    advances steadily by ten turns or more."""
+    z = (x - np.mean(x)) + 1j * (y - np.mean(y))
+    if t.size < 16 or not np.any(np.abs(z) > 0):
+        return False
+    th = np.unwrap(np.angle(z))
+    turns = abs(th[-1] - th[0]) / TWO_PI
+    steps = np.diff(th)
+    return bool(turns >= 10 and np.mean(np.sign(steps) == np.sign(th[-1] - th[0])) > 0.9)
+
+
+def _line_1x(t, z, out, notes) -> None:
+    """No phase reference: the 1X line's frequency and amplitude from the spectrum
+    (:func:`dsp.frequency.refine_frequencies`, the strongest forward line)."""
+    from dsp.frequency import refine_frequencies
+
+    try:
+        comp = refine_frequencies(t, z - np.mean(z), 1)
+        f = float(comp.frequency_hz[0])
+        out["speed_hz"] = abs(f)
+        out["response_1x_m"] = float(abs(comp.amplitude[0]))
+        out["speed_estimated"] = True
+        notes.append(f"no keyphasor or encoder: the speed {abs(f):.6g} rev/s is the strongest line "
+                     "of the orbit (estimated from the vibration)")
+    except SignalError as exc:
+        notes.append(f"1X line: {exc}")
+
+
+def _unbalance(out, scene, sc1, d, rmap, mass, grade_mm_s, service_speed_rpm, notes) -> None:
+    """The unbalance from the model (the scene's, the run-up fit's, or the map's f0 and
+    damping), the ring zones of a track, and the ISO 21940-11 grade."""
+    from dsp import unbalance as ub
+
+    e = se = ang = None       # specific unbalance [m] and its angle [deg]
+    how = None
+    fit = (out.get("runup") or {}).get("model_fit")
+    if scene is not None and sc1 is not None:
+        s = scene.supports
+        Ms = scene.total_mass
+        zeta = s.damping_x / (2 * math.sqrt(s.stiffness_x * Ms))
+        est = ub.unbalance_from_response(sc1, sc1.speed_rad_s, Ms, scene.natural_frequency / TWO_PI,
+                                         zeta)
+        out.update(unbalance_gmm=est.unbalance_gmm, unbalance_gmm_std=est.unbalance_std_gmm,
+                   unbalance_angle_deg=est.angle_deg)
+        _grade(out, est.unbalance_gmm, est.unbalance_std_gmm, scene.rotor.mass,
+               sc1.speed_rad_s, grade_mm_s, service_speed_rpm)
+        return
+    if fit is not None:
+        e, se, ang = fit["specific_unbalance_m"], fit["specific_unbalance_m_std"], \
+            fit["unbalance_angle_deg"]
+        how = "rigid-rotor model fitted to the run-up"
+    elif sc1 is not None and rmap is not None and rmap.natural_frequency_hz \
+            and rmap.damping_ratio is not None:
+        est = ub.unbalance_from_response(sc1, sc1.speed_rad_s, 1.0, rmap.natural_frequency_hz,
+                                         rmap.damping_ratio)
+        e, se, ang = est.unbalance_kg_m, est.unbalance_std_kg_m, est.angle_deg
+        how = f"steady 1X with the map's natural frequency and damping ({rmap.source})"
+    elif out.get("response_1x_m") and rmap is not None and rmap.natural_frequency_hz \
+            and rmap.damping_ratio is not None:
+        R = out["speed_hz"] / rmap.natural_frequency_hz
+        e = out["response_1x_m"] * abs(1 - R * R + 2j * rmap.damping_ratio * R) / (R * R)
+        how = f"1X line with the map's natural frequency and damping ({rmap.source})"
+    rings = _ring_reading(out, d)
+    if e is None and rings is None:
+        if d.get("table") is not None:
+            notes.append("unbalance: a table has no scene (mass, f0, damping); it needs a run-up "
+                         "through the resonance (model fit), or the "
+                         "natural frequency and damping ratio in the map's [rotor], or a track "
+                         "with ring radii and the capacity")
+        else:
+            notes.append("no scene in the recording: the 1X response is not converted to an "
+                         "unbalance (needs mass, f0, damping)")
+        return
+    if e is not None:
+        out["specific_unbalance_gmm_per_kg"] = e * 1e6       # [m] = [kg m / kg] -> g mm / kg
+        out["specific_unbalance_gmm_per_kg_std"] = None if se is None else se * 1e6
+        out["unbalance_method"] = how
+        out["unbalance_angle_deg"] = ang
+        if mass:
+            out.update(unbalance_gmm=e * mass * 1e6,
+                       unbalance_gmm_std=None if se is None else se * mass * 1e6)
+        else:
+            notes.append("unbalance in g mm needs the vibrating mass: give [rotor] mass in the "
+                         "recording map (the specific unbalance per kg is given)")
+    w_meas = (out.get("speed_hz") or 0.0) * TWO_PI
+    if rmap is not None and rmap.service_speed_rad_s and not service_speed_rpm:
+        service_speed_rpm = rmap.service_speed_rad_s * 60 / TWO_PI
+    if e is not None and (w_meas > 0 or service_speed_rpm):
+        _grade(out, e * (mass or 1.0) * 1e6, None if se is None else se * (mass or 1.0) * 1e6,
+               mass or 1.0, w_meas, grade_mm_s, service_speed_rpm, per_kg=not mass)
+
+
+def _grade(out, U_gmm, sU_gmm, mass, w_meas, grade_mm_s, service_speed_rpm, per_kg=False) -> None:
+    from dsp import unbalance as ub
+
+    w_service = service_speed_rpm * TWO_PI / 60.0 if service_speed_rpm else w_meas
+    g = ub.iso_21940_grade(U_gmm, mass, w_service, target_grade_mm_s=grade_mm_s,
+                           unbalance_std_gmm=sU_gmm)
+    out["iso_grade"] = {"grade_mm_s": g.grade_mm_s, "grade_mm_s_std": g.grade_std_mm_s,
+                        "class": g.label, "target_mm_s": grade_mm_s, "passed": g.passed,
+                        "permissible_gmm": None if per_kg else getattr(g, "permissible_gmm", None),
+                        "service_speed_rpm": w_service * 60 / TWO_PI}
+
+
+def _ring_reading(out, d):
+    """A ``stand track`` CSV with ring radii and the capacity in its header: the spot
+    circle's radius on the screen read against the rings (the lab's laser method, 4.3)."""
+    from dsp.unbalance import unbalance_from_rings
+
+    tab = d.get("table")
+    if tab is None or out.get("response_1x_m") is None:
+        return None
+    meta = tab.metadata
+    try:
+        radii = [float(v) for v in str(meta["ring_radii_m"]).split(",")]
+        S = float(meta["capacity_gmm"]) * 1e-6
+        gain = float(meta.get("optical_gain", 1.0))
+    except (KeyError, ValueError):
+        return None
+    r_screen = out["response_1x_m"] * gain
+    rd = unbalance_from_rings(r_screen, radii, S)
+    out["ring_reading"] = {"circle_radius_mm": r_screen * 1e3, "zone": rd.zone,
+                           "unbalance_gmm": rd.unbalance_gmm, "unbalance_gmm_std": rd.unbalance_std_gmm,
+                           "interpolated_gmm": rd.interpolated_kg_m * 1e6, "off_scale": rd.off_scale}
+    if out.get("unbalance_gmm") is None:
+        out.update(unbalance_gmm=rd.interpolated_kg_m * 1e6, unbalance_gmm_std=rd.unbalance_std_gmm,
+                   unbalance_method="spot circle against the calibration rings (zone i -> i S/16)")
+    return rd
+
+
+def _photogate(tab, notes):
+    """The book's natural-frequency test: the period from the 1st to the 3rd pass of the beam
+    over the photo-gate (:func:`dsp.crossings.photogate_period`)."""
+    from dsp.crossings import photogate_period
+    from dsp.speed import pulse_times
+
+    try:
+        p = pulse_times(tab.t, tab.signals["photogate"],
+                        threshold=tab.columns["photogate"].threshold,
+                        name=f"column {tab.columns['photogate'].column!r}")
+        period = photogate_period(p, 1, 3)
+        return {"passes": int(p.size), "period_s": period, "frequency_hz": 1.0 / period,
+                "method": "1st to 3rd pass of the beam over the photo-gate (FPM-09, 4.3)"}
+    except (SignalError, ValueError) as exc:
+        notes.append(f"photo-gate: {exc}")
+        return None
 
 
 # ------------------------------------------------------------ two-plane balancing

@@ -283,7 +283,7 @@ def test_bad_files_give_clear_errors(tmp_path):
         balancing_report(bad)
     csv = tmp_path / "cols.csv"
     csv.write_text("time,x\n0,1\n1,2\n")
-    with pytest.raises(ValueError, match=r"cols\.csv.*t_s"):
+    with pytest.raises(ValueError, match=r"cols\.csv.*no y displacement column.*y_m"):
         balancing_report(csv)
     csv2 = tmp_path / "text.csv"
     csv2.write_text("t_s,x_m,y_m\n0,a,1\n1,b,2\n2,c,3\n")

@@ -50,7 +50,7 @@ TWO_PI = 2.0 * math.pi
 
 
 def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_path=None,
-                     json_path=None, tracks=None) -> dict:
+                     json_path=None, tracks=None, recording_map=None) -> dict:
     """Balancing-quality report of one recording; returns the JSON document (plain types).
 
     Parameters
@@ -69,6 +69,11 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
         ``stand track RUN.h5 --screen NAME`` CSVs of a recording's two screens: adds the
         ``two_plane`` section (per-plane residual unbalance, its ISO 21940-11 share,
         pass/fail; :mod:`.balancing_two_plane`).
+    recording_map : stand.lab.recording_map.RecordingMap, optional
+        Columns, units and the machine's data of a lab table: adds the
+        ``lab_identification`` section (``stand analyze``'s identification: programme,
+        critical speed, natural frequency and damping from the run-up, unbalance, the
+        rows excluded) and fills the quality and dynamics sections from it.
 
     Returns
     -------
@@ -93,7 +98,7 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
             raise ValueError(f"service_speed_rpm = {service_speed_rpm!r}: must be > 0 rpm")
     from .. import __version__
 
-    rec = load_record(recording_path)
+    rec = load_record(recording_path, recording_map)
     d = rec.data
     notes: list = list(d["notes"])
     warnings: list = []
@@ -125,6 +130,15 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
     e0 = None
     if scene is not None and S > 0:
         e0 = scene.rotor.unbalance / S
+    lab = None
+    if d.get("table") is not None:
+        from .balancing_lab import lab_identification
+
+        lab = lab_identification(recording_path, d["table"].recording_map, grade,
+                                 service_speed_rpm, notes)
+        rmap = d["table"].recording_map
+        if service_speed_rpm is None and rmap.service_speed_rad_s:
+            w_service, sv_src = rmap.service_speed_rad_s, "the recording map's [rotor] service_speed"
     header = {
         "scene_name": str(name),
         "description": (scene.description or None) if scene is not None else None,
@@ -146,7 +160,7 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
         "service_speed_rpm": w_service * 60 / TWO_PI if w_service else None,
         "service_speed_source": sv_src,
     }
-    if scene is None:
+    if scene is None and (lab is None or lab.get("unbalance_gmm") is None):
         notes.append("no scene in the recording: masses, capacity and the unbalance (which needs "
                      "mass, natural frequency and damping) are not available; the 1X response "
                      "is reported in metres")
@@ -156,6 +170,10 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
 
     # ---------------- dynamics
     dyn = dynamics(rec, notes, warn)
+    if lab is not None:
+        from .balancing_lab import fill_from_lab
+
+        fill_from_lab(lab, header, bq, dyn, grade, w_service, warn)
 
     # ---------------- warnings from the scene's theory
     _scene_warnings(rec, bq, dyn, w_service, final_speed, steady_len, warn, notes)
@@ -171,13 +189,21 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
         "notes": notes,
     }
     sections = SECTIONS
+    extra = {}
+    if lab is not None:
+        from .balancing_lab import LAB_SCHEMA
+
+        doc["lab_identification"] = lab
+        sections = SECTIONS[:-2] + ("lab_identification",) + SECTIONS[-2:]
+        extra["lab_identification"] = LAB_SCHEMA
     if tracks:
         from .balancing_two_plane import TWO_PLANE_SCHEMA, two_plane_section
 
         doc["two_plane"] = two_plane_section(recording_path, tracks, grade, service_speed_rpm, warn)
-        sections = SECTIONS[:-2] + ("two_plane",) + SECTIONS[-2:]
+        sections = sections[:-2] + ("two_plane",) + sections[-2:]
+        extra["two_plane"] = TWO_PLANE_SCHEMA
     plain = to_jsonable(doc)
-    problems = check_schema(plain, dict(SCHEMA, **({"two_plane": TWO_PLANE_SCHEMA} if tracks else {})))
+    problems = check_schema(plain, dict(SCHEMA, **extra))
     if problems:  # pragma: no cover -- a bug here, not bad input
         raise RuntimeError("balancing report does not match its schema: " + "; ".join(problems))
     figs = figures(rec) if html_path else None

@@ -24,42 +24,39 @@ __all__ = ["read_input", "load_record", "Record"]
 TWO_PI = 2.0 * math.pi
 
 
-def _read_csv(p: Path) -> dict:
-    """The CSV form; a keyphasor column becomes a rotor angle (linear between pulses)."""
-    import pandas as pd
+def _read_table(p: Path, recording_map=None) -> dict:
+    """A lab table (:func:`stand.identify._from_table`: the one table reader and speed
+    source).  A tachometer's speed or, with no speed channel, the whirl's own phase gives
+    the rotor angle the report's order tracking needs (flagged: no phase reference)."""
+    from ..identify import _from_table, _whirls
 
-    try:
-        df = pd.read_csv(p)
-    except Exception as exc:  # any parse error -> one clear line
-        raise ValueError(f"{p}: not a readable CSV ({type(exc).__name__}: {exc})") from None
-    for col in ("t_s", "x_m", "y_m"):
-        if col not in df:
-            raise ValueError(f"{p}: missing column {col!r} (need t_s, x_m, y_m; optional "
-                             "rotor_angle_rad or keyphasor)")
-    try:
-        t = df["t_s"].to_numpy(float)
-        x = df["x_m"].to_numpy(float)
-        y = df["y_m"].to_numpy(float)
-        phi = df["rotor_angle_rad"].to_numpy(float) if "rotor_angle_rad" in df else None
-        kp = t[df["keyphasor"].to_numpy(float) > 0.5] if ("keyphasor" in df and phi is None) \
-            else None
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"{p}: non-numeric values in a column ({exc})") from None
-    for name, a in (("t_s", t), ("x_m", x), ("y_m", y)):
-        if a.size < 3 or not np.all(np.isfinite(a)):
-            raise ValueError(f"{p}: column {name!r} needs at least 3 finite values")
-    if np.any(np.diff(t) <= 0):
-        raise ValueError(f"{p}: column 't_s' must be strictly increasing")
-    if phi is not None and not np.all(np.isfinite(phi)):
-        raise ValueError(f"{p}: column 'rotor_angle_rad' has NaN or inf values")
-    if phi is None and kp is not None and kp.size >= 2:
-        # rotor angle from the once-per-revolution pulses (linear between pulses)
-        k = np.arange(kp.size) * TWO_PI
-        inside = (t >= kp[0]) & (t <= kp[-1])
-        phi_k = np.interp(t, kp, k)
-        t, x, y, phi = t[inside], x[inside], y[inside], phi_k[inside]
+    d = _from_table(p, recording_map)
+    angle = d["angle"]
+    notes = list(d["notes"])
+    phi, referenced = d["phi"], True
+    t, x, y = d["t"], d["x"], d["y"]
+    if phi is None and angle is not None:
+        phi, referenced = angle.angle_rad, False
+        notes.append(f"rotor angle from the {angle.source} (no reference mark: 1X phases are "
+                     "relative)")
+    elif phi is None and _whirls(t, x, y):
+        from dsp.errors import SignalError
+        from dsp.speed import angle_from_1x
+
+        try:
+            a = angle_from_1x(t, (x - x.mean()) + 1j * (y - y.mean()))
+            c = a.covered
+            t, x, y, phi, referenced = t[c], x[c], y[c], a.angle_rad[c], False
+            notes.append("no speed channel: the rotor angle is estimated from the whirl's phase")
+        except SignalError as exc:
+            notes.append(f"no speed channel and no usable 1X line ({exc})")
+    fmt = {".parquet": "parquet", ".pq": "parquet"}.get(p.suffix.lower(),
+                                                        "hdf5-table" if p.suffix.lower() in
+                                                        (".h5", ".hdf5", ".hdf") else "csv")
     return dict(t=t, x=x, y=y, phi=phi, weights=None, scene=None, scene_error=None,
-                attrs={}, notes=[], solver={}, inst={}, truth={}, fmt="csv")
+                attrs={}, notes=notes, solver={}, inst={}, truth={}, fmt=fmt,
+                table=d["table"], phase_referenced=referenced,
+                speed_measured_exactly=angle is not None and angle.source == "angle")
 
 
 def _read_h5(p: Path) -> dict:
@@ -102,7 +99,7 @@ def _read_h5(p: Path) -> dict:
                 truth=truth, fmt="hdf5")
 
 
-def read_input(path) -> dict:
+def read_input(path, recording_map=None) -> dict:
     """Read a recording for the balancing report.
 
     Parameters
@@ -137,7 +134,13 @@ def read_input(path) -> dict:
         raise FileNotFoundError(2, "recording not found", str(p))
     if p.is_dir():
         raise ValueError(f"{p}: is a directory, not a recording")
-    d = _read_csv(p) if p.suffix.lower() == ".csv" else _read_h5(p)
+    from ..lab.table import _is_pandas_hdf, is_table_file
+
+    if is_table_file(p) or (p.suffix.lower() in (".h5", ".hdf5", ".hdf")
+                            and _is_pandas_hdf(p) is not None):
+        d = _read_table(p, recording_map)
+    else:
+        d = _read_h5(p)
     t, x, y = d["t"], d["x"], d["y"]
     if t.size < 3:
         raise ValueError(f"{p}: 'time' has {t.size} samples; at least 3 are needed")
@@ -185,7 +188,7 @@ class Record:
     scene: Any
 
 
-def load_record(path) -> Record:
+def load_record(path, recording_map=None) -> Record:
     """Read a recording (:func:`read_input`) and derive the rotor speed and steady stretch.
 
     Raises
@@ -193,11 +196,19 @@ def load_record(path) -> Record:
     FileNotFoundError, ValueError
         As :func:`read_input`.
     """
-    d = read_input(path)
+    d = read_input(path, recording_map)
     t, phi, speed = d["t"], d["phi"], None
     if phi is not None:
         phi = np.unwrap(phi)
         speed = np.gradient(phi, t)
     rotating = speed is not None and float(np.max(np.abs(speed))) > 1e-6
+    steady = steady_start(t, speed) if rotating else 0
+    if rotating and d.get("table") is not None and not d.get("speed_measured_exactly"):
+        # a speed from pulses or a tachometer wobbles: the programme's last constant stretch
+        from dsp.speed import speed_programme
+
+        last = speed_programme(t, speed).stretches[-1]
+        if last.kind == "constant":
+            steady = last.i_start
     return Record(data=d, t=t, x=d["x"], y=d["y"], phi=phi, speed=speed, rotating=rotating,
-                  steady=steady_start(t, speed) if rotating else 0, scene=d["scene"])
+                  steady=steady, scene=d["scene"])

@@ -1,0 +1,516 @@
+"""Rotor angle and speed from what a lab records; the speed programme of a record.
+
+A lab has one of: a once-per-revolution pulse train (keyphasor, photo-gate on
+a mark: a TTL or proximity-probe voltage channel), a tachometer reading in
+rpm, an angle encoder, or nothing but the vibration itself.  Each becomes the
+same :class:`RotorAngle` (angle and speed at every sample, which samples are
+covered, how it was obtained):
+
+* :func:`pulse_times` -- the leading edges of a pulse channel (threshold by
+  Otsu's two-level split of the values, so any duty cycle and either polarity
+  work; Schmitt hysteresis; crossing time interpolated linearly between the
+  two samples around it, i.e. sub-sample).
+* :func:`angle_from_pulses` -- 2 pi per pulse, a cubic spline through the
+  pulses (smooth speed and acceleration, which the unbalance forcing
+  ``phi'^2 - i phi''`` needs); samples outside the first / last pulse are not
+  covered.
+* :func:`angle_from_speed` -- a tachometer's speed integrated (trapezoids);
+  the angle has no reference mark (``referenced`` False: no unbalance angle).
+* :func:`angle_from_1x` -- no speed channel: the phase of the shaft's own
+  forward whirl (the 1X line dominates an unbalance response), flagged
+  ``estimated``.  The phase of the response lags the rotor by the receptance's
+  angle, which changes by about pi through a resonance; a speed spline fitted
+  over many revolutions absorbs it (the error is about pi over the record's
+  length in angle).
+
+:func:`speed_programme` splits a speed record into stretches (constant,
+run-up, run-down, coast-down, stopped) and names the whole record after them.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+from .errors import SignalError, check_times
+
+__all__ = ["RotorAngle", "pulse_times", "angle_from_pulses", "angle_from_speed",
+           "angle_from_1x", "smoothed_phase", "repair_pulses", "Stretch", "Programme", "speed_programme", "otsu_threshold"]
+
+TWO_PI = 2.0 * math.pi
+
+
+@dataclass(frozen=True)
+class RotorAngle:
+    """The rotor's angle at every sample of a record.
+
+    Attributes
+    ----------
+    angle_rad : ndarray
+        Unwrapped rotor angle [rad] (NaN where not covered).
+    speed_rad_s : ndarray
+        d angle / dt [rad/s] (NaN where not covered).
+    acceleration_rad_s2 : ndarray
+        d speed / dt [rad/s^2] (NaN where not covered).
+    covered : ndarray of bool
+        Samples where the angle is known (between the first and last pulse).
+    source : str
+        ``"keyphasor"``, ``"angle"``, ``"tachometer"`` or ``"1X line"``.
+    referenced : bool
+        The angle is measured from a mark on the rotor (keyphasor, encoder):
+        phases (the unbalance angle) are meaningful.
+    estimated : bool
+        The speed is estimated from the vibration (no speed channel).
+    pulses_s : ndarray or None
+        The pulse times [s] it was made from.
+    """
+
+    angle_rad: np.ndarray
+    speed_rad_s: np.ndarray
+    acceleration_rad_s2: np.ndarray
+    covered: np.ndarray
+    source: str
+    referenced: bool
+    estimated: bool = False
+    pulses_s: Optional[np.ndarray] = None
+
+
+def otsu_threshold(v) -> float:
+    """The level separating a two-level signal's values (Otsu 1979, on a 512-bin histogram).
+
+    Maximises the between-class variance, so it works for any duty cycle
+    (a 1 % pulse train) where a mid-range or percentile rule fails.
+    """
+    v = np.asarray(v, float)
+    v = v[np.isfinite(v)]
+    if v.size < 2 or np.ptp(v) == 0:
+        raise SignalError("pulse channel: constant; no pulses")
+    hist, edges = np.histogram(v, bins=512)
+    centres = 0.5 * (edges[1:] + edges[:-1])
+    w0 = np.cumsum(hist)
+    w1 = v.size - w0
+    m = np.cumsum(hist * centres)
+    mu0 = m / np.maximum(w0, 1)
+    mu1 = (m[-1] - m) / np.maximum(w1, 1)
+    between = w0 * w1 * (mu0 - mu1) ** 2
+    k = int(np.argmax(between[:-1]))
+    return float(edges[k + 1])
+
+
+def pulse_times(t, v, *, threshold: Optional[float] = None, name: str = "pulse channel"):
+    """Times [s] of the leading edges of a once-per-revolution pulse channel.
+
+    Parameters
+    ----------
+    t : array_like
+        Sample times [s] (increasing).
+    v : array_like
+        The channel (e.g. a TTL voltage, or a proximity probe over a notch).
+    threshold : float, optional
+        Level between the two states; default :func:`otsu_threshold`.
+    name : str
+        The channel's name for error messages.
+
+    Returns
+    -------
+    ndarray
+        Leading-edge times [s]: the edge into the state the channel spends less
+        time in (the pulse), linearly interpolated at ``threshold``; a Schmitt
+        trigger of +-20 % of the two levels' distance rejects noise chatter.
+
+    Raises
+    ------
+    SignalError
+        Fewer than two pulses, or a constant channel.
+    """
+    t = check_times(t, "t", 4)
+    v = np.asarray(v, float)
+    if v.shape != t.shape:
+        raise SignalError(f"{name}: {v.size} samples for {t.size} times")
+    if not np.all(np.isfinite(v)):
+        i = int(np.argmax(~np.isfinite(v)))
+        raise SignalError(f"{name}: NaN or inf at sample {i}")
+    level = otsu_threshold(v) if threshold is None else float(threshold)
+    high = v > level
+    if high.all() or not high.any():
+        raise SignalError(f"{name}: never crosses the threshold {level:.6g}; no pulses")
+    lo, hi = float(np.median(v[~high])), float(np.median(v[high]))
+    pulse_high = high.mean() < 0.5
+    h = 0.2 * (hi - lo)
+    # Schmitt states: +1 above level + h, -1 below level - h, else hold
+    s = np.where(v > level + h, 1, np.where(v < level - h, -1, 0))
+    idx = np.flatnonzero(s)
+    if idx.size < 2:
+        raise SignalError(f"{name}: no clean transitions (noise larger than the pulses?)")
+    held = s[idx]
+    change = np.flatnonzero(np.diff(held) != 0)
+    into = held[change + 1]
+    want = 1 if pulse_high else -1
+    ends = idx[change[into == want] + 1]          # first sample past the far band
+    out = []
+    for j in ends:                                 # walk back to the level crossing
+        k = j
+        while k > 0 and (v[k - 1] > level) == (v[j] > level):
+            k -= 1
+        if k == 0:
+            continue
+        a, b = v[k - 1] - level, v[k] - level
+        out.append(t[k - 1] + (t[k] - t[k - 1]) * a / (a - b))
+    p = np.asarray(out)
+    if p.size < 2:
+        raise SignalError(f"{name}: {p.size} pulse(s); need at least 2 once-per-revolution "
+                          "pulses")
+    return p
+
+
+def repair_pulses(pulses, window: int = 7):
+    """Fill in missed pulses and drop double ones, judging each interval against its neighbours.
+
+    A pulse shorter than the DAQ's sample interval is sometimes not sampled
+    (an interval of ~2, 3, ... periods); a noisy edge can trigger twice (an
+    interval well below one period).  Each interval is compared with the
+    median of the ``window`` intervals around it.
+
+    Returns
+    -------
+    (ndarray, int, int)
+        The repaired pulse times [s], the number inserted and the number dropped.
+    """
+    p = np.asarray(pulses, float)
+    if p.size < 4:
+        return p, 0, 0
+    dropped = 0
+    while True:
+        d = np.diff(p)
+        ref = np.array([np.median(np.delete(d[max(0, i - window // 2):i + window // 2 + 1],
+                                            min(i, window // 2))) if d.size > 1 else d[i]
+                        for i in range(d.size)])
+        short = np.flatnonzero(d < 0.5 * ref)
+        if short.size == 0 or p.size < 4:
+            break
+        p = np.delete(p, short[0] + 1)
+        dropped += 1
+    d = np.diff(p)
+    out, inserted = [p[0]], 0
+    for i in range(d.size):
+        m = int(round(d[i] / ref[i])) if ref[i] > 0 else 1
+        if m >= 2 and abs(d[i] / ref[i] - m) < 0.25:
+            out.extend(p[i] + d[i] * np.arange(1, m) / m)
+            inserted += m - 1
+        out.append(p[i + 1])
+    return np.asarray(out), inserted, dropped
+
+
+def _covered_spline(t, x, y):
+    from scipy.interpolate import CubicSpline
+
+    cs = CubicSpline(x, y)
+    inside = (t >= x[0]) & (t <= x[-1])
+    ang = np.full(t.shape, np.nan)
+    spd, acc = ang.copy(), ang.copy()
+    ang[inside] = cs(t[inside])
+    spd[inside] = cs(t[inside], 1)
+    acc[inside] = cs(t[inside], 2)
+    return ang, spd, acc, inside
+
+
+def angle_from_pulses(t, pulses, *, source: str = "keyphasor",
+                      knot_revolutions: float = 8.0) -> RotorAngle:
+    """Rotor angle from once-per-revolution pulse times (2 pi per pulse).
+
+    The angle through the points (pulse k, 2 pi k) is a least-squares cubic
+    spline with a knot every ``knot_revolutions`` revolutions: a pulse timed to
+    a fraction of a sample (a DAQ sampling a fast edge) jitters by up to half a
+    sample, and an interpolating spline would turn that jitter into speed noise
+    (its second derivative, the forcing's phi'', worse).  The spline follows
+    any speed programme whose acceleration changes slowly over that many
+    revolutions.  ``knot_revolutions = 0`` interpolates (exact pulses).
+
+    Parameters
+    ----------
+    t : array_like
+        Sample times [s].
+    pulses : array_like
+        Pulse times [s] (e.g. :func:`pulse_times`); the rotor is at its mark
+        (angle 0 mod 2 pi) at each.
+    source : str
+        Stored in the result.
+    knot_revolutions : float
+        Revolutions per spline interval (>= 4 pulses each).
+
+    Returns
+    -------
+    RotorAngle
+        Covered between the first and the last pulse.
+    """
+    from scipy.interpolate import make_lsq_spline
+
+    t = check_times(t, "t", 2)
+    p = np.asarray(pulses, float)
+    if p.size < 3:
+        raise SignalError(f"{source}: {p.size} pulse(s); need at least 3 (two revolutions)")
+    if np.any(np.diff(p) <= 0):
+        raise SignalError(f"{source}: pulse times must increase")
+    k = TWO_PI * np.arange(p.size)
+    n_int = int(p.size / max(knot_revolutions, 4.0)) if knot_revolutions else 0
+    if n_int < 2:
+        ang, spd, acc, inside = _covered_spline(t, p, k)
+    else:
+        inner = np.interp(np.linspace(0, p.size - 1, n_int + 1)[1:-1], np.arange(p.size), p)
+        knots = np.concatenate(([p[0]] * 4, inner, [p[-1]] * 4))
+        sp = make_lsq_spline(p, k, knots, k=3)
+        inside = (t >= p[0]) & (t <= p[-1])
+        ang = np.full(t.shape, np.nan)
+        spd, acc = ang.copy(), ang.copy()
+        ang[inside] = sp(t[inside])
+        spd[inside] = sp(t[inside], 1)
+        acc[inside] = sp(t[inside], 2)
+    return RotorAngle(ang, spd, acc, inside, source, referenced=True, pulses_s=p)
+
+
+def angle_from_speed(t, speed_rad_s, *, source: str = "tachometer") -> RotorAngle:
+    """Rotor angle by integrating a speed channel [rad/s] (trapezoids); no reference mark.
+
+    A tachometer display holds its reading between updates: the held steps are
+    replaced by a line through the middle of each step (the reading is the mean
+    speed over the gate that preceded it) before integration.
+    """
+    t = check_times(t, "t", 2)
+    w = np.asarray(speed_rad_s, float)
+    if w.shape != t.shape or not np.all(np.isfinite(w)):
+        raise SignalError(f"{source}: needs a finite speed at every sample")
+    change = np.flatnonzero(np.diff(w) != 0) + 1
+    if 2 <= change.size < t.size // 4:           # a held display: steps
+        starts = np.concatenate(([0], change))
+        stops = np.concatenate((change, [t.size]))
+        tm = 0.5 * (t[starts] + t[stops - 1])
+        w = np.interp(t, tm, w[starts])
+    ang = np.concatenate(([0.0], np.cumsum(0.5 * (w[1:] + w[:-1]) * np.diff(t))))
+    acc = np.gradient(w, t)
+    return RotorAngle(ang, w, acc, np.ones(t.size, bool), source, referenced=False)
+
+
+def angle_from_1x(t, z, *, min_amplitude_fraction: float = 0.05,
+                  knot_revolutions: float = 20.0) -> RotorAngle:
+    """Rotor angle estimated from the phase of the forward whirl (no speed channel).
+
+    Parameters
+    ----------
+    t : array_like
+        Sample times [s], uniform.
+    z : array_like (complex)
+        Shaft displacement x + i y with its mean removed [m].
+    min_amplitude_fraction : float
+        Samples whose smoothed whirl radius is below this fraction of its
+        maximum (a slow rotor whose 1X drowns in noise) are not covered.
+    knot_revolutions : float
+        Revolutions between the knots of the smoothing spline of the phase.
+
+    Returns
+    -------
+    RotorAngle
+        ``estimated`` True, ``referenced`` False.  The angle follows the
+        whirl's phase; its speed is the smoothed phase rate.
+    """
+    t = check_times(t, "t", 16)
+    z = np.asarray(z, complex)
+    if z.shape != t.shape:
+        raise SignalError(f"z: {z.size} samples for {t.size} times")
+    # the whirl radius, smoothed over ~1 % of the record
+    k = max(3, t.size // 100)
+    r = np.convolve(np.abs(z), np.ones(k) / k, mode="same")
+    ok = r >= min_amplitude_fraction * r.max()
+    # the longest covered stretch
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], ok.view(np.int8), [0]))))
+    starts, stops = edges[::2], edges[1::2]
+    j = int(np.argmax(stops - starts))
+    i0, i1 = int(starts[j]), int(stops[j])
+    if i1 - i0 < 16:
+        raise SignalError("1X line: the whirl is too weak to follow its phase")
+    th = np.unwrap(np.angle(z[i0:i1]))
+    if th[-1] < th[0]:
+        th = -th          # backward whirl: follow its magnitude
+    cov = np.zeros(t.size, bool)
+    cov[i0:i1] = True
+    return smoothed_phase(t, th, cov, knot_revolutions=knot_revolutions)
+
+
+def smoothed_phase(t, phase_rad, covered, *, knot_revolutions: float = 20.0) -> RotorAngle:
+    """A rotor angle from a noisy phase track: a least-squares cubic spline with a knot
+    every ``knot_revolutions`` revolutions (``estimated`` True, ``referenced`` False).
+
+    Parameters
+    ----------
+    t : ndarray
+        Sample times [s].
+    phase_rad : ndarray
+        The unwrapped phase [rad] on the ``covered`` samples (one contiguous stretch).
+    covered : ndarray of bool
+        Which samples of ``t`` it covers.
+    """
+    from scipy.interpolate import make_lsq_spline
+
+    idx = np.flatnonzero(covered)
+    i0, i1 = int(idx[0]), int(idx[-1]) + 1
+    tt, th = t[i0:i1], np.asarray(phase_rad, float)
+    turns = (th[-1] - th[0]) / TWO_PI
+    n_int = int(max(1, min(turns / knot_revolutions, (i1 - i0) / 50)))
+    inner = np.linspace(tt[0], tt[-1], n_int + 1)[1:-1]
+    knots = np.concatenate(([tt[0]] * 4, inner, [tt[-1]] * 4))
+    sp = make_lsq_spline(tt, th, knots, k=3)
+    ang = np.full(t.shape, np.nan)
+    spd, acc = ang.copy(), ang.copy()
+    ang[i0:i1] = sp(tt)
+    spd[i0:i1] = sp(tt, 1)
+    acc[i0:i1] = sp(tt, 2)
+    if not np.all(spd[i0:i1] > 0):
+        raise SignalError("1X line: the whirl's phase does not advance steadily; the speed "
+                          "cannot be estimated from the vibration")
+    return RotorAngle(ang, spd, acc, covered.copy(), "1X line", referenced=False, estimated=True)
+
+
+# ------------------------------------------------------------------ programme
+@dataclass(frozen=True)
+class Stretch:
+    """A part of a record with one kind of speed change.
+
+    Attributes
+    ----------
+    kind : str
+        ``"stopped"``, ``"constant"``, ``"run-up"``, ``"run-down"`` or ``"coast-down"``
+        (decelerating with a rate proportional to the speed: the drive is off).
+    i_start, i_stop : int
+        Sample range ``[i_start, i_stop)``.
+    t_start_s, t_end_s : float
+        Its times [s].
+    speed_start_hz, speed_end_hz : float
+        Rotor speed at its ends [rev/s].
+    rate_hz_s : float
+        Mean speed change rate [rev/s^2].
+    """
+
+    kind: str
+    i_start: int
+    i_stop: int
+    t_start_s: float
+    t_end_s: float
+    speed_start_hz: float
+    speed_end_hz: float
+    rate_hz_s: float
+
+    @property
+    def duration_s(self) -> float:
+        """Length of the stretch [s]."""
+        return self.t_end_s - self.t_start_s
+
+
+@dataclass(frozen=True)
+class Programme:
+    """The speed programme of a record: its stretches and one name for the whole.
+
+    ``kind`` is the stretches' kind when they are all alike (ignoring short
+    constant dwells at the ends), ``"run-up + constant"`` style joins for two or
+    three, else ``"mixed"``.
+    """
+
+    kind: str
+    stretches: list = field(default_factory=list)
+
+    def longest(self, kind: str) -> Optional[Stretch]:
+        """The longest stretch of ``kind`` (None when there is none)."""
+        s = [x for x in self.stretches if x.kind == kind]
+        return max(s, key=lambda x: x.duration_s) if s else None
+
+
+def speed_programme(t, speed_rad_s, *, constant_rtol: float = 2e-3,
+                    stopped_rad_s: float = 0.1 * TWO_PI, min_duration_s: Optional[float] = None
+                    ) -> Programme:
+    """Split a speed record into constant / run-up / run-down / coast-down / stopped stretches.
+
+    Parameters
+    ----------
+    t : array_like
+        Times [s].
+    speed_rad_s : array_like
+        Rotor speed [rad/s] (NaN where unknown: those samples are skipped).
+    constant_rtol : float
+        A stretch is constant when its speed changes by less than this fraction
+        of its mean speed over a window (about 2 % of the record, >= 0.5 s)
+        [-]; the tolerance is also an absolute floor of 0.02 rev/s.
+    stopped_rad_s : float
+        Below this speed the rotor is stopped [rad/s] (default 0.1 rev/s).
+    min_duration_s : float, optional
+        Shorter stretches merge into their neighbours (default 3 % of the
+        record).
+
+    Returns
+    -------
+    Programme
+    """
+    t = check_times(t, "t", 2)
+    w = np.asarray(speed_rad_s, float)
+    if w.shape != t.shape:
+        raise SignalError(f"speed: {w.size} samples for {t.size} times")
+    ok = np.isfinite(w)
+    if ok.sum() < 2:
+        raise SignalError("speed: fewer than 2 known samples")
+    idx = np.flatnonzero(ok)
+    tk, wk = t[ok], np.abs(w[ok])
+    T = tk[-1] - tk[0]
+    if min_duration_s is None:
+        min_duration_s = 0.03 * T
+    # speed change over a window of ~2 % of the record (>= 0.5 s), centred
+    half = max(0.01 * T, 0.25)
+    lo = np.searchsorted(tk, tk - half)
+    hi = np.clip(np.searchsorted(tk, tk + half, side="right") - 1, 0, tk.size - 1)
+    span = np.maximum(tk[hi] - tk[lo], 1e-12)
+    rate = (wk[hi] - wk[lo]) / span                              # rad/s^2
+    tol = np.maximum(constant_rtol * wk, 0.02 * TWO_PI) / (2 * half)
+    lab = np.where(wk < stopped_rad_s, 0, np.where(rate > tol, 1, np.where(rate < -tol, 2, 3)))
+    # runs of equal labels, short ones merged into the previous
+    runs = []
+    start = 0
+    for i in range(1, lab.size + 1):
+        if i == lab.size or lab[i] != lab[start]:
+            runs.append([lab[start], start, i])
+            start = i
+    merged = []
+    for r in runs:
+        if merged and (tk[r[2] - 1] - tk[r[1]] < min_duration_s or merged[-1][0] == r[0]):
+            merged[-1][2] = r[2]
+        else:
+            merged.append(r)
+    if len(merged) > 1 and tk[merged[0][2] - 1] - tk[merged[0][1]] < min_duration_s:
+        merged[1][1] = merged[0][1]
+        merged.pop(0)
+    names = {0: "stopped", 1: "run-up", 2: "run-down", 3: "constant"}
+    stretches = []
+    for code, a, b in merged:
+        kind = names[int(code)]
+        ta, tb = tk[a], tk[b - 1]
+        rate_m = (wk[b - 1] - wk[a]) / max(tb - ta, 1e-12)
+        if kind == "run-down" and b - a >= 8:
+            # coast-down: deceleration proportional to speed (viscous losses, drive off)
+            seg_w, seg_r = wk[a:b], rate[a:b]
+            if np.ptp(seg_w) > 0.2 * seg_w.max():
+                c = np.polyfit(seg_w, seg_r, 1)
+                fit_lin = np.std(seg_r - c[0] * seg_w - c[1])
+                if c[0] < 0 and abs(c[0]) * np.ptp(seg_w) > 3 * max(fit_lin, 1e-12) \
+                        and abs(c[1]) < 0.5 * abs(c[0]) * seg_w.mean():
+                    kind = "coast-down"
+        stretches.append(Stretch(kind, int(idx[a]), int(idx[b - 1]) + 1, float(ta), float(tb),
+                                 float(wk[a] / TWO_PI), float(wk[b - 1] / TWO_PI),
+                                 float(rate_m / TWO_PI)))
+    kinds = [s.kind for s in stretches]
+    core = [k for k in kinds if k != "stopped"]
+    if not core:
+        whole = "stopped"
+    elif len(set(core)) == 1:
+        whole = core[0]
+    elif len(core) <= 3:
+        whole = " + ".join(core)
+    else:
+        whole = "mixed"
+    return Programme(whole, stretches)

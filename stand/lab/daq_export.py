@@ -1,0 +1,132 @@
+"""A simulated recording written the way a lab's data-acquisition system would: the DAQ sample.
+
+:func:`daq_export` takes a recording with displacement probes (and optionally a
+tachometer) and writes a CSV in a DAQ's style -- header lines before the table,
+``;`` delimiters and decimal commas, time in ms, displacements in um with a DC
+offset (the probes' gap), a keyphasor as a voltage (a proximity probe over a
+notch: a 10 deg pulse with raised-cosine edges, high 5 V, with noise), the
+tachometer's held display in rpm -- and beside it the truth (JSON) from the
+scene: unbalance, its angle from the keyphasor mark, natural frequency, damping
+ratio, critical speed, offsets.  ``stand analyze DAQ.csv --map MAP.toml``
+should find the truth again (tests/test_lab_daq.py).
+"""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Optional
+
+import numpy as np
+
+__all__ = ["daq_export", "daq_truth"]
+
+TWO_PI = 2.0 * math.pi
+
+
+def daq_truth(scene) -> dict:
+    """What the DAQ sample should give, from a planar scene without weights (SI and lab units)."""
+    M = float(scene.total_mass)
+    s = scene.supports
+    if abs(s.stiffness_x - s.stiffness_y) > 1e-9 * s.stiffness_x:
+        raise ValueError("daq truth: needs isotropic supports (stiffness_x == stiffness_y)")
+    w0 = math.sqrt(s.stiffness_x / M)
+    zeta = s.damping_x / (2.0 * math.sqrt(s.stiffness_x * M))
+    e = float(scene.rotor.eccentricity) * float(scene.rotor.mass) / M
+    return {"scene": scene.name, "mass_kg": M,
+            "unbalance_gmm": M * e * 1e6,
+            "unbalance_angle_deg": math.degrees(float(scene.rotor.unbalance_angle)) % 360.0,
+            "specific_unbalance_um": e * 1e6,
+            "natural_frequency_hz": w0 / TWO_PI, "damping_ratio": zeta,
+            "critical_speed_hz": w0 / TWO_PI / math.sqrt(1.0 - 2.0 * zeta * zeta),
+            "definitions": {"natural_frequency_hz": "sqrt(k / M) / 2 pi",
+                            "critical_speed_hz": "speed of the steady 1X maximum, "
+                                                 "f0 / sqrt(1 - 2 zeta^2)",
+                            "unbalance_angle_deg": "from the keyphasor mark, in the rotation "
+                                                   "direction"}}
+
+
+def _keyphasor_volts(angle, high=5.0, width_deg=10.0, edge_deg=6.0, noise_v=0.01, rng=None):
+    """A once-per-revolution pulse: high for ``width_deg`` after the mark, raised-cosine edges
+    ``edge_deg`` wide centred on the mark and on its end (the mid-level is crossed exactly at
+    the mark)."""
+    th = np.degrees(np.mod(angle, TWO_PI))
+    th = np.where(th > 180.0, th - 360.0, th)              # -180..180 around the mark
+
+    def ramp(u):                                            # 0 -> 1 over [-edge/2, edge/2]
+        x = np.clip(u / edge_deg + 0.5, 0.0, 1.0)
+        return 0.5 - 0.5 * np.cos(math.pi * x)
+
+    v = high * (ramp(th) - ramp(th - width_deg))
+    if rng is not None and noise_v > 0:
+        v = v + rng.normal(0.0, noise_v, v.shape)
+    return v
+
+
+def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
+               offset_um=(35.0, -20.0), keyphasor: bool = True, tachometer: bool = True,
+               seed: int = 11) -> dict:
+    """Write a recording's probes, keyphasor and tachometer as a DAQ-style CSV, and its truth.
+
+    Parameters
+    ----------
+    recording : str or Recording
+        A recording with ``instruments/probes`` at angles 0 and 90 deg (x, y).
+    csv_path : str
+        The CSV to write (atomically).
+    truth_path : str, optional
+        The truth JSON (default: ``<csv stem>.truth.json`` beside the CSV).
+    offset_um : (float, float)
+        DC offsets of the x and y probes [um].
+    keyphasor, tachometer : bool
+        Write those channels (the tachometer needs ``instruments/tachometer``).
+    seed : int
+        Seed of the keyphasor's noise.
+
+    Returns
+    -------
+    dict
+        The truth (also written).
+    """
+    from ..io.atomic import write_text
+    from ..recording import Recording, read_recording
+
+    rec = recording if isinstance(recording, Recording) else read_recording(recording)
+    if rec.shape("instruments/probes/signal") is None:
+        raise ValueError(f"{rec.path}: no instruments/probes (add [instruments.probes] with "
+                         "angles = [0.0, 90.0] to the scene)")
+    ang = np.asarray(rec.dataset("instruments/probes/angles"), float)
+    if ang.size != 2 or abs(ang[0]) > 1e-9 or abs(ang[1] - math.pi / 2) > 1e-9:
+        raise ValueError(f"{rec.path}: instruments/probes angles = {np.degrees(ang).tolist()} deg; "
+                         "the DAQ export writes an x and a y probe (angles = [0.0, 90.0])")
+    t = np.asarray(rec.dataset("instruments/probes/time"), float)
+    sig = np.asarray(rec.dataset("instruments/probes/signal"), float)
+    cols = {"time_ms": [f"{v:.1f}".replace(".", ",") for v in t * 1e3]}
+    for k, name in enumerate(("disp_x_um", "disp_y_um")):
+        cols[name] = [f"{v:.2f}".replace(".", ",") for v in sig[:, k] * 1e6 + offset_um[k]]
+    rng = np.random.default_rng(seed)
+    if keyphasor:
+        phi = np.interp(t, np.asarray(rec.t), np.unwrap(np.asarray(rec.rotor_angle)))
+        cols["kp_V"] = [f"{v:.3f}".replace(".", ",") for v in _keyphasor_volts(phi, rng=rng)]
+    if tachometer and rec.shape("instruments/tachometer/speed") is not None:
+        tt = np.asarray(rec.dataset("instruments/tachometer/time"), float)
+        sp = np.asarray(rec.dataset("instruments/tachometer/speed"), float) * 60.0 / TWO_PI
+        i = np.searchsorted(tt, t, side="right") - 1          # the display holds its last reading
+        rpm = np.where(i >= 0, sp[np.clip(i, 0, None)], 0.0)
+        cols["tacho_rpm"] = [f"{v:.0f}" for v in rpm]
+    names = list(cols)
+    rate = 1.0 / float(np.median(np.diff(t)))
+    lines = [f"DAQ export: {rec.scene.name if rec.scene is not None else Path(str(rec.path)).stem}",
+             f"Sample rate: {rate:.0f} Hz",
+             f"Channels: {len(names) - 1}",
+             "Units: time ms; displacement um (probe gap offset not removed); keyphasor V; tacho rpm",
+             ";".join(names)]
+    lines += [";".join(row) for row in zip(*(cols[n] for n in names))]
+    write_text(csv_path, "\n".join(lines) + "\n")
+    truth = daq_truth(rec.scene) if rec.scene is not None else {}
+    truth.update(offset_um=list(offset_um), source_recording=Path(str(rec.path)).name,
+                 csv=Path(csv_path).name)
+    if truth_path is None:
+        truth_path = str(Path(csv_path).with_suffix("")) + ".truth.json"
+    write_text(truth_path, json.dumps(truth, indent=2) + "\n")
+    return truth

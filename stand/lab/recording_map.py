@@ -1,0 +1,308 @@
+"""Which column of a lab table is what, in which unit: the recording map.
+
+Two spellings of one map:
+
+* on the command line, ``--columns time=time_s,x=disp_x_um[um],y=disp_y_um[um],speed=tacho_rpm[rpm]``
+  (a role, ``=``, the column's name, and optionally ``[unit]`` or
+  ``[unit, 7.87 V/mm]`` for a probe read in volts, ``[V, threshold=2.5]`` for a
+  pulse channel);
+* a TOML file (reusable for every export of a lab's DAQ)::
+
+      [table]                 # all optional: found from the file
+      delimiter = ";"
+      decimal = ","
+      header_row = 5          # 1-based line of the column names
+      key = "vibration"       # HDF5 / Parquet: the table's key
+      [columns]
+      time = {column = "time_ms", unit = "ms"}
+      x = {column = "disp_x_um", unit = "um"}
+      y = {column = "probe_y", unit = "V", sensitivity = "7.87 V/mm"}
+      keyphasor = {column = "kp_V", unit = "V"}       # threshold: default by Otsu's rule
+      speed = "tacho_rpm [rpm]"                       # the short form works too
+      [rotor]
+      mass = "6 kg"               # vibrating mass: unbalance in g mm (else per kg)
+      service_speed = "1560 rpm"  # ISO 21940-11 grade at this speed
+      natural_frequency = "12 Hz" # optional: when the record cannot identify them
+      damping_ratio = 0.04
+
+Roles: ``time`` (required), ``x``, ``y`` (shaft displacement), ``speed``
+(tachometer), ``angle`` (encoder), ``keyphasor`` (once-per-revolution pulses),
+``photogate`` (the book's photo-gate on the laser beam).  Without a map, the
+well-known names are recognised (:func:`recognise`) and the choice is reported.
+"""
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field, replace
+from typing import Optional
+
+from .units import QUANTITIES, ROLE_QUANTITY, UnitError, factor, parse_quantity, unit_from_name
+
+__all__ = ["ColumnSpec", "RecordingMap", "parse_columns", "read_map", "map_from_options", "recognise", "ROLES",
+           "MapError"]
+
+ROLES = ("time", "x", "y", "speed", "angle", "keyphasor", "photogate")
+
+
+class MapError(ValueError):
+    """A recording map that cannot be used; the message names the field."""
+
+
+@dataclass(frozen=True)
+class ColumnSpec:
+    """One role's column.
+
+    Attributes
+    ----------
+    role : str
+        One of :data:`ROLES`.
+    column : str
+        The column's name in the table.
+    unit : str or None
+        Its unit (None: to be taken from the column's name, or the default).
+    sensitivity_v_per_m : float or None
+        A probe read in volts: volts per metre of displacement.
+    threshold : float or None
+        A pulse channel's level between its two states (in its own unit).
+    """
+
+    role: str
+    column: str
+    unit: Optional[str] = None
+    sensitivity_v_per_m: Optional[float] = None
+    threshold: Optional[float] = None
+
+    def si_factor(self, field: str) -> float:
+        """Multiply the column by this to get SI (m, s, rad/s, rad; volts stay volts)."""
+        q = ROLE_QUANTITY[self.role]
+        unit = self.unit
+        if self.role in ("x", "y") and unit in QUANTITIES["voltage"]:
+            if not self.sensitivity_v_per_m:
+                raise MapError(f"{field}: a probe in {unit} needs its sensitivity, e.g. "
+                               f"[{unit}, 7.87 V/mm]")
+            return factor("voltage", unit, field) / self.sensitivity_v_per_m
+        return factor(q, unit, field)
+
+    def describe(self) -> str:
+        s = f"{self.role}={self.column}[{self.unit}]"
+        if self.sensitivity_v_per_m:
+            s += f" at {self.sensitivity_v_per_m * 1e-3:g} V/mm"
+        return s
+
+
+@dataclass(frozen=True)
+class RecordingMap:
+    """Columns by role, the table's layout, and the machine's data (SI)."""
+
+    columns: dict = field(default_factory=dict)
+    delimiter: Optional[str] = None
+    decimal: Optional[str] = None
+    header_row: Optional[int] = None
+    key: Optional[str] = None
+    mass_kg: Optional[float] = None
+    service_speed_rad_s: Optional[float] = None
+    natural_frequency_hz: Optional[float] = None
+    damping_ratio: Optional[float] = None
+    source: str = "--columns"
+
+    def merged(self, other: "RecordingMap") -> "RecordingMap":
+        """``other``'s entries over this map's (``--columns`` over a map file)."""
+        kw = {k: v for k, v in other.__dict__.items()
+              if k not in ("columns", "source") and v is not None}
+        return replace(self, columns={**self.columns, **other.columns}, **kw,
+                       source=f"{self.source} + {other.source}")
+
+
+_BRACKET = re.compile(r"^(.*?)\s*\[([^\]]*)\]\s*$")
+
+
+def _spec(role: str, text: str, where: str) -> ColumnSpec:
+    """``NAME``, ``NAME[unit]``, ``NAME[unit, 7.87 V/mm]``, ``NAME[V, threshold=2.5]``."""
+    if role not in ROLES:
+        raise MapError(f"{where}: unknown role {role!r} (one of {', '.join(ROLES)})")
+    m = _BRACKET.match(text)
+    name, unit, sens, thr = text.strip(), None, None, None
+    if m:
+        name = m.group(1).strip()
+        parts = [p.strip() for p in re.split(r"[,;]", m.group(2)) if p.strip()]
+        for p in parts:
+            if p.startswith("threshold"):
+                try:
+                    thr = float(p.split("=", 1)[1])
+                except (IndexError, ValueError):
+                    raise MapError(f"{where}: {p!r}: expected threshold=NUMBER") from None
+            elif "/" in p and p.split()[-1] in QUANTITIES["sensitivity"]:
+                sens = parse_quantity(p, "sensitivity", f"{where} sensitivity")
+            elif unit is None:
+                unit = p
+            else:
+                raise MapError(f"{where}: {p!r} not understood (a unit, a sensitivity such as "
+                               "'7.87 V/mm', or threshold=LEVEL)")
+    if not name:
+        raise MapError(f"{where}: no column name")
+    return ColumnSpec(role, name, unit, sens, thr)
+
+
+def parse_columns(text: str) -> RecordingMap:
+    """The ``--columns`` form: ``role=column[unit],...``."""
+    cols = {}
+    # split on commas that are not inside brackets
+    items, depth, cur = [], 0, ""
+    for ch in str(text):
+        depth += ch == "["
+        depth -= ch == "]"
+        if ch == "," and depth == 0:
+            items.append(cur)
+            cur = ""
+        else:
+            cur += ch
+    items.append(cur)
+    for item in items:
+        if not item.strip():
+            continue
+        if "=" not in item:
+            raise MapError(f"--columns: {item.strip()!r}: expected ROLE=COLUMN[unit] "
+                           f"(roles: {', '.join(ROLES)})")
+        role, spec = item.split("=", 1)
+        role = role.strip()
+        if role in cols:
+            raise MapError(f"--columns: role {role!r} given twice")
+        cols[role] = _spec(role, spec, f"--columns {role}")
+    return RecordingMap(columns=cols, source="--columns")
+
+
+def read_map(path) -> RecordingMap:
+    """A TOML recording map (module docstring); errors name the file and the key."""
+    from ..io.tomlfile import read_toml
+
+    data, _, label = read_toml(path, "recording map", MapError)
+    unknown = set(data) - {"table", "columns", "rotor"}
+    if unknown:
+        raise MapError(f"{label}unknown table(s) {sorted(unknown)} (expected [table], [columns], "
+                       "[rotor])")
+    cols = {}
+    for role, v in (data.get("columns") or {}).items():
+        where = f"{label}columns.{role}"
+        if isinstance(v, str):
+            cols[role] = _spec(role, v, where)
+        elif isinstance(v, dict):
+            bad = set(v) - {"column", "unit", "sensitivity", "threshold"}
+            if bad or "column" not in v:
+                raise MapError(f"{where}: expected {{column = NAME, unit = UNIT[, sensitivity = "
+                               f"\"7.87 V/mm\", threshold = LEVEL]}}, got keys {sorted(v)}")
+            if role not in ROLES:
+                raise MapError(f"{where}: unknown role {role!r} (one of {', '.join(ROLES)})")
+            sens = v.get("sensitivity")
+            cols[role] = ColumnSpec(role, str(v["column"]), v.get("unit"),
+                                    None if sens is None else
+                                    parse_quantity(sens, "sensitivity", f"{where}.sensitivity"),
+                                    None if v.get("threshold") is None else float(v["threshold"]))
+        else:
+            raise MapError(f"{where} = {v!r}: a column name (\"NAME [unit]\") or a table")
+    tab = data.get("table") or {}
+    bad = set(tab) - {"delimiter", "decimal", "header_row", "key"}
+    if bad:
+        raise MapError(f"{label}table: unknown key(s) {sorted(bad)} (delimiter, decimal, "
+                       "header_row, key)")
+    hr = tab.get("header_row")
+    if hr is not None and (not isinstance(hr, int) or hr < 1):
+        raise MapError(f"{label}table.header_row = {hr!r}: a line number >= 1")
+    rot = data.get("rotor") or {}
+    bad = set(rot) - {"mass", "service_speed", "natural_frequency", "damping_ratio"}
+    if bad:
+        raise MapError(f"{label}rotor: unknown key(s) {sorted(bad)} (mass, service_speed, "
+                       "natural_frequency, damping_ratio)")
+
+    def q(key, quantity):
+        if key not in rot:
+            return None
+        val = parse_quantity(rot[key], quantity, f"{label}rotor.{key}")
+        if not val > 0:
+            raise MapError(f"{label}rotor.{key} = {rot[key]!r}: must be > 0")
+        return val
+
+    zeta = rot.get("damping_ratio")
+    if zeta is not None and (isinstance(zeta, bool) or not isinstance(zeta, (int, float))
+                             or not 0 <= zeta < 1):
+        raise MapError(f"{label}rotor.damping_ratio = {zeta!r}: a number in [0, 1)")
+    f0 = q("natural_frequency", "speed")
+    try:
+        return RecordingMap(columns=cols, delimiter=tab.get("delimiter"), decimal=tab.get("decimal"),
+                            header_row=hr, key=tab.get("key"), mass_kg=q("mass", "mass"),
+                            service_speed_rad_s=q("service_speed", "speed"),
+                            natural_frequency_hz=None if f0 is None else f0 / (2 * math.pi),
+                            damping_ratio=None if zeta is None else float(zeta),
+                            source=str(path))
+    except UnitError as exc:
+        raise MapError(str(exc)) from None
+
+
+# ------------------------------------------------------------------ recognition
+_KNOWN = {
+    "time": ("t", "time", "zeit", "timestamp", "elapsed", "elapsed_time"),
+    "x": ("x", "disp_x", "x_disp", "probe_x", "shaft_x", "displacement_x", "dx", "vib_x"),
+    "y": ("y", "disp_y", "y_disp", "probe_y", "shaft_y", "displacement_y", "dy", "vib_y"),
+    "speed": ("speed", "rpm", "tacho", "tach", "tacho_speed", "rotor_speed", "omega", "n",
+              "shaft_speed", "tachometer"),
+    "angle": ("rotor_angle", "angle", "phi", "encoder", "encoder_angle"),
+    "keyphasor": ("keyphasor", "kp", "key", "once_per_rev", "opr", "1x_ref", "trigger",
+                  "keyphasor_pulse", "tacho_pulse"),
+    "photogate": ("photogate", "photo_gate", "gate", "photo"),
+}
+#: unit assumed when a recognised column's name carries none
+DEFAULT_UNIT = {"time": "s", "x": "m", "y": "m", "speed": "rad/s", "angle": "rad",
+                "keyphasor": "V", "photogate": "V"}
+
+
+def _base(name: str) -> str:
+    s = re.sub(r"\s*[\[(][^\])]*[\])]\s*$", "", str(name)).strip().lower()
+    s = re.sub(r"[\s\-.]+", "_", s)
+    for tail in ("_rad_s", "_rev_s"):
+        if s.endswith(tail):
+            return s[: -len(tail)]
+    units = {u.lower() for t in QUANTITIES.values() for u in t} | {"sec"}
+    parts = s.split("_")
+    if len(parts) > 1 and parts[-1] in units:
+        s = "_".join(parts[:-1])
+    return s
+
+
+def recognise(columns) -> tuple[dict, list]:
+    """Roles of well-known column names.
+
+    Returns
+    -------
+    (dict, list of str)
+        ``{role: ColumnSpec}`` with the unit from the name (or the role's SI
+        default) and one line per choice (what was taken, and where a unit was
+        assumed) for the user.
+    """
+    found, lines = {}, []
+    for col in columns:
+        b = _base(col)
+        for role, names in _KNOWN.items():
+            if role in found or b not in names:
+                continue
+            unit = unit_from_name(col, ROLE_QUANTITY[role])
+            if role in ("x", "y") and unit is None:
+                unit = unit_from_name(col, "voltage")
+            if role == "speed" and unit is None and b == "rpm":
+                unit = "rpm"
+            assumed = unit is None
+            unit = unit or DEFAULT_UNIT[role]
+            found[role] = ColumnSpec(role, str(col), unit)
+            lines.append(f"{role} = column {col!r} [{unit}]"
+                         + (" (no unit in the name: assumed)" if assumed else ""))
+            break
+    return found, lines
+
+
+def map_from_options(columns: Optional[str] = None, map_path=None) -> Optional[RecordingMap]:
+    """The recording map of ``--map FILE`` and ``--columns SPEC`` (the latter wins per role);
+    None when neither is given."""
+    m = read_map(map_path) if map_path else None
+    if columns:
+        c = parse_columns(columns)
+        m = c if m is None else m.merged(c)
+    return m

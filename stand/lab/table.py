@@ -1,0 +1,407 @@
+"""Read a lab table (CSV, Parquet, pandas HDF5) into SI signals, with its problems named.
+
+:func:`read_table` is the one reader of tabular recordings (``stand analyze``,
+``stand report``):
+
+1. **File**: CSV/TSV/TXT with the delimiter sniffed (``, ; tab |`` or spaces)
+   and decimal commas recognised; header lines before the table are skipped
+   (``# key = value`` / ``key: value`` lines become metadata, e.g. the ring
+   radii a ``stand track`` CSV carries); Parquet; an HDF5 table written by
+   pandas (``DataFrame.to_hdf``).
+2. **Map**: the recording map's columns (:mod:`.recording_map`), or the
+   well-known names recognised; units converted to SI once.
+3. **Checks**, each one line naming the column and the data rows (1-based,
+   header excluded):
+
+   * refused (:class:`TableError`, exit code 2): no time column, a time column
+     that goes back, a table with no usable stretch;
+   * excluded (the longest clean stretch is analysed; the rest is listed in
+     ``excluded`` and stated in the report): gaps in time (a step above 1.5x
+     the median), NaN or empty cells, clipped displacement channels (runs of
+     >= 4 samples at the channel's extreme value: the probe or the ADC at its
+     rail).
+"""
+from __future__ import annotations
+
+import csv
+import io
+import math
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Optional
+
+import numpy as np
+
+from .recording_map import ROLES, ColumnSpec, MapError, RecordingMap, recognise
+from .units import UnitError
+
+__all__ = ["LabTable", "TableError", "read_table", "is_table_file", "read_frame"]
+
+TABLE_SUFFIXES = (".csv", ".tsv", ".txt", ".dat", ".parquet", ".pq")
+CLIP_RUN = 4          #: samples at the extreme value that make a channel clipped
+GAP_FACTOR = 1.5      #: a time step above this x the median step is a gap
+MIN_ROWS = 2          #: fewest rows of a usable stretch
+
+
+class TableError(ValueError):
+    """A table that cannot be analysed; one line naming the file, column and rows."""
+
+
+@dataclass
+class LabTable:
+    """A lab table in SI, reduced to its longest clean stretch.
+
+    Attributes
+    ----------
+    path : str
+    t : ndarray
+        Times [s].
+    signals : dict
+        Role -> ndarray in SI (``x``, ``y`` [m]; ``speed`` [rad/s]; ``angle``
+        [rad]; ``keyphasor``, ``photogate`` in the channel's volts).
+    columns : dict
+        Role -> :class:`ColumnSpec` used.
+    recognised : list of str
+        The choices made without a map (empty when everything was mapped).
+    rows : (int, int)
+        The data rows used (1-based, inclusive).
+    excluded : list of dict
+        ``{"rows": "a-b", "t_start_s", "t_end_s", "reason"}`` of every part left out.
+    metadata : dict
+        ``key = value`` header lines (strings).
+    recording_map : RecordingMap
+    """
+
+    path: str
+    t: np.ndarray
+    signals: dict
+    columns: dict
+    recognised: list = field(default_factory=list)
+    rows: tuple = (1, 1)
+    excluded: list = field(default_factory=list)
+    metadata: dict = field(default_factory=dict)
+    recording_map: RecordingMap = field(default_factory=RecordingMap)
+
+    def input_summary(self) -> dict:
+        """What was read, JSON-able (``stand analyze``'s ``input``)."""
+        return {"file": Path(self.path).name,
+                "columns": {r: {"column": c.column, "unit": c.unit,
+                                **({"sensitivity_v_per_mm": c.sensitivity_v_per_m * 1e-3}
+                                   if c.sensitivity_v_per_m else {})}
+                            for r, c in self.columns.items()},
+                "map": self.recording_map.source if self.recording_map.columns else None,
+                "recognised": list(self.recognised),
+                "rows_used": list(self.rows), "excluded": list(self.excluded)}
+
+
+def is_table_file(path) -> bool:
+    """A tabular recording by its name (HDF5 needs :func:`_is_pandas_hdf`)."""
+    return Path(path).suffix.lower() in TABLE_SUFFIXES
+
+
+def _is_pandas_hdf(path) -> Optional[str]:
+    """The key of the first pandas table in an HDF5 file, or None (a stand recording)."""
+    import h5py
+
+    keys = []
+    try:
+        with h5py.File(path, "r") as f:
+            if "format_version" in f.attrs or "time" in f:
+                return None
+            f.visititems(lambda n, o: keys.append(n) if "pandas_type" in o.attrs else None)
+    except Exception:   # noqa: BLE001 -- a damaged file: the recording reader names the problem
+        return None
+    return keys[0] if keys else None
+
+
+# ------------------------------------------------------------------ CSV layout
+_META = re.compile(r"^\s*#?\s*([A-Za-z][\w .\-/()\[\]]*?)\s*[:=]\s*(.*?)\s*$")
+_NUMBER = re.compile(r"^\s*[-+]?(\d+([.,]\d*)?|[.,]\d+)([eE][-+]?\d+)?\s*$")
+
+
+def _fields(line: str, delim: Optional[str]) -> list:
+    if delim is None:
+        return line.split()
+    return next(csv.reader([line], delimiter=delim))
+
+
+def _numeric_share(row) -> float:
+    vals = [v for v in row if v.strip()]
+    return sum(bool(_NUMBER.match(v)) for v in vals) / max(len(vals), 1)
+
+
+def _sniff(lines: list):
+    """(delimiter, field count) under which most of the lines are rows of numbers of one
+    length (some text cells allowed: they are reported later, with their row)."""
+    best = (0.0, ";", 0)
+    for d in (";", "\t", ",", "|", None):
+        rows = [_fields(ln, d) for ln in lines]
+        lengths = [len(r) for r in rows]
+        n = max(set(lengths), key=lengths.count)
+        if n < 2:
+            continue
+        share = np.mean([_numeric_share(r) for r in rows if len(r) == n])
+        score = lengths.count(n) / len(rows) * share
+        if share >= 0.5 and score > best[0] + 1e-9:
+            best = (score, d, n)
+    return best[1], best[2]
+
+
+def _layout(lines: list, rmap: RecordingMap, label: str):
+    """(delimiter, decimal, header line index, metadata) of a CSV's first lines."""
+    body = [ln for ln in lines if ln.strip()]
+    if not body:
+        raise TableError(f"{label}: empty file; at least 2 data rows are needed")
+    tail = body[len(body) // 2:][:50] if len(body) > 4 else body
+    delim, width = _sniff(tail)
+    if rmap.delimiter is not None:
+        delim = None if rmap.delimiter == " " else rmap.delimiter
+        width = 0
+    header = rmap.header_row - 1 if rmap.header_row else None
+    if header is None:
+        for i, ln in enumerate(lines):
+            f = _fields(ln, delim)
+            if len(f) >= 2 and (not width or len(f) == width) and _numeric_share(f) >= 0.5:
+                header = i - 1
+                break
+        if header is None:
+            raise TableError(f"{label}: no data rows (no line of numbers separated by "
+                             f"{repr(delim) if delim else 'spaces'}); at least 2 are needed")
+        while header >= 0 and not lines[header].strip():
+            header -= 1
+        if header < 0 or _numeric_share(_fields(lines[header], delim)) >= 0.5:
+            raise TableError(f"{label}: no header line with the column names above the first "
+                             f"data line ({header + 2})")
+    decimal = rmap.decimal
+    if decimal is None:
+        sample = [v for ln in lines[header + 1:header + 50] for v in _fields(ln, delim)]
+        decimal = "," if delim != "," and any(re.match(r"^\s*[-+]?\d+,\d+", v) for v in sample) \
+            else "."
+    meta = {}
+    for ln in lines[:max(header, 0)]:
+        m = _META.match(ln)
+        if m:
+            meta[m.group(1).strip()] = m.group(2).strip()
+    return delim, decimal, header, meta
+
+
+def read_frame(path, rmap: Optional[RecordingMap] = None):
+    """The raw table as a DataFrame (every column, as read) and its header metadata."""
+    import pandas as pd
+
+    rmap = rmap or RecordingMap()
+    p = Path(path)
+    label = str(p)
+    suffix = p.suffix.lower()
+    try:
+        if suffix in (".parquet", ".pq"):
+            return pd.read_parquet(p), {}
+        if suffix in (".h5", ".hdf5", ".hdf"):
+            key = rmap.key or _is_pandas_hdf(p)
+            if key is None:
+                raise TableError(f"{label}: no pandas table in this HDF5 file")
+            return pd.read_hdf(p, key=key), {}
+    except ImportError as exc:
+        raise TableError(f"{label}: reading it needs {exc.name or exc} "
+                         "(pip install pyarrow / tables)") from None
+    except (OSError, ValueError, KeyError) as exc:
+        if isinstance(exc, TableError):
+            raise
+        raise TableError(f"{label}: not a readable table ({' '.join(str(exc).split())})") from None
+    try:
+        raw = p.read_bytes()
+    except OSError as exc:
+        raise TableError(f"{label}: cannot read ({exc.strerror or exc})") from None
+    for enc in ("utf-8-sig", "cp1252", "latin-1"):
+        try:
+            text = raw.decode(enc)
+            break
+        except UnicodeDecodeError:
+            continue
+    lines = text.splitlines()
+    delim, decimal, header, meta = _layout(lines[:400], rmap, label)
+    if not any(ln.strip() for ln in lines[header + 1:]):
+        raise TableError(f"{label}: 0 data rows; at least {MIN_ROWS} are needed")
+    try:
+        df = pd.read_csv(io.StringIO("\n".join(lines[header:])), sep=delim if delim else r"\s+",
+                         decimal=decimal, skipinitialspace=True, engine="c" if delim else "python")
+    except Exception as exc:  # pandas parse errors of any kind -> one clear line
+        raise TableError(f"{label}: not a readable table ({' '.join(str(exc).split())})") from None
+    df.columns = [str(c).strip() for c in df.columns]
+    df.attrs["first_data_line"] = header + 2
+    return df, meta
+
+
+# ------------------------------------------------------------------ checks
+def _runs(mask) -> list:
+    """[(start, stop)) of the True runs of a boolean array."""
+    m = np.concatenate(([0], np.asarray(mask, np.int8), [0]))
+    d = np.flatnonzero(np.diff(m))
+    return list(zip(d[::2].tolist(), d[1::2].tolist()))
+
+
+def _rows(a, b) -> str:
+    return f"{a + 1}-{b}" if b - a > 1 else f"{a + 1}"
+
+
+def _clipped(v) -> np.ndarray:
+    """Samples of a channel stuck at its extreme value for >= CLIP_RUN samples."""
+    bad = np.zeros(v.size, bool)
+    fin = np.isfinite(v)
+    if fin.sum() < CLIP_RUN or np.nanmax(v) == np.nanmin(v):   # a constant channel is not clipped
+        return bad
+    for level in (np.nanmax(v), np.nanmin(v)):
+        for a, b in _runs(v == level):
+            if b - a >= CLIP_RUN:
+                bad[a:b] = True
+    return bad
+
+
+def read_table(path, recording_map: Optional[RecordingMap] = None,
+               require=("x", "y")) -> LabTable:
+    """Read a lab table into SI signals on its longest clean stretch (module docstring).
+
+    Parameters
+    ----------
+    path : str or Path
+    recording_map : RecordingMap, optional
+        Columns and layout.  With a map that names columns, exactly those are
+        used; without, the well-known names are recognised
+        (:func:`.recording_map.recognise`) and the choices listed in ``recognised``.
+    require : tuple of str
+        Roles that must be present besides ``time``.
+
+    Raises
+    ------
+    TableError
+        One line naming the file, the column (with its unit) and the rows.
+    """
+    import pandas as pd
+
+    rmap = recording_map or RecordingMap()
+    label = str(path)
+    df, meta = read_frame(path, rmap)
+    names = list(df.columns)
+    cols = {}
+    for role, spec in rmap.columns.items():
+        if spec.column not in df:
+            from ..io.validate import suggest
+
+            raise TableError(f"{label}: {role} = column {spec.column!r} ({rmap.source}) is not in "
+                             f"the table; {suggest(spec.column, names)}its columns: "
+                             f"{', '.join(names)}")
+        cols[role] = spec
+    recognised = []
+    if not cols:
+        found, recognised = recognise(names)
+        cols.update(found)
+    for role, eg, unit in (("time", "t_s, time_ms", "s"), ("x", "x_m, disp_x_um", "um"),
+                           ("y", "y_m, disp_y_um", "um")):
+        if role in cols or (role != "time" and role not in require):
+            continue
+        what = "time" if role == "time" else f"{role} displacement"
+        how = (f"the map {rmap.source} names none" if rmap.columns else
+               f"no well-known name such as {eg}")
+        raise TableError(f"{label}: no {what} column ({how}; columns: {', '.join(names)}); "
+                         f"map one with --columns {role}=COLUMN[{unit}]")
+    # numbers in SI
+    sig = {}
+    for role, spec in cols.items():
+        if spec.unit is None:
+            from .recording_map import DEFAULT_UNIT
+            from .units import unit_from_name, ROLE_QUANTITY
+
+            unit = unit_from_name(spec.column, ROLE_QUANTITY[role])
+            if unit is None:
+                raise TableError(f"{label}: {role} = column {spec.column!r}: no unit; give it, e.g. "
+                                 f"--columns {role}={spec.column}[{DEFAULT_UNIT[role]}]")
+            spec = cols[role] = ColumnSpec(role, spec.column, unit, spec.sensitivity_v_per_m,
+                                           spec.threshold)
+        try:
+            k = spec.si_factor(f"{role} = column {spec.column!r}")
+        except (UnitError, MapError) as exc:
+            raise TableError(f"{label}: {exc}") from None
+        raw = df[spec.column]
+        num = pd.to_numeric(raw, errors="coerce")
+        text = (num.isna() & raw.notna() & (raw.astype(str).str.strip() != "")).to_numpy()
+        if text.any():
+            i = int(np.argmax(text))
+            raise TableError(f"{label}: column {spec.column!r} ({spec.unit}), data row {i + 1}: "
+                             f"{str(raw.iloc[i])[:40]!r} is not a number")
+        sig[role] = num.to_numpy(float) * (1.0 if role in ("keyphasor", "photogate") else k)
+    t = sig.pop("time")
+    tcol = cols["time"]
+    n = t.size
+    if n < MIN_ROWS:
+        raise TableError(f"{label}: {n} data rows; at least {MIN_ROWS} are needed")
+    # time must not go back (NaN times are excluded below)
+    fin_t = np.flatnonzero(np.isfinite(t))
+    back = np.flatnonzero(np.diff(t[fin_t]) <= 0)
+    if back.size:
+        i, j = int(fin_t[back[0]]), int(fin_t[back[0] + 1])
+        scale = 1.0 / tcol.si_factor("time")
+        raise TableError(f"{label}: column {tcol.column!r} ({tcol.unit}): time does not increase at "
+                         f"data rows {i + 1}-{j + 1} ({t[i] * scale:.6g} -> {t[j] * scale:.6g} "
+                         f"{tcol.unit}); {back.size} such place(s). Sort the table or split it")
+    bad = np.zeros(n, bool)
+    reasons = []
+    for role in ["time"] + [r for r in ROLES if r in sig]:
+        v = t if role == "time" else sig[role]
+        spec = cols[role]
+        nan = ~np.isfinite(v)
+        for a, b in _runs(nan):
+            reasons.append((a, b, f"column {spec.column!r}: empty or NaN"))
+        bad |= nan
+        if role in ("x", "y"):
+            clip = _clipped(v)
+            for a, b in _runs(clip):
+                lvl = v[a] / spec.si_factor("") if spec.unit not in ("V", "mV") else v[a]
+                reasons.append((a, b, f"column {spec.column!r}: clipped at {lvl:.6g} {spec.unit}"))
+            bad |= clip
+    good = np.flatnonzero(~bad)
+    if good.size >= 2:
+        dt = np.diff(t[good])
+        step = float(np.median(dt))
+        for k in np.flatnonzero(dt > GAP_FACTOR * step):
+            a, b = int(good[k]), int(good[k + 1])
+            reasons.append((a, b + 1, f"column {tcol.column!r}: gap of "
+                                      f"{(t[b] - t[a]) / tcol.si_factor('time'):.6g} {tcol.unit} "
+                                      f"(median step {step / tcol.si_factor('time'):.6g} {tcol.unit})"))
+    # the longest clean stretch: no bad row, no gap inside
+    ok = ~bad
+    cut = np.zeros(n, bool)
+    if good.size >= 2:
+        dt = np.diff(t[good])
+        step = float(np.median(dt))
+        for k in np.flatnonzero(dt > GAP_FACTOR * step):
+            cut[int(good[k + 1])] = True
+    best = (0, 0)
+    for a, b in _runs(ok):
+        starts = [a] + [i for i in range(a + 1, b) if cut[i]] + [b]
+        for s0, s1 in zip(starts[:-1], starts[1:]):
+            if s1 - s0 > best[1] - best[0]:
+                best = (s0, s1)
+    a, b = best
+    if b - a < MIN_ROWS:
+        why = "; ".join(f"rows {_rows(x, y)}: {r}" for x, y, r in reasons[:3])
+        raise TableError(f"{label}: no stretch of {MIN_ROWS} clean rows ({why})")
+    excluded = []
+    if a > 0 or b < n:
+        for x, y, r in sorted(reasons):
+            excluded.append({"rows": _rows(x, y), "t_start_s": _finite(t, x),
+                             "t_end_s": _finite(t, y - 1), "reason": r})
+        if a > 0:
+            excluded.append({"rows": _rows(0, a), "t_start_s": _finite(t, 0),
+                             "t_end_s": _finite(t, a - 1), "reason": "before the longest clean stretch"})
+        if b < n:
+            excluded.append({"rows": _rows(b, n), "t_start_s": _finite(t, b),
+                             "t_end_s": _finite(t, n - 1), "reason": "after the longest clean stretch"})
+    return LabTable(path=label, t=t[a:b], signals={r: v[a:b] for r, v in sig.items()},
+                    columns=cols, recognised=recognised, rows=(a + 1, b), excluded=excluded,
+                    metadata=meta, recording_map=rmap)
+
+
+def _finite(t, i):
+    v = float(t[i])
+    return v if math.isfinite(v) else None
