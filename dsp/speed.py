@@ -94,8 +94,10 @@ def otsu_threshold(v) -> float:
     m = np.cumsum(hist * centres)
     mu0 = m / np.maximum(w0, 1)
     mu1 = (m[-1] - m) / np.maximum(w1, 1)
-    between = w0 * w1 * (mu0 - mu1) ** 2
-    k = int(np.argmax(between[:-1]))
+    between = (w0 * w1 * (mu0 - mu1) ** 2)[:-1]
+    # every split inside an empty gap between the levels scores the same: take the gap's middle
+    top = np.flatnonzero(between >= between.max() * (1 - 1e-9))
+    k = int(top[top.size // 2])
     return float(edges[k + 1])
 
 
@@ -273,9 +275,10 @@ def angle_from_pulses(t, pulses, *, source: str = "keyphasor",
 def angle_from_speed(t, speed_rad_s, *, source: str = "tachometer") -> RotorAngle:
     """Rotor angle by integrating a speed channel [rad/s] (trapezoids); no reference mark.
 
-    A tachometer display holds its reading between updates: the held steps are
-    replaced by a line through the middle of each step (the reading is the mean
-    speed over the gate that preceded it) before integration.
+    A tachometer display holds its reading between updates: each reading is the
+    mean speed over the gate that preceded it, so it belongs to half a gate
+    before the update; the held steps are replaced by a line through those
+    points (the update interval taken as the gate) before integration.
     """
     t = check_times(t, "t", 2)
     w = np.asarray(speed_rad_s, float)
@@ -285,7 +288,8 @@ def angle_from_speed(t, speed_rad_s, *, source: str = "tachometer") -> RotorAngl
     if 2 <= change.size < t.size // 4:           # a held display: steps
         starts = np.concatenate(([0], change))
         stops = np.concatenate((change, [t.size]))
-        tm = 0.5 * (t[starts] + t[stops - 1])
+        dt = float(np.median(np.diff(t)))
+        tm = t[starts] - 0.5 * (t[stops - 1] - t[starts] + dt)
         w = np.interp(t, tm, w[starts])
     ang = np.concatenate(([0.0], np.cumsum(0.5 * (w[1:] + w[:-1]) * np.diff(t))))
     acc = np.gradient(w, t)

@@ -317,6 +317,23 @@ def _cmd_experiment(args) -> int:
     return 0 if st.success else 1
 
 
+def _cmd_daq(args) -> int:
+    from .lab.daq_export import daq_export
+
+    try:
+        off = tuple(float(v) for v in args.offset.split(","))
+    except ValueError:
+        off = ()
+    if len(off) != 2:
+        raise ValueError(f"--offset = {args.offset!r}: two numbers X_UM,Y_UM (um)")
+    truth = daq_export(args.recording, args.output, truth_path=args.truth, offset_um=off)
+    print(f"{args.recording} -> {args.output} (DAQ export); truth: unbalance "
+          f"{truth.get('unbalance_gmm', float('nan')):.6g} g*mm, f0 "
+          f"{truth.get('natural_frequency_hz', float('nan')):.6g} Hz, critical speed "
+          f"{truth.get('critical_speed_hz', float('nan')):.6g} rev/s")
+    return 0
+
+
 def _print_recognised(doc) -> None:
     """A table read without a map: which column was taken for what (stderr)."""
     inp = doc.get("input") or {}
@@ -458,7 +475,7 @@ def build_parser() -> argparse.ArgumentParser:
     """The argument parser (stand.cli_parser) with this module's command handlers."""
     from .cli_parser import build_parser as build
 
-    return build({"accuracy": _cmd_accuracy, "analyze": _cmd_analyze, "experiment": _cmd_experiment, "influence": _cmd_influence, "report": _cmd_report, "run": _cmd_run, "snapshot": _cmd_snapshot, "stress": _cmd_stress, "strobe": _cmd_strobe, "sweep": _cmd_sweep, "theory": _cmd_theory, "track": _cmd_track, "warmup": _cmd_warmup})
+    return build({"accuracy": _cmd_accuracy, "analyze": _cmd_analyze, "daq": _cmd_daq, "experiment": _cmd_experiment, "influence": _cmd_influence, "report": _cmd_report, "run": _cmd_run, "snapshot": _cmd_snapshot, "stress": _cmd_stress, "strobe": _cmd_strobe, "sweep": _cmd_sweep, "theory": _cmd_theory, "track": _cmd_track, "warmup": _cmd_warmup})
 
 
 def _table_kind(path) -> str:
@@ -476,7 +493,7 @@ def _guard(args) -> None:
     outputs = [(g("json_file"), "json"), (g("plot"), "png"), (g("summary"), _table_kind(g("summary"))),
                (g("regime_map"), "png"), (g("critical_map"), "png")]
     kind = {"run": "hdf5", "experiment": "hdf5", "accuracy": "html", "report": "html",
-            "stress": "html", "snapshot": "png", "track": "csv", "strobe": "csv",
+            "stress": "html", "snapshot": "png", "track": "csv", "strobe": "csv", "daq": "csv",
             "sweep": "parquet", "analyze": _table_kind(out)}.get(cmd)
     if out is not None and kind and not Path(out).is_dir():
         outputs.append((out, kind))

@@ -140,6 +140,13 @@ def build_parser(handlers: dict) -> argparse.ArgumentParser:
     a2.add_argument("--workers", type=int, default=None, help="local worker processes (default: all cores)")
     a2.add_argument("--scheduler", default=None, help="dask.distributed scheduler address (tcp://...)")
     a2.set_defaults(func=handlers["analyze"])
+    dq = sub.add_parser("daq", help="a recording's probes, keyphasor and tachometer written as a "
+                        "lab DAQ export (CSV: ms, um with DC offsets, keyphasor volts, rpm) with its truth")
+    dq.add_argument("recording", help="HDF5 recording with [instruments.probes] at 0 and 90 deg")
+    dq.add_argument("-o", "--output", required=True, help="CSV to write")
+    dq.add_argument("--truth", default=None, help="truth JSON (default: <output stem>.truth.json)")
+    dq.add_argument("--offset", default="35,-20", help="DC offsets of the x and y probes [um]")
+    dq.set_defaults(func=handlers["daq"])
     tk = sub.add_parser("track", help="sub-pixel laser-spot track from frames (HDF5, video, images)")
     tk.add_argument("source", help="recording.h5[:dataset], video file, image folder or glob")
     tk.add_argument("-o", "--output", required=True, help="CSV to write")

@@ -433,9 +433,9 @@ def _photogate(tab, notes):
 def _track_of(path, rec):
     """``(name, axial position [m], t [s], x [m], y [m], frame rotor angle [rad] or None)``
     of one ``stand track --screen`` CSV; the position from the recording's screen attrs."""
-    import pandas as pd
+    from .lab.table import read_frame
 
-    df = pd.read_csv(path)
+    df, _ = read_frame(path)
     for col in ("t_s", "x_m", "y_m"):
         if col not in df:
             raise ValueError(f"{path}: missing column {col!r}: track each screen of the recording "
