@@ -91,18 +91,36 @@ def theory(scene, max_speed: Optional[float] = None, floquet: bool = True) -> di
     return _theory(scene, max_speed=max_speed, floquet=floquet)
 
 
-def analyze(source, grade_mm_s: float = 6.3, service_speed_rpm: Optional[float] = None) -> dict:
+def _recording_map(recording_map, columns):
+    """A RecordingMap from a map object, a TOML path and/or a ``--columns`` string."""
+    from .lab.recording_map import RecordingMap, map_from_options
+
+    if isinstance(recording_map, RecordingMap):
+        extra = map_from_options(columns) if columns else None
+        return recording_map if extra is None else recording_map.merged(extra)
+    return map_from_options(columns, recording_map)
+
+
+def analyze(source, grade_mm_s: float = 6.3, service_speed_rpm: Optional[float] = None,
+            recording_map=None, columns: Optional[str] = None) -> dict:
     """Identification from a recording (:func:`stand.identify.analyze`): a Run, a Recording,
-    or a path (HDF5 or CSV)."""
+    or a path (HDF5 recording, or a lab table: CSV, Parquet, pandas HDF5).
+
+    ``recording_map`` (a :class:`stand.lab.recording_map.RecordingMap` or the path of a
+    TOML map) and ``columns`` (``"time=time_ms[ms],x=..."``) say which column of a table
+    is what (docs/lab_recordings.md)."""
     from .identify import analyze as _analyze
 
-    return _analyze(source, grade_mm_s=grade_mm_s, service_speed_rpm=service_speed_rpm)
+    return _analyze(source, grade_mm_s=grade_mm_s, service_speed_rpm=service_speed_rpm,
+                    recording_map=_recording_map(recording_map, columns))
 
 
 def report(source, *, html_path=None, json_path=None, grade=6.3,
-           service_speed_rpm: Optional[float] = None) -> dict:
+           service_speed_rpm: Optional[float] = None, recording_map=None,
+           columns: Optional[str] = None) -> dict:
     """Balancing-quality report (:func:`stand.reports.balancing.balancing_report`) of a Run,
-    a Recording or a path; writes ``html_path`` / ``json_path`` when given, returns the
+    a Recording or a path (``recording_map`` / ``columns`` for lab tables, as
+    :func:`analyze`); writes ``html_path`` / ``json_path`` when given, returns the
     report's JSON document."""
     from .recording import Recording
     from .reports.balancing import balancing_report
@@ -117,4 +135,5 @@ def report(source, *, html_path=None, json_path=None, grade=6.3,
             return balancing_report(str(path), grade=grade, service_speed_rpm=service_speed_rpm,
                                     html_path=html_path, json_path=json_path)
     return balancing_report(source, grade=grade, service_speed_rpm=service_speed_rpm,
-                            html_path=html_path, json_path=json_path)
+                            html_path=html_path, json_path=json_path,
+                            recording_map=_recording_map(recording_map, columns))

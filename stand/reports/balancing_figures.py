@@ -73,14 +73,18 @@ def figures(rec) -> dict:
             pr = None
         if pr is not None and np.ptp(pr[1]) > 0.05 * np.max(pr[1]):
             tm, wr, vec = pr
-            fig = Figure(figsize=(8, 5))
-            a1, a2 = fig.subplots(2, 1, sharex=True)
-            a1.semilogy(wr / TWO_PI, np.maximum(np.abs(vec), 1e-30) * 1e3, ".", ms=2)
-            a1.set_ylabel("1X amplitude (mm)")
-            a2.plot(wr / TWO_PI, np.degrees(np.angle(vec)), ".", ms=2)
-            a2.set_ylabel("1X phase (deg)")
-            a2.set_xlabel("rotor speed (rev/s)")
-            figs["1X amplitude and phase vs speed (one point per revolution)"] = figure_png(fig)
+            phase = d.get("phase_referenced", True)    # no mark: a phase means nothing
+            fig = Figure(figsize=(8, 5 if phase else 3))
+            axs_b = fig.subplots(2 if phase else 1, 1, sharex=True, squeeze=False)[:, 0]
+            axs_b[0].semilogy(wr / TWO_PI, np.maximum(np.abs(vec), 1e-30) * 1e3, ".", ms=2)
+            axs_b[0].set_ylabel("1X amplitude (mm)")
+            if phase:
+                axs_b[1].plot(wr / TWO_PI, np.degrees(np.angle(vec)), ".", ms=2)
+                axs_b[1].set_ylabel("1X phase (deg)")
+            axs_b[-1].set_xlabel("rotor speed (rev/s)")
+            figs["1X amplitude and phase vs speed (one point per revolution)" if phase else
+                 "1X amplitude vs speed (one point per revolution; no reference mark: no phase)"] \
+                = figure_png(fig)
 
     # spectrogram of the complex orbit
     from scipy import signal as sg
