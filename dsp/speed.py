@@ -101,7 +101,8 @@ def otsu_threshold(v) -> float:
     return float(edges[k + 1])
 
 
-def pulse_times(t, v, *, threshold: Optional[float] = None, name: str = "pulse channel"):
+def pulse_times(t, v, *, threshold: Optional[float] = None, name: str = "pulse channel",
+                mark: str = "leading"):
     """Times [s] of the leading edges of a once-per-revolution pulse channel.
 
     Parameters
@@ -114,13 +115,18 @@ def pulse_times(t, v, *, threshold: Optional[float] = None, name: str = "pulse c
         Level between the two states; default :func:`otsu_threshold`.
     name : str
         The channel's name for error messages.
+    mark : {"leading", "centre"}
+        Time each pulse by its leading edge (a keyphasor: the notch's edge is
+        the mark), or by the middle between its two edges (a photo-gate: the
+        beam is centred on the gate then, whatever its speed).
 
     Returns
     -------
     ndarray
-        Leading-edge times [s]: the edge into the state the channel spends less
-        time in (the pulse), linearly interpolated at ``threshold``; a Schmitt
-        trigger of +-20 % of the two levels' distance rejects noise chatter.
+        Pulse times [s]: the edge into the state the channel spends less time in
+        (the pulse), linearly interpolated at ``threshold`` (or the mean of that
+        and the next edge out); a Schmitt trigger of +-20 % of the two levels'
+        distance rejects noise chatter.
 
     Raises
     ------
@@ -150,16 +156,27 @@ def pulse_times(t, v, *, threshold: Optional[float] = None, name: str = "pulse c
     change = np.flatnonzero(np.diff(held) != 0)
     into = held[change + 1]
     want = 1 if pulse_high else -1
-    ends = idx[change[into == want] + 1]          # first sample past the far band
-    out = []
-    for j in ends:                                 # walk back to the level crossing
-        k = j
-        while k > 0 and (v[k - 1] > level) == (v[j] > level):
-            k -= 1
-        if k == 0:
-            continue
-        a, b = v[k - 1] - level, v[k] - level
-        out.append(t[k - 1] + (t[k] - t[k - 1]) * a / (a - b))
+
+    def crossings(into_state):
+        res = []
+        for j in idx[change[into == into_state] + 1]:     # first sample past the far band
+            k = j
+            while k > 0 and (v[k - 1] > level) == (v[j] > level):   # back to the crossing
+                k -= 1
+            if k == 0:
+                continue
+            a, b = v[k - 1] - level, v[k] - level
+            res.append(t[k - 1] + (t[k] - t[k - 1]) * a / (a - b))
+        return np.asarray(res)
+
+    out = crossings(want)
+    if mark == "centre":
+        back = crossings(-want)
+        j = np.searchsorted(back, out)
+        keep = j < back.size
+        out = 0.5 * (out[keep] + back[j[keep]])
+    elif mark != "leading":
+        raise SignalError(f"mark: 'leading' or 'centre', got {mark!r}")
     p = np.asarray(out)
     if p.size < 2:
         raise SignalError(f"{name}: {p.size} pulse(s); need at least 2 once-per-revolution "

@@ -420,10 +420,11 @@ def _photogate(tab, notes):
     try:
         p = pulse_times(tab.t, tab.signals["photogate"],
                         threshold=tab.columns["photogate"].threshold,
-                        name=f"column {tab.columns['photogate'].column!r}")
+                        name=f"column {tab.columns['photogate'].column!r}", mark="centre")
         period = photogate_period(p, 1, 3)
         return {"passes": int(p.size), "period_s": period, "frequency_hz": 1.0 / period,
-                "method": "1st to 3rd pass of the beam over the photo-gate (FPM-09, 4.3)"}
+                "method": "1st to 3rd pass of the beam over the photo-gate (FPM-09, 4.3); each "
+                "pass timed at the middle of its pulse"}
     except (SignalError, ValueError) as exc:
         notes.append(f"photo-gate: {exc}")
         return None

@@ -217,3 +217,22 @@ def test_read_table_is_the_one_reader():
         assert "read_csv" not in inspect.getsource(mod)
     with pytest.raises(TableError):
         read_table(__file__)
+
+
+def test_photogate_channel_of_a_free_decay(tmp_path):
+    """The book's natural-frequency test (4.3): the period from the 1st to the 3rd pass of the
+    beam over the photo-gate is the damped period (passes 1 and 3 cross in the same
+    direction, so the gate's width cancels to first order in the damping)."""
+    f0, zeta, fs = 3.0, 0.05, 5000.0
+    t = np.arange(0, 1.5, 1 / fs)
+    wd = TWO_PI * f0 * math.sqrt(1 - zeta ** 2)
+    x = 3e-3 * np.exp(-zeta * TWO_PI * f0 * t) * np.cos(wd * t)
+    gate = np.where(np.abs(x) < 0.25e-3, 4.8, 0.1)
+    p = tmp_path / "decay.csv"
+    pd.DataFrame({"t_s": t, "x_m": x, "y_m": 0 * t, "photogate_V": gate}).to_csv(p, index=False)
+    doc, _ = analyze_json(p)
+    pg = doc["photogate"]
+    # edge timing: one sample (0.2 ms) in a 0.33 s period; the damping shifts the passes by
+    # ~ (gate / amplitude) x zeta x period / 2 pi ~ 1e-4 of the period
+    assert pg["frequency_hz"] == pytest.approx(wd / TWO_PI, rel=2e-3)
+    assert doc["natural_frequency_hz"] == pytest.approx(f0, rel=1e-3)    # free decay fit
