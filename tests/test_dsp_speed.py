@@ -184,3 +184,21 @@ def test_angle_from_1x_follows_a_forward_whirl():
     z = 1e-4 * np.exp(1j * (phi + 0.7))
     ra = angle_from_1x(t, z)
     assert np.max(np.abs(ra.speed_rad_s - TWO_PI * (10 + t))) < 1e-3
+
+
+def test_run_down_through_the_resonance():
+    """A run-down (26 -> 2 rev/s at -1 rev/s^2): the fit and the sweep-corrected peak (lag
+    below f0 on a run-down) give f0 and the critical speed back."""
+    from dsp.speed import RotorAngle
+    from stand.runup_identify import sweep_identification
+
+    t, z, phi, w, a = _runup_record(w_start=TWO_PI * 26, alpha=-TWO_PI * 1.0, T=23.0, noise=1e-6)
+    ra = RotorAngle(phi, w, a, np.ones(t.size, bool), "angle", referenced=True)
+    notes = []
+    out = sweep_identification(t, z.real, z.imag, ra, notes)
+    assert out["programme"]["kind"] == "run-down", out["programme"]
+    assert out["resonance"]["direction"] == "run-down"
+    fc = F0 / math.sqrt(1 - 2 * ZETA ** 2)
+    assert out["resonance"]["critical_speed_hz"] == pytest.approx(fc, rel=0.005)
+    assert out["model_fit"]["natural_frequency_hz"] == pytest.approx(F0, rel=1e-3)
+    assert out["model_fit"]["specific_unbalance_m"] == pytest.approx(E, rel=5e-3)
