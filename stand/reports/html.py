@@ -20,13 +20,26 @@ from typing import Any, Iterable, Mapping
 from ..io.atomic import write_text
 from ..io.jsonable import dumps, to_jsonable
 
-__all__ = ["figure_png", "render_html", "write_report", "atomic_write_text", "jsonable",
-           "check_schema"]
+__all__ = ["figure_png", "render_html", "banner_html", "write_report", "atomic_write_text",
+           "jsonable", "check_schema"]
 
 CSS = """body{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}
 table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #bbb;padding:.25em .6em;
 text-align:left;vertical-align:top}th{background:#eee}.fail{color:#b00;font-weight:bold}
-.pass{color:#070;font-weight:bold}.warn{color:#a60}img{max-width:100%}code{background:#f4f4f4}"""
+.pass{color:#070;font-weight:bold}.warn{color:#a60}img{max-width:100%}code{background:#f4f4f4}
+#verdict{border:3px solid #888;border-radius:6px;padding:.6em 1em;margin:.5em 0 1em}
+#verdict.pass{border-color:#070;background:#eef8ee}#verdict.fail{border-color:#b00;background:#fbeeee}
+#verdict.info{border-color:#888;background:#f4f4f4;color:#222;font-weight:normal}
+#verdict .headline{font-size:1.5em;margin:0 0 .3em}#verdict p{margin:.2em 0;font-weight:normal;color:#222}
+.meta{color:#555;font-size:.9em}figure{margin:.5em 0}.keyfigs{display:flex;flex-wrap:wrap;gap:1em}
+.keyfigs figure{flex:1 1 30%;min-width:280px}details{margin:.5em 0}summary{cursor:pointer;font-weight:bold}
+td.num{text-align:right;font-variant-numeric:tabular-nums}
+@media print{@page{size:A4;margin:14mm}body{max-width:none;margin:0;font-size:10pt}
+h2{page-break-before:always}h2.first{page-break-before:avoid}figure,table,#verdict{page-break-inside:avoid}
+img{max-width:100%;max-height:120mm}nav{display:none}.keyfigs figure{flex:1 1 45%}}"""
+#: opens every collapsed section for printing (an inline script: no external request)
+PRINT_JS = ("<script>window.addEventListener('beforeprint',function(){"
+            "document.querySelectorAll('details').forEach(function(d){d.open=true;});});</script>")
 
 
 _PNG_URI = re.compile(r"data:image/png;base64,[A-Za-z0-9+/]*={0,2}")
@@ -105,8 +118,19 @@ def _rows_table(rows: Iterable[Mapping]) -> str:
     return f"<table><tr>{head}</tr>{''.join(body)}</table>"
 
 
+def banner_html(banner) -> str:
+    """The verdict banner: ``{"status": "pass"|"fail"|"info", "headline": str,
+    "lines": [str, ...]}`` -> ``<div id="verdict" class="STATUS">`` (text escaped)."""
+    status = banner.get("status", "info")
+    status = status if status in ("pass", "fail", "info") else "info"
+    lines = "".join(f"<p>{html.escape(str(x))}</p>" for x in banner.get("lines", ()))
+    return (f"<div id='verdict' class='{status}'><p class='headline'>"
+            f"{html.escape(str(banner.get('headline', '')))}</p>{lines}</div>")
+
+
 def render_html(title: str, doc: Mapping, figures: Mapping[str, str] | None = None,
-                sections: Iterable[str] | None = None) -> str:
+                sections: Iterable[str] | None = None, banner: Mapping | None = None,
+                body: str | None = None) -> str:
     """The HTML text of a report.
 
     Parameters
@@ -120,6 +144,11 @@ def render_html(title: str, doc: Mapping, figures: Mapping[str, str] | None = No
         ``{caption: data URI}``; only embedded PNG data URIs are accepted.
     sections : iterable of str, optional
         The top-level keys to show, in this order (default: all, in ``doc`` order).
+    banner : mapping, optional
+        The verdict shown first (:func:`banner_html`).
+    body : str, optional
+        Ready HTML (already escaped) that replaces the generic section tables
+        (a report with its own presentation, e.g. the balancing report's).
 
     Returns
     -------
@@ -131,8 +160,21 @@ def render_html(title: str, doc: Mapping, figures: Mapping[str, str] | None = No
     ValueError
         A figure is not an embedded PNG data URI.
     """
-    parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>"
-             f"<style>{CSS}</style></head><body><h1>{html.escape(title)}</h1>"]
+    parts = [f"<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>"
+             f"<meta name='viewport' content='width=device-width, initial-scale=1'>"
+             f"<title>{html.escape(title)}</title><style>{CSS}</style>{PRINT_JS}</head><body>"
+             f"<h1>{html.escape(title)}</h1>"]
+    if banner:
+        parts.append(banner_html(banner))
+    if body is not None:
+        if figures:
+            for cap, uri in figures.items():
+                if not _PNG_URI.fullmatch(str(uri)):
+                    raise ValueError(f"figure {cap!r}: only embedded PNG data URIs "
+                                     "(data:image/png;base64,...) are allowed")
+        parts.append(body)
+        parts.append("</body></html>")
+        return "\n".join(parts)
     keys = list(sections) if sections is not None else list(doc)
     parts.append("<p>" + " · ".join(f"<a href='#{html.escape(k)}'>{html.escape(k)}</a>" for k in keys)
                  + (" · <a href='#figures'>figures</a>" if figures else "") + "</p>")
@@ -162,7 +204,7 @@ def render_html(title: str, doc: Mapping, figures: Mapping[str, str] | None = No
 
 
 def write_report(title: str, doc: Mapping, html_path=None, json_path=None, figures=None,
-                 sections=None) -> dict:
+                 sections=None, banner=None, body=None) -> dict:
     """Write the HTML and/or the JSON of a report; return the plain JSON document.
 
     Parameters
@@ -181,6 +223,9 @@ def write_report(title: str, doc: Mapping, html_path=None, json_path=None, figur
         ``{caption: PNG data URI}`` (:func:`figure_png`).
     sections : iterable of str, optional
         Order of the top-level keys in the HTML.
+    banner, body : optional
+        As :func:`render_html` (``body`` may be a callable of the plain document
+        returning the HTML, so it is built from the converted JSON).
 
     Returns
     -------
@@ -196,7 +241,8 @@ def write_report(title: str, doc: Mapping, html_path=None, json_path=None, figur
     if json_path:
         write_text(json_path, dumps(plain, indent=2))
     if html_path:
-        write_text(html_path, render_html(title, plain, figures, sections))
+        b = body(plain) if callable(body) else body
+        write_text(html_path, render_html(title, plain, figures, sections, banner, b))
     return plain
 
 
