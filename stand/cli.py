@@ -167,7 +167,7 @@ def _cmd_report(args) -> int:
 
     grade = _grade(args.grade)
     rmap = map_from_options(args.columns, args.map)
-    for o in (args.output, args.json_file):
+    for o in (args.output, args.json_file, args.pdf):
         if o and not Path(o).resolve().parent.is_dir():
             raise FileNotFoundError(f"output directory of {o!r} does not exist")
     if is_batch_source(args.recording):
@@ -179,21 +179,27 @@ def _cmd_report(args) -> int:
         df = run_batch(files, _report_row, workers=args.workers, scheduler=args.scheduler,
                        progress=sys.stderr.isatty(), grade=grade,
                        service_speed_rpm=args.service_speed, html_dir=html_dir, recording_map=rmap)
+        from .reports.batch_summary import order_failures_first, write_summary_page
+
+        df = order_failures_first(df)
         write_table(df, summary)
-        print(f"{len(df)} recordings reported ({int((df['status'] != 'ok').sum())} failed) -> {summary}")
+        page = write_summary_page(df, html_dir, grade) if html_dir else None
+        print(f"{len(df)} recordings reported ({int((df['status'] != 'ok').sum())} failed) -> {summary}"
+              + (f"; summary page {page}" if page else ""))
         return 0
     from .reports.balancing import balancing_report
 
-    if not args.output and not args.json_file and not args.json:
-        raise ValueError("stand report: give -o REPORT.html, --json-file REPORT.json or --json")
+    if not args.output and not args.json_file and not args.json and not args.pdf:
+        raise ValueError("stand report: give -o REPORT.html, --pdf REPORT.pdf, --json-file REPORT.json "
+                         "or --json")
     doc = balancing_report(args.recording, grade=grade, service_speed_rpm=args.service_speed,
                            html_path=args.output, json_path=args.json_file, tracks=args.tracks,
-                           recording_map=rmap)
+                           recording_map=rmap, pdf_path=args.pdf)
     if args.json:
         _print_json(doc)
         return 0
     q = doc.get("balancing_quality", {})
-    print(f"{args.recording}: report -> {args.output or args.json_file}"
+    print(f"{args.recording}: report -> {', '.join(str(o) for o in (args.output, args.pdf, args.json_file) if o)}"
           + (f"; residual {q.get('residual_unbalance_gmm'):.4g} g mm" if isinstance(q.get('residual_unbalance_gmm'), (int, float)) else "")
           + (f", ISO 21940-11 G{grade:g}: {'pass' if q['iso_21940_11'].get('passed') else 'fail'}"
              if isinstance(q.get("iso_21940_11"), dict) and q["iso_21940_11"].get("passed") is not None else "")
@@ -491,7 +497,7 @@ def _guard(args) -> None:
     inputs = [g("scene"), g("recording"), g("source"), g("calibration"), g("catalogue"), g("spec")]
     out = g("output")
     outputs = [(g("json_file"), "json"), (g("plot"), "png"), (g("summary"), _table_kind(g("summary"))),
-               (g("regime_map"), "png"), (g("critical_map"), "png")]
+               (g("regime_map"), "png"), (g("critical_map"), "png"), (g("pdf"), "pdf")]
     kind = {"run": "hdf5", "experiment": "hdf5", "accuracy": "html", "report": "html",
             "stress": "html", "snapshot": "png", "track": "csv", "strobe": "csv", "daq": "csv",
             "sweep": "parquet", "analyze": _table_kind(out)}.get(cmd)

@@ -43,6 +43,8 @@ def build_parser(handlers: dict) -> argparse.ArgumentParser:
     rp.add_argument("-o", "--output", default=None, help="HTML report (batch: a directory for one HTML per file)")
     rp.add_argument("--json", action="store_true", help="print the JSON report on stdout")
     rp.add_argument("--json-file", default=None, help="write the JSON report (the source of the HTML)")
+    rp.add_argument("--pdf", default=None, metavar="REPORT.pdf",
+                    help="write a PDF (page 1: the verdict and the key figures)")
     rp.add_argument("--grade", default="G6.3", help="ISO 21940-11 grade (G6.3 or 6.3, mm/s)")
     rp.add_argument("--service-speed", type=float, default=None, help="service speed [rpm]")
     rp.add_argument("--tracks", nargs=2, default=None, metavar="CSV", help="two screens' tracks: two-plane section")

@@ -39,10 +39,11 @@ def _read(path, recording_map=None):
     if is_table_file(p) or (p.suffix.lower() in (".h5", ".hdf5", ".hdf") and p.is_file()
                             and _is_pandas_hdf(p) is not None):
         return _from_table(p, recording_map)
-    if recording_map is not None and recording_map.columns:
-        raise ValueError(f"{p}: --columns / --map apply to tables (CSV, Parquet, pandas HDF5); "
-                         "this is a stand recording")
-    return _from_run(read_recording(p))
+    d = _from_run(read_recording(p))
+    if recording_map is not None and recording_map.columns:   # e.g. a folder of mixed files
+        d["notes"].append("the recording map applies to tables; this stand recording carries "
+                          "its own channels (map ignored)")
+    return d
 
 
 def _from_table(p, recording_map):

@@ -50,7 +50,7 @@ TWO_PI = 2.0 * math.pi
 
 
 def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_path=None,
-                     json_path=None, tracks=None, recording_map=None) -> dict:
+                     json_path=None, tracks=None, recording_map=None, pdf_path=None) -> dict:
     """Balancing-quality report of one recording; returns the JSON document (plain types).
 
     Parameters
@@ -74,6 +74,9 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
         ``lab_identification`` section (``stand analyze``'s identification: programme,
         critical speed, natural frequency and damping from the run-up, unbalance, the
         rows excluded) and fills the quality and dynamics sections from it.
+    pdf_path : path, optional
+        A PDF of the report (matplotlib's PDF backend, no browser): page 1 holds
+        the verdict and the key figures, then the tables (:mod:`.pdf`).
 
     Returns
     -------
@@ -178,10 +181,14 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
     # ---------------- warnings from the scene's theory
     _scene_warnings(rec, bq, dyn, w_service, final_speed, steady_len, warn, notes)
 
+    import datetime
+
     doc = {
         "report": {"kind": "balancing-quality", "format_version": FORMAT_VERSION,
-                   "recording": str(recording_path), "input_format": d["fmt"],
-                   "generator": f"stand {__version__}"},
+                   "recording": Path(recording_path).name, "input_format": d["fmt"],
+                   "generator": f"stand {__version__}",
+                   "generated": datetime.datetime.now(datetime.timezone.utc)
+                   .strftime("%Y-%m-%d %H:%M UTC")},
         "header": header,
         "balancing_quality": bq,
         "dynamics": dyn,
@@ -206,10 +213,23 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
     problems = check_schema(plain, dict(SCHEMA, **extra))
     if problems:  # pragma: no cover -- a bug here, not bad input
         raise RuntimeError("balancing report does not match its schema: " + "; ".join(problems))
-    figs = figures(rec) if html_path else None
-    return write_report(f"Balancing-quality report: {header['scene_name']}", plain,
-                        html_path=html_path, json_path=json_path, figures=figs,
-                        sections=sections)
+    figs = None
+    if html_path or pdf_path:
+        from .balancing_figures import polar_figures
+
+        figs = {**polar_figures(plain, scene), **figures(rec)}
+    from .balancing_page import page_body, pdf_tables, verdict
+
+    title = f"Balancing-quality report: {header['scene_name']}"
+    banner = verdict(plain)
+    out = write_report(title, plain, html_path=html_path, json_path=json_path, figures=figs,
+                       sections=sections, banner=banner,
+                       body=(lambda p: page_body(p, figs)) if html_path else None)
+    if pdf_path:
+        from .pdf import write_pdf
+
+        write_pdf(pdf_path, title, banner, figures=figs, tables=pdf_tables(plain))
+    return out
 
 
 def _scene_warnings(rec, bq, dyn, w_service, final_speed, steady_len, warn, notes):

@@ -9,7 +9,7 @@ import numpy as np
 from .html import figure_png
 from ..signals import per_revolution
 
-__all__ = ["figures"]
+__all__ = ["figures", "polar_figures"]
 
 TWO_PI = 2.0 * math.pi
 
@@ -127,3 +127,62 @@ def figures(rec) -> dict:
             ax.set_axis_off()
             figs[cap] = figure_png(fig)
     return figs
+
+
+def _polar(points, permissible_gmm, title):
+    """A polar plot of unbalance vectors [g mm] (angle from the reference mark, counter-
+    clockwise = the rotation direction) with the permissible circle."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(4.6, 4.6))
+    ax = fig.add_subplot(projection="polar")
+    rmax = max([p[1] for p in points] + [permissible_gmm or 0.0]) * 1.15 or 1.0
+    if permissible_gmm:
+        th = np.linspace(0, TWO_PI, 200)
+        ax.fill(th, np.full(th.size, permissible_gmm), color="#2a2", alpha=0.15, lw=0)
+        ax.plot(th, np.full(th.size, permissible_gmm), color="#2a2", lw=1.2,
+                label=f"permissible {permissible_gmm:.3g} g·mm")
+    for name, U, ang, style in points:
+        a = math.radians(ang if ang is not None else 0.0)
+        ax.annotate("", xy=(a, U), xytext=(0, 0),
+                    arrowprops=dict(arrowstyle="->", color=style, lw=2))
+        ax.plot([a], [U], "o", color=style, label=f"{name}: {U:.3g} g·mm"
+                + (f" at {ang % 360:.0f}°" if ang is not None else " (no angle)"))
+    ax.set_rmax(rmax)
+    ax.set_title(title, fontsize=10)
+    ax.legend(loc="lower center", bbox_to_anchor=(0.5, -0.32), fontsize=8, frameon=False)
+    return fig
+
+
+def polar_figures(doc, scene=None) -> dict:
+    """``{caption: PNG data URI}``: the unbalance before and after against the permissible
+    circle (ISO 21940-11), one plot per correction plane for two-plane work.
+
+    ``doc`` is the report's JSON; ``scene`` (optional) gives the angle of the rotor's own
+    unbalance (the "before" point).
+    """
+    from .html import figure_png
+
+    out = {}
+    bq = doc.get("balancing_quality") or {}
+    Up = (bq.get("iso_21940_11") or {}).get("permissible_residual_gmm")
+    pts = []
+    if bq.get("initial_unbalance_gmm"):
+        ang = None
+        if scene is not None:
+            ang = math.degrees(float(getattr(scene.rotor, "unbalance_angle", 0.0)))
+        pts.append(("before", float(bq["initial_unbalance_gmm"]), ang, "#b33"))
+    if bq.get("residual_unbalance_gmm") is not None:
+        pts.append(("after", float(bq["residual_unbalance_gmm"]),
+                    bq.get("residual_unbalance_angle_deg"), "#137"))
+    if pts:
+        out["polar plot: unbalance before and after, permissible circle (ISO 21940-11)"] = \
+            figure_png(_polar(pts, Up, "unbalance (g·mm)"))
+    two = doc.get("two_plane") or {}
+    for p in two.get("planes", []):
+        pp = [("residual", float(p["unbalance_gmm"]), p.get("angle_deg"), "#137")]
+        if p.get("truth_gmm") is not None:
+            pp.append(("truth", float(p["truth_gmm"]), p.get("truth_angle_deg"), "#999"))
+        out[f"polar plot: plane {p.get('plane')}, unbalance and its permissible share"] = \
+            figure_png(_polar(pp, p.get("permissible_gmm"), f"plane {p.get('plane')} (g·mm)"))
+    return out

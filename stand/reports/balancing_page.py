@@ -1,0 +1,302 @@
+"""The balancing report as an engineer reads it: the verdict first, then the figures that
+show it, then labelled tables; built from the report's JSON only.
+
+* :func:`verdict` -- the banner: pass / fail of ISO 21940-11 at the service speed,
+  achieved vs required grade, residual vs permissible (g·mm and fraction), per
+  plane for two-plane work; the machine, date, software and recording file.
+* :func:`page_body` -- the key figures (polar before/after with the permissible
+  circle, orbit with the rings, 1X vs speed), the summary tables with human labels
+  and units (:mod:`.labels`) and values rounded to their uncertainty
+  (:mod:`.numbers`); critical speeds from the theory, from the recording's 1X
+  resonance, and the weights' synchrony events in separate tables; the detail
+  tables collapsed (``<details>``), every field of the JSON among them.
+* :func:`pdf_tables` -- the same rows as text for the PDF.
+"""
+from __future__ import annotations
+
+import html
+from typing import Mapping
+
+from .labels import label, unit
+from .numbers import plain, with_uncertainty
+
+__all__ = ["verdict", "page_body", "pdf_tables", "show"]
+
+_MAIN_FIGS = ("polar", "orbit", "1X amplitude")
+
+
+def show(key, value, std=None) -> str:
+    """A value of ``key`` as text: display unit and factor from :mod:`.labels`, rounded to
+    ``std`` when given."""
+    u, f = unit(key)
+    if isinstance(value, bool) or value is None or isinstance(value, str):
+        return plain(value) if not isinstance(value, str) else value
+    if isinstance(value, (list, tuple)):
+        if all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in value):
+            return " – ".join(plain(x * f if isinstance(x, float) else x) for x in value) + \
+                (f" {u}" if u else "")
+        return ", ".join(str(x) for x in value)
+    if isinstance(value, (int, float)):
+        v = value * f if isinstance(value, float) or f != 1.0 else value
+        if std is not None:
+            return with_uncertainty(v, std * f, u)
+        return plain(v, u)
+    return str(value)
+
+
+def _fmt_rpm(rpm):
+    return plain(rpm, "rpm", sig=4) if rpm is not None else "the service speed"
+
+
+def verdict(doc: Mapping) -> dict:
+    """The banner dict of :func:`stand.reports.html.banner_html` for a balancing report."""
+    bq = doc.get("balancing_quality") or {}
+    iso = bq.get("iso_21940_11") or {}
+    hd = doc.get("header") or {}
+    rep = doc.get("report") or {}
+    G = iso.get("grade_mm_s")
+    rpm = iso.get("service_speed_rpm")
+    passed = iso.get("passed")
+    two = doc.get("two_plane")
+    if two and isinstance(two.get("iso_21940_11"), Mapping):
+        passed = two["iso_21940_11"].get("passed")
+    where = f"G{plain(G, sig=2)} at {_fmt_rpm(rpm)}" if G else "ISO 21940-11"
+    if passed is True:
+        status, headline = "pass", f"PASS — {where}: the residual unbalance is within the permissible"
+    elif passed is False:
+        status, headline = "fail", f"FAIL — {where}: the residual unbalance exceeds the permissible"
+    else:
+        status, headline = "info", f"No verdict — {where} not evaluated (see the notes)"
+    lines = []
+    U, sU, Up = bq.get("residual_unbalance_gmm"), bq.get("residual_unbalance_gmm_std"), \
+        iso.get("permissible_residual_gmm")
+    if iso.get("achieved_grade_mm_s") is not None:
+        lines.append(f"Achieved grade {show('achieved_grade_mm_s', iso['achieved_grade_mm_s'], iso.get('achieved_grade_mm_s_std'))}"
+                     f" (class {iso.get('achieved_class')}); required G{plain(G, sig=2)} mm/s")
+    if U is not None:
+        shown = show("residual_unbalance_gmm", U, sU)
+        if shown.startswith("below resolution") or not Up:
+            frac = "; the permissible is"
+        else:
+            frac = f" = {plain(100 * U / Up, '%', sig=2)} of the permissible"
+        lines.append(f"Residual unbalance {shown}{frac} "
+                     f"{plain(Up, 'g·mm', sig=3) if Up else 'not known'}")
+    if two:
+        for p in two.get("planes", []):
+            lines.append(f"Plane {p.get('plane')}: {show('unbalance_gmm', p.get('unbalance_gmm'), p.get('unbalance_gmm_std'))}"
+                         f" at {plain(p.get('angle_deg'), '°', sig=3)}; permissible "
+                         f"{plain(p.get('permissible_gmm'), 'g·mm', sig=3)}: "
+                         f"{'pass' if p.get('passed') else 'FAIL'}")
+    rotor = hd.get("scene_name") or "—"
+    if hd.get("description"):
+        rotor += f" — {hd['description']}"
+    if hd.get("rotor_mass_kg") is not None:
+        rotor += f"; rotor mass {plain(hd['rotor_mass_kg'], 'kg')}"
+    lines.append(f"Rotor: {rotor}")
+    lines.append(f"Recording: {rep.get('recording', '—')} · report generated "
+                 f"{rep.get('generated', '—')} by {rep.get('generator', 'stand')}")
+    return {"status": status, "headline": headline, "lines": lines}
+
+
+# ------------------------------------------------------------------ tables
+def _rows(d: Mapping, keys=None) -> list:
+    """(label, text) rows of a flat mapping; ``*_std`` keys merge into their value; the
+    angle of a vector below its resolution is not shown as a number."""
+    out = []
+    for k in (keys or list(d)):
+        if k not in d or k.endswith("_std"):
+            continue
+        v = d[k]
+        if isinstance(v, Mapping) or (isinstance(v, list) and v and isinstance(v[0], Mapping)):
+            continue
+        text = show(k, v, d.get(k + "_std"))
+        vec = k.replace("_angle_deg", "_gmm")
+        if k.endswith("_angle_deg") and vec in d and d[vec] is not None \
+                and show(vec, d[vec], d.get(vec + "_std")).startswith("below resolution"):
+            text = "undefined (the unbalance is below resolution)"
+        out.append((label(k), text))
+    return out
+
+
+def _table(rows) -> str:
+    return "<table>" + "".join(f"<tr><th>{html.escape(a)}</th><td>{html.escape(b)}</td></tr>"
+                               for a, b in rows) + "</table>"
+
+
+def _list_table(rows: list, keys=None) -> str:
+    keys = keys or [k for r in rows[:1] for k in r if not k.endswith("_std")]
+    for r in rows:
+        for k in r:
+            if k not in keys and not k.endswith("_std"):
+                keys.append(k)
+    head = "".join(f"<th>{html.escape(label(k))}</th>" for k in keys)
+    body = []
+    for r in rows:
+        cells = []
+        for k in keys:
+            v = r.get(k)
+            cls = ""
+            if k in ("passed", "settled", "ok") and isinstance(v, bool):
+                cls = " class='pass'" if v else " class='fail'"
+            elif isinstance(v, (int, float)) and not isinstance(v, bool):
+                cls = " class='num'"
+            text = _nested(v) if isinstance(v, Mapping) else html.escape(show(k, v, r.get(k + "_std")))
+            cells.append(f"<td{cls}>{text}</td>")
+        body.append("<tr>" + "".join(cells) + "</tr>")
+    return f"<table><tr>{head}</tr>{''.join(body)}</table>"
+
+
+def _nested(d: Mapping) -> str:
+    """Every field of a section, labelled (the collapsed "all fields" tables)."""
+    parts = ["<table>"]
+    for k, v in d.items():
+        if k.endswith("_std") and k[:-4] in d:
+            continue
+        if isinstance(v, Mapping):
+            cell = _nested(v)
+        elif isinstance(v, list) and v and all(isinstance(r, Mapping) for r in v):
+            cell = _list_table(v)
+        elif isinstance(v, list) and v and all(isinstance(x, str) for x in v):
+            cell = "<ul>" + "".join(f"<li>{html.escape(x)}</li>" for x in v) + "</ul>"
+        else:
+            cell = html.escape(show(k, v, d.get(k + "_std")))
+        parts.append(f"<tr><th>{html.escape(label(k))}</th><td>{cell}</td></tr>")
+    parts.append("</table>")
+    return "".join(parts)
+
+
+def _details(title, inner, open_=False) -> str:
+    return (f"<details{' open' if open_ else ''}><summary>{html.escape(title)}</summary>"
+            f"{inner}</details>")
+
+
+def _figure(cap, uri) -> str:
+    return f"<figure><img alt='{html.escape(cap)}' src='{uri}'><figcaption>{html.escape(cap)}</figcaption></figure>"
+
+
+QUALITY_KEYS = ("residual_unbalance_gmm", "residual_unbalance_angle_deg", "specific_unbalance_um",
+                "residual_zone_label", "initial_unbalance_gmm", "initial_unbalance_source",
+                "residual_speed_hz", "response_1x_m", "truth_residual_unbalance_gmm")
+ISO_KEYS = ("grade_mm_s", "service_speed_rpm", "permissible_residual_gmm",
+            "permissible_specific_unbalance_um", "achieved_grade_mm_s", "achieved_class", "passed")
+
+
+def _critical_speeds(rows: list) -> str:
+    """Three tables: theory, the recording's 1X resonance, the weights' synchrony events."""
+    theory = [r for r in rows if str(r.get("source", "")).startswith("theory")]
+    resonance = [r for r in rows if "resonance" in str(r.get("source", ""))]
+    sync = [r for r in rows if "synchrony" in str(r.get("source", ""))]
+    other = [r for r in rows if r not in theory and r not in resonance and r not in sync]
+    parts = []
+    if theory:
+        parts.append("<h3>Critical speeds from the theory</h3>" + _list_table(
+            [{k: v for k, v in r.items() if k not in ("nearest_theory_hz", "difference_hz")}
+             for r in theory]))
+    if resonance:
+        parts.append("<h3>Critical speed from the recording (1X resonance of the run)</h3>"
+                     + _list_table([{k: v for k, v in r.items()
+                                     if k not in ("nearest_theory_hz", "difference_hz")}
+                                    for r in resonance]))
+    if sync:
+        parts.append("<h3>Weights gaining or losing synchrony during the run</h3>"
+                     "<p>These are not critical speeds: during a run-up the weights lag and "
+                     "gain synchrony above the critical speed of a slow speed change.</p>"
+                     + _list_table([{k: v for k, v in r.items()
+                                     if k not in ("nearest_theory_hz", "difference_hz")}
+                                    for r in sync]))
+    if other:
+        parts.append(_list_table(other))
+    return "".join(parts)
+
+
+def page_body(doc: Mapping, figures: Mapping | None = None) -> str:
+    """The HTML after the banner (module docstring); ``figures`` = ``{caption: PNG data URI}``."""
+    figures = dict(figures or {})
+    parts = ["<nav class='meta'>" + " · ".join(
+        f"<a href='#{a}'>{t}</a>" for a, t in (("figures", "Figures"), ("quality", "Balancing quality"),
+                                              ("dynamics", "Dynamics"), ("warnings", "Warnings and notes"),
+                                              ("details", "All fields"))) + "</nav>"]
+    main = [(c, u) for c, u in figures.items() if any(c.startswith(m) for m in _MAIN_FIGS)]
+    if main:
+        parts.append("<h2 id='figures' class='first'>Key figures</h2><div class='keyfigs'>"
+                     + "".join(_figure(c, u) for c, u in main) + "</div>")
+    bq = doc.get("balancing_quality") or {}
+    iso = bq.get("iso_21940_11") or {}
+    parts.append("<h2 id='quality'>Balancing quality</h2>")
+    parts.append(_table(_rows(bq, QUALITY_KEYS)))
+    parts.append("<h3>ISO 21940-11</h3>" + _table(_rows(iso, ISO_KEYS)))
+    red = bq.get("reduction") or {}
+    if red.get("applicable"):
+        f, lb = red.get("factor"), red.get("factor_lower_bound")
+        pct = red.get("percent")
+        pct_text = "> 99.99 %" if pct is not None and pct > 99.99 else plain(pct, "%", sig=4)
+        parts.append("<h3>Unbalance reduction by the balancer</h3>" + _table([
+            ("Reduction factor", plain(f, sig=2) + (f" (at least {plain(lb, sig=2)})" if lb else "")),
+            ("Reduction", pct_text + " · " + plain(red.get("decibel"), "dB", sig=3)),
+            ("Basis", str(red.get("basis", "")))]))
+    if bq.get("seed_criteria"):
+        parts.append("<h3>Criteria of the seed documents</h3>" + _list_table(bq["seed_criteria"]))
+    if bq.get("ring_reading"):
+        parts.append(_details("Reading against the calibration rings", _table(_rows(bq["ring_reading"]))))
+    two = doc.get("two_plane")
+    if two:
+        parts.append("<h2 id='two_plane'>Two-plane balancing</h2>"
+                     + _list_table(two.get("planes", []),
+                                   ["plane", "unbalance_gmm", "angle_deg", "correction_angle_deg",
+                                    "permissible_gmm", "passed", "passed_with_uncertainty"])
+                     + _details("Screens and method", _nested({k: v for k, v in two.items()
+                                                               if k != "planes"})))
+    lab = doc.get("lab_identification")
+    if lab:
+        parts.append("<h2 id='lab'>Identification from the lab record</h2>" + _table(_rows(lab, (
+            "speed_source", "critical_speed_hz", "critical_speed_method", "natural_frequency_hz",
+            "damping_ratio", "unbalance_gmm", "unbalance_angle_deg", "specific_unbalance_gmm_per_kg",
+            "unbalance_method", "mass_kg"))))
+        if lab.get("excluded_rows"):
+            parts.append("<h3>Rows left out of the analysis</h3>" + _list_table(lab["excluded_rows"]))
+        parts.append(_details("Input table, programme, resonance and model fit", _nested(
+            {k: lab[k] for k in ("input", "programme", "resonance", "model_fit") if lab.get(k)})))
+    dyn = doc.get("dynamics") or {}
+    parts.append("<h2 id='dynamics'>Dynamics</h2>")
+    nf = dyn.get("natural_frequency") or {}
+    parts.append(_table(_rows(nf) + [(label("final_regime"), show("final_regime", dyn.get("final_regime")))]))
+    if dyn.get("critical_speeds"):
+        parts.append(_critical_speeds(dyn["critical_speeds"]))
+    if dyn.get("regime_timeline"):
+        parts.append(_details(label("regime_timeline"), _list_table(dyn["regime_timeline"])))
+    if dyn.get("settling"):
+        parts.append(_details(label("settling"), _list_table(dyn["settling"])))
+    parts.append("<h2 id='warnings'>Warnings and notes</h2>")
+    warns = doc.get("warnings") or []
+    parts.append(_list_table(warns, ["severity", "message", "code"]) if warns else "<p>No warnings.</p>")
+    notes = doc.get("notes") or []
+    if notes:
+        parts.append(_details(f"Notes ({len(notes)})", "<ul>" + "".join(
+            f"<li>{html.escape(str(n))}</li>" for n in notes) + "</ul>"))
+    rest = [(c, u) for c, u in figures.items() if (c, u) not in main]
+    if rest:
+        parts.append(_details("More figures", "".join(_figure(c, u) for c, u in rest), open_=True))
+    parts.append("<h2 id='details'>All fields</h2>")
+    for k, v in doc.items():
+        if isinstance(v, Mapping):
+            parts.append(_details(label(k), _nested(v)))
+    return "\n".join(parts)
+
+
+def pdf_tables(doc: Mapping) -> list:
+    """``[(section title, [(label, text), ...]), ...]`` for :func:`stand.reports.pdf.write_pdf`."""
+    bq = doc.get("balancing_quality") or {}
+    out = [("Balancing quality", _rows(bq, QUALITY_KEYS)),
+           ("ISO 21940-11", _rows(bq.get("iso_21940_11") or {}, ISO_KEYS)),
+           ("Machine and run", _rows(doc.get("header") or {})),
+           ("Natural frequency and damping", _rows((doc.get("dynamics") or {}).get("natural_frequency") or {}))]
+    crit = (doc.get("dynamics") or {}).get("critical_speeds") or []
+    if crit:
+        out.append(("Critical speeds", [(str(r.get("source")), show("speed_hz", r.get("speed_hz"),
+                                                                      r.get("speed_hz_std")))
+                                         for r in crit]))
+    if doc.get("warnings"):
+        out.append(("Warnings", [(w.get("severity", ""), w.get("message", "")) for w in doc["warnings"]]))
+    if doc.get("notes"):
+        out.append(("Notes", [("", str(n)) for n in doc["notes"]]))
+    return out

@@ -1,0 +1,171 @@
+"""The balancing report as a person reads it (issue 20): verdict first, human labels shared
+with docs/reports.md, numbers rounded to their uncertainty, the polar plot, file permissions.
+"""
+import html
+import json
+import math
+import os
+import re
+from pathlib import Path
+
+import pytest
+
+from stand.reports.balancing import balancing_report
+from stand.reports.labels import LABELS, markdown_table
+from stand.reports.numbers import plain, with_uncertainty
+
+ROOT = Path(__file__).resolve().parents[1]
+SAMPLE = ROOT / "data_samples" / "recordings" / "stand_cameras.h5"
+
+
+@pytest.fixture(scope="module")
+def sample(tmp_path_factory):
+    d = tmp_path_factory.mktemp("pres")
+    old = os.umask(0o022)
+    try:
+        doc = balancing_report(SAMPLE, html_path=d / "r.html", json_path=d / "r.json")
+    finally:
+        os.umask(old)
+    return doc, (d / "r.html").read_text("utf-8"), d
+
+
+def _text_nodes(page: str) -> list:
+    body = page[page.index("<body>"):]
+    body = re.sub(r"<script.*?</script>", "", body, flags=re.S)
+    return [html.unescape(t).strip() for t in re.split(r"<[^>]+>", body) if t.strip()]
+
+
+def _keys(o, out=None):
+    out = set() if out is None else out
+    if isinstance(o, dict):
+        for k, v in o.items():
+            out.add(k)
+            _keys(v, out)
+    elif isinstance(o, list):
+        for v in o:
+            _keys(v, out)
+    return out
+
+
+# ------------------------------------------------------------------ numbers
+@pytest.mark.parametrize("v,u,text", [
+    (240.2616, 0.028, "240.262 ± 0.028"),
+    (3600.0, 12.3, "3600 ± 12"),
+    (-112.94, 49.7, "-113 ± 50"),
+    (3.2e-7, 1.1e-8, "(3.20 ± 0.11) × 10⁻⁷"),
+    (2.5e9, 3e7, "(2.500 ± 0.030) × 10⁹"),
+    (8.1e-6, 1.9e-5, "below resolution (< 1.9 × 10⁻⁵)"),
+])
+def test_rounding_to_the_uncertainty(v, u, text):
+    assert with_uncertainty(v, u) == text
+
+
+def test_plain_numbers_have_four_significant_digits_and_no_trailing_zeros():
+    assert plain(899.99981, "rpm") == "900 rpm"
+    assert plain(4.45, "kg") == "4.45 kg"
+    assert plain(443671133.2) == "4.437 × 10⁸"
+    assert plain(12) == "12"
+
+
+# ------------------------------------------------------------------ the page
+def test_verdict_is_the_first_thing_on_the_page(sample):
+    doc, page, _ = sample
+    body = page[page.index("<body>"):]
+    first = re.findall(r"<(h1|div|h2|table|figure)\b", body)[:2]
+    assert first == ["h1", "div"] and "id='verdict' class='pass'" in body
+    nodes = _text_nodes(page)
+    assert nodes[1].startswith("PASS — G6.3 at 900 rpm")
+    banner = body[body.index("id='verdict'"):body.index("</div>")]
+    for needed in ("Achieved grade", "Residual unbalance", "303 g·mm", "stand_cameras.h5",
+                   "stand 0.", "UTC"):
+        assert needed in html.unescape(banner), needed
+    assert str(SAMPLE.resolve()) not in page          # the file's name, not its path
+    assert doc["report"]["recording"] == "stand_cameras.h5"
+
+
+def test_no_label_is_a_raw_json_key(sample):
+    doc, page, _ = sample
+    raw = {k for k in _keys(doc) if "_" in k}
+    shown = set(_text_nodes(page))
+    assert not (raw & shown), sorted(raw & shown)
+
+
+def test_every_value_with_an_uncertainty_is_rounded_to_it(sample):
+    _, page, _ = sample
+    text = "\n".join(_text_nodes(page))
+    pairs = re.findall(r"\(?(-?\d+(?:\.\d+)?) ± (\d+(?:\.\d+)?)\)?", text)
+    assert len(pairs) >= 3, "the sample shows values with uncertainties"
+    for v, u in pairs:
+        dv = len(v.split(".")[1]) if "." in v else 0
+        du = len(u.split(".")[1]) if "." in u else 0
+        assert dv == du, f"{v} ± {u}: not the same last digit"
+        digits = u.replace(".", "").lstrip("0")
+        assert 1 <= len(digits) <= 2 or set(digits[2:]) <= {"0"}, f"{v} ± {u}: uncertainty to 2 digits"
+    assert "e-0" not in text and "e+0" not in text         # powers of ten, not exponents
+
+
+def test_events_are_named_for_what_they_are(sample):
+    _, page, _ = sample
+    text = "\n".join(_text_nodes(page))
+    assert "Critical speeds from the theory" in text
+    assert "Weights gaining or losing synchrony during the run" in text
+    assert "These are not critical speeds" in text
+    # no "difference from theory" next to synchrony events
+    sync = page[page.index("Weights gaining or losing"):]
+    sync = sync[:sync.index("</table>")]
+    assert "Nearest theory critical speed" not in sync
+
+
+def test_polar_plot_and_key_figures_come_before_the_tables(sample):
+    _, page, _ = sample
+    i_polar = page.index("polar plot: unbalance before and after")
+    assert i_polar < page.index("orbit / laser trace") < page.index("id='quality'")
+    assert "<details>" in page                      # detail tables collapsed
+
+
+def test_report_files_have_normal_permissions(sample):
+    _, _, d = sample
+    for name in ("r.html", "r.json"):
+        assert (d / name).stat().st_mode & 0o777 == 0o644
+
+
+def test_labels_table_is_the_one_in_the_docs():
+    docs = (ROOT / "docs" / "reports.md").read_text()
+    block = docs[docs.index("<!-- labels:begin -->") + len("<!-- labels:begin -->"):
+                 docs.index("<!-- labels:end -->")]
+    assert block.strip() == markdown_table().strip(), \
+        "docs/reports.md: regenerate the table with `python -m stand.reports.labels`"
+
+
+def test_every_schema_key_has_a_label():
+    from stand.reports.balancing_lab import LAB_SCHEMA
+    from stand.reports.balancing_schema import SCHEMA
+
+    missing = sorted(k for k in _keys(SCHEMA) | _keys(LAB_SCHEMA) if k not in LABELS)
+    assert not missing, missing
+
+
+def test_folder_summary_links_each_report_failures_first(tmp_path):
+    import shutil
+
+    from stand.cli import main
+
+    src = tmp_path / "in"
+    src.mkdir()
+    shutil.copy(SAMPLE, src / "b_cameras.h5")                       # passes G6.3
+    (src / "a_broken.h5").write_bytes(b"not a recording")            # cannot be reported
+    shutil.copy(ROOT / "data_samples" / "daq" / "daq_runup.csv", src / "c_daq.csv")   # fails G6.3
+    out = tmp_path / "out"
+    out.mkdir()
+    code = main(["report", str(src), "-o", str(out), "--summary", str(tmp_path / "s.csv"),
+                 "--map", str(ROOT / "data_samples" / "daq" / "daq_runup.map.toml"), "--workers", "1"])
+    assert code == 0
+    page = (out / "index.html").read_text()
+    order = [page.index(n) for n in ("a_broken.h5", "c_daq.csv", "b_cameras.h5")]
+    assert order == sorted(order)                                     # unreadable, failed, passed
+    assert "href='c_daq.html'" in page and "href='b_cameras.html'" in page
+    assert (out / "c_daq.html").exists() and "id='verdict' class='fail'" in page
+    import pandas as pd
+
+    s = pd.read_csv(tmp_path / "s.csv")
+    assert [Path(f).name for f in s["file"]] == ["a_broken.h5", "c_daq.csv", "b_cameras.h5"]
