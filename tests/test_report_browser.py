@@ -1,0 +1,119 @@
+"""The HTML reports in a real browser (headless Chromium, tests/_browser.py).
+
+Each report is opened at 1280 x 900 CSS px: no console error, no request that
+leaves the machine, and the verdict banner (``#verdict``) inside the first
+screen.  Skipped where no Chromium is installed (CI's .ci/run installs it from
+the distribution when it can).
+"""
+import json
+
+import pytest
+from _browser import find_chromium, render
+
+from stand.cli import main
+
+pytestmark = pytest.mark.skipif(find_chromium() is None,
+                                reason="Chromium not installed (apt-get install chromium)")
+
+WIDTH, HEIGHT = 1280, 900
+SAMPLE = "data_samples/recordings/stand_cameras.h5"
+SHORT_SCENE = open("data_samples/scenes/ball_runup.toml").read().replace(
+    "duration = 40.0", "duration = 4.0")
+#: one cheap stress case (8 balls balance in 100 tau, well under a second)
+CHEAP_CASE = """
+[[case]]
+name = "{name}"
+kind = "dimensionless"
+check = "balanced"
+tolerance = {tol}
+time_budget_s = 60.0
+[case.params]
+n = 8
+Rt = 0.01
+h = 0.5
+H = 0.1
+e0 = 0.3
+R = 3.0
+duration_tau = 100.0
+"""
+
+
+def _png_size(png: bytes) -> tuple:
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    return int.from_bytes(png[16:20], "big"), int.from_bytes(png[20:24], "big")
+
+
+def assert_clean_and_verdict_first(page_path):
+    """Render the page; no console error, nothing external, #verdict on the first screen."""
+    r = render(page_path, width=WIDTH, height=HEIGHT)
+    assert r["console_errors"] == []
+    assert r["network_errors"] == []
+    assert r["requests"] == []
+    box = r["boxes"]["#verdict"]
+    assert box is not None, "no #verdict element"
+    assert box["height"] > 0 and box["width"] > 0
+    assert box["top"] + box["height"] <= HEIGHT, box
+    assert _png_size(r["screenshot_png"]) == (WIDTH, HEIGHT)
+    return box
+
+
+# ------------------------------------------------------------- the harness itself
+def test_harness_sees_console_errors_external_requests_and_layout(tmp_path):
+    bad = tmp_path / "bad.html"
+    bad.write_text("<!DOCTYPE html><html><head><title>bad</title></head><body>"
+                   "<div id='verdict'>PASS</div><img src='http://example.invalid/x.png'>"
+                   "<script>console.error('boom')</script></body></html>")
+    r = render(bad, timeout=20)
+    assert len(r["console_errors"]) == 1 and "boom" in r["console_errors"][0]
+    assert r["requests"] == ["http://example.invalid/x.png"]
+    assert r["title"] == "bad"
+
+    low = tmp_path / "low.html"     # a banner pushed below the first screen, an uncaught error
+    low.write_text("<!DOCTYPE html><html><body style='margin:0'>"
+                   "<div style='height:1200px'></div><div id='verdict' style='height:50px'>FAIL"
+                   "</div><script>undefinedFunction()</script></body></html>")
+    r = render(low, selectors=("#verdict", "#missing"), timeout=20)
+    assert len(r["console_errors"]) == 1 and "undefinedFunction" in r["console_errors"][0]
+    assert r["requests"] == []
+    box = r["boxes"]["#verdict"]
+    assert box["top"] == pytest.approx(1200, abs=0.5) and box["height"] == pytest.approx(50, abs=0.5)
+    assert box["text"] == "FAIL" and box["width"] == pytest.approx(WIDTH, abs=0.5)
+    assert r["boxes"]["#missing"] is None
+
+
+def test_harness_times_out_with_a_clear_error(tmp_path):
+    page = tmp_path / "hang.html"
+    page.write_text("<!DOCTYPE html><html><body><script>while (true) {}</script></body></html>")
+    with pytest.raises(AssertionError, match="time limit"):
+        render(page, timeout=3)
+
+
+# ------------------------------------------------------------- the reports
+def test_balancing_report_verdict_on_the_first_screen(tmp_path):
+    out = tmp_path / "r.html"
+    assert main(["report", SAMPLE, "-o", str(out)]) == 0
+    box = assert_clean_and_verdict_first(out)
+    text = box["text"].upper()
+    assert "PASS" in text or "FAIL" in text, box["text"]
+
+
+def test_accuracy_report_recommendation_on_the_first_screen(tmp_path):
+    scene = tmp_path / "s.toml"
+    scene.write_text(SHORT_SCENE)
+    out, js = tmp_path / "accuracy.html", tmp_path / "accuracy.json"
+    assert main(["accuracy", str(scene), "-o", str(out), "--json-file", str(js),
+                 "--methods", "DOP853,RK4", "--rtols", "1e-6,1e-9"]) == 0
+    headline = json.loads(js.read_text())["verdict"]["headline"]
+    assert headline.startswith("Use ")
+    box = assert_clean_and_verdict_first(out)
+    assert box["text"].startswith(headline), box["text"]
+
+
+def test_stress_report_verdict_on_the_first_screen(tmp_path):
+    cat = tmp_path / "cat.toml"
+    cat.write_text(CHEAP_CASE.format(name="fine", tol=1e-3)
+                   + CHEAP_CASE.format(name="impossible", tol=1e-30), encoding="utf-8")
+    out = tmp_path / "stress.html"
+    assert main(["stress", "--catalogue", str(cat), "-o", str(out)]) == 1   # one case fails
+    box = assert_clean_and_verdict_first(out)
+    assert box["text"].startswith("1 of 2 cases failed: impossible"), box["text"]
