@@ -7,6 +7,7 @@ import json
 import re
 
 import pytest
+from _html import body_children
 
 from stand.reports.html import check_schema
 from stand.reports.stress import (CASE_SCHEMA, DEFAULT_CATALOGUE, SCHEMA, CatalogueError,
@@ -115,6 +116,28 @@ def test_html_has_no_external_urls(fast_report):
     html = (d / "stress.html").read_text()
     assert "<img" in html
     assert_no_external_urls(html)
+
+
+def test_html_verdict_first_then_one_line_per_case(fast_report):
+    doc, d = fast_report
+    h1, banner, cases = body_children((d / "stress.html").read_text())[:3]
+    n = doc["summary"]["n_cases"]
+    assert h1["tag"] == "h1"
+    assert banner["attrs"] == {"id": "verdict", "class": "pass"}
+    assert banner["lines"][0] == f"{n} of {n} cases passed"
+    assert cases["tag"] == "ul" and cases["attrs"]["id"] == "case-list"
+    assert cases["lines"] == [f"{c['name']}: passed" for c in doc["cases"]]
+
+
+def test_failed_case_is_named_in_the_verdict_with_its_reason(tmp_path):
+    doc = run_stress(write(tmp_path, cheap("fine") + cheap("impossible", tol=1e-30)),
+                     html_path=tmp_path / "r.html")
+    reason = doc["cases"][1]["reason"]
+    assert "1e-30" in reason
+    h1, banner, cases = body_children((tmp_path / "r.html").read_text())[:3]
+    assert banner["attrs"] == {"id": "verdict", "class": "fail"}
+    assert banner["lines"][0] == "1 of 2 cases failed: impossible"
+    assert cases["lines"] == ["fine: passed", f"impossible: failed — {reason}"]
 
 
 def test_added_case_runs(tmp_path):

@@ -1,13 +1,15 @@
 """Error against run time (`stand accuracy -o accuracy.html`): the accuracy
 ladder of :mod:`stand.accuracy` as a report with a work-precision plot and the
-recommended setting for the scene."""
+recommended setting for the scene, stated first ("Use DOP853 at rtol 1e-8:
+2e-9 relative error in 0.3 s", :func:`accuracy_banner`)."""
 from __future__ import annotations
 
 import math
+import re
 
 from .html import check_schema, figure_png, write_report
 
-__all__ = ["accuracy_report", "recommend", "SCHEMA", "DEFAULT_TARGET"]
+__all__ = ["accuracy_report", "recommend", "accuracy_banner", "SCHEMA", "DEFAULT_TARGET"]
 
 DEFAULT_TARGET = 1e-6     #: relative error a recommended setting must reach
 
@@ -52,6 +54,67 @@ def recommend(rows, target: float = DEFAULT_TARGET) -> dict:
         best = min(ok, key=lambda r: r["relative_error"])
         return {"target_relative_error": target, "reached": False, **best}
     return {"target_relative_error": target, "reached": False}
+
+
+def _num(x: float, digits: int = 1) -> str:
+    """``x`` with ``digits`` significant digits, exponent without padding: 2e-9, 0.31, 12."""
+    text = f"{x:.{digits}g}"
+    return re.sub(r"e([+-])0*(\d)", lambda m: "e" + ("-" if m[1] == "-" else "") + m[2], text)
+
+
+def _seconds(t: float) -> str:
+    """A wall time [s] to 1-2 significant digits: ``0.79 ms``, ``0.3 s``, ``1.2 s``, ``14 s``."""
+    if t >= 10:
+        return f"{t:.0f} s"
+    return f"{_num(t, 2)} s" if t >= 0.1 else f"{_num(t * 1e3, 2)} ms"
+
+
+def _setting(rec) -> str:
+    """The run's setting in words: ``DOP853 at rtol 1e-8`` / ``RK4 with a fixed step of 1e-3 s``."""
+    if rec.get("rtol") is not None:
+        return f"{rec['method']} at rtol {_num(rec['rtol'], 6)}"
+    return f"{rec['method']} with a fixed step of {_num(rec['step_s'], 6)} s"
+
+
+def accuracy_banner(doc) -> dict:
+    """The recommendation as a verdict banner (:func:`stand.reports.html.banner_html`).
+
+    Parameters
+    ----------
+    doc : mapping
+        The report (:data:`SCHEMA`): ``recommended`` (:func:`recommend`),
+        ``reference``, ``runs``.
+
+    Returns
+    -------
+    dict
+        ``status`` "info" when a setting reaches the target, else "fail";
+        ``headline`` e.g. "Use DOP853 at rtol 1e-8: 2e-9 relative error in 0.3 s"
+        (errors to 1 significant digit, times to 1-2); ``lines``: the target
+        and the reference the errors are measured against.
+    """
+    rec, ref = doc["recommended"], doc["reference"]
+    target = _num(rec["target_relative_error"], 2)
+    n = len(doc["runs"])
+    if rec.get("method") is None:
+        status, headline = "fail", f"No run succeeded: no setting to recommend ({n} runs)"
+        first = f"Target: relative error ≤ {target}; none of the {n} runs finished."
+    else:
+        got = (f"{_num(rec['relative_error'])} relative error in {_seconds(rec['wall_time_s'])}")
+        if rec["reached"]:
+            status, headline = "info", f"Use {_setting(rec)}: {got}"
+            first = (f"Target: relative error ≤ {target} (max |r - r_ref| / max |r_ref|); "
+                     f"the fastest of the {n} runs that reach it.")
+        else:
+            status = "fail"
+            headline = f"No setting reaches {target}; the most accurate: {_setting(rec)}: {got}"
+            first = (f"Target: relative error ≤ {target} (max |r - r_ref| / max |r_ref|); "
+                     f"none of the {n} runs reaches it.")
+    own = ref.get("own_error_m")
+    second = (f"Reference: {ref['name']}"
+              + (f" (its own error ~ {_num(own)} m)" if own else "")
+              + f"; max |r_ref| = {_num(ref['scale_m'], 2)} m.")
+    return {"status": status, "headline": headline, "lines": [first, second]}
 
 
 def _rows(rep) -> list:
@@ -114,7 +177,8 @@ def accuracy_report(scene, *, rtols=(1e-4, 1e-6, 1e-8, 1e-10), methods=None, rk4
     -------
     dict
         The report (plain JSON types, :data:`SCHEMA`; rows :data:`ROW_SCHEMA`):
-        errors in m and relative to max |r_ref|, times in s.
+        errors in m and relative to max |r_ref|, times in s; ``verdict`` the
+        recommendation in words (:func:`accuracy_banner`), shown first in the HTML.
     """
     from ..accuracy import accuracy
 
@@ -133,9 +197,11 @@ def accuracy_report(scene, *, rtols=(1e-4, 1e-6, 1e-8, 1e-10), methods=None, rk4
                   "step_s": "s (fixed-step RK4)", "free_whirl_drift":
                   "relative change of the free-whirl amplitude |c+| at the end of the run-up"},
     }
+    doc["verdict"] = accuracy_banner(doc)
     figs = {"work-precision: error against wall time": _plot(rows, rep.scene)} if html_path else None
     plain = write_report(f"Error against run time: {rep.scene}", doc, html_path, json_path, figs,
-                         sections=("scene", "recommended", "reference", "runs", "units"))
+                         sections=("scene", "recommended", "reference", "runs", "units"),
+                         banner=doc["verdict"])
     problems = check_schema(plain, SCHEMA)
     for i, r in enumerate(plain["runs"]):
         problems += check_schema(r, ROW_SCHEMA, f"runs[{i}].")

@@ -7,7 +7,9 @@ catalogue (stand stress)").  Each case names a *kind* (which model is run and
 how), its *params*, the *check* (what is compared with what), a *tolerance*
 and a *time budget*.  :func:`run_stress` runs them and returns a JSON document
 (schema :data:`SCHEMA` / :data:`CASE_SCHEMA`), optionally written as JSON and
-as one self-contained HTML file through :mod:`stand.reports.html`.
+as one self-contained HTML file through :mod:`stand.reports.html` (the verdict
+banner, then one line per case, "NAME: passed" / "NAME: failed — why":
+:mod:`stand.reports.stress_page`).
 
 For every case the report gives: the method chosen (``"auto"`` unless the
 case asks otherwise) and why, whether the run converged, the error against
@@ -91,6 +93,7 @@ from .html import figure_png, write_report
 from .stress_cases import RUNNERS, outcome, warm
 from .stress_catalogue import (DEFAULT_CATALOGUE, KINDS, CatalogueError, load_catalogue,
                                select_cases)
+from .stress_page import stress_banner, stress_body
 
 __all__ = ["run_stress", "load_catalogue", "CatalogueError", "SCHEMA", "CASE_SCHEMA",
            "DEFAULT_CATALOGUE", "KINDS"]
@@ -322,7 +325,8 @@ def run_stress(catalogue_path=DEFAULT_CATALOGUE, *, cases=None, html_path=None, 
     if html_path and out:
         figs = {"case time against budget; error against tolerance (green: pass, red: fail)":
                 figure_png(_figure(out))}
-    if html_path or json_path:
+    if html_path or json_path:   # verdict first, then one line per case (stress_page)
         write_report(TITLE, plain, html_path=html_path, json_path=json_path, figures=figs,
-                     sections=["summary", "cases"])
+                     sections=["summary", "cases"], banner=stress_banner(plain),
+                     body=lambda d: stress_body(d, figs))
     return plain
