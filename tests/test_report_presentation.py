@@ -169,3 +169,17 @@ def test_folder_summary_links_each_report_failures_first(tmp_path):
 
     s = pd.read_csv(tmp_path / "s.csv")
     assert [Path(f).name for f in s["file"]] == ["a_broken.h5", "c_daq.csv", "b_cameras.h5"]
+
+
+def test_pdf_first_page_holds_the_verdict(tmp_path):
+    pypdf = pytest.importorskip("pypdf")
+    from stand.cli import main
+
+    pdf = tmp_path / "r.pdf"
+    assert main(["report", str(SAMPLE), "--pdf", str(pdf)]) == 0
+    reader = pypdf.PdfReader(str(pdf))
+    first = " ".join(reader.pages[0].extract_text().split())
+    assert "PASS — G6.3 at 900 rpm" in first
+    assert "303 g·mm" in first or "303 g" in first
+    rest = " ".join(" ".join(p.extract_text().split()) for p in reader.pages[1:])
+    assert "Residual unbalance" in rest and "Critical speeds" in rest
