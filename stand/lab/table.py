@@ -7,7 +7,8 @@
    and decimal commas recognised; header lines before the table are skipped
    (``# key = value`` / ``key: value`` lines become metadata, e.g. the ring
    radii a ``stand track`` CSV carries); Parquet; an HDF5 table written by
-   pandas (``DataFrame.to_hdf``).
+   pandas (``DataFrame.to_hdf``, fixed or table format), read with h5py so that
+   nothing is unpickled (numeric columns only).
 2. **Map**: the recording map's columns (:mod:`.recording_map`), or the
    well-known names recognised; units converted to SI once.
 3. **Checks**, each one line naming the column and the data rows (1-based,
@@ -115,6 +116,85 @@ def _is_pandas_hdf(path) -> Optional[str]:
     return keys[0] if keys else None
 
 
+def _pickled_names(raw) -> list:
+    """Column names pandas stores as a protocol-0 pickled list of strings, read as text: the
+    arguments of its ``V`` (unicode) and ``S`` (str) opcodes; nothing is unpickled."""
+    text = bytes(raw).decode("latin-1")
+    names, i = [], 0
+    while i < len(text):
+        op = text[i]
+        if op in "pgIFLVS":                       # opcodes with a line argument
+            j = text.find("\n", i)
+            j = len(text) if j < 0 else j
+            arg = text[i + 1:j]
+            if op == "V":
+                names.append(arg.encode("latin-1").decode("raw_unicode_escape"))
+            elif op == "S" and len(arg) >= 2 and arg[0] in "'\"":
+                names.append(arg[1:-1])
+            i = j + 1
+        else:                                     # ( l a t . ) and others without arguments
+            i += 1
+    return names
+
+
+def _read_pandas_hdf(path, key: str, label: str):
+    """A table written by ``DataFrame.to_hdf``, read with h5py: numeric columns only, nothing
+    unpickled (pandas' own reader unpickles object columns: unsafe on a file from elsewhere).
+
+    ``format="fixed"``: the ``block<i>_items`` / ``block<i>_values`` arrays;
+    ``format="table"``: the fields of the ``table`` dataset (``data_columns=True``) and the
+    ``values_block_<i>`` fields with their names.
+    """
+    import h5py
+    import pandas as pd
+
+    cols = {}
+    skipped = []
+    with h5py.File(path, "r") as f:
+        if key not in f:
+            raise TableError(f"{label}: no key {key!r} in this HDF5 file")
+        g = f[key]
+        kind = g.attrs.get("pandas_type", b"")
+        kind = kind.decode() if isinstance(kind, bytes) else str(kind)
+        if kind == "frame":
+            for i in range(int(g.attrs.get("nblocks", 0))):
+                names = [n.decode() if isinstance(n, bytes) else str(n)
+                         for n in g[f"block{i}_items"][()]]
+                vals = g[f"block{i}_values"]
+                if vals.dtype.kind not in "iufb" or vals.ndim != 2:
+                    skipped += names                 # text (pickled object) columns
+                    continue
+                a = vals[()]
+                for j, n in enumerate(names):
+                    cols[n] = a[:, j]
+        elif kind == "frame_table":
+            t = g["table"]
+            data = t[()]
+            for name in data.dtype.names:
+                if name == "index":
+                    continue
+                a = data[name]
+                if name.startswith("values_block_"):
+                    names = _pickled_names(t.attrs.get(f"{name}_kind", b""))
+                    if a.dtype.kind not in "iufb" or len(names) != (a.shape[1] if a.ndim == 2 else 1):
+                        skipped.append(name)
+                        continue
+                    a = a.reshape(a.shape[0], -1)
+                    for j, n in enumerate(names):
+                        cols[n] = a[:, j]
+                elif a.dtype.kind in "iufb" and a.ndim == 1:
+                    cols[name] = a
+                else:
+                    skipped.append(name)
+        else:
+            raise TableError(f"{label}: {key!r} is a pandas {kind or 'object'}, not a DataFrame")
+    if not cols:
+        raise TableError(f"{label}: no numeric column in the pandas table {key!r}")
+    df = pd.DataFrame(cols)
+    df.attrs["skipped_columns"] = skipped
+    return df
+
+
 # ------------------------------------------------------------------ CSV layout
 _META = re.compile(r"^\s*#?\s*([A-Za-z][\w .\-/()\[\]]*?)\s*[:=]\s*(.*?)\s*$")
 _NUMBER = re.compile(r"^\s*[-+]?(\d+([.,]\d*)?|[.,]\d+)([eE][-+]?\d+)?\s*$")
@@ -201,10 +281,9 @@ def read_frame(path, rmap: Optional[RecordingMap] = None):
             key = rmap.key or _is_pandas_hdf(p)
             if key is None:
                 raise TableError(f"{label}: no pandas table in this HDF5 file")
-            return pd.read_hdf(p, key=key), {}
+            return _read_pandas_hdf(p, key, label), {}
     except ImportError as exc:
-        raise TableError(f"{label}: reading it needs {exc.name or exc} "
-                         "(pip install pyarrow / tables)") from None
+        raise TableError(f"{label}: reading it needs {exc.name or exc} (pip install pyarrow)") from None
     except (OSError, ValueError, KeyError) as exc:
         if isinstance(exc, TableError):
             raise
