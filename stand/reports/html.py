@@ -84,27 +84,42 @@ def _fmt(v: Any) -> str:
     return str(v)
 
 
+def _show(k, v, std=None) -> str:
+    """A field as a person reads it: display unit and rounding (stand.reports.balancing_page)."""
+    from .balancing_page import show
+
+    if isinstance(v, (list, tuple)) and not all(isinstance(x, (int, float, str)) for x in v):
+        return _fmt(v)
+    return show(str(k), v, std)
+
+
 def _table(d: Mapping) -> str:
+    from .labels import label
+
     rows = []
     for k, v in d.items():
+        if str(k).endswith("_std") and str(k)[:-4] in d:
+            continue
         if isinstance(v, Mapping):
             cell = _table(v)
         elif isinstance(v, list) and v and all(isinstance(r, Mapping) for r in v):
             cell = _rows_table(v)
         else:
-            cell = html.escape(_fmt(v))
-        rows.append(f"<tr><th>{html.escape(str(k))}</th><td>{cell}</td></tr>")
+            cell = html.escape(_show(k, v, d.get(f"{k}_std")))
+        rows.append(f"<tr><th>{html.escape(label(str(k)))}</th><td>{cell}</td></tr>")
     return "<table>" + "".join(rows) + "</table>"
 
 
 def _rows_table(rows: Iterable[Mapping]) -> str:
+    from .labels import label
+
     rows = list(rows)
     keys = []
     for r in rows:
         for k in r:
-            if k not in keys:
+            if k not in keys and not (str(k).endswith("_std") and str(k)[:-4] in r):
                 keys.append(k)
-    head = "".join(f"<th>{html.escape(str(k))}</th>" for k in keys)
+    head = "".join(f"<th>{html.escape(label(str(k)))}</th>" for k in keys)
     body = []
     for r in rows:
         cells = []
@@ -113,7 +128,7 @@ def _rows_table(rows: Iterable[Mapping]) -> str:
             cls = ""
             if k in ("pass", "passed", "ok") and isinstance(v, bool):
                 cls = ' class="pass"' if v else ' class="fail"'
-            cells.append(f"<td{cls}>{_table(v) if isinstance(v, Mapping) else html.escape(_fmt(v))}</td>")
+            cells.append(f"<td{cls}>{_table(v) if isinstance(v, Mapping) else html.escape(_show(k, v, r.get(f'{k}_std')))}</td>")
         body.append("<tr>" + "".join(cells) + "</tr>")
     return f"<table><tr>{head}</tr>{''.join(body)}</table>"
 
@@ -176,13 +191,17 @@ def render_html(title: str, doc: Mapping, figures: Mapping[str, str] | None = No
         parts.append("</body></html>")
         return "\n".join(parts)
     keys = list(sections) if sections is not None else list(doc)
-    parts.append("<p>" + " · ".join(f"<a href='#{html.escape(k)}'>{html.escape(k)}</a>" for k in keys)
+    from .labels import label as _label
+
+    parts.append("<p>" + " · ".join(f"<a href='#{html.escape(k)}'>{html.escape(_label(k))}</a>" for k in keys)
                  + (" · <a href='#figures'>figures</a>" if figures else "") + "</p>")
     for k in keys:
         if k not in doc:
             continue
         v = doc[k]
-        parts.append(f"<h2 id='{html.escape(k)}'>{html.escape(k.replace('_', ' '))}</h2>")
+        from .labels import label
+
+        parts.append(f"<h2 id='{html.escape(k)}'>{html.escape(label(k))}</h2>")
         if isinstance(v, Mapping):
             parts.append(_table(v))
         elif isinstance(v, list) and v and all(isinstance(r, Mapping) for r in v):
