@@ -11,15 +11,17 @@ window_weights
 spectrum
     Zero-padded windowed amplitude spectrum on its frequency grid [Hz].
 naff
-    Laskar's NAFF search: windowed spectrum peak, bounded Brent refinement of
-    the windowed Fourier integral beyond the FFT bin, Gram-Schmidt (weighted
-    least-squares) subtraction of the lines found so far; optional constant
-    offset and detection thresholds.
+    The line search (the role of Laskar's NAFF): the peak of the zero-padded
+    windowed spectrum of the residual, interpolated between bins (a parabola
+    through the log-magnitudes), then all lines found so far refitted jointly
+    (Gauss-Newton, :mod:`dsp.line_gn`) and subtracted before the next peak;
+    optional constant offset and detection thresholds.
 fit_lines
-    Joint (window-weighted) nonlinear least-squares fit of all frequencies and
-    complex amplitudes by variable projection; sandwich covariance with the
-    residual as noise (for uniform weights the inverse Fisher information,
-    i.e. the Cramer-Rao bound evaluated at the estimates).
+    Joint (window-weighted) least-squares fit of all frequencies and complex
+    amplitudes by Gauss-Newton on the structured normal equations
+    (:mod:`dsp.line_gn`: length-N sums, never an N x P Jacobian); sandwich
+    covariance with the residual as noise (for uniform weights the inverse
+    Fisher information, i.e. the Cramer-Rao bound evaluated at the estimates).
 refine_frequencies, Components, crlb_frequency_std
     The public estimator for a fixed number of components: ``naff`` then the
     unweighted ``fit_lines`` polish (maximum likelihood for white Gaussian
@@ -35,15 +37,15 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import optimize
-
 from .errors import SignalError, check_band, check_signal
+from .line_gn import Sums, columns, gauss_newton, normal_matrix, peak_nu, wls
 
 __all__ = ["window_weights", "spectrum", "naff", "LineFit", "fit_lines",
            "Components", "refine_frequencies", "crlb_frequency_std", "WINDOWS"]
 
 WINDOWS = ("hann", "rect")
-PAD = 8                    #: zero padding of the NAFF spectrum (FFT length >= PAD x N)
+PAD = 2                    #: zero padding of the search spectrum (FFT length >= PAD x N)
+SEARCH_ITER = 2            #: Gauss-Newton steps on the lines found so far, during the search
 LOBE = 2.0                 #: half-width of the Hann main lobe, in frequency resolutions 1/T
 
 
@@ -106,31 +108,6 @@ def spectrum(x, w, dt, pad=1):
     return np.fft.fftfreq(nfft, dt), np.abs(np.fft.fft(w * x, nfft)) / w.sum()
 
 
-def _design(tc, freqs, offset):
-    cols = [np.ones(tc.size, dtype=complex)] if offset else []
-    cols += [np.exp(2j * math.pi * f * tc) for f in freqs]
-    return np.column_stack(cols) if cols else np.zeros((tc.size, 0), complex)
-
-
-def _wls(B, z, sw):
-    """Weighted linear least squares: coefficients of the columns of B."""
-    if B.shape[1] == 0:
-        return np.zeros(0, complex)
-    return np.linalg.lstsq(B * sw[:, None], z * sw, rcond=None)[0]
-
-
-def _refine_peak(tc, r, w, f0, half_width):
-    """Maximise |sum w r e^{-2 pi i f tc}| over [f0 - hw, f0 + hw] (bounded Brent)."""
-    wr = w * r
-
-    def neg(f):
-        return -abs(np.dot(wr, np.exp(-2j * math.pi * f * tc)))
-
-    res = optimize.minimize_scalar(neg, bounds=(f0 - half_width, f0 + half_width),
-                                   method="bounded", options={"xatol": half_width * 1e-9})
-    return float(res.x)
-
-
 def naff(tc, z, w, n_lines, *, offset=False, min_relative_amplitude=0.0, snr_min=0.0):
     """Frequencies of the strongest lines of ``z`` by Laskar's NAFF search.
 
@@ -167,18 +144,21 @@ def naff(tc, z, w, n_lines, *, offset=False, min_relative_amplitude=0.0, snr_min
         (possibly fewer than ``n_lines``).
     """
     n = z.size
+    z = np.asarray(z, complex)
     dt = float(tc[-1] - tc[0]) / (n - 1)
-    T = n * dt
-    sw = np.sqrt(w)
-    freqs = []
-    B = _design(tc, freqs, offset)
-    r = z - B @ _wls(B, z, sw)
+    m = tc / dt
+    m0 = float(m[0])
+    nus = []
+    r = gauss_newton(m0, m, z, w, [], offset)[3]
     first = None
+    nfft = 1 << int(math.ceil(math.log2(PAD * n)))
+    grid = np.fft.fftfreq(nfft)
+    lobe = LOBE / n
     for _ in range(int(n_lines)):
-        grid, spec = spectrum(r, w, dt, PAD)
-        mask = np.abs(grid) < LOBE / T if offset else np.zeros(grid.size, bool)
-        for f in freqs:
-            mask |= np.abs(grid - f) < LOBE / T
+        spec = np.abs(np.fft.fft(w * r, nfft)) / w.sum()
+        mask = np.abs(grid) < lobe if offset else np.zeros(nfft, bool)
+        for nu in nus:
+            mask |= np.abs(grid - nu) < lobe
         spec_m = np.where(mask, 0.0, spec)
         i = int(np.argmax(spec_m))
         peak = spec_m[i]
@@ -186,12 +166,13 @@ def naff(tc, z, w, n_lines, *, offset=False, min_relative_amplitude=0.0, snr_min
             first = peak
             if peak == 0.0:
                 break
-        if peak < min_relative_amplitude * first or peak < snr_min * float(np.median(spec)):
+        if peak < min_relative_amplitude * first or \
+                (snr_min > 0 and peak < snr_min * float(np.median(spec))):
             break
-        freqs.append(_refine_peak(tc, r, w, grid[i], grid[1] - grid[0]))
-        B = _design(tc, freqs, offset)
-        r = z - B @ _wls(B, z, sw)                        # Gram-Schmidt subtraction
-    return np.asarray(freqs, dtype=float)
+        nus.append(peak_nu(spec, i, nfft))
+        fit = gauss_newton(m0, m, z, w, nus, offset, max_iter=SEARCH_ITER)   # all lines so far
+        nus, r = list(fit[0]), fit[3]
+    return np.asarray(nus, dtype=float) / dt
 
 
 @dataclass(frozen=True)
@@ -254,8 +235,9 @@ def fit_lines(tc, z, w, freqs, *, offset=False, optimise=True):
     """Joint weighted least-squares fit of line frequencies and amplitudes.
 
     Minimises ``sum w |z - c0 - sum_k c_k e^{2 pi i f_k tc}|^2`` over the
-    frequencies (Levenberg-Marquardt) with the complex amplitudes solved
-    linearly at each step (variable projection).  With uniform weights this
+    frequencies and amplitudes by Gauss-Newton on the structured normal
+    equations (:mod:`dsp.line_gn`: sums of length N, never an N x P Jacobian;
+    a halving line search keeps each step downhill).  With uniform weights this
     is the maximum-likelihood estimate for white Gaussian noise (it removes
     the window's leakage bias between close lines); Hann weights suppress the
     leakage of lines that are not modelled.
@@ -284,42 +266,41 @@ def fit_lines(tc, z, w, freqs, *, offset=False, optimise=True):
     -------
     LineFit
     """
-    sw = np.sqrt(w)
-    f0 = np.asarray(freqs, dtype=float)
+    z = np.asarray(z, complex)
     n = z.size
-    T = n * float(tc[-1] - tc[0]) / (n - 1)
-
-    def resid(p):
-        B = _design(tc, f0 + p / T, offset)
-        r = sw * (z - B @ _wls(B, z, sw))
-        return np.concatenate([r.real, r.imag])
-
-    f = f0
-    if optimise and f0.size:
-        sol = optimize.least_squares(resid, np.zeros(f0.size), method="lm", xtol=1e-14,
-                                     ftol=1e-14, gtol=1e-14, max_nfev=200 * (f0.size + 1))
-        f = f0 + sol.x / T
-    B = _design(tc, f, offset)
-    c = _wls(B, z, sw)
-    r = z - B @ c
+    dt = float(tc[-1] - tc[0]) / (n - 1)
+    m = tc / dt
+    m0 = float(m[0])
+    nu0 = np.asarray(freqs, dtype=float) * dt
+    K = nu0.size
+    if optimise:
+        nus, c, cols, r, S = gauss_newton(m0, m, z, w, nu0, offset)
+    else:
+        nus, S = nu0, Sums(m, w)
+        cols = columns(m0, n, nus, offset)
+        c = wls(cols, z, w)
+        r = z - (np.column_stack(cols) @ c if cols else 0)
     j0 = int(offset)
-    cols = [2j * math.pi * tc * c[j0 + k] * B[:, j0 + k] for k in range(f.size)]
-    for j in range(B.shape[1]):
-        cols += [B[:, j], 1j * B[:, j]]
-    Jc = np.column_stack(cols)
-    J = np.vstack([Jc.real, Jc.imag])
-    W = np.concatenate([w, w])
-    dof = max(2 * n - J.shape[1], 1)
+    if S.kind:
+        A = normal_matrix(S.gram_nu(nus, offset), c, K, j0)
+        Bm = A * w[0] if S.kind == "rect" else normal_matrix(S.gram_nu(nus, offset, True), c, K, j0)
+    else:
+        A = normal_matrix(S.gram(cols), c, K, j0)
+        Bm = A * w[0] if np.all(w == w[0]) else normal_matrix(S.gram(cols, weight=w * w), c, K, j0)
+    P = A.shape[0]
+    dof = max(2 * n - P, 1)
     sigma2 = float(np.sum(w * np.abs(r) ** 2) / (2.0 * np.sum(w))) * (2 * n) / dof
-    A = J.T @ (J * W[:, None])
-    Bm = J.T @ (J * (W ** 2)[:, None]) * sigma2
     try:
         Ai = np.linalg.inv(A)
-        cov = Ai @ Bm @ Ai
+        cov = Ai @ Bm @ Ai * sigma2
     except np.linalg.LinAlgError:
-        cov = np.full((J.shape[1], J.shape[1]), np.nan)
-    return LineFit(frequency=f, amplitude=c[j0:], offset=complex(c[0]) if offset else 0j,
-                   residual=r, cov=cov, noise_var=sigma2, has_offset=bool(offset))
+        cov = np.full((P, P), np.nan)
+    scale = np.ones(P)
+    scale[:K] = 1.0 / dt                            # nu [cycles/sample] -> f [Hz]
+    cov = cov * scale[:, None] * scale[None, :]
+    return LineFit(frequency=np.asarray(nus, float) / dt, amplitude=c[j0:],
+                   offset=complex(c[0]) if offset else 0j, residual=r, cov=cov,
+                   noise_var=sigma2, has_offset=bool(offset))
 
 
 # ---------------------------------------------------------------------------
@@ -369,13 +350,12 @@ def crlb_frequency_std(amplitude, noise_std, n_samples, sample_rate_hz=1.0):
 def refine_frequencies(t, z, n_components, window="hann", polish=True, max_band_fraction=0.9):
     """Strongest complex-exponential components of ``z = x + i·y`` (NAFF-style).
 
-    :func:`naff` (Laskar's NAFF with the ``window``) finds ``n_components``
-    lines; with ``polish`` (default) :func:`fit_lines` then fits all
-    frequencies and amplitudes jointly to the unwindowed data (the
-    maximum-likelihood estimate for white Gaussian noise; it removes the
-    window's leakage bias between close lines and reaches the Cramér–Rao
-    bound).  Without ``polish`` the amplitudes are the window-weighted
-    least-squares ones at the NAFF frequencies.
+    The sequential :func:`naff` search with the ``window`` finds the lines;
+    with ``polish`` (default) :func:`fit_lines` then fits
+    all frequencies and amplitudes jointly to the unwindowed data by
+    Gauss-Newton (the maximum-likelihood estimate for white Gaussian noise; it
+    removes the window's leakage bias between close lines and reaches the
+    Cramér–Rao bound).  Without ``polish`` the fit is weighted by the window.
 
     Parameters
     ----------
@@ -408,7 +388,7 @@ def refine_frequencies(t, z, n_components, window="hann", polish=True, max_band_
     t_ref = 0.5 * (t[0] + t[-1])
     tc = t - t_ref                              # centred (decorrelates phase and frequency)
     f = naff(tc, z, w, n_components)
-    fit = fit_lines(tc, z, np.ones(N) if polish else w, f, optimise=polish)
+    fit = fit_lines(tc, z, np.ones(N) if polish else w, f)
     f_hz = fit.frequency
     amp_std = np.array([fit.amplitude_std(k)[0] for k in range(f_hz.size)])
     a0 = fit.amplitude * np.exp(2j * math.pi * f_hz * (t[0] - t_ref))   # refer to t[0]

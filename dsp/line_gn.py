@@ -1,0 +1,274 @@
+"""Gauss-Newton for sums of complex exponentials, with the structured normal equations.
+
+The model z[m] = c_0 + sum_k c_k p_k[m], p_k[m] = e^{2 pi i nu_k m} (m the sample
+index, centred; nu in cycles per sample) has the derivatives d/d nu_k =
+2 pi i m c_k p_k, d/d Re c_j = col_j, d/d Im c_j = i col_j.  The real normal
+matrix Re(D^H W D) therefore needs only the sums sum w m^p conj(col_j) col_k
+(p = 0, 1, 2) -- constants on the diagonal, one length-N product per pair of
+lines off it -- and the gradient Re(D^H W r) the sums sum w m^p conj(p_k) r:
+a few dot products per iteration, never an N x P Jacobian.  The phasors are an
+outer product of two short exponentials (BLOCK and N / BLOCK of them).  Used
+by :mod:`dsp.lines` (the one line estimator of ``dsp``).
+"""
+from __future__ import annotations
+
+import functools
+import math
+
+import numpy as np
+
+__all__ = ["phasor", "columns", "wls", "Sums", "normal_matrix", "gauss_newton", "peak_nu",
+           "dirichlet_sums"]
+
+BLOCK = 128                #: phasors as an outer product of BLOCK and N / BLOCK exponentials
+MAX_ITER = 30              #: Gauss-Newton iterations at most
+TWO_PI = 2.0 * math.pi
+
+
+def phasor(nu, m0, n):
+    """e^{2 pi i nu (m0 + k)}, k = 0..n-1 (outer product of two short exponentials)."""
+    nb = -(-n // BLOCK)
+    outer = np.exp(2j * math.pi * nu * (m0 + BLOCK * np.arange(nb)))
+    inner = np.exp(2j * math.pi * nu * np.arange(BLOCK))
+    return (outer[:, None] * inner[None, :]).ravel()[:n]
+
+
+def columns(m0, n, nus, offset):
+    """The model's columns: a constant (with ``offset``), then one phasor per line."""
+    cols = [np.ones(n, dtype=complex)] if offset else []
+    return cols + [phasor(nu, m0, n) for nu in nus]
+
+
+def wls(cols, z, w, G0=None):
+    """Weighted linear least squares: the complex coefficients of ``cols`` (normal equations
+    with their Gram matrix ``G0`` = sum w conj(col_j) col_k, computed when not given)."""
+    if not cols:
+        return np.zeros(0, complex)
+    if G0 is None:
+        G0 = Sums(np.zeros(z.size), w).gram(cols, powers=1)[0]
+    wz = w * z
+    rhs = np.array([np.vdot(col, wz) for col in cols])
+    try:
+        return np.linalg.solve(G0, rhs)
+    except np.linalg.LinAlgError:
+        return np.linalg.lstsq(G0, rhs, rcond=None)[0]
+
+
+@functools.lru_cache(maxsize=16)
+def _hann(n):
+    """dsp.lines.window_weights(n, "hann"), cached (compared against, never modified)."""
+    from .lines import window_weights
+
+    w = window_weights(n, "hann")
+    w.flags.writeable = False
+    return w
+
+
+@functools.lru_cache(maxsize=64)
+def _power_sums(n):
+    """sum m^p over the centred grid of n samples, p = 2, 4, 6, 8."""
+    k = np.arange(n) - 0.5 * (n - 1)
+    k2 = k * k
+    return tuple(float(np.sum(k2 ** j)) for j in (1, 2, 3, 4))
+
+
+def dirichlet_sums(theta, n):
+    """(S0, S1, S2) with S_p = sum_m m^p e^{i theta m} over the centred grid
+    m = -(n-1)/2 .. (n-1)/2 (step 1), in closed form: S0 = sin(n theta/2) / sin(theta/2),
+    S1 = -i S0', S2 = -S0'' (a Taylor series in theta where n |theta| < 1)."""
+    th = float(theta)
+    if n * abs(th) < 1.0:
+        s2, s4, s6, s8 = _power_sums(n)
+        t2 = th * th
+        S0 = n - t2 / 2 * s2 + t2 * t2 / 24 * s4 - t2 ** 3 / 720 * s6 + t2 ** 4 / 40320 * s8
+        S1 = 1j * th * (s2 - t2 / 6 * s4 + t2 * t2 / 120 * s6 - t2 ** 3 / 5040 * s8)
+        S2 = s2 - t2 / 2 * s4 + t2 * t2 / 24 * s6 - t2 ** 3 / 720 * s8
+        return complex(S0), complex(S1), complex(S2)
+    a, b = 0.5 * n, 0.5
+    f, fp, fpp = math.sin(a * th), a * math.cos(a * th), -a * a * math.sin(a * th)
+    g, gp, gpp = math.sin(b * th), b * math.cos(b * th), -b * b * math.sin(b * th)
+    D = f / g
+    num = fp * g - f * gp
+    Dp = num / (g * g)
+    Dpp = (fpp * g - f * gpp) / (g * g) - 2 * gp * num / g ** 3
+    return complex(D), complex(-1j * Dp), complex(-Dpp)
+
+
+#: the Hann window of dsp.lines.window_weights on the centred grid, as exponentials:
+#: w = 0.5 + 0.25 e^{+i 2 pi m / n} + 0.25 e^{-i 2 pi m / n}; w^2 likewise (shift, weight)
+HANN = ((0, 0.5), (1, 0.25), (-1, 0.25))
+HANN2 = ((0, 0.375), (1, 0.25), (-1, 0.25), (2, 0.0625), (-2, 0.0625))
+
+
+class Sums:
+    """The window times powers of m, and the Gram sums of a set of columns.
+
+    On the centred grid with a uniform or the Hann window (the cases of ``dsp.lines``) the
+    Gram sums are closed-form (:func:`dirichlet_sums`, shifted for the Hann window's
+    exponentials); otherwise they are length-N dot products.
+    """
+
+    def __init__(self, m, w):
+        self.m, self.w = m, w
+        self.wm = w * m
+        self.wm2 = self.wm * m
+        self.const = (float(w.sum()), float(self.wm.sum()), float(self.wm2.sum()))
+        n = m.size
+        self.kind = None
+        if n > 2 and abs(m[0] + m[-1]) < 1e-9 * n and abs(m[1] - m[0] - 1) < 1e-9:
+            if np.all(w == w[0]):
+                self.kind, self.scale = "rect", float(w[0])
+            elif w[0] == _hann(n)[0] and np.array_equal(w, _hann(n)):
+                self.kind, self.scale = "hann", 1.0
+
+    def _closed(self, dnu, terms):
+        n = self.m.size
+        out = np.zeros(3, complex)
+        for shift, weight in terms:
+            out += weight * np.array(dirichlet_sums(2 * math.pi * (dnu + shift / n), n))
+        return out
+
+    def gram_nu(self, nus, offset, weight2=False):
+        """Closed-form Gram sums of the columns (offset = a phasor of frequency 0) from the
+        frequencies alone; ``weight2``: with the squared window (the sandwich covariance)."""
+        allnu = ([0.0] if offset else []) + list(nus)
+        q = len(allnu)
+        if self.kind == "rect":
+            terms = ((0, self.scale ** 2 if weight2 else self.scale),)
+        else:
+            terms = HANN2 if weight2 else HANN
+        G = np.zeros((3, q, q), complex)
+        for j in range(q):
+            for k in range(j, q):
+                G[:, j, k] = self._closed(allnu[k] - allnu[j], terms)
+                G[:, k, j] = np.conj(G[:, j, k]) if k != j else G[:, j, k].real
+        return G
+
+    def gram(self, cols, weight=None, powers=3):
+        """G[p, j, k] = sum W m^p conj(col_j) col_k, p = 0 .. powers-1 (W = the window or
+        ``weight``)."""
+        if weight is None:
+            Ws, const = (self.w, self.wm, self.wm2), self.const
+        else:
+            Ws = (weight, weight * self.m, weight * self.m ** 2)
+            const = tuple(float(x.sum()) for x in Ws)
+        q = len(cols)
+        G = np.zeros((powers, q, q), complex)
+        for k in range(q):
+            G[:, k, k] = const[:powers]           # |col_k| = 1
+            if k == 0:
+                continue
+            for p in range(powers):
+                wc = Ws[p] * cols[k]
+                for j in range(k):
+                    G[p, j, k] = np.vdot(cols[j], wc)
+                    G[p, k, j] = np.conj(G[p, j, k])
+        return G
+
+
+def normal_matrix(G, c, K, j0):
+    """Re(D^H W D) for the parameters (nu_1..nu_K, Re c_0, Im c_0, Re c_1, ...); lines are
+    the columns ``j0 .. j0 + K - 1`` of the Gram sums ``G``."""
+    q = c.size
+    P = K + 2 * q
+    A = np.empty((P, P))
+    cl = c[j0:j0 + K]
+    # nu-nu block: 4 pi^2 Re(conj(c_a) c_b G2_ab)
+    A[:K, :K] = (TWO_PI ** 2 * (np.conj(cl)[:, None] * cl[None, :])
+                 * G[2, j0:j0 + K, j0:j0 + K]).real
+    # nu-coefficient block
+    g1 = G[1, j0:j0 + K, :]                        # (K, q)
+    A[:K, K::2] = (-1j * TWO_PI * np.conj(cl)[:, None] * g1).real
+    A[:K, K + 1::2] = (TWO_PI * np.conj(cl)[:, None] * g1).real
+    # coefficient block: [[Re G0, -Im G0], [Im G0, Re G0]] interleaved
+    g0 = G[0]
+    A[K::2, K::2] = g0.real
+    A[K::2, K + 1::2] = -g0.imag
+    A[K + 1::2, K::2] = g0.imag
+    A[K + 1::2, K + 1::2] = g0.real
+    A[K:, :K] = A[:K, K:].T
+    return A
+
+
+def _residual(z, cols, c):
+    r = z.copy()
+    for j, col in enumerate(cols):
+        r -= c[j] * col
+    return r
+
+
+def gauss_newton(m0, m, z, w, nus, offset, max_iter=MAX_ITER):
+    """Weighted least-squares fit of the lines (start ``nus`` [cycles/sample]) and the offset.
+
+    Each step solves the structured normal equations; a halving line search keeps every
+    step downhill.  Stops when the frequency steps fall below 1e-7 of a bin (1e-7 / N
+    cycles per sample; the convergence is quadratic, so the last step is far smaller).
+
+    Returns
+    -------
+    (nus, c, cols, residual, sums)
+        Frequencies [cycles/sample], complex coefficients (offset first), the columns at
+        the final frequencies, z minus the model, and the :class:`Sums`.
+    """
+    n = z.size
+    S = Sums(m, w)
+    K = len(nus)
+    j0 = int(offset)
+    nus = np.asarray(nus, float).copy()
+    cols = columns(m0, n, nus, offset)
+
+    def gram(nus, cols):
+        return S.gram_nu(nus, offset) if S.kind else S.gram(cols)
+
+    G = gram(nus, cols)
+    c = wls(cols, z, w, G[0])
+    r = _residual(z, cols, c)
+    cost = float(np.dot(w, r.real ** 2 + r.imag ** 2))
+    tol = 1e-7 / n                                   # cycles per sample: 1e-7 of a bin
+    for _ in range(max_iter if K else 0):
+        A = normal_matrix(G, c, K, j0)
+        g = np.empty(A.shape[0])
+        wr, wmr = w * r, S.wm * r
+        for k in range(K):
+            s1 = np.vdot(cols[j0 + k], wmr)
+            g[k] = (np.conj(2j * math.pi * c[j0 + k]) * s1).real
+        for j in range(c.size):
+            s0 = np.vdot(cols[j], wr)
+            g[K + 2 * j] = s0.real
+            g[K + 2 * j + 1] = s0.imag
+        try:
+            d = np.linalg.solve(A, g)
+        except np.linalg.LinAlgError:
+            d = np.linalg.lstsq(A, g, rcond=None)[0]
+        step = 1.0
+        while True:
+            nus_t = nus + step * d[:K]
+            cols_t = columns(m0, n, nus_t, offset)
+            c_t = c + step * (d[K::2] + 1j * d[K + 1::2])
+            r_t = _residual(z, cols_t, c_t)
+            cost_t = float(np.dot(w, r_t.real ** 2 + r_t.imag ** 2))
+            if cost_t <= cost * (1 + 1e-12) or step < 1e-4:
+                break
+            step *= 0.5
+        if cost_t > cost * (1 + 1e-12):
+            break
+        small = np.max(np.abs(step * d[:K])) < tol
+        nus, cols, c, r, cost = nus_t, cols_t, c_t, r_t, cost_t
+        G = gram(nus, cols)
+        if small:
+            break
+    if cols:                                        # amplitudes exactly at the final frequencies
+        c = wls(cols, z, w, G[0])
+        r = _residual(z, cols, c)
+    S.last_gram = G
+    return nus, c, cols, r, S
+
+
+def peak_nu(spec, i, nfft):
+    """Frequency [cycles/sample] of a spectrum peak at bin ``i``: a parabola through the
+    log-magnitudes of the bins around it."""
+    ym, y0, yp = (math.log(max(float(spec[(i + d) % nfft]), 1e-300)) for d in (-1, 0, 1))
+    den = ym - 2 * y0 + yp
+    delta = 0.5 * (ym - yp) / den if den < 0 else 0.0
+    nu = (i + max(-0.5, min(0.5, delta))) / nfft
+    return nu - 1.0 if nu >= 0.5 else nu
