@@ -161,7 +161,7 @@ def _component(fit, k):
 
 def decompose(t, z, n_components=4, rotor_speed_hz=None, *, window="hann",
               min_relative_amplitude=1e-5, snr_min=5.0, strong_fraction=0.01,
-              k_atol=0.0, shape_rtol=0.0):
+              k_atol=0.0, shape_rtol=0.0, polish=None):
     """Quasi-periodic decomposition of a complex orbit and precession/nutation analysis.
 
     Parameters
@@ -184,6 +184,11 @@ def decompose(t, z, n_components=4, rotor_speed_hz=None, *, window="hann",
         of unmodelled lines (recommended for simulated or real orbits with
         combination tones); "rect" is the minimum-variance choice for exactly
         the fitted lines in white noise.
+    polish : {None, "hann", "rect"}
+        Weighting of the final joint fit when it differs from the search's
+        (``"rect"``: the lines found above ``snr_min`` are refitted unweighted,
+        the maximum-likelihood estimate when they are all the lines there are:
+        at the Cramér-Rao bound).  None: the ``window``.
     min_relative_amplitude, snr_min : float
         Line-detection thresholds (see ``n_components``).
     strong_fraction : float
@@ -238,7 +243,8 @@ def decompose(t, z, n_components=4, rotor_speed_hz=None, *, window="hann",
                  min_relative_amplitude=min_relative_amplitude, snr_min=snr_min)
     if not freqs.size:
         raise SignalError("z: no spectral line found above the noise")
-    fit = fit_lines(tc, z, w, freqs, offset=True)
+    fit = fit_lines(tc, z, w if polish in (None, window) else window_weights(n, polish), freqs,
+                    offset=True)
     comps = [_component(fit, k) for k in range(fit.frequency.size)]
     comps.sort(key=lambda q: -q.amplitude_m)
     offset = fit.offset

@@ -90,15 +90,6 @@ def _from_run(rec):
                 table=None, rec_scene=rec.scene)
 
 
-def _steady_window(t, speed, frac=0.3):
-    """Indices of the final stretch where the speed is constant (within 0.1 %), at most the
-    last ``frac`` of the record."""
-    from .signals import steady_start
-
-    n = t.size
-    return slice(max(int(n * (1 - frac)), steady_start(t, speed)), n)
-
-
 def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = None,
             recording_map=None) -> dict:
     """Identify what a lab would from one recording; returns a JSON-able dict.
@@ -121,7 +112,7 @@ def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = Non
     from dsp import unbalance as ub
 
     from .runup_identify import sweep_identification
-    from .signals import plane_free_decay
+    from .signals import plane_free_decay, stationary_stretch, steady_start
 
     d = _read(path, recording_map)
     t, x, y, phi, scene = d["t"], d["x"], d["y"], d["phi"], d["scene"]
@@ -201,13 +192,13 @@ def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = Non
     # 1X and unbalance over the final constant-speed stretch
     out.update(unbalance_gmm=None, unbalance_gmm_std=None, unbalance_angle_deg=None,
                iso_grade=None, response_1x_m=None, speed_hz=None)
-    sl = _steady_window(t, speed)
+    i0 = steady_start(t, speed) if speed is not None else 0
     if tab is not None and out["programme"] and out["programme"]["stretches"] \
             and getattr(angle, "source", None) != "angle":
         last = out["programme"]["stretches"][-1]      # a lab speed wobbles: the programme's stretch
         if last["kind"] == "constant":
             i0 = int(np.searchsorted(t, last["t_start_s"]))
-            sl = slice(max(int(t.size * 0.7), i0), t.size)
+    sl, out["stationary_stretch"] = stationary_stretch(t, x + 1j * y, speed, i0)
     sc1 = None
     if rotating and (phi is not None or d["kp"] is not None):
         try:
@@ -228,7 +219,7 @@ def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = Non
     if rotating and out["speed_hz"] is not None:
         try:
             f_rot = out["speed_hz"]
-            dec = qpd.decompose(t[sl], (x + 1j * y)[sl], rotor_speed_hz=f_rot)
+            dec = qpd.decompose(t[sl], (x + 1j * y)[sl], rotor_speed_hz=f_rot, polish="rect")
             out["components"] = [{"frequency_hz": c.frequency_hz, "frequency_hz_std": c.frequency_std_hz,
                                   "amplitude_m": c.amplitude_m, "phase_deg": math.degrees(c.phase_rad),
                                   "direction": c.direction} for c in dec.components]

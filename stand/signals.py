@@ -13,7 +13,8 @@ import math
 
 import numpy as np
 
-__all__ = ["steady_start", "forward_start", "per_revolution", "plane_free_decay"]
+__all__ = ["steady_start", "forward_start", "per_revolution", "plane_free_decay",
+           "stationary_stretch"]
 
 TWO_PI = 2.0 * math.pi
 
@@ -118,3 +119,65 @@ def plane_free_decay(t, x, y, notes: list):
     except SignalError as exc:
         notes.append(f"free decay: {exc}")
         return None
+
+
+def _line_amplitude(t, z):
+    """Amplitude and its uncertainty of the strongest line of ``z`` (mean removed)."""
+    from dsp.frequency import refine_frequencies
+
+    c = refine_frequencies(t, z - np.mean(z), 1, polish=True)
+    return abs(complex(c.amplitude[0])), float(c.amplitude_std[0])
+
+
+def stationary_stretch(t, z, speed=None, start: int = 0, parts: int = 4):
+    """The stationary stretch at the end of a record: constant speed and a settled orbit.
+
+    From ``start`` (the first sample of the final constant-speed stretch, 0 without a
+    speed) the record is cut into ``parts`` equal parts; leading parts whose strongest
+    line's amplitude differs from the last part's by more than 5 combined standard
+    uncertainties plus 2 % (a transient still settling) are dropped.  Everything else is
+    used: no fixed fraction of the record.
+
+    Parameters
+    ----------
+    t : ndarray
+        Times [s] (uniform).
+    z : ndarray
+        Orbit x + i y [m].
+    speed : ndarray, optional
+        Rotor speed [rad/s] (only to name the rule).
+    start : int
+        First sample of the candidate stretch.
+    parts : int
+        Number of parts compared.
+
+    Returns
+    -------
+    (slice, dict)
+        The stretch and ``{"t_start_s", "t_end_s", "duration_s", "samples", "rule"}``.
+    """
+    from dsp.errors import SignalError
+
+    n = t.size
+    i0 = int(start)
+    rule = "constant speed" if speed is not None else "whole record (no speed channel)"
+    size = (n - i0) // parts
+    if size >= 64:
+        try:
+            amps = [_line_amplitude(t[i0 + k * size:i0 + (k + 1) * size],
+                                    z[i0 + k * size:i0 + (k + 1) * size]) for k in range(parts)]
+            a_end, s_end = amps[-1]
+            k = 0
+            while k < parts - 1:
+                a, s = amps[k]
+                if abs(a - a_end) <= 5 * math.hypot(s, s_end) + 0.02 * a_end:
+                    break
+                k += 1
+            if k:
+                rule += f", settled after {k} of {parts} parts"
+            i0 += k * size
+        except SignalError:
+            pass
+    sl = slice(i0, n)
+    return sl, {"t_start_s": float(t[i0]), "t_end_s": float(t[-1]),
+                "duration_s": float(t[-1] - t[i0]), "samples": int(n - i0), "rule": rule}
