@@ -18,6 +18,15 @@ Frames per second = frames / wall time of the whole loop, best of ``--repeats``
 rounds in which the contenders run in turn (the machine's speed drifts).
 Goal (issue 4): >= 1000 frames/s for the compiled kernel.
 
+Every contender is checked before it is timed (``benchmarks/_peers.py``): its
+first frames against the exact expectation -- background plus the spot
+integrated over each pixel (``erf``), written here independently of both
+renderers.  Noiseless: the largest deviation [DN] (rounding gives 0.5);
+with noise: | RMS of (frame - expectation) / sigma - 1 |, sigma^2 = shot noise +
+read noise^2 + 1/12 (rounding), on the pixels at least 5 sigma from 0 and from
+saturation, the larger of the spot's pixels (> background + 1 DN) and the
+others.  An invalid contender is printed as such, not timed.
+
 Run:  python benchmarks/bench_render.py            (about 10-20 s)
 """
 from __future__ import annotations
@@ -39,11 +48,15 @@ try:  # run from a checkout without ``pip install -e .``
 except ImportError:  # pragma: no cover
     sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
+from _peers import check_peer  # noqa: E402
 from stand.instruments.render import render_frames  # noqa: E402
 from stand.instruments.screen import (ScreenCamera, exposure_times, frame_times,  # noqa: E402
                                       spot_positions)
 
 TWO_PI = 2.0 * math.pi
+CHECK_FRAMES = 10         #: frames of each contender checked against the expectation
+TOL_NOISELESS_DN = 0.6    #: max |frame - expectation| [DN]: rounding 0.5, the 4-sigma window
+TOL_NOISE = 0.05          #: | RMS of the normalised residual - 1 |, spot or background pixels
 
 
 def camera(**kw):
@@ -80,6 +93,45 @@ def numpy_frames(positions_px, cam, seed=0):
         yield np.clip(np.floor(signal + 0.5), 0, top).astype(cam.dtype)
 
 
+def expected_frame(block, cam) -> np.ndarray:
+    """(H, W) mean of a frame [DN], not rounded: background + the Gaussian spot of every
+    sub-sample (weight 1/K, peak ``cam.peak``) integrated over each pixel's area."""
+    from scipy.special import erf
+
+    su, sv = cam.sigma_px
+
+    def pixel_integrals(centres, n, s):   # (K, n): integral over [x - 1/2, x + 1/2]
+        a = (np.arange(n)[None, :] - np.asarray(centres)[:, None]) / (s * math.sqrt(2.0))
+        h = 0.5 / (s * math.sqrt(2.0))
+        return s * math.sqrt(math.pi / 2.0) * (erf(a + h) - erf(a - h))
+
+    gu = pixel_integrals(block[:, 0], cam.width, su)
+    gv = pixel_integrals(block[:, 1], cam.height, sv)
+    return cam.background + (cam.peak / block.shape[0]) * (gv.T @ gu)
+
+
+def frame_error(frames, blocks, cam, noise: bool) -> float:
+    """Error of rendered frames against :func:`expected_frame` (see the module's docstring)."""
+    if not noise:
+        return max(float(np.max(np.abs(f.astype(float) - np.clip(expected_frame(b, cam), 0,
+                                                                   cam.max_dn))))
+                   for f, b in zip(frames, blocks))
+    sq, count = np.zeros(2), np.zeros(2)          # the spot's pixels, the background's
+    for f, b in zip(frames, blocks):
+        mean = expected_frame(b, cam)
+        shot = mean / cam.electrons_per_dn if cam.shot_noise else 0.0
+        sd = np.sqrt(shot + cam.read_noise ** 2 + 1.0 / 12.0) * np.ones_like(mean)
+        use = (mean - 5 * sd > 0) & (mean + 5 * sd < cam.max_dn)
+        spot = mean > cam.background + 1.0
+        r2 = ((f.astype(float) - mean) / sd) ** 2
+        for k, region in enumerate((use & spot, use & ~spot)):
+            sq[k] += float(np.sum(r2[region]))
+            count[k] += int(np.count_nonzero(region))
+    if not count.all():
+        return math.inf
+    return float(np.max(np.abs(np.sqrt(sq / count) - 1.0)))
+
+
 def stand_frames(positions_px, cam, noise=True):
     return render_frames(positions_px, cam, noise=noise, reuse=True)
 
@@ -112,23 +164,29 @@ def main(argv=None):
     pos_np = pos[:args.numpy_frames]
     pos_long = whirl_positions(long_cam, 20)
 
+    # (name, bits, K, frames to time, frame count, camera, positions, noise)
     contenders = [
-        ("**stand** (numba kernel), noise", "8", 16, lambda: stand_frames(pos, cam), args.frames),
-        ("stand, noiseless", "8", 16, lambda: stand_frames(pos, cam, noise=False), args.frames),
-        ("stand, noise, 12-bit", "12", 16, lambda: stand_frames(pos12, cam12), args.frames),
+        ("**stand** (numba kernel), noise", "8", 16, lambda: stand_frames(pos, cam), args.frames,
+         cam, pos, True),
+        ("stand, noiseless", "8", 16, lambda: stand_frames(pos, cam, noise=False), args.frames,
+         cam, pos, False),
+        ("stand, noise, 12-bit", "12", 16, lambda: stand_frames(pos12, cam12), args.frames,
+         cam12, pos12, True),
         ("stand, noise, long exposure (1 whirl period)", "8", K_long,
-         lambda: stand_frames(pos_long, long_cam), len(pos_long)),
+         lambda: stand_frames(pos_long, long_cam), len(pos_long), long_cam, pos_long, True),
         ("numpy peer (full-image Gaussians, Generator noise)", "8", 16,
-         lambda: numpy_frames(pos_np, cam), len(pos_np)),
+         lambda: numpy_frames(pos_np, cam), len(pos_np), cam, pos_np, True),
     ]
-    for _, _, _, make, _ in contenders:          # warm-up: compile, tables, caches
-        for i, _f in enumerate(make()):
-            if i > 3:
-                break
+    peers = {}
+    for name, _, _, make, _, c, p, noisy in contenders:   # check (and warm up) first
+        first = [f.copy() for f, _ in zip(make(), range(CHECK_FRAMES))]
+        peers[name] = check_peer(name, frame_error(first, p[:CHECK_FRAMES], c, noisy),
+                                 TOL_NOISE if noisy else TOL_NOISELESS_DN)
     best = {name: math.inf for name, *_ in contenders}
     for _ in range(args.repeats):
-        for name, _, _, make, n in contenders:
-            best[name] = min(best[name], time_loop(make, n))
+        for name, _, _, make, n, *_ in contenders:
+            if peers[name].valid:                          # an invalid one is not timed
+                best[name] = min(best[name], time_loop(make, n))
 
     try:
         import numba
@@ -141,15 +199,23 @@ def main(argv=None):
     print(f"# 640x480, spot {cam.spot_diameter / cam.pixel_pitch:.0f} px, background "
           f"{cam.background:g} DN, shot noise {cam.electrons_per_dn:g} e-/DN, read noise "
           f"{cam.read_noise:g} DN; whirl 100 px at 15 rev/s; best of {args.repeats} rounds\n")
-    ref = best[contenders[-1][0]]
-    print("| renderer | bits | sub-samples | time / frame | frames/s | speed-up vs numpy |")
-    print("|---|---:|---:|---:|---:|---:|")
-    for name, bits, K, _, _ in contenders:
-        dt = best[name]
-        print(f"| {name} | {bits} | {K} | {dt * 1e3:.3f} ms | {1.0 / dt:,.0f} | {ref / dt:.0f}x |")
+    print(f"# checked first: {CHECK_FRAMES} frames each against the exact expectation; valid when "
+          f"|RMS(residual / sigma) - 1| <= {TOL_NOISE:g} (noise) or max |residual| <= "
+          f"{TOL_NOISELESS_DN:g} DN (noiseless)\n")
+    numpy_name = contenders[-1][0]
+    ref = best[numpy_name] if peers[numpy_name].valid else math.nan
+    print("| renderer | bits | sub-samples | check error | time / frame | frames/s | speed-up vs numpy |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
+    for name, bits, K, *_ in contenders:
+        dt, peer = best[name], peers[name]
+        ratio = f"{ref / dt:.0f}x" if math.isfinite(ref) else "-"
+        cells = peer.cells(f"{dt * 1e3:.3f} ms", f"{1.0 / dt:,.0f}", ratio)
+        print(f"| {name} | {bits} | {K} | {peer.error:.2g} | " + " | ".join(cells) + " |")
+    first = peers[contenders[0][0]]
     goal = 1.0 / best[contenders[0][0]]
-    print(f"\nGoal >= 1000 frames/s (8 bit, noise, 16 sub-samples): "
-          f"{'met' if goal >= 1000 else 'NOT met'} ({goal:,.0f} frames/s)")
+    print("\nGoal >= 1000 frames/s (8 bit, noise, 16 sub-samples): "
+          + (f"{'met' if goal >= 1000 else 'NOT met'} ({goal:,.0f} frames/s)" if first.valid
+             else f"NOT met: {first.verdict}"))
 
 
 if __name__ == "__main__":

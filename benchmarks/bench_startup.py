@@ -13,7 +13,10 @@ Measured in the same run, best of N (warm caches unless said):
   precompiled kernels with their C helper objects: a fresh install), and the same with
   numba's just-in-time compilation only (``STAND_KERNELS=jit``);
 * ``--fallback``: the integration of a 2 s ball_runup on the pure-Python/numpy fallback
-  (``STAND_DISABLE_JIT=1``) against the compiled kernels, in process.
+  (``STAND_DISABLE_JIT=1``) against the compiled kernels, in process.  The two answers are
+  checked first (``benchmarks/_peers.py``): the fallback's samples must agree with the
+  compiled run's within ``FALLBACK_TOL`` (relative to the largest state component), else
+  the row reads "invalid (error X > tolerance Y)" and no ratio is printed.
 
 The warm ``stand run`` uses the precompiled kernels (built by the first run or by
 ``stand warmup``); "stand run, numba JIT cache" shows the same with ``STAND_KERNELS=jit``.
@@ -23,6 +26,7 @@ Usage: ``python benchmarks/bench_startup.py [--repeat 5] [--cold] [--fallback]``
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import shutil
 import subprocess
@@ -31,7 +35,15 @@ import tempfile
 import time
 from pathlib import Path
 
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _peers import check_peer  # noqa: E402
+
 ROOT = Path(__file__).resolve().parents[1]
+#: largest max |difference| of the fallback's samples from the compiled run's, relative to
+#: the largest |state|: the same steps in another arithmetic order (100 x the scene's rtol)
+FALLBACK_TOL = 1e-6
 SCENE = ROOT / "data_samples" / "scenes" / "ball_runup.toml"
 RECORDING = ROOT / "data_samples" / "recordings" / "stand_cameras.h5"
 
@@ -57,14 +69,14 @@ def drop_compiled_caches():
 
 
 FALLBACK = """
-import os, sys, time
+import json, os, sys, time
 import stand
 sc = stand.load({scene!r})
 from dataclasses import replace
 sc = replace(sc, run=replace(sc.run, duration=2.0))
 stand.run(sc)                       # compile / load
-best = min(stand.run(sc).stats.wall_time for _ in range(3 if os.environ.get("STAND_DISABLE_JIT") != "1" else 1))
-print(best)
+runs = [stand.run(sc) for _ in range(3 if os.environ.get("STAND_DISABLE_JIT") != "1" else 1)]
+print(json.dumps({{"best": min(r.stats.wall_time for r in runs), "state": runs[-1].state.tolist()}}))
 """
 
 
@@ -106,11 +118,15 @@ def main():
         fallback = None
         if a.fallback:
             code = FALLBACK.format(scene=str(SCENE))
-            t_c = float(subprocess.run([py, "-c", code], capture_output=True, text=True,
-                                       cwd=ROOT, check=True).stdout)
-            t_p = float(subprocess.run([py, "-c", code], capture_output=True, text=True, cwd=ROOT,
-                                       check=True, env={**os.environ, "STAND_DISABLE_JIT": "1"}).stdout)
-            fallback = (t_c, t_p)
+            fast = json.loads(subprocess.run([py, "-c", code], capture_output=True, text=True,
+                                             cwd=ROOT, check=True).stdout)
+            slow = json.loads(subprocess.run([py, "-c", code], capture_output=True, text=True,
+                                             cwd=ROOT, check=True,
+                                             env={**os.environ, "STAND_DISABLE_JIT": "1"}).stdout)
+            a_, b_ = np.asarray(fast["state"]), np.asarray(slow["state"])
+            err = (float(np.max(np.abs(a_ - b_)) / np.max(np.abs(a_))) if a_.shape == b_.shape
+                   else float("inf"))
+            fallback = (fast["best"], slow["best"], check_peer("fallback", err, FALLBACK_TOL))
     base = rows[0][1]
     print(f"{'what':<48}{'wall [s]':>10}{'/ baseline':>12}")
     for name, t in rows:
@@ -118,9 +134,13 @@ def main():
     print(f"{'in process: stand.run + write':<48}{inproc:>10.3f}")
     print(f"{'in process: integration alone':<48}{integ:>10.4f}")
     if fallback is not None:
-        t_c, t_p = fallback
+        t_c, t_p, peer = fallback
         print(f"{'2 s of ball_runup, compiled kernels':<48}{t_c:>10.4f}")
-        print(f"{'2 s of ball_runup, pure-Python fallback':<48}{t_p:>10.3f}{t_p / t_c:>11.0f}x")
+        if peer.valid:
+            print(f"{'2 s of ball_runup, pure-Python fallback':<48}{t_p:>10.3f}{t_p / t_c:>11.0f}x"
+                  f"  (samples agree to {peer.error:.1g})")
+        else:
+            print(f"{'2 s of ball_runup, pure-Python fallback':<48}{peer.verdict}")
 
 
 if __name__ == "__main__":

@@ -13,7 +13,7 @@ def add_sweep_arguments(parser) -> None:
     """Add the arguments of ``stand sweep`` to an ``argparse`` (sub)parser.
 
     ``stand sweep SWEEP.toml -o results.parquet [--scheduler ADDRESS] [--workers N]
-    [--chunk-size N] [--no-resume] [--no-progress] [--regime-map PNG]
+    [--chunk-size N] [--fresh] [--no-progress] [--regime-map PNG]
     [--critical-map PNG]``
     """
     parser.add_argument("spec", help="SWEEP.toml")
@@ -25,8 +25,9 @@ def add_sweep_arguments(parser) -> None:
     parser.add_argument("--workers", type=int, default=None,
                         help="local worker processes (default: all cores)")
     parser.add_argument("--chunk-size", type=int, default=None, help="points per task")
-    parser.add_argument("--no-resume", action="store_true",
-                        help="discard finished parts and start again")
+    parser.add_argument("--fresh", "--no-resume", dest="fresh", action="store_true",
+                        help="start over: delete the parts of an earlier run in OUTPUT.parts/ "
+                             "and compute every point (default: resume, and say so)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.add_argument("--regime-map", default=None, help="also draw the regime map (PNG)")
     parser.add_argument("--critical-map", default=None,
@@ -42,7 +43,7 @@ def sweep_main(args) -> int:
     args : argparse.Namespace
         Attributes (see :func:`add_sweep_arguments`): ``spec`` (path),
         ``output`` (path), and optionally ``scheduler`` (str or None),
-        ``workers`` (int or None), ``chunk_size`` (int or None), ``no_resume``,
+        ``workers`` (int or None), ``chunk_size`` (int or None), ``fresh``,
         ``no_progress``, ``json`` (bool), ``regime_map``, ``critical_map``
         (PNG paths or None).
 
@@ -51,6 +52,9 @@ def sweep_main(args) -> int:
     int
         0: every point succeeded; 1: the table was written but some points
         failed (``status = "error"``); 2: invalid sweep file (message on stderr).
+        A resumed sweep says so on stderr first, e.g. ``stand sweep: resuming:
+        120 of 300 points already done in results.parquet.parts/ — use --fresh
+        to recompute``.
     """
     import sys
 
@@ -69,8 +73,9 @@ def sweep_main(args) -> int:
             return 2
     t0 = time.perf_counter()
     table = run_sweep(spec, args.output, scheduler=g("scheduler"), workers=workers,
-                      chunk_size=chunk, resume=not g("no_resume", False),
-                      progress=not g("no_progress", False))
+                      chunk_size=chunk, fresh=bool(g("fresh", False) or g("no_resume", False)),
+                      progress=not g("no_progress", False),
+                      log=lambda line: print(f"stand sweep: {line}", file=sys.stderr, flush=True))
     wall = time.perf_counter() - t0
     from . import maps
 
@@ -83,6 +88,7 @@ def sweep_main(args) -> int:
         made.append(g("critical_map"))
     n_err = int((table["status"] != "ok").sum())
     summary = {"sweep": spec.name, "points": len(table), "failed": n_err, "output": str(args.output),
+               "resumed_points": table.attrs.get("resumed_points", 0),
                "wall_time_s": wall, "points_per_s": len(table) / wall if wall > 0 else None,
                "maps": made}
     if g("json"):

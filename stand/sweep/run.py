@@ -4,8 +4,9 @@ directory (:mod:`.store`), combine at the end.
 
 Re-running the same command reads the parts, skips every point whose id is
 already there (ids are hashes of the base scene, the options and the point's
-inputs: :meth:`SweepSpec.point_ids`) and computes the rest.  A killed sweep
-(even ``kill -9``) loses at most the chunks in flight.
+inputs: :meth:`SweepSpec.point_ids`) and computes the rest, and says so in one
+line (:func:`resume_message`); ``fresh=True`` deletes the parts first.  A killed
+sweep (even ``kill -9``) loses at most the chunks in flight.
 
 A point that fails (invalid scene at that point, theory out of scope, solver
 error ...) gets ``status = "error"`` and the message in ``error``; it never
@@ -19,8 +20,9 @@ from __future__ import annotations
 
 import functools
 import math
+import sys
 from pathlib import Path
-from typing import Any, Optional, Union
+from typing import Any, Callable, Optional, Union
 
 import numpy as np
 import pandas as pd
@@ -33,10 +35,12 @@ from .keys import SPECIAL_KEYS
 from .schema import (COMMON_COLUMNS, RESULT_SCHEMA, SIMULATE_COLUMNS,  # noqa: F401
                      THEORY_COLUMNS, TIMING_COLUMNS, rows_to_frame)
 from .spec import SweepSpec, load_sweep
-from .store import parts_dir, read_parts, read_results, write_part, write_table
+from .store import (parts_dir, read_parts, read_results, remove_parts, write_part,
+                    write_table)
 
 __all__ = ["run_sweep", "compute_chunk", "read_results", "parts_dir", "RESULT_SCHEMA",
-           "TIMING_COLUMNS", "rows_to_frame", "auto_chunk_size", "sweep_main", "add_sweep_arguments"]
+           "TIMING_COLUMNS", "rows_to_frame", "auto_chunk_size", "sweep_main", "add_sweep_arguments",
+           "resume_message"]
 
 
 def auto_chunk_size(n_points: int, workers: int, compute) -> int:
@@ -80,11 +84,55 @@ def _task_order(spec: SweepSpec, points: np.ndarray) -> np.ndarray:
     return np.lexsort(tuple(points[:, j] for j in reversed(order)))  # stable: ties keep index order
 
 
+def resume_message(output: Union[str, Path], done: int, total: int, stale: int = 0) -> Optional[str]:
+    """The line that says what a sweep found in its checkpoint directory, or None.
+
+    Parameters
+    ----------
+    output : path
+        The final table; its parts are in ``<output>.parts/``.
+    done : int
+        Points of this sweep already in the parts.
+    total : int
+        Points of this sweep.
+    stale : int
+        Results in the parts that belong to no point of this sweep (another base
+        scene, other options or axes): they are ignored.
+
+    Returns
+    -------
+    str or None
+        None when the parts hold nothing (a first run).
+
+    Examples
+    --------
+    >>> resume_message("results.parquet", 120, 300)      # doctest: +SKIP
+    'results.parquet is missing; resuming from 120 of 300 points in results.parquet.parts/ — use --fresh to recompute'
+    """
+    output = Path(output)
+    pdir = f"{parts_dir(output)}/"
+    if done:
+        if not output.exists():
+            return (f"{output} is missing; resuming from {done} of {total} points in {pdir} "
+                    "\u2014 use --fresh to recompute")
+        return (f"resuming: {done} of {total} points already done in {pdir} "
+                "\u2014 use --fresh to recompute")
+    if stale:
+        return (f"{pdir} holds {stale} results of another sweep (other base scene, options or "
+                f"axes): ignored, computing all {total} points \u2014 use --fresh to delete them")
+    return None
+
+
+def _stderr_line(line: str) -> None:
+    print(f"sweep: {line}", file=sys.stderr, flush=True)
+
+
 def run_sweep(spec: Union[SweepSpec, str, Path, dict], output: Union[str, Path], *,
               scheduler: Any = None, workers: Optional[int] = None,
-              chunk_size: Optional[int] = None, resume: bool = True, progress: bool = True,
-              max_in_flight: Optional[int] = None,
-              start_method: Optional[str] = None) -> pd.DataFrame:
+              chunk_size: Optional[int] = None, fresh: bool = False, resume: bool = True,
+              progress: bool = True, max_in_flight: Optional[int] = None,
+              start_method: Optional[str] = None,
+              log: Optional[Callable[[str], None]] = None) -> pd.DataFrame:
     """Run a sweep with checkpoints; return the final table.
 
     Parameters
@@ -104,9 +152,13 @@ def run_sweep(spec: Union[SweepSpec, str, Path, dict], output: Union[str, Path],
         size the chunks (default: the cluster's thread count).
     chunk_size : int, optional
         Points per task; default ``spec.chunk_size`` or :func:`auto_chunk_size`.
+    fresh : bool
+        Start over: delete the stand's part files in ``<output>.parts/``
+        (``part-*.parquet`` and stray ``.part-*.tmp``; nothing else there) and
+        compute every point.  Default False: reuse the finished parts and say so
+        (see ``log``).
     resume : bool
-        Reuse the finished parts in ``<output>.parts`` (default).  False deletes
-        them first.
+        Old spelling: ``resume=False`` is ``fresh=True``.
     progress : bool
         tqdm progress bar on stderr.
     max_in_flight : int, optional
@@ -116,6 +168,12 @@ def run_sweep(spec: Union[SweepSpec, str, Path, dict], output: Union[str, Path],
         Start method of the local pool; default "fork" when this process has
         one thread, else "spawn" (which, like "forkserver", needs the usual
         ``if __name__ == "__main__":`` guard in a calling script).
+    log : callable, optional
+        Receives the one line (:func:`resume_message`) when the parts already
+        hold results: "resuming: 120 of 300 points already done in
+        results.parquet.parts/ ...", or "results.parquet is missing; resuming
+        from ..." when the final table is gone.  Default: printed on stderr
+        after ``"sweep: "``.
 
     Returns
     -------
@@ -125,22 +183,26 @@ def run_sweep(spec: Union[SweepSpec, str, Path, dict], output: Union[str, Path],
         ``wall_time_s`` [s], ``p.*`` (the point's parameters: for the planar
         rotor n, Rt, h, H, e0, R = omega/omega_1, f0_hz [Hz]) and the outputs
         ``theory.*`` and/or ``sim.*`` (see ``docs/sweep.md``).
+        ``table.attrs["resumed_points"]``: points taken from earlier parts.
     """
     if not isinstance(spec, SweepSpec):
         spec = load_sweep(spec)
     output = Path(output)
     pdir = parts_dir(output)
-    if not resume and pdir.exists():
-        for f in pdir.iterdir():
-            f.unlink()
+    if fresh or not resume:
+        remove_parts(pdir)
     pdir.mkdir(parents=True, exist_ok=True)
 
     points = spec.points()
     ids = spec.point_ids(points)
     id_set = set(ids)
-    done = set()
+    done, stale = set(), set()
     for fr in read_parts(pdir):
-        done.update(x for x in fr["point_id"].astype(object) if x in id_set)
+        for x in fr["point_id"].astype(object):
+            (done if x in id_set else stale).add(x)
+    line = resume_message(output, len(done), len(ids), len(stale))
+    if line:
+        (log or _stderr_line)(line)
     pending = [int(i) for i in _task_order(spec, points) if ids[i] not in done]
 
     with Executor(workers, scheduler, start_method=start_method) as ex:
@@ -169,4 +231,5 @@ def run_sweep(spec: Union[SweepSpec, str, Path, dict], output: Union[str, Path],
         raise RuntimeError(f"sweep: {missing} points have no result in {pdir}")
     write_table(table, output, {"sweep_name": spec.name, "fingerprint": spec.fingerprint(),
                                 "axes": dumps(spec.columns), "compute": dumps(list(spec.compute))})
+    table.attrs["resumed_points"] = len(done)
     return table

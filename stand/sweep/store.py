@@ -25,7 +25,7 @@ from ..io.atomic import atomic_path
 from ..io.jsonable import dumps
 from .schema import rows_to_frame
 
-__all__ = ["parts_dir", "read_results", "read_parts", "write_part", "write_table"]
+__all__ = ["parts_dir", "read_results", "read_parts", "write_part", "write_table", "remove_parts"]
 
 
 def parts_dir(output: Union[str, Path]) -> Path:
@@ -118,17 +118,51 @@ def read_results(path: Union[str, Path]) -> pd.DataFrame:
     return pd.read_parquet(path)
 
 
+#: names of the files the stand writes in a checkpoint directory: the parts, and the
+#: temporaries of :func:`stand.io.atomic.atomic_path` a kill may leave behind
+_PART_GLOB = "part-*.parquet"
+_TMP_GLOB = ".part-*.tmp"
+
+
+def remove_parts(pdir: Path) -> int:
+    """Delete the stand's files in a checkpoint directory (``--fresh``).
+
+    Only ``part-*.parquet`` and the stray temporaries ``.part-*.tmp`` are removed;
+    any other file stays, and so does the directory itself.
+
+    Parameters
+    ----------
+    pdir : path
+        The checkpoint directory (:func:`parts_dir`); absent is fine.
+
+    Returns
+    -------
+    int
+        Number of part files removed (temporaries not counted).
+    """
+    pdir = Path(pdir)
+    if not pdir.is_dir():
+        return 0
+    removed = 0
+    for pattern in (_PART_GLOB, _TMP_GLOB):
+        for f in pdir.glob(pattern):
+            if f.is_file() and not f.is_symlink():
+                f.unlink()
+                removed += pattern == _PART_GLOB
+    return removed
+
+
 def read_parts(pdir: Path) -> list:
     """All complete part tables of a checkpoint directory; stray temporary files are removed."""
     frames = []
     if not pdir.is_dir():
         return frames
-    for tmp in pdir.glob(".*.tmp"):
+    for tmp in pdir.glob(_TMP_GLOB):
         try:
             tmp.unlink()
         except OSError:
             pass
-    for f in sorted(pdir.glob("part-*.parquet")):
+    for f in sorted(pdir.glob(_PART_GLOB)):
         try:
             frames.append(pd.read_parquet(f))
         except Exception as exc:  # cannot happen with atomic writes; keep going anyway
