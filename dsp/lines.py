@@ -45,7 +45,7 @@ __all__ = ["window_weights", "spectrum", "naff", "LineFit", "fit_lines",
 
 WINDOWS = ("hann", "rect")
 PAD = 2                    #: zero padding of the search spectrum (FFT length >= PAD x N)
-SEARCH_ITER = 2            #: Gauss-Newton steps on the lines found so far, during the search
+SEARCH_ITER = 1            #: Gauss-Newton steps on the lines found so far, during the search
 LOBE = 2.0                 #: half-width of the Hann main lobe, in frequency resolutions 1/T
 
 
@@ -151,10 +151,11 @@ def naff(tc, z, w, n_lines, *, offset=False, min_relative_amplitude=0.0, snr_min
     nus = []
     r = gauss_newton(m0, m, z, w, [], offset)[3]
     first = None
-    nfft = 1 << int(math.ceil(math.log2(PAD * n)))
-    grid = np.fft.fftfreq(nfft)
     lobe = LOBE / n
     for _ in range(int(n_lines)):
+        # zero-padded for the first line; the residual's lines are apart from the ones found
+        nfft = (1 << int(math.ceil(math.log2(PAD * n)))) if not nus else n
+        grid = np.fft.fftfreq(nfft)
         spec = np.abs(np.fft.fft(w * r, nfft)) / w.sum()
         mask = np.abs(grid) < lobe if offset else np.zeros(nfft, bool)
         for nu in nus:
