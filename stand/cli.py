@@ -6,7 +6,9 @@
     stand snapshot RUN.h5 [--instrument screen|strobe|rings] [--frame N] -o FRAME.png
     stand experiment SCENE.toml PROGRAMME [options] -o RUN.h5
     stand analyze RUN.h5|RUN.csv [--json] [--grade G] [--service-speed RPM]
-    stand track FRAMES -o track.csv [--calibration RINGS.png] [--ring-radii R1,R2,...]
+    stand track FRAMES -o track.csv [--calibration RINGS.png] [--ring-radii R1,R2,...|RINGS.txt]
+                [--roi X,Y,W,H] [--background median|DARK.png] [--exposure S]
+    stand video RUN.h5 -o screen.mp4 [--screen NAME] [--qp 10]
     stand strobe FRAMES -o angles.csv [--weights N]
     stand warmup [--all]
 
@@ -431,21 +433,51 @@ def _write_csv(df, path) -> None:
 def _cmd_track(args) -> int:
     from vision.io import VisionError
 
-    from .tracking import track_frames
+    from .tracking import track_frames, write_track_csv
 
     if not Path(args.output).resolve().parent.is_dir():
         raise FileNotFoundError(f"output directory of {args.output!r} does not exist")
+    if sys.stderr.isatty() and not args.trace:
+        from vision.blur import compile_needed
+
+        if compile_needed():
+            print("stand track: compiling the blurred-spot fit (one time, about 10 s; "
+                  "`stand warmup` does it ahead)...", file=sys.stderr)
     try:
         df = track_frames(args.source, calibration=args.calibration, ring_radii=args.ring_radii,
                           gain=args.gain, threshold=args.threshold, trace=args.trace,
                           spot_sigma=args.spot_sigma, capacity_gmm=args.capacity,
-                          optical_gain=args.optical_gain, progress=sys.stderr.isatty(), screen=args.screen)
+                          optical_gain=args.optical_gain, progress=sys.stderr.isatty(),
+                          screen=args.screen, roi=args.roi, background=args.background,
+                          exposure=args.exposure)
     except VisionError as exc:
         raise ValueError(str(exc)) from None
-    _write_csv(df, args.output)
+    write_track_csv(df, args.output)
     ok = int(df["ok"].sum()) if "ok" in df else len(df)
     what = "trace" if args.trace else "spot"
-    print(f"{args.source}: {len(df)} frames, {what} found in {ok} -> {args.output}")
+    methods = ""
+    if "method" in df and len(df):
+        counts = df["method"].replace("", "none").value_counts()
+        methods = " (" + ", ".join(f"{k} {v}" for k, v in counts.items()) + ")"
+    print(f"{args.source}: {len(df)} frames, {what} found in {ok}{methods} -> {args.output}")
+    return 0
+
+
+def _cmd_video(args) -> int:
+    from .io.guard import check_outputs
+    from .video import sidecar_paths, write_screen_video
+
+    side = sidecar_paths(args.output)
+    check_outputs([args.recording], [(side["video"], side["video"].suffix.lstrip(".").lower()),
+                                     (side["truth"], "csv"), (side["rings_png"], "png"),
+                                     (side["rings_txt"], "csv")], force=args.force)
+    if side["video"].exists() and not args.force:   # it may be a lab's own recording
+        raise ValueError(f"output {args.output!r} exists: a video may be a recording nothing "
+                         "can replace; give --force to overwrite it, or choose another output")
+    doc = write_screen_video(args.recording, args.output, screen=args.screen, qp=args.qp)
+    extra = ", ".join(Path(doc[k]).name for k in ("truth", "rings_png", "rings_txt") if k in doc)
+    print(f"{args.recording}: {doc['frames']} frames at {doc['frame_rate_hz']:g} Hz -> "
+          f"{args.output} ({doc['codec']}, {doc['bytes'] / 1e6:.2f} MB); beside it: {extra}")
     return 0
 
 
@@ -481,7 +513,7 @@ def build_parser() -> argparse.ArgumentParser:
     """The argument parser (stand.cli_parser) with this module's command handlers."""
     from .cli_parser import build_parser as build
 
-    return build({"accuracy": _cmd_accuracy, "analyze": _cmd_analyze, "daq": _cmd_daq, "experiment": _cmd_experiment, "influence": _cmd_influence, "report": _cmd_report, "run": _cmd_run, "snapshot": _cmd_snapshot, "stress": _cmd_stress, "strobe": _cmd_strobe, "sweep": _cmd_sweep, "theory": _cmd_theory, "track": _cmd_track, "warmup": _cmd_warmup})
+    return build({"accuracy": _cmd_accuracy, "analyze": _cmd_analyze, "daq": _cmd_daq, "experiment": _cmd_experiment, "influence": _cmd_influence, "report": _cmd_report, "run": _cmd_run, "snapshot": _cmd_snapshot, "stress": _cmd_stress, "strobe": _cmd_strobe, "sweep": _cmd_sweep, "theory": _cmd_theory, "track": _cmd_track, "video": _cmd_video, "warmup": _cmd_warmup})
 
 
 def _table_kind(path) -> str:

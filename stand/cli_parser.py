@@ -150,26 +150,49 @@ def build_parser(handlers: dict) -> argparse.ArgumentParser:
     dq.add_argument("--offset", default="35,-20", help="DC offsets of the x and y probes [um]")
     dq.set_defaults(func=handlers["daq"])
     tk = sub.add_parser("track", help="sub-pixel laser-spot track from frames (HDF5, video, images)")
-    tk.add_argument("source", help="recording.h5[:dataset], video file, image folder or glob")
-    tk.add_argument("-o", "--output", required=True, help="CSV to write")
+    tk.add_argument("source", help="recording.h5[:dataset], video file (mp4, avi, mov, ...), image "
+                    "folder or glob")
+    tk.add_argument("-o", "--output", required=True, help="CSV to write (# key = value lines, then "
+                    "the table)")
     tk.add_argument("--calibration", default=None,
                     help="calibration-ring image, or a recording holding one (px -> mm)")
-    tk.add_argument("--ring-radii", default=None, help="ring radii [m], comma-separated (default: from the recording)")
+    tk.add_argument("--ring-radii", default=None, help="ring radii [m], comma-separated, or a ring "
+                    "file with 'ring_radii_m = ...' (and optical_gain, exposure_s, capacity_gmm "
+                    "lines, as `stand video` writes); default: from the recording")
     tk.add_argument("--gain", type=float, default=None, help="camera gain [electrons/DN] for the uncertainty")
     tk.add_argument("--optical-gain", type=float, default=None,
-                    help="spot displacement / shaft displacement (default: from the recording): adds "
-                         "t_s, x_m, y_m[, rotor_angle_rad] for `stand analyze`")
+                    help="spot displacement / shaft displacement (default: from the ring file or "
+                         "the recording): adds t_s, x_m, y_m[, rotor_angle_rad] for `stand analyze`")
+    tk.add_argument("--exposure", type=float, default=None,
+                    help="camera exposure [s] (default: from the ring file or the recording): "
+                         "t_s at mid-exposure")
     tk.add_argument("--screen", default=None, help="a recording's named screen ([instruments.screen.NAME]): "
                     "its frames; x_m, y_m of the point it shows (for `stand analyze --tracks`)")
     tk.add_argument("--threshold", type=float, default=None,
                     help="smallest spot amplitude [DN above background] (default 10 x background noise)")
+    tk.add_argument("--roi", default=None, metavar="X,Y,W,H",
+                    help="search only this rectangle of every frame [px: left column, top row, "
+                         "width, height]")
+    tk.add_argument("--background", default=None, metavar="median|FILE",
+                    help="subtract a static background: 'median' (per-pixel median of 25 frames "
+                         "spread over the source; 'median:N'), or a dark-frame image")
     tk.add_argument("--trace", action="store_true",
                     help="long exposures: fit the circle the spot draws (centre, radius) instead of the spot")
     tk.add_argument("--spot-sigma", type=float, default=None,
                     help="with --trace: the still spot's sigma [px] (default: estimated from the trace)")
     tk.add_argument("--capacity", type=float, default=None,
-                    help="with --trace and --calibration: balancer capacity S [g mm] -> zone and unbalance columns")
+                    help="with --calibration: balancer capacity S [g mm] (ring zones i S/16, in the "
+                         "CSV's preamble); with --trace also zone and unbalance columns")
     tk.set_defaults(func=handlers["track"])
+    vd = sub.add_parser("video", help="a recording's screen frames as a lab video (mp4) with "
+                        "its rings and truth beside it")
+    vd.add_argument("recording", help="HDF5 recording with a screen camera")
+    vd.add_argument("-o", "--output", required=True, help="video to write: NAME.mp4 (H.264, needs "
+                    "PyAV) or NAME.mkv / NAME.avi (FFV1, lossless); beside it NAME_truth.csv, "
+                    "NAME_rings.png, NAME_rings.txt")
+    vd.add_argument("--screen", default=None, help="a named screen ([instruments.screen.NAME])")
+    vd.add_argument("--qp", type=int, default=10, help="H.264 quantiser 0..51 (0 lossless; default 10)")
+    vd.set_defaults(func=handlers["video"])
     sb = sub.add_parser("strobe", help="weights' angles from stroboscope frames")
     sb.add_argument("source", help="recording.h5[:dataset] (default dataset instruments/stroboscope/frames), video or images")
     sb.add_argument("-o", "--output", required=True, help="CSV to write")

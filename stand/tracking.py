@@ -12,11 +12,17 @@ or video (vision.io) or from a recording (read through :mod:`stand.recording`).
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from typing import Optional
 
 import numpy as np
 
-__all__ = ["track_frames", "strobe_angles", "ring_radii_of", "calibration_image", "screen_group"]
+__all__ = ["track_frames", "write_track_csv", "parse_roi", "read_ring_file", "strobe_angles",
+           "ring_radii_of", "calibration_image", "screen_group", "TRACK_PREAMBLE"]
+
+#: the ``# key = value`` lines a track CSV may start with (:func:`write_track_csv`), in order
+TRACK_PREAMBLE = ("source", "screen", "ring_radii_m", "capacity_gmm", "optical_gain", "exposure_s",
+                  "roi_px", "background")
 
 SCREEN = "instruments/screen"
 
@@ -122,17 +128,59 @@ def calibration_image(path) -> np.ndarray:
     return read_image(path, cv2.IMREAD_GRAYSCALE)
 
 
+def _is_file(text) -> bool:
+    """``text`` names an existing file (False for values that cannot be paths)."""
+    try:
+        return Path(str(text)).is_file()
+    except (OSError, ValueError):
+        return False
+
+
+def read_ring_file(path) -> dict:
+    """The ``key = value`` lines of a ring file (``stand video`` writes ``NAME_rings.txt``;
+    ``#`` before a key is allowed): ``ring_radii_m`` [m, comma-separated] -> array, the
+    other values as floats when they are numbers, else strings."""
+    out = {}
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ValueError(f"--ring-radii {str(path)!r}: cannot read the file ({exc})") from None
+    for line in text.splitlines():
+        key, sep, value = line.lstrip("#").partition("=")
+        if not sep:
+            continue
+        key, value = key.strip(), value.strip()
+        if key == "ring_radii_m":
+            try:
+                out[key] = np.array([float(v) for v in value.split(",")])
+            except ValueError:
+                raise ValueError(f"--ring-radii {str(path)!r}: ring_radii_m = {value!r} is not a "
+                                 "comma-separated list of radii in m") from None
+        else:
+            try:
+                out[key] = float(value)
+            except ValueError:
+                out[key] = value
+    if "ring_radii_m" not in out:
+        raise ValueError(f"--ring-radii {str(path)!r}: no 'ring_radii_m = R1,R2,...' line (m)")
+    return out
+
+
 def ring_radii_of(source, ring_radii: Optional[str] = None, group: str = SCREEN) -> np.ndarray:
-    """Ring radii [m]: ``"R1,R2,..."`` as given, else those stored in the source recording."""
+    """Ring radii [m]: ``"R1,R2,..."`` as given, a ring file (:func:`read_ring_file`), else
+    those stored in the source recording."""
     if ring_radii:
+        if _is_file(ring_radii):
+            return read_ring_file(ring_radii)["ring_radii_m"]
         try:
             return np.array([float(v) for v in str(ring_radii).split(",")])
         except ValueError:
-            raise ValueError(f"--ring-radii = {ring_radii!r}: comma-separated radii in m") from None
+            raise ValueError(f"--ring-radii = {ring_radii!r}: comma-separated radii in m, or a "
+                             "ring file with a 'ring_radii_m = ...' line") from None
     rec = _recording_of(source)
     if rec is None or rec.shape(f"{group}/ring_radius") is None:
-        raise ValueError("--calibration needs the rings' radii: give --ring-radii (m, comma-separated) "
-                         f"or track a recording that stores {group}/ring_radius")
+        raise ValueError("--calibration needs the rings' radii: give --ring-radii (m, comma-separated, "
+                         f"or a ring file) or track a recording that stores {group}/ring_radius")
     return np.asarray(rec.dataset(f"{group}/ring_radius"), float)
 
 
@@ -152,38 +200,148 @@ def _screen_meta(source, group=SCREEN):
     return float(settings.get("gain", 1.0)), float(settings.get("exposure", 0.0)), phi
 
 
-def _shaft_columns(df, source, optical_gain, X, Y, group=SCREEN) -> None:
-    """Columns that ``stand analyze`` reads from a track: ``t_s``, ``x_m``, ``y_m`` (shaft
-    displacement = screen displacement / optical gain) and ``rotor_angle_rad`` when the source
-    recording has the keyphasor angle of each frame."""
-    gain, exposure, phi = _screen_meta(str(source).split(":")[0], group)
+def _shaft_columns(df, X, Y, gain, exposure, phi) -> None:
+    """Columns that ``stand analyze`` reads from a track: ``t_s`` (mid-exposure), ``x_m``,
+    ``y_m`` (shaft displacement = screen displacement / optical gain) and ``rotor_angle_rad``
+    when the source recording has the keyphasor angle of each frame."""
+    if gain is None:
+        return
+    if "time" in df:
+        df["t_s"] = df["time"] + 0.5 * (exposure or 0.0)          # mid-exposure
+    df["x_m"], df["y_m"] = X / gain, Y / gain
+    if phi is not None and len(phi) == len(df):
+        df["rotor_angle_rad"] = phi                                # at the start of each exposure
+
+
+def parse_roi(roi) -> Optional[tuple]:
+    """``"x,y,w,h"`` (or a 4-sequence) [px] -> (x, y, w, h) integers; None stays None.
+
+    Raises
+    ------
+    ValueError
+        Not four integers, x or y < 0, w or h < 8 (one line naming ``--roi``).
+    """
+    if roi is None:
+        return None
+    parts = str(roi).replace(" ", "").strip("()[]").split(",") if isinstance(roi, str) else list(roi)
+    try:
+        vals = tuple(int(str(v)) for v in parts)
+    except ValueError:
+        vals = ()
+    if len(vals) != 4:
+        raise ValueError(f"--roi = {roi!r}: expected x,y,w,h (px, four integers: left column, "
+                         "top row, width, height)")
+    x, y, w, h = vals
+    if x < 0 or y < 0 or w < 8 or h < 8:
+        raise ValueError(f"--roi = {roi!r}: x and y must be >= 0 and w, h >= 8 (px)")
+    return vals
+
+
+def _cropped(frames, roi):
+    """The frames cut to the ROI (x, y, w, h) [px]; it must lie inside them."""
+    x, y, w, h = roi
+    for rec in frames:
+        H, W = rec.image.shape[:2]
+        if x + w > W or y + h > H:
+            raise ValueError(f"--roi = {x},{y},{w},{h}: reaches outside the {W} x {H} frame (px)")
+        yield rec._replace(image=rec.image[y:y + h, x:x + w])
+
+
+def _full_scale(img) -> float:
+    """Full scale [DN] of a frame: 255 for 8 bits, else the smallest 2^b - 1 (b = 10, 12, 14,
+    16) at or above its maximum."""
+    if img.dtype == np.uint8:
+        return 255.0
+    top = float(np.max(img))
+    for bits in (10, 12, 14, 16):
+        if top <= (1 << bits) - 1:
+            return float((1 << bits) - 1)
+    return top
+
+
+def _background_image(source, background):
+    """``(image, description)``: the per-pixel median of frames spread over the source
+    (``"median"`` or ``"median:N"``) or a dark-frame image file."""
+    from vision.background import MEDIAN_FRAMES, median_background
+    from vision.io import VisionError, iter_frames, read_image
+
+    text = str(background)
+    if text == "median" or text.startswith("median:"):
+        count = MEDIAN_FRAMES
+        if ":" in text:
+            try:
+                count = int(text.split(":", 1)[1])
+            except ValueError:
+                count = 0
+            if count < 3:
+                raise ValueError(f"--background = {text!r}: median:N with N >= 3 frames")
+        img = median_background((r.image for r in iter_frames(source)), count)
+        return img, f"median of {count} frames spread over the source"
+    if not _is_file(text):
+        raise ValueError(f"--background = {text!r}: 'median' (per-pixel median of frames), "
+                         "'median:N', or a dark-frame image file")
+    import cv2
+
+    try:
+        img = read_image(text, cv2.IMREAD_GRAYSCALE)
+    except VisionError as exc:
+        raise ValueError(f"--background: {exc}") from None
+    return img.astype(np.float32), f"dark frame {Path(text).name}"
+
+
+def _subtracted(frames, bg, sat: float):
+    """Frames minus the background's variation, clipped pixels kept at full scale ``sat``
+    (:func:`vision.background.subtract_background`)."""
+    from vision.background import subtract_background
+    from vision.spot import CENSOR_MARGIN
+
+    for rec in frames:
+        yield rec._replace(image=subtract_background(rec.image, bg, sat, round(CENSOR_MARGIN * sat)))
+
+
+def _setup(source, group, ring_radii, optical_gain, exposure, capacity_gmm):
+    """What is known of the setup: ``(optical gain or None, exposure [s] or None, frame rotor
+    angles or None, capacity [g mm] or None)`` -- the options first, then a ring file
+    (``--ring-radii FILE``: its ``optical_gain``, ``exposure_s``, ``capacity_gmm``), then
+    the source recording's camera."""
+    gain, expo, phi = _screen_meta(str(source).split(":")[0], group)
+    if gain is None:
+        expo = None
+    if ring_radii and _is_file(ring_radii):
+        ring = read_ring_file(ring_radii)
+        num = lambda k: ring[k] if isinstance(ring.get(k), float) else None  # noqa: E731
+        gain = num("optical_gain") if num("optical_gain") is not None else gain
+        expo = num("exposure_s") if num("exposure_s") is not None else expo
+        if capacity_gmm is None:
+            capacity_gmm = num("capacity_gmm")
     if optical_gain is not None:
         gain = float(optical_gain)
         if not gain > 0:
             raise ValueError(f"--optical-gain = {optical_gain}: must be > 0")
-    if gain is None:
-        return
-    if "time" in df:
-        df["t_s"] = df["time"] + 0.5 * exposure          # mid-exposure
-    df["x_m"], df["y_m"] = X / gain, Y / gain
-    if phi is not None and len(phi) == len(df):
-        df["rotor_angle_rad"] = phi                        # at the start of each exposure
+    if exposure is not None:
+        expo = float(exposure)
+        if not (math.isfinite(expo) and expo >= 0):
+            raise ValueError(f"--exposure = {exposure}: must be >= 0 (s)")
+    return gain, expo, phi, capacity_gmm
 
 
 def track_frames(source, *, calibration=None, ring_radii=None, gain=None, threshold=None,
                  trace: bool = False, spot_sigma=None, capacity_gmm=None, optical_gain=None,
-                 progress: bool = False, screen=None):
+                 progress: bool = False, screen=None, roi=None, background=None, exposure=None):
     """Track the laser spot (or, with ``trace``, the circle it draws) in every frame.
 
     Parameters
     ----------
     source : str
-        ``RUN.h5[:dataset]``, a video file, an image folder or a glob (:func:`vision.io.iter_frames`).
+        ``RUN.h5[:dataset]``, a video file (mp4, avi, mov, ...), an image folder or a glob
+        (:func:`vision.io.iter_frames`).
     calibration : str, optional
         Ring image, or a recording holding one: adds ``x_mm``, ``y_mm`` (screen) and, for spots,
         ``t_s``, ``x_m``, ``y_m`` (shaft) columns.
     ring_radii : str, optional
-        ``"R1,R2,..."`` [m]; default: the recording's.
+        ``"R1,R2,..."`` [m], or a ring file of ``key = value`` lines (``stand video`` writes
+        ``NAME_rings.txt``): ``ring_radii_m`` and, used when not given otherwise,
+        ``optical_gain``, ``exposure_s``, ``capacity_gmm``; default: the recording's radii.
     gain : float, optional
         Camera gain [electrons/DN] for the uncertainty.
     threshold : float, optional
@@ -193,10 +351,11 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
     spot_sigma : float, optional
         With ``trace``: the still spot's sigma [px].
     capacity_gmm : float, optional
-        With ``trace`` and ``calibration``: the balancer's capacity S [g mm] -> ``zone`` and
-        ``unbalance_gmm`` columns.
+        The balancer's capacity S [g mm] (with ``calibration``): in the preamble
+        (``stand analyze`` reads the ring zones i S/16 from it); with ``trace`` also
+        ``zone`` and ``unbalance_gmm`` columns.
     optical_gain : float, optional
-        Spot displacement / shaft displacement (default: the recording's).
+        Spot displacement / shaft displacement (default: the ring file's, the recording's).
     screen : str, optional
         A recording's named screen (``[instruments.screen.<name>]``: ``"front"`` or
         ``"screen.front"``): its frames, rings and settings.  Without ``calibration`` the
@@ -204,12 +363,22 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
         the screen shows, e.g. the axis point at its axial position), with ``t_s``,
         ``rotor_angle_rad``, ``screen``, ``plane``, ``axial_position_m`` -- the input of
         ``stand analyze --tracks`` (two-plane balancing).
+    roi : str or (x, y, w, h), optional
+        Search only this rectangle [px] of every frame (:func:`parse_roi`); the centres
+        stay in the whole frame's pixels.
+    background : str, optional
+        ``"median"`` (``"median:N"``): subtract the per-pixel median of N (25) frames
+        spread over the source; or a dark-frame image file
+        (:mod:`vision.background`).
+    exposure : float, optional
+        Exposure [s] (default: the ring file's, the recording's): ``t_s`` is mid-exposure.
 
     Returns
     -------
     pandas.DataFrame
         One row per frame (:func:`vision.spot.track` / :func:`vision.trace.track_traces`
-        columns plus the calibrated ones).
+        columns plus the calibrated ones); ``df.attrs["preamble"]``: the ``key -> value``
+        lines :func:`write_track_csv` writes before the table (:data:`TRACK_PREAMBLE`).
     """
     from dsp.unbalance import unbalance_from_rings
     from vision.calibration import detect_rings, fit_homography, px_to_m
@@ -219,29 +388,53 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
 
     if capacity_gmm is not None and not (capacity_gmm > 0):
         raise ValueError(f"--capacity = {capacity_gmm}: must be > 0 (g mm)")
-    if capacity_gmm is not None and not trace:
-        raise ValueError("--capacity reads circles against the rings: it needs --trace")
     if capacity_gmm is not None and not calibration:
         raise ValueError("--capacity needs --calibration (the rings)")
+    roi = parse_roi(roi)
     rec = group = None
     if screen is not None:
         source, rec, group = _named_screen(source, screen)
+    og, expo, phi, capacity_gmm = _setup(source, group or SCREEN, ring_radii, optical_gain,
+                                         exposure, capacity_gmm)
+    pre = {"source": str(source)}
+    if group is not None:
+        pre["screen"] = group.split("/", 1)[1]
     frames = iter_frames(source, progress=progress)
+    sat = None
+    if background is not None:
+        bg, pre["background"] = _background_image(source, background)
+        # the subtracted frames are float: their full scale is the source's
+        sat = _full_scale(next(iter(iter_frames(source))).image)
+        frames = _subtracted(frames, bg, sat)
+    if roi is not None:
+        frames = _cropped(frames, roi)
+        pre["roi_px"] = ",".join(str(v) for v in roi)
     if trace:
         df = track_traces(frames, gain=gain, threshold=threshold, spot_sigma_px=spot_sigma)
     else:
-        df = track(frames, gain=gain, threshold=threshold)
+        df = track(frames, gain=gain, threshold=threshold, saturation=sat)
+    if roi is not None and len(df):
+        df["u_px"] += roi[0]
+        df["v_px"] += roi[1]
+    if og is not None:
+        pre["optical_gain"] = repr(og)
+    if expo is not None:
+        pre["exposure_s"] = repr(expo)
+    df.attrs["preamble"] = pre
     if not calibration:
         if rec is not None and not trace and len(df):
             _screen_columns(df, rec, group, optical_gain)
         return df
     radii = ring_radii_of(source, ring_radii, group or SCREEN)
+    pre["ring_radii_m"] = ",".join(repr(float(r)) for r in radii)
+    if capacity_gmm is not None:
+        pre["capacity_gmm"] = repr(float(capacity_gmm))
     cal = fit_homography(detect_rings(calibration_image(calibration)), radii)
     X, Y = (np.asarray(a) for a in px_to_m(df["u_px"].to_numpy(), df["v_px"].to_numpy(), cal))
     df["x_mm"], df["y_mm"] = X * 1e3, Y * 1e3
     df["scale_mm_per_px"] = cal.scale * 1e3
     if not trace:
-        _shaft_columns(df, source, optical_gain, X, Y, group or SCREEN)
+        _shaft_columns(df, X, Y, og, expo, phi)
         if rec is not None:
             df["screen"] = group.split("/", 1)[1]
         return df
@@ -262,6 +455,21 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
         df["zone"] = zone
         df["unbalance_gmm"] = U
     return df
+
+
+def write_track_csv(df, path) -> None:
+    """Write a track table atomically: ``# key = value`` lines (``df.attrs["preamble"]``,
+    in the order of :data:`TRACK_PREAMBLE`, then any other), then the CSV table
+    (read it with ``pandas.read_csv(path, comment="#")``)."""
+    from .io.atomic import atomic_path
+
+    pre = dict(df.attrs.get("preamble") or {})
+    keys = [k for k in TRACK_PREAMBLE if k in pre] + [k for k in pre if k not in TRACK_PREAMBLE]
+    with atomic_path(path, suffix=".csv.tmp") as tmp:
+        with open(tmp, "w", encoding="utf-8", newline="") as fh:
+            for k in keys:
+                fh.write(f"# {k} = {' '.join(str(pre[k]).split())}\n")
+            df.to_csv(fh, index=False)
 
 
 STROBE = "instruments/stroboscope"

@@ -5,7 +5,8 @@
   where precompiling is impossible;
 * with ``--all`` also numba's cache of the other compiled functions, for every
   kind: the fixed-step RK4 loop (``stand accuracy``), the finite-difference
-  Jacobian (Radau/BDF/LSODA runs) and the right-hand side evaluation.
+  Jacobian (Radau/BDF/LSODA runs) and the right-hand side evaluation;
+* the blurred-spot fit of ``stand track`` (:mod:`vision.blur`, about 10 s the first time).
 """
 from __future__ import annotations
 
@@ -40,10 +41,12 @@ def warmup(every_kind: bool = False, say=print, precompile: bool = True, kinds=N
     """Compile ahead (module docstring); returns one dict per item: ``what``, ``source``
     (precompiled / jit / python), ``seconds``.  ``precompile=False``: numba's JIT only
     (enough for work in this process).  ``kinds``: these model kinds only (with everything
-    ``every_kind`` compiles for each), e.g. one per process to use several cores."""
+    ``every_kind`` compiles for each), e.g. one per process to use several cores; without
+    ``kinds`` also the blurred-spot fit of ``stand track``."""
     from .integrate.kernel_set import kernels
 
-    if kinds is not None:
+    chosen = kinds is not None
+    if chosen:
         kinds, every_kind = sorted(kinds), True
     else:
         kinds = sorted(KIND_NAMES) if every_kind else [0]
@@ -62,4 +65,13 @@ def warmup(every_kind: bool = False, say=print, precompile: bool = True, kinds=N
                    "source": "jit", "seconds": time.perf_counter() - t0}
             done.append(row)
             say(f"{row['what']}: {row['source']} ({row['seconds']:.1f} s)")
+    if _jit.HAVE_NUMBA and not chosen:
+        from vision.blur import warm
+
+        t0 = time.perf_counter()
+        source = "jit" if warm() == "numba" else "python"
+        row = {"what": "blurred-spot fit (stand track)", "source": source,
+               "seconds": time.perf_counter() - t0}
+        done.append(row)
+        say(f"{row['what']}: {row['source']} ({row['seconds']:.1f} s)")
     return done

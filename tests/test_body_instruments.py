@@ -209,7 +209,7 @@ def test_strobe_snapshot_and_screen_of_a_body_scene(pendulum, tmp_path):
         inside = f["truth/screen/in_frame"][:]
     csv = tmp_path / "track.csv"
     assert main(["track", str(pendulum), "-o", str(csv)]) == 0
-    df = pd.read_csv(csv)
+    df = pd.read_csv(csv, comment="#")
     good = inside & df["ok"].to_numpy(bool)
     assert good.sum() >= 10
     err = np.hypot(df["u_px"] - truth_px[:, 0], df["v_px"] - truth_px[:, 1])[good]

@@ -46,7 +46,7 @@ def test_track_recovers_the_axis_point_of_the_spatial_rotor(tmp_path):
     rec, csv = tmp_path / "run.h5", tmp_path / "track.csv"
     assert main(["run", str(scene_path), "-o", str(rec), "--no-progress"]) == 0
     assert main(["track", str(rec), "-o", str(csv)]) == 0
-    df = pd.read_csv(csv)
+    df = pd.read_csv(csv, comment="#")
     with h5py.File(rec) as f:
         g = f["instruments/screen"]
         assert g.attrs["plane"] == axis_plane_name(0.5) and g.attrs["axial_position_m"] == 0.5

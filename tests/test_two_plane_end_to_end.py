@@ -56,7 +56,7 @@ def test_named_screens_parse_and_record(two_plane_run):
             g = f[f"instruments/screen.{name}"]
             assert g.attrs["axial_position_m"] == pos
             truth = f[f"truth/screen.{name}/centre_px"][:]
-            df = pd.read_csv(d / f"{name}.csv")
+            df = pd.read_csv(d / f"{name}.csv", comment="#")
             assert df["ok"].all() and len(df) == len(truth) >= 20
             err = np.hypot(df["u_px"] - truth[:, 0], df["v_px"] - truth[:, 1])
             assert np.sqrt(np.mean(err ** 2)) < 0.05

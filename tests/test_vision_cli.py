@@ -17,7 +17,7 @@ def _track_with_rings(tmp_path, *datasets):
     out = tmp_path / "track.csv"
     assert main(["track", str(REC), "-o", str(out), "--calibration",
                  str(ROOT / "data_samples" / "images" / "calibration_rings.png")]) == 0
-    df = pd.read_csv(out)
+    df = pd.read_csv(out, comment="#")
     with h5py.File(REC) as f:
         arrays = [f[name][:] for name in datasets]
     return (out, df, *arrays)
@@ -40,7 +40,7 @@ def test_track_with_ring_calibration_matches_the_truth(tmp_path):
 def test_strobe_angles_of_the_balanced_run(tmp_path):
     out = tmp_path / "angles.csv"
     assert main(["strobe", str(REC), "-o", str(out), "--weights", "2"]) == 0
-    df = pd.read_csv(out)
+    df = pd.read_csv(out, comment="#")
     with h5py.File(REC) as f:
         truth = np.degrees(f["truth/stroboscope/relative_angle"][:, 0, :])
     last = df.iloc[-1]

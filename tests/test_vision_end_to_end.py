@@ -111,7 +111,7 @@ def test_stand_track_trace_reads_the_unbalance_through_the_rings(tmp_path):
                  "--capacity", repr(S_gmm), "-o", str(out)]) == 0
     import pandas as pd
 
-    df = pd.read_csv(out)
+    df = pd.read_csv(out, comment="#")
     assert len(df) == 6 and df["ok"].all()
     # 0.5 S is exactly ring 8 of 16: a person reads zone 7 or 8 (the circle sits on the ring)
     assert df["zone"].isin([7, 8]).all()

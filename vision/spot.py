@@ -25,14 +25,15 @@ Algorithm of :func:`locate`
    the amplitude, i.e. at ~2.45 sigma for a Gaussian, so the window is about
    +-3 sigma); for asymmetric blobs (motion-blurred arcs) it is widened until,
    centred on the centroid, it covers the whole blob plus that padding.
-4. **Sub-pixel refinement, two stages.**
+4. **Sub-pixel refinement, two stages, or a model fit.**
    (a) *Iteratively re-centred intensity-weighted centroid* of the
    background-subtracted image in a *soft-edged* window (pixel weight = the
    fraction of the pixel inside the window, so the window moves continuously
    and its fixed point is unbiased for a symmetric spot; a hard pixel-aligned
-   window "pixel-locks"), iterated to 1e-4 px.  This is the exposure-averaged
-   centre, right for any shape: saturated (flat-topped) spots and
-   motion-blurred arcs keep this result.
+   window "pixel-locks"), iterated to 1e-4 px.  Unclipped, this is the
+   exposure-averaged centre of any shape; clipping biases it (0.2-1 px on
+   clipped motion-blurred arcs), so saturated or elongated blobs go to the
+   blurred-spot fit (c) first.
    (b) For a compact, round, unsaturated spot (``refine="auto"``), a
    *Gaussian-weighted centroid* (the matched filter): pixel weight
    ``g = exp(-|x - c|^2 / (2 s^2))`` with ``s`` the spot's own sigma (from its
@@ -47,6 +48,16 @@ Algorithm of :func:`locate`
    is not a symmetric spot (a ring-shaped long-exposure trace, an uneven arc)
    keeps (a).  ``refine="centroid"`` keeps (a) only; ``refine="gaussian"`` forces (b)
    (still not for arcs, where it would pull towards the brightest part).
+   (c) A blob that is saturated (>= 2 pixels within ``CENSOR_MARGIN`` of full
+   scale) or elongated (its bounding box not square within 25 %, or less than
+   ``FILL_ROUND`` of it filled) is fitted with the motion-blurred, clipped spot
+   model of :mod:`vision.blur` (``refine="blur"``: every blob), clipped pixels
+   censored; method "blur", its uncertainty the fit's.  The fit is kept when it
+   converged to a plausible spot (sigma, a centre on the blob), its residual
+   variance is at most ``MAX_FIT_CHI2`` times the noise's (else the path is one
+   the model cannot draw, e.g. several turns in one exposure) and, for an
+   unclipped blob, it agrees with the centroid (a) within 4 sigma; otherwise the
+   blob keeps (a) with the flag ``"fit_failed"``: no frame falls back silently.
 5. **Saturation**: pixels at the full-scale value (255 for uint8, 2**b - 1 for
    uint16 frames whose maximum is such a value, or ``saturation=``) -- if at
    least 2 -> flag ``"saturated"``.  The plateau enters the centroid with its
@@ -62,7 +73,8 @@ Algorithm of :func:`locate`
    (the weight moves with the centre).
 7. **Flags**: ``"missing"``, ``"blank"`` (all pixels equal, e.g. all zero),
    ``"saturated"``, ``"second_blob"``, ``"edge"`` (the spot's blob touches
-   the frame border: the centre is biased).  ``ok`` is False for missing/blank/edge.
+   the frame border: the centre is biased), ``"fit_failed"`` (step 4c).  ``ok``
+   is False for missing/blank/edge.
 """
 from __future__ import annotations
 
@@ -81,14 +93,29 @@ MIN_BLOB_AREA = 4          #: px, smallest component counted as a second blob
 BORDER = 2                 #: px, width of the border used for the background
 COARSE_SIGMA = 1.0         #: px, blur of the coarse detection
 MAX_ITER = 30
-ARC_PAD = 4                #: px, dilation of a sparse blob (arc) before its centroid
+ARC_PAD = 4                #: px, dilation of a sparse blob (arc) before its centroid or fit
+_PAD_KERNEL = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * ARC_PAD + 1,) * 2)
+MIN_FIT_SIGMA = 0.4        #: px, smallest spot sigma a blurred-spot fit may return
+#: largest residual variance of an accepted blurred-spot fit, in units of the background's
+#: noise variance (at least 1 DN^2: quantisation and rendering leave ~1 DN^2 on noiseless
+#: frames); good fits: 1.0-2.6 on the stand's cameras and the H.264 sample, shot noise
+#: included; a path of several turns in one exposure: 4-150
+MAX_FIT_CHI2 = 3.5
+#: fraction of full scale below it still taken as clipped by the blurred-spot fit (8 DN at
+#: 8 bits): lossy video (H.264 at qp 10) turns a clipped 255 into 248-255, and a clipped
+#: pixel read as an ordinary 249 would pull the fit down (0.04 px RMS, 0.26 px at worst on
+#: the video sample with a 3 DN margin; 0.014 px RMS, as the lossless frames, with 8 DN)
+CENSOR_MARGIN = 0.03
 TOL = 1e-4                 #: px
 GAUSS_HALF = 3.5           #: window half-width of the Gaussian-weighted centroid [s]
-REFINE = ("auto", "centroid", "gaussian")
+REFINE = ("auto", "centroid", "gaussian", "blur")
+FILL_ROUND = 0.6           #: a round blob fills >= this fraction of its bounding box (a disc: 0.785)
 AGREE_PX = 0.1             #: px, largest centroid / Gaussian-centroid difference of a spot
 NEWTON_TOL = 3e-3          #: px, last Newton step of the Gaussian-weighted centroid
 COARSE_TOL = 2e-2          #: px, soft-window centroid tolerance when stage (b) follows
 BAD_FLAGS = frozenset({"missing", "blank", "edge"})
+#: flag of a saturated or elongated blob whose blurred-spot fit failed (the centroid is kept)
+FIT_FAILED = "fit_failed"
 #: columns of :func:`track` after frame [and time]
 TRACK_COLUMNS = ("u_px", "v_px", "u_std_px", "v_std_px", "peak", "method", "flags", "ok")
 
@@ -107,7 +134,8 @@ class SpotResult:
     background: float = math.nan
     noise: float = math.nan  #: background noise sigma [DN]
     window: tuple = (math.nan, math.nan)   #: half-widths (u, v) [px]
-    method: str = ""         #: "centroid" or "gaussian" (the refinement used)
+    method: str = ""         #: "centroid", "gaussian" or "blur" (the refinement used)
+    blur: Optional[object] = None   #: the :class:`vision.blur.BlurFit` when method is "blur"
 
     @property
     def ok(self) -> bool:
@@ -252,7 +280,8 @@ def _gauss_centroid(img, level, cu, cv, s):
 
 def locate(frame, *, background: Optional[float] = None, threshold: Optional[float] = None,
            window=None, roi=None, gain: Optional[float] = None,
-           saturation: Optional[float] = None, refine: str = "auto") -> SpotResult:
+           saturation: Optional[float] = None, refine: str = "auto",
+           blur_start=None, _inside_only: bool = False) -> SpotResult:
     """Locate the laser spot in one frame (see the module docstring).
 
     Parameters
@@ -274,10 +303,14 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
         Electrons per DN, for the shot-noise term of the uncertainty.
     saturation : float, optional
         Full-scale value; default 255 for uint8, inferred for uint16.
-    refine : {"auto", "centroid", "gaussian"}
-        Sub-pixel refinement (module docstring, step 4): "auto" uses the
-        Gaussian-weighted centroid for compact, round, unsaturated spots and
-        the plain centroid otherwise.
+    refine : {"auto", "centroid", "gaussian", "blur"}
+        Sub-pixel refinement (module docstring, step 4): "auto" fits the
+        blurred-spot model (:mod:`vision.blur`) to saturated or elongated blobs
+        and uses the Gaussian-weighted centroid for compact, round, unsaturated
+        spots; "centroid" keeps the plain centroid; "blur" fits every blob.
+    blur_start : (float, float), optional
+        Starting amplitude [DN] and sigma [px] of the blurred-spot fit (the
+        previous frame's, when tracking a video); default from the blob's moments.
 
     Returns
     -------
@@ -323,6 +356,10 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
         if np.any(stats[others, cv2.CC_STAT_AREA] >= MIN_BLOB_AREA) and areas.size > 1:
             flags.add("second_blob")
     bx, by, bw, bh = stats[lab, :4]
+    if _inside_only and (bx <= 0 and x0 > 0 or by <= 0 and y0 > 0
+                         or bx + bw >= sub.shape[1] and x0 + sub.shape[1] < W
+                         or by + bh >= sub.shape[0] and y0 + sub.shape[0] < H):
+        return None       # the blob reaches the ROI's border inside the frame: search it all
     if window is None:
         hu = 1.25 * 0.5 * bw + 1.0
         hv = 1.25 * 0.5 * bh + 1.0
@@ -332,6 +369,19 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
     cv = by + 0.5 * (bh - 1)
     sat = _saturation_level(frame, saturation)
     Hs, Ws = sub.shape
+    # saturated or elongated (motion-blurred) blob: the blurred-spot model fit
+    if refine in ("auto", "blur") and window is None:
+        censor = None if sat is None else sat - round(CENSOR_MARGIN * sat)
+        clipped = (censor is not None
+                   and np.count_nonzero(sub[by:by + bh, bx:bx + bw] >= censor) >= 2)
+        elongated = (abs(int(bw) - int(bh)) > max(2, 0.25 * max(bw, bh))
+                     or stats[lab, cv2.CC_STAT_AREA] < FILL_ROUND * bw * bh)
+        if refine == "blur" or clipped or elongated:
+            r = _blur_locate(sub, labels, lab, (bx, by, bw, bh), level, noise, censor, amp, flags,
+                             (x0, y0, W, H), blur_start)
+            if r is not None:
+                return r
+            flags.add(FIT_FAILED)
     total = math.nan
     hu0, hv0 = hu, hv
     tol = TOL if refine == "centroid" else COARSE_TOL   # re-done at TOL if (b) is not used
@@ -433,6 +483,65 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
                       (hu, hv), "centroid" if gs is None else "gaussian")
 
 
+def _blur_locate(sub, labels, lab, box, level, noise, sat, amp, flags, frame_geom, start):
+    """The blurred-spot fit (:func:`vision.blur.fit_blurred_spot`) of the blob ``lab``
+    (pixels >= ``sat`` censored); a :class:`SpotResult` with method "blur", or None when
+    the fit fails (module docstring, step 4c)."""
+    from .blur import fit_blurred_spot
+
+    bx, by, bw, bh = (int(a) for a in box)
+    x0, y0, W, H = frame_geom
+    Hs, Ws = sub.shape
+    i0, i1 = max(by - ARC_PAD, 0), min(by + bh + ARC_PAD, Hs)
+    j0, j1 = max(bx - ARC_PAD, 0), min(bx + bw + ARC_PAD, Ws)
+    comp = (labels[i0:i1, j0:j1] == lab).astype(np.uint8)
+    mask = cv2.dilate(comp, _PAD_KERNEL).astype(bool)
+    patch = sub[i0:i1, j0:j1]
+    amp0, sig0 = (None, None) if start is None else start
+    try:
+        f = fit_blurred_spot(patch, mask, level, saturation=sat, sigma=sig0, amplitude=amp0)
+    except ValueError:
+        return None
+    size = max(bw, bh)
+    inside = (-0.5 <= f.u <= j1 - j0 - 0.5) and (-0.5 <= f.v <= i1 - i0 - 0.5)
+    if not (f.converged and inside and math.isfinite(f.u_std) and math.isfinite(f.v_std)
+            and MIN_FIT_SIGMA < f.sigma < 0.5 * size + 2.0):
+        return None
+    # a misfit (a path the model cannot draw: several turns in one exposure, a second
+    # spot): residuals well above the noise
+    if not f.chi2 <= MAX_FIT_CHI2 * max(noise * noise, 1.0):
+        return None
+    # the fit against the plain centroid of the blob: without clipping the centroid is
+    # the exposure average too, so they must agree within the noise; with clipping they
+    # differ by the centroid's bias (< 1 px)
+    w = np.where(mask, np.maximum(patch.astype(np.float64) - level, 0.0), 0.0)
+    tot = float(w.sum())
+    xs = np.arange(w.shape[1], dtype=np.float64)
+    ys = np.arange(w.shape[0], dtype=np.float64)
+    cu = float(w.sum(axis=0) @ xs) / tot
+    cv = float(w.sum(axis=1) @ ys) / tot
+    d = math.hypot(f.u - cu, f.v - cv)
+    if f.n_clipped >= 2:
+        if d > 1.0 + 0.05 * size:
+            return None
+    else:
+        nm = mask.sum(axis=0) @ (xs - cu) ** 2 + mask.sum(axis=1) @ (ys - cv) ** 2
+        sd = math.sqrt(float(nm) * max(noise * noise, 0.25)) / tot     # the centroid's noise
+        if d > 4.0 * math.hypot(sd, f.u_std, f.v_std) + 0.02:
+            return None
+    flags = set(flags)
+    if f.n_clipped >= 2:
+        flags.add("saturated")
+    if x0 + bx <= 0 or y0 + by <= 0 or x0 + bx + bw >= W or y0 + by + bh >= H:
+        flags.add("edge")
+    u, v = j0 + f.u, i0 + f.v
+    hu = max(u - j0, j1 - 1 - u) + 1.0
+    hv = max(v - i0, i1 - 1 - v) + 1.0
+    flux = f.amplitude * 2.0 * math.pi * f.sigma ** 2
+    return SpotResult(x0 + u, y0 + v, f.u_std, f.v_std, float(amp), flux, flags, level, noise,
+                      (hu, hv), "blur", f)
+
+
 def track(frames: Iterable, *, background=None, threshold=None, window=None, gain=None,
           saturation=None, refine: str = "auto", margin: float = 16.0,
           progress: bool = False):
@@ -444,38 +553,87 @@ def track(frames: Iterable, *, background=None, threshold=None, window=None, gai
 
     ROI tracking: after a located spot, the next frame is searched only in a
     rectangle around the previous centre (the previous window + ``margin`` px
-    on each side); if the spot is missing there, or its window reaches the
-    ROI's border, the whole frame is searched again.  Consequence: a second
+    on each side) -- first around the position a whirl predicts (the circle
+    through the last three centres, stepped on by the last step's angle) --; if
+    the spot is missing there, or its window reaches the ROI's border, the whole
+    frame is searched again.  Consequence: a second
     blob (reflection) is flagged only when it lies inside the ROI (or when the
     frame was searched in full).
 
-    Columns: frame, [time,] u_px, v_px, u_std_px, v_std_px, peak, method, flags
-    (comma-separated sorted string, "" when none), ok.
+    A saturated or elongated blob is fitted with the blurred-spot model
+    (:mod:`vision.blur`), started from the previous fit's amplitude and sigma.
+
+    Columns: frame, [time,] u_px, v_px, u_std_px, v_std_px, peak, method ("gaussian",
+    "centroid" or "blur": the refinement used), flags (comma-separated sorted string,
+    "" when none; "fit_failed": the blurred-spot fit was tried and the centroid kept), ok.
     """
     kw = dict(background=background, threshold=threshold, window=window, gain=gain,
               saturation=saturation, refine=refine)
     prev = None
+    start = None         # the last blurred-spot fit's amplitude and sigma
+    seen = []            # the last three located centres, for the whirl's prediction
 
     def measure(img):
-        nonlocal prev
-        r = _locate_near(img, prev, margin, kw) if prev is not None else None
+        nonlocal prev, start
+        kw["blur_start"] = start
+        r = None
+        if prev is not None:
+            guess = _whirl_prediction(seen)
+            if guess is not None:
+                r = _locate_near(img, prev, margin, kw, at=guess)
+            if r is None:
+                r = _locate_near(img, prev, margin, kw)
         if r is None:
             r = locate(img, **kw)
         prev = r if r.ok else None
+        if r.ok:
+            seen.append((r.u_px, r.v_px))
+            del seen[:-3]
+        else:
+            seen.clear()
+        if r.blur is not None:
+            start = (r.blur.amplitude, r.blur.sigma)
         return r
 
     return frame_table(frames, measure, TRACK_COLUMNS, progress=progress)
 
 
-def _locate_near(img, prev: SpotResult, margin: float, kw: dict) -> Optional[SpotResult]:
+def _whirl_prediction(seen) -> Optional[tuple]:
+    """Where a whirling spot will be next: the circle through its last three centres
+    (u, v) [px], the last step's angle repeated about its centre; None for fewer than
+    three centres, a straight or still track, or a step of more than 120 deg."""
+    if len(seen) < 3:
+        return None
+    (x1, y1), (x2, y2), (x3, y3) = seen
+    d = 2.0 * (x1 * (y2 - y3) + x2 * (y3 - y1) + x3 * (y1 - y2))
+    s1, s2, s3 = x1 * x1 + y1 * y1, x2 * x2 + y2 * y2, x3 * x3 + y3 * y3
+    if abs(d) < 1e-9:
+        return None
+    cx = (s1 * (y2 - y3) + s2 * (y3 - y1) + s3 * (y1 - y2)) / d
+    cy = (s1 * (x3 - x2) + s2 * (x1 - x3) + s3 * (x2 - x1)) / d
+    a2 = math.atan2(y2 - cy, x2 - cx)
+    a3 = math.atan2(y3 - cy, x3 - cx)
+    step = (a3 - a2 + math.pi) % (2.0 * math.pi) - math.pi
+    r = math.hypot(x3 - cx, y3 - cy)
+    if not (r < 1e4 and 1e-3 < abs(step) < 2.1):
+        return None
+    return cx + r * math.cos(a3 + step), cy + r * math.sin(a3 + step)
+
+
+def _locate_near(img, prev: SpotResult, margin: float, kw: dict,
+                 at: Optional[tuple] = None) -> Optional[SpotResult]:
     """:func:`locate` in a rectangle around the previous spot (its window +
-    ``margin`` px); None when the whole frame must be searched (spot missing
-    there, or its window reaching the rectangle's border)."""
+    ``margin`` px; centred ``at`` (u, v) [px] when given, a predicted position);
+    None when the whole frame must be searched (spot missing there, or its window
+    reaching the rectangle's border)."""
     hu, hv = prev.window
     ru, rv = hu + margin, hv + margin
-    roi = (int(math.floor(prev.u_px - ru)), int(math.floor(prev.v_px - rv)),
+    cu, cv = (prev.u_px, prev.v_px) if at is None else at
+    roi = (int(math.floor(cu - ru)), int(math.floor(cv - rv)),
            int(math.ceil(2 * ru)) + 1, int(math.ceil(2 * rv)) + 1)
-    r = locate(img, roi=roi, **kw)
+    r = locate(img, roi=roi, _inside_only=True, **kw)
+    if r is None:
+        return None   # the blob reaches the rectangle's border: search the whole frame
     if "blank" in r.flags:
         return r
     if "missing" in r.flags:

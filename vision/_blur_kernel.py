@@ -1,0 +1,668 @@
+"""The normal equations of the blurred-spot fit (:mod:`vision.blur`): one pass over the pixels.
+
+:func:`normal_equations` returns the residual sum of squares, ``J^T J`` (9 x 9)
+and ``J^T r`` (9) of the model at given path points, over the fitted pixels,
+with clipped pixels censored (module docstring of :mod:`vision.blur`).  Two
+implementations give the same numbers (to rounding, ``tests/test_video_track.py``):
+
+* compiled (numba, ``cache=True``): loops over the pixels and, for each, over
+  the path points within 6 sigma of it -- about 20 us for a still spot and
+  0.3 ms for an 80 px arc;
+* numpy (when numba is missing, or ``STAND_DISABLE_JIT=1`` / ``NUMBA_DISABLE_JIT=1``
+  is set): the separable sums as matrix products over the patch -- the same
+  results, about 5-10x slower (numpy's per-call overhead dominates on small blobs).
+
+numba is imported only when the compiled kernel is first needed.
+"""
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+
+__all__ = ["normal_equations", "compiled_available", "CUTOFF_SIGMAS"]
+
+NP = 9                  #: parameters (m_u, m_v, h_u, h_v, kappa, a2, a3, ln A, ln s)
+CUTOFF_SIGMAS = 5.0     #: a point contributes to pixels within this many sigma (exp(-12.5) ~ 4e-6)
+_SQRT2 = math.sqrt(2.0)
+_SQRT2PI = math.sqrt(2.0 * math.pi)
+
+_compiled = None        # None: not tried yet; False: unavailable; else the dispatcher
+
+
+def _disabled() -> bool:
+    return any(os.environ.get(k, "") not in ("", "0")
+               for k in ("STAND_DISABLE_JIT", "NUMBA_DISABLE_JIT"))
+
+
+def path(mu, mv, hu, hv, kap, a2, a3, n):
+    """Path points, quadrature weights and their derivatives (plain loops, also compiled by
+    numba; ``n`` >= 7).
+
+    The point at time fraction x in [-1, 1] (``n`` equal steps, ends included) is
+    ``m + (T(x) + a2 P2(x)) h + (N(x) + a3 P3(x)) J h`` with beta = kappa l, l = |h|,
+    J = +90 deg turn, T = sin(beta x)/beta, N = (sin(beta)/beta - cos(beta x))/beta
+    (series near beta = 0), P2 = x^2 - 1/3, P3 = x^3 - 3x/5 (zero mean: m stays the
+    mean position).
+
+    Returns
+    -------
+    u, v : (n,) [px];  w : (n,) weights (sum 1, Gregory's end corrections);
+    pu, pv : (5, n) d(u, v)/d(h_u, h_v, kappa, a2, a3).
+    """
+    u = np.empty(n)
+    v = np.empty(n)
+    w = np.empty(n)
+    pu = np.empty((5, n))
+    pv = np.empty((5, n))
+    ell = math.sqrt(hu * hu + hv * hv)
+    beta = kap * ell
+    small = abs(beta) < 1e-3
+    sb = math.sin(beta)
+    cb = math.cos(beta)
+    # d beta / d(hu, hv) = kappa h / l (the products below stay finite as l -> 0)
+    bu = kap * hu / ell if ell > 0 else 0.0
+    bv = kap * hv / ell if ell > 0 else 0.0
+    total = 0.0
+    for k in range(n):
+        x = -1.0 + 2.0 * k / (n - 1)
+        x2 = x * x
+        if small:
+            b2 = beta * beta
+            T = x * (1.0 - b2 * x2 / 6.0)
+            N = beta * (0.5 * x2 - 1.0 / 6.0) + beta * b2 * (1.0 / 120.0 - x2 * x2 / 24.0)
+            Tb = -beta * x * x2 / 3.0
+            Nb = (0.5 * x2 - 1.0 / 6.0) + 3.0 * b2 * (1.0 / 120.0 - x2 * x2 / 24.0)
+        else:
+            sx = math.sin(beta * x)
+            cx = math.cos(beta * x)
+            T = sx / beta
+            N = (sb / beta - cx) / beta
+            Tb = (x * cx * beta - sx) / (beta * beta)
+            Nb = ((cb * beta - sb) / (beta * beta) + x * sx) / beta - N / beta
+        P2 = x2 - 1.0 / 3.0
+        P3 = x * (x2 - 0.6)
+        T += a2 * P2
+        N += a3 * P3
+        u[k] = mu + T * hu - N * hv
+        v[k] = mv + T * hv + N * hu
+        gu = Tb * hu - Nb * hv          # d u / d beta
+        gv = Tb * hv + Nb * hu          # d v / d beta
+        pu[0, k] = T + gu * bu
+        pu[1, k] = -N + gu * bv
+        pu[2, k] = gu * ell
+        pu[3, k] = P2 * hu
+        pu[4, k] = -P3 * hv
+        pv[0, k] = N + gv * bu
+        pv[1, k] = T + gv * bv
+        pv[2, k] = gv * ell
+        pv[3, k] = P2 * hv
+        pv[4, k] = P3 * hu
+        # Gregory's end corrections of the trapezoidal rule: 3/8, 7/6, 23/24, 1, ...
+        e = min(k, n - 1 - k)
+        w[k] = 3.0 / 8.0 if e == 0 else (7.0 / 6.0 if e == 1 else (23.0 / 24.0 if e == 2 else 1.0))
+        total += w[k]
+    for k in range(n):
+        w[k] /= total
+    return u, v, w, pu, pv
+
+
+def _profile_row(c, s, lo, hi, wk, g, dg, sg):
+    """Pixel-integrated profile of a point at ``c`` [px] over pixels lo..hi, times the
+    weight ``wk``, into ``g``; its derivatives with respect to the point (``dg``) and to
+    ``s`` (``sg``).  Pixel p covers [p - 1/2, p + 1/2]: each edge's erf and exp serve the
+    two pixels it separates."""
+    k_ = _SQRT2PI * s
+    b = (lo - 0.5 - c) / s
+    eb = math.exp(-0.5 * b * b)
+    Eb = math.erf(b / _SQRT2)
+    for p in range(lo, hi + 1):
+        a = b + 1.0 / s
+        ea = math.exp(-0.5 * a * a)
+        Ea = math.erf(a / _SQRT2)
+        gg = 0.5 * k_ * (Ea - Eb)
+        g[p] = gg * wk
+        dg[p] = (eb - ea) * wk
+        sg[p] = (gg / s - (ea * a - eb * b)) * wk
+        b, eb, Eb = a, ea, Ea
+
+
+def _normal_equations_loops(patch, pi, pj, clipped, level, sat_eff, p, n, want_jac, want_meat,
+                            JTJ, g, MJ):
+    """Plain loops (compiled by numba).  Returns the residual sum of squares; fills
+    ``JTJ`` (9, 9) and ``g`` (9) when ``want_jac``."""
+    H, W = patch.shape
+    u, v, w, pu, pv = path(p[0], p[1], p[2], p[3], p[4], p[5], p[6], n)
+    A = math.exp(p[7])
+    s = math.exp(p[8])
+    n = u.shape[0]
+    P = pi.shape[0]
+    cut = CUTOFF_SIGMAS * s + 1.0
+    # 1-D profiles of every point over the patch's columns and rows
+    gu = np.zeros((n, W))
+    du_ = np.zeros((n, W))
+    su = np.zeros((n, W))
+    gv = np.zeros((n, H))
+    dv_ = np.zeros((n, H))
+    sv = np.zeros((n, H))
+    jlo = np.empty(n, np.int64)
+    jhi = np.empty(n, np.int64)
+    ilo = np.empty(n, np.int64)
+    ihi = np.empty(n, np.int64)
+    for k in range(n):
+        jlo[k] = max(int(math.floor(u[k] - cut)), 0)
+        jhi[k] = min(int(math.ceil(u[k] + cut)), W - 1)
+        ilo[k] = max(int(math.floor(v[k] - cut)), 0)
+        ihi[k] = min(int(math.ceil(v[k] + cut)), H - 1)
+        _profile_row(u[k], s, jlo[k], jhi[k], w[k], gu[k], du_[k], su[k])
+        _profile_row(v[k], s, ilo[k], ihi[k], 1.0, gv[k], dv_[k], sv[k])
+    cost = 0.0
+    Jm = np.empty((P if want_jac else 0, NP))
+    rr = np.empty(P if want_jac else 0)
+    na = 0
+    for q in range(P):
+        i = pi[q]
+        j = pj[q]
+        # a clipped pixel the model already reaches is inactive (residual 0, no gradient):
+        # its model value first; every other pixel's value and gradient in one pass
+        m = 0.0
+        if clipped[q]:
+            for k in range(n):
+                if j < jlo[k] or j > jhi[k] or i < ilo[k] or i > ihi[k]:
+                    continue
+                m += gv[k, i] * gu[k, j]
+            if level + A * m >= sat_eff:
+                continue
+            if not want_jac:
+                r = sat_eff - level - A * m
+                cost += r * r
+                continue
+        elif not want_jac:
+            for k in range(n):
+                if j < jlo[k] or j > jhi[k] or i < ilo[k] or i > ihi[k]:
+                    continue
+                m += gv[k, i] * gu[k, j]
+            r = patch[i, j] - level - A * m
+            cost += r * r
+            continue
+        jr = Jm[na]
+        for c in range(NP):
+            jr[c] = 0.0
+        m = 0.0
+        for k in range(n):
+            if j < jlo[k] or j > jhi[k] or i < ilo[k] or i > ihi[k]:
+                continue
+            gvk = gv[k, i]
+            guk = gu[k, j]
+            m += gvk * guk
+            t1 = gvk * du_[k, j]
+            t2 = dv_[k, i] * guk
+            jr[0] += t1
+            jr[1] += t2
+            for c in range(5):
+                jr[2 + c] += pu[c, k] * t1 + pv[c, k] * t2
+            jr[8] += gvk * su[k, j] + sv[k, i] * guk
+        full = level + A * m
+        r = (sat_eff - full) if clipped[q] else (patch[i, j] - full)
+        cost += r * r
+        for c in range(7):
+            jr[c] *= A
+        jr[7] = A * m               # d / d ln A
+        jr[8] *= A * s              # d / d ln s
+        rr[na] = r
+        na += 1
+    if want_jac:
+        for a in range(NP):
+            for b in range(a + 1):
+                t = 0.0
+                tm = 0.0
+                for q in range(na):
+                    x = Jm[q, a] * Jm[q, b]
+                    t += x
+                    tm += x * rr[q] * rr[q]
+                JTJ[a, b] = t
+                JTJ[b, a] = t
+                if want_meat:
+                    MJ[a, b] = tm
+                    MJ[b, a] = tm
+            t = 0.0
+            for q in range(na):
+                t += Jm[q, a] * rr[q]
+            g[a] = t
+    return cost
+
+
+#: the plain Python functions, kept before any of them is replaced by its compiled version
+_PY = {}
+
+
+def compiled_available() -> bool:
+    """True when the numba kernel can be used (numba installed and not disabled)."""
+    return _compiled_kernel() is not None
+
+
+def _compiled_kernel():
+    global _compiled
+    if _compiled is None:
+        _compiled = False
+        if not _disabled():
+            try:
+                import numba
+            except ImportError:
+                pass
+            else:
+                jit = numba.njit(cache=True, error_model="numpy")
+                globals()["path"] = jit(path)      # the kernel calls the compiled helpers
+                globals()["_profile_row"] = jit(_profile_row)
+                _compiled = jit(_normal_equations_loops)
+    return _compiled or None
+
+
+# ---------------------------------------------------------------- numpy
+def _profile(d, s):
+    """Pixel-integrated 1-D profile sqrt(2 pi) s [Phi((d+1/2)/s) - Phi((d-1/2)/s)] at offsets
+    ``d`` = pixel - point [px], its derivative with respect to the point, and to ``s``."""
+    from scipy.special import ndtr
+
+    a = (d + 0.5) / s
+    b = (d - 0.5) / s
+    ea = np.exp(-0.5 * a * a)
+    eb = np.exp(-0.5 * b * b)
+    g = _SQRT2PI * s * (ndtr(a) - ndtr(b))
+    return g, eb - ea, g / s - (ea * a - eb * b)
+
+
+def _normal_equations_numpy(patch, pi, pj, clipped, level, sat_eff, p, n, want_jac, want_meat):
+    """The same numbers as :func:`_normal_equations_loops` by matrix products over the patch
+    (the separable sums): ``(cost, J^T J, J^T r, sum r^2 J J^T)``, None where not asked."""
+    H, W = patch.shape
+    u, v, w, pu, pv = path(p[0], p[1], p[2], p[3], p[4], p[5], p[6], n)
+    A = math.exp(p[7])
+    s = math.exp(p[8])
+    rows = np.arange(H, dtype=float)
+    cols = np.arange(W, dtype=float)
+    gu, dgu, su = _profile(cols[None, :] - u[:, None], s)      # (n, W)
+    gv, dgv, sv = _profile(rows[None, :] - v[:, None], s)      # (n, H)
+    wc = w[:, None]
+    gu, dgu, su = gu * wc, dgu * wc, su * wc
+    base = gv.T @ gu
+    full = (level + A * base)[pi, pj]
+    d = patch[pi, pj]
+    over = clipped & (full >= sat_eff)
+    r = np.where(clipped, np.where(over, 0.0, sat_eff - full), d - full)
+    cost = float(r @ r)
+    if not want_jac:
+        return cost, None, None, None
+    J = np.empty((NP, pi.size))
+    J[0] = A * (gv.T @ dgu)[pi, pj]
+    J[1] = A * (dgv.T @ gu)[pi, pj]
+    for a in range(5):
+        J[2 + a] = A * ((gv.T * pu[a][None, :]) @ dgu + (dgv.T * pv[a][None, :]) @ gu)[pi, pj]
+    J[7] = A * base[pi, pj]
+    J[8] = A * s * (gv.T @ su + sv.T @ gu)[pi, pj]
+    J[:, over] = 0.0
+    return cost, J @ J.T, J @ r, ((J * (r * r)) @ J.T if want_meat else None)
+
+
+def _normal_equations_numpy_into(patch, pi, pj, clipped, level, sat_eff, p, n, want_jac,
+                                 want_meat, JTJ, g, MJ):
+    """:func:`_normal_equations_numpy` with the signature of the loops (results written into
+    ``JTJ``, ``g``, ``MJ``; returns the cost)."""
+    cost, a, b, c = _normal_equations_numpy(patch, pi, pj, clipped, level, sat_eff, p, n,
+                                            want_jac, want_meat)
+    if want_jac:
+        JTJ[:, :] = a
+        g[:] = b
+        if want_meat:
+            MJ[:, :] = c
+    return cost
+
+
+
+# ---------------------------------------------------------------- Levenberg-Marquardt
+def n_points(ell, s, min_sigma, max_points):
+    """Points along a path of half-length ``ell`` [px]: at most one sigma ``s`` apart,
+    at least 7 (Gregory's end weights)."""
+    return int(min(max(math.ceil(2.0 * ell / max(s, min_sigma)) + 1, 7), max_points))
+
+
+def _bound(q, size, c):
+    """Parameters inside their domain, in place (``size``: the patch's diagonal [px];
+    ``c`` = (min_sigma, max_sweep, max_shape)): min_sigma <= s <= size, l <= size,
+    A <= e^30 DN, |kappa| <= min(max_sweep / l, 1 / s) (a bend tighter than the spot is
+    not resolved: a curl smaller than the spot looks like a wider spot), |a2|, |a3| <=
+    max_shape."""
+    q[8] = min(max(q[8], math.log(c[0])), math.log(size))
+    q[7] = min(q[7], 30.0)
+    ell = math.sqrt(q[2] * q[2] + q[3] * q[3])
+    if ell > size:
+        q[2] *= size / ell
+        q[3] *= size / ell
+        ell = size
+    kmax = min(c[1] / max(ell, 1e-12), math.exp(-q[8]))
+    if abs(q[4]) > kmax:
+        q[4] = kmax if q[4] > 0 else -kmax
+    q[5] = min(max(q[5], -c[2]), c[2])
+    q[6] = min(max(q[6], -c[2]), c[2])
+
+
+def _evaluate(patch, pi, pj, clipped, level, sat_eff, p, c, JTJ, g, MJ):
+    """Cost, and J^T J, J^T r, sum r^2 J J^T into the arrays, at ``p``."""
+    n = n_points(math.sqrt(p[2] * p[2] + p[3] * p[3]), math.exp(p[8]), c[0], c[3])
+    yes = n > 0            # (a computed bool: the same compiled kernel as a call from Python)
+    return _EVALUATE(patch, pi, pj, clipped, level, sat_eff, p, n, yes, yes, JTJ, g, MJ)
+
+
+def _lm(patch, pi, pj, clipped, level, sat_eff, p, cost, JTJ, g, MJ, free, size, c, tol,
+        max_iter):
+    """Levenberg-Marquardt over the ``free`` parameters from ``p`` (with its cost and
+    matrices, updated in place).  Returns (cost, iterations, converged): converged when
+    an accepted step moved the centre < tol[0] px and lowered the cost by <= tol[1] of
+    it, or no better point lies within tol[0] px."""
+    lam = 1e-3
+    q = np.empty(NP)
+    A = np.empty((NP, NP))
+    rhs = np.empty(NP)
+    nJ = np.empty((NP, NP))
+    ng = np.empty(NP)
+    nM = np.empty((NP, NP))
+    it = 0
+    converged = False
+    while it < max_iter:
+        it += 1
+        for a in range(NP):
+            for b in range(NP):
+                A[a, b] = JTJ[a, b] if (free[a] and free[b]) else 0.0
+            if free[a]:
+                d = JTJ[a, a]
+                A[a, a] += lam * (d if d > 0 else 1.0)
+                rhs[a] = g[a]
+            else:
+                A[a, a] = 1.0
+                rhs[a] = 0.0
+        step = rhs.reshape(NP, 1)
+        _cholesky_solve(A, step)            # A is positive definite (damped)
+        for a in range(NP):
+            q[a] = p[a] + step[a, 0]
+        _bound(q, size, c)
+        # the trial's Jacobian too: an accepted step (the usual case) needs it next
+        new_cost = _evaluate(patch, pi, pj, clipped, level, sat_eff, q, c, nJ, ng, nM)
+        moved = math.sqrt((q[0] - p[0]) ** 2 + (q[1] - p[1]) ** 2)
+        if new_cost <= cost:
+            gain = cost - new_cost
+            p[:] = q
+            JTJ[:, :] = nJ
+            g[:] = ng
+            MJ[:, :] = nM
+            cost = new_cost
+            lam = max(lam / 5.0, 1e-9)
+            if moved < tol[0] and gain <= tol[1] * cost:
+                converged = True
+                break
+        else:
+            lam *= 4.0
+            if lam > 1e8 or moved < tol[0]:
+                converged = moved < tol[0]     # no better point nearby: at the minimum
+                break
+    return cost, it, converged
+
+
+def _cholesky_solve(A, B):
+    """Solve A X = B for a symmetric positive (semi-)definite A (n x n, small) by Cholesky,
+    with a ridge of 1e-12 of the largest diagonal so that a singular A (a direction the data
+    do not fix) gives the minimum-norm-like solution instead of failing; B (n, m) is
+    overwritten with X.  Plain loops: no LAPACK (quick to compile)."""
+    n = A.shape[0]
+    L = np.zeros((n, n))
+    top = 0.0
+    for i in range(n):
+        top = max(top, A[i, i])
+    ridge = 1e-12 * top if top > 0 else 1e-300
+    for i in range(n):
+        for j in range(i + 1):
+            s = A[i, j] + (ridge if i == j else 0.0)
+            for k in range(j):
+                s -= L[i, k] * L[j, k]
+            if i == j:
+                L[i, i] = math.sqrt(s) if s > 0 else math.sqrt(ridge)
+            else:
+                L[i, j] = s / L[j, j]
+    for c in range(B.shape[1]):
+        for i in range(n):
+            s = B[i, c]
+            for k in range(i):
+                s -= L[i, k] * B[k, c]
+            B[i, c] = s / L[i, i]
+        for i in range(n - 1, -1, -1):
+            s = B[i, c]
+            for k in range(i + 1, n):
+                s -= L[k, i] * B[k, c]
+            B[i, c] = s / L[i, i]
+
+
+def _score(JTJ, g, MJ, free):
+    """Robust score (Lagrange multiplier) statistic of freeing the held parameters at a
+    fit with them held (:func:`vision.blur.fit_blurred_spot`): ``s^T (L M L^T)^-1 s`` with
+    the efficient score ``s = g_c - B_cf B_ff^-1 g_f`` and ``L = [-B_cf B_ff^-1, 1]``
+    (B = J^T J, g = J^T r, M = sum r^2 J J^T; c the held, f the fitted parameters; two
+    held parameters)."""
+    nf = 0
+    for a in range(NP):
+        if free[a]:
+            nf += 1
+    nc = NP - nf
+    f = np.empty(nf, np.int64)
+    h = np.empty(nc, np.int64)
+    i = 0
+    k = 0
+    for a in range(NP):
+        if free[a]:
+            f[i] = a
+            i += 1
+        else:
+            h[k] = a
+            k += 1
+    Bff = np.empty((nf, nf))
+    KT = np.empty((nf, nc))             # Bff^-1 Bfc = K^T
+    for a in range(nf):
+        for b in range(nf):
+            Bff[a, b] = JTJ[f[a], f[b]]
+        for b in range(nc):
+            KT[a, b] = JTJ[f[a], h[b]]
+    _cholesky_solve(Bff, KT)
+    # s = g_c - K g_f;  rows of L: [-K, 1] in the order (f, h)
+    s = np.empty(nc)
+    Lr = np.zeros((nc, NP))
+    for c in range(nc):
+        v = g[h[c]]
+        for a in range(nf):
+            v -= KT[a, c] * g[f[a]]
+            Lr[c, f[a]] = -KT[a, c]
+        Lr[c, h[c]] = 1.0
+        s[c] = v
+    V = np.zeros((nc, nc))
+    for c in range(nc):
+        for d in range(nc):
+            v = 0.0
+            for a in range(NP):
+                if Lr[c, a] == 0.0:
+                    continue
+                for b in range(NP):
+                    v += Lr[c, a] * MJ[a, b] * Lr[d, b]
+            V[c, d] = v
+    S = s.reshape(nc, 1).copy()
+    _cholesky_solve(V, S)
+    out = 0.0
+    for c in range(nc):
+        out += s[c] * S[c, 0]
+    return out
+
+
+def fit_loops(patch, pi, pj, clipped, level, sat_eff, starts, size, c, tol, max_iter,
+              score_limit):
+    """The whole fit after the starting values: the best start by cost; LM with the
+    path's shape terms (a2, a3; indices 5, 6) held at 0; the score test; LM with them
+    free when it exceeds ``score_limit``.
+
+    Returns
+    -------
+    p (9,), cost, J^T J, sum r^2 J J^T, free (bool 9), iterations, converged
+    """
+    JTJ = np.empty((NP, NP))
+    g = np.empty(NP)
+    MJ = np.empty((NP, NP))
+    p = np.empty(NP)
+    cost = np.inf
+    tJ = np.empty((NP, NP))
+    tg = np.empty(NP)
+    tM = np.empty((NP, NP))
+    q = np.empty(NP)
+    for k in range(starts.shape[0]):
+        q[:] = starts[k]
+        q[5] = 0.0
+        q[6] = 0.0
+        ck = _evaluate(patch, pi, pj, clipped, level, sat_eff, q, c, tJ, tg, tM)
+        if ck < cost or k == 0:
+            cost = ck
+            p[:] = q
+            JTJ[:, :] = tJ
+            g[:] = tg
+            MJ[:, :] = tM
+    free = np.ones(NP, np.bool_)
+    free[5] = False
+    free[6] = False
+    cost, it, converged = _lm(patch, pi, pj, clipped, level, sat_eff, p, cost, JTJ, g, MJ,
+                              free, size, c, tol, max_iter)
+    if converged and _score(JTJ, g, MJ, free) > score_limit:
+        free[5] = True
+        free[6] = True
+        cost, it2, converged = _lm(patch, pi, pj, clipped, level, sat_eff, p, cost, JTJ, g,
+                                   MJ, free, size, c, tol, max_iter)
+        it += it2
+    return p, cost, JTJ, MJ, free, it, converged
+
+
+_EVALUATE = _normal_equations_numpy_into       # the numpy fallback's; the compiled one below
+_compiled_fit = None    # None: not tried yet; False: unavailable; else the dispatcher
+_numpy_fit = None
+
+
+def fit_function(engine: str = "auto"):
+    """The fit (:func:`fit_loops`) for ``engine``: "numba" compiled (numba imported on the
+    first call, ``cache=True``), "numpy" the plain Python loop over the numpy normal
+    equations, "auto" the first available.  Raises RuntimeError for "numba" without it."""
+    global _compiled_fit, _numpy_fit
+    if engine in ("auto", "numba") and _compiled_fit is None:
+        _compiled_fit = False
+        kern = _compiled_kernel()
+        if kern is not None:
+            import numba
+
+            jit = numba.njit(cache=True, error_model="numpy")
+            mod = globals()
+            mod["_EVALUATE"] = kern
+            for name in ("n_points", "_bound", "_evaluate", "_cholesky_solve", "_lm", "_score"):
+                mod[name] = jit(mod[name])
+            _compiled_fit = jit(fit_loops)
+    if engine in ("auto", "numba") and _compiled_fit:
+        return _compiled_fit
+    if engine == "numba":
+        raise RuntimeError("engine='numba': numba is not available (or disabled)")
+    if _numpy_fit is None:
+        _numpy_fit = _python_copy(fit_loops)
+    return _numpy_fit
+
+
+def compile_needed() -> bool:
+    """True when the first compiled fit will compile (numba available, no cache file of
+    :func:`fit_loops` yet): about 10 s, once per install (a best guess from numba's cache
+    index; False when that cannot be told)."""
+    if _disabled():
+        return False
+    try:
+        import importlib.util
+        if importlib.util.find_spec("numba") is None:
+            return False
+        fit = fit_function("numba")
+        return not os.path.exists(fit._cache._cache_file._index_path)
+    except Exception:   # noqa: BLE001 - numba's private cache layout: no answer, no message
+        return False
+
+
+def warm() -> str:
+    """Compile (or load from numba's cache) the fit for the argument types
+    :func:`vision.blur.fit_blurred_spot` passes; returns the engine ("numba" or "numpy")."""
+    engine = "numba" if _compiled_kernel() is not None else "numpy"
+    rows, cols = np.mgrid[0:24, 0:24]
+    patch = 8.0 + 200.0 * np.exp(-((cols - 11.7) ** 2 + (rows - 12.2) ** 2) / 8.0)
+    pi = rows.ravel().astype(np.int64)
+    pj = cols.ravel().astype(np.int64)
+    start = np.array([[11.5, 12.0, 1.0, 0.5, 0.0, 0.0, 0.0, math.log(200.0), math.log(2.0)]])
+    fit_function(engine)(patch, pi, pj, np.zeros(pi.size, np.bool_), 8.0, np.inf, start,
+                         34.0, np.array([0.35, math.pi, 0.5, 4000.0]), np.array([2e-3, 1e-2]),
+                         40, 6.0)
+    return engine
+
+
+def _python_copy(func):
+    """``func`` and the helpers it calls, as plain Python bound to the numpy normal
+    equations (whatever the module's globals hold after compiling)."""
+    import types
+
+    env = dict(globals())
+    env["_EVALUATE"] = _normal_equations_numpy_into
+    env["path"] = _PY["path"]
+    for name in ("n_points", "_bound", "_evaluate", "_cholesky_solve", "_lm", "_score"):
+        env[name] = types.FunctionType(_PY[name].__code__, env, name)
+    return types.FunctionType(func.__code__, env, func.__name__)
+
+
+def normal_equations(patch, pi, pj, clipped, level, sat_eff, p, n, want_jac=True,
+                     want_meat=False, engine="auto"):
+    """``(cost, J^T J, J^T r, sum r^2 J J^T)`` of the model over the pixels ``(pi, pj)``
+    (rows, columns of ``patch``); the last is the "meat" of the sandwich covariance.
+
+    Parameters
+    ----------
+    patch : float64 (H, W)
+    pi, pj : int64 (P,)
+    clipped : bool (P,)
+        The pixel is at full scale (censored: ``model >= sat_eff``).
+    level, sat_eff : float
+        Background and effective saturation [DN].
+    p : float64 (9,)
+        (m_u, m_v, h_u, h_v, kappa, a2, a3, ln A, ln s) in patch coordinates [px, 1/px,
+        1, 1, ln DN, ln px].
+    n : int
+        Points along the path (>= 7).
+    want_jac : bool
+        False: the cost only (the matrices are None).
+    want_meat : bool
+        With ``want_jac``: also ``sum r^2 J J^T`` (else None).
+    engine : {"auto", "numba", "numpy"}
+
+    Returns
+    -------
+    cost : float
+    JTJ : (9, 9) or None  (derivatives with respect to ``p``)
+    g : (9,) or None
+    MJ : (9, 9) or None
+    """
+    want_meat = bool(want_meat and want_jac)
+    kern = _compiled_kernel() if engine in ("auto", "numba") else None
+    if engine == "numba" and kern is None:
+        raise RuntimeError("engine='numba': numba is not available (or disabled)")
+    if kern is None:
+        return _normal_equations_numpy(patch, pi, pj, clipped, level, sat_eff, p, n, want_jac,
+                                       want_meat)
+    JTJ = np.empty((NP, NP))
+    g = np.empty(NP)
+    MJ = np.empty((NP, NP))
+    cost = kern(patch, pi, pj, clipped, float(level), float(sat_eff), p, int(n), bool(want_jac),
+                want_meat, JTJ, g, MJ)
+    return (cost, JTJ, g, MJ if want_meat else None) if want_jac else (cost, None, None, None)
+
+
+_PY.update({name: globals()[name] for name in ("path", "n_points", "_bound", "_evaluate",
+                                                 "_cholesky_solve", "_lm", "_score", "_profile_row")})
