@@ -271,6 +271,10 @@ def _base(name: str) -> str:
 def recognise(columns) -> tuple[dict, list]:
     """Roles of well-known column names.
 
+    When several columns fit a role, the one whose name carries its unit wins over one
+    whose unit would be assumed, and among those the SI one (a track's ``x_m``, the
+    shaft, over its ``x_mm``, the screen; ``t_s`` over a bare ``time``).
+
     Returns
     -------
     (dict, list of str)
@@ -278,11 +282,11 @@ def recognise(columns) -> tuple[dict, list]:
         default) and one line per choice (what was taken, and where a unit was
         assumed) for the user.
     """
-    found, lines = {}, []
-    for col in columns:
+    cands = {}
+    for order, col in enumerate(columns):
         b = _base(col)
         for role, names in _KNOWN.items():
-            if role in found or b not in names:
+            if b not in names:
                 continue
             unit = unit_from_name(col, ROLE_QUANTITY[role])
             if role in ("x", "y") and unit is None:
@@ -291,10 +295,19 @@ def recognise(columns) -> tuple[dict, list]:
                 unit = "rpm"
             assumed = unit is None
             unit = unit or DEFAULT_UNIT[role]
-            found[role] = ColumnSpec(role, str(col), unit)
-            lines.append(f"{role} = column {col!r} [{unit}]"
-                         + (" (no unit in the name: assumed)" if assumed else ""))
+            q = ROLE_QUANTITY[role]
+            si = unit in QUANTITIES[q] and QUANTITIES[q][unit] == 1.0
+            rank = (assumed, not si, order)
+            if role not in cands or rank < cands[role][0]:
+                cands[role] = (rank, ColumnSpec(role, str(col), unit), assumed)
             break
+    found, lines = {}, []
+    for role in _KNOWN:
+        if role in cands:
+            _, spec, assumed = cands[role]
+            found[role] = spec
+            lines.append(f"{role} = column {spec.column!r} [{spec.unit}]"
+                         + (" (no unit in the name: assumed)" if assumed else ""))
     return found, lines
 
 
