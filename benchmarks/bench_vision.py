@@ -106,6 +106,29 @@ def main():
             continue
         (cell,) = check_peer(name, rms, TOL_PX).cells(f"{fps:10.0f}")
         print(f"{name:42s} {cell:>10s} {rms:13.4f}")
+    hard_frames(frames, truth)
+
+
+def lopsided(frame, u, v):
+    """The frame with a shoulder 4 px beside its spot: a hard frame the Gaussian-weighted
+    refinement rejects (the centre it would give is not the exposure-averaged one)."""
+    yy, xx = np.mgrid[0:frame.shape[0], 0:frame.shape[1]]
+    shoulder = 80 * np.exp(-((xx - u - 4) ** 2 + (yy - v) ** 2) / 8.0)
+    return np.clip(frame + shoulder.round(), 0, 255).astype(np.uint8)
+
+
+def hard_frames(frames, truth):
+    """Every 50th frame made hard: every frame where the refined locator was not used
+    must say so (issue 21) -- counted here; tests/test_vision_spot.py asserts it."""
+    mixed = [lopsided(f, *truth[i]) if i % 50 == 25 else f for i, f in enumerate(frames)]
+    hard = np.array([i % 50 == 25 for i in range(len(frames))])
+    df = track(mixed)
+    refined = (df["method"] == "gaussian").to_numpy()
+    flagged = df["flags"].astype(str).str.contains("not_refined|fit_failed").to_numpy()
+    silent = int(np.sum(~refined & ~flagged))
+    print(f"hard frames mixed in: {int(hard.sum())} of {len(frames)}; not refined: "
+          f"{int((~refined).sum())}, flagged: {int(flagged.sum())}, silent fallbacks: {silent}"
+          f" -> {'MET' if silent == 0 else 'NOT MET'}")
 
 
 def _has_numba():

@@ -459,6 +459,10 @@ def _cmd_track(args) -> int:
     if "method" in df and len(df):
         counts = df["method"].replace("", "none").value_counts()
         methods = " (" + ", ".join(f"{k} {v}" for k, v in counts.items()) + ")"
+    if "flags" in df and len(df):
+        fl = df["flags"].fillna("").astype(str)
+        flagged = {f: int(fl.str.contains(f, regex=False).sum()) for f in ("not_refined", "fit_failed")}
+        methods += "".join(f"; {f} {n}" for f, n in flagged.items() if n)
     print(f"{args.source}: {len(df)} frames, {what} found in {ok}{methods} -> {args.output}")
     return 0
 

@@ -163,3 +163,28 @@ def test_sample_recording_tracks_exposure_averaged_truth():
     # saturated motion-blurred arcs are clipped unevenly along the arc (slow parts
     # clip more): biased by design, flagged
     assert math.sqrt(np.mean(err[inside] ** 2)) <= 0.25
+
+
+def test_a_spot_the_refinement_rejects_is_flagged_with_a_larger_uncertainty():
+    """A lopsided spot (a main spot with a shoulder 4 px aside): the Gaussian-weighted centre
+    disagrees with the centroid by more than AGREE_PX, the centroid is kept, and the frame
+    says so (issue 21: no silent fallback) with half the disagreement in its uncertainty."""
+    from vision.spot import NOT_REFINED
+
+    yy, xx = np.mgrid[0:64, 0:64].astype(float)
+    spot = 180 * np.exp(-((xx - 32.3) ** 2 + (yy - 31.6) ** 2) / (2 * 2.0 ** 2))
+    shoulder = 80 * np.exp(-((xx - 36.3) ** 2 + (yy - 31.6) ** 2) / (2 * 2.0 ** 2))
+    frame = (10 + spot + shoulder).round().clip(0, 255).astype(np.uint8)
+    r = locate(frame)
+    assert NOT_REFINED in r.flags and r.method == "centroid"
+    plain = locate(frame, refine="centroid")
+    assert NOT_REFINED not in plain.flags
+    assert r.u_px == pytest.approx(plain.u_px, abs=1e-9)
+    assert r.u_std_px > 10 * plain.u_std_px       # half a >0.1 px disagreement vs ~0.001 px
+    # a clean round spot is refined and not flagged
+    clean = locate((10 + spot).round().clip(0, 255).astype(np.uint8))
+    assert clean.method == "gaussian" and NOT_REFINED not in clean.flags
+    # track() carries the method and the flag of every frame
+    df = track([frame, (10 + spot).round().clip(0, 255).astype(np.uint8)])
+    assert list(df["method"]) == ["centroid", "gaussian"]
+    assert NOT_REFINED in df["flags"].iloc[0] and NOT_REFINED not in df["flags"].iloc[1]

@@ -73,8 +73,11 @@ Algorithm of :func:`locate`
    (the weight moves with the centre).
 7. **Flags**: ``"missing"``, ``"blank"`` (all pixels equal, e.g. all zero),
    ``"saturated"``, ``"second_blob"``, ``"edge"`` (the spot's blob touches
-   the frame border: the centre is biased), ``"fit_failed"`` (step 4c).  ``ok``
-   is False for missing/blank/edge.
+   the frame border: the centre is biased), ``"fit_failed"`` (step 4c),
+   ``"not_refined"`` (a compact round spot whose Gaussian-weighted centre (b) was
+   not used because it disagreed with (a) by more than ``AGREE_PX`` or failed: the
+   centroid is kept and half the disagreement joins its uncertainty).  ``ok``
+   is False for missing/blank/edge.  No frame falls back silently.
 """
 from __future__ import annotations
 
@@ -116,6 +119,7 @@ COARSE_TOL = 2e-2          #: px, soft-window centroid tolerance when stage (b) 
 BAD_FLAGS = frozenset({"missing", "blank", "edge"})
 #: flag of a saturated or elongated blob whose blurred-spot fit failed (the centroid is kept)
 FIT_FAILED = "fit_failed"
+NOT_REFINED = "not_refined"   #: a round spot whose Gaussian-weighted refinement was not used
 #: columns of :func:`track` after frame [and time]
 TRACK_COLUMNS = ("u_px", "v_px", "u_std_px", "v_std_px", "peak", "method", "flags", "ok")
 
@@ -412,6 +416,7 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
         cu, cv = c
     # stage (b): Gaussian-weighted centroid of a compact, round, unsaturated spot
     gs = None
+    disagree = 0.0            # px: the Gaussian-weighted centre that was not kept, vs (a)
     if refine != "centroid" and sel is None and not grown:
         blob = sub[by:by + bh, bx:bx + bw]
         saturated = sat is not None and np.count_nonzero(blob >= sat) >= 2
@@ -426,6 +431,12 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
                 if c is not None and math.hypot(c[0] - cu, c[1] - cv) <= AGREE_PX:
                     cu, cv = c
                     gs = s
+                else:         # the refined locator was not used: said, and in the uncertainty
+                    flags.add(NOT_REFINED)
+                    if c is not None:
+                        disagree = math.hypot(c[0] - cu, c[1] - cv)
+                    else:
+                        disagree = math.nan
     if gs is None and sel is None and tol > TOL:
         c = _recentre(img, level, cu, cv, hu, hv)
         if c is None:
@@ -479,6 +490,11 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
     vv = float((w2 * w2 * (xv * xv)[:, None] * var).sum())
     su = math.sqrt(vu) / Du if Du > 0 else math.inf
     sv = math.sqrt(vv) / Dv if Dv > 0 else math.inf
+    if NOT_REFINED in flags and math.isfinite(disagree):
+        # the two locators disagree: the spot is not the symmetric one the refinement
+        # assumes; half the disagreement, per axis, joins the uncertainty
+        su = math.hypot(su, 0.5 * disagree)
+        sv = math.hypot(sv, 0.5 * disagree)
     return SpotResult(x0 + cu, y0 + cv, su, sv, float(amp), total, flags, level, noise,
                       (hu, hv), "centroid" if gs is None else "gaussian")
 
