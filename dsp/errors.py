@@ -126,6 +126,9 @@ def check_signal(t, x, name="x", min_samples=16, uniform_rtol=1e-3, allow_comple
     _check_finite(x, name, "sample")
     t = check_times(tt, "t", min_samples)
     d = np.diff(t)
+    lo, hi = float(d.min()), float(d.max())
+    if hi - lo <= uniform_rtol * lo:       # every step within the tolerance of every other
+        return t, x, float((t[-1] - t[0]) / (t.size - 1)) if _not_constant(x, name) else None
     dt = float(np.median(d))
     dev = np.abs(d - dt) / dt
     if dev.max() > uniform_rtol:
@@ -133,10 +136,16 @@ def check_signal(t, x, name="x", min_samples=16, uniform_rtol=1e-3, allow_comple
         raise SignalError(f"t: not uniformly sampled: step {d[i]:.6g} s at index {i} differs from "
                           f"the median step {dt:.6g} s by {100 * dev[i]:.3g} % "
                           f"(tolerance {100 * uniform_rtol:.3g} %); resample first")
+    _not_constant(x, name)
+    return t, x, float((t[-1] - t[0]) / (t.size - 1))
+
+
+def _not_constant(x, name) -> bool:
+    """Raise :class:`SignalError` for a constant signal; True otherwise."""
     scale = float(np.max(np.abs(x)))
     if np.max(np.abs(x - x[0])) <= 1e-12 * max(scale, np.finfo(float).tiny):
         raise SignalError(f"{name}: signal is constant (value {x[0]!r}); nothing to identify")
-    return t, x, float((t[-1] - t[0]) / (t.size - 1))
+    return True
 
 
 def check_band(freq_hz, sample_rate_hz, max_band_fraction, name):

@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 __all__ = ["phasor", "columns", "wls", "Sums", "normal_matrix", "gauss_newton", "peak_nu",
-           "dirichlet_sums"]
+           "dirichlet_sums", "projection_fit"]
 
 BLOCK = 128                #: phasors as an outer product of BLOCK and N / BLOCK exponentials
 MAX_ITER = 30              #: Gauss-Newton iterations at most
@@ -109,7 +109,7 @@ class Sums:
     """
 
     def __init__(self, m, w):
-        self.m, self.w = m, w
+        self.m, self.w, self.n = m, w, m.size
         self.wm = w * m
         self.wm2 = self.wm * m
         self.const = (float(w.sum()), float(self.wm.sum()), float(self.wm2.sum()))
@@ -121,8 +121,16 @@ class Sums:
             elif w[0] == _hann(n)[0] and np.array_equal(w, _hann(n)):
                 self.kind, self.scale = "hann", 1.0
 
+    @classmethod
+    def centred(cls, n):
+        """The sums of the uniform window on the centred grid of ``n`` samples, without
+        arrays (only the closed-form :meth:`gram_nu` is available)."""
+        S = cls.__new__(cls)
+        S.n, S.kind, S.scale = int(n), "rect", 1.0
+        return S
+
     def _closed(self, dnu, terms):
-        n = self.m.size
+        n = self.n
         out = np.zeros(3, complex)
         for shift, weight in terms:
             out += weight * np.array(dirichlet_sums(2 * math.pi * (dnu + shift / n), n))
@@ -272,3 +280,103 @@ def peak_nu(spec, i, nfft):
     delta = 0.5 * (ym - yp) / den if den < 0 else 0.0
     nu = (i + max(-0.5, min(0.5, delta))) / nfft
     return nu - 1.0 if nu >= 0.5 else nu
+
+
+def projection_fit(z, nus, max_iter=MAX_ITER, min_line_snr=100.0):
+    """Unweighted least-squares fit of lines on the centred grid, from projections only.
+
+    With the amplitudes at their optimum for the current frequencies (c = G0^-1 Z,
+    Z_k = sum conj(p_k) z), the gradient in nu_k is Re(conj(2 pi i c_k) (Z1_k - (G1 c)_k))
+    with Z1_k = sum m conj(p_k) z, and the cost is sum |z|^2 - Re(c^H Z): per iteration one
+    phasor and two dot products per line, the Gram sums in closed form
+    (:func:`dirichlet_sums`), no residual array.  The step comes from the full normal
+    matrix (:func:`normal_matrix`).
+
+    Returns
+    -------
+    (nus, c, A, cost) or None
+        None when it does not converge, a Gram matrix is singular, two lines merge, or a
+        line is too weak to be one (|c|^2 N below ``min_line_snr`` x the residual power per
+        sample): the caller then takes the sequential search.
+    """
+    n = z.size
+    m0 = -0.5 * (n - 1)
+    S = Sums.centred(n)
+    zz = float(np.vdot(z, z).real)
+    K = len(nus)
+    nus = np.asarray(nus, float).copy()
+    # projections without forming the phasors: z as a (blocks x BLOCK) matrix, m = a + b
+    # (a the block's first index, b = 0..BLOCK-1), so that
+    #   sum conj(p) z   = outer . v0,             v0 = Zmat . inner,
+    #   sum m conj(p) z = (a outer) . v0 + outer . v1,   v1 = Zmat . (b inner)
+    # with outer = e^{-2 pi i nu a}, inner = e^{-2 pi i nu b}: one small matrix product
+    nb = -(-n // BLOCK)
+    if nb * BLOCK == n:
+        Zmat = np.ascontiguousarray(z).reshape(nb, BLOCK)
+    else:
+        zp = np.zeros(nb * BLOCK, complex)
+        zp[:n] = z
+        Zmat = zp.reshape(nb, BLOCK)
+    a_idx = m0 + BLOCK * np.arange(nb)
+    b_idx = np.arange(BLOCK)
+
+    def project(nu):
+        outer = np.exp(-2j * math.pi * nu * a_idx)
+        inner = np.exp(-2j * math.pi * nu * b_idx)
+        v = Zmat @ np.column_stack((inner, b_idx * inner))
+        return outer @ v[:, 0], (a_idx * outer) @ v[:, 0] + outer @ v[:, 1]
+
+    def state(nus):
+        pr = [project(nu) for nu in nus]
+        Z = np.array([p[0] for p in pr])
+        Z1 = np.array([p[1] for p in pr])
+        G = S.gram_nu(nus, False)
+        try:
+            c = np.linalg.solve(G[0], Z)
+        except np.linalg.LinAlgError:
+            return None
+        cost = max(zz - float(np.vdot(c, Z).real), 0.0)
+        return c, Z1, G, cost
+
+    st = state(nus)
+    if st is None:
+        return None
+    c, Z1, G, cost = st
+    tol = 1e-7 / n
+    A = None
+    for it in range(max_iter):
+        A = normal_matrix(G, c, K, 0)
+        g = np.zeros(A.shape[0])
+        g[:K] = (np.conj(2j * math.pi * c) * (Z1 - G[1] @ c)).real
+        try:
+            d = np.linalg.solve(A, g)
+        except np.linalg.LinAlgError:
+            return None
+        dof = max(2 * n - A.shape[0], 1)
+        var = np.abs(np.diag(np.linalg.inv(A)))[:K] * max(cost, 0.0) / dof
+        step = 1.0
+        while True:
+            st = state(nus + step * d[:K])
+            if st is None:
+                return None
+            if st[3] <= cost * (1 + 1e-12) or step < 1e-4:
+                break
+            step *= 0.5
+        if st[3] > cost * (1 + 1e-12):
+            break
+        # a step below 1 % of the frequency's own uncertainty changes nothing that matters
+        small = bool(np.all(np.abs(step * d[:K]) < np.maximum(1e-2 * np.sqrt(var), tol)))
+        nus = nus + step * d[:K]
+        c, Z1, G, cost = st
+        if small:
+            break
+    else:
+        return None
+    srt = np.sort(nus)
+    if K > 1 and np.min(np.diff(srt)) < 0.5 / n:
+        return None
+    noise = max(cost, 0.0) / n
+    if np.any(np.abs(c) ** 2 * n < min_line_snr * max(noise, 1e-300)):
+        return None
+    A = normal_matrix(G, c, K, 0)
+    return nus, c, A, cost
