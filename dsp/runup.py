@@ -9,7 +9,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import signal as _sig
 
 from .errors import SignalError, check_times
 
@@ -66,6 +65,8 @@ def _lag_factor(kappa):
     g = np.exp(0.5j * s * s)
     e = math.exp(-kappa * h)
     f = 0.5 * h * (g[1:] + e * g[:-1])
+    from scipy import signal as _sig                  # (0.6 s to import: only when needed)
+
     A0 = g[0] / (kappa + 1j * s[0])                    # quasi-steady start
     A = _sig.lfilter([1.0], [1.0, -e], f, zi=np.array([e * A0]))[0]
     mag = np.abs(A)

@@ -226,9 +226,11 @@ def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = Non
             qp = dec.precession is not None
             out.update(precession_hz=dec.precession_hz if qp else None,
                        precession_hz_std=dec.precession_std_hz if qp else None,
-                       nutation_hz=dec.nutation_hz, nutation_hz_std=dec.nutation_std_hz,
+                       nutation_hz=dec.nutation_hz if dec.nutation is not None else None,
+                       nutation_hz_std=dec.nutation_std_hz if dec.nutation is not None else None,
                        precession_amplitude_m=dec.precession_amplitude_m if qp else None,
-                       nutation_amplitude_m=dec.nutation_amplitude_m,
+                       nutation_amplitude_m=(dec.nutation_amplitude_m if dec.nutation is not None
+                                             else None),
                        petals=dec.petals if dec.precession is not None else None,
                        shape=dec.shape if dec.precession is not None else None)
             if dec.precession is not None:
@@ -287,7 +289,7 @@ def _whirls(t, x, y) -> bool:
 def _line_1x(t, z, out, notes) -> None:
     """No phase reference: the 1X line's frequency and amplitude from the spectrum
     (:func:`dsp.frequency.refine_frequencies`, the strongest forward line)."""
-    from dsp.frequency import refine_frequencies
+    from dsp.lines import refine_frequencies
 
     try:
         comp = refine_frequencies(t, z - np.mean(z), 1)

@@ -123,7 +123,7 @@ def plane_free_decay(t, x, y, notes: list):
 
 def _line_amplitude(t, z):
     """Amplitude and its uncertainty of the strongest line of ``z`` (mean removed)."""
-    from dsp.frequency import refine_frequencies
+    from dsp.lines import refine_frequencies
 
     c = refine_frequencies(t, z - np.mean(z), 1, polish=True)
     return abs(complex(c.amplitude[0])), float(c.amplitude_std[0])
