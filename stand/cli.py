@@ -334,7 +334,12 @@ def _cmd_daq(args) -> int:
         off = ()
     if len(off) != 2:
         raise ValueError(f"--offset = {args.offset!r}: two numbers X_UM,Y_UM (um)")
-    truth = daq_export(args.recording, args.output, truth_path=args.truth, offset_um=off)
+    from .errors import NotApplicable
+
+    try:
+        truth = daq_export(args.recording, args.output, truth_path=args.truth, offset_um=off)
+    except NotApplicable as exc:
+        return _not_applicable("daq", str(exc))
     print(f"{args.recording} -> {args.output} (DAQ export); truth: unbalance "
           f"{truth.get('unbalance_gmm', float('nan')):.6g} g*mm, f0 "
           f"{truth.get('natural_frequency_hz', float('nan')):.6g} Hz, critical speed "
@@ -478,7 +483,12 @@ def _cmd_video(args) -> int:
     if side["video"].exists() and not args.force:   # it may be a lab's own recording
         raise ValueError(f"output {args.output!r} exists: a video may be a recording nothing "
                          "can replace; give --force to overwrite it, or choose another output")
-    doc = write_screen_video(args.recording, args.output, screen=args.screen, qp=args.qp)
+    from .errors import NotApplicable
+
+    try:
+        doc = write_screen_video(args.recording, args.output, screen=args.screen, qp=args.qp)
+    except NotApplicable as exc:
+        return _not_applicable("video", str(exc))
     extra = ", ".join(Path(doc[k]).name for k in ("truth", "rings_png", "rings_txt") if k in doc)
     print(f"{args.recording}: {doc['frames']} frames at {doc['frame_rate_hz']:g} Hz -> "
           f"{args.output} ({doc['codec']}, {doc['bytes'] / 1e6:.2f} MB); beside it: {extra}")

@@ -192,8 +192,10 @@ def write_screen_video(recording, output, *, screen: Optional[str] = None,
     key = f"{group}/frames"
     shape = rec.shape(key)
     if shape is None or len(shape) != 3 or shape[0] == 0:
-        raise ValueError(f"{recording}: no screen frames {key} (a scene with "
-                         f"[instruments.screen] writes them)")
+        from .errors import NotApplicable
+
+        raise NotApplicable(f"{recording}: no screen frames {key} (a scene with "
+                            f"[instruments.screen] writes them)")
     settings = json.loads(rec.dataset_attrs(group).get("settings", "{}") or "{}")
     fps = float(settings.get("frame_rate", 0.0))
     if not fps > 0:

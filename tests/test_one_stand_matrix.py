@@ -94,6 +94,8 @@ def test_every_command_on_every_scene_cli(short_scene, tmp_path):
         "analyze": ("analyze", rec),
         "report": ("report", rec, "-o", tmp_path / "r.html", "--json-file", tmp_path / "r.json"),
         "snapshot": ("snapshot", rec, "--instrument", "strobe", "-o", tmp_path / "s.png"),
+        "daq": ("daq", rec, "-o", tmp_path / "daq.csv"),
+        "video": ("video", rec, "-o", tmp_path / "v.mkv"),
     }
     for cell, argv in cells.items():
         code, out, err = _cli(*argv)
@@ -104,8 +106,9 @@ def test_every_command_on_every_scene_cli(short_scene, tmp_path):
         if cell == "report":
             doc = json.loads((tmp_path / "r.json").read_text())
             assert doc["report"] and (tmp_path / "r.html").stat().st_size > 0
-        if cell == "snapshot" and not (tmp_path / "s.png").exists():
-            assert "not applicable:" in out
+        for c, made in (("snapshot", "s.png"), ("daq", "daq.csv"), ("video", "v.mkv")):
+            if cell == c and not (tmp_path / made).exists():
+                assert "not applicable:" in out
     # --json prints JSON on stdout for every command that takes it
     for argv in (("run", short_scene, "-o", tmp_path / "j.h5", "--json", "--no-progress"),
                  ("theory", short_scene, "--json", "--no-floquet"), ("analyze", rec, "--json")):

@@ -25,7 +25,8 @@ TWO_PI = 2.0 * math.pi
 
 
 def daq_truth(scene) -> dict:
-    """What the DAQ sample should give, from a planar scene without weights (SI and lab units)."""
+    """What the DAQ sample should give, from a planar scene (SI and lab units); with weights
+    the numbers are the rotor's own, which the weights then change."""
     M = float(scene.total_mass)
     s = scene.supports
     if abs(s.stiffness_x - s.stiffness_y) > 1e-9 * s.stiffness_x:
@@ -93,11 +94,15 @@ def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
 
     rec = recording if isinstance(recording, Recording) else read_recording(recording)
     if rec.shape("instruments/probes/signal") is None:
-        raise ValueError(f"{rec.path}: no instruments/probes (add [instruments.probes] with "
+        from ..errors import NotApplicable
+
+        raise NotApplicable(f"{rec.path}: no instruments/probes (add [instruments.probes] with "
                          "angles = [0.0, 90.0] to the scene)")
     ang = np.asarray(rec.dataset("instruments/probes/angles"), float)
     if ang.size != 2 or abs(ang[0]) > 1e-9 or abs(ang[1] - math.pi / 2) > 1e-9:
-        raise ValueError(f"{rec.path}: instruments/probes angles = {np.degrees(ang).tolist()} deg; "
+        from ..errors import NotApplicable
+
+        raise NotApplicable(f"{rec.path}: instruments/probes angles = {np.degrees(ang).tolist()} deg; "
                          "the DAQ export writes an x and a y probe (angles = [0.0, 90.0])")
     t = np.asarray(rec.dataset("instruments/probes/time"), float)
     sig = np.asarray(rec.dataset("instruments/probes/signal"), float)
@@ -123,7 +128,11 @@ def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
              ";".join(names)]
     lines += [";".join(row) for row in zip(*(cols[n] for n in names))]
     write_text(csv_path, "\n".join(lines) + "\n")
-    truth = daq_truth(rec.scene) if rec.scene is not None else {}
+    sc = rec.scene
+    if sc is not None and getattr(sc, "kind", None) == "planar":
+        truth = daq_truth(sc)
+    else:
+        truth = {"note": "truth written for planar scenes (the rigid rotor of daq_truth) only"}
     truth.update(offset_um=list(offset_um), source_recording=Path(str(rec.path)).name,
                  csv=Path(csv_path).name)
     if truth_path is None:
