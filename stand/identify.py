@@ -29,15 +29,14 @@ TWO_PI = 2 * math.pi
 
 def _read(path, recording_map=None):
     """The arrays of a Run, a Recording, a stand recording file or a lab table."""
-    from .lab.table import _is_pandas_hdf, is_table_file
+    from .lab.table import is_table
     from .recording import read_recording
     from .result import Run
 
     if isinstance(path, Run):
         return _from_run(path)
     p = Path(path)
-    if is_table_file(p) or (p.suffix.lower() in (".h5", ".hdf5", ".hdf") and p.is_file()
-                            and _is_pandas_hdf(p) is not None):
+    if is_table(p):
         return _from_table(p, recording_map)
     d = _from_run(read_recording(p))
     if recording_map is not None and recording_map.columns:   # e.g. a folder of mixed files

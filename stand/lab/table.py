@@ -37,7 +37,7 @@ import numpy as np
 from .recording_map import ROLES, ColumnSpec, MapError, RecordingMap, recognise
 from .units import UnitError
 
-__all__ = ["LabTable", "TableError", "read_table", "is_table_file", "read_frame"]
+__all__ = ["LabTable", "TableError", "read_table", "is_table_file", "is_table", "read_frame"]
 
 TABLE_SUFFIXES = (".csv", ".tsv", ".txt", ".dat", ".parquet", ".pq")
 CLIP_RUN = 4          #: samples at the extreme value that make a channel clipped
@@ -96,103 +96,19 @@ class LabTable:
                 "rows_used": list(self.rows), "excluded": list(self.excluded)}
 
 
+def is_table(path) -> bool:
+    """A lab table rather than a stand recording: a table file by its name, or an HDF5 file
+    holding a pandas table."""
+    from ..recording import pandas_table_key
+
+    p = Path(path)
+    return is_table_file(p) or (p.suffix.lower() in (".h5", ".hdf5", ".hdf") and p.is_file()
+                                and pandas_table_key(p) is not None)
+
+
 def is_table_file(path) -> bool:
-    """A tabular recording by its name (HDF5 needs :func:`_is_pandas_hdf`)."""
+    """A tabular recording by its name (an HDF5 file: :func:`stand.recording.pandas_table_key`)."""
     return Path(path).suffix.lower() in TABLE_SUFFIXES
-
-
-def _is_pandas_hdf(path) -> Optional[str]:
-    """The key of the first pandas table in an HDF5 file, or None (a stand recording)."""
-    import h5py
-
-    keys = []
-    try:
-        with h5py.File(path, "r") as f:
-            if "format_version" in f.attrs or "time" in f:
-                return None
-            f.visititems(lambda n, o: keys.append(n) if "pandas_type" in o.attrs else None)
-    except Exception:   # noqa: BLE001 -- a damaged file: the recording reader names the problem
-        return None
-    return keys[0] if keys else None
-
-
-def _pickled_names(raw) -> list:
-    """Column names pandas stores as a protocol-0 pickled list of strings, read as text: the
-    arguments of its ``V`` (unicode) and ``S`` (str) opcodes; nothing is unpickled."""
-    text = bytes(raw).decode("latin-1")
-    names, i = [], 0
-    while i < len(text):
-        op = text[i]
-        if op in "pgIFLVS":                       # opcodes with a line argument
-            j = text.find("\n", i)
-            j = len(text) if j < 0 else j
-            arg = text[i + 1:j]
-            if op == "V":
-                names.append(arg.encode("latin-1").decode("raw_unicode_escape"))
-            elif op == "S" and len(arg) >= 2 and arg[0] in "'\"":
-                names.append(arg[1:-1])
-            i = j + 1
-        else:                                     # ( l a t . ) and others without arguments
-            i += 1
-    return names
-
-
-def _read_pandas_hdf(path, key: str, label: str):
-    """A table written by ``DataFrame.to_hdf``, read with h5py: numeric columns only, nothing
-    unpickled (pandas' own reader unpickles object columns: unsafe on a file from elsewhere).
-
-    ``format="fixed"``: the ``block<i>_items`` / ``block<i>_values`` arrays;
-    ``format="table"``: the fields of the ``table`` dataset (``data_columns=True``) and the
-    ``values_block_<i>`` fields with their names.
-    """
-    import h5py
-    import pandas as pd
-
-    cols = {}
-    skipped = []
-    with h5py.File(path, "r") as f:
-        if key not in f:
-            raise TableError(f"{label}: no key {key!r} in this HDF5 file")
-        g = f[key]
-        kind = g.attrs.get("pandas_type", b"")
-        kind = kind.decode() if isinstance(kind, bytes) else str(kind)
-        if kind == "frame":
-            for i in range(int(g.attrs.get("nblocks", 0))):
-                names = [n.decode() if isinstance(n, bytes) else str(n)
-                         for n in g[f"block{i}_items"][()]]
-                vals = g[f"block{i}_values"]
-                if vals.dtype.kind not in "iufb" or vals.ndim != 2:
-                    skipped += names                 # text (pickled object) columns
-                    continue
-                a = vals[()]
-                for j, n in enumerate(names):
-                    cols[n] = a[:, j]
-        elif kind == "frame_table":
-            t = g["table"]
-            data = t[()]
-            for name in data.dtype.names:
-                if name == "index":
-                    continue
-                a = data[name]
-                if name.startswith("values_block_"):
-                    names = _pickled_names(t.attrs.get(f"{name}_kind", b""))
-                    if a.dtype.kind not in "iufb" or len(names) != (a.shape[1] if a.ndim == 2 else 1):
-                        skipped.append(name)
-                        continue
-                    a = a.reshape(a.shape[0], -1)
-                    for j, n in enumerate(names):
-                        cols[n] = a[:, j]
-                elif a.dtype.kind in "iufb" and a.ndim == 1:
-                    cols[name] = a
-                else:
-                    skipped.append(name)
-        else:
-            raise TableError(f"{label}: {key!r} is a pandas {kind or 'object'}, not a DataFrame")
-    if not cols:
-        raise TableError(f"{label}: no numeric column in the pandas table {key!r}")
-    df = pd.DataFrame(cols)
-    df.attrs["skipped_columns"] = skipped
-    return df
 
 
 # ------------------------------------------------------------------ CSV layout
@@ -278,10 +194,17 @@ def read_frame(path, rmap: Optional[RecordingMap] = None):
         if suffix in (".parquet", ".pq"):
             return pd.read_parquet(p), {}
         if suffix in (".h5", ".hdf5", ".hdf"):
-            key = rmap.key or _is_pandas_hdf(p)
+            from ..recording import pandas_table_key
+
+            key = rmap.key or pandas_table_key(p)
             if key is None:
                 raise TableError(f"{label}: no pandas table in this HDF5 file")
-            return _read_pandas_hdf(p, key, label), {}
+            from ..recording import RecordingError, read_pandas_table
+
+            try:
+                return read_pandas_table(p, key), {}
+            except RecordingError as exc:
+                raise TableError(str(exc)) from None
     except ImportError as exc:
         raise TableError(f"{label}: reading it needs {exc.name or exc} (pip install pyarrow)") from None
     except (OSError, ValueError, KeyError) as exc:

@@ -134,10 +134,9 @@ def read_input(path, recording_map=None) -> dict:
         raise FileNotFoundError(2, "recording not found", str(p))
     if p.is_dir():
         raise ValueError(f"{p}: is a directory, not a recording")
-    from ..lab.table import _is_pandas_hdf, is_table_file
+    from ..lab.table import is_table
 
-    if is_table_file(p) or (p.suffix.lower() in (".h5", ".hdf5", ".hdf")
-                            and _is_pandas_hdf(p) is not None):
+    if is_table(p):
         d = _read_table(p, recording_map)
     else:
         d = _read_h5(p)
