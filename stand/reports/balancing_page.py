@@ -17,31 +17,19 @@ from __future__ import annotations
 import html
 from typing import Mapping
 
-from .labels import label, unit
-from .numbers import plain, with_uncertainty
+from .labels import label
+from .numbers import plain
+from .tables import details as _details
+from .tables import figure as _figure
+from .tables import list_table as _list_table
+from .tables import nested as _nested
+from .tables import rows as _rows
+from .tables import show
+from .tables import table as _table
 
 __all__ = ["verdict", "page_body", "pdf_tables", "show"]
 
 _MAIN_FIGS = ("polar", "orbit", "1X amplitude")
-
-
-def show(key, value, std=None) -> str:
-    """A value of ``key`` as text: display unit and factor from :mod:`.labels`, rounded to
-    ``std`` when given."""
-    u, f = unit(key)
-    if isinstance(value, bool) or value is None or isinstance(value, str):
-        return plain(value) if not isinstance(value, str) else value
-    if isinstance(value, (list, tuple)):
-        if all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in value):
-            return " – ".join(plain(x * f if isinstance(x, float) else x) for x in value) + \
-                (f" {u}" if u else "")
-        return ", ".join(str(x) for x in value)
-    if isinstance(value, (int, float)):
-        v = value * f if isinstance(value, float) or f != 1.0 else value
-        if std is not None:
-            return with_uncertainty(v, std * f, u)
-        return plain(v, u)
-    return str(value)
 
 
 def _fmt_rpm(rpm):
@@ -96,82 +84,6 @@ def verdict(doc: Mapping) -> dict:
     lines.append(f"Recording: {rep.get('recording', '—')} · report generated "
                  f"{rep.get('generated', '—')} by {rep.get('generator', 'stand')}")
     return {"status": status, "headline": headline, "lines": lines}
-
-
-# ------------------------------------------------------------------ tables
-def _rows(d: Mapping, keys=None) -> list:
-    """(label, text) rows of a flat mapping; ``*_std`` keys merge into their value; the
-    angle of a vector below its resolution is not shown as a number."""
-    out = []
-    for k in (keys or list(d)):
-        if k not in d or k.endswith("_std"):
-            continue
-        v = d[k]
-        if isinstance(v, Mapping) or (isinstance(v, list) and v and isinstance(v[0], Mapping)):
-            continue
-        text = show(k, v, d.get(k + "_std"))
-        vec = k.replace("_angle_deg", "_gmm")
-        if k.endswith("_angle_deg") and vec in d and d[vec] is not None \
-                and show(vec, d[vec], d.get(vec + "_std")).startswith("below resolution"):
-            text = "undefined (the unbalance is below resolution)"
-        out.append((label(k), text))
-    return out
-
-
-def _table(rows) -> str:
-    return "<table>" + "".join(f"<tr><th>{html.escape(a)}</th><td>{html.escape(b)}</td></tr>"
-                               for a, b in rows) + "</table>"
-
-
-def _list_table(rows: list, keys=None) -> str:
-    keys = keys or [k for r in rows[:1] for k in r if not k.endswith("_std")]
-    for r in rows:
-        for k in r:
-            if k not in keys and not k.endswith("_std"):
-                keys.append(k)
-    head = "".join(f"<th>{html.escape(label(k))}</th>" for k in keys)
-    body = []
-    for r in rows:
-        cells = []
-        for k in keys:
-            v = r.get(k)
-            cls = ""
-            if k in ("passed", "settled", "ok") and isinstance(v, bool):
-                cls = " class='pass'" if v else " class='fail'"
-            elif isinstance(v, (int, float)) and not isinstance(v, bool):
-                cls = " class='num'"
-            text = _nested(v) if isinstance(v, Mapping) else html.escape(show(k, v, r.get(k + "_std")))
-            cells.append(f"<td{cls}>{text}</td>")
-        body.append("<tr>" + "".join(cells) + "</tr>")
-    return f"<table><tr>{head}</tr>{''.join(body)}</table>"
-
-
-def _nested(d: Mapping) -> str:
-    """Every field of a section, labelled (the collapsed "all fields" tables)."""
-    parts = ["<table>"]
-    for k, v in d.items():
-        if k.endswith("_std") and k[:-4] in d:
-            continue
-        if isinstance(v, Mapping):
-            cell = _nested(v)
-        elif isinstance(v, list) and v and all(isinstance(r, Mapping) for r in v):
-            cell = _list_table(v)
-        elif isinstance(v, list) and v and all(isinstance(x, str) for x in v):
-            cell = "<ul>" + "".join(f"<li>{html.escape(x)}</li>" for x in v) + "</ul>"
-        else:
-            cell = html.escape(show(k, v, d.get(k + "_std")))
-        parts.append(f"<tr><th>{html.escape(label(k))}</th><td>{cell}</td></tr>")
-    parts.append("</table>")
-    return "".join(parts)
-
-
-def _details(title, inner, open_=False) -> str:
-    return (f"<details{' open' if open_ else ''}><summary>{html.escape(title)}</summary>"
-            f"{inner}</details>")
-
-
-def _figure(cap, uri) -> str:
-    return f"<figure><img alt='{html.escape(cap)}' src='{uri}'><figcaption>{html.escape(cap)}</figcaption></figure>"
 
 
 QUALITY_KEYS = ("residual_unbalance_gmm", "residual_unbalance_angle_deg", "specific_unbalance_um",

@@ -84,53 +84,18 @@ def _fmt(v: Any) -> str:
     return str(v)
 
 
-def _show(k, v, std=None) -> str:
-    """A field as a person reads it: display unit and rounding (stand.reports.balancing_page)."""
-    from .balancing_page import show
-
-    if isinstance(v, (list, tuple)) and not all(isinstance(x, (int, float, str)) for x in v):
-        return _fmt(v)
-    return show(str(k), v, std)
-
-
 def _table(d: Mapping) -> str:
-    from .labels import label
+    """A section as labelled rows (:func:`stand.reports.tables.nested`)."""
+    from .tables import nested
 
-    rows = []
-    for k, v in d.items():
-        if str(k).endswith("_std") and str(k)[:-4] in d:
-            continue
-        if isinstance(v, Mapping):
-            cell = _table(v)
-        elif isinstance(v, list) and v and all(isinstance(r, Mapping) for r in v):
-            cell = _rows_table(v)
-        else:
-            cell = html.escape(_show(k, v, d.get(f"{k}_std")))
-        rows.append(f"<tr><th>{html.escape(label(str(k)))}</th><td>{cell}</td></tr>")
-    return "<table>" + "".join(rows) + "</table>"
+    return nested(d)
 
 
 def _rows_table(rows: Iterable[Mapping]) -> str:
-    from .labels import label
+    """A list of records as one table with labelled columns (:func:`stand.reports.tables.list_table`)."""
+    from .tables import list_table
 
-    rows = list(rows)
-    keys = []
-    for r in rows:
-        for k in r:
-            if k not in keys and not (str(k).endswith("_std") and str(k)[:-4] in r):
-                keys.append(k)
-    head = "".join(f"<th>{html.escape(label(str(k)))}</th>" for k in keys)
-    body = []
-    for r in rows:
-        cells = []
-        for k in keys:
-            v = r.get(k)
-            cls = ""
-            if k in ("pass", "passed", "ok") and isinstance(v, bool):
-                cls = ' class="pass"' if v else ' class="fail"'
-            cells.append(f"<td{cls}>{_table(v) if isinstance(v, Mapping) else html.escape(_show(k, v, r.get(f'{k}_std')))}</td>")
-        body.append("<tr>" + "".join(cells) + "</tr>")
-    return f"<table><tr>{head}</tr>{''.join(body)}</table>"
+    return list_table(list(rows))
 
 
 def banner_html(banner) -> str:

@@ -6,7 +6,7 @@ Built from the report's JSON document (:data:`stand.reports.stress.SCHEMA`):
 :func:`case_lines` gives one line per case ("NAME: passed" / "NAME: failed —
 why", the reason the report records); :func:`stress_body` is the rest of the
 page: that list, the figure, the summary and each case's detail table
-(collapsed), with labels in words and units.
+(collapsed), with the labels and units of :mod:`stand.reports.labels`.
 """
 from __future__ import annotations
 
@@ -14,26 +14,7 @@ import html
 from pathlib import Path
 from typing import Mapping, Sequence
 
-__all__ = ["stress_banner", "case_lines", "stress_body", "LABELS"]
-
-#: labels (with units) of the summary's and each case's fields
-LABELS = {
-    "catalogue": "catalogue", "n_cases": "cases", "n_passed": "passed", "n_failed": "failed",
-    "all_passed": "all passed", "total_time_s": "total time [s]", "python": "Python",
-    "kind": "kind", "description": "description", "check": "check", "method": "method",
-    "method_reason": "why this method", "solver_success": "solver finished",
-    "solver_message": "solver message", "converged": "converged", "oracle": "compared with",
-    "error": "error", "error_measure": "error measure", "tolerance": "tolerance",
-    "reference_error": "reference's own error", "conserved_quantity": "conserved quantity",
-    "drift": "drift of the conserved quantity", "nfev": "right-hand-side evaluations",
-    "wall_time_s": "solver time [s]", "case_time_s": "case time [s]",
-    "time_budget_s": "time budget [s]", "outside_validity": "outside the model's validity",
-    "declared_outside_validity": "declared outside validity", "pass": "result",
-    "reason": "why", "details": "details", "warm_up_s": "warm-up time [s]",
-    "n_steps": "steps", "n_rejected": "rejected steps", "params": "parameters (as in the catalogue)",
-    "fast": "fast case",
-}
-
+__all__ = ["stress_banner", "case_lines", "stress_body"]
 
 def case_lines(cases: Sequence[Mapping]) -> list:
     """One line per case: ``"NAME: passed"`` or ``"NAME: failed — REASON"``."""
@@ -68,26 +49,12 @@ def stress_banner(doc: Mapping) -> dict:
                       f"{s['total_time_s']:.2g} s (Python {s['python']})"]}
 
 
-def _value(v) -> str:
-    if v is None:
-        return "—"
-    if isinstance(v, bool):
-        return "yes" if v else "no"
-    if isinstance(v, float):
-        return f"{v:.4g}"
-    if isinstance(v, list):
-        return ", ".join(_value(x) for x in v)
-    return str(v)
+def _table(d: Mapping) -> str:
+    """Rows ``label | value`` (:func:`stand.reports.tables.nested`: the one label table); a
+    case's catalogue ``params`` as written."""
+    from .tables import nested
 
-
-def _table(d: Mapping, raw_keys: bool = False) -> str:
-    """Rows ``label | value``; ``raw_keys``: the keys as written (a case's catalogue params)."""
-    rows = []
-    for k, v in d.items():
-        cell = _table(v, raw_keys or k == "params") if isinstance(v, Mapping) else html.escape(_value(v))
-        label = k if raw_keys else LABELS.get(k, k.replace("_", " "))
-        rows.append(f"<tr><th>{html.escape(label)}</th><td>{cell}</td></tr>")
-    return "<table>" + "".join(rows) + "</table>"
+    return nested(d, raw=("params",))
 
 
 def stress_body(doc: Mapping, figures: Mapping[str, str] | None = None) -> str:
