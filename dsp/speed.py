@@ -222,17 +222,21 @@ def repair_pulses(pulses, window: int = 7):
     return np.asarray(out), inserted, dropped
 
 
-def _covered_spline(t, x, y):
-    from scipy.interpolate import CubicSpline
+def _on_samples(spline, t, inside):
+    """(angle, speed, acceleration) of a spline at the samples ``inside``; NaN elsewhere."""
+    out = np.full((3,) + t.shape, np.nan)
+    for d in range(3):
+        out[d, inside] = spline(t[inside], d)
+    return out[0], out[1], out[2]
 
-    cs = CubicSpline(x, y)
-    inside = (t >= x[0]) & (t <= x[-1])
-    ang = np.full(t.shape, np.nan)
-    spd, acc = ang.copy(), ang.copy()
-    ang[inside] = cs(t[inside])
-    spd[inside] = cs(t[inside], 1)
-    acc[inside] = cs(t[inside], 2)
-    return ang, spd, acc, inside
+
+def _lsq_cubic(x, y, n_int, knots_at=None):
+    """Least-squares cubic spline of y(x) with ``n_int`` intervals (inner knots evenly spaced
+    in x, or at ``knots_at``)."""
+    from scipy.interpolate import make_lsq_spline
+
+    inner = np.linspace(x[0], x[-1], n_int + 1)[1:-1] if knots_at is None else knots_at
+    return make_lsq_spline(x, y, np.concatenate(([x[0]] * 4, inner, [x[-1]] * 4)), k=3)
 
 
 def angle_from_pulses(t, pulses, *, source: str = "keyphasor",
@@ -264,7 +268,7 @@ def angle_from_pulses(t, pulses, *, source: str = "keyphasor",
     RotorAngle
         Covered between the first and the last pulse.
     """
-    from scipy.interpolate import make_lsq_spline
+    from scipy.interpolate import CubicSpline
 
     t = check_times(t, "t", 2)
     p = np.asarray(pulses, float)
@@ -275,17 +279,12 @@ def angle_from_pulses(t, pulses, *, source: str = "keyphasor",
     k = TWO_PI * np.arange(p.size)
     n_int = int(p.size / max(knot_revolutions, 4.0)) if knot_revolutions else 0
     if n_int < 2:
-        ang, spd, acc, inside = _covered_spline(t, p, k)
-    else:
-        inner = np.interp(np.linspace(0, p.size - 1, n_int + 1)[1:-1], np.arange(p.size), p)
-        knots = np.concatenate(([p[0]] * 4, inner, [p[-1]] * 4))
-        sp = make_lsq_spline(p, k, knots, k=3)
-        inside = (t >= p[0]) & (t <= p[-1])
-        ang = np.full(t.shape, np.nan)
-        spd, acc = ang.copy(), ang.copy()
-        ang[inside] = sp(t[inside])
-        spd[inside] = sp(t[inside], 1)
-        acc[inside] = sp(t[inside], 2)
+        sp = CubicSpline(p, k)
+    else:      # inner knots every knot_revolutions pulses
+        sp = _lsq_cubic(p, k, n_int, np.interp(np.linspace(0, p.size - 1, n_int + 1)[1:-1],
+                                               np.arange(p.size), p))
+    inside = (t >= p[0]) & (t <= p[-1])
+    ang, spd, acc = _on_samples(sp, t, inside)
     return RotorAngle(ang, spd, acc, inside, source, referenced=True, pulses_s=p)
 
 
@@ -371,21 +370,12 @@ def smoothed_phase(t, phase_rad, covered, *, knot_revolutions: float = 20.0) -> 
     covered : ndarray of bool
         Which samples of ``t`` it covers.
     """
-    from scipy.interpolate import make_lsq_spline
-
     idx = np.flatnonzero(covered)
     i0, i1 = int(idx[0]), int(idx[-1]) + 1
     tt, th = t[i0:i1], np.asarray(phase_rad, float)
     turns = (th[-1] - th[0]) / TWO_PI
     n_int = int(max(1, min(turns / knot_revolutions, (i1 - i0) / 50)))
-    inner = np.linspace(tt[0], tt[-1], n_int + 1)[1:-1]
-    knots = np.concatenate(([tt[0]] * 4, inner, [tt[-1]] * 4))
-    sp = make_lsq_spline(tt, th, knots, k=3)
-    ang = np.full(t.shape, np.nan)
-    spd, acc = ang.copy(), ang.copy()
-    ang[i0:i1] = sp(tt)
-    spd[i0:i1] = sp(tt, 1)
-    acc[i0:i1] = sp(tt, 2)
+    ang, spd, acc = _on_samples(_lsq_cubic(tt, th, n_int), t, covered)
     if not np.all(spd[i0:i1] > 0):
         raise SignalError("1X line: the whirl's phase does not advance steadily; the speed "
                           "cannot be estimated from the vibration")

@@ -172,6 +172,17 @@ def parse_columns(text: str) -> RecordingMap:
     return RecordingMap(columns=cols, source="--columns")
 
 
+def _allow(data, where, keys, label) -> None:
+    """Unknown keys of a map table: one line with a "did you mean" (stand.io.validate)."""
+    from ..errors import SceneError
+    from ..io.validate import Table
+
+    try:
+        Table(data, where).allow(keys)
+    except SceneError as exc:
+        raise MapError(f"{label}{exc}") from None
+
+
 def read_map(path) -> RecordingMap:
     """A TOML recording map (module docstring); errors name the file and the key."""
     from ..io.tomlfile import read_toml
@@ -201,18 +212,12 @@ def read_map(path) -> RecordingMap:
         else:
             raise MapError(f"{where} = {v!r}: a column name (\"NAME [unit]\") or a table")
     tab = data.get("table") or {}
-    bad = set(tab) - {"delimiter", "decimal", "header_row", "key"}
-    if bad:
-        raise MapError(f"{label}table: unknown key(s) {sorted(bad)} (delimiter, decimal, "
-                       "header_row, key)")
+    _allow(tab, "table", ("delimiter", "decimal", "header_row", "key"), label)
     hr = tab.get("header_row")
     if hr is not None and (not isinstance(hr, int) or hr < 1):
         raise MapError(f"{label}table.header_row = {hr!r}: a line number >= 1")
     rot = data.get("rotor") or {}
-    bad = set(rot) - {"mass", "service_speed", "natural_frequency", "damping_ratio"}
-    if bad:
-        raise MapError(f"{label}rotor: unknown key(s) {sorted(bad)} (mass, service_speed, "
-                       "natural_frequency, damping_ratio)")
+    _allow(rot, "rotor", ("mass", "service_speed", "natural_frequency", "damping_ratio"), label)
 
     def q(key, quantity):
         if key not in rot:
