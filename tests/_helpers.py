@@ -146,3 +146,24 @@ def theory_computed_once():
         yield cache
     finally:
         speedmap.scene_theory, rotors_run.family_theory = saved
+
+
+#: a cheap, well-conditioned stress case (8 balls balance in 100 tau, well under a second once
+#: compiled); fields: name, tol, e0, extra (more case keys, or "")
+CHEAP_STRESS_CASE = """
+[[case]]
+name = "{name}"
+kind = "dimensionless"
+check = "balanced"
+tolerance = {tol}
+time_budget_s = 60.0
+{extra}
+[case.params]
+n = 8
+Rt = 0.01
+h = 0.5
+H = 0.1
+e0 = {e0}
+R = 3.0
+duration_tau = 100.0
+"""

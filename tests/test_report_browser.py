@@ -8,6 +8,7 @@ the distribution when it can).
 import json
 
 import pytest
+from _helpers import CHEAP_STRESS_CASE
 from _browser import find_chromium, render
 
 from stand.cli import main
@@ -19,25 +20,6 @@ WIDTH, HEIGHT = 1280, 900
 SAMPLE = "data_samples/recordings/stand_cameras.h5"
 SHORT_SCENE = open("data_samples/scenes/ball_runup.toml").read().replace(
     "duration = 40.0", "duration = 4.0")
-#: one cheap stress case (8 balls balance in 100 tau, well under a second)
-CHEAP_CASE = """
-[[case]]
-name = "{name}"
-kind = "dimensionless"
-check = "balanced"
-tolerance = {tol}
-time_budget_s = 60.0
-[case.params]
-n = 8
-Rt = 0.01
-h = 0.5
-H = 0.1
-e0 = 0.3
-R = 3.0
-duration_tau = 100.0
-"""
-
-
 def _png_size(png: bytes) -> tuple:
     assert png[:8] == b"\x89PNG\r\n\x1a\n"
     return int.from_bytes(png[16:20], "big"), int.from_bytes(png[20:24], "big")
@@ -111,8 +93,9 @@ def test_accuracy_report_recommendation_on_the_first_screen(tmp_path):
 
 def test_stress_report_verdict_on_the_first_screen(tmp_path):
     cat = tmp_path / "cat.toml"
-    cat.write_text(CHEAP_CASE.format(name="fine", tol=1e-3)
-                   + CHEAP_CASE.format(name="impossible", tol=1e-30), encoding="utf-8")
+    cat.write_text(CHEAP_STRESS_CASE.format(name="fine", tol=1e-3, e0=0.3, extra="")
+                   + CHEAP_STRESS_CASE.format(name="impossible", tol=1e-30, e0=0.3, extra=""),
+                   encoding="utf-8")
     out = tmp_path / "stress.html"
     assert main(["stress", "--catalogue", str(cat), "-o", str(out)]) == 1   # one case fails
     box = assert_clean_and_verdict_first(out)

@@ -9,28 +9,12 @@ import re
 import pytest
 from _html import body_children
 
+from _helpers import CHEAP_STRESS_CASE
 from stand.reports.html import check_schema
 from stand.reports.stress import (CASE_SCHEMA, DEFAULT_CATALOGUE, SCHEMA, CatalogueError,
                                   load_catalogue, run_stress)
 
-#: a cheap, well-conditioned case (64 balls balance in 100 tau, ~0.05 s once compiled)
-CHEAP = """
-[[case]]
-name = "{name}"
-kind = "dimensionless"
-check = "balanced"
-tolerance = {tol}
-time_budget_s = 60.0
-{extra}
-[case.params]
-n = 8
-Rt = 0.01
-h = 0.5
-H = 0.1
-e0 = {e0}
-R = 3.0
-duration_tau = 100.0
-"""
+CHEAP = CHEAP_STRESS_CASE
 
 
 def write(tmp_path, text, name="cat.toml"):
