@@ -362,29 +362,24 @@ def read_table(path, recording_map: Optional[RecordingMap] = None,
                 reasons.append((a, b, f"column {spec.column!r}: clipped at {lvl:.6g} {spec.unit}"))
             bad |= clip
     good = np.flatnonzero(~bad)
+    cut = np.zeros(n, bool)                  # rows that start again after a gap in time
     if good.size >= 2:
         dt = np.diff(t[good])
         step = float(np.median(dt))
         for k in np.flatnonzero(dt > GAP_FACTOR * step):
             a, b = int(good[k]), int(good[k + 1])
+            cut[b] = True
             reasons.append((a, b + 1, f"column {tcol.column!r}: gap of "
                                       f"{(t[b] - t[a]) / tcol.si_factor('time'):.6g} {tcol.unit} "
                                       f"(median step {step / tcol.si_factor('time'):.6g} {tcol.unit})"))
-    # the longest clean stretch: no bad row, no gap inside
+    # the longest clean stretch: clean rows, no gap inside (stretches numbered, the largest kept)
     ok = ~bad
-    cut = np.zeros(n, bool)
-    if good.size >= 2:
-        dt = np.diff(t[good])
-        step = float(np.median(dt))
-        for k in np.flatnonzero(dt > GAP_FACTOR * step):
-            cut[int(good[k + 1])] = True
-    best = (0, 0)
-    for a, b in _runs(ok):
-        starts = [a] + [i for i in range(a + 1, b) if cut[i]] + [b]
-        for s0, s1 in zip(starts[:-1], starts[1:]):
-            if s1 - s0 > best[1] - best[0]:
-                best = (s0, s1)
-    a, b = best
+    start = ok & (np.concatenate(([True], bad[:-1])) | cut)
+    number = np.cumsum(start) * ok
+    sizes = np.bincount(number)
+    sizes[0] = 0
+    rows_best = np.flatnonzero(number == int(np.argmax(sizes))) if sizes.max() > 0 else np.zeros(0, int)
+    a, b = (int(rows_best[0]), int(rows_best[-1]) + 1) if rows_best.size else (0, 0)
     if b - a < MIN_ROWS:
         why = "; ".join(f"rows {_rows(x, y)}: {r}" for x, y, r in reasons[:3])
         raise TableError(f"{label}: no stretch of {MIN_ROWS} clean rows ({why})")
