@@ -265,12 +265,10 @@ def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = Non
 
 
 def _no_weights(scene) -> bool:
-    """The recording's scene has no correction weights (the rigid-rotor model applies)."""
+    """The rigid-rotor model of the run-up fit applies: a planar rotor without weights (a
+    rotor of the family is left to its own model)."""
     bal = getattr(scene, "balancer", None)
-    if getattr(scene, "kind", None) == "planar":
-        return bal is None or not getattr(bal, "count", 0)
-    return not getattr(scene, "weights", None) and not getattr(scene, "bodies", None) \
-        and getattr(scene, "kind", None) != "rotor"
+    return getattr(scene, "kind", None) == "planar" and not getattr(bal, "count", 0)
 
 
 def _whirls(t, x, y) -> bool:
