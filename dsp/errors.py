@@ -28,11 +28,16 @@ def _check_length(a, name, min_samples):
 
 
 def _check_finite(a, name, what):
-    """Raise naming the count and the first index of NaN/inf entries of ``a``."""
+    """Raise naming the count and the first index of NaN/inf entries of ``a``; return
+    ``a.sum()`` (its finiteness is the one-pass check)."""
+    total = np.sum(a)
+    if np.isfinite(total):
+        return total
     bad = ~np.isfinite(a)
     if bad.any():
         raise SignalError(f"{name}: {int(bad.sum())} non-finite {what}(s) (NaN/inf), "
                           f"first at index {int(np.argmax(bad))}")
+    return total                        # finite entries whose sum overflows
 
 
 def check_times(t, name="t", min_samples=2):
@@ -57,15 +62,22 @@ def check_times(t, name="t", min_samples=2):
     SignalError
         If ``t`` is not 1-D, too short, non-finite or not strictly increasing.
     """
+    return _times_and_steps(t, name, min_samples)[0]
+
+
+def _times_and_steps(t, name, min_samples):
+    """:func:`check_times`, also returning the steps ``diff(t)`` and their extremes [s]."""
     t = np.asarray(t, dtype=float)
     _check_length(t, name, min_samples)
-    _check_finite(t, name, "value")
     d = np.diff(t)
-    if (d <= 0).any():
+    lo, hi = float(d.min()), float(d.max())
+    if not (np.isfinite(t[0]) and np.isfinite(lo) and np.isfinite(hi)):
+        _check_finite(t, name, "value")     # a NaN/inf time makes a step NaN/inf
+    if lo <= 0:
         i = int(np.argmax(d <= 0))
         raise SignalError(f"{name}: must be strictly increasing, but {name}[{i + 1}] = {t[i + 1]!r}"
                           f" <= {name}[{i}] = {t[i]!r}")
-    return t
+    return t, d, lo, hi
 
 
 def check_signal(t, x, name="x", min_samples=16, uniform_rtol=1e-3, allow_complex=True):
@@ -96,7 +108,8 @@ def check_signal(t, x, name="x", min_samples=16, uniform_rtol=1e-3, allow_comple
     t : numpy.ndarray
         float64 times.
     x : numpy.ndarray
-        float64 or complex128 samples.
+        float64 or complex128 samples (the caller's array itself when it already
+        has that type: read, never modified, by the identifiers).
     dt : float
         Sampling step [s] (mean step).
 
@@ -111,10 +124,10 @@ def check_signal(t, x, name="x", min_samples=16, uniform_rtol=1e-3, allow_comple
     if np.iscomplexobj(x):
         if not allow_complex:
             raise SignalError(f"{name}: must be real, got complex samples")
-        x = x.astype(complex)
+        x = x.astype(complex, copy=False)
     else:
         try:
-            x = x.astype(float)
+            x = x.astype(float, copy=False)
         except (TypeError, ValueError) as exc:
             raise SignalError(f"{name}: must be numeric ({exc})") from None
     tt = np.asarray(t)
@@ -124,11 +137,10 @@ def check_signal(t, x, name="x", min_samples=16, uniform_rtol=1e-3, allow_comple
         raise SignalError(f"t and {name}: lengths differ ({tt.size} vs {x.size})")
     _check_length(x, name, min_samples)
     _check_finite(x, name, "sample")
-    t = check_times(tt, "t", min_samples)
-    d = np.diff(t)
-    lo, hi = float(d.min()), float(d.max())
+    t, d, lo, hi = _times_and_steps(tt, "t", min_samples)
     if hi - lo <= uniform_rtol * lo:       # every step within the tolerance of every other
-        return t, x, float((t[-1] - t[0]) / (t.size - 1)) if _not_constant(x, name) else None
+        _not_constant(x, name)
+        return t, x, float((t[-1] - t[0]) / (t.size - 1))
     dt = float(np.median(d))
     dev = np.abs(d - dt) / dt
     if dev.max() > uniform_rtol:
@@ -140,12 +152,28 @@ def check_signal(t, x, name="x", min_samples=16, uniform_rtol=1e-3, allow_comple
     return t, x, float((t[-1] - t[0]) / (t.size - 1))
 
 
-def _not_constant(x, name) -> bool:
-    """Raise :class:`SignalError` for a constant signal; True otherwise."""
-    scale = float(np.max(np.abs(x)))
-    if np.max(np.abs(x - x[0])) <= 1e-12 * max(scale, np.finfo(float).tiny):
+def _not_constant(x, name, head=64):
+    """Raise :class:`SignalError` for a constant signal: the spread of the samples (of the
+    real and the imaginary part each) at most 1e-12 of their largest magnitude.
+
+    The first ``head`` samples usually decide it: a spread above 2e-12 of their own
+    largest magnitude is above 1e-12 of the whole signal's (if the largest magnitude is
+    more than twice theirs, the spread is more than half of it), so the whole record is
+    read only for a (nearly) constant start."""
+    if _spread_ratio(x[:head]) > 2e-12:
+        return
+    if _spread_ratio(x) <= 1e-12:
         raise SignalError(f"{name}: signal is constant (value {x[0]!r}); nothing to identify")
-    return True
+
+
+def _spread_ratio(x):
+    """Largest spread (max - min) of the real or imaginary part over the largest magnitude
+    of either (no temporary arrays)."""
+    parts = (x.real, x.imag) if np.iscomplexobj(x) else (x,)
+    lo = [float(p.min()) for p in parts]
+    hi = [float(p.max()) for p in parts]
+    scale = max(max(abs(v) for v in lo), max(abs(v) for v in hi))
+    return max(h - l for l, h in zip(lo, hi)) / max(scale, np.finfo(float).tiny)
 
 
 def check_band(freq_hz, sample_rate_hz, max_band_fraction, name):
