@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 __all__ = ["phasor", "columns", "wls", "Sums", "normal_matrix", "gauss_newton", "peak_nu",
-           "hann_peak_nu", "dirichlet_sums", "dirichlet_kernel", "windowed_sums", "windowed_kernel",
+           "hann_peak_nu", "hann_delta", "dirichlet_sums", "windowed_sums", "windowed_kernel",
            "projection_fit"]
 
 BLOCK = 128                #: phasors as an outer product of BLOCK and N / BLOCK exponentials
@@ -99,15 +99,6 @@ def dirichlet_sums(theta, n):
     return complex(D), complex(0.0, -Dp), complex(-Dpp)
 
 
-def dirichlet_kernel(theta, n):
-    """S0 = sum_m e^{i theta m} = sin(n theta/2) / sin(theta/2) over the centred grid of
-    ``n`` samples, for an array ``theta`` [rad per sample] (n where theta = 0)."""
-    th = np.asarray(theta, dtype=float)
-    g = np.sin(0.5 * th)
-    tiny = np.abs(g) < 1e-300 ** 0.5
-    return np.where(tiny, n, np.sin(0.5 * n * th) / np.where(tiny, 1.0, g))
-
-
 #: the Hann window of dsp.lines.window_weights on the centred grid, as exponentials:
 #: w = 0.5 + 0.25 e^{+i 2 pi m / n} + 0.25 e^{-i 2 pi m / n}; w^2 likewise (shift, weight)
 HANN = ((0, 0.5), (1, 0.25), (-1, 0.25))
@@ -126,12 +117,22 @@ def windowed_sums(dnu, n, terms):
 
 
 def windowed_kernel(dnu, n, terms):
-    """S0 of :func:`windowed_sums` for an array ``dnu`` [cycles per sample]."""
+    """S0 of :func:`windowed_sums` for an array ``dnu`` [cycles per sample]:
+    sum_h weight_h sin(n y_h) / sin(y_h) with y_h = pi (dnu + shift_h / n) (each term is
+    the Dirichlet kernel S0(2 y_h); a y_h of exactly 0 is moved to 1e-300, where the ratio
+    is its limit n)."""
     dnu = np.asarray(dnu, dtype=float)
-    shape = (len(terms),) + (1,) * dnu.ndim
-    shifts = np.array([t[0] for t in terms], dtype=float).reshape(shape)
-    weights = np.array([t[1] for t in terms], dtype=float).reshape(shape)
-    return (weights * dirichlet_kernel(2 * math.pi * (dnu + shifts / n), n)).sum(axis=0)
+    shifts, weights = _term_arrays(terms, n, dnu.ndim)
+    y = math.pi * dnu + shifts + 1e-300
+    return (weights * np.sin(n * y) / np.sin(y)).sum(axis=0)
+
+
+@functools.lru_cache(maxsize=32)
+def _term_arrays(terms, n, ndim):
+    """(pi shift / n, weight) of window ``terms`` as arrays broadcasting over ``ndim`` axes."""
+    shape = (len(terms),) + (1,) * ndim
+    return (np.array([math.pi * t[0] / n for t in terms]).reshape(shape),
+            np.array([t[1] for t in terms], dtype=float).reshape(shape))
 
 
 @functools.lru_cache(maxsize=64)
@@ -178,14 +179,15 @@ class Sums:
             terms = ((0, self.scale ** 2 if weight2 else self.scale),)
         else:
             terms = HANN2 if weight2 else HANN
-        G = np.empty((3, q, q), complex)
+        rows = [[None] * q for _ in range(q)]
         diag = _diagonal_sums(self.n, terms)
         for j in range(q):
-            G[:, j, j] = diag
+            rows[j][j] = diag
             for k in range(j + 1, q):        # G[p, j, k]: the frequency nu_k - nu_j
-                G[:, j, k] = windowed_sums(allnu[k] - allnu[j], self.n, terms)
-                G[:, k, j] = np.conj(G[:, j, k])
-        return G
+                s = windowed_sums(allnu[k] - allnu[j], self.n, terms)
+                rows[j][k] = s
+                rows[k][j] = [v.conjugate() for v in s]
+        return np.array(rows, dtype=complex).reshape(q, q, 3).transpose(2, 0, 1)
 
     def gram(self, cols, weight=None, powers=3):
         """G[p, j, k] = sum W m^p conj(col_j) col_k, p = 0 .. powers-1 (W = the window or
@@ -330,18 +332,25 @@ def _projections(Zmat, a_idx, b_idx, ab_phase, nus):
 
 def hann_peak_nu(spec, i, n):
     """Frequency [cycles/sample] of a line from the peak bin ``i`` of the magnitude of an
-    unpadded Hann-windowed DFT of ``n`` samples: with the larger neighbour's ratio
-    alpha = |X[i +- 1]| / |X[i]|, the Hann kernel gives alpha = (1 + delta) / (2 - delta) for a
-    line delta bins from bin i, so delta = (2 alpha - 1) / (1 + alpha) (exact for a lone
-    line up to O(1/n); noise and other lines' leakage bias it, which the fit removes)."""
+    unpadded Hann-windowed DFT of ``n`` samples (:func:`hann_delta` on the bins i-1, i,
+    i+1)."""
     y0 = float(spec[i])
-    ym, yp = float(spec[(i - 1) % n]), float(spec[(i + 1) % n])
     if y0 <= 0.0:
         return peak_nu(spec, i, n)
-    side, alpha = (1.0, yp / y0) if yp >= ym else (-1.0, ym / y0)
-    delta = side * min(max((2.0 * alpha - 1.0) / (1.0 + alpha), 0.0), 0.5)
-    nu = (i + delta) / n
+    nu = (i + hann_delta(float(spec[(i - 1) % n]), y0, float(spec[(i + 1) % n]))) / n
     return nu - 1.0 if nu >= 0.5 else nu
+
+
+def hann_delta(ym, y0, yp):
+    """Offset [bins] of a line from the bin of magnitude ``y0`` between its neighbours of
+    magnitudes ``ym`` (below) and ``yp`` (above) in a Hann-windowed DFT: with the larger
+    neighbour's ratio alpha = y / y0 the Hann kernel gives alpha = (1 + delta) / (2 - delta)
+    for a line delta bins away, so delta = (2 alpha - 1) / (1 + alpha) (exact for a lone
+    line up to O(1/n); noise and other lines' leakage bias it, which the fit removes)."""
+    if y0 <= 0.0:
+        return 0.0
+    side, alpha = (1.0, yp / y0) if yp >= ym else (-1.0, ym / y0)
+    return side * min(max((2.0 * alpha - 1.0) / (1.0 + alpha), 0.0), 0.5)
 
 
 def projection_fit(z, nus, max_iter=MAX_ITER, min_line_snr=100.0):
@@ -421,8 +430,9 @@ def projection_fit(z, nus, max_iter=MAX_ITER, min_line_snr=100.0):
         # 0.03-0.06 for separated lines, up to 1.6 for lines 3 bins apart on the bench
         # signals), so 2 n d^2 < 0.1 sd is enough.  From the Hann peak interpolation
         # (:func:`hann_peak_nu`) that usually holds at the first step.
-        sd = np.sqrt(np.abs(Ai.diagonal()[:K]) * (cost / dof))
-        if ((2 * n * dnu * dnu < 0.1 * sd) | (np.abs(dnu) < tol)).all():
+        var = (Ai.diagonal()[:K] * (cost / dof)).tolist()
+        if all(2 * n * x * x < 0.1 * math.sqrt(abs(v)) or abs(x) < tol
+               for x, v in zip(dnu.tolist(), var)):
             nus = nus + dnu
             c = c + d[K::2] + 1j * d[K + 1::2]
             cost = max(cost - float(g @ d), 0.0)
