@@ -17,8 +17,10 @@ import math
 
 import numpy as np
 
+from ._line_kernel import dirichlet_core, hann_delta
+
 __all__ = ["phasor", "columns", "wls", "Sums", "normal_matrix", "gauss_newton", "peak_nu",
-           "hann_peak_nu", "hann_delta", "dirichlet_sums", "windowed_sums", "windowed_kernel",
+           "hann_peak_nu", "hann_delta", "dirichlet_sums", "dirichlet_core", "windowed_sums", "windowed_kernel",
            "projection_fit"]
 
 BLOCK = 128                #: phasors as an outer product of BLOCK and N / BLOCK exponentials
@@ -75,28 +77,13 @@ def _power_sums(n):
 
 def dirichlet_sums(theta, n):
     """(S0, S1, S2) with S_p = sum_m m^p e^{i theta m} over the centred grid
-    m = -(n-1)/2 .. (n-1)/2 (step 1), in closed form: S0 = sin(n theta/2) / sin(theta/2),
-    S1 = -i S0', S2 = -S0'' (a Taylor series in theta where n |theta| < 1).
+    m = -(n-1)/2 .. (n-1)/2 (step 1), in closed form (:func:`dirichlet_core`).
 
     ``theta`` [rad per sample] is a float; S0 and S2 are real, S1 imaginary (all returned
     as complex).  Scalar arithmetic on purpose: the Gram sums of a few lines need a handful
     of these, where numpy's per-call overhead would cost more than the arithmetic."""
-    th = float(theta)
-    if n * abs(th) < 1.0:
-        s2, s4, s6, s8 = _power_sums(n)
-        t2 = th * th
-        S0 = n - t2 / 2 * s2 + t2 * t2 / 24 * s4 - t2 ** 3 / 720 * s6 + t2 ** 4 / 40320 * s8
-        S1 = th * (s2 - t2 / 6 * s4 + t2 * t2 / 120 * s6 - t2 ** 3 / 5040 * s8)
-        S2 = s2 - t2 / 2 * s4 + t2 * t2 / 24 * s6 - t2 ** 3 / 720 * s8
-        return complex(S0), complex(0.0, S1), complex(S2)
-    a, b = 0.5 * n, 0.5
-    f, fp, fpp = math.sin(a * th), a * math.cos(a * th), -a * a * math.sin(a * th)
-    g, gp, gpp = math.sin(b * th), b * math.cos(b * th), -b * b * math.sin(b * th)
-    D = f / g
-    num = fp * g - f * gp
-    Dp = num / (g * g)
-    Dpp = (fpp * g - f * gpp) / (g * g) - 2 * gp * num / g ** 3
-    return complex(D), complex(0.0, -Dp), complex(-Dpp)
+    s0, s1, s2 = dirichlet_core(float(theta), n, *_power_sums(n))
+    return complex(s0), complex(0.0, s1), complex(s2)
 
 
 #: the Hann window of dsp.lines.window_weights on the centred grid, as exponentials:
@@ -339,18 +326,6 @@ def hann_peak_nu(spec, i, n):
         return peak_nu(spec, i, n)
     nu = (i + hann_delta(float(spec[(i - 1) % n]), y0, float(spec[(i + 1) % n]))) / n
     return nu - 1.0 if nu >= 0.5 else nu
-
-
-def hann_delta(ym, y0, yp):
-    """Offset [bins] of a line from the bin of magnitude ``y0`` between its neighbours of
-    magnitudes ``ym`` (below) and ``yp`` (above) in a Hann-windowed DFT: with the larger
-    neighbour's ratio alpha = y / y0 the Hann kernel gives alpha = (1 + delta) / (2 - delta)
-    for a line delta bins away, so delta = (2 alpha - 1) / (1 + alpha) (exact for a lone
-    line up to O(1/n); noise and other lines' leakage bias it, which the fit removes)."""
-    if y0 <= 0.0:
-        return 0.0
-    side, alpha = (1.0, yp / y0) if yp >= ym else (-1.0, ym / y0)
-    return side * min(max((2.0 * alpha - 1.0) / (1.0 + alpha), 0.0), 0.5)
 
 
 def projection_fit(z, nus, max_iter=MAX_ITER, min_line_snr=100.0):

@@ -6,7 +6,9 @@
 * with ``--all`` also numba's cache of the other compiled functions, for every
   kind: the fixed-step RK4 loop (``stand accuracy``), the finite-difference
   Jacobian (Radau/BDF/LSODA runs) and the right-hand side evaluation;
-* the blurred-spot fit of ``stand track`` (:mod:`vision.blur`, about 10 s the first time).
+* the blurred-spot fit of ``stand track`` (:mod:`vision.blur`, about 10 s the first time);
+* the line fit of :func:`dsp.lines.refine_frequencies` (:mod:`dsp._line_kernel`, about 15 s
+  the first time), which batch work in one process switches to.
 """
 from __future__ import annotations
 
@@ -66,6 +68,14 @@ def warmup(every_kind: bool = False, say=print, precompile: bool = True, kinds=N
             done.append(row)
             say(f"{row['what']}: {row['source']} ({row['seconds']:.1f} s)")
     if _jit.HAVE_NUMBA and not chosen:
+        from dsp._line_kernel import warm as warm_lines
+
+        t0 = time.perf_counter()
+        source = "jit" if warm_lines() == "numba" else "python"
+        row = {"what": "line fit (stand analyze, dsp.refine_frequencies)", "source": source,
+               "seconds": time.perf_counter() - t0}
+        done.append(row)
+        say(f"{row['what']}: {row['source']} ({row['seconds']:.1f} s)")
         from vision.blur import warm
 
         t0 = time.perf_counter()

@@ -33,5 +33,6 @@ def pytest_configure(config):
     code = "from stand.warmup import warmup; warmup(kinds=[{k}], say=lambda s: None)"
     procs = [subprocess.Popen([sys.executable, "-c", code.format(k=k)]) for k in sorted(KIND_NAMES)]
     procs.append(subprocess.Popen([sys.executable, "-c", "from vision.blur import warm; warm()"]))
+    procs.append(subprocess.Popen([sys.executable, "-c", "from dsp._line_kernel import warm; warm()"]))
     for p in procs:
         p.wait()
