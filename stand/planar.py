@@ -46,7 +46,8 @@ D11, D12, D21, D22, K11, K12, K21, K22 = range(8)
 EPS0, BETA, MU0, H0, FREE, MODEL, MROT, C1, C2, WTARGET = range(8, 18)
 COAST_T0, COAST_T, COAST_R0, COAST_PHI0 = range(18, 22)
 N_PROG, N_UB, N_FORCE = range(22, 25)  # row counts of the blocks of the table ``prog``
-N_SP = 25
+UX0, UY0 = range(25, 27)  # EPS0 (cos BETA, sin BETA), written with them (no trig per RHS call)
+N_SP = 27
 TABLE_COLUMNS = 6
 DRIVE_MODELS = {"constant": 0, "speed_feedback": 1, "angle_feedback": 2}
 
@@ -139,6 +140,8 @@ def build_planar_model(scene: Scene) -> PlanarModel:
     sp[K11], sp[K12], sp[K21], sp[K22] = Kn.ravel()
     sp[EPS0] = st.unbalance / (Ms * L)
     sp[BETA] = st.unbalance_angle
+    sp[UX0] = sp[EPS0] * math.cos(sp[BETA])
+    sp[UY0] = sp[EPS0] * math.sin(sp[BETA])
     sp[COAST_T0] = np.inf
     sp[COAST_T] = 1.0
     d = scene.drive
@@ -254,8 +257,8 @@ def unbalance_vector(tau, phi, sp, table, start):
     """
     nub = int(sp[N_UB])
     if nub == 0:
-        ux = sp[EPS0] * math.cos(sp[BETA])
-        uy = sp[EPS0] * math.sin(sp[BETA])
+        ux = sp[UX0]
+        uy = sp[UY0]
         dux = 0.0
         duy = 0.0
     else:
@@ -276,7 +279,7 @@ def unbalance_vector(tau, phi, sp, table, start):
     return c * ux - s * uy, s * ux + c * uy, c * dux - s * duy, s * dux + c * duy
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy")
 def side_forces(tau, xi, eta, sp, table, start):
     """Sum of the active side-force windows on the shaft: f - k (xi, eta)."""
     fx = 0.0
@@ -303,7 +306,7 @@ def rotor_kinematics_many(tau, prog, sp):
     return phi.reshape(tau.shape), R.reshape(tau.shape)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy")
 def drive_torque(tau, phi, dphi, sp):
     """Dimensionless drive torque m_rot = M_rot / (J_0 omega_1^2), models 1-3."""
     return drive_torque_law(sp[MODEL], sp[MROT], sp[C1], sp[C2], sp[WTARGET], tau, phi, dphi)

@@ -35,7 +35,7 @@ def build_table(times: np.ndarray, speeds: np.ndarray) -> np.ndarray:
     return np.column_stack([times, speeds, phi])
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy")
 def programme_kinematics(tau, prog):
     """(phi, R, dR/dtau) of the piecewise-linear programme at ``tau``."""
     k = prog.shape[0]
@@ -81,7 +81,7 @@ def programme_kinematics_many(taus, prog):
     return out
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, inline="always", error_model="numpy")
 def rotor_kinematics(tau, prog, coast_t0, coast_T, coast_R0, coast_phi0):
     """Rotor angle, speed and acceleration (phi, phi', phi'') at ``tau``.
 
