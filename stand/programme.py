@@ -63,6 +63,11 @@ def programme_kinematics_many(taus, prog):
     taus = np.asarray(taus, dtype=float).reshape(-1)
     k = prog.shape[0]
     out = np.empty((taus.size, 3))
+    if k == 1:                        # a constant speed: phi = phi_0 + R (tau - tau_0)
+        out[:, 0] = prog[0, 2] + prog[0, 1] * (taus - prog[0, 0])
+        out[:, 1] = prog[0, 1]
+        out[:, 2] = 0.0
+        return out
     t0, tl = prog[0, 0], prog[k - 1, 0]
     if k >= 2:
         i = np.clip(np.searchsorted(prog[:, 0], taus, side="right") - 1, 0, k - 2)
