@@ -72,7 +72,7 @@ def warmup(every_kind: bool = False, say=print, precompile: bool = True, kinds=N
 
         t0 = time.perf_counter()
         source = "jit" if warm_lines() == "numba" else "python"
-        row = {"what": "line fit (stand analyze, dsp.refine_frequencies)", "source": source,
+        row = {"what": "line fit (dsp.refine_frequencies, batch work)", "source": source,
                "seconds": time.perf_counter() - t0}
         done.append(row)
         say(f"{row['what']}: {row['source']} ({row['seconds']:.1f} s)")
