@@ -200,7 +200,7 @@ def main(argv=None):
         speed = f"{naff_ms[name] / ms:.2g}" if name in naff_ms and cell != "invalid" \
             and not cell.startswith("invalid") else "-"
         print(f"| {name} | {m} | {r1:.3g} | {r2:.3g} | {cell} | {speed} |")
-    print(f"goal: refine_frequencies <= 1.1x CRLB on both lines and >= 5x nafflib's speed")
+    print("goal: refine_frequencies <= 1.1x CRLB on both lines and >= 5x nafflib's speed")
 
 
 if __name__ == "__main__":

@@ -2,18 +2,23 @@
 
 :func:`fit_after_peaks` does in one call what :func:`dsp.lines._fast_fit` does with numpy
 after it has picked the peaks: the close-peak separation (:func:`dsp.lines._separate_peaks`),
-the Gauss-Newton fit from projections (:func:`dsp.line_gn.projection_fit`) and the look at
-the residual near the lines (:func:`dsp.lines._residual_holds_line`).  The same equations,
-as loops: the numpy path spends most of its time in numpy's per-call overhead on
-(3K) x (3K) matrices, which this avoids; the projections of the record stay one matrix
-product (BLAS) per iteration.  The two give the same numbers to rounding
-(``tests/test_dsp_line_kernel.py``).
+the Gauss-Newton fit from projections (:func:`dsp.line_gn.projection_fit`) and the spectrum
+of the residual near and away from the lines (:func:`dsp.lines._residual_extremes`).  The
+same equations, as loops: the numpy path spends most of its time in numpy's per-call
+overhead on (3K) x (3K) matrices, which this avoids.  No BLAS call inside (scipy's BLAS,
+which numba calls, has a thread pool of its own that fights numpy's for the cores).  The
+two give the same numbers to rounding (``tests/test_dsp_line_kernel.py``).
 
-numba is imported only when the kernel is first asked for (:func:`compiled`), and
-:mod:`dsp.lines` asks only after a process has made a few estimates (importing numba and
-loading the kernel from its cache costs about as much as a few hundred estimates), so a
-command that makes one or two never pays it.  ``STAND_DISABLE_JIT=1`` or
-``NUMBA_DISABLE_JIT=1`` keeps the numpy path.
+numba is imported only when the kernel is first asked for (:func:`compiled`); which
+estimates ask is :func:`dsp.lines._compiled_kernel`'s rule (at once when numba is already
+imported and the kernel is in its cache, else once the numpy path has spent what loading
+it costs, :func:`load_cost`), so a command that makes a few estimates never pays for it.
+``STAND_DISABLE_JIT=1`` or ``NUMBA_DISABLE_JIT=1`` keeps the numpy path.
+
+Also here, shared with :mod:`dsp.line_gn` as plain Python: :func:`dirichlet_core`,
+:func:`hann_delta`, the Hann window's exponentials :data:`HANN` and the projection block
+:data:`BLOCK` (numba's cache is invalidated per source file: code compiled into the
+kernel lives in this one file).
 """
 from __future__ import annotations
 
@@ -22,20 +27,32 @@ import importlib.util
 import math
 import os
 import sys
+import threading
+import types
+import warnings
 
 import numpy as np
 
+__all__ = ["fit_after_peaks", "fit_acceptable", "compiled", "disable", "load_cost", "warm",
+           "OK", "DECLINED", "HANN", "BLOCK", "MIN_LINE_SNR"]
 
-__all__ = ["fit_after_peaks", "compiled", "load_cost", "warm", "OK", "DECLINED",
-           "CHECK_RESIDUAL"]
-
-OK, DECLINED, CHECK_RESIDUAL = 0, 1, 2      #: status of :func:`fit_after_peaks`
+OK, DECLINED = 0, 1      #: status of :func:`fit_after_peaks`
 TWO_PI = 2.0 * math.pi
-BLOCK = 128                                  #: as dsp.line_gn.BLOCK
-HANN_SHIFT = (0.0, 1.0, -1.0)                #: dsp.line_gn.HANN: w = sum weight e^{2 pi i shift m/n}
-HANN_WEIGHT = (0.5, 0.25, 0.25)
+BLOCK = 128              #: the record as (blocks x BLOCK) for the projections
+MIN_LINE_SNR = 100.0     #: a line is one when |c|^2 N >= this x the residual power per sample
+#: the Hann window of dsp.lines.window_weights on the centred grid, as exponentials:
+#: w = 0.5 + 0.25 e^{+i 2 pi m / n} + 0.25 e^{-i 2 pi m / n}  ((shift, weight) pairs)
+HANN = ((0, 0.5), (1, 0.25), (-1, 0.25))
+HANN_SHIFT = tuple(float(h) for h, _ in HANN)
+HANN_WEIGHT = tuple(float(w) for _, w in HANN)
 
 _compiled = None        # None: not tried yet; False: unavailable; else the dispatcher
+_lock = threading.Lock()
+#: compiled in a namespace of their own (the module keeps its Python functions)
+_KERNEL = ("dirichlet_core", "hann_delta", "hann_response", "gram", "normal_matrix",
+           "separate_peaks", "fit_lines", "fit_acceptable", "residual_extremes",
+           "fit_after_peaks")
+_SUMS = ("projections", "sum_sq")   # long sums, which may be reordered (vectorised)
 
 
 # ---------------------------------------------------------------- shared with dsp.line_gn
@@ -44,10 +61,10 @@ _compiled = None        # None: not tried yet; False: unavailable; else the disp
 
 def dirichlet_core(th, n, s2, s4, s6, s8):
     """(S0, Im S1, S2) of :func:`dirichlet_sums`: S0 = sin(n theta/2) / sin(theta/2),
-    S1 = -i S0', S2 = -S0'', a Taylor series in theta where n |theta| < 1 (``s2`` .. ``s8``:
+    S1 = -i S0', S2 = -S0'', a Taylor series in theta where n |theta| < 0.2 (``s2`` .. ``s8``:
     sum m^p over the grid, :func:`_power_sums`).  Plain floats: also compiled by numba
     (here, with the kernel)."""
-    if n * abs(th) < 1.0:
+    if n * abs(th) < 0.2:      # the series (to theta^8) and the closed form meet at ~5e-14
         t2 = th * th
         S0 = n - t2 / 2 * s2 + t2 * t2 / 24 * s4 - t2 ** 3 / 720 * s6 + t2 ** 4 / 40320 * s8
         S1 = th * (s2 - t2 / 6 * s4 + t2 * t2 / 120 * s6 - t2 ** 3 / 5040 * s8)
@@ -73,8 +90,6 @@ def hann_delta(ym, y0, yp):
         return 0.0
     side, alpha = (1.0, yp / y0) if yp >= ym else (-1.0, ym / y0)
     return side * min(max((2.0 * alpha - 1.0) / (1.0 + alpha), 0.0), 0.5)
-
-
 
 
 def _disabled() -> bool:
@@ -121,45 +136,54 @@ def _in_cache() -> bool:
 
 def warm() -> str:
     """Compile (or load from numba's cache) the kernel for the argument types
-    :mod:`dsp.lines` passes; returns the engine ("numba" or "numpy" when unavailable)."""
-    kern = compiled()
-    if kern is None:
+    :func:`dsp.lines._fast_fit` passes (by calling it); returns the engine ("numba", or
+    "numpy" when the kernel is unavailable)."""
+    if compiled() is None:
         return "numpy"
+    from .lines import _fast_fit, _hann
+
     n = 256
     m = np.arange(n) - 0.5 * (n - 1)
-    z = np.exp(2j * math.pi * 0.1 * m) + 0.1 * np.exp(-2j * math.pi * 0.2 * m)
-    w = 0.5 + 0.5 * np.cos(2 * math.pi * m / n)
-    X = np.fft.fft(w * z)
-    spec = np.abs(X)
-    psums = np.array([float(np.sum((m * m) ** j)) for j in (1, 2, 3, 4)])
-    kern(z, X, spec, np.array([26, 205], dtype=np.int64), np.array([0.1, -0.2]), True,
-         psums, float(w.sum()), float(np.dot(w, w)), 4, 30, 100.0)
-    return "numba"
+    z = np.exp(2j * math.pi * 0.1 * m) + 0.1 * np.exp(2j * math.pi * (0.1 + 3.2 / n) * m)
+    _fast_fit(z, _hann(n), 2, 1.0, "numba", True)
+    return "numba" if compiled() is not None else "numpy"
 
 
 def compiled():
-    """The compiled :func:`fit_after_peaks` (numba imported and the kernel compiled or
-    loaded from numba's cache on the first call), or None (numba missing or disabled)."""
+    """The compiled :func:`fit_after_peaks` (numba imported, the kernel compiled or loaded
+    from numba's cache on its first call), or None (numba missing, disabled, or failed)."""
     global _compiled
     if _compiled is None:
-        _compiled = False
-        if not _disabled():
-            try:
-                import numba
-            except ImportError:
-                return None
-            jit = numba.njit(cache=True, error_model="numpy")
-            mod = globals()
-            for name in ("dirichlet_core", "hann_delta", "hann_response", "gram",
-                         "normal_matrix", "separate_peaks", "fit_lines", "residual_near_max"):
-                mod[name] = jit(mod[name])
-            # the long sums may be reordered (vectorised): rounding-level changes
-            sums = numba.njit(cache=True, error_model="numpy",
-                              fastmath={"reassoc", "contract"})
-            mod["projections"] = sums(projections)
-            mod["sum_sq"] = sums(sum_sq)
-            _compiled = jit(fit_after_peaks)
+        with _lock:
+            if _compiled is None:
+                _compiled = _build() or False
     return _compiled or None
+
+
+def disable(reason: str) -> None:
+    """Stop using the compiled kernel in this process (it failed: ``reason``), with a warning."""
+    global _compiled
+    _compiled = False
+    warnings.warn(f"dsp: the compiled line fit failed ({reason}); using numpy from now on",
+                  RuntimeWarning, stacklevel=3)
+
+
+def _build():
+    if _disabled():
+        return None
+    try:
+        import numba
+    except ImportError:
+        return None
+    jit = numba.njit(cache=True, error_model="numpy")
+    sums = numba.njit(cache=True, error_model="numpy", fastmath={"reassoc", "contract"})
+    ns = dict(globals())
+    for name in _KERNEL + _SUMS:
+        f = globals()[name]
+        g = types.FunctionType(f.__code__, ns, f.__name__, f.__defaults__, f.__closure__)
+        g.__qualname__, g.__module__, g.__doc__ = f.__qualname__, f.__module__, f.__doc__
+        ns[name] = (sums if name in _SUMS else jit)(g)
+    return ns["fit_after_peaks"]
 
 
 def hann_response(j, nu, n):
@@ -366,22 +390,43 @@ def fit_lines(z, nus, psums, max_iter, min_line_snr):
         G[:] = Gt
         Z1[:] = Z1t
     if not converged:
-        return 1, nus, c, Ai, cost
+        return DECLINED, nus, c, Ai, cost
+    var = np.empty(K)
+    for k in range(K):
+        var[k] = Ai[k, k]
+    if not fit_acceptable(nus, c, var, cost, n, min_line_snr):
+        return DECLINED, nus, c, Ai, cost
+    return OK, nus, c, Ai, cost
+
+
+def fit_acceptable(nus, c, var, cost, n, min_line_snr):
+    """Whether a converged fit of K lines is one (else the caller searches sequentially):
+    every frequency in [-1/2, 1/2) cycles per sample with a positive variance ``var``
+    (a diagonal of the inverse normal matrix), no two within half a bin of each other --
+    also across +-1/2, where a phasor repeats itself up to its sign -- and every line above
+    ``min_line_snr`` (|c|^2 n against the residual power per sample).  Plain Python: the
+    numpy path (:func:`dsp.line_gn.projection_fit`) calls it as it is."""
+    K = nus.size
+    for k in range(K):
+        if not (-0.5 <= nus[k] < 0.5) or not (var[k] > 0.0):
+            return False
     srt = np.sort(nus)
     for k in range(K - 1):
         if srt[k + 1] - srt[k] < 0.5 / n:
-            return 1, nus, c, Ai, cost
+            return False
+    if K > 1 and srt[0] + 1.0 - srt[K - 1] < 0.5 / n:
+        return False
     noise = max(cost, 1e-300 * n) / n
     for k in range(K):
         if abs(c[k]) ** 2 * n < min_line_snr * noise:
-            return 1, nus, c, Ai, cost
-    return 0, nus, c, Ai, cost
+            return False
+    return True
 
 
-def residual_near_max(X, spec, nus, c, n, near):
-    """Largest |X - fitted lines' windowed spectra| within ``near`` bins of a line, and the
-    largest of ``spec`` farther away (``spec`` is zeroed near the lines); both unscaled
-    (:func:`dsp.lines._residual_holds_line`)."""
+def residual_extremes(X, spec, nus, c, n, near):
+    """(Largest |X - the fitted lines' windowed spectra| within ``near`` bins of a line,
+    largest of ``spec`` farther away), unscaled; ``spec`` is zeroed near the lines
+    (:func:`dsp.lines._residual_extremes`)."""
     K = nus.size
     best = 0.0
     for k in range(K):
@@ -399,8 +444,7 @@ def residual_near_max(X, spec, nus, c, n, near):
     return best, spec.max()
 
 
-def fit_after_peaks(z, X, spec, peaks, nus0, separate, psums, sw, sw2, near,
-                    max_iter, min_line_snr):
+def fit_after_peaks(z, X, spec, peaks, nus0, separate, psums, near, max_iter, min_line_snr):
     """Everything :func:`dsp.lines._fast_fit` does after picking the peaks (Hann window).
 
     Parameters
@@ -409,29 +453,22 @@ def fit_after_peaks(z, X, spec, peaks, nus0, separate, psums, sw, sw2, near,
     spec : float (n,)   |X| (scratch: zeroed near the lines);
     peaks : int (K,)    peak bins;    nus0 : float (K,)   their two-point frequencies;
     separate : bool     take the other lines out of each peak's bins first;
-    psums : float (4,)  dsp.line_gn._power_sums(n);  sw, sw2 : sum of the window, of its
-    square;  near : bins checked either side of a line;  max_iter, min_line_snr: as
-    :func:`dsp.line_gn.projection_fit`.
+    psums : float (4,)  dsp.line_gn._power_sums(n);  near : bins checked either side of a
+    line;  max_iter, min_line_snr: as :func:`dsp.line_gn.projection_fit`.
 
     Returns
     -------
-    (status, nus, c, Ainv, cost, threshold)
-        status OK, DECLINED (the fit declined: the caller searches sequentially) or
-        CHECK_RESIDUAL (the spectrum near or away from the lines exceeds ``threshold``
-        [unit of z]: the caller looks at the exact residual).
+    (status, nus, c, Ainv, cost, near_max, far_max)
+        status OK or DECLINED (the caller then searches sequentially); the residual's
+        spectrum extremes (:func:`residual_extremes`; 0 when declined) for the caller's
+        threshold.
     """
     n = z.size
     nus = nus0.copy()
     if separate:
         separate_peaks(X, peaks, nus, n)
     status, nus, c, Ai, cost = fit_lines(z, nus, psums, max_iter, min_line_snr)
-    if status != 0:
-        return status, nus, c, Ai, cost, 0.0
-    level = 5.0 * math.sqrt(math.log(2.0) * cost / n * sw2) / sw
-    thr = 0.3 * np.abs(c).min()
-    if level > thr:
-        thr = level
-    near_max, far_max = residual_near_max(X, spec, nus, c, n, near)
-    if near_max / sw > thr or far_max / sw > thr:
-        return 2, nus, c, Ai, cost, thr
-    return 0, nus, c, Ai, cost, thr
+    if status != OK:
+        return status, nus, c, Ai, cost, 0.0, 0.0
+    near_max, far_max = residual_extremes(X, spec, nus, c, n, near)
+    return OK, nus, c, Ai, cost, near_max, far_max

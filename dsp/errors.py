@@ -30,7 +30,8 @@ def _check_length(a, name, min_samples):
 def _check_finite(a, name, what):
     """Raise naming the count and the first index of NaN/inf entries of ``a``; return
     ``a.sum()`` (its finiteness is the one-pass check)."""
-    total = np.sum(a)
+    with np.errstate(over="ignore", invalid="ignore"):
+        total = np.sum(a)
     if np.isfinite(total):
         return total
     bad = ~np.isfinite(a)
@@ -70,6 +71,9 @@ def _times_and_steps(t, name, min_samples):
     t = np.asarray(t, dtype=float)
     _check_length(t, name, min_samples)
     d = np.diff(t)
+    if d.size == 0:                          # one sample: nothing to be increasing
+        _check_finite(t, name, "value")
+        return t, d, np.inf, np.inf
     lo, hi = float(d.min()), float(d.max())
     if not (np.isfinite(t[0]) and np.isfinite(lo) and np.isfinite(hi)):
         _check_finite(t, name, "value")     # a NaN/inf time makes a step NaN/inf

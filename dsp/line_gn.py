@@ -17,13 +17,13 @@ import math
 
 import numpy as np
 
-from ._line_kernel import dirichlet_core, hann_delta
+from ._line_kernel import (BLOCK, HANN, MIN_LINE_SNR, dirichlet_core, fit_acceptable,
+                           hann_delta)
 
 __all__ = ["phasor", "columns", "wls", "Sums", "normal_matrix", "gauss_newton", "peak_nu",
            "hann_peak_nu", "hann_delta", "dirichlet_sums", "dirichlet_core", "windowed_sums", "windowed_kernel",
            "projection_fit"]
 
-BLOCK = 128                #: phasors as an outer product of BLOCK and N / BLOCK exponentials
 MAX_ITER = 30              #: Gauss-Newton iterations at most
 TWO_PI = 2.0 * math.pi
 
@@ -86,9 +86,7 @@ def dirichlet_sums(theta, n):
     return complex(s0), complex(0.0, s1), complex(s2)
 
 
-#: the Hann window of dsp.lines.window_weights on the centred grid, as exponentials:
-#: w = 0.5 + 0.25 e^{+i 2 pi m / n} + 0.25 e^{-i 2 pi m / n}; w^2 likewise (shift, weight)
-HANN = ((0, 0.5), (1, 0.25), (-1, 0.25))
+#: the Hann window's square as exponentials, like HANN (:mod:`dsp._line_kernel`)
 HANN2 = ((0, 0.375), (1, 0.25), (-1, 0.25), (2, 0.0625), (-2, 0.0625))
 
 
@@ -118,8 +116,10 @@ def windowed_kernel(dnu, n, terms):
 def _term_arrays(terms, n, ndim):
     """(pi shift / n, weight) of window ``terms`` as arrays broadcasting over ``ndim`` axes."""
     shape = (len(terms),) + (1,) * ndim
-    return (np.array([math.pi * t[0] / n for t in terms]).reshape(shape),
-            np.array([t[1] for t in terms], dtype=float).reshape(shape))
+    shifts = np.array([math.pi * t[0] / n for t in terms]).reshape(shape)
+    weights = np.array([t[1] for t in terms], dtype=float).reshape(shape)
+    shifts.flags.writeable = weights.flags.writeable = False      # shared by every caller
+    return shifts, weights
 
 
 @functools.lru_cache(maxsize=64)
@@ -328,7 +328,7 @@ def hann_peak_nu(spec, i, n):
     return nu - 1.0 if nu >= 0.5 else nu
 
 
-def projection_fit(z, nus, max_iter=MAX_ITER, min_line_snr=100.0):
+def projection_fit(z, nus, max_iter=MAX_ITER, min_line_snr=MIN_LINE_SNR):
     """Unweighted least-squares fit of lines on the centred grid, from projections only.
 
     Variable projection: with the amplitudes at their optimum for the current frequencies
@@ -346,9 +346,10 @@ def projection_fit(z, nus, max_iter=MAX_ITER, min_line_snr=100.0):
         Frequencies [cycles/sample], complex amplitudes, the inverse of the normal matrix
         of (nu, Re c, Im c) at the last step (times the noise variance per real
         component: the covariance) and the residual sum of squares.  None when it does not
-        converge, a Gram matrix is singular, two lines merge, or a line is too weak to be
-        one (|c|^2 N below ``min_line_snr`` x the residual power per sample): the caller
-        then takes the sequential search.
+        converge, a Gram matrix is singular, or the fit is not one of K lines
+        (:func:`dsp._line_kernel.fit_acceptable`: two lines merge, also across +-1/2, a
+        frequency leaves [-1/2, 1/2) or has no positive variance, a line is too weak):
+        the caller then takes the sequential search.
     """
     n = z.size
     m0 = -0.5 * (n - 1)
@@ -389,7 +390,7 @@ def projection_fit(z, nus, max_iter=MAX_ITER, min_line_snr=100.0):
     tol = 1e-7 / n
     dof = max(2 * n - 3 * K, 1)
     g = np.zeros(3 * K)
-    for it in range(max_iter):
+    for _ in range(max_iter):
         A = normal_matrix(G, c, K, 0)
         g[:K] = (np.conj(TWO_PI * 1j * c) * (Z1 - G[1] @ c)).real
         try:
@@ -426,10 +427,6 @@ def projection_fit(z, nus, max_iter=MAX_ITER, min_line_snr=100.0):
         c, Z1, G, cost = st
     else:
         return None
-    srt = sorted(nus.tolist())
-    if any(b - a < 0.5 / n for a, b in zip(srt, srt[1:])):
-        return None
-    noise = max(cost, 1e-300 * n) / n
-    if (np.abs(c) ** 2 * n < min_line_snr * noise).any():
+    if not fit_acceptable(nus, c, Ai.diagonal()[:K], cost, n, min_line_snr):
         return None
     return nus, c, Ai, cost

@@ -47,6 +47,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from .errors import SignalError, check_band, check_signal
+from ._line_kernel import MIN_LINE_SNR
 from .line_gn import (HANN, MAX_ITER, Sums, _power_sums, columns, gauss_newton, hann_delta,
                       hann_peak_nu, normal_matrix, peak_nu, phasor, projection_fit,
                       windowed_kernel, wls)
@@ -260,14 +261,14 @@ class LineFit:
 
     def amplitude_std(self, k):
         """(std of |a_k|, std of arg a_k [rad]) of line ``k`` (0-based)."""
-        C = self._block(k + int(self.has_offset))
+        s_amp = float(self.amplitude_std_all()[k])
         a = self.amplitude[k]
         amp = abs(a)
         if amp > 0:
-            u = np.array([a.real, a.imag]) / amp
-            v = np.array([-a.imag, a.real]) / amp
-            return math.sqrt(max(u @ C @ u, 0.0)), math.sqrt(max(v @ C @ v, 0.0)) / amp
-        return math.sqrt(max(np.trace(C) / 2, 0.0)), math.pi
+            C = self._block(k + int(self.has_offset))
+            v = np.array([-a.imag, a.real]) / amp          # the phase direction
+            return s_amp, math.sqrt(max(v @ C @ v, 0.0)) / amp
+        return s_amp, math.pi
 
 
 def fit_lines(tc, z, w, freqs, *, offset=False, optimise=True):
@@ -386,7 +387,6 @@ def crlb_frequency_std(amplitude, noise_std, n_samples, sample_rate_hz=1.0):
     return math.sqrt(6 * noise_std ** 2 / (abs(amplitude) ** 2 * N * (N * N - 1))) * sample_rate_hz / (2 * math.pi)
 
 
-MIN_LINE_SNR = 100.0       #: dsp.line_gn.projection_fit's min_line_snr
 ENGINES = ("auto", "numba", "numpy")
 _numpy_seconds = 0.0       #: time this process has spent in the numpy fast path [s]
 
@@ -421,13 +421,16 @@ def _power_sums_array(n):
     return a
 
 
-def _fast_fit(z, w, K, dt, engine="auto"):
+def _fast_fit(z, w, K, dt, engine="auto", hann=False):
     """The common case in one FFT: the K strongest peaks of the windowed spectrum, each
-    masked a main lobe wide once taken, interpolated, then the projection fit
-    (:func:`dsp.line_gn.projection_fit`), then a look at what the fit left
-    (:func:`_residual_holds_line`).  None when the fit declines (close or weak lines) or
-    the residual still holds a line of the fitted lines' size: :func:`naff`'s sequential
-    search is then used."""
+    masked a main lobe wide once taken; their frequencies by the Hann two-point
+    interpolation (``hann``: ``w`` is :func:`_hann`; else a parabola), close peaks first
+    freed of each other's side lobes (:func:`_separate_peaks`); the projection fit
+    (:func:`dsp.line_gn.projection_fit`); a look at the residual's spectrum near and away
+    from the lines (:func:`_residual_extremes`, :func:`_holds_line`).  With the Hann window
+    the steps after the peaks run as numpy or compiled (:func:`_compiled_kernel`, ``engine``).
+    None when the fit declines (close or weak lines) or the residual still holds a line of
+    the fitted lines' size: :func:`naff`'s sequential search is then used."""
     from scipy import fft as sfft      # pocketfft with SIMD: ~4x numpy.fft here
 
     n = z.size
@@ -446,34 +449,23 @@ def _fast_fit(z, w, K, dt, engine="auto"):
         spec[idx] = 0.0
     for idx, vals in reversed(taken):               # the spectrum as it was
         spec[idx] = vals
-    hann = w is _hann(n)
     nus = [(hann_peak_nu if hann else peak_nu)(spec, i, n) for i in peaks]
     separate = hann and K > 1 and _nearest_other(peaks, n) < CLOSE
-    kernel = _compiled_kernel(engine) if hann else None
-    if kernel is not None:                          # the same steps, compiled
-        from ._line_kernel import CHECK_RESIDUAL, DECLINED
-
-        try:
-            status, nus, c, Ainv, cost, thr = kernel(
-                np.ascontiguousarray(z), X, spec, np.asarray(peaks, np.int64),
-                np.asarray(nus, float), separate, _power_sums_array(n), *_hann_sums(n),
-                NEAR, MAX_ITER, MIN_LINE_SNR)
-        except np.linalg.LinAlgError:               # singular or non-finite, as the numpy
-            return None                             # path's projection_fit declines
-        if status == DECLINED or (status == CHECK_RESIDUAL
-                                  and _residual_spectrum_max(z, w, nus, c) > thr):
-            return None
-    else:
+    out = _fit_after_peaks_compiled(z, X, spec, peaks, nus, separate, engine) if hann else None
+    if out is None:
         global _numpy_seconds
         t0 = time.perf_counter()
         if separate:
             nus = _separate_peaks(X, peaks, nus, n)
-        out = projection_fit(z, nus, MAX_ITER, MIN_LINE_SNR)
-        held = out is None or _residual_holds_line(z, w, X, spec, *out[:2], out[3])
+        fit = projection_fit(z, nus, MAX_ITER, MIN_LINE_SNR)
+        out = None if fit is None else \
+            fit + ((_residual_extremes(X, spec, fit[0], fit[1], n) if hann else None),)
         _numpy_seconds += time.perf_counter() - t0
-        if held:
-            return None
-        nus, c, Ainv, cost = out
+    if out is None or out is DECLINED_FIT:
+        return None
+    nus, c, Ainv, cost, extremes = out
+    if _holds_line(z, w, nus, c, cost, extremes, hann):
+        return None
     P = Ainv.shape[0]
     sigma2 = cost / max(2 * n - P, 1)
     scale = np.ones(P)
@@ -481,6 +473,36 @@ def _fast_fit(z, w, K, dt, engine="auto"):
     cov = Ainv * (sigma2 * scale[:, None] * scale[None, :])
     return LineFit(frequency=np.asarray(nus) / dt, amplitude=c, offset=0j,
                    residual=np.zeros(0, complex), cov=cov, noise_var=sigma2, has_offset=False)
+
+
+DECLINED_FIT = object()     #: what :func:`_fit_after_peaks_compiled` returns for a declined fit
+
+
+def _fit_after_peaks_compiled(z, X, spec, peaks, nus, separate, engine):
+    """:func:`dsp._line_kernel.fit_after_peaks` when :func:`_compiled_kernel` gives it:
+    (nus, c, Ainv, cost, (near_max, far_max)) or :data:`DECLINED_FIT`; None for the numpy
+    path (no kernel, or it failed otherwise than on a singular or non-finite system: then
+    it is disabled for the process, with a warning)."""
+    kernel = _compiled_kernel(engine)
+    if kernel is None:
+        return None
+    from . import _line_kernel
+
+    n = z.size
+    if not (z.flags.c_contiguous and z.flags.writeable):
+        z = z.copy()                # one compiled signature: C-contiguous, writeable
+    try:
+        status, nus, c, Ainv, cost, near, far = kernel(
+            z, X, spec, np.asarray(peaks, np.int64), np.asarray(nus, float), separate,
+            np.array(_power_sums(n)), NEAR, MAX_ITER, MIN_LINE_SNR)
+    except np.linalg.LinAlgError:                   # singular or non-finite, as the numpy
+        return DECLINED_FIT                         # path's projection_fit declines
+    except Exception as exc:                        # noqa: BLE001 - numba failing to compile
+        _line_kernel.disable(f"{type(exc).__name__}: {exc}")
+        return None
+    if status != _line_kernel.OK:
+        return DECLINED_FIT
+    return nus, c, Ainv, cost, (near, far)
 
 
 #: peaks nearer than this [bins] leak into each other's bins (the Hann window's side lobes
@@ -508,25 +530,22 @@ def _hann_response(bins, nus, n):
     return np.exp(2j * math.pi * (nus - dnu) * m0) * windowed_kernel(dnu, n, HANN)
 
 
-def _separate_peaks(X, peaks, nus, n, passes=1):
+def _separate_peaks(X, peaks, nus, n):
     """Start frequencies [cycles/sample] of lines whose peaks are close: the three bins around
     each peak of the windowed spectrum ``X`` without the other lines' windowed spectra
     (:func:`_hann_response`; each line's amplitude from its own peak bin), then the Hann
-    two-point interpolation (:func:`dsp.line_gn.hann_delta`); ``passes`` times."""
+    two-point interpolation (:func:`dsp.line_gn.hann_delta`)."""
     K = len(peaks)
     peaks = np.asarray(peaks)
     bins = (peaks[:, None] + _THREE).ravel() % n                  # (3K,): line k's are 3k..3k+2
     Xb = X[bins]
     own = (np.arange(3 * K), np.repeat(np.arange(K), 3))
-    nus = np.asarray(nus, float)
-    for _ in range(passes):
-        leak = _hann_response(bins, nus, n)                       # (3K, K)
-        leak *= Xb[1::3] / leak[1::3].diagonal()                  # times each line's amplitude
-        leak[own] = 0.0                                           # keep each line's own
-        mag = np.abs(Xb - leak.sum(axis=1)).reshape(K, 3).tolist()
-        nus = (peaks + np.array([hann_delta(*m) for m in mag])) / n
-        nus = np.where(nus >= 0.5, nus - 1.0, nus)
-    return nus
+    leak = _hann_response(bins, np.asarray(nus, float), n)        # (3K, K)
+    leak *= Xb[1::3] / leak[1::3].diagonal()                      # times each line's amplitude
+    leak[own] = 0.0                                               # keep each line's own
+    mag = np.abs(Xb - leak.sum(axis=1)).reshape(K, 3).tolist()
+    nus = (peaks + np.array([hann_delta(*m) for m in mag])) / n
+    return np.where(nus >= 0.5, nus - 1.0, nus)
 
 
 #: bins either side of a fitted line where the residual's spectrum is computed exactly
@@ -535,34 +554,36 @@ _NEAR_BINS = np.arange(-NEAR, NEAR + 1)
 _THREE = np.arange(-1, 2)
 
 
-def _residual_holds_line(z, w, X, spec, nus, c, cost):
+def _residual_extremes(X, spec, nus, c, n):
+    """(Largest |X - the fitted lines' Hann responses| within ``NEAR`` bins of a line,
+    largest of ``spec`` farther away), unscaled; ``spec`` is zeroed near the lines.  The
+    numpy twin of :func:`dsp._line_kernel.residual_extremes`."""
+    near = (np.rint(nus * n).astype(int)[:, None] + _NEAR_BINS).ravel() % n
+    near_max = float(np.max(np.abs(X[near] - _hann_response(near, nus, n) @ c)))
+    spec[near] = 0.0
+    return near_max, float(spec.max())
+
+
+def _holds_line(z, w, nus, c, cost, extremes, hann):
     """Whether the residual of a fit still holds a line of the fitted lines' size.
 
     A line taken for another, or one hidden in a stronger one's lobe, shows in the windowed
-    spectrum of z minus the fitted lines.  Near each fitted line (``NEAR`` bins either side)
-    that spectrum is computed exactly from the FFT ``X`` of the windowed record, with the
-    fitted lines' windowed spectra in closed form (:func:`_hann_response`);
-    farther away it is the record's own spectrum ``spec`` (the fitted lines leak less than
-    a 1/80 of their amplitude there through the Hann window).  Only when that says "a line"
-    is the exact residual transformed (one more FFT), so that leakage alone never
-    rejects a fit.  A line counts when it exceeds 0.3 x the smallest fitted amplitude and
-    5 x the median spectral level of white noise of the residual's power.
+    spectrum of z minus the fitted lines.  With the Hann window ``extremes`` gives that
+    spectrum's largest value near the lines (computed exactly from the FFT of the windowed
+    record, the fitted lines' windowed spectra in closed form) and the record's own
+    spectrum's largest value away from them (the fitted lines leak less than 1/80 of their
+    amplitude there); only when one of them says "a line" is the exact residual
+    transformed (one more FFT), so that leakage alone never rejects a fit.  A line counts
+    when it exceeds 0.3 x the smallest fitted amplitude and 5 x the median spectral level
+    of white noise of the residual's power.
     """
     n = z.size
-    hann = w is _hann(n)
     sw, sw2 = _hann_sums(n) if hann else (float(w.sum()), float(np.dot(w, w)))
     level = 5.0 * math.sqrt(math.log(2.0) * cost / n * sw2) / sw
     thr = max(0.3 * float(np.abs(c).min()), level)
-    if not hann:                                    # another window: the exact residual only
-        return _residual_spectrum_max(z, w, nus, c) > thr
-    near = (np.rint(nus * n).astype(int)[:, None] + _NEAR_BINS).ravel() % n
-    model = _hann_response(near, nus, n) @ c
-    if np.max(np.abs(X[near] - model)) / sw > thr:
-        return _residual_spectrum_max(z, w, nus, c) > thr
-    spec[near] = 0.0
-    if float(spec.max()) / sw > thr:
-        return _residual_spectrum_max(z, w, nus, c) > thr
-    return False
+    if hann and max(extremes) / sw <= thr:
+        return False
+    return _residual_spectrum_max(z, w, nus, c) > thr
 
 
 def _residual_spectrum_max(z, w, nus, c):
@@ -582,12 +603,16 @@ def refine_frequencies(t, z, n_components, window="hann", polish=True, max_band_
                        engine="auto"):
     """Strongest complex-exponential components of ``z = x + i·y`` (NAFF-style).
 
-    The sequential :func:`naff` search with the ``window`` finds the lines;
-    with ``polish`` (default) :func:`fit_lines` then fits
-    all frequencies and amplitudes jointly to the unwindowed data by
-    Gauss-Newton (the maximum-likelihood estimate for white Gaussian noise; it
-    removes the window's leakage bias between close lines and reaches the
-    Cramér–Rao bound).  Without ``polish`` the fit is weighted by the window.
+    With ``polish`` (default) all frequencies and amplitudes are fitted jointly to
+    the unwindowed data by Gauss-Newton: the maximum-likelihood estimate for white
+    Gaussian noise, which removes the window's leakage bias between close lines
+    and reaches the Cramér–Rao bound.  Usually in one FFT (:func:`_fast_fit`: the
+    peaks of the ``window``-ed spectrum, interpolated, then the fit from
+    projections and a look at the residual's spectrum); when that declines
+    (lines closer than a main lobe, weak lines, a line left in the residual),
+    the sequential :func:`naff` search with the ``window`` finds the lines and
+    :func:`fit_lines` fits them.  Without ``polish``: :func:`naff`, then the fit
+    weighted by the window.
 
     Parameters
     ----------
@@ -598,7 +623,8 @@ def refine_frequencies(t, z, n_components, window="hann", polish=True, max_band_
     n_components : int
         Number of components to extract.
     window : {"hann", "rect"}
-        Window for the NAFF stage.
+        Window of the peak search (the Hann window also gives the two-point
+        interpolation and the compiled fit).
     polish : bool
         Joint least-squares polish.
     max_band_fraction : float
@@ -617,6 +643,8 @@ def refine_frequencies(t, z, n_components, window="hann", polish=True, max_band_
         Sorted by decreasing |amplitude|.
     """
     n_components = int(n_components)
+    if engine not in ENGINES:
+        raise SignalError(f"engine: must be one of {', '.join(ENGINES)}, got {engine!r}")
     t, z, dt = check_signal(t, z, "z", min_samples=32)
     N = z.size
     if not 1 <= n_components <= N // 8:
@@ -624,7 +652,7 @@ def refine_frequencies(t, z, n_components, window="hann", polish=True, max_band_
     z = np.asarray(z, complex)
     w = _hann(N) if window == "hann" else window_weights(N, window)
     t_ref = 0.5 * (t[0] + t[-1])                # centred (decorrelates phase and frequency)
-    fit = _fast_fit(z, w, n_components, dt, engine) if polish else None
+    fit = _fast_fit(z, w, n_components, dt, engine, window == "hann") if polish else None
     if fit is None:                             # the sequential search and the general fit
         tc = t - t_ref
         f = naff(tc, z, w, n_components)

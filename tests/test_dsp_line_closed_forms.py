@@ -20,14 +20,21 @@ M = np.arange(N) - 0.5 * (N - 1)                   # the centred grid
 HANN_W = dl.window_weights(N, "hann")
 
 
-@pytest.mark.parametrize("dnu", [0.0, 1e-7, 0.3 / N, 1.0 / N, -1.0 / N, 2.7 / N, 0.37, -0.49])
+_BRANCH = 2 * math.pi * N          # n |theta| = _BRANCH |dnu|: series below 0.2, closed form above
+
+
+@pytest.mark.parametrize("dnu", [0.0, 1e-7, 0.19 / _BRANCH, 0.21 / _BRANCH, 0.999 / _BRANCH,
+                                 -0.5 / _BRANCH, 0.3 / N, 1.0 / N, -1.0 / N, 2.7 / N, 0.37,
+                                 -0.49])
 def test_dirichlet_sums_match_direct_sums(dnu):
-    e = np.exp(2j * math.pi * dnu * M)
-    direct = [np.sum(e), np.sum(M * e), np.sum(M * M * e)]
+    c, s = np.cos(2 * math.pi * dnu * M), np.sin(2 * math.pi * dnu * M)
+    direct = [math.fsum(c), 1j * math.fsum(M * s), math.fsum(M * M * c)]   # S1 is imaginary
     got = gn.dirichlet_sums(2 * math.pi * dnu, N)
     for p in range(3):
-        scale = np.sum(np.abs(M) ** p)
-        assert abs(got[p] - direct[p]) < 1e-9 * scale, p
+        # relative to the sum itself where it is not a cancellation (near dnu = 0: all of
+        # them), else to the sum of magnitudes
+        scale = max(abs(direct[p]), 1e-3 * np.sum(np.abs(M) ** p))
+        assert abs(got[p] - direct[p]) < 1e-12 * scale, (p, got[p], direct[p])
 
 
 @pytest.mark.parametrize("dnu", [0.0, 1.0 / N, -1.0 / N, 2.0 / N, 0.37 / N, 3.2 / N, -0.4])
@@ -74,7 +81,8 @@ def test_hann_response_is_the_windowed_dft_of_a_line():
 
 def test_separating_close_peaks_removes_the_leakage_bias():
     """Lines 3 bins apart, 10:1: the weak line's peak bins carry the strong one's side lobe;
-    taken out, the two-point start is within 1e-3 bin of the truth (no noise)."""
+    taken out, the two-point start is within 2e-3 bin of the truth (no noise; what is left is
+    the leakage estimated from the biased start, second order)."""
     n = 4096
     m = np.arange(n) - 0.5 * (n - 1)
     nus = np.array([0.1 + 0.31 / n, 0.1 + 3.31 / n])
@@ -83,6 +91,6 @@ def test_separating_close_peaks_removes_the_leakage_bias():
     spec = np.abs(X)
     peaks = [int(np.rint(nu * n)) for nu in nus]
     raw = np.array([gn.hann_peak_nu(spec, i, n) for i in peaks])
-    sep = dl._separate_peaks(X, peaks, raw, n, passes=2)
+    sep = dl._separate_peaks(X, peaks, raw, n)
     assert abs(raw[1] - nus[1]) * n > 5e-3                   # the bias being removed
-    assert np.all(np.abs(sep - nus) * n < 1e-3)
+    assert np.all(np.abs(sep - nus) * n < 2e-3)

@@ -11,7 +11,16 @@ from dsp import _line_kernel, lines
 from dsp.errors import SignalError
 from dsp.lines import refine_frequencies
 
-numba_only = pytest.mark.skipif(_line_kernel.compiled() is None, reason="numba not available")
+numba_only = pytest.mark.skipif(not _line_kernel._numba_installed() or _line_kernel._disabled(),
+                                reason="numba not available or disabled")
+
+
+@pytest.fixture(autouse=True)
+def _engine_state(monkeypatch):
+    """Whatever these tests do to the kernel's state is undone after each (the rest of the
+    suite sees the state it would have seen without them)."""
+    monkeypatch.setattr(_line_kernel, "_compiled", _line_kernel._compiled)
+    monkeypatch.setattr(lines, "_numpy_seconds", lines._numpy_seconds)
 
 
 def _signal(n, lines_, sigma, seed):
@@ -36,12 +45,14 @@ def test_compiled_and_numpy_give_the_same_fit(case):
     n, lines_, sigma = CASES[case]
     z = _signal(n, lines_, sigma, seed=7)
     w = lines._hann(n)
-    a = lines._fast_fit(z, w, len(lines_), 1.0, engine="numpy")
-    b = lines._fast_fit(z, w, len(lines_), 1.0, engine="numba")
+    a = lines._fast_fit(z, w, len(lines_), 1.0, engine="numpy", hann=True)
+    b = lines._fast_fit(z, w, len(lines_), 1.0, engine="numba", hann=True)
     assert a is not None and b is not None
     # the same equations: differences are rounding (the compiled sums are reordered), far
-    # below the uncertainty -- or, without noise, below 1e-9 of a bin
-    tol = np.maximum(1e-6 * a.frequency_std(), 1e-9 / n)
+    # below the uncertainty -- or, without noise, below 1e-9 of a bin.  (Rounding may move
+    # the convergence test's decision by one step, whose effect is below 0.1 x the
+    # uncertainty by that test's construction: the tolerance allows 0.01 x.)
+    tol = np.maximum(1e-2 * a.frequency_std(), 1e-9 / n)
     assert np.all(np.abs(a.frequency - b.frequency) <= tol)
     assert np.allclose(a.amplitude, b.amplitude, rtol=1e-7, atol=1e-9)
     if sigma > 0:
@@ -51,14 +62,43 @@ def test_compiled_and_numpy_give_the_same_fit(case):
 
 @numba_only
 def test_compiled_fit_declines_what_the_numpy_one_declines():
-    """Two lines 1.2 bins apart look like one peak: both paths hand over to the sequential
-    search (None), and refine_frequencies still resolves them."""
+    """Asked for two lines where there is one: the second is noise, too weak to be a line,
+    and both paths hand over to the sequential search (None); refine_frequencies still
+    finds the one line."""
     n = 4096
-    z = _signal(n, [(0.1, 1.0), (0.1 + 1.2 / n, 0.8)], 0.01, seed=3)
+    z = _signal(n, [(0.1, 1.0)], 0.1, seed=3)
     w = lines._hann(n)
-    a = lines._fast_fit(z, w, 2, 1.0, engine="numpy")
-    b = lines._fast_fit(z, w, 2, 1.0, engine="numba")
-    assert (a is None) == (b is None)
+    assert lines._fast_fit(z, w, 2, 1.0, engine="numpy", hann=True) is None
+    assert lines._fast_fit(z, w, 2, 1.0, engine="numba", hann=True) is None
+    c = refine_frequencies(np.arange(n, dtype=float), z, 2)
+    assert c.frequency_hz[0] == pytest.approx(0.1, abs=3e-3 / n)     # 5x its CRLB
+
+
+@numba_only
+def test_lines_0_6_bins_apart_are_resolved_by_both_paths():
+    n = 4096
+    truth = [0.1, 0.1 + 0.6 / n]
+    z = _signal(n, [(truth[0], 1.0), (truth[1], 0.8j)], 0.01, seed=3)
+    for engine in ("numpy", "numba"):
+        fit = lines._fast_fit(z, lines._hann(n), 2, 1.0, engine=engine, hann=True)
+        assert fit is not None
+        assert np.sort(fit.frequency) == pytest.approx(truth, abs=5 * fit.frequency_std().max())
+
+
+@numba_only
+def test_lines_merging_across_half_a_cycle_are_declined():
+    """Two lines on either side of +-1/2 cycle per sample, nearly one phasor (odd n): the
+    fit must not return them as two lines with a zero or negative variance."""
+    n = 3001
+    z = _signal(n, [(1497.53 / n, 1.0), (1499.65 / n, 1.0)], 0.5, seed=5)
+    w = lines._hann(n)
+    for engine in ("numpy", "numba"):
+        fit = lines._fast_fit(z, w, 2, 1.0, engine=engine, hann=True)
+        if fit is not None:
+            assert np.all(fit.frequency_std() > 0)
+            assert np.all((-0.5 <= fit.frequency) & (fit.frequency < 0.5))
+            d = abs(fit.frequency[0] - fit.frequency[1])
+            assert min(d, 1 - d) > 0.5 / n
 
 
 @numba_only
@@ -114,4 +154,26 @@ def test_disabled_jit_means_the_numpy_path(monkeypatch, var):
     monkeypatch.setenv(var, "1")
     monkeypatch.setattr(_line_kernel, "_compiled", None)
     assert _line_kernel.load_cost() == math.inf
+    assert _line_kernel.compiled() is None
+
+
+def test_engine_is_checked_on_every_path():
+    t, z = np.arange(256.0), np.exp(0.3j * np.arange(256))
+    for kw in ({"window": "rect"}, {"polish": False}):
+        with pytest.raises(SignalError, match="engine"):
+            refine_frequencies(t, z, 1, engine="fast", **kw)
+
+
+def test_a_failing_kernel_is_dropped_for_numpy_with_a_warning(monkeypatch):
+    """A kernel that fails otherwise than on a singular system (numba failing to compile
+    after an upgrade, say) does not break the estimator: it warns once and uses numpy."""
+    def broken(*args):
+        raise TypeError("no matching definition")
+
+    monkeypatch.setattr(_line_kernel, "_compiled", broken)
+    n = 1024
+    z = _signal(n, [(0.1, 1.0)], 0.1, 1)
+    with pytest.warns(RuntimeWarning, match="compiled line fit failed.*TypeError"):
+        c = refine_frequencies(np.arange(n, dtype=float), z, 1, engine="numba")
+    assert c.frequency_hz[0] == pytest.approx(0.1, abs=6e-3 / n)      # 5x its CRLB
     assert _line_kernel.compiled() is None
