@@ -69,19 +69,13 @@ def warmup(every_kind: bool = False, say=print, precompile: bool = True, kinds=N
             say(f"{row['what']}: {row['source']} ({row['seconds']:.1f} s)")
     if _jit.HAVE_NUMBA and not chosen:
         from dsp._line_kernel import warm as warm_lines
+        from vision.blur import warm as warm_blur
 
-        t0 = time.perf_counter()
-        source = "jit" if warm_lines() == "numba" else "python"
-        row = {"what": "line fit (dsp.refine_frequencies, batch work)", "source": source,
-               "seconds": time.perf_counter() - t0}
-        done.append(row)
-        say(f"{row['what']}: {row['source']} ({row['seconds']:.1f} s)")
-        from vision.blur import warm
-
-        t0 = time.perf_counter()
-        source = "jit" if warm() == "numba" else "python"
-        row = {"what": "blurred-spot fit (stand track)", "source": source,
-               "seconds": time.perf_counter() - t0}
-        done.append(row)
-        say(f"{row['what']}: {row['source']} ({row['seconds']:.1f} s)")
+        for what, warm in (("line fit (dsp.refine_frequencies, batch work)", warm_lines),
+                           ("blurred-spot fit (stand track)", warm_blur)):
+            t0 = time.perf_counter()
+            source = "jit" if warm() == "numba" else "python"
+            row = {"what": what, "source": source, "seconds": time.perf_counter() - t0}
+            done.append(row)
+            say(f"{row['what']}: {row['source']} ({row['seconds']:.1f} s)")
     return done
