@@ -33,8 +33,8 @@ import warnings
 
 import numpy as np
 
-__all__ = ["fit_after_peaks", "fit_acceptable", "compiled", "disable", "load_cost", "warm",
-           "OK", "DECLINED", "HANN", "BLOCK", "MIN_LINE_SNR"]
+__all__ = ["fit_after_peaks", "fit_acceptable", "step_is_last", "compiled", "disable",
+           "load_cost", "warm", "OK", "DECLINED", "HANN", "BLOCK", "MIN_LINE_SNR"]
 
 OK, DECLINED = 0, 1      #: status of :func:`fit_after_peaks`
 TWO_PI = 2.0 * math.pi
@@ -50,7 +50,7 @@ _compiled = None        # None: not tried yet; False: unavailable; else the disp
 _lock = threading.Lock()
 #: compiled in a namespace of their own (the module keeps its Python functions)
 _KERNEL = ("dirichlet_core", "hann_delta", "hann_response", "gram", "normal_matrix",
-           "separate_peaks", "fit_lines", "fit_acceptable", "residual_extremes",
+           "separate_peaks", "fit_lines", "step_is_last", "fit_acceptable", "residual_extremes",
            "fit_after_peaks")
 _SUMS = ("projections", "sum_sq")   # long sums, which may be reordered (vectorised)
 
@@ -353,12 +353,7 @@ def fit_lines(z, nus, psums, max_iter, min_line_snr):
             for j in range(K):                 # g is zero in the amplitudes
                 d[i] += Ai[i, j] * g[j]
         # the convergence test of dsp.line_gn.projection_fit
-        small = True
-        for k in range(K):
-            sd = math.sqrt(abs(Ai[k, k]) * (cost / dof))
-            if not (2 * n * d[k] * d[k] < 0.1 * sd or abs(d[k]) < tol):
-                small = False
-        if small:
+        if step_is_last(d, Ai, cost / dof, n, tol):
             for k in range(K):
                 nus[k] += d[k]
                 c[k] += d[K + 2 * k] + 1j * d[K + 2 * k + 1]
@@ -397,6 +392,19 @@ def fit_lines(z, nus, psums, max_iter, min_line_snr):
     if not fit_acceptable(nus, c, var, cost, n, min_line_snr):
         return DECLINED, nus, c, Ai, cost
     return OK, nus, c, Ai, cost
+
+
+def step_is_last(d, Ai, noise_var, n, tol):
+    """Whether the Gauss-Newton step ``d`` (frequencies first, [cycles/sample]) may be taken on
+    the linear model and the fit stop there (:func:`dsp.line_gn.projection_fit`): for every
+    frequency the error the step leaves, ~ C n d^2 with C below 2 per bin, is below a tenth
+    of its uncertainty sqrt(Ai[k, k] noise_var), or the step is below ``tol``.  Plain
+    Python: the numpy path calls it as it is."""
+    for k in range(len(d) // 3):          # d holds K frequencies, then 2K amplitude parts
+        sd = math.sqrt(abs(Ai[k, k]) * noise_var)
+        if not (2 * n * d[k] * d[k] < 0.1 * sd or abs(d[k]) < tol):
+            return False
+    return True
 
 
 def fit_acceptable(nus, c, var, cost, n, min_line_snr):

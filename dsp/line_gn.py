@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from ._line_kernel import (BLOCK, HANN, MIN_LINE_SNR, dirichlet_core, fit_acceptable,
-                           hann_delta)
+                           hann_delta, step_is_last)
 
 __all__ = ["phasor", "columns", "wls", "Sums", "normal_matrix", "gauss_newton", "peak_nu",
            "hann_peak_nu", "hann_delta", "dirichlet_sums", "dirichlet_core", "windowed_sums", "windowed_kernel",
@@ -406,9 +406,7 @@ def projection_fit(z, nus, max_iter=MAX_ITER, min_line_snr=MIN_LINE_SNR):
         # 0.03-0.06 for separated lines, up to 1.6 for lines 3 bins apart on the bench
         # signals), so 2 n d^2 < 0.1 sd is enough.  From the Hann peak interpolation
         # (:func:`hann_peak_nu`) that usually holds at the first step.
-        var = (Ai.diagonal()[:K] * (cost / dof)).tolist()
-        if all(2 * n * x * x < 0.1 * math.sqrt(abs(v)) or abs(x) < tol
-               for x, v in zip(dnu.tolist(), var)):
+        if step_is_last(d.tolist(), Ai, cost / dof, n, tol):
             nus = nus + dnu
             c = c + d[K::2] + 1j * d[K + 1::2]
             cost = max(cost - float(g @ d), 0.0)

@@ -403,22 +403,13 @@ def _compiled_kernel(engine):
     "auto" takes it once the numpy path has spent that cost in this process (the
     ski-rental rule: never more than twice the better choice's time) -- at once when numba
     is already imported and the kernel is in its cache."""
-    if engine == "numpy":
+    if engine == "numpy":                       # (refine_frequencies checked ``engine``)
         return None
-    if engine not in ENGINES:
-        raise SignalError(f"engine: must be one of {', '.join(ENGINES)}, got {engine!r}")
     from . import _line_kernel
 
     if engine == "auto" and _numpy_seconds < _line_kernel.load_cost():
         return None
     return _line_kernel.compiled()
-
-
-@functools.lru_cache(maxsize=16)
-def _power_sums_array(n):
-    a = np.array(_power_sums(n))
-    a.flags.writeable = False
-    return a
 
 
 def _fast_fit(z, w, K, dt, engine="auto", hann=False):
