@@ -41,9 +41,12 @@ def rhs(kind, t, y, dy, sp, wt, prog):
     rhs_of(kind)(t, y, dy, sp, wt, prog)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def evaluate(kind, t, y, dy, sp, wt, prog):
-    """:func:`rhs` compiled for calls from Python (one specialisation per kind)."""
+    """:func:`rhs` compiled for calls from Python (one specialisation per kind).
+
+    Without reference counting, as the DOP853 loop: the planar right-hand side, inlined
+    into both, is then compiled once."""
     literally(kind)
     rhs(kind, t, y, dy, sp, wt, prog)
 
@@ -52,14 +55,36 @@ def _register(numba):
     from numba.core import types
     from numba.extending import overload
 
-    @overload(rhs, jit_options={"error_model": "numpy"})
+    def function_of(kind):
+        f = rhs_of(kind)
+        return getattr(f, "dispatcher", f)   # a stand-in made before numba was imported
+
+    # The planar right-hand side is inlined into the calling loop by LLVM (forceinline: a
+    # call, its arrays passed field by field, cost 5 % of a run, and inlined the loop's
+    # stage sums vectorise).  numba's own IR inlining would do the same at 5-10 times the
+    # compile time.  It inherits the caller's reference counting (none in the DOP853 loop).
+    @overload(rhs, jit_options={"error_model": "numpy", "forceinline": True})
+    def _rhs_planar_inline(kind, t, y, dy, sp, wt, prog):
+        if isinstance(kind, types.IntegerLiteral) and kind.literal_value == PLANAR:
+            f = function_of(PLANAR)
+
+            def impl(kind, t, y, dy, sp, wt, prog):
+                f(t, y, dy, sp, wt, prog)
+
+            return impl
+        return None
+
+    # Any other kind: a call (the generic right-hand side is ten times larger), with
+    # reference counting of its own (it allocates a scratch buffer).
+    @overload(rhs, jit_options={"error_model": "numpy", "_nrt": True})
     def _rhs_of_literal_kind(kind, t, y, dy, sp, wt, prog):
         if not isinstance(kind, types.IntegerLiteral):
             raise numba.core.errors.TypingError(
                 "stand.kernels.rhs: the model kind must be a compile-time constant "
                 "(numba.literally(kind) in the calling kernel)")
-        f = rhs_of(kind.literal_value)
-        f = getattr(f, "dispatcher", f)   # a stand-in made before numba was imported
+        if kind.literal_value == PLANAR:
+            return None
+        f = function_of(kind.literal_value)
 
         def impl(kind, t, y, dy, sp, wt, prog):
             f(t, y, dy, sp, wt, prog)

@@ -161,7 +161,7 @@ def build_planar_model(scene: Scene) -> PlanarModel:
         prog = build_table(pr[:, 0] * w1, pr[:, 1] / w1)
         if d.coast_down_start is not None:
             tc = d.coast_down_start * w1
-            phic, Rc, _ = programme_kinematics(tc, prog)
+            phic, Rc, _ = programme_kinematics(tc, prog, prog.shape[0])
             sp[COAST_T0] = tc
             sp[COAST_T] = d.coast_down_time_constant * w1
             sp[COAST_R0] = Rc
@@ -328,7 +328,7 @@ def rhs_planar(tau, y, dy, sp, wt, prog):
         dphi = y[2 * nq - 1]
         ddphi = 0.0
     else:
-        phi, dphi, ddphi = rotor_kinematics(tau, prog[:npg], sp[COAST_T0], sp[COAST_T],
+        phi, dphi, ddphi = rotor_kinematics(tau, prog, npg, sp[COAST_T0], sp[COAST_T],
                                             sp[COAST_R0], sp[COAST_PHI0])
     # rotor unbalance in the fixed frame (w) and its rate of change (v)
     wx, wy, vx, vy = unbalance_vector(tau, phi, sp, prog, npg)
@@ -409,7 +409,7 @@ def rhs_planar_numpy(tau, y, sp, wt, prog):
         phi, dphi = y[nq - 1], y[2 * nq - 1]
         ddphi_known = None
     else:
-        phi, dphi, ddphi_known = rotor_kinematics(tau, prog[:npg], sp[COAST_T0], sp[COAST_T],
+        phi, dphi, ddphi_known = rotor_kinematics(tau, prog, npg, sp[COAST_T0], sp[COAST_T],
                                                   sp[COAST_R0], sp[COAST_PHI0])
     # unbalance d = e^{i phi} u(tau) (rotor frame u): -d'' = e^{i phi}(phi'^2 u - i phi'' u - 2 i phi' u')
     wx, wy, vx, vy = unbalance_vector(tau, phi, sp, prog, npg)

@@ -36,9 +36,10 @@ def build_table(times: np.ndarray, speeds: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def programme_kinematics(tau, prog):
-    """(phi, R, dR/dtau) of the piecewise-linear programme at ``tau``."""
-    k = prog.shape[0]
+def programme_kinematics(tau, prog, k):
+    """(phi, R, dR/dtau) of the piecewise-linear programme made of the first ``k`` rows of
+    ``prog`` at ``tau`` (a row count, not a slice: a view costs a reference count in
+    compiled code)."""
     if tau <= prog[0, 0]:
         return prog[0, 2] + prog[0, 1] * (tau - prog[0, 0]), prog[0, 1], 0.0
     if tau >= prog[k - 1, 0]:
@@ -87,8 +88,9 @@ def programme_kinematics_many(taus, prog):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def rotor_kinematics(tau, prog, coast_t0, coast_T, coast_R0, coast_phi0):
-    """Rotor angle, speed and acceleration (phi, phi', phi'') at ``tau``.
+def rotor_kinematics(tau, prog, k, coast_t0, coast_T, coast_R0, coast_phi0):
+    """Rotor angle, speed and acceleration (phi, phi', phi'') at ``tau`` of the programme in
+    the first ``k`` rows of ``prog``.
 
     ``coast_t0 = inf`` disables the coast-down.
     """
@@ -97,7 +99,7 @@ def rotor_kinematics(tau, prog, coast_t0, coast_T, coast_R0, coast_phi0):
         ex = math.exp(-x)
         R = coast_R0 * ex
         return coast_phi0 + coast_R0 * coast_T * (1.0 - ex), R, -R / coast_T
-    return programme_kinematics(tau, prog)
+    return programme_kinematics(tau, prog, k)
 
 
 @njit(cache=True, inline="always", error_model="numpy")

@@ -18,8 +18,8 @@ from _helpers import toml_text
 def test_programme_angle_is_the_integral_of_the_speed():
     prog = build_table(np.array([0.5, 2.0, 3.0, 7.0]), np.array([1.0, 4.0, 4.0, 0.5]))
     tc, T = 5.0, 1.7
-    phic, Rc, _ = rotor_kinematics(tc, prog, np.inf, 1.0, 0.0, 0.0)
-    kin = lambda t: rotor_kinematics(t, prog, tc, T, Rc, phic)
+    phic, Rc, _ = rotor_kinematics(tc, prog, len(prog), np.inf, 1.0, 0.0, 0.0)
+    kin = lambda t: rotor_kinematics(t, prog, len(prog), tc, T, Rc, phic)
     for t in (0.2, 0.5, 1.3, 2.0, 2.5, 4.0, 5.0, 6.0, 12.0):
         phi, R, acc = kin(t)
         # phi(t) = integral of R from 0 (quadrature to 1e-12)

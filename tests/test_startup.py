@@ -77,7 +77,7 @@ def test_first_call_turns_every_stand_in_into_a_dispatcher():
         "import numpy as np\nimport stand.programme as pr, stand.planar as pl\n"
         "from stand._jit import LazyKernel\n"
         "prog = np.array([[0.0, 1.0, 0.0], [1.0, 2.0, 1.5]])\n"
-        "v = pr.programme_kinematics(0.5, prog)\n"
+        "v = pr.programme_kinematics(0.5, prog, len(prog))\n"
         "print(type(pr.programme_kinematics).__name__, type(pl.rhs_planar).__name__,\n"
         "      type(pl.programme_kinematics).__name__, v[1])")
     a, b, c, speed = out.split()
@@ -258,14 +258,14 @@ def test_programme_in_numpy_equals_the_compiled_scalar_programme():
             t[2] = t[3]
         prog = np.column_stack([t, rng.uniform(0.0, 5.0, k), np.cumsum(rng.uniform(0.0, 1.0, k))])
         taus = np.concatenate([rng.uniform(-1.0, 11.0, 300), t])
-        ref = np.array([programme_kinematics(x, prog) for x in taus])
+        ref = np.array([programme_kinematics(x, prog, len(prog)) for x in taus])
         np.testing.assert_array_equal(programme_kinematics_many(taus, prog), ref)
     sp = np.zeros(64)
     from stand.planar import COAST_PHI0, COAST_R0, COAST_T, COAST_T0
     sp[COAST_T0], sp[COAST_T], sp[COAST_R0], sp[COAST_PHI0] = 5.0, 2.0, 3.0, 11.0
     taus = np.linspace(0.0, 9.0, 301)
     phi, R = rotor_kinematics_many(taus, prog, sp)
-    ref = np.array([rotor_kinematics(x, prog, 5.0, 2.0, 3.0, 11.0) for x in taus])
+    ref = np.array([rotor_kinematics(x, prog, len(prog), 5.0, 2.0, 3.0, 11.0) for x in taus])
     # the coast-down's exponential: numpy's vectorised exp and libm's differ by an ulp
     np.testing.assert_allclose(phi, ref[:, 0], rtol=4e-16, atol=0)
     np.testing.assert_allclose(R, ref[:, 1], rtol=4e-16, atol=0)

@@ -127,9 +127,10 @@ def _checked(kind: int, source: str, loop, ev, jac) -> KernelSet:
     def dop853(sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_step, ts, k_next, out,
                stats, max_steps, limit):
         if not (ok(y) and ok(f) and ok(out) and ok(stats, np.int64)):
-            from .dop853 import dop853_loop
+            from .dop853 import dop853_loop, workspace
             return dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap,
-                               max_step, ts, k_next, out, stats, max_steps, limit)
+                               max_step, ts, k_next, out, stats, max_steps, limit,
+                               workspace(y.size))
         return loop(c(sp, float), c(wt, float), c(prog, float), float(t), y, f, float(h_abs),
                     float(t_end), float(rtol), float(atol), c(cap, float), float(max_step),
                     c(ts, float), int(k_next), out, stats, int(max_steps), float(limit))
@@ -137,7 +138,8 @@ def _checked(kind: int, source: str, loop, ev, jac) -> KernelSet:
     def evaluate(t, y, dy, sp, wt, prog):
         if not ok(dy):
             from ..kernels import evaluate as dispatch
-            return dispatch(kind, t, y, dy, sp, wt, prog)
+            return dispatch(kind, float(t), c(y, float), dy, c(sp, float), c(wt, float),
+                            c(prog, float))
         ev(float(t), c(y, float), dy, c(sp, float), c(wt, float), c(prog, float))
 
     def jacobian(t, y, f0, sp, wt, prog, J):
@@ -179,10 +181,20 @@ def _entry_points(kind: int, jacobian_only: bool = False):
     if jacobian_only:
         return jac()
     loop = dop853_loop.compile((lit, a1, a2, a2, f8, a1, a1, f8, f8, f8, f8, a1, f8, a1, i8, a2,
-                                i1, i8, f8))
+                                i1, i8, f8, a2))
     ev = evaluate.compile((lit, f8, a1, a1, a1, a2, a2))
     del numba
-    return partial(loop, kind), partial(ev, kind), jac
+    return _with_workspace(loop, kind), partial(ev, kind), jac
+
+
+def _with_workspace(loop, kind):
+    """``loop(kind, ..., limit, work)`` as the kernel set's ``dop853(..., limit)``."""
+    from .dop853 import workspace
+
+    def dop853(sp, wt, prog, t, y, f, *rest):
+        return loop(kind, sp, wt, prog, t, y, f, *rest, workspace(y.size))
+
+    return dop853
 
 
 def _jit_set(kind: int) -> KernelSet:
@@ -193,7 +205,7 @@ def _jit_set(kind: int) -> KernelSet:
         from .dop853 import dop853_loop
         from .driver import jac_fd
 
-        return KernelSet(kind, "python", lambda *a: dop853_loop(kind, *a),
+        return KernelSet(kind, "python", _with_workspace(dop853_loop, kind),
                          lambda *a: evaluate(kind, *a), lambda *a: jac_fd(kind, *a))
     with _Announce(f"{KIND_NAMES[kind]} kernel", JIT_SECONDS.get(kind, 30)):
         loop, ev, jac = _entry_points(kind)

@@ -238,7 +238,9 @@ def _build(kind, numba, out):
         warnings.simplefilter("ignore")
         _MixinsAhead = _mixins_class()
     name = module_name(kind)
-    from .dop853 import dop853_loop
+    import numpy as np
+
+    from .dop853 import WORK_ROWS, dop853_loop
     from ..kernels import evaluate
 
     loop = dop853_loop.dispatcher if hasattr(dop853_loop, "dispatcher") else dop853_loop
@@ -254,8 +256,9 @@ def _build(kind, numba, out):
         # the kind is a constant of these wrappers: numba compiles its kernels only
         def _dop853(sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_step, ts, k_next,
                     out_, stats, max_steps, limit):
+            work = np.empty((WORK_ROWS, y.shape[0]))
             return loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_step, ts,
-                        k_next, out_, stats, max_steps, limit)
+                        k_next, out_, stats, max_steps, limit, work)
 
         def _evaluate(t, y, dy, sp, wt, prog):
             ev(kind, t, y, dy, sp, wt, prog)

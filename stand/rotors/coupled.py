@@ -139,7 +139,7 @@ def initial_state(model: CoupledModel, weights, q0=None, qd0=None) -> np.ndarray
         q = y[:n] * model.scale
         planes = {p: model.rotor.planes[p] @ q for p in model.plane_names}
         omega0 = (y[model.i_phi + 1] * w if model.free
-                  else programme_kinematics(0.0, model.prog)[1] * w)
+                  else programme_kinematics(0.0, model.prog, model.prog.shape[0])[1] * w)
         body_initial(model.bt, model.bodies, y, w, omega0, planes)
     return y
 

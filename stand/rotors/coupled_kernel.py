@@ -220,7 +220,7 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
     oF = int(sp[H_OF])
     ifree = int(sp[H_FREE])
     if ifree == 0:      # speed programme
-        phi, R, dR = programme_kinematics(tau, prog)
+        phi, R, dR = programme_kinematics(tau, prog, prog.shape[0])
         Om = R * wref
         dOm = dR * wref * wref
         ld = n
