@@ -23,6 +23,7 @@ kernel lives in this one file).
 from __future__ import annotations
 
 import functools
+import hashlib
 import importlib.util
 import math
 import os
@@ -119,19 +120,39 @@ def _numba_installed() -> bool:
     return importlib.util.find_spec("numba") is not None
 
 
+def _cache_folders() -> list:
+    """The folders where numba's cache locators would keep this file's compiled kernels,
+    in numba's order (found without importing numba): ``$NUMBA_CACHE_DIR``, the
+    ``__pycache__`` beside this file, the user-wide cache (``$XDG_CACHE_HOME``/numba or
+    ~/.cache/numba, used where the package folder is read-only)."""
+    folder = os.path.dirname(os.path.abspath(__file__))
+    # numba.core.caching._CacheLocator.get_suitable_cache_subpath
+    sub = "_".join([os.path.basename(folder), hashlib.sha1(folder.encode()).hexdigest()])
+    user = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    places = [os.path.join(folder, "__pycache__"), os.path.join(user, "numba", sub)]
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        places.insert(0, os.path.join(os.environ["NUMBA_CACHE_DIR"], sub))
+    return places
+
+
 @functools.lru_cache(maxsize=1)
 def _in_cache() -> bool:
-    """Whether numba's cache next to this file holds the kernel (its index file; a cache
-    elsewhere, ``NUMBA_CACHE_DIR``, is not looked for: then compiling is assumed)."""
+    """Whether numba's on-disk cache holds the kernel: its index file, written after the
+    source's last edit, in one of :func:`_cache_folders`."""
     src = os.path.abspath(__file__)
-    line = fit_after_peaks.__code__.co_firstlineno
-    index = os.path.join(os.path.dirname(src), "__pycache__",
-                         f"_line_kernel.fit_after_peaks-{line}.py"
-                         f"{sys.version_info.major}{sys.version_info.minor}.nbi")
-    try:                                 # written after the source's last edit
-        return os.path.getmtime(index) >= os.path.getmtime(src)
+    name = (f"_line_kernel.fit_after_peaks-{fit_after_peaks.__code__.co_firstlineno}.py"
+            f"{sys.version_info.major}{sys.version_info.minor}.nbi")
+    try:
+        stamp = os.path.getmtime(src)
     except OSError:
         return False
+    for place in _cache_folders():
+        try:
+            if os.path.getmtime(os.path.join(place, name)) >= stamp:
+                return True
+        except OSError:
+            continue
+    return False
 
 
 def warm() -> str:

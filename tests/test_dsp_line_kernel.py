@@ -177,3 +177,39 @@ def test_a_failing_kernel_is_dropped_for_numpy_with_a_warning(monkeypatch):
         c = refine_frequencies(np.arange(n, dtype=float), z, 1, engine="numba")
     assert c.frequency_hz[0] == pytest.approx(0.1, abs=6e-3 / n)      # 5x its CRLB
     assert _line_kernel.compiled() is None
+
+
+def test_cache_folders_are_numbas_own(monkeypatch, tmp_path):
+    """The folders looked in for the kernel's cache (without importing numba) are the ones
+    numba's cache locators use: $NUMBA_CACHE_DIR, the in-tree __pycache__, the user-wide
+    cache; an index file written after the source's last edit in $NUMBA_CACHE_DIR counts."""
+    caching = pytest.importorskip("numba.core.caching")
+    import os
+    import sys
+
+    src = os.path.abspath(_line_kernel.__file__)
+    func = _line_kernel.fit_after_peaks
+    func = getattr(func, "py_func", func)
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    env_dir, in_tree, user_wide = _line_kernel._cache_folders()
+    assert env_dir == str(tmp_path / caching._CacheLocator.get_suitable_cache_subpath(src))
+    assert in_tree == caching.InTreeCacheLocator(func, src).get_cache_path()
+    assert user_wide == caching.UserWideCacheLocator(func, src).get_cache_path()
+    assert user_wide.startswith(str(tmp_path / "xdg"))
+
+    # only $NUMBA_CACHE_DIR may hold it: point the other two at empty folders
+    monkeypatch.setattr(_line_kernel, "_cache_folders", lambda: [env_dir, str(tmp_path / "a"),
+                                                                 str(tmp_path / "b")])
+    _line_kernel._in_cache.cache_clear()
+    try:
+        assert not _line_kernel._in_cache()
+        os.makedirs(env_dir)
+        name = (f"_line_kernel.fit_after_peaks-{func.__code__.co_firstlineno}.py"
+                f"{sys.version_info.major}{sys.version_info.minor}.nbi")
+        with open(os.path.join(env_dir, name), "wb"):
+            pass
+        _line_kernel._in_cache.cache_clear()
+        assert _line_kernel._in_cache()
+    finally:
+        _line_kernel._in_cache.cache_clear()
