@@ -62,7 +62,8 @@ def _register(numba):
     # The planar right-hand side is inlined into the calling loop by LLVM (forceinline: a
     # call, its arrays passed field by field, cost 5 % of a run, and inlined the loop's
     # stage sums vectorise).  numba's own IR inlining would do the same at 5-10 times the
-    # compile time.  It inherits the caller's reference counting (none in the DOP853 loop).
+    # compile time.  It takes the reference-counting flag of the caller that compiles it
+    # first; inlined into the DOP853 loop (none) the counts are dropped either way.
     @overload(rhs, jit_options={"error_model": "numpy", "forceinline": True})
     def _rhs_planar_inline(kind, t, y, dy, sp, wt, prog):
         if isinstance(kind, types.IntegerLiteral) and kind.literal_value == PLANAR:

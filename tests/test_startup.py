@@ -330,3 +330,36 @@ def test_kernel_set_takes_any_array_layout(mode, monkeypatch):
     ks.jacobian(0.3, y, ref, m.sp, m.wt, m.prog, Jf)
     np.testing.assert_array_equal(J, Jf)
     assert np.all(np.isfinite(J)) and np.any(J != 0)
+
+
+def test_kernel_set_dop853_takes_lists_and_checks_its_workspace():
+    """The loop's fallback call (a state that is not C-contiguous float64) converts the other
+    inputs too, and the compiled loop refuses a scratch array too small for the state."""
+    from stand.integrate import kernel_set
+    from stand.integrate.dop853 import WORK_ROWS, dop853_loop
+    from stand.planar import build_planar_model, initial_state
+
+    sc = stand.load(RUNUP)
+    m = build_planar_model(sc)
+    ks = kernel_set.kernels(0)
+    runs = []
+    for as_list in (False, True):
+        y = initial_state(sc, m)
+        y = np.asfortranarray(np.stack([y, y], axis=1))[:, 0] if as_list else y.copy()
+        f = np.empty(y.size)
+        ks.evaluate(0.0, np.ascontiguousarray(y), f, m.sp, m.wt, m.prog)
+        out = np.full((3, y.size), np.nan)
+        st = np.zeros(3, np.int64)
+        ts = [0.0, 0.5, 1.0]
+        conv = list if as_list else np.asarray
+        status = ks.dop853(m.sp, m.wt, m.prog, 0.0, y, f, 1e-3, 1.0, 1e-8, 1e-10,
+                           conv(np.full(y.size, np.inf)), np.inf, conv(ts), 1, out, st, 10**6,
+                           1e9)
+        assert status[0] == 0 and status[3] == 3
+        runs.append(out[1:])
+    np.testing.assert_array_equal(runs[0], runs[1])
+    y = initial_state(sc, m)
+    with pytest.raises(ValueError, match="workspace"):
+        dop853_loop(0, m.sp, m.wt, m.prog, 0.0, y, f.copy(), 1e-3, 1.0, 1e-8, 1e-10,
+                    np.full(y.size, np.inf), np.inf, np.array(ts), 1, out, st, 10**6, 1e9,
+                    np.empty((WORK_ROWS - 1, y.size)))

@@ -46,8 +46,11 @@ N_ACCEPTED, N_REJECTED, N_FEV = 0, 1, 2
 @njit(cache=True, inline="always", error_model="numpy")
 def _stage_state(y, K, s, h, out):
     """State of stage ``s``: ``y + h sum_k A[s, k] K[k]``, the terms added in the order of k
-    (as scipy's ``K.T @ A[s]``).  The loop over k is outside, so the state's loop
-    vectorises, and the zero coefficients (a quarter of them) are skipped."""
+    (as the loop over k inside did before).  The loop over k is outside, so the state's
+    loop vectorises, and the zero coefficients (a quarter of them) are skipped: the same
+    sums bit for bit while the stages are finite (a non-finite stage with a zero
+    coefficient is left out here, but the new state's and the error estimate's sums take
+    every stage, so the step is still rejected)."""
     n = y.shape[0]
     for i in range(n):
         out[i] = 0.0
@@ -112,6 +115,8 @@ def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_
     literally(kind)  # one compiled loop per model kind, with that kind's right-hand side
     n = y.shape[0]
     n_samples = out.shape[0]
+    if work.shape[0] < WORK_ROWS or work.shape[1] < n or f.shape[0] < n or out.shape[1] < n:
+        raise ValueError("dop853_loop: work must be workspace(n), f and out rows of size n")
     K = work[0:16]
     yy = work[16]
     y_new = work[17]

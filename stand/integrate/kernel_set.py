@@ -128,9 +128,10 @@ def _checked(kind: int, source: str, loop, ev, jac) -> KernelSet:
                stats, max_steps, limit):
         if not (ok(y) and ok(f) and ok(out) and ok(stats, np.int64)):
             from .dop853 import dop853_loop, workspace
-            return dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap,
-                               max_step, ts, k_next, out, stats, max_steps, limit,
-                               workspace(y.size))
+            return dop853_loop(kind, c(sp, float), c(wt, float), c(prog, float), float(t), y, f,
+                               float(h_abs), float(t_end), float(rtol), float(atol),
+                               c(cap, float), float(max_step), c(ts, float), int(k_next), out,
+                               stats, int(max_steps), float(limit), workspace(y.size))
         return loop(c(sp, float), c(wt, float), c(prog, float), float(t), y, f, float(h_abs),
                     float(t_end), float(rtol), float(atol), c(cap, float), float(max_step),
                     c(ts, float), int(k_next), out, stats, int(max_steps), float(limit))
