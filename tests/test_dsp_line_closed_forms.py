@@ -94,3 +94,30 @@ def test_separating_close_peaks_removes_the_leakage_bias():
     sep = dl._separate_peaks(X, peaks, raw, n)
     assert abs(raw[1] - nus[1]) * n > 5e-3                   # the bias being removed
     assert np.all(np.abs(sep - nus) * n < 2e-3)
+
+
+@pytest.mark.parametrize("engine", ["numpy", "numba"])
+@pytest.mark.parametrize("sigma", [0.0, 1e-11, 1e-9])
+def test_clean_records_get_their_true_noise_and_uncertainty(engine, sigma):
+    """Above 90 dB the fit's cost, |z|^2 minus the lines' energy, has lost its digits (a
+    noise of 1e-9 read 0, one of 1e-12 read 1e-8): it is then taken from the residual, so
+    the noise level and the frequency's standard deviation follow the true noise (the
+    Cramer-Rao bound std(nu) = sqrt(6 sigma^2 / (4 pi^2 |a|^2 n (n^2 - 1))) for a lone
+    line, complex noise E|w|^2 = sigma^2), and a noiseless record reads the synthesis
+    floor, not zero."""
+    if engine == "numba":
+        pytest.importorskip("numba")
+    n, fs = 4096, 1000.0
+    t = np.arange(n) / fs
+    rng = np.random.default_rng(7)
+    w = sigma * (rng.standard_normal(n) + 1j * rng.standard_normal(n)) / math.sqrt(2)
+    z = np.exp(2j * math.pi * 37.123 * t + 0.3j) + 0.3 * np.exp(2j * math.pi * 81.77 * t) + w
+    r = dl.refine_frequencies(t, z, 2, engine=engine)
+    np.testing.assert_allclose(r.frequency_hz, [37.123, 81.77], atol=max(1e-9, 1e4 * sigma))
+    if sigma == 0.0:
+        assert 0.0 < r.noise_std < 1e-12
+        return
+    assert r.noise_std == pytest.approx(sigma, rel=0.05)     # n = 4096: 1.6 % scatter
+    crlb = fs * math.sqrt(6 * sigma ** 2 / (4 * math.pi ** 2 * n * (n * n - 1.0)))
+    assert r.frequency_hz_std[0] == pytest.approx(crlb, rel=0.06)
+    assert r.frequency_hz_std[1] == pytest.approx(crlb / 0.3, rel=0.06)
