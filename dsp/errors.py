@@ -28,17 +28,15 @@ def _check_length(a, name, min_samples):
 
 
 def _check_finite(a, name, what):
-    """Raise naming the count and the first index of NaN/inf entries of ``a``; return
-    ``a.sum()`` (its finiteness is the one-pass check)."""
+    """Raise naming the count and the first index of NaN/inf entries of ``a`` (one pass,
+    ``a.sum()``, when they are all finite and their sum does not overflow)."""
     with np.errstate(over="ignore", invalid="ignore"):
-        total = np.sum(a)
-    if np.isfinite(total):
-        return total
+        if np.isfinite(np.sum(a)):
+            return
     bad = ~np.isfinite(a)
     if bad.any():
         raise SignalError(f"{name}: {int(bad.sum())} non-finite {what}(s) (NaN/inf), "
                           f"first at index {int(np.argmax(bad))}")
-    return total                        # finite entries whose sum overflows
 
 
 def check_times(t, name="t", min_samples=2):
@@ -142,16 +140,14 @@ def check_signal(t, x, name="x", min_samples=16, uniform_rtol=1e-3, allow_comple
     _check_length(x, name, min_samples)
     _check_finite(x, name, "sample")
     t, d, lo, hi = _times_and_steps(tt, "t", min_samples)
-    if hi - lo <= uniform_rtol * lo:       # every step within the tolerance of every other
-        _not_constant(x, name)
-        return t, x, float((t[-1] - t[0]) / (t.size - 1))
-    dt = float(np.median(d))
-    dev = np.abs(d - dt) / dt
-    if dev.max() > uniform_rtol:
-        i = int(np.argmax(dev))
-        raise SignalError(f"t: not uniformly sampled: step {d[i]:.6g} s at index {i} differs from "
-                          f"the median step {dt:.6g} s by {100 * dev[i]:.3g} % "
-                          f"(tolerance {100 * uniform_rtol:.3g} %); resample first")
+    if hi - lo > uniform_rtol * lo:        # else every step is within the tolerance of every
+        dt = float(np.median(d))           # other, so of the median: no median needed
+        dev = np.abs(d - dt) / dt
+        if dev.max() > uniform_rtol:
+            i = int(np.argmax(dev))
+            raise SignalError(f"t: not uniformly sampled: step {d[i]:.6g} s at index {i} differs "
+                              f"from the median step {dt:.6g} s by {100 * dev[i]:.3g} % "
+                              f"(tolerance {100 * uniform_rtol:.3g} %); resample first")
     _not_constant(x, name)
     return t, x, float((t[-1] - t[0]) / (t.size - 1))
 

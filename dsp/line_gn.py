@@ -59,10 +59,9 @@ def wls(cols, z, w, G0=None):
 
 @functools.lru_cache(maxsize=16)
 def _hann(n):
-    """dsp.lines.window_weights(n, "hann"), cached (compared against, never modified)."""
-    from .lines import window_weights
-
-    w = window_weights(n, "hann")
+    """The Hann window of ``n`` samples, symmetric about the record's middle (what
+    ``dsp.lines.window_weights(n, "hann")`` copies), cached and read-only."""
+    w = 0.5 - 0.5 * np.cos(2.0 * math.pi * (np.arange(n) + 0.5) / n)
     w.flags.writeable = False
     return w
 
@@ -146,7 +145,7 @@ class Sums:
         if n > 2 and abs(m[0] + m[-1]) < 1e-9 * n and abs(m[1] - m[0] - 1) < 1e-9:
             if np.all(w == w[0]):
                 self.kind, self.scale = "rect", float(w[0])
-            elif w[0] == _hann(n)[0] and np.array_equal(w, _hann(n)):
+            elif w is _hann(n) or (w[0] == _hann(n)[0] and np.array_equal(w, _hann(n))):
                 self.kind, self.scale = "hann", 1.0
 
     @classmethod

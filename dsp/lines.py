@@ -48,9 +48,9 @@ from dataclasses import dataclass
 import numpy as np
 from .errors import SignalError, check_band, check_signal
 from ._line_kernel import MIN_LINE_SNR
-from .line_gn import (HANN, MAX_ITER, Sums, _power_sums, columns, gauss_newton, hann_delta,
-                      hann_peak_nu, normal_matrix, peak_nu, phasor, projection_fit,
-                      windowed_kernel, wls)
+from .line_gn import (HANN, MAX_ITER, Sums, _hann, _power_sums, _residual as _residual_of,
+                      columns, gauss_newton, hann_delta, hann_peak_nu, normal_matrix, peak_nu,
+                      projection_fit, windowed_kernel, wls)
 
 __all__ = ["window_weights", "spectrum", "naff", "LineFit", "fit_lines",
            "Components", "refine_frequencies", "crlb_frequency_std", "WINDOWS"]
@@ -96,13 +96,6 @@ def _hann_sums(n):
     """(sum w, sum w^2) of the Hann window of ``n`` samples."""
     w = _hann(n)
     return float(w.sum()), float(np.dot(w, w))
-
-
-@functools.lru_cache(maxsize=16)
-def _hann(n):
-    w = 0.5 - 0.5 * np.cos(2.0 * math.pi * (np.arange(n) + 0.5) / n)
-    w.flags.writeable = False
-    return w
 
 
 def spectrum(x, w, dt, pad=1):
@@ -180,9 +173,8 @@ def naff(tc, z, w, n_lines, *, offset=False, min_relative_amplitude=0.0, snr_min
     lobe = LOBE / n
     for _ in range(int(n_lines)):
         # zero-padded for the first line; the residual's lines are apart from the ones found
-        nfft = (1 << int(math.ceil(math.log2(PAD * n)))) if not nus else n
-        grid = np.fft.fftfreq(nfft)
-        spec = np.abs(np.fft.fft(w * r, nfft)) / w.sum()
+        grid, spec = spectrum(r, w, 1.0, 1 if nus else PAD)
+        nfft = spec.size
         mask = np.abs(grid) < lobe if offset else np.zeros(nfft, bool)
         for nu in nus:
             mask |= np.abs(grid - nu) < lobe
@@ -324,8 +316,8 @@ def fit_lines(tc, z, w, freqs, *, offset=False, optimise=True):
     if S.kind:
         A = normal_matrix(S.gram_nu(nus, offset), c, K, j0)
         Bm = A * w[0] if S.kind == "rect" else normal_matrix(S.gram_nu(nus, offset, True), c, K, j0)
-    else:
-        A = normal_matrix(S.gram(cols), c, K, j0)
+    else:        # the Gram matrix of the final columns: gauss_newton's last one, or new
+        A = normal_matrix(S.last_gram if optimise else S.gram(cols), c, K, j0)
         Bm = A * w[0] if np.all(w == w[0]) else normal_matrix(S.gram(cols, weight=w * w), c, K, j0)
     P = A.shape[0]
     dof = max(2 * n - P, 1)
@@ -580,12 +572,7 @@ def _holds_line(z, w, nus, c, cost, extremes, hann):
 
 def _residual(z, nus, c):
     """z minus the fitted lines (amplitudes ``c`` referred to the record's middle)."""
-    n = z.size
-    m0 = -0.5 * (n - 1)
-    r = z.copy()
-    for nu, ck in zip(nus, c):
-        r -= ck * phasor(nu, m0, n)
-    return r
+    return _residual_of(z, columns(-0.5 * (z.size - 1), z.size, nus, False), c)
 
 
 #: below this fraction of the record's energy a fit's cost computed as |z|^2 minus the
@@ -671,7 +658,7 @@ def refine_frequencies(t, z, n_components, window="hann", polish=True, max_band_
     if fit is None:                             # the sequential search and the general fit
         tc = t - t_ref
         f = naff(tc, z, w, n_components)
-        fit = fit_lines(tc, z, np.ones(N) if polish else w, f)
+        fit = fit_lines(tc, z, np.ones(N) if polish else w, f, optimise=polish)
     f_hz = fit.frequency
     amp_std = fit.amplitude_std_all()
     a0 = fit.amplitude * np.exp(2j * math.pi * f_hz * (t[0] - t_ref))   # refer to t[0]
