@@ -70,14 +70,13 @@ def programme_kinematics_many(taus, prog):
         out[:, 2] = 0.0
         return out
     t0, tl = prog[0, 0], prog[k - 1, 0]
-    if k >= 2:
-        i = np.clip(np.searchsorted(prog[:, 0], taus, side="right") - 1, 0, k - 2)
-        dt = taus - prog[i, 0]
-        with np.errstate(all="ignore"):
-            a = (prog[i + 1, 1] - prog[i, 1]) / (prog[i + 1, 0] - prog[i, 0])
-        out[:, 0] = prog[i, 2] + prog[i, 1] * dt + 0.5 * a * dt * dt
-        out[:, 1] = prog[i, 1] + a * dt
-        out[:, 2] = a
+    i = np.clip(np.searchsorted(prog[:, 0], taus, side="right") - 1, 0, k - 2)
+    dt = taus - prog[i, 0]
+    with np.errstate(all="ignore"):
+        a = (prog[i + 1, 1] - prog[i, 1]) / (prog[i + 1, 0] - prog[i, 0])
+    out[:, 0] = prog[i, 2] + prog[i, 1] * dt + 0.5 * a * dt * dt
+    out[:, 1] = prog[i, 1] + a * dt
+    out[:, 2] = a
     lo = taus <= t0
     hi = (taus >= tl) & ~lo
     for mask, r in ((lo, 0), (hi, k - 1)):

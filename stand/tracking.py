@@ -289,14 +289,15 @@ def _background_image(source, background):
     return img.astype(np.float32), f"dark frame {Path(text).name}"
 
 
-def _subtracted(frames, bg, sat: float):
-    """Frames minus the background's variation, clipped pixels kept at full scale ``sat``
-    (:func:`vision.background.subtract_background`)."""
-    from vision.background import subtract_background
+def _subtracted(frames, offsets, sat: float):
+    """Frames minus the background's variation ``offsets``, clipped pixels kept at full
+    scale ``sat`` (:func:`vision.background.subtract_offsets`)."""
+    from vision.background import subtract_offsets
     from vision.spot import CENSOR_MARGIN
 
+    margin = round(CENSOR_MARGIN * sat)
     for rec in frames:
-        yield rec._replace(image=subtract_background(rec.image, bg, sat, round(CENSOR_MARGIN * sat)))
+        yield rec._replace(image=subtract_offsets(rec.image, offsets, sat, margin))
 
 
 def _setup(source, group, ring_radii, optical_gain, exposure, capacity_gmm):
@@ -400,15 +401,25 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
     if group is not None:
         pre["screen"] = group.split("/", 1)[1]
     frames = iter_frames(source, progress=progress)
-    sat = None
+    sat = offsets = None
     if background is not None:
         bg, pre["background"] = _background_image(source, background)
-        # the subtracted frames are float: their full scale is the source's
-        sat = _full_scale(next(iter(iter_frames(source))).image)
-        frames = _subtracted(frames, bg, sat)
-    if roi is not None:
+        first = next(iter(iter_frames(source))).image
+        if bg.shape != first.shape:
+            raise ValueError(f"background: size {bg.shape[1]}x{bg.shape[0]} (W x H) differs from "
+                             f"the frames' {first.shape[1]}x{first.shape[0]}")
+        from vision.background import background_offsets
+
+        offsets = background_offsets(bg)
+        sat = _full_scale(first)      # the subtracted frames are float: the source's full scale
+    if roi is not None:               # cut first: the frames and the offsets (once)
         frames = _cropped(frames, roi)
+        if offsets is not None:
+            x, y, w, h = roi
+            offsets = offsets[y:y + h, x:x + w]
         pre["roi_px"] = ",".join(str(v) for v in roi)
+    if offsets is not None:
+        frames = _subtracted(frames, offsets, sat)
     if trace:
         df = track_traces(frames, gain=gain, threshold=threshold, spot_sigma_px=spot_sigma)
     else:

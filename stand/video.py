@@ -103,10 +103,12 @@ def _encode_ffv1(frames, path: str, fps: float) -> None:
             writer.release()
 
 
-def _frames_8bit(rec, key: str, n: int, max_dn: int):
-    """The frames one by one as uint8 (deeper frames scaled to 8 bits, rounded)."""
+def _frames_8bit(rec, key: str, n: int, max_dn: int, clipped: np.ndarray):
+    """The frames one by one as uint8 (deeper frames scaled to 8 bits, rounded); the count of
+    each frame's pixels at full scale ``max_dn`` goes into ``clipped`` on the way (one read)."""
     for i in range(n):
         img = np.asarray(rec.dataset(key, i))
+        clipped[i] = np.count_nonzero(img >= max_dn)
         if img.dtype != np.uint8:
             img = np.clip(np.floor(img.astype(np.float64) * (255.0 / max_dn) + 0.5), 0, 255
                           ).astype(np.uint8)
@@ -204,7 +206,8 @@ def write_screen_video(recording, output, *, screen: Optional[str] = None,
     n = int(shape[0])
     codec = "h264" if suffix == ".mp4" else "ffv1"
     with atomic_path(paths["video"], suffix=suffix) as tmp:
-        frames = _frames_8bit(rec, key, n, max_dn)
+        clipped = np.zeros(n, int)
+        frames = _frames_8bit(rec, key, n, max_dn, clipped)
         if codec == "h264":
             _encode_h264(frames, tmp, fps, int(qp))
         else:
@@ -235,8 +238,6 @@ def write_screen_video(recording, output, *, screen: Optional[str] = None,
     centre = np.asarray(rec.dataset(f"{tname}/centre_px"), float)[:n]
     inside = np.asarray(rec.dataset(f"{tname}/in_frame"), bool)[:n]
     start = np.asarray(rec.dataset(f"{group}/frame_time"), float)[:n]
-    clipped = np.array([int(np.count_nonzero(np.asarray(rec.dataset(key, i)) >= max_dn))
-                        for i in range(n)])
     df = pd.DataFrame({"frame": np.arange(n), "time_s": np.arange(n) / fps, "run_time_s": start,
                        "u_px": centre[:, 0], "v_px": centre[:, 1], "in_frame": inside,
                        "clipped_px": clipped})

@@ -15,7 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["median_background", "subtract_background", "MEDIAN_FRAMES"]
+__all__ = ["median_background", "background_offsets", "subtract_offsets", "subtract_background",
+           "MEDIAN_FRAMES"]
 
 MEDIAN_FRAMES = 25      #: frames spread over the source for the median background
 
@@ -65,6 +66,26 @@ def median_background(frames, count: int = MEDIAN_FRAMES, total=None) -> np.ndar
     return np.median(np.stack(kept).astype(np.float32), axis=0).astype(np.float32)
 
 
+def background_offsets(background) -> np.ndarray:
+    """The background's variation, ``background - min(background)``, as float32 [DN]: what
+    :func:`subtract_offsets` takes out of every frame (computed once per recording; crop it
+    with the frames for a region of interest)."""
+    b = np.asarray(background, dtype=np.float32)
+    return b - float(b.min())
+
+
+def subtract_offsets(frame, offsets, saturation: float, margin: float = 0.0) -> np.ndarray:
+    """``frame - offsets`` as float32, clipped pixels kept clipped (:func:`subtract_background`
+    with the offsets of :func:`background_offsets`, same shape as the frame)."""
+    f = np.asarray(frame)
+    if f.shape != offsets.shape:
+        raise ValueError(f"background: size {offsets.shape[1]}x{offsets.shape[0]} (W x H) "
+                         f"differs from the frame's {f.shape[1]}x{f.shape[0]}")
+    out = f.astype(np.float32) - offsets
+    out[f >= saturation - margin] = saturation
+    return out
+
+
 def subtract_background(frame, background, saturation: float, margin: float = 0.0) -> np.ndarray:
     """``frame - (background - min(background))`` as float32, clipped pixels kept clipped.
 
@@ -83,11 +104,4 @@ def subtract_background(frame, background, saturation: float, margin: float = 0.
     margin : float
         Values this close to full scale count as clipped (lossy video: 250-255).
     """
-    f = np.asarray(frame)
-    b = np.asarray(background, dtype=np.float32)
-    if f.shape != b.shape:
-        raise ValueError(f"background: size {b.shape[1]}x{b.shape[0]} (W x H) differs from the "
-                         f"frame's {f.shape[1]}x{f.shape[0]}")
-    out = f.astype(np.float32) - (b - float(b.min()))
-    out[f >= saturation - margin] = saturation
-    return out
+    return subtract_offsets(frame, background_offsets(background), saturation, margin)
