@@ -1,6 +1,6 @@
 """``python -m stand``: the ``stand`` command line."""
 import sys
 
-from .cli import main
+from stand.cli import main
 
 sys.exit(main())

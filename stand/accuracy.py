@@ -20,9 +20,9 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from .planar import build_planar_model, initial_state
-from .scene import Scene
-from .simulate import Trajectory, simulate
+from stand.planar import build_planar_model, initial_state
+from stand.scene import Scene
+from stand.simulate import Trajectory, simulate
 
 DEFAULT_RTOLS = (1e-4, 1e-6, 1e-8, 1e-10)
 
@@ -42,7 +42,7 @@ def _free_isotropic(scene: Scene, n_nodes: int) -> bool:
 def _lever(scene: Scene):
     """(mass [kg], lever lambda [-]) of the scene's one liquid whose centre of mass follows the
     shaft at once (paper 001's M1 float, or a chamber without relaxation), else None."""
-    from .rotors.bodies import LiquidWeight
+    from stand.rotors.bodies import LiquidWeight
 
     (pb,) = scene.bodies
     b = pb.body
@@ -64,7 +64,7 @@ def runup_params(scene: Scene):
     epsilon = a / 2 (papers digest 4.1).  The closed form holds until the
     programme's last node.
     """
-    from .balancers.liquid_float import LiquidFloatParams, initial_state as lf_initial
+    from stand.balancers.liquid_float import LiquidFloatParams, initial_state as lf_initial
 
     if not _free_isotropic(scene, 2) or scene.rotor.unbalance_angle != 0.0 or scene.perturbations:
         return None
@@ -178,8 +178,8 @@ def _rk4_run(scene: Scene, step_s: float, t_samples: np.ndarray):
     """Fixed-step RK4 on the compiled planar RHS; samples at ``t_samples``."""
     import time
 
-    from .kernels import PLANAR
-    from .integrate.rk4 import rk4_loop
+    from stand.kernels import PLANAR
+    from stand.integrate.rk4 import rk4_loop
 
     model = build_planar_model(scene)
     if model.free or model.impulses.size:
@@ -237,9 +237,9 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None,
     """
     import math
 
-    from .balancers.runup_closed_form import free_whirl_amplitudes, runup_closed_form_state
+    from stand.balancers.runup_closed_form import free_whirl_amplitudes, runup_closed_form_state
 
-    from .simulate import auto_method
+    from stand.simulate import auto_method
 
     notes = []
     auto = auto_method(scene)
@@ -262,7 +262,7 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None,
     if runs:
         t = next(iter(runs.values())).t
     else:
-        from .simulate import sample_times
+        from stand.simulate import sample_times
         t = sample_times(scene.run.duration, scene.run.sample_rate)
     ru = runup_params(scene)
     exact = closed_form_no_balancer(scene, t)

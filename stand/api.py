@@ -25,7 +25,7 @@ __all__ = ["load", "run", "read", "theory", "analyze", "report"]
 
 def load(source: Union[str, os.PathLike]):
     """Read a scene file (any form) or TOML text into a :class:`stand.scene.Scene`."""
-    from .scene_file import load_scene
+    from stand.scene_file import load_scene
 
     return load_scene(source)
 
@@ -54,18 +54,18 @@ def run(scene, method: Optional[str] = None, rtol: Optional[float] = None,
         (what was computed is kept); ``run.write(path)`` also stores the
         instruments' output.
     """
-    from .scene import Scene
+    from stand.scene import Scene
 
     if not isinstance(scene, Scene):
         scene = load(scene)
     if scene.instruments:
-        from .instruments.pipeline import run_with_instruments
+        from stand.instruments.pipeline import run_with_instruments
 
         res, writer = run_with_instruments(scene, method=method, progress=progress,
                                            checkpoint=checkpoint, rtol=rtol, atol=atol)
         res.instrument_writer = writer
         return res
-    from .simulate import simulate
+    from stand.simulate import simulate
 
     return simulate(scene, method=method, rtol=rtol, atol=atol, progress=progress,
                     checkpoint=checkpoint)
@@ -73,7 +73,7 @@ def run(scene, method: Optional[str] = None, rtol: Optional[float] = None,
 
 def read(path: Union[str, os.PathLike]):
     """Read a recording into a :class:`stand.Recording` (:func:`stand.recording.read_recording`)."""
-    from .recording import read_recording
+    from stand.recording import read_recording
 
     return read_recording(path)
 
@@ -83,8 +83,8 @@ def theory(scene, max_speed: Optional[float] = None, floquet: bool = True) -> di
 
     ``max_speed`` [rev/s] is the upper end of the speed scans.
     """
-    from .scene import Scene
-    from .scene_theory import theory as _theory
+    from stand.scene import Scene
+    from stand.scene_theory import theory as _theory
 
     if not isinstance(scene, Scene):
         scene = load(scene)
@@ -93,7 +93,7 @@ def theory(scene, max_speed: Optional[float] = None, floquet: bool = True) -> di
 
 def _recording_map(recording_map, columns):
     """A RecordingMap from a map object, a TOML path and/or a ``--columns`` string."""
-    from .lab.recording_map import RecordingMap, map_from_options
+    from stand.lab.recording_map import RecordingMap, map_from_options
 
     if isinstance(recording_map, RecordingMap):
         extra = map_from_options(columns) if columns else None
@@ -109,7 +109,7 @@ def analyze(source, grade_mm_s: float = 6.3, service_speed_rpm: Optional[float] 
     ``recording_map`` (a :class:`stand.lab.recording_map.RecordingMap` or the path of a
     TOML map) and ``columns`` (``"time=time_ms[ms],x=..."``) say which column of a table
     is what (docs/lab_recordings.md)."""
-    from .identify import analyze as _analyze
+    from stand.identify import analyze as _analyze
 
     return _analyze(source, grade_mm_s=grade_mm_s, service_speed_rpm=service_speed_rpm,
                     recording_map=_recording_map(recording_map, columns))
@@ -122,9 +122,9 @@ def report(source, *, html_path=None, json_path=None, grade=6.3,
     a Recording or a path (``recording_map`` / ``columns`` for lab tables, as
     :func:`analyze`); writes ``html_path`` / ``json_path`` when given, returns the
     report's JSON document."""
-    from .recording import Recording
-    from .reports.balancing import balancing_report
-    from .result import Run
+    from stand.recording import Recording
+    from stand.reports.balancing import balancing_report
+    from stand.result import Run
 
     if isinstance(source, Recording):
         source = source.path

@@ -15,8 +15,8 @@ import glob
 from pathlib import Path
 from typing import Callable, Optional
 
-from .executor import Executor, ItemError, error_text
-from .io.atomic import atomic_path
+from stand.executor import Executor, ItemError, error_text
+from stand.io.atomic import atomic_path
 
 __all__ = ["expand_sources", "is_batch_source", "run_batch", "analyze_row", "write_table"]
 
@@ -86,7 +86,7 @@ def analyze_row(path: str, grade_mm_s: float = 6.3, service_speed_rpm: Optional[
         ``file``, ``status`` ("ok"/"error"), ``error`` and the scalar fields of
         :func:`stand.identify.analyze`.
     """
-    from .identify import analyze
+    from stand.identify import analyze
 
     row = {"file": path, "status": "ok", "error": ""}
     try:

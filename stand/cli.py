@@ -36,7 +36,7 @@ import numpy as np  # noqa: E402
 
 def _print_json(doc) -> None:
     """``--json``: the document on stdout (one JSON converter, strict JSON)."""
-    from .io.jsonable import dumps
+    from stand.io.jsonable import dumps
 
     print(dumps(doc, indent=2))
 
@@ -48,8 +48,8 @@ def _not_applicable(command: str, why: str) -> int:
 
 
 def _cmd_run(args) -> int:
-    from .api import load, run
-    from .recording import check_output_path
+    from stand.api import load, run
+    from stand.recording import check_output_path
 
     scene = load(args.scene)
     out = check_output_path(args.output)  # before the run, not after it
@@ -80,8 +80,8 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_accuracy(args) -> int:
-    from .accuracy import DEFAULT_RTOLS, FAST_REFERENCE_RTOL, FAST_RTOLS, accuracy
-    from .scene_file import load_scene
+    from stand.accuracy import DEFAULT_RTOLS, FAST_REFERENCE_RTOL, FAST_RTOLS, accuracy
+    from stand.scene_file import load_scene
 
     scene = load_scene(args.scene)
     rtols = FAST_RTOLS if args.fast else DEFAULT_RTOLS
@@ -102,12 +102,12 @@ def _cmd_accuracy(args) -> int:
         if not all(v > 0 for v in steps):
             raise ValueError(f"--rk4-steps = {args.rk4_steps!r}: steps must be > 0 (s)")
     if methods:
-        from .scene import METHODS
+        from stand.scene import METHODS
         bad = [m for m in methods if m not in METHODS and m != "RK4"]
         if bad:
             raise ValueError(f"--methods: unknown {', '.join(bad)}; valid: {', '.join(METHODS)}, RK4")
     if args.output or args.json_file:
-        from .reports.accuracy_report import accuracy_report
+        from stand.reports.accuracy_report import accuracy_report
 
         for o in (args.output, args.json_file):
             if o and not Path(o).resolve().parent.is_dir():
@@ -139,7 +139,7 @@ def _cmd_accuracy(args) -> int:
 
 def _report_row(path, grade, service_speed_rpm, html_dir, recording_map=None):
     """One row of a batch report (never raises): writes <stem>.html next to the others."""
-    from .reports.balancing import balancing_report
+    from stand.reports.balancing import balancing_report
 
     row = {"file": path, "status": "ok", "error": "", "report": ""}
     try:
@@ -161,11 +161,11 @@ def _report_row(path, grade, service_speed_rpm, html_dir, recording_map=None):
 
 
 def _cmd_report(args) -> int:
-    from .batch import expand_sources, is_batch_source, run_batch, write_table
+    from stand.batch import expand_sources, is_batch_source, run_batch, write_table
 
-    from .cli_parser import _grade
+    from stand.cli_parser import _grade
 
-    from .lab.recording_map import map_from_options
+    from stand.lab.recording_map import map_from_options
 
     grade = _grade(args.grade)
     rmap = map_from_options(args.columns, args.map)
@@ -181,7 +181,7 @@ def _cmd_report(args) -> int:
         df = run_batch(files, _report_row, workers=args.workers, scheduler=args.scheduler,
                        progress=sys.stderr.isatty(), grade=grade,
                        service_speed_rpm=args.service_speed, html_dir=html_dir, recording_map=rmap)
-        from .reports.batch_summary import order_failures_first, write_summary_page
+        from stand.reports.batch_summary import order_failures_first, write_summary_page
 
         df = order_failures_first(df)
         write_table(df, summary)
@@ -189,7 +189,7 @@ def _cmd_report(args) -> int:
         print(f"{len(df)} recordings reported ({int((df['status'] != 'ok').sum())} failed) -> {summary}"
               + (f"; summary page {page}" if page else ""))
         return 0
-    from .reports.balancing import balancing_report
+    from stand.reports.balancing import balancing_report
 
     if not args.output and not args.json_file and not args.json and not args.pdf:
         raise ValueError("stand report: give -o REPORT.html, --pdf REPORT.pdf, --json-file REPORT.json "
@@ -210,13 +210,13 @@ def _cmd_report(args) -> int:
 
 
 def _cmd_sweep(args) -> int:
-    from .sweep import sweep_main
+    from stand.sweep import sweep_main
 
     return sweep_main(args)
 
 
 def _cmd_stress(args) -> int:
-    from .reports.stress import DEFAULT_CATALOGUE, run_stress
+    from stand.reports.stress import DEFAULT_CATALOGUE, run_stress
 
     for o in (args.output, args.json_file):
         if o and not Path(o).resolve().parent.is_dir():
@@ -239,8 +239,8 @@ def _cmd_stress(args) -> int:
 
 
 def _cmd_theory(args) -> int:
-    from .api import load
-    from .scene_theory import theory, theory_lines
+    from stand.api import load
+    from stand.scene_theory import theory, theory_lines
 
     scene = load(args.scene)
     if args.plot and not Path(args.plot).resolve().parent.exists():
@@ -248,7 +248,7 @@ def _cmd_theory(args) -> int:
     doc = theory(scene, max_speed=args.max_speed, floquet=not args.no_floquet)
     if args.plot:
         if doc["kind"] == "chapter5":
-            from .planar_theory.speedmap import plot_speed_map, scene_theory
+            from stand.planar_theory.speedmap import plot_speed_map, scene_theory
 
             plot_speed_map(scene_theory(scene, R_max=args.max_speed * 2 * np.pi / scene.natural_frequency
                                         if args.max_speed else None), args.plot)
@@ -268,8 +268,8 @@ def _cmd_theory(args) -> int:
 def _cmd_snapshot(args) -> int:
     import cv2
 
-    from .api import read
-    from .io.atomic import atomic_path
+    from stand.api import read
+    from stand.io.atomic import atomic_path
 
     name = {"screen": "instruments/screen/frames", "strobe": "instruments/stroboscope/frames",
             "rings": "instruments/screen/calibration_image"}[args.instrument]
@@ -294,10 +294,10 @@ def _cmd_snapshot(args) -> int:
 
 
 def _cmd_experiment(args) -> int:
-    from .experiments import PROGRAMMES, not_applicable, programme
-    from .instruments.pipeline import run_with_instruments
-    from .recording import check_output_path, write_recording
-    from .scene_file import load_scene
+    from stand.experiments import PROGRAMMES, not_applicable, programme
+    from stand.instruments.pipeline import run_with_instruments
+    from stand.recording import check_output_path, write_recording
+    from stand.scene_file import load_scene
 
     base = load_scene(args.scene)
     out = check_output_path(args.output)
@@ -326,7 +326,7 @@ def _cmd_experiment(args) -> int:
 
 
 def _cmd_daq(args) -> int:
-    from .lab.daq_export import daq_export
+    from stand.lab.daq_export import daq_export
 
     try:
         off = tuple(float(v) for v in args.offset.split(","))
@@ -334,7 +334,7 @@ def _cmd_daq(args) -> int:
         off = ()
     if len(off) != 2:
         raise ValueError(f"--offset = {args.offset!r}: two numbers X_UM,Y_UM (um)")
-    from .errors import NotApplicable
+    from stand.errors import NotApplicable
 
     try:
         truth = daq_export(args.recording, args.output, truth_path=args.truth, offset_um=off)
@@ -360,11 +360,11 @@ def _print_recognised(doc) -> None:
 def _cmd_analyze(args) -> int:
     from dsp.errors import SignalError
 
-    from .identify import analyze
-    from .batch import analyze_row, expand_sources, is_batch_source, run_batch, write_table
-    from .recording import RecordingError
+    from stand.identify import analyze
+    from stand.batch import analyze_row, expand_sources, is_batch_source, run_batch, write_table
+    from stand.recording import RecordingError
 
-    from .lab.recording_map import map_from_options
+    from stand.lab.recording_map import map_from_options
 
     rmap = map_from_options(args.columns, args.map)
     if is_batch_source(args.recording):
@@ -383,7 +383,7 @@ def _cmd_analyze(args) -> int:
     if not Path(args.recording).exists():
         raise FileNotFoundError(f"recording not found: {args.recording}")
     if args.tracks:
-        from .identify import two_plane
+        from stand.identify import two_plane
         doc = two_plane(args.recording, args.tracks, grade_mm_s=args.grade, service_speed_rpm=args.service_speed)
         if args.json:
             return _print_json(doc) or 0
@@ -429,7 +429,7 @@ def _cmd_analyze(args) -> int:
 
 
 def _write_csv(df, path) -> None:
-    from .io.atomic import atomic_path
+    from stand.io.atomic import atomic_path
 
     with atomic_path(path, suffix=".csv.tmp") as tmp:
         df.to_csv(tmp, index=False)
@@ -438,7 +438,7 @@ def _write_csv(df, path) -> None:
 def _cmd_track(args) -> int:
     from vision.io import VisionError
 
-    from .tracking import track_frames, write_track_csv
+    from stand.tracking import track_frames, write_track_csv
 
     if not Path(args.output).resolve().parent.is_dir():
         raise FileNotFoundError(f"output directory of {args.output!r} does not exist")
@@ -473,8 +473,8 @@ def _cmd_track(args) -> int:
 
 
 def _cmd_video(args) -> int:
-    from .io.guard import check_outputs
-    from .video import sidecar_paths, write_screen_video
+    from stand.io.guard import check_outputs
+    from stand.video import sidecar_paths, write_screen_video
 
     side = sidecar_paths(args.output)
     check_outputs([args.recording], [(side["video"], side["video"].suffix.lstrip(".").lower()),
@@ -483,7 +483,7 @@ def _cmd_video(args) -> int:
     if side["video"].exists() and not args.force:   # it may be a lab's own recording
         raise ValueError(f"output {args.output!r} exists: a video may be a recording nothing "
                          "can replace; give --force to overwrite it, or choose another output")
-    from .errors import NotApplicable
+    from stand.errors import NotApplicable
 
     try:
         doc = write_screen_video(args.recording, args.output, screen=args.screen, qp=args.qp)
@@ -498,7 +498,7 @@ def _cmd_video(args) -> int:
 def _cmd_strobe(args) -> int:
     from vision.io import VisionError
 
-    from .tracking import strobe_angles
+    from stand.tracking import strobe_angles
 
     if not Path(args.output).resolve().parent.is_dir():
         raise FileNotFoundError(f"output directory of {args.output!r} does not exist")
@@ -512,12 +512,12 @@ def _cmd_strobe(args) -> int:
 
 
 def _cmd_influence(args) -> int:
-    from .influence import cli_influence
+    from stand.influence import cli_influence
     return cli_influence(args.recordings, args.trial, args.sensors, as_json=args.json)
 
 
 def _cmd_warmup(args) -> int:
-    from .warmup import warmup
+    from stand.warmup import warmup
 
     warmup(every_kind=args.all)
     return 0
@@ -525,7 +525,7 @@ def _cmd_warmup(args) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (stand.cli_parser) with this module's command handlers."""
-    from .cli_parser import build_parser as build
+    from stand.cli_parser import build_parser as build
 
     return build({"accuracy": _cmd_accuracy, "analyze": _cmd_analyze, "daq": _cmd_daq, "experiment": _cmd_experiment, "influence": _cmd_influence, "report": _cmd_report, "run": _cmd_run, "snapshot": _cmd_snapshot, "stress": _cmd_stress, "strobe": _cmd_strobe, "sweep": _cmd_sweep, "theory": _cmd_theory, "track": _cmd_track, "video": _cmd_video, "warmup": _cmd_warmup})
 
@@ -536,7 +536,7 @@ def _table_kind(path) -> str:
 
 def _guard(args) -> None:
     """Refuse outputs that are inputs or files of another kind (stand.io.guard), before any work."""
-    from .io.guard import check_outputs
+    from stand.io.guard import check_outputs
 
     g = lambda name: getattr(args, name, None)  # noqa: E731
     cmd = args.command
@@ -585,7 +585,7 @@ def _background_precompile() -> None:
 
 
 def main(argv=None) -> int:
-    from .scene import SceneError
+    from stand.scene import SceneError
 
     args = build_parser().parse_args(argv)
     try:

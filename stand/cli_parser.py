@@ -33,7 +33,7 @@ def _table_options(sp) -> None:
 
 def build_parser(handlers: dict) -> argparse.ArgumentParser:
     """The argument parser; ``handlers`` maps each command to its function (stand.cli)."""
-    from .scene import METHODS
+    from stand.scene import METHODS
 
     p = argparse.ArgumentParser(prog="stand", description="Virtual autobalancer test stand")
     sub = p.add_subparsers(dest="command", required=True)
@@ -53,7 +53,7 @@ def build_parser(handlers: dict) -> argparse.ArgumentParser:
     rp.add_argument("--scheduler", default=None, help="batch: dask.distributed scheduler address")
     rp.set_defaults(func=handlers["report"])
     sw = sub.add_parser("sweep", help="parameter sweep (theory and/or simulation) on a process pool or a Dask cluster")
-    from .sweep.command import add_sweep_arguments
+    from stand.sweep.command import add_sweep_arguments
     add_sweep_arguments(sw)
     sw.set_defaults(func=handlers["sweep"])
     st = sub.add_parser("stress", help="numerical stability on the stiff and extreme catalogue (HTML + JSON)")

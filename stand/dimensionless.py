@@ -12,8 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .io.validate import _Table
-from .scene import Balancer, InitialState, Rotor, Scene, SceneError, Supports, TorqueDrive
+from stand.io.validate import _Table
+from stand.scene import Balancer, InitialState, Rotor, Scene, SceneError, Supports, TorqueDrive
 
 __all__ = ["Dimensionless", "dimensionless", "scene_from_dimensionless"]
 
@@ -25,7 +25,7 @@ DIMENSIONLESS_KEYS = ("n", "Rt", "h", "H", "e0", "R_omega2", "unbalance_angle",
 
 def _dimensionless_params(t: _Table, angle_unit: str) -> dict:
     """Validated [dimensionless] values (angles still in ``angle_unit``)."""
-    from .scene_file import MAX_WEIGHTS
+    from stand.scene_file import MAX_WEIGHTS
 
     t.allow(DIMENSIONLESS_KEYS)
     n = t.integer("n", minimum=1, maximum=MAX_WEIGHTS)  # like balancer.count (memory)

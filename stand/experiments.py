@@ -33,7 +33,7 @@ import math
 
 import numpy as np
 
-from .scene import (Impulse, InitialState, Scene, SceneError, SideForce, SpeedDrive,
+from stand.scene import (Impulse, InitialState, Scene, SceneError, SideForce, SpeedDrive,
                     UnbalanceChange)
 
 TWO_PI = 2 * math.pi
@@ -63,7 +63,7 @@ def _f0(scene: Scene) -> float:
     with its weights locked otherwise."""
     if scene.kind == "planar":
         return scene.natural_frequency / TWO_PI
-    from .rotors.coupled import with_locked_weights
+    from stand.rotors.coupled import with_locked_weights
 
     wn = with_locked_weights(scene.linear_rotor(), scene.weights,
                              scene.bodies).natural_frequencies(0.0)
@@ -214,7 +214,7 @@ def programme(scene: Scene, name: str, **options) -> Scene:
     perturbation (:class:`NotApplicable`, a ValueError, otherwise, with the reason:
     :func:`not_applicable`).
     """
-    from .scene_file import check_derived
+    from stand.scene_file import check_derived
 
     if name not in PROGRAMMES:
         raise ValueError(f"programme {name!r}: one of {', '.join(PROGRAMMES)}")
@@ -230,7 +230,7 @@ def programme(scene: Scene, name: str, **options) -> Scene:
     sc = build(scene, **kw)
     if sc.kind == "planar":
         return check_derived(sc)
-    from .rotors.scene import _check_cycles
+    from stand.rotors.scene import _check_cycles
 
     _check_cycles(sc.linear_rotor(), sc.run, sc.drive.programme)
     return sc

@@ -23,7 +23,7 @@ def figure_and_axes(ax=None, **figure_kw):
 
 def save_figure(fig, path, dpi: int = 120, fmt: str = "png"):
     """Write ``fig`` to ``path`` atomically (:func:`stand.io.atomic.atomic_path`)."""
-    from .io.atomic import atomic_path
+    from stand.io.atomic import atomic_path
 
     with atomic_path(path, suffix=f".{fmt}.tmp") as tmp:
         fig.savefig(tmp, dpi=dpi, format=fmt)

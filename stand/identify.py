@@ -29,9 +29,9 @@ TWO_PI = 2 * math.pi
 
 def _read(path, recording_map=None):
     """The arrays of a Run, a Recording, a stand recording file or a lab table."""
-    from .lab.table import is_table
-    from .recording import read_recording
-    from .result import Run
+    from stand.lab.table import is_table
+    from stand.recording import read_recording
+    from stand.result import Run
 
     if isinstance(path, Run):
         return _from_run(path)
@@ -47,8 +47,8 @@ def _read(path, recording_map=None):
 
 def _from_table(p, recording_map):
     """A lab table (:func:`stand.lab.table.read_table`) and its rotor angle."""
-    from .lab.speed_source import rotor_angle_of
-    from .lab.table import read_table
+    from stand.lab.speed_source import rotor_angle_of
+    from stand.lab.table import read_table
 
     tab = read_table(p, recording_map)
     notes = [f"excluded rows {e['rows']}: {e['reason']}" for e in tab.excluded]
@@ -110,8 +110,8 @@ def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = Non
     from dsp import regime as rg
     from dsp import unbalance as ub
 
-    from .runup_identify import sweep_identification
-    from .signals import plane_free_decay, stationary_stretch, steady_start
+    from stand.runup_identify import sweep_identification
+    from stand.signals import plane_free_decay, stationary_stretch, steady_start
 
     d = _read(path, recording_map)
     t, x, y, phi, scene = d["t"], d["x"], d["y"], d["phi"], d["scene"]
@@ -142,7 +142,7 @@ def analyze(path, grade_mm_s: float = 6.3, service_speed_rpm: float | None = Non
     if speed is not None and rotating:
         from dsp.speed import speed_programme
 
-        from .runup_identify import _programme_dict
+        from stand.runup_identify import _programme_dict
 
         out["programme"] = _programme_dict(speed_programme(t, speed))
 
@@ -425,7 +425,7 @@ def _photogate(tab, notes):
 def _track_of(path, rec):
     """``(name, axial position [m], t [s], x [m], y [m], frame rotor angle [rad] or None)``
     of one ``stand track --screen`` CSV; the position from the recording's screen attrs."""
-    from .lab.table import read_frame
+    from stand.lab.table import read_frame
 
     df, _ = read_frame(path)
     for col in ("t_s", "x_m", "y_m"):
@@ -483,8 +483,8 @@ def two_plane(path, tracks, grade_mm_s: float = 6.3, service_speed_rpm: float | 
     from dsp import two_plane as tp
     from dsp.unbalance import iso_21940_permissible
 
-    from .recording import read_recording
-    from .rotors.coupled import with_locked_weights
+    from stand.recording import read_recording
+    from stand.rotors.coupled import with_locked_weights
 
     if len(tracks) != 2:
         raise ValueError(f"--tracks: two screens' tracks, got {len(tracks)}")

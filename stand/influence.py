@@ -70,7 +70,7 @@ def parse_trial(text: str) -> TrialWeight:
 
 def _load(run, what):
     if isinstance(run, (str, os.PathLike)):
-        from .api import read
+        from stand.api import read
 
         name = f"{os.fspath(run)!r}"
         return read(run), what if name in what else f"{what} {name}"
@@ -177,16 +177,16 @@ def model_correction(scene, planes: Sequence[str]) -> np.ndarray:
     mark) of a simulated rotor: minus the sum of its unbalances in each plane.
 
     ``scene``: a Scene, a scene file, a Run or a recording (its scene)."""
-    from .scene import Scene
+    from stand.scene import Scene
 
     if isinstance(scene, (str, os.PathLike)):
         p = os.fspath(scene)
         if p.endswith((".h5", ".hdf5")):
-            from .api import read
+            from stand.api import read
 
             scene = read(p).scene
         else:
-            from .api import load
+            from stand.api import load
 
             scene = load(p)
     elif not isinstance(scene, Scene):
@@ -229,7 +229,7 @@ def cli_influence(recordings: Sequence[str], trials: Sequence[str], sensors: str
     res = influence_from_recordings(recordings[0], recordings[1:], list(trials),
                                     [s.strip() for s in sensors.split(",") if s.strip()])
     if as_json:
-        from .io.jsonable import dumps
+        from stand.io.jsonable import dumps
 
         print(dumps(res.to_dict(), indent=2))
     else:

@@ -13,7 +13,7 @@ A new rotor or weight model adds its kind to :data:`RHS`.
 """
 import importlib
 
-from ._jit import literally, njit, when_numba
+from stand._jit import literally, njit, when_numba
 
 PLANAR = 0
 GENERIC = 1   #: any LinearRotor with weights in any planes (stand.rotors.coupled)

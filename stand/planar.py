@@ -34,12 +34,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._jit import njit
-from .programme import (build_table, breakpoints, drive_torque_law, programme_kinematics,
+from stand._jit import njit
+from stand.programme import (build_table, breakpoints, drive_torque_law, programme_kinematics,
                         programme_kinematics_many, rotor_kinematics)
-from .scene import Scene, SpeedDrive
-from .structure import PlanarStructure
-from .weights import EPS, H, MU, NU, weight_table
+from stand.scene import Scene, SpeedDrive
+from stand.structure import PlanarStructure
+from stand.weights import EPS, H, MU, NU, weight_table
 
 # layout of the scalar parameter vector ``sp``
 D11, D12, D21, D22, K11, K12, K21, K22 = range(8)

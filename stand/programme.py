@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from ._jit import njit
+from stand._jit import njit
 
 
 def build_table(times: np.ndarray, speeds: np.ndarray) -> np.ndarray:

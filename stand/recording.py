@@ -41,12 +41,12 @@ from typing import TYPE_CHECKING, Any, Callable, Mapping, Optional, Union
 import h5py
 import numpy as np
 
-from .io.atomic import atomic_path, check_output_path
-from .io.jsonable import to_jsonable
-from .result import Run, SolverStats
+from stand.io.atomic import atomic_path, check_output_path
+from stand.io.jsonable import to_jsonable
+from stand.result import Run, SolverStats
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .scene import Scene
+    from stand.scene import Scene
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "DATASETS", "Recording", "RecordingError",
            "read_recording", "write_recording", "check_output_path", "pandas_table_key",
@@ -172,7 +172,7 @@ def write_recording(run: Run, path: Union[str, os.PathLike], *,
         The run's arrays have inconsistent shapes, or ``extra_attrs`` uses a
         reserved name or holds ``None``.
     """
-    from . import __version__
+    from stand import __version__
 
     path = check_output_path(path, "recording")
     extra = dict(extra_attrs or {})
@@ -455,7 +455,7 @@ def _json_attr(attrs, key, label, kind=dict):
 
 
 def _read_open(f: "h5py.File", label: str) -> Recording:
-    from .recording_legacy import legacy_layout
+    from stand.recording_legacy import legacy_layout
 
     attrs = _root_attrs(f, label)
     notes: list = [str(n) for n in _json_attr(attrs, "run_notes", label, list)]
@@ -541,8 +541,8 @@ def _scene(text: str, notes: list) -> "Optional[Scene]":
     if not text.strip():
         notes.append("root attribute 'scene' missing or empty: Recording.scene is None")
         return None
-    from .scene import SceneError
-    from .scene_file import load
+    from stand.scene import SceneError
+    from stand.scene_file import load
 
     try:
         return load(text if "\n" in text else text + "\n")

@@ -59,10 +59,10 @@ def _maximally_balanced_residual(scene, R: float, e0: float) -> float:
     """|psi| of the e0 > 1 main motion at speed R (weights together on the light
     side, lagging by the damping angle of the corrected (5.64)); e0 - 1 when the
     theory does not apply (non-identical weights) or the motion does not exist."""
-    from .planar_theory.side import maximally_balanced_motion
+    from stand.planar_theory.side import maximally_balanced_motion
 
     try:
-        from .scene import dimensionless as _dimless
+        from stand.scene import dimensionless as _dimless
         p = _dimless(scene)
         m = maximally_balanced_motion(R, e0, p.H_x, p.n, p.e)
     except (ValueError, ArithmeticError):
@@ -102,7 +102,7 @@ def classify(traj, window: float = 0.2, sync_tol: float = 1e-3, balance_tol: flo
     rel = traj.weight_angle[sel] - traj.rotor_angle[sel, None]
     spread = float(np.max(np.ptp(rel, axis=0)))
     psi = float(abs(traj.residual_unbalance()[-1])) / S
-    from .planar import rotor_unbalance
+    from stand.planar import rotor_unbalance
 
     e0 = float(abs(rotor_unbalance(sc, traj.t[-1:])[0])) / S
 

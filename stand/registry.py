@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import importlib
 
-from .errors import SceneError
+from stand.errors import SceneError
 
 __all__ = ["resolve"]
 

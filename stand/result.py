@@ -107,7 +107,7 @@ class SolverStats(_OdeResult):
         return dict(self)
 
     def to_json(self) -> str:
-        from .io.jsonable import dumps
+        from stand.io.jsonable import dumps
 
         return dumps(dict(self))
 
@@ -237,7 +237,7 @@ class Run:
         if key in self.truth:
             U = np.asarray(self.truth[key][0])
             return U[:, 0] + 1j * U[:, 1]
-        from .planar import rotor_unbalance
+        from stand.planar import rotor_unbalance
 
         scene = self.scene
         b = scene.balancer
@@ -307,7 +307,7 @@ class Run:
         ``kind="time"``: x and y [mm] against t [s]; ``"orbit"``: y against x [mm].
         ``ax``: draw into these axes (default: a new backend-free figure).
         """
-        from .figures import figure_and_axes
+        from stand.figures import figure_and_axes
 
         if kind not in ("time", "orbit"):
             raise ValueError(f"kind = {kind!r}: one of time, orbit")
@@ -329,7 +329,7 @@ class Run:
 
     def write(self, path, *, writer=None, extra_attrs=None):
         """Write the one HDF5 recording (atomically), :func:`stand.recording.write_recording`."""
-        from .recording import write_recording
+        from stand.recording import write_recording
 
         return write_recording(self, path, writer=writer or self.instrument_writer,
                                extra_attrs=extra_attrs)

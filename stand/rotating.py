@@ -18,10 +18,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .integrate.kernel_set import kernels
-from .kernels import PLANAR
-from .planar import COAST_T0, FREE, N_FORCE, N_PROG, N_UB, PlanarModel
-from .programme import build_table
+from stand.integrate.kernel_set import kernels
+from stand.kernels import PLANAR
+from stand.planar import COAST_T0, FREE, N_FORCE, N_PROG, N_UB, PlanarModel
+from stand.programme import build_table
 
 
 def constant_speed_programme(R: float) -> np.ndarray:

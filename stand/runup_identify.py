@@ -73,7 +73,7 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
     from dsp.runup import resonance_from_runup
     from dsp.speed import speed_programme
 
-    from .signals import per_revolution
+    from stand.signals import per_revolution
 
     z = np.asarray(x) + 1j * np.asarray(y)
     ref = bool(angle is not None and angle.referenced) if referenced is None else referenced

@@ -22,7 +22,7 @@ import numpy as np
 METHODS = ("auto", "DOP853", "Radau", "BDF", "LSODA", "numpy-DOP853")
 
 
-from .errors import SceneError  # noqa: E402 (re-exported: the scene's error)
+from stand.errors import SceneError  # noqa: E402 (re-exported: the scene's error)
 
 
 @dataclass(frozen=True)
@@ -415,7 +415,7 @@ class Scene:
         if self.structure is None:
             if not self.balancer.count:
                 return ()
-            from .rotors.coupled import PlaneWeights
+            from stand.rotors.coupled import PlaneWeights
 
             return (PlaneWeights("balancer", self.balancer),)
         return tuple(w for w in self.plane_weights if hasattr(w, "balancer"))
@@ -451,7 +451,7 @@ class Scene:
             return self.structure.rotor
         if self.structure is not None:
             return None
-        from .rotors.planar_supports import planar_rotor
+        from stand.rotors.planar_supports import planar_rotor
 
         r, s = self.rotor, self.supports
         return planar_rotor(r.mass, s.stiffness_x, s.stiffness_y, s.damping_x, s.damping_y,
@@ -517,7 +517,7 @@ class Scene:
 
 def __getattr__(name):  # the book's parameters live in stand.dimensionless (re-exported lazily)
     if name in ("Dimensionless", "dimensionless"):
-        from . import dimensionless as _d
+        from stand import dimensionless as _d
 
         return getattr(_d, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

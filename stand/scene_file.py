@@ -23,10 +23,10 @@ from typing import Any, Mapping, Union
 import numpy as np
 
 
-from .dimensionless import (DIMENSIONLESS_KEYS, _dimensionless_params,  # noqa: F401
+from stand.dimensionless import (DIMENSIONLESS_KEYS, _dimensionless_params,  # noqa: F401
                             scene_from_dimensionless)
-from .io.validate import _Table, _fmt, _kind, _number, _suggest  # noqa: F401 (re-exported)
-from .scene import (
+from stand.io.validate import _Table, _fmt, _kind, _number, _suggest  # noqa: F401 (re-exported)
+from stand.scene import (
     METHODS,
     Impulse,
     SideForce,
@@ -320,8 +320,8 @@ def _bodies(items, rotor, supports, drive, perturbations) -> tuple:
     """``[[weights]]`` of body kinds on the planar rotor (stand.rotors.bodies_scene)."""
     if items is None:
         return ()
-    from .rotors.bodies_scene import BODY_TYPES, parse_body
-    from .rotors.planar_supports import planar_rotor
+    from stand.rotors.bodies_scene import BODY_TYPES, parse_body
+    from stand.rotors.planar_supports import planar_rotor
 
     if not isinstance(items, list):
         raise SceneError("[weights] must be an array of tables: write [[weights]]")
@@ -357,11 +357,11 @@ def parse(data: Mapping, text: str = "", stem: str = "") -> Scene:
     tables or ``[dimensionless]`` (:func:`parse_scene`).
     """
     if isinstance(data, Mapping) and "structure" in data:
-        from .rotors.scene import parse_family_scene
+        from stand.rotors.scene import parse_family_scene
 
         return parse_family_scene(data, text, stem)
     if isinstance(data, Mapping) and "weight_model" in data:
-        from .balancers.scene import parse_weight_model
+        from stand.balancers.scene import parse_weight_model
 
         return parse_weight_model(data, text, stem)
     scene = parse_scene(data, text=text)
@@ -411,8 +411,8 @@ def _instruments(t: _Table, planes=("balancer",), kind: str = "planar") -> dict:
     checked against the scene's ``planes`` and rotor ``kind``; the rest is the
     instrument's own settings.
     """
-    from .instruments.placement import attach, check_placement, split_placement
-    from .registry import resolve
+    from stand.instruments.placement import attach, check_placement, split_placement
+    from stand.registry import resolve
 
     out = {}
     for key, value in t.data.items():
@@ -513,7 +513,7 @@ def check_derived(scene: Scene) -> Scene:
                              f"samples of {width} state components need about {nbytes / 1e9:.3g} GB; "
                              f"the limit is {MAX_STATE_BYTES / 1e9:.0f} GB: lower run.sample_rate "
                              "or shorten run.duration")
-        from .instruments.placement import check_instrument_budget
+        from stand.instruments.placement import check_instrument_budget
 
         check_instrument_budget(scene, width)
         ini = scene.initial
@@ -544,7 +544,7 @@ def load_scene(source: Union[str, Path]) -> Scene:
         Missing or unreadable file, TOML syntax error, or an invalid scene; for
         files the message starts with the file name.
     """
-    from .io.tomlfile import read_toml
+    from stand.io.tomlfile import read_toml
 
     data, text, label = read_toml(source, "scene file")
     stem = "" if not label else Path(source).stem

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 
-from .io.jsonable import to_jsonable
+from stand.io.jsonable import to_jsonable
 
 __all__ = ["theory", "theory_lines"]
 
@@ -34,11 +34,11 @@ def theory(scene, max_speed: float | None = None, floquet: bool = True) -> dict:
         Rotor structures with weights: include the Floquet scan of the main
         motion (seconds).
     """
-    from .planar_theory.speedmap import TheoryError, scene_theory
+    from stand.planar_theory.speedmap import TheoryError, scene_theory
 
     na = []
     if scene.kind == "book":
-        from .balancers.scene import model_theory
+        from stand.balancers.scene import model_theory
 
         doc = model_theory(scene)
         return {"kind": "book_model", **doc, "not_applicable": na}
@@ -54,7 +54,7 @@ def theory(scene, max_speed: float | None = None, floquet: bool = True) -> dict:
         na.append("correction weights: the scene has none, so there are no steady motions of "
                   "weights, no balancing speed bands and no stuck-ball law; the structure's "
                   "natural frequencies and critical speeds follow")
-    from .rotors.run import family_theory
+    from stand.rotors.run import family_theory
 
     doc = family_theory(scene, max_speed * 2 * math.pi if max_speed else None,
                         floquet=floquet and bool(scene.n_weights))
@@ -67,8 +67,8 @@ def _body_models(scene, na: list) -> list:
     rotor on isotropic supports with that one body (stand.balancers.composition.book_params)."""
     if not scene.bodies:
         return []
-    from .balancers.composition import book_params
-    from .balancers.weight_theory import weight_theory
+    from stand.balancers.composition import book_params
+    from stand.balancers.weight_theory import weight_theory
 
     bp = book_params(scene)
     if bp is None:

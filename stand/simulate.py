@@ -25,13 +25,13 @@ import time as _time
 
 import numpy as np
 
-from .integrate.driver import (CHUNK_STEPS, Checkpoint, fingerprint, run_dop853, run_scipy,
+from stand.integrate.driver import (CHUNK_STEPS, Checkpoint, fingerprint, run_dop853, run_scipy,
                                warm_up)
-from .planar import (D11, D22, H0, K22, N_PROG, WTARGET, PlanarModel, build_planar_model,
+from stand.planar import (D11, D22, H0, K22, N_PROG, WTARGET, PlanarModel, build_planar_model,
                      initial_state)
-from .result import Run, SolverStats, weight_names
-from .scene import METHODS, Scene, SceneError
-from .weights import EPS, H, MU
+from stand.result import Run, SolverStats, weight_names
+from stand.scene import METHODS, Scene, SceneError
+from stand.weights import EPS, H, MU
 
 __all__ = ["simulate", "Run", "Trajectory", "SolverStats", "sample_times", "METHODS"]
 
@@ -133,7 +133,7 @@ def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
     rtol = run.rtol if rtol is None else rtol
     atol = run.atol if atol is None else atol
     if scene.kind == "book":
-        from .balancers.book_run import run_book
+        from stand.balancers.book_run import run_book
 
         return run_book(scene, method=method, rtol=rtol, atol=atol)
     if scene.kind == "rotor" or kernel == "generic" or scene.bodies:
@@ -169,7 +169,7 @@ def auto_method(scene: Scene) -> str:
         return "DOP853"
     if scene.kind == "planar":
         return choose_method(build_planar_model(scene), "auto")[0]
-    from .rotors.coupled import build_model
+    from stand.rotors.coupled import build_model
 
     d = scene.drive
     torque = d.kind == "torque"
@@ -207,7 +207,7 @@ def _integrate(scene, model, y0, tau_end, ts, out, stats, method, progress, chec
 def _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoint,
                       checkpoint_steps) -> Run:
     """Any LinearRotor with its weights (stand.rotors.coupled_kernel) -> Run."""
-    from .rotors.coupled import build_model, initial_state as generic_initial
+    from stand.rotors.coupled import build_model, initial_state as generic_initial
 
     torque = scene.drive.kind == "torque"
     blows = [p for p in scene.perturbations if p.kind == "impulse"]
@@ -284,7 +284,7 @@ def _with_blows(model, scene, blows):
 
 
 def _generic_run(scene, model, out, tau, stats) -> Run:
-    from .rotors.coupled import samples_si
+    from stand.rotors.coupled import samples_si
 
     t, q, qd, phi, speed, alpha, planes, residual = samples_si(model, out, tau)
     n, nw, w = model.n, model.nw, model.omega_1
@@ -294,7 +294,7 @@ def _generic_run(scene, model, out, tau, stats) -> Run:
                for j, nm in enumerate(names)}
     notes = ()
     if model.bodies:
-        from .rotors.bodies import body_channels, body_names, liquid_notes
+        from stand.rotors.bodies import body_channels, body_names, liquid_notes
 
         bnames, bplanes = body_names(model.bodies)
         bcoords, _ = body_channels(model.bt, model.bodies, out, w, phi, planes)

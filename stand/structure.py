@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .scene import Scene
+from stand.scene import Scene
 
 
 @dataclass(frozen=True)

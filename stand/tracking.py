@@ -102,7 +102,7 @@ def _screen_columns(df, rec, group, optical_gain=None) -> None:
 
 def _recording_of(source):
     """The recording behind a frame source ``FILE.h5[:dataset]``, or None."""
-    from .recording import RecordingError, read_recording
+    from stand.recording import RecordingError, read_recording
 
     src = str(source).split(":")[0]
     if not src.lower().endswith((".h5", ".hdf5")):
@@ -472,7 +472,7 @@ def write_track_csv(df, path) -> None:
     """Write a track table atomically: ``# key = value`` lines (``df.attrs["preamble"]``,
     in the order of :data:`TRACK_PREAMBLE`, then any other), then the CSV table
     (read it with ``pandas.read_csv(path, comment="#")``)."""
-    from .io.atomic import atomic_path
+    from stand.io.atomic import atomic_path
 
     pre = dict(df.attrs.get("preamble") or {})
     keys = [k for k in TRACK_PREAMBLE if k in pre] + [k for k in pre if k not in TRACK_PREAMBLE]

@@ -178,9 +178,9 @@ def write_screen_video(recording, output, *, screen: Optional[str] = None,
     import cv2
     import pandas as pd
 
-    from .io.atomic import atomic_path, write_text
-    from .recording import read_recording
-    from .tracking import screen_group
+    from stand.io.atomic import atomic_path, write_text
+    from stand.recording import read_recording
+    from stand.tracking import screen_group
 
     paths = sidecar_paths(output)
     suffix = paths["video"].suffix.lower()
@@ -194,7 +194,7 @@ def write_screen_video(recording, output, *, screen: Optional[str] = None,
     key = f"{group}/frames"
     shape = rec.shape(key)
     if shape is None or len(shape) != 3 or shape[0] == 0:
-        from .errors import NotApplicable
+        from stand.errors import NotApplicable
 
         raise NotApplicable(f"{recording}: no screen frames {key} (a scene with "
                             f"[instruments.screen] writes them)")

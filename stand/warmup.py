@@ -16,8 +16,8 @@ import time
 
 import numpy as np
 
-from . import _jit
-from .kernels import KIND_NAMES
+from stand import _jit
+from stand.kernels import KIND_NAMES
 
 
 def _jit_extras(kind: int) -> None:
@@ -26,9 +26,9 @@ def _jit_extras(kind: int) -> None:
     numba = _jit.import_numba()
     from numba import typeof, types
 
-    from .integrate.driver import jac_fd
-    from .integrate.rk4 import rk4_loop
-    from .kernels import evaluate
+    from stand.integrate.driver import jac_fd
+    from stand.integrate.rk4 import rk4_loop
+    from stand.kernels import evaluate
 
     lit = types.literal(kind)
     a1, a2 = typeof(np.zeros(1)), typeof(np.zeros((1, 1)))
@@ -45,7 +45,7 @@ def warmup(every_kind: bool = False, say=print, precompile: bool = True, kinds=N
     (enough for work in this process).  ``kinds``: these model kinds only (with everything
     ``every_kind`` compiles for each), e.g. one per process to use several cores; without
     ``kinds`` also the blurred-spot fit of ``stand track``."""
-    from .integrate.kernel_set import kernels
+    from stand.integrate.kernel_set import kernels
 
     chosen = kinds is not None
     if chosen:

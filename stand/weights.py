@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .scene import Balancer
+from stand.scene import Balancer
 
 #: columns of the weight table
 EPS, MU, H, NU = 0, 1, 2, 3

@@ -11,7 +11,7 @@ from typing import Callable
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ._params import BOOK
+from stand.balancers._params import BOOK
 
 __all__ = ["FRAMES", "check_frame", "frame_rhs", "integrate", "central_jacobian"]
 

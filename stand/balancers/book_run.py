@@ -24,8 +24,8 @@ import time as _time
 
 import numpy as np
 
-from ..result import Run, SolverStats
-from ..scene import SceneError
+from stand.result import Run, SolverStats
+from stand.scene import SceneError
 
 __all__ = ["run_book", "STATE_COLUMNS", "initial_state"]
 
@@ -94,8 +94,8 @@ def run_book(scene, method: str = "DOP853", rtol=None, atol=None, compiled: bool
     weight, :mod:`stand.balancers.composition`) on the compiled kernel; ``False``: the
     book's own right-hand side (Python) on scipy's solver -- the oracle path.
     """
-    from ..integrate.driver import run_scipy
-    from ..simulate import sample_times
+    from stand.integrate.driver import run_scipy
+    from stand.simulate import sample_times
 
     bm = scene.structure
     kind, p, run = bm.type, bm.params, scene.run
@@ -128,9 +128,9 @@ def run_book(scene, method: str = "DOP853", rtol=None, atol=None, compiled: bool
 def _run_composed(scene, y0, method, rtol, atol) -> Run:
     """The book model as a generic composition on the compiled kernel (same samples,
     same ``state/<column>`` coordinates as the oracle path)."""
-    from ..rotors.coupled import build_model, initial_state as generic_initial
-    from ..simulate import _generic_run, _integrate, sample_times
-    from .composition import composition
+    from stand.rotors.coupled import build_model, initial_state as generic_initial
+    from stand.simulate import _generic_run, _integrate, sample_times
+    from stand.balancers.composition import composition
 
     bm, run = scene.structure, scene.run
     kind, p = bm.type, bm.params
@@ -222,8 +222,8 @@ def _book_channels(scene, t, y, stats) -> Run:
 
 def _run_chamber(scene, method, rtol, atol) -> Run:
     """The quasi-static liquid chamber (module docstring) on the planar kernel."""
-    from ..scene import Balancer, Rotor, RunSettings, Scene, SpeedDrive, Supports
-    from ..simulate import simulate
+    from stand.scene import Balancer, Rotor, RunSettings, Scene, SpeedDrive, Supports
+    from stand.simulate import simulate
 
     p = scene.structure.params
     mod = importlib.import_module(MODULES["liquid_chamber"])

@@ -31,8 +31,8 @@ import math
 
 import numpy as np
 
-from ..rotors.bodies import LiquidWeight, PlaneBody, SphericalWeight, TiltingWeight
-from ..rotors.planar_supports import planar_rotor
+from stand.rotors.bodies import LiquidWeight, PlaneBody, SphericalWeight, TiltingWeight
+from stand.rotors.planar_supports import planar_rotor
 
 __all__ = ["composition", "Composition"]
 
@@ -86,7 +86,7 @@ def composition(kind: str, p, duration: float = 1.0, initial=None) -> Compositio
         if p.friction is not None:
             raise ValueError("damper: dry friction (7.79)-(7.84) has no generic composition yet")
         if initial is None:
-            from .damper_motion import state_from_angles
+            from stand.balancers.damper_motion import state_from_angles
 
             initial = state_from_angles(0.3, 0.0, p.R_omega, frame="fixed")
         x0, y0, dx0, dy0 = initial[:4]
@@ -111,7 +111,7 @@ def composition(kind: str, p, duration: float = 1.0, initial=None) -> Compositio
         T = max(float(duration), 1e-9)
         prog = [[0.0, float(sp.omega(0.0))], [T, float(sp.omega(T))]]
         if initial is None:
-            from .liquid_float_motion import initial_state
+            from stand.balancers.liquid_float_motion import initial_state
 
             initial = initial_state(p, frame="fixed")
         return Composition(rotor, PlaneBody("balancer", body), prog, initial[:2], initial[2:4])
@@ -149,7 +149,7 @@ def book_params(scene, speed: float | None = None):
     speed : float, optional
         Spin [rad/s] (default: the programme's last speed).
     """
-    from ..rotors.bodies import LiquidWeight, SphericalWeight, TiltingWeight
+    from stand.rotors.bodies import LiquidWeight, SphericalWeight, TiltingWeight
 
     if scene.kind != "planar" or len(scene.bodies) != 1 or scene.balancer.count:
         return None
@@ -169,15 +169,15 @@ def book_params(scene, speed: float | None = None):
         kw = dict(R_m=m * l * l / (Ms * rho2), R_rho=math.sqrt(B / A), h1=b.tilt_drag / (A * w0),
                   h2=b.turn_drag / (B * w0), e0=r.unbalance / (m * l), **common)
         if b.kind == "coupled_pair":
-            from .gravity_pair import GravityPairParams
+            from stand.balancers.gravity_pair import GravityPairParams
 
             return "gravity_pair", GravityPairParams(gamma=r.unbalance_angle, **kw)
-        from .two_axis import TwoAxisParams
+        from stand.balancers.two_axis import TwoAxisParams
 
         return "two_axis", TwoAxisParams(R_g=math.sqrt(b.axial_gravity * l / (rho2 * w0 * w0)),
                                          **kw)
     if isinstance(b, SphericalWeight):
-        from .damper import DamperParams
+        from stand.balancers.damper import DamperParams
 
         m, l, A = b.mass, b.arm, b.inertia
         rho2 = A / m
@@ -186,7 +186,7 @@ def book_params(scene, speed: float | None = None):
                                       h=b.drag / (A * w0), e0=r.unbalance / (m * l),
                                       gamma=r.unbalance_angle, **common)
     if isinstance(b, LiquidWeight) and b.kind == "liquid_float":
-        from .liquid_float import LiquidFloatParams
+        from stand.balancers.liquid_float import LiquidFloatParams
 
         w_start = float(prog[0, 1]) if prog is not None else w
         eps = 0.0
@@ -196,7 +196,7 @@ def book_params(scene, speed: float | None = None):
             Omega_0=math.sqrt(c / M), psi=M / (M + b.mass * b.lever), n=chi / M,
             e=r.eccentricity, omega_0=w_start, epsilon=eps, m1=M)
     if isinstance(b, LiquidWeight):
-        from .liquid_chamber import LiquidChamberParams
+        from stand.balancers.liquid_chamber import LiquidChamberParams
 
         D0 = r.unbalance
         horizontal = any(abs(g) > 0 for g in scene.linear_rotor().gravity_plane)

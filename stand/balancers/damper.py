@@ -92,12 +92,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from ._params import BOOK, group
-from .damper_motion import (angles_from_state, make_rhs, residual_unbalance_now, rhs, rhs_rotating,
+from stand.balancers._params import BOOK, group
+from stand.balancers.damper_motion import (angles_from_state, make_rhs, residual_unbalance_now, rhs, rhs_rotating,
                             simulate, state_from_angles, to_fixed, to_rotating)
-from .damper_residual import (R_f_ball_joint, R_f_cardan, residual_cubic, residual_parametric,
+from stand.balancers.damper_residual import (R_f_ball_joint, R_f_cardan, residual_cubic, residual_parametric,
                               residual_unbalance)
-from .damper_steady import (DamperSteady, critical_speeds_undamped, efficiency, efficiency_approx,
+from stand.balancers.damper_steady import (DamperSteady, critical_speeds_undamped, efficiency, efficiency_approx,
                             eigenvalues, fast_rotor_roots, is_stable, jacobian, stability_scan,
                             steady_motions, steady_quartic_roots)
 

@@ -21,10 +21,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._ode import check_frame, frame_rhs, integrate
+from stand.balancers._ode import check_frame, frame_rhs, integrate
 
 if TYPE_CHECKING:
-    from .damper import DamperParams
+    from stand.balancers.damper import DamperParams
 
 __all__ = [
     "rhs", "rhs_rotating", "make_rhs", "state_from_angles", "angles_from_state", "to_rotating",

@@ -14,7 +14,7 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-from ._params import BOOK
+from stand.balancers._params import BOOK
 
 __all__ = ["R_f_cardan", "R_f_ball_joint", "residual_parametric", "residual_unbalance",
            "residual_cubic"]

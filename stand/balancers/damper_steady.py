@@ -17,12 +17,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._ode import central_jacobian
-from ._params import BOOK
-from .damper_motion import _EZ, rhs_rotating, state_from_angles
+from stand.balancers._ode import central_jacobian
+from stand.balancers._params import BOOK
+from stand.balancers.damper_motion import _EZ, rhs_rotating, state_from_angles
 
 if TYPE_CHECKING:
-    from .damper import DamperParams
+    from stand.balancers.damper import DamperParams
 
 __all__ = [
     "DamperSteady", "steady_quartic_roots", "steady_motions", "efficiency", "efficiency_approx",

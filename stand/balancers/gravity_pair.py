@@ -83,13 +83,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from ._params import BOOK, group
-from .gravity_pair_motion import energy, make_rhs, rhs, rhs_rotating, simulate, to_fixed, to_rotating
-from .gravity_pair_qp import (D, orbit_radius_range, qp_amplitudes, qp_amplitudes_printed,
+from stand.balancers._params import BOOK, group
+from stand.balancers.gravity_pair_motion import energy, make_rhs, rhs, rhs_rotating, simulate, to_fixed, to_rotating
+from stand.balancers.gravity_pair_qp import (D, orbit_radius_range, qp_amplitudes, qp_amplitudes_printed,
                               qp_family_limit, qp_family_limit_exact, qp_frequency,
                               qp_frequency_approx, qp_frequency_approx_printed, qp_initial_state,
                               qp_orbit, qp_polynomial, qp_radius_range, qp_roots)
-from .gravity_pair_steady import (SteadyMotion, eigenvalues, is_stable, jacobian, side_band,
+from stand.balancers.gravity_pair_steady import (SteadyMotion, eigenvalues, is_stable, jacobian, side_band,
                                   steady_motions)
 
 __all__ = [

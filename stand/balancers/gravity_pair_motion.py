@@ -21,10 +21,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._ode import frame_rhs, integrate
+from stand.balancers._ode import frame_rhs, integrate
 
 if TYPE_CHECKING:
-    from .gravity_pair import GravityPairParams
+    from stand.balancers.gravity_pair import GravityPairParams
 
 __all__ = ["rhs", "rhs_rotating", "make_rhs", "to_rotating", "to_fixed", "energy", "simulate"]
 

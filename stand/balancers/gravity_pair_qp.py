@@ -17,7 +17,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 if TYPE_CHECKING:
-    from .gravity_pair import GravityPairParams
+    from stand.balancers.gravity_pair import GravityPairParams
 
 __all__ = [
     "D", "qp_polynomial", "qp_roots", "qp_frequency", "qp_frequency_approx",

@@ -15,11 +15,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._ode import central_jacobian
-from .gravity_pair_motion import rhs_rotating
+from stand.balancers._ode import central_jacobian
+from stand.balancers.gravity_pair_motion import rhs_rotating
 
 if TYPE_CHECKING:
-    from .gravity_pair import GravityPairParams
+    from stand.balancers.gravity_pair import GravityPairParams
 
 __all__ = ["SteadyMotion", "steady_motions", "side_band", "jacobian", "eigenvalues", "is_stable"]
 

@@ -86,21 +86,21 @@ import math
 from dataclasses import dataclass
 from typing import Optional
 
-from ._params import THESIS, group
-from .liquid_chamber_design import (OptimalVolume, annulus_capacity, eccentricity_from_iso_grade,
+from stand.balancers._params import THESIS, group
+from stand.balancers.liquid_chamber_design import (OptimalVolume, annulus_capacity, eccentricity_from_iso_grade,
                                     iso_grade_from_eccentricity, optimal_volume,
                                     permissible_eccentricity_general,
                                     permissible_eccentricity_household, segment_capacity,
                                     unbalance_coefficient)
-from .liquid_chamber_geometry import (G_STANDARD, FillGeometry, LiquidCentroid, fill_geometry,
+from stand.balancers.liquid_chamber_geometry import (G_STANDARD, FillGeometry, LiquidCentroid, fill_geometry,
                                       free_surface_height, liquid_centroid, total_unbalance)
-from .liquid_chamber_quasi_static import (EfficiencyExtremum, EquilibriumAngle, QuasiStaticResult,
+from stand.balancers.liquid_chamber_quasi_static import (EfficiencyExtremum, EquilibriumAngle, QuasiStaticResult,
                                           deflection_factor, efficiency, efficiency_derivative,
                                           efficiency_extremum, efficiency_second_derivative,
                                           equilibrium_angle, phase_lag, quasi_static_efficiency)
-from .liquid_chamber_simplified import (MultiChamberResult, SimplifiedResult, multi_chamber,
+from stand.balancers.liquid_chamber_simplified import (MultiChamberResult, SimplifiedResult, multi_chamber,
                                         simplified_single_chamber)
-from .liquid_chamber_viscous import (ViscousZone, in_equilibrium_zone, select_liquid, viscous_zone,
+from stand.balancers.liquid_chamber_viscous import (ViscousZone, in_equilibrium_zone, select_liquid, viscous_zone,
                                      wetted_arc)
 
 __all__ = [

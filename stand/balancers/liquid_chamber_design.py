@@ -14,8 +14,8 @@ from typing import Tuple
 
 from scipy.optimize import brentq
 
-from ._params import THESIS
-from .liquid_chamber_geometry import G_STANDARD
+from stand.balancers._params import THESIS
+from stand.balancers.liquid_chamber_geometry import G_STANDARD
 
 __all__ = [
     "OptimalVolume", "segment_capacity", "annulus_capacity", "optimal_volume",

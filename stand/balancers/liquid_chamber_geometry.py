@@ -17,7 +17,7 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-from ._params import THESIS
+from stand.balancers._params import THESIS
 
 __all__ = [
     "G_STANDARD", "FillGeometry", "LiquidCentroid", "fill_geometry", "free_surface_height",

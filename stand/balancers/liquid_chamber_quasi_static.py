@@ -14,11 +14,11 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Tuple
 
-from ._params import THESIS
-from .liquid_chamber_geometry import G_STANDARD, _result_flags, fill_geometry
+from stand.balancers._params import THESIS
+from stand.balancers.liquid_chamber_geometry import G_STANDARD, _result_flags, fill_geometry
 
 if TYPE_CHECKING:
-    from .liquid_chamber import LiquidChamberParams
+    from stand.balancers.liquid_chamber import LiquidChamberParams
 
 __all__ = [
     "EquilibriumAngle", "EfficiencyExtremum", "QuasiStaticResult", "phase_lag",

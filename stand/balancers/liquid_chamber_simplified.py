@@ -13,8 +13,8 @@ import math
 from dataclasses import dataclass
 from typing import Optional, Sequence, Tuple
 
-from ._params import THESIS
-from .liquid_chamber_geometry import _result_flags
+from stand.balancers._params import THESIS
+from stand.balancers.liquid_chamber_geometry import _result_flags
 
 __all__ = [
     "SimplifiedResult", "MultiChamberResult", "simplified_single_chamber", "multi_chamber",

@@ -68,11 +68,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ._params import PAPER
-from .liquid_float_motion import (FRAMES, GeneralSpeed, LinearSpeed, StepSpeed, initial_state,
+from stand.balancers._params import PAPER
+from stand.balancers.liquid_float_motion import (FRAMES, GeneralSpeed, LinearSpeed, StepSpeed, initial_state,
                                   jac_fixed, jac_rotating, rhs_fixed, rhs_rotating,
                                   stationary_amplitude, steady_amplitudes)
-from .liquid_float_run import (SCIPY_METHODS, LiquidFloatRun, outputs_from_fixed,
+from stand.balancers.liquid_float_run import (SCIPY_METHODS, LiquidFloatRun, outputs_from_fixed,
                                outputs_from_rotating, rk4_fixed_step, simulate)
 
 __all__ = [

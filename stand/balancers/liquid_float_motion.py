@@ -19,10 +19,10 @@ from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
-from ._params import PAPER
+from stand.balancers._params import PAPER
 
 if TYPE_CHECKING:
-    from .liquid_float import LiquidFloatParams
+    from stand.balancers.liquid_float import LiquidFloatParams
 
 __all__ = [
     "FRAMES", "LinearSpeed", "StepSpeed", "GeneralSpeed", "stationary_amplitude",

@@ -18,19 +18,19 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ._params import PAPER
-from .liquid_float_motion import (LinearSpeed, _check_frame, _speed_for, initial_state, jac_fixed,
+from stand.balancers._params import PAPER
+from stand.balancers.liquid_float_motion import (LinearSpeed, _check_frame, _speed_for, initial_state, jac_fixed,
                                   jac_rotating, rhs_fixed, rhs_rotating)
 
 if TYPE_CHECKING:
-    from .liquid_float import LiquidFloatParams
+    from stand.balancers.liquid_float import LiquidFloatParams
 
 __all__ = [
     "SCIPY_METHODS", "rk4_fixed_step", "LiquidFloatRun", "outputs_from_fixed",
     "outputs_from_rotating", "simulate",
 ]
 
-from ..integrate.rk4 import rk4_fixed_step  # noqa: E402  (re-exported)
+from stand.integrate.rk4 import rk4_fixed_step  # noqa: E402  (re-exported)
 
 SCIPY_METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
 

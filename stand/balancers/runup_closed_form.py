@@ -47,8 +47,8 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 from scipy.special import fresnel, wofz
 
-from ._params import PAPER
-from .liquid_float import SCIPY_METHODS, LiquidFloatParams, simulate
+from stand.balancers._params import PAPER
+from stand.balancers.liquid_float import SCIPY_METHODS, LiquidFloatParams, simulate
 
 __all__ = [
     "runup_closed_form", "runup_closed_form_state", "runup_extrema", "RunupExtrema",

@@ -29,8 +29,8 @@ import math
 
 import numpy as np
 
-from ..io.jsonable import to_jsonable
-from ..scene import BookModel, RunSettings, Scene, SceneError, SpeedDrive
+from stand.io.jsonable import to_jsonable
+from stand.scene import BookModel, RunSettings, Scene, SceneError, SpeedDrive
 
 __all__ = ["MODEL_TYPES", "parse_weight_model", "model_theory"]
 
@@ -52,7 +52,7 @@ def _module(kind):
     """(module, parameter class) of a book model."""
     import importlib
 
-    from ..registry import resolve
+    from stand.registry import resolve
 
     cls = resolve(MODEL_TYPES, kind, "weight_model.type", "weight model")
     return importlib.import_module(cls.__module__), cls
@@ -143,7 +143,7 @@ def model_theory(scene: Scene) -> dict:
     stay: ``quasi_periodic_frequency`` and ``quasi_periodic_family_limit``
     (gravity pair) and ``efficiency`` (damper, (7.54)).
     """
-    from .weight_theory import weight_theory
+    from stand.balancers.weight_theory import weight_theory
 
     bm = scene.structure
     kind, p = bm.type, bm.params

@@ -66,10 +66,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from ._params import BOOK, group
-from .two_axis_motion import (fixed_to_rotating, linear_ramp, residual_fixed, residual_rotating,
+from stand.balancers._params import BOOK, group
+from stand.balancers.two_axis_motion import (fixed_to_rotating, linear_ramp, residual_fixed, residual_rotating,
                               rhs_fixed, rhs_fixed_variable_speed, rhs_rotating, rotating_to_fixed)
-from .two_axis_steady import (SteadyMotion, efficiency, eigenvalues, first_group, jacobian,
+from stand.balancers.two_axis_steady import (SteadyMotion, efficiency, eigenvalues, first_group, jacobian,
                               max_real_part, no_gravity_no_damping, r0, second_group,
                               steady_motions, steady_polynomial)
 

@@ -25,10 +25,10 @@ from typing import TYPE_CHECKING, Callable, Tuple
 
 import numpy as np
 
-from ._params import BOOK
+from stand.balancers._params import BOOK
 
 if TYPE_CHECKING:
-    from .two_axis import TwoAxisParams
+    from stand.balancers.two_axis import TwoAxisParams
 
 __all__ = [
     "residual_rotating", "residual_fixed", "rhs_rotating", "rhs_fixed",

@@ -15,11 +15,11 @@ from typing import TYPE_CHECKING, List, Optional
 
 import numpy as np
 
-from ._ode import central_jacobian
-from .two_axis_motion import rhs_rotating
+from stand.balancers._ode import central_jacobian
+from stand.balancers.two_axis_motion import rhs_rotating
 
 if TYPE_CHECKING:
-    from .two_axis import TwoAxisParams
+    from stand.balancers.two_axis import TwoAxisParams
 
 __all__ = [
     "SteadyMotion", "jacobian", "eigenvalues", "max_real_part",

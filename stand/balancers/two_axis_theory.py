@@ -31,10 +31,10 @@ import numpy as np
 from numpy.polynomial import polynomial as P
 from scipy.optimize import brentq, minimize_scalar
 
-from ._params import BOOK
-from .two_axis import TwoAxisParams
-from .two_axis_motion import rhs_fixed
-from .two_axis_steady import _D, efficiency, eigenvalues, first_group, jacobian, max_real_part
+from stand.balancers._params import BOOK
+from stand.balancers.two_axis import TwoAxisParams
+from stand.balancers.two_axis_motion import rhs_fixed
+from stand.balancers.two_axis_steady import _D, efficiency, eigenvalues, first_group, jacobian, max_real_part
 
 __all__ = [
     "char_poly_first_group", "char_poly_second_group", "small_mass_roots",

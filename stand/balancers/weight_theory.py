@@ -47,7 +47,7 @@ import math
 
 import numpy as np
 
-from ..io.jsonable import to_jsonable
+from stand.io.jsonable import to_jsonable
 
 __all__ = ["KINDS", "LIQUIDS", "DESIGN_RESERVE", "TABLE_3_2_GAMMAS", "weight_theory"]
 
@@ -142,7 +142,7 @@ def _D(w, H):
 
 
 def _gravity_pair(p, notes) -> dict:
-    from . import gravity_pair as gp
+    from stand.balancers import gravity_pair as gp
 
     out = {"speed_R_omega": p.R_omega, "units": _BOOK_UNITS}
     motions = []
@@ -204,9 +204,9 @@ def _gravity_pair(p, notes) -> dict:
 
 # --------------------------------------------------------------------------- ch. 6
 def _two_axis(p, notes) -> dict:
-    from . import two_axis as ta
-    from . import two_axis_steady as st
-    from . import two_axis_theory as th
+    from stand.balancers import two_axis as ta
+    from stand.balancers import two_axis_steady as st
+    from stand.balancers import two_axis_theory as th
 
     out = {"speed_R_omega": p.R_omega, "units": _BOOK_UNITS}
     motions = []
@@ -250,8 +250,8 @@ def _two_axis(p, notes) -> dict:
 
 # --------------------------------------------------------------------------- ch. 7.2
 def _damper(p, notes) -> dict:
-    from . import damper as dm
-    from .damper_steady import _Delta
+    from stand.balancers import damper as dm
+    from stand.balancers.damper_steady import _Delta
 
     out = {"speed_R_omega": p.R_omega, "units": _BOOK_UNITS}
     motions = []
@@ -297,8 +297,8 @@ def _damper(p, notes) -> dict:
 
 # --------------------------------------------------------------------------- paper 001
 def _liquid_float(p, omega, notes) -> dict:
-    from .liquid_float import steady_amplitudes
-    from .runup_closed_form import runup_extrema
+    from stand.balancers.liquid_float import steady_amplitudes
+    from stand.balancers.runup_closed_form import runup_extrema
 
     de, d = steady_amplitudes(p, omega)
     out = {"speed_rad_s": omega, "critical_speed_rad_s": p.Omega,
@@ -325,7 +325,7 @@ def _liquid_float(p, omega, notes) -> dict:
 
 # --------------------------------------------------------------------------- thesis 002
 def _liquid_chamber(p, omega, notes) -> dict:
-    from . import liquid_chamber as lc
+    from stand.balancers import liquid_chamber as lc
 
     out = {"speed_rad_s": omega, "gamma": omega / p.critical_speed}
     R, h, rho, V = p.chamber_radius, p.chamber_height, p.liquid_density, p.liquid_volume
@@ -373,7 +373,7 @@ def _liquid_chamber(p, omega, notes) -> dict:
 
 def _liquid_choice(p, omega, D0, notes) -> dict:
     """Width of the equilibrium zone (2.15) of each liquid of :data:`LIQUIDS`."""
-    from . import liquid_chamber as lc
+    from stand.balancers import liquid_chamber as lc
 
     R, h = p.chamber_radius, p.chamber_height
     out = {"equation": "(2.15): sin(beta*) = 8 pi nu R xi/(V omega), xi = 2 pi (whole wall); "

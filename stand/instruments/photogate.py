@@ -35,11 +35,11 @@ from typing import Optional
 
 import numpy as np
 
-from ..scene import (Balancer, InitialState, Rotor, RunSettings, Scene, SceneError,
+from stand.scene import (Balancer, InitialState, Rotor, RunSettings, Scene, SceneError,
                      SpeedDrive)
-from ._settings import (check, check_integer, check_number, choice, integer, keys, number,
+from stand.instruments._settings import (check, check_integer, check_number, choice, integer, keys, number,
                         read_table, rebased)
-from .timing import MeasurementError, level_crossings, shaft_velocity
+from stand.instruments.timing import MeasurementError, level_crossings, shaft_velocity
 
 __all__ = ["PhotoGate", "GatePasses", "NaturalFrequencyTest", "screen_coordinate",
            "gate_passes", "gate_crossings", "pulse_counter_period", "natural_frequency_test",
@@ -304,7 +304,7 @@ def natural_frequency_test(scene: Scene, deflection: float, gate: Optional[Photo
     MeasurementError
         The counter does not stop (fewer pulses than ``stop_pass``).
     """
-    from ..simulate import simulate
+    from stand.simulate import simulate
 
     gate = gate if gate is not None else PhotoGate()
     check_number("deflection", deflection, "m")

@@ -30,10 +30,10 @@ import math
 
 import numpy as np
 
-from ..scene import Scene, SceneError
-from ..simulate import Trajectory, simulate
-from .placement import instrument_plane, placement_of, screens, with_axis_planes
-from .rings import scene_capacity
+from stand.scene import Scene, SceneError
+from stand.simulate import Trajectory, simulate
+from stand.instruments.placement import instrument_plane, placement_of, screens, with_axis_planes
+from stand.instruments.rings import scene_capacity
 
 FRAME_COMPRESSION = {"compression": "gzip", "compression_opts": 1, "shuffle": True}
 #: at most this many stroboscope frames per recording (one flash per revolution adds up)
@@ -66,9 +66,9 @@ def plane_view(traj, scene: Scene, settings):
     plane = instrument_plane(scene, settings)
     if scene.kind != "rotor" or traj is None:
         return traj, plane, {}
-    from ..result import weight_names
-    from ..scene import Balancer
-    from .timing import shaft_velocity
+    from stand.result import weight_names
+    from stand.scene import Balancer
+    from stand.instruments.timing import shaft_velocity
 
     full = dataclasses.replace(traj, main_plane=plane, extra=None)
     pw = tuple(w for w in scene.plane_weights if w.plane == plane)
@@ -79,7 +79,7 @@ def plane_view(traj, scene: Scene, settings):
     def named(sc):
         n, p = weight_names(sc.weights)
         if sc.bodies:
-            from ..rotors.bodies import body_names
+            from stand.rotors.bodies import body_names
 
             bn, bp = body_names(sc.bodies)
             n, p = n + bn, p + bp
@@ -112,7 +112,7 @@ def _max_speed(scene: Scene) -> float:
 
 
 def _screen_plan(scene: Scene, name: str = "screen"):
-    from .screen import exposure_times, frame_times
+    from stand.instruments.screen import exposure_times, frame_times
 
     cam = scene.instruments[name]
     starts = frame_times(scene.run.duration, cam)
@@ -193,14 +193,14 @@ def write_instruments(f, scene: Scene, traj: Trajectory, plans=None) -> None:
     if "photogate" in inst:
         _write_photogate(f, scene, traj)
     if "keyphasor" in inst:
-        from .probes import keyphasor_pulses
+        from stand.instruments.probes import keyphasor_pulses
 
         g = f.require_group("instruments/keyphasor")
         g.attrs["settings"] = _settings_json(inst["keyphasor"])
         ds = g.create_dataset("pulse_time", data=keyphasor_pulses(traj, inst["keyphasor"]))
         ds.attrs["units"] = "s"
     if "tachometer" in inst:
-        from .probes import tachometer_readings
+        from stand.instruments.probes import tachometer_readings
 
         g = f.require_group("instruments/tachometer")
         g.attrs["settings"] = _settings_json(inst["tachometer"])
@@ -208,7 +208,7 @@ def write_instruments(f, scene: Scene, traj: Trajectory, plans=None) -> None:
                     {"time": "s", "speed": "rad/s", "counts": "1", "true_speed": "rad/s",
                      "true_speed_at_time": "rad/s"})
     if "probes" in inst:
-        from .probes import probe_signals
+        from stand.instruments.probes import probe_signals
 
         g = f.require_group("instruments/probes")
         g.attrs["settings"] = _settings_json(inst["probes"])
@@ -232,9 +232,9 @@ def _write_dict(g, d: dict, units: dict) -> None:
 
 
 def _write_screen(f, scene: Scene, traj: Trajectory, plan, name: str = "screen") -> None:
-    from .render import render_frames
-    from .rings import check_spot_size, render_ring_image, ring_radii
-    from .screen import frame_truth, spot_positions
+    from stand.instruments.render import render_frames
+    from stand.instruments.rings import check_spot_size, render_ring_image, ring_radii
+    from stand.instruments.screen import frame_truth, spot_positions
 
     cam, starts, times, index = plan
     ex, plane, _ = plane_view(traj.extra, scene, cam)
@@ -307,7 +307,7 @@ _BODY_DESCRIPTIONS = {
 
 
 def _write_strobe(f, scene: Scene, traj: Trajectory) -> None:
-    from .stroboscope import drawn_weights, render_strobe_frames
+    from stand.instruments.stroboscope import drawn_weights, render_strobe_frames
 
     strobe = scene.instruments["stroboscope"]
     traj, plane, names = plane_view(traj, scene, strobe)
@@ -378,8 +378,8 @@ def _write_strobe(f, scene: Scene, traj: Trajectory) -> None:
 
 
 def _write_photogate(f, scene: Scene, traj: Trajectory) -> None:
-    from .photogate import gate_passes, pulse_counter_period, screen_coordinate
-    from .timing import shaft_velocity
+    from stand.instruments.photogate import gate_passes, pulse_counter_period, screen_coordinate
+    from stand.instruments.timing import shaft_velocity
 
     gate = scene.instruments["photogate"]
     screen = scene.instruments.get("screen") or next(iter(screens(scene.instruments).values()), None)

@@ -36,7 +36,7 @@ from typing import Optional
 
 import numpy as np
 
-from ..scene import SceneError
+from stand.scene import SceneError
 
 __all__ = ["Placement", "PLACEMENT_KEYS", "AXIS_MAPS", "NO_TILT", "split_placement",
            "attach", "placement_of", "instrument_plane", "axis_plane_name", "axis_map",
@@ -120,7 +120,7 @@ def placement_of(settings) -> Placement:
 
 # ---------------------------------------------------------------- axis points
 def _spatial(params, rotor, d):
-    from ..rotors.spatial_supports import plane_map
+    from stand.rotors.spatial_supports import plane_map
 
     return plane_map(d)
 
@@ -148,7 +148,7 @@ def _platform(params, rotor, d):
         raise SceneError("axial_position on a platform with parameters given in [structure]: not "
                          "applicable in this version (the axis map needs the platform's "
                          "parameter set); use plane = \"rotor\" or \"balancer\"")
-    from ..rotors.platform import default_params, plane_map
+    from stand.rotors.platform import default_params, plane_map
 
     return plane_map(default_params(), d)
 
@@ -262,7 +262,7 @@ def check_instrument_budget(scene, width: int) -> None:
     """Every scene's instruments: image sizes, the memory of all screens' exposure
     sub-samples (simulated state rows of ``width`` numbers), each instrument against the
     run settings.  Errors name the table, the value and the limit."""
-    from ..scene_file import MAX_IMAGE_PIXELS, MAX_STATE_BYTES
+    from stand.scene_file import MAX_IMAGE_PIXELS, MAX_STATE_BYTES
 
     for inst in scene.instruments.values():
         w, h = getattr(inst, "width", 0), getattr(inst, "height", 0)
@@ -272,7 +272,7 @@ def check_instrument_budget(scene, width: int) -> None:
     run = scene.run
     nbytes, what = 0, []
     for name, cam in screens(scene.instruments).items():
-        from .screen import exposure_times, frame_times
+        from stand.instruments.screen import exposure_times, frame_times
 
         n_frames = frame_times(run.duration, cam).size
         k = exposure_times(np.zeros(1), cam, max_rotor_speed=scene.top_speed).shape[1]

@@ -25,10 +25,10 @@ from typing import Optional
 
 import numpy as np
 
-from ..scene import SceneError
-from ._settings import (check, integer, keys, number, numbers, read_table, rebased,
+from stand.scene import SceneError
+from stand.instruments._settings import (check, integer, keys, number, numbers, read_table, rebased,
                         table_numbers)
-from .timing import crossing_times, hermite, sample_trajectory, shaft_velocity, time_window
+from stand.instruments.timing import crossing_times, hermite, sample_trajectory, shaft_velocity, time_window
 
 __all__ = ["Keyphasor", "Tachometer", "DisplacementProbes", "keyphasor_pulses",
            "tachometer_readings", "probe_signals", "KEYPHASOR_KEYS", "TACHOMETER_KEYS",

@@ -45,7 +45,7 @@ from typing import Iterator, Optional
 
 import numpy as np
 
-from .._jit import njit
+from stand._jit import njit
 
 __all__ = ["render_frame", "render_frames", "render_long_exposure", "background_table",
            "frame_seed", "WINDOW_SIGMAS", "GUIDE_BITS"]

@@ -24,7 +24,7 @@ from typing import Iterable, Optional
 
 import numpy as np
 
-from ..scene import (Balancer, InitialState, Rotor, RunSettings, Scene, SceneError,
+from stand.scene import (Balancer, InitialState, Rotor, RunSettings, Scene, SceneError,
                      SpeedDrive)
 
 __all__ = ["scene_capacity", "ring_radii", "family_ring_radii", "ring_radii_by_simulation",
@@ -132,7 +132,7 @@ def family_ring_radii(scene: Scene, speed: Optional[float] = None,
     isotropic rotor and an ellipse otherwise; the radius is its semi-major axis
     ``|A| + |B|`` (as the planar closed form).  The phase of the unbalance does not change it.
     """
-    from ..rotors.coupled import with_locked_weights
+    from stand.rotors.coupled import with_locked_weights
 
     S = _capacity(scene)
     w = _speed(scene, speed)
@@ -201,7 +201,7 @@ def ring_radii_by_simulation(scene: Scene, speed: Optional[float] = None,
     -------
     ndarray (len(zones),)
     """
-    from ..simulate import simulate
+    from stand.simulate import simulate
 
     S = _capacity(scene)
     w = _speed(scene, speed)
@@ -291,7 +291,7 @@ def render_ring_image(radii_m, cam, *, centre=None, line_width: float = 1.0, lab
     right of every ``label_every``-th ring (``zones`` gives the numbers;
     default 0, 1, ...).
     """
-    from .screen import pixels_to_screen, screen_to_pixels
+    from stand.instruments.screen import pixels_to_screen, screen_to_pixels
 
     radii = np.asarray(radii_m, dtype=float).ravel()
     cx, cy = (cam.offset_x, cam.offset_y) if centre is None else centre

@@ -42,8 +42,8 @@ from typing import Optional
 
 import numpy as np
 
-from ..scene import SceneError
-from ._settings import REQUIRED, boolean, check, integer, keys, number, read_table
+from stand.scene import SceneError
+from stand.instruments._settings import REQUIRED, boolean, check, integer, keys, number, read_table
 
 __all__ = ["ScreenCamera", "spot_on_screen", "screen_to_pixels", "pixels_to_screen",
            "frame_times", "exposure_times", "spot_positions", "frame_truth", "SCREEN_KEYS",
@@ -454,7 +454,7 @@ def frame_truth(screen_m, px, cam: ScreenCamera, window: Optional[float] = None)
         ``in_frame`` (F,) bool: every sub-sample's drawing window (+-4 sigma) lies
         inside the image, so the centroid is not cut by the image border.
     """
-    from .render import WINDOW_SIGMAS
+    from stand.instruments.render import WINDOW_SIGMAS
 
     window = WINDOW_SIGMAS if window is None else window
     screen_m = np.asarray(screen_m, dtype=float)

@@ -37,9 +37,9 @@ from typing import Optional
 
 import numpy as np
 
-from ..scene import SceneError
-from ._settings import boolean, check, integer, keys, number, read_table, rebased
-from .timing import crossing_times, hermite, sample_trajectory, time_window, wrap
+from stand.scene import SceneError
+from stand.instruments._settings import boolean, check, integer, keys, number, read_table, rebased
+from stand.instruments.timing import crossing_times, hermite, sample_trajectory, time_window, wrap
 
 __all__ = ["Stroboscope", "StrobeReading", "reading_error", "flash_times", "strobe_angles",
            "image_multiplicity", "multiplicity_for_ratio", "default_ball_radius", "STROBE_KEYS",
@@ -324,7 +324,7 @@ def point_weights(traj):
     if scene is None or not getattr(scene, "bodies", ()) or not isinstance(
             getattr(traj, "weights", None), dict):
         return traj
-    from ..result import weight_names
+    from stand.result import weight_names
 
     names = [nm for nm in weight_names(scene.weights)[0] if nm in traj.weights]
     return _PointWeights(traj, names)
@@ -406,7 +406,7 @@ def body_looks(scene, strobe: Optional[Stroboscope] = None) -> tuple:
     bodies = tuple(getattr(scene, "bodies", ()) or ()) if scene is not None else ()
     if not bodies:
         return ()
-    from ..rotors.bodies import LiquidWeight, body_names
+    from stand.rotors.bodies import LiquidWeight, body_names
 
     names, _ = body_names(bodies)
     looks = []

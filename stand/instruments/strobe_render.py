@@ -46,10 +46,10 @@ from typing import Iterator, Optional
 
 import numpy as np
 
-from ..scene import SceneError
-from .strobe_readings import (PATH, TWO_PI, Stroboscope, body_coordinates, body_looks,
+from stand.scene import SceneError
+from stand.instruments.strobe_readings import (PATH, TWO_PI, Stroboscope, body_coordinates, body_looks,
                               default_ball_radius, flash_times, point_weights)
-from .timing import sample_trajectory, shaft_velocity, time_window, wrap
+from stand.instruments.timing import sample_trajectory, shaft_velocity, time_window, wrap
 
 __all__ = ["StrobeFrame", "render_strobe_frames", "drawn_weights", "LEVEL_INTERIOR", "LEVEL_RIM",
            "LEVEL_MARK", "LEVEL_ROD", "LEVEL_BALL", "LEVEL_LIQUID", "LEVEL_FLOAT",
@@ -261,7 +261,7 @@ def drawn_weights(scene, strobe: Stroboscope) -> list:
     ``surface_radius``, ``kappa``), lengths in m and px.  Empty when the geometry of the
     balls is unknown (no balancer and no ``track_radius``/``ball_radius`` settings).
     """
-    from ..result import weight_names
+    from stand.result import weight_names
 
     out = []
     pitch = strobe.pixel_pitch

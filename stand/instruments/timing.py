@@ -285,7 +285,7 @@ def _generic_velocity(traj, state):
     scene = getattr(traj, "scene", None)
     if scene is None or not (getattr(scene, "kind", None) == "rotor" or getattr(scene, "bodies", ())):
         return None
-    from ..rotors.coupled import build_model
+    from stand.rotors.coupled import build_model
 
     d = scene.drive
     torque = d.kind != "speed"
@@ -380,7 +380,7 @@ def time_window(traj, t_start: Optional[float], t_end: Optional[float],
         The window is empty; the message names ``what`` (e.g. "stroboscope")
         and the run's time span.
     """
-    from ..scene import SceneError
+    from stand.scene import SceneError
 
     t0 = float(traj.t[0]) if t_start is None else max(float(t_start), float(traj.t[0]))
     t1 = float(traj.t[-1]) if t_end is None else min(float(t_end), float(traj.t[-1]))

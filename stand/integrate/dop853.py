@@ -14,10 +14,10 @@ times.
 from __future__ import annotations
 
 import numpy as np
-from .vendor import dop853_coefficients as _co
+from stand.integrate.vendor import dop853_coefficients as _co
 
-from .._jit import literally, njit
-from ..kernels import rhs
+from stand._jit import literally, njit
+from stand.kernels import rhs
 
 N_STAGES = _co.N_STAGES  # 12
 A = np.ascontiguousarray(_co.A, dtype=float)  # (16, 16)

@@ -25,11 +25,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .._jit import literally, njit
-from .dop853 import DIVERGED, NOT_FINITE, REACHED_END, STEP_BUDGET
-from .kernel_set import kernels
-from ..kernels import rhs
-from ..scene import SceneError
+from stand._jit import literally, njit
+from stand.integrate.dop853 import DIVERGED, NOT_FINITE, REACHED_END, STEP_BUDGET
+from stand.integrate.kernel_set import kernels
+from stand.kernels import rhs
+from stand.scene import SceneError
 
 __all__ = ["run_dop853", "run_scipy", "warm_up", "Checkpoint", "fingerprint", "segments",
            "CHUNK_STEPS", "DIVERGENCE_LIMIT"]
@@ -102,7 +102,7 @@ class Checkpoint:
         return d
 
     def save(self, t, y, h, k_next, seg_done, st, out):
-        from ..io.atomic import atomic_path
+        from stand.io.atomic import atomic_path
 
         with atomic_path(self.path, suffix=".tmp.npz") as tmp:
             np.savez(tmp, fingerprint=np.array(self.fp), t=np.array(t), y=y, h=np.array(h),

@@ -33,8 +33,8 @@ from typing import Callable
 
 import numpy as np
 
-from .. import _jit
-from ..kernels import KIND_NAMES
+from stand import _jit
+from stand.kernels import KIND_NAMES
 
 #: about how long building / JIT-compiling a kind's kernels takes on a 2-core machine [s]
 BUILD_SECONDS = {0: 8, 1: 25}
@@ -127,7 +127,7 @@ def _checked(kind: int, source: str, loop, ev, jac) -> KernelSet:
     def dop853(sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_step, ts, k_next, out,
                stats, max_steps, limit):
         if not (ok(y) and ok(f) and ok(out) and ok(stats, np.int64)):
-            from .dop853 import dop853_loop, workspace
+            from stand.integrate.dop853 import dop853_loop, workspace
             return dop853_loop(kind, c(sp, float), c(wt, float), c(prog, float), float(t), y, f,
                                float(h_abs), float(t_end), float(rtol), float(atol),
                                c(cap, float), float(max_step), c(ts, float), int(k_next), out,
@@ -138,14 +138,14 @@ def _checked(kind: int, source: str, loop, ev, jac) -> KernelSet:
 
     def evaluate(t, y, dy, sp, wt, prog):
         if not ok(dy):
-            from ..kernels import evaluate as dispatch
+            from stand.kernels import evaluate as dispatch
             return dispatch(kind, float(t), c(y, float), dy, c(sp, float), c(wt, float),
                             c(prog, float))
         ev(float(t), c(y, float), dy, c(sp, float), c(wt, float), c(prog, float))
 
     def jacobian(t, y, f0, sp, wt, prog, J):
         if not ok(J):
-            from .driver import jac_fd
+            from stand.integrate.driver import jac_fd
             return jac_fd(kind, t, y, f0, sp, wt, prog, J)
         jac()(float(t), c(y, float), c(f0, float), c(sp, float), c(wt, float), c(prog, float), J)
 
@@ -170,9 +170,9 @@ def _entry_points(kind: int, jacobian_only: bool = False):
     numba = _jit.import_numba()
     from numba import typeof, types
 
-    from ..kernels import evaluate
-    from .dop853 import dop853_loop
-    from .driver import jac_fd
+    from stand.kernels import evaluate
+    from stand.integrate.dop853 import dop853_loop
+    from stand.integrate.driver import jac_fd
 
     lit = types.literal(kind)
     a1, a2 = typeof(np.zeros(1)), typeof(np.zeros((1, 1)))
@@ -190,7 +190,7 @@ def _entry_points(kind: int, jacobian_only: bool = False):
 
 def _with_workspace(loop, kind):
     """``loop(kind, ..., limit, work)`` as the kernel set's ``dop853(..., limit)``."""
-    from .dop853 import workspace
+    from stand.integrate.dop853 import workspace
 
     def dop853(sp, wt, prog, t, y, f, *rest):
         return loop(kind, sp, wt, prog, t, y, f, *rest, workspace(y.size))
@@ -202,9 +202,9 @@ def _jit_set(kind: int) -> KernelSet:
     """numba's JIT kernels of ``kind`` (compiled now, announced if it takes a while), or the
     plain-Python ones when numba is disabled."""
     if not _jit.HAVE_NUMBA:
-        from ..kernels import evaluate
-        from .dop853 import dop853_loop
-        from .driver import jac_fd
+        from stand.kernels import evaluate
+        from stand.integrate.dop853 import dop853_loop
+        from stand.integrate.driver import jac_fd
 
         return KernelSet(kind, "python", _with_workspace(dop853_loop, kind),
                          lambda *a: evaluate(kind, *a), lambda *a: jac_fd(kind, *a))
@@ -234,7 +234,7 @@ def kernels(kind: int, build: bool = False) -> KernelSet:
     build = build or mode == "precompiled"
     ks = None
     if _jit.HAVE_NUMBA and mode != "jit":
-        from . import precompiled
+        from stand.integrate import precompiled
 
         mod = precompiled.load(kind)
         if mod is None and build:
@@ -272,7 +272,7 @@ def precompile_in_background(say: bool = True) -> list:
         return []
     import subprocess
 
-    from . import precompiled
+    from stand.integrate import precompiled
 
     started = []
     for kind in sorted(_JIT_USED):

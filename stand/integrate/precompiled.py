@@ -33,8 +33,8 @@ import threading
 import warnings
 from pathlib import Path
 
-from .. import _jit
-from ..kernels import KIND_NAMES, RHS
+from stand import _jit
+from stand.kernels import KIND_NAMES, RHS
 
 #: (name, numba signature) of the exported functions; ``{k}`` is the kind's name
 _ARR1, _ARR2 = "f8[::1]", "f8[:,::1]"
@@ -191,7 +191,7 @@ def build(kind: int):
     if why is not None:
         raise RuntimeError(f"cannot precompile the kernels: {why}")
     numba = _jit.import_numba()
-    from ..io.lock import file_lock
+    from stand.io.lock import file_lock
 
     out = cache_dir()
     with file_lock(_lock_path(kind)):   # concurrent builds: one compiles, the others load it
@@ -205,7 +205,7 @@ def _lock_path(kind: int) -> Path:
 
 def building(kind: int) -> bool:
     """Whether another process is building kind ``kind``'s module now."""
-    from ..io.lock import is_locked
+    from stand.io.lock import is_locked
 
     return is_locked(_lock_path(kind))
 
@@ -240,8 +240,8 @@ def _build(kind, numba, out):
     name = module_name(kind)
     import numpy as np
 
-    from .dop853 import WORK_ROWS, dop853_loop
-    from ..kernels import evaluate
+    from stand.integrate.dop853 import WORK_ROWS, dop853_loop
+    from stand.kernels import evaluate
 
     loop = dop853_loop.dispatcher if hasattr(dop853_loop, "dispatcher") else dop853_loop
     ev = evaluate.dispatcher if hasattr(evaluate, "dispatcher") else evaluate

@@ -12,8 +12,8 @@ from typing import Callable
 
 import numpy as np
 
-from .._jit import literally, njit
-from ..kernels import rhs
+from stand._jit import literally, njit
+from stand.kernels import rhs
 
 __all__ = ["rk4_loop", "rk4_fixed_step"]
 

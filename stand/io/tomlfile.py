@@ -14,7 +14,7 @@ try:
 except ModuleNotFoundError:  # Python 3.10
     import tomli as tomllib
 
-from ..errors import SceneError
+from stand.errors import SceneError
 
 __all__ = ["read_toml", "tomllib"]
 

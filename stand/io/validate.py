@@ -16,7 +16,7 @@ from typing import Any, Callable, Mapping, Optional
 
 import numpy as np
 
-from ..errors import SceneError
+from stand.errors import SceneError
 
 __all__ = ["Table", "number", "fmt", "kind", "suggest", "REQUIRED"]
 

@@ -89,18 +89,18 @@ def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
     dict
         The truth (also written).
     """
-    from ..io.atomic import write_text
-    from ..recording import Recording, read_recording
+    from stand.io.atomic import write_text
+    from stand.recording import Recording, read_recording
 
     rec = recording if isinstance(recording, Recording) else read_recording(recording)
     if rec.shape("instruments/probes/signal") is None:
-        from ..errors import NotApplicable
+        from stand.errors import NotApplicable
 
         raise NotApplicable(f"{rec.path}: no instruments/probes (add [instruments.probes] with "
                          "angles = [0.0, 90.0] to the scene)")
     ang = np.asarray(rec.dataset("instruments/probes/angles"), float)
     if ang.size != 2 or abs(ang[0]) > 1e-9 or abs(ang[1] - math.pi / 2) > 1e-9:
-        from ..errors import NotApplicable
+        from stand.errors import NotApplicable
 
         raise NotApplicable(f"{rec.path}: instruments/probes angles = {np.degrees(ang).tolist()} deg; "
                          "the DAQ export writes an x and a y probe (angles = [0.0, 90.0])")

@@ -37,7 +37,7 @@ import re
 from dataclasses import dataclass, field, replace
 from typing import Optional
 
-from .units import QUANTITIES, ROLE_QUANTITY, UnitError, factor, parse_quantity, unit_from_name
+from stand.lab.units import QUANTITIES, ROLE_QUANTITY, UnitError, factor, parse_quantity, unit_from_name
 
 __all__ = ["ColumnSpec", "RecordingMap", "parse_columns", "read_map", "map_from_options", "recognise", "ROLES",
            "MapError"]
@@ -174,8 +174,8 @@ def parse_columns(text: str) -> RecordingMap:
 
 def _allow(data, where, keys, label) -> None:
     """Unknown keys of a map table: one line with a "did you mean" (stand.io.validate)."""
-    from ..errors import SceneError
-    from ..io.validate import Table
+    from stand.errors import SceneError
+    from stand.io.validate import Table
 
     try:
         Table(data, where).allow(keys)
@@ -185,7 +185,7 @@ def _allow(data, where, keys, label) -> None:
 
 def read_map(path) -> RecordingMap:
     """A TOML recording map (module docstring); errors name the file and the key."""
-    from ..io.tomlfile import read_toml
+    from stand.io.tomlfile import read_toml
 
     data, _, label = read_toml(path, "recording map", MapError)
     unknown = set(data) - {"table", "columns", "rotor"}

@@ -30,7 +30,7 @@ def rotor_angle_of(table, notes: list):
     from dsp.errors import SignalError
     from dsp.speed import RotorAngle, angle_from_pulses, angle_from_speed, pulse_times, repair_pulses
 
-    from .table import TableError
+    from stand.lab.table import TableError
 
     t, sig, cols = table.t, table.signals, table.columns
     if "angle" in sig:

@@ -34,8 +34,8 @@ from typing import Optional
 
 import numpy as np
 
-from .recording_map import ROLES, ColumnSpec, MapError, RecordingMap, recognise
-from .units import UnitError
+from stand.lab.recording_map import ROLES, ColumnSpec, MapError, RecordingMap, recognise
+from stand.lab.units import UnitError
 
 __all__ = ["LabTable", "TableError", "read_table", "is_table_file", "is_table", "read_frame"]
 
@@ -99,7 +99,7 @@ class LabTable:
 def is_table(path) -> bool:
     """A lab table rather than a stand recording: a table file by its name, or an HDF5 file
     holding a pandas table."""
-    from ..recording import pandas_table_key
+    from stand.recording import pandas_table_key
 
     p = Path(path)
     return is_table_file(p) or (p.suffix.lower() in (".h5", ".hdf5", ".hdf") and p.is_file()
@@ -194,12 +194,12 @@ def read_frame(path, rmap: Optional[RecordingMap] = None):
         if suffix in (".parquet", ".pq"):
             return pd.read_parquet(p), {}
         if suffix in (".h5", ".hdf5", ".hdf"):
-            from ..recording import pandas_table_key
+            from stand.recording import pandas_table_key
 
             key = rmap.key or pandas_table_key(p)
             if key is None:
                 raise TableError(f"{label}: no pandas table in this HDF5 file")
-            from ..recording import RecordingError, read_pandas_table
+            from stand.recording import RecordingError, read_pandas_table
 
             try:
                 return read_pandas_table(p, key), {}
@@ -288,7 +288,7 @@ def read_table(path, recording_map: Optional[RecordingMap] = None,
     cols = {}
     for role, spec in rmap.columns.items():
         if spec.column not in df:
-            from ..io.validate import suggest
+            from stand.io.validate import suggest
 
             raise TableError(f"{label}: {role} = column {spec.column!r} ({rmap.source}) is not in "
                              f"the table; {suggest(spec.column, names)}its columns: "
@@ -311,8 +311,8 @@ def read_table(path, recording_map: Optional[RecordingMap] = None,
     sig = {}
     for role, spec in cols.items():
         if spec.unit is None:
-            from .recording_map import DEFAULT_UNIT
-            from .units import unit_from_name, ROLE_QUANTITY
+            from stand.lab.recording_map import DEFAULT_UNIT
+            from stand.lab.units import unit_from_name, ROLE_QUANTITY
 
             unit = unit_from_name(spec.column, ROLE_QUANTITY[role])
             if unit is None:

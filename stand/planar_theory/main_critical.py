@@ -49,7 +49,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
-from .main_charpoly import (StabilityWarning, _abscissa_batch, _abscissa_tol, _check_params,
+from stand.planar_theory.main_charpoly import (StabilityWarning, _abscissa_batch, _abscissa_tol, _check_params,
                             _companion_roots, _conservative_margin_batch, _conservative_tol,
                             _degenerate_message, charpoly_coefficients,
                             conservative_coefficients, is_stable)

@@ -22,17 +22,17 @@ This module gathers the theory; the code lives in
 """
 from __future__ import annotations
 
-from .main_charpoly import (  # noqa: F401  (the private ones: batch forms used by stand.sweep)
+from stand.planar_theory.main_charpoly import (  # noqa: F401  (the private ones: batch forms used by stand.sweep)
     StabilityWarning, _abscissa_batch, _abscissa_tol, _conservative_margin_batch,
     _conservative_tol, charpoly_coefficients, conservative_coefficients, d_from_angles,
     d_two_balls, is_stable, jacobian_eigenvalues, main_eigenvalues, spectral_abscissa,
 )
-from .main_closed_forms import (
+from stand.planar_theory.main_closed_forms import (
     R1_first_order, R1_max_closed_form, R1_max_validity, R1_refined, R_window_large_H,
     balancing_rate, conservative_R1_k1, conservative_R1_parametric, conservative_R1_series,
     conservative_R23_k1, conservative_series_k0, high_speed_h_crit,
 )
-from .main_critical import (  # noqa: F401  (R_MIN/MAX_DEFAULT: not in __all__)
+from stand.planar_theory.main_critical import (  # noqa: F401  (R_MIN/MAX_DEFAULT: not in __all__)
     R_MAX_DEFAULT, R_MIN_DEFAULT, CriticalSpeed, critical_speeds, high_speed_h_crit_exact,
     unbalance_independent_threshold,
 )

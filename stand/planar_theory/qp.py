@@ -44,9 +44,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from .qp_curve import (_D, _EPS, _RTOL, QPWarning, _check, _extrema, _params, _RmH,
+from stand.planar_theory.qp_curve import (_D, _EPS, _RTOL, QPWarning, _check, _extrema, _params, _RmH,
                        dspeed_dOmega, frequency_polynomial, speed_of_precession)
-from .qp_spot import SpotLaw, epitrochoid, spot_law
+from stand.planar_theory.qp_spot import SpotLaw, epitrochoid, spot_law
 
 __all__ = [
     "QPWarning", "QPThresholds", "QPStability", "SpotLaw",

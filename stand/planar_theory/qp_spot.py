@@ -16,7 +16,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from .qp_curve import _D, _check
+from stand.planar_theory.qp_curve import _D, _check
 
 __all__ = ["SpotLaw", "spot_law", "epitrochoid"]
 

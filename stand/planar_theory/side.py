@@ -18,10 +18,10 @@ theory; the code lives in
 """
 from __future__ import annotations
 
-from .steady import (MainMotion, SideClass, SideMotion, bits_of, identical_side_classes,
+from stand.planar_theory.steady import (MainMotion, SideClass, SideMotion, bits_of, identical_side_classes,
                      main_motion_angles, maximally_balanced_motion, net_unbalance,
                      side_motions, side_window, steady_deflection, steady_residual)
-from .steady_stability import (SteadyMotionReport, is_stable, large_unbalance_coefficients,
+from stand.planar_theory.steady_stability import (SteadyMotionReport, is_stable, large_unbalance_coefficients,
                                stable_steady_motions, steady_eigenvalues, steady_state)
 
 __all__ = [

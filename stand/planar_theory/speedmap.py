@@ -21,11 +21,11 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from ..planar import build_planar_model
-from ..scene import Scene, SpeedDrive, dimensionless
-from . import main_motion as mm
-from . import qp
-from . import side
+from stand.planar import build_planar_model
+from stand.scene import Scene, SpeedDrive, dimensionless
+from stand.planar_theory import main_motion as mm
+from stand.planar_theory import qp
+from stand.planar_theory import side
 
 #: side motions are evaluated (finite-difference Jacobians) only up to this many weights
 MAX_WEIGHTS_FOR_SIDE = 8
@@ -408,7 +408,7 @@ def plot_speed_map(th: SceneTheory, path=None, ax=None):
     """
     from matplotlib import rcParams
 
-    from ..figures import figure_and_axes, save_figure
+    from stand.figures import figure_and_axes, save_figure
 
     labels = sorted({m for b in th.bands for m in b.motions},
                     key=lambda s: (s != "main", s != "main (maximally balanced)", s))

@@ -18,11 +18,11 @@ from typing import Optional
 
 import numpy as np
 
-from ..planar import (BETA, D11, D12, D21, D22, EPS0, FREE, K11, K12, K21, K22,
+from stand.planar import (BETA, D11, D12, D21, D22, EPS0, FREE, K11, K12, K21, K22,
                       PlanarModel, build_planar_model)
-from ..rotating import rotating_jacobian, rotating_rhs
-from ..weights import EPS as W_EPS
-from .steady import (SideMotion, _wrap, bits_of, identical_side_classes, main_motion_angles,
+from stand.rotating import rotating_jacobian, rotating_rhs
+from stand.weights import EPS as W_EPS
+from stand.planar_theory.steady import (SideMotion, _wrap, bits_of, identical_side_classes, main_motion_angles,
                      side_motions)
 
 __all__ = [

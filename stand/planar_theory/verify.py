@@ -14,10 +14,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..regime import classify
-from ..scene import RunSettings, Scene, SpeedDrive
-from ..simulate import simulate
-from .speedmap import SceneTheory, scene_theory
+from stand.regime import classify
+from stand.scene import RunSettings, Scene, SpeedDrive
+from stand.simulate import simulate
+from stand.planar_theory.speedmap import SceneTheory, scene_theory
 
 
 @dataclass

@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 import re
 
-from .html import check_schema, figure_png, write_report
+from stand.reports.html import check_schema, figure_png, write_report
 
 __all__ = ["accuracy_report", "recommend", "accuracy_banner", "SCHEMA", "DEFAULT_TARGET"]
 
@@ -180,7 +180,7 @@ def accuracy_report(scene, *, rtols=(1e-4, 1e-6, 1e-8, 1e-10), methods=None, rk4
         errors in m and relative to max |r_ref|, times in s; ``verdict`` the
         recommendation in words (:func:`accuracy_banner`), shown first in the HTML.
     """
-    from ..accuracy import accuracy
+    from stand.accuracy import accuracy
 
     if methods is None:
         methods = ["DOP853", "LSODA", "Radau", "RK4"]

@@ -36,13 +36,13 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io.jsonable import to_jsonable
-from .balancing_dynamics import dynamics
-from .balancing_figures import figures
-from .balancing_input import load_record
-from .balancing_quality import balancing_quality
-from .balancing_schema import FORMAT_VERSION, REGIME_NAMES, SCHEMA, SECTIONS
-from .html import check_schema, write_report
+from stand.io.jsonable import to_jsonable
+from stand.reports.balancing_dynamics import dynamics
+from stand.reports.balancing_figures import figures
+from stand.reports.balancing_input import load_record
+from stand.reports.balancing_quality import balancing_quality
+from stand.reports.balancing_schema import FORMAT_VERSION, REGIME_NAMES, SCHEMA, SECTIONS
+from stand.reports.html import check_schema, write_report
 
 __all__ = ["balancing_report", "SCHEMA", "REGIME_NAMES", "FORMAT_VERSION"]
 
@@ -99,7 +99,7 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
         service_speed_rpm = float(service_speed_rpm)
         if not (math.isfinite(service_speed_rpm) and service_speed_rpm > 0):
             raise ValueError(f"service_speed_rpm = {service_speed_rpm!r}: must be > 0 rpm")
-    from .. import __version__
+    from stand import __version__
 
     rec = load_record(recording_path, recording_map)
     d = rec.data
@@ -135,7 +135,7 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
         e0 = scene.rotor.unbalance / S
     lab = None
     if d.get("table") is not None:
-        from .balancing_lab import lab_identification
+        from stand.reports.balancing_lab import lab_identification
 
         lab = lab_identification(recording_path, d["table"].recording_map, grade,
                                  service_speed_rpm, notes)
@@ -174,7 +174,7 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
     # ---------------- dynamics
     dyn = dynamics(rec, notes, warn)
     if lab is not None:
-        from .balancing_lab import fill_from_lab
+        from stand.reports.balancing_lab import fill_from_lab
 
         fill_from_lab(lab, header, bq, dyn, grade, w_service, warn)
 
@@ -198,13 +198,13 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
     sections = SECTIONS
     extra = {}
     if lab is not None:
-        from .balancing_lab import LAB_SCHEMA
+        from stand.reports.balancing_lab import LAB_SCHEMA
 
         doc["lab_identification"] = lab
         sections = SECTIONS[:-2] + ("lab_identification",) + SECTIONS[-2:]
         extra["lab_identification"] = LAB_SCHEMA
     if tracks:
-        from .balancing_two_plane import TWO_PLANE_SCHEMA, two_plane_section
+        from stand.reports.balancing_two_plane import TWO_PLANE_SCHEMA, two_plane_section
 
         doc["two_plane"] = two_plane_section(recording_path, tracks, grade, service_speed_rpm, warn)
         sections = sections[:-2] + ("two_plane",) + sections[-2:]
@@ -215,10 +215,10 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
         raise RuntimeError("balancing report does not match its schema: " + "; ".join(problems))
     figs = None
     if html_path or pdf_path:
-        from .balancing_figures import polar_figures
+        from stand.reports.balancing_figures import polar_figures
 
         figs = {**polar_figures(plain, scene), **figures(rec)}
-    from .balancing_page import page_body, pdf_tables, verdict
+    from stand.reports.balancing_page import page_body, pdf_tables, verdict
 
     title = f"Balancing-quality report: {header['scene_name']}"
     banner = verdict(plain)
@@ -226,7 +226,7 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
                        sections=sections, banner=banner,
                        body=(lambda p: page_body(p, figs)) if html_path else None)
     if pdf_path:
-        from .pdf import write_pdf
+        from stand.reports.pdf import write_pdf
 
         write_pdf(pdf_path, title, banner, figures=figs, tables=pdf_tables(plain))
     return out
@@ -256,8 +256,8 @@ def _scene_warnings(rec, bq, dyn, w_service, final_speed, steady_len, warn, note
                  "balancer's capacity S; the weights cannot balance it (they gather on the light "
                  "side)")
     if scene.balancer.count and final_speed:
-        from ..scene import dimensionless
-        from ..planar_theory import qp
+        from stand.scene import dimensionless
+        from stand.planar_theory import qp
 
         try:
             p = dimensionless(scene)

@@ -13,8 +13,8 @@ import math
 
 import numpy as np
 
-from .balancing_schema import REGIME_NAMES
-from ..signals import per_revolution, plane_free_decay
+from stand.reports.balancing_schema import REGIME_NAMES
+from stand.signals import per_revolution, plane_free_decay
 
 __all__ = ["dynamics"]
 
@@ -100,7 +100,7 @@ def dynamics(rec, notes, warn):
         try:
             import warnings as _w
 
-            from ..planar_theory.speedmap import scene_theory
+            from stand.planar_theory.speedmap import scene_theory
 
             with _w.catch_warnings():
                 _w.simplefilter("ignore")

@@ -6,8 +6,8 @@ import math
 
 import numpy as np
 
-from .html import figure_png
-from ..signals import per_revolution
+from stand.reports.html import figure_png
+from stand.signals import per_revolution
 
 __all__ = ["figures", "polar_figures"]
 
@@ -161,7 +161,7 @@ def polar_figures(doc, scene=None) -> dict:
     ``doc`` is the report's JSON; ``scene`` (optional) gives the angle of the rotor's own
     unbalance (the "before" point).
     """
-    from .html import figure_png
+    from stand.reports.html import figure_png
 
     out = {}
     bq = doc.get("balancing_quality") or {}

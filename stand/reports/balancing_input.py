@@ -17,7 +17,7 @@ from typing import Any, Optional
 
 import numpy as np
 
-from ..signals import steady_start
+from stand.signals import steady_start
 
 __all__ = ["read_input", "load_record", "Record"]
 
@@ -28,7 +28,7 @@ def _read_table(p: Path, recording_map=None) -> dict:
     """A lab table (:func:`stand.identify._from_table`: the one table reader and speed
     source).  A tachometer's speed or, with no speed channel, the whirl's own phase gives
     the rotor angle the report's order tracking needs (flagged: no phase reference)."""
-    from ..identify import _from_table, _whirls
+    from stand.identify import _from_table, _whirls
 
     d = _from_table(p, recording_map)
     angle = d["angle"]
@@ -61,7 +61,7 @@ def _read_table(p: Path, recording_map=None) -> dict:
 
 def _read_h5(p: Path) -> dict:
     """The HDF5 form, through the one reader :func:`stand.recording.read_recording`."""
-    from ..recording import read_recording
+    from stand.recording import read_recording
 
     rec = read_recording(p)  # RecordingError (a ValueError) names file and dataset
     scene, scene_error = rec.scene, None
@@ -134,7 +134,7 @@ def read_input(path, recording_map=None) -> dict:
         raise FileNotFoundError(2, "recording not found", str(p))
     if p.is_dir():
         raise ValueError(f"{p}: is a directory, not a recording")
-    from ..lab.table import is_table
+    from stand.lab.table import is_table
 
     if is_table(p):
         d = _read_table(p, recording_map)

@@ -30,7 +30,7 @@ LAB_SCHEMA = {"input": O, "speed_source": S_, "programme": O, "critical_speed_hz
 def lab_identification(path, recording_map, grade, service_speed_rpm, notes) -> dict:
     """The ``lab_identification`` section (keys of :data:`LAB_SCHEMA`); the analysis' notes
     are added to ``notes``."""
-    from ..identify import analyze
+    from stand.identify import analyze
 
     a = analyze(path, grade_mm_s=grade, service_speed_rpm=service_speed_rpm,
                 recording_map=recording_map)

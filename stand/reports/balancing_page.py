@@ -17,15 +17,15 @@ from __future__ import annotations
 import html
 from typing import Mapping
 
-from .labels import label
-from .numbers import plain
-from .tables import details as _details
-from .tables import figure as _figure
-from .tables import list_table as _list_table
-from .tables import nested as _nested
-from .tables import rows as _rows
-from .tables import show
-from .tables import table as _table
+from stand.reports.labels import label
+from stand.reports.numbers import plain
+from stand.reports.tables import details as _details
+from stand.reports.tables import figure as _figure
+from stand.reports.tables import list_table as _list_table
+from stand.reports.tables import nested as _nested
+from stand.reports.tables import rows as _rows
+from stand.reports.tables import show
+from stand.reports.tables import table as _table
 
 __all__ = ["verdict", "page_body", "pdf_tables", "show"]
 

@@ -31,7 +31,7 @@ PLANE_KEYS = ("plane", "axial_position_m", "unbalance_gmm", "unbalance_gmm_std",
 
 def two_plane_section(recording_path, tracks, grade, service_speed_rpm, warn) -> dict:
     """The ``two_plane`` section (plain types); ``warn(code, message)`` for a failed plane."""
-    from ..identify import two_plane
+    from stand.identify import two_plane
 
     doc = two_plane(recording_path, list(tracks), grade_mm_s=grade,
                     service_speed_rpm=service_speed_rpm)

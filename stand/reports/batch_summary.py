@@ -29,9 +29,9 @@ def order_failures_first(df):
 def write_summary_page(df, html_dir, grade: float) -> Path:
     """``html_dir/index.html``: the folder's verdicts, failures first, each row linked to the
     file's report; written atomically.  Returns its path."""
-    from ..io.atomic import write_text
-    from .html import render_html
-    from .numbers import plain
+    from stand.io.atomic import write_text
+    from stand.reports.html import render_html
+    from stand.reports.numbers import plain
 
     d = Path(html_dir)
     rows = []

@@ -17,8 +17,8 @@ import io
 import re
 from typing import Any, Iterable, Mapping
 
-from ..io.atomic import write_text
-from ..io.jsonable import dumps, to_jsonable
+from stand.io.atomic import write_text
+from stand.io.jsonable import dumps, to_jsonable
 
 __all__ = ["figure_png", "render_html", "banner_html", "write_report", "atomic_write_text",
            "jsonable", "check_schema"]
@@ -86,14 +86,14 @@ def _fmt(v: Any) -> str:
 
 def _table(d: Mapping) -> str:
     """A section as labelled rows (:func:`stand.reports.tables.nested`)."""
-    from .tables import nested
+    from stand.reports.tables import nested
 
     return nested(d)
 
 
 def _rows_table(rows: Iterable[Mapping]) -> str:
     """A list of records as one table with labelled columns (:func:`stand.reports.tables.list_table`)."""
-    from .tables import list_table
+    from stand.reports.tables import list_table
 
     return list_table(list(rows))
 
@@ -156,7 +156,7 @@ def render_html(title: str, doc: Mapping, figures: Mapping[str, str] | None = No
         parts.append("</body></html>")
         return "\n".join(parts)
     keys = list(sections) if sections is not None else list(doc)
-    from .labels import label as _label
+    from stand.reports.labels import label as _label
 
     parts.append("<p>" + " · ".join(f"<a href='#{html.escape(k)}'>{html.escape(_label(k))}</a>" for k in keys)
                  + (" · <a href='#figures'>figures</a>" if figures else "") + "</p>")
@@ -164,7 +164,7 @@ def render_html(title: str, doc: Mapping, figures: Mapping[str, str] | None = No
         if k not in doc:
             continue
         v = doc[k]
-        from .labels import label
+        from stand.reports.labels import label
 
         parts.append(f"<h2 id='{html.escape(k)}'>{html.escape(label(k))}</h2>")
         if isinstance(v, Mapping):

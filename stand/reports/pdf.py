@@ -17,7 +17,7 @@ import io
 from pathlib import Path
 from typing import Iterable, Mapping, Sequence
 
-from ..io.atomic import atomic_path
+from stand.io.atomic import atomic_path
 
 __all__ = ["write_pdf", "PAGE_IN", "decode_png_uri"]
 

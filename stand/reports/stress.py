@@ -88,12 +88,12 @@ import time
 
 import numpy as np
 
-from ..io.jsonable import to_jsonable
-from .html import figure_png, write_report
-from .stress_cases import RUNNERS, outcome, warm
-from .stress_catalogue import (DEFAULT_CATALOGUE, KINDS, CatalogueError, load_catalogue,
+from stand.io.jsonable import to_jsonable
+from stand.reports.html import figure_png, write_report
+from stand.reports.stress_cases import RUNNERS, outcome, warm
+from stand.reports.stress_catalogue import (DEFAULT_CATALOGUE, KINDS, CatalogueError, load_catalogue,
                                select_cases)
-from .stress_page import stress_banner, stress_body
+from stand.reports.stress_page import stress_banner, stress_body
 
 __all__ = ["run_stress", "load_catalogue", "CatalogueError", "SCHEMA", "CASE_SCHEMA",
            "DEFAULT_CATALOGUE", "KINDS"]

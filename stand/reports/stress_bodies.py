@@ -36,8 +36,8 @@ import dataclasses
 
 import numpy as np
 
-from .stress_catalogue import CatalogueError
-from .stress_planar import _reference, _run_planar, scene_path
+from stand.reports.stress_catalogue import CatalogueError
+from stand.reports.stress_planar import _reference, _run_planar, scene_path
 
 __all__ = ["BODY_CHECKS", "kind_body_scene", "load_body_scene"]
 
@@ -55,8 +55,8 @@ def load_body_scene(case):
     CatalogueError
         The scene file is invalid, or it carries no body weight.
     """
-    from ..scene import SceneError
-    from ..scene_file import load_scene
+    from stand.scene import SceneError
+    from stand.scene_file import load_scene
 
     p = case["params"]
     try:
@@ -75,9 +75,9 @@ def load_body_scene(case):
 
 
 def _runup(scene, tr, res) -> list:
-    from ..accuracy import runup_params
-    from ..rotors.bodies import LiquidWeight
-    from .stress_planar import runup_check
+    from stand.accuracy import runup_params
+    from stand.rotors.bodies import LiquidWeight
+    from stand.reports.stress_planar import runup_check
 
     invalid = runup_check(scene, tr, res, "the closed-form run-up needs the planar rotor with "
                           "one liquid lever (float, or chamber without relaxation)")
@@ -105,13 +105,13 @@ def _expected_ratios(kind, prm) -> tuple:
         return [over], ("main motions (7.7): exact balance" if e0 < 1 else
                         "main motion above capacity: residual (e0 - 1) S")
     if kind == "two_axis":
-        from ..balancers.two_axis_steady import steady_motions
+        from stand.balancers.two_axis_steady import steady_motions
 
         mains = [m for m in steady_motions(prm) if m.kind.startswith("main") and m.stable]
         return ([float(m.n) for m in mains],
                 "stable main motions of ch. 6, efficiency n (6.40): "
                 + ", ".join(f"{m.kind} n = {m.n:.6g}" for m in mains))
-    from ..balancers.damper_steady import efficiency, is_stable, steady_motions
+    from stand.balancers.damper_steady import efficiency, is_stable, steady_motions
 
     mains = [m for m in steady_motions(prm) if m.kind == "main" and is_stable(prm, m)]
     ns = [float(efficiency(prm, m.u)) for m in mains]
@@ -120,7 +120,7 @@ def _expected_ratios(kind, prm) -> tuple:
 
 
 def _steady(scene, tr, res) -> list:
-    from ..balancers.composition import book_params
+    from stand.balancers.composition import book_params
 
     invalid = []
     bp = book_params(scene)

@@ -23,9 +23,9 @@ from typing import Callable
 
 import numpy as np
 
-from .stress_bodies import kind_body_scene
-from .stress_catalogue import CatalogueError
-from .stress_planar import (PLANAR_KINDS, kind_dimensionless, kind_qp, kind_scene_file, rel_max,
+from stand.reports.stress_bodies import kind_body_scene
+from stand.reports.stress_catalogue import CatalogueError
+from stand.reports.stress_planar import (PLANAR_KINDS, kind_dimensionless, kind_qp, kind_scene_file, rel_max,
                             warm_planar)
 
 __all__ = ["RUNNERS", "outcome", "warm"]
@@ -57,8 +57,8 @@ def outcome(**kw) -> dict:
 
 # ------------------------------------------------------------------ kind: liquid_runup
 def _kind_liquid(case, res):
-    from ..balancers.liquid_float import LiquidFloatParams, simulate as lf_simulate
-    from ..balancers.runup_closed_form import free_whirl_amplitudes, runup_closed_form_state
+    from stand.balancers.liquid_float import LiquidFloatParams, simulate as lf_simulate
+    from stand.balancers.runup_closed_form import free_whirl_amplitudes, runup_closed_form_state
 
     p = case["params"]
     try:
@@ -100,9 +100,9 @@ def _kind_liquid(case, res):
 
 # ------------------------------------------------------------------ kind: platform
 def _kind_platform(case, res):
-    from ..rotors.coupled import PlaneWeights, simulate_coupled
-    from ..rotors.platform import platform_rotor
-    from ..scene import Balancer
+    from stand.rotors.coupled import PlaneWeights, simulate_coupled
+    from stand.rotors.platform import platform_rotor
+    from stand.scene import Balancer
 
     p, chk = case["params"], case["check"]
     rot = platform_rotor()
@@ -186,9 +186,9 @@ def warm(case: dict) -> None:
     if case["kind"] in PLANAR_KINDS or case["kind"] == "body_scene":
         warm_planar(case)   # a scene file: a tiny run of it compiles its kernels
     elif case["kind"] == "platform":
-        from ..rotors.coupled import PlaneWeights, simulate_coupled
-        from ..rotors.platform import platform_rotor
-        from ..scene import Balancer
+        from stand.rotors.coupled import PlaneWeights, simulate_coupled
+        from stand.rotors.platform import platform_rotor
+        from stand.scene import Balancer
 
         b = Balancer(type="balls", mass=np.full(2, 0.1), radius=np.full(2, 0.1), drag=np.full(2, 1.0),
                      inertia=np.full(2, 1e-3), initial_angles=np.zeros(2), initial_speeds=np.zeros(2))

@@ -17,8 +17,8 @@ from pathlib import Path
 from typing import Any, Mapping
 
 
-from ..scene import SceneError
-from ..scene_file import Table, _fmt, _kind, _suggest
+from stand.scene import SceneError
+from stand.scene_file import Table, _fmt, _kind, _suggest
 
 __all__ = ["load_catalogue", "CatalogueError", "DEFAULT_CATALOGUE", "KINDS", "select_cases"]
 
@@ -240,7 +240,7 @@ def load_catalogue(path=DEFAULT_CATALOGUE) -> list:
         Unreadable file, TOML syntax error, or a malformed case: the message
         names the file, the case (number and name) and the field.
     """
-    from ..io.tomlfile import read_toml
+    from stand.io.tomlfile import read_toml
 
     path = Path(path)
     data, _, _ = read_toml(path, "catalogue", CatalogueError)

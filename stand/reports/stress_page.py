@@ -52,7 +52,7 @@ def stress_banner(doc: Mapping) -> dict:
 def _table(d: Mapping) -> str:
     """Rows ``label | value`` (:func:`stand.reports.tables.nested`: the one label table); a
     case's catalogue ``params`` as written."""
-    from .tables import nested
+    from stand.reports.tables import nested
 
     return nested(d, raw=("params",))
 

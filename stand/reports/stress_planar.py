@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .stress_catalogue import CatalogueError
+from stand.reports.stress_catalogue import CatalogueError
 
 __all__ = ["PLANAR_KINDS", "kind_dimensionless", "kind_scene_file", "kind_qp", "warm_planar",
            "rel_max"]
@@ -49,8 +49,8 @@ def warm_planar(case: dict) -> None:
         (:func:`stand.reports.stress_catalogue.load_catalogue`); its scene is
         run for at most 0.01 s (or tau) at 1 kHz with loose tolerances.
     """
-    from ..scene import RunSettings
-    from ..simulate import simulate
+    from stand.scene import RunSettings
+    from stand.simulate import simulate
 
     kind, p = case["kind"], case["params"]
     if kind == "dimensionless":
@@ -58,7 +58,7 @@ def warm_planar(case: dict) -> None:
     elif kind == "qp_threshold":
         scene = qp_scene(p)[0]
     else:
-        from ..scene_file import load_scene
+        from stand.scene_file import load_scene
 
         scene = load_scene(scene_path(case))
         scene = dataclasses.replace(scene, run=dataclasses.replace(scene.run, method=p["method"]))
@@ -77,10 +77,10 @@ def _shaft(tr):
 def _velocity(tr):
     """The shaft's velocity dr/dt [m/s] of a run, from its state (the generic kernel's
     layout through :func:`stand.instruments.timing.shaft_velocity`)."""
-    from ..planar import build_planar_model
+    from stand.planar import build_planar_model
 
     if tr.scene.kind != "planar" or tr.scene.bodies:
-        from ..instruments.timing import shaft_velocity
+        from stand.instruments.timing import shaft_velocity
 
         vx, vy = shaft_velocity(tr)
         return vx + 1j * vy
@@ -94,8 +94,8 @@ def runup_check(scene, tr, res, needs: str) -> list:
     a weight-free rotor, or model M1 itself with one liquid lever); fills ``res`` (oracle,
     error, revolutions, the undamped free-whirl drift) and returns the reasons it does not
     apply (``needs``: what the case kind requires, for the message)."""
-    from ..accuracy import runup_params
-    from ..balancers.runup_closed_form import free_whirl_amplitudes, runup_closed_form_state
+    from stand.accuracy import runup_params
+    from stand.balancers.runup_closed_form import free_whirl_amplitudes, runup_closed_form_state
 
     ru = runup_params(scene)
     if ru is None:
@@ -163,8 +163,8 @@ def _mechanics(tr):
 # ------------------------------------------------------------------ kind: dimensionless
 def dimensionless_scene(p):
     """The planar ball-balancer scene of a ``dimensionless`` case (omega_1 = 1 rad/s)."""
-    from ..scene import InitialState, RunSettings, SpeedDrive
-    from ..scene_file import scene_from_dimensionless
+    from stand.scene import InitialState, RunSettings, SpeedDrive
+    from stand.scene_file import scene_from_dimensionless
 
     if p["programme"] is not None:
         prog = np.array(p["programme"], float)
@@ -192,7 +192,7 @@ def _top_speed(p):
 
 def _run_planar(case, scene, res):
     """Simulate a planar scene; the method, solver status and step statistics go to ``res``."""
-    from ..simulate import simulate
+    from stand.simulate import simulate
 
     tr = simulate(scene, method=scene.run.method)
     st = tr.stats
@@ -219,7 +219,7 @@ def _reference(case, scene, tr, res):
     CatalogueError
         Check ``"reference"`` without ``reference_rtol``.
     """
-    from ..simulate import simulate
+    from stand.simulate import simulate
 
     rr = case["reference_rtol"]
     if rr is None:
@@ -238,9 +238,9 @@ def _reference(case, scene, tr, res):
 
 
 def kind_dimensionless(case, res):
-    from ..accuracy import closed_form_no_balancer
-    from ..scene import Balancer, Rotor
-    from ..planar_theory.main_motion import StabilityWarning, d_from_angles, d_two_balls, is_stable
+    from stand.accuracy import closed_form_no_balancer
+    from stand.scene import Balancer, Rotor
+    from stand.planar_theory.main_motion import StabilityWarning, d_from_angles, d_two_balls, is_stable
 
     p, chk = case["params"], case["check"]
     scene = dimensionless_scene(p)
@@ -339,9 +339,9 @@ def scene_path(case) -> Path:
 
 
 def kind_scene_file(case, res):
-    from ..accuracy import closed_form_no_balancer
-    from ..scene import SceneError
-    from ..scene_file import load_scene
+    from stand.accuracy import closed_form_no_balancer
+    from stand.scene import SceneError
+    from stand.scene_file import load_scene
 
     p, chk = case["params"], case["check"]
     try:
@@ -375,9 +375,9 @@ def kind_scene_file(case, res):
 # ------------------------------------------------------------------ kind: qp_threshold
 def qp_scene(p):
     """The stuck-ball (QP) motion of the theory as an initial state, e0 = 0."""
-    from ..scene import InitialState, RunSettings, SpeedDrive
-    from ..scene_file import scene_from_dimensionless
-    from ..planar_theory.qp import escape_speed, qp_roots
+    from stand.scene import InitialState, RunSettings, SpeedDrive
+    from stand.scene_file import scene_from_dimensionless
+    from stand.planar_theory.qp import escape_speed, qp_roots
 
     Rt, h, H = p["Rt"], p["h"], p["H"]
     Rs = escape_speed(Rt, h, H)
@@ -399,7 +399,7 @@ def qp_scene(p):
 
 
 def kind_qp(case, res):
-    from ..planar_theory.qp import qp_stability
+    from stand.planar_theory.qp import qp_stability
 
     p, chk = case["params"], case["check"]
     Rt, h, H = p["Rt"], p["h"], p["H"]

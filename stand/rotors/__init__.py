@@ -11,6 +11,6 @@ rotor type of the seeds, and the coupling of correction weights to any of them.
 * :mod:`.coupled` -- weights in any planes of any rotor, compiled time integration;
 * :mod:`.scene`, :mod:`.run` -- scene files and ``stand run`` / ``stand theory``.
 """
-from .structure import LinearRotor, Unbalance, sign_changes, working_ranges
+from stand.rotors.structure import LinearRotor, Unbalance, sign_changes, working_ranges
 
 __all__ = ["LinearRotor", "Unbalance", "sign_changes", "working_ranges"]

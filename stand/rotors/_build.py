@@ -31,7 +31,7 @@ from typing import Callable, Mapping
 
 import numpy as np
 
-from .structure import Unbalance
+from stand.rotors.structure import Unbalance
 
 __all__ = ["check", "positive", "nonnegative", "finite", "nonzero", "per_coordinate",
            "transverse_gravity", "weight_force", "gyroscopic_pair", "axis_planes",

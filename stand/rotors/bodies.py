@@ -42,7 +42,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from . import bodies_kernel as bk
+from stand.rotors import bodies_kernel as bk
 
 __all__ = ["TiltingWeight", "SphericalWeight", "LiquidWeight", "PlaneBody", "BODY_KINDS",
            "body_rows", "body_initial", "body_channels", "body_names", "liquid_notes"]

@@ -74,7 +74,7 @@ from __future__ import annotations
 
 import math
 
-from .._jit import njit
+from stand._jit import njit
 
 # body kinds
 TILT, SPHERE, LEVER, LAG = 1, 2, 3, 4

@@ -26,10 +26,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import bodies_kernel as bk
-from .coupled_kernel import CoupledModel
-from ..integrate.kernel_set import kernels
-from ..kernels import GENERIC
+from stand.rotors import bodies_kernel as bk
+from stand.rotors.coupled_kernel import CoupledModel
+from stand.integrate.kernel_set import kernels
+from stand.kernels import GENERIC
 
 __all__ = ["rotating_rhs", "rotating_to_fixed"]
 

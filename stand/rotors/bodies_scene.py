@@ -49,9 +49,9 @@ from __future__ import annotations
 import math
 from typing import Mapping
 
-from ..io.validate import _Table, _fmt
-from ..scene import SceneError
-from .bodies import G_STANDARD, LiquidWeight, PlaneBody, SphericalWeight, TiltingWeight
+from stand.io.validate import _Table, _fmt
+from stand.scene import SceneError
+from stand.rotors.bodies import G_STANDARD, LiquidWeight, PlaneBody, SphericalWeight, TiltingWeight
 
 __all__ = ["BODY_TYPES", "parse_body"]
 

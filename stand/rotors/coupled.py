@@ -14,12 +14,12 @@ from typing import Sequence
 
 import numpy as np
 
-from ..programme import programme_kinematics, programme_kinematics_many
-from ..scene import TorqueDrive
-from .bodies import body_channels, body_initial
-from .coupled_kernel import (H_W0, W_L, W_M, W_PLANE, CoupledModel, PlaneWeights, build_model,
+from stand.programme import programme_kinematics, programme_kinematics_many
+from stand.scene import TorqueDrive
+from stand.rotors.bodies import body_channels, body_initial
+from stand.rotors.coupled_kernel import (H_W0, W_L, W_M, W_PLANE, CoupledModel, PlaneWeights, build_model,
                              rhs_generic, with_locked_weights)
-from .structure import LinearRotor
+from stand.rotors.structure import LinearRotor
 
 __all__ = ["PlaneWeights", "CoupledModel", "CoupledRun", "build_model", "simulate_coupled",
            "rhs_generic", "with_locked_weights", "initial_state", "samples_si",
@@ -90,8 +90,8 @@ def simulate_coupled(rotor: LinearRotor, weights: Sequence[PlaneWeights], progra
         Initial rotor coordinates [SI] and rates; weights start at their
         balancers' ``initial_angles`` / ``initial_speeds`` (relative).
     """
-    from ..integrate.driver import run_dop853
-    from ..result import SolverStats
+    from stand.integrate.driver import run_dop853
+    from stand.result import SolverStats
 
     duration = _positive("duration", duration, "s")
     sample_rate = _positive("sample_rate", sample_rate, "Hz")

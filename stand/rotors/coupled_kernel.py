@@ -73,13 +73,13 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from .._jit import njit
-from ..programme import build_table, drive_torque_law, programme_kinematics
-from ..scene import Balancer
-from .bodies import PlaneBody, body_rows
-from .bodies_kernel import (B_H1, B_H2, B_KIND, B_OFF, B_PLANE, N_BCOL, SPHERE, TILT,
+from stand._jit import njit
+from stand.programme import build_table, drive_torque_law, programme_kinematics
+from stand.scene import Balancer
+from stand.rotors.bodies import PlaneBody, body_rows
+from stand.rotors.bodies_kernel import (B_H1, B_H2, B_KIND, B_OFF, B_PLANE, N_BCOL, SPHERE, TILT,
                             body_derivatives, body_reaction)
-from .structure import LinearRotor
+from stand.rotors.structure import LinearRotor
 
 __all__ = ["PlaneWeights", "CoupledModel", "build_model", "rhs_generic", "with_locked_weights"]
 
@@ -448,7 +448,7 @@ class CoupledModel:
 
     def angle_mask(self) -> np.ndarray:
         """True for the weights' angles (error scale capped at pi)."""
-        from .bodies_kernel import B_KIND, B_OFF, TILT
+        from stand.rotors.bodies_kernel import B_KIND, B_OFF, TILT
 
         mask = np.zeros(self.size, bool)
         mask[self.n:self.n + self.nw] = True

@@ -32,7 +32,7 @@ import math
 from dataclasses import dataclass
 from typing import Optional
 
-from ._build import check, positive
+from stand.rotors._build import check, positive
 
 __all__ = [
     "CWInertia", "two_point_pendulums", "two_rods", "two_physical_pendulums", "half_ring",

@@ -52,9 +52,9 @@ from typing import Optional
 
 import numpy as np
 
-from ._build import (axis_planes, finite, gyroscopic_pair, listed_unbalance, nonnegative, nonzero,
+from stand.rotors._build import (axis_planes, finite, gyroscopic_pair, listed_unbalance, nonnegative, nonzero,
                      per_coordinate, positive, transverse_gravity, weight_force)
-from .structure import LinearRotor
+from stand.rotors.structure import LinearRotor
 
 __all__ = ["spherical_hinge", "cylindrical_hinge", "fixed_point_stand", "hinge_stiffnesses",
            "spherical_hinge_delta", "spherical_hinge_criterion", "spherical_hinge_critical_speeds",

@@ -36,8 +36,8 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from ._build import axis_planes, finite, per_coordinate, positive, transverse_gravity
-from .structure import LinearRotor, Unbalance, sign_changes
+from stand.rotors._build import axis_planes, finite, per_coordinate, positive, transverse_gravity
+from stand.rotors.structure import LinearRotor, Unbalance, sign_changes
 
 __all__ = ["flexible_shaft", "shaft_natural_frequencies", "shaft_receptance", "shaft_criterion",
            "shaft_working_ranges", "optimal_positions"]

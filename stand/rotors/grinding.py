@@ -38,8 +38,8 @@ import math
 
 import numpy as np
 
-from ._build import check, finite, listed_unbalance, nonnegative, positive
-from .structure import LinearRotor
+from stand.rotors._build import check, finite, listed_unbalance, nonnegative, positive
+from stand.rotors.structure import LinearRotor
 
 __all__ = ["grinding_rotor", "grinding", "rotated_stiffness", "grinding_critical_speed",
            "grinding_working_ranges", "grinding_criterion", "contact_force", "static_offset"]

@@ -13,8 +13,8 @@ import math
 
 import numpy as np
 
-from ._build import nonnegative, positive, transverse_gravity, weight_force
-from .structure import LinearRotor, Unbalance
+from stand.rotors._build import nonnegative, positive, transverse_gravity, weight_force
+from stand.rotors.structure import LinearRotor, Unbalance
 
 __all__ = ["planar_rotor", "planar_critical_speeds"]
 

@@ -103,10 +103,10 @@ from typing import Optional, Sequence
 import numpy as np
 from scipy import linalg
 
-from ._build import finite
-from .platform_params import (SCENE_KEYS, Hanger, PlatformParams, default_hangers, default_params,
+from stand.rotors._build import finite
+from stand.rotors.platform_params import (SCENE_KEYS, Hanger, PlatformParams, default_hangers, default_params,
                               quadrifilar_hangers, scene_params)
-from .structure import LinearRotor, Unbalance
+from stand.rotors.structure import LinearRotor, Unbalance
 
 __all__ = [
     "Hanger", "PlatformParams", "default_params", "quadrifilar_hangers", "default_hangers",

@@ -22,7 +22,7 @@ from typing import Optional
 
 import numpy as np
 
-from ._build import check
+from stand.rotors._build import check
 
 __all__ = ["Hanger", "quadrifilar_hangers", "PlatformParams", "default_params", "default_hangers",
            "scene_params", "SCENE_KEYS"]

@@ -10,9 +10,9 @@ import math
 
 import numpy as np
 
-from .coupled import with_locked_weights
-from .scene import ROTOR_TYPES
-from .structure import generalised_working_ranges, working_ranges
+from stand.rotors.coupled import with_locked_weights
+from stand.rotors.scene import ROTOR_TYPES
+from stand.rotors.structure import generalised_working_ranges, working_ranges
 
 __all__ = ["family_theory"]
 
@@ -35,7 +35,7 @@ def _steady(scene, rot) -> dict:
 
 def _floquet_scan(scene, ranges: dict, lo: float, hi: float, n: int = 14) -> dict:
     """Main-motion critical speeds by Floquet continuation from the operating speed."""
-    from .stability import _state_guess, main_motion_critical_speeds, main_motion_stability
+    from stand.rotors.stability import _state_guess, main_motion_critical_speeds, main_motion_stability
 
     w0 = scene.operating_speed
     if not w0 > 0:

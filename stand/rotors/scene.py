@@ -41,11 +41,11 @@ from typing import Mapping
 
 import numpy as np
 
-from ..balancers.friction import ROLLING_BALL_J, Friction
-from ..scene import RotorStructure, Scene, SceneError, SpeedDrive
-from .bodies_scene import BODY_TYPES, parse_body
-from .coupled_kernel import PlaneWeights
-from .structure import LinearRotor
+from stand.balancers.friction import ROLLING_BALL_J, Friction
+from stand.scene import RotorStructure, Scene, SceneError, SpeedDrive
+from stand.rotors.bodies_scene import BODY_TYPES, parse_body
+from stand.rotors.coupled_kernel import PlaneWeights
+from stand.rotors.structure import LinearRotor
 
 __all__ = ["ROTOR_TYPES", "parse_family_scene", "build_rotor"]
 
@@ -75,14 +75,14 @@ def _body(item, where, plane, rotor, kind):
 
 
 def _builder(kind: str):
-    from ..registry import resolve
+    from stand.registry import resolve
 
     return resolve(ROTOR_TYPES, kind, "structure.type", "rotor type")
 
 
 def build_rotor(kind: str, params: Mapping) -> LinearRotor:
     """Build a LinearRotor of type ``kind`` from keyword parameters (SI)."""
-    from ..scene_file import _fmt, _kind
+    from stand.scene_file import _fmt, _kind
 
     fn = _builder(kind)
     sig = inspect.signature(fn)
@@ -141,7 +141,7 @@ def _check_cycles(rotor: LinearRotor, run, programme) -> None:
     """Bound the run as the planar scenes are (stand.scene_file.MAX_CYCLES): periods of the
     fastest natural frequency and rotor revolutions, so that no scene asks for a run
     that never ends (e.g. an absurd stiffness)."""
-    from ..scene_file import MAX_CYCLES
+    from stand.scene_file import MAX_CYCLES
 
     wn = rotor.natural_frequencies(0.0)
     fastest = float(np.max(wn)) if wn.size else 0.0
@@ -158,7 +158,7 @@ def _check_cycles(rotor: LinearRotor, run, programme) -> None:
 
 def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:
     """Validate a ``[structure]`` document and build the :class:`Scene` (SI)."""
-    from ..scene_file import _Table, _balancer, _programme, _run
+    from stand.scene_file import _Table, _balancer, _programme, _run
 
     if not isinstance(data, Mapping):
         raise SceneError(f"a rotor-family scene must be a table of tables, not {type(data).__name__}")
@@ -211,7 +211,7 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:
             bal = dataclasses.replace(bal, inertia=bal.inertia / ROLLING_BALL_J)
         fr = None
         if fkeys:
-            from ..scene_file import _number
+            from stand.scene_file import _number
 
             for k, v in fkeys.items():  # finite numbers (Friction checks the signs)
                 fkeys[k] = _number(f"weights[{i}].{k}", v, "see stand.balancers.friction")
@@ -229,8 +229,8 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:
     if dt.string("type", ("speed", "torque"), "speed") == "torque":
         # the planar scenes' torque models (section 5.1.1) plus the rotor's polar moment of
         # inertia about the shaft J_p (stand.rotors.coupled_kernel: phi and Omega are states)
-        from ..scene_file import _drive
-        from .coupled import RotorTorqueDrive
+        from stand.scene_file import _drive
+        from stand.rotors.coupled import RotorTorqueDrive
 
         rest = {k: v for k, v in dt.data.items() if k != "inertia"}
         inertia = dt.number("inertia", "kg*m^2, the rotor's polar moment of inertia about the "
@@ -253,7 +253,7 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:
     _check_cycles(rotor, run, programme)
     instruments = {}
     if "instruments" in data:   # the planar scenes' parser (plane / axial_position included)
-        from ..scene_file import _instruments
+        from stand.scene_file import _instruments
 
         instruments = _instruments(_Table(data["instruments"], "instruments"),
                                    tuple(rotor.planes), kind)
@@ -261,7 +261,7 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:
                   structure=RotorStructure(kind, st, rotor, ROTOR_TYPES[kind][1]),
                   plane_weights=tuple(weights), instruments=instruments)
     if instruments:
-        from ..instruments.placement import check_instruments
+        from stand.instruments.placement import check_instruments
 
         check_instruments(scene)
     return scene

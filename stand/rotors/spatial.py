@@ -48,16 +48,16 @@ import math
 
 import numpy as np
 
-from ._build import gyroscopic_pair, nonnegative, positive
-from .spatial_criterion import (SpeedRegions, auxiliary_speed, balances_at_high_speed,
+from stand.rotors._build import gyroscopic_pair, nonnegative, positive
+from stand.rotors.spatial_criterion import (SpeedRegions, auxiliary_speed, balances_at_high_speed,
                                 critical_speeds, delta, frequency_polynomial, frequency_roots,
                                 high_speed_limit, intersect_ranges, r_ac, rotor_shape,
                                 symmetric_critical_speeds, two_balancer_ranges)
-from .spatial_supports import (COORDS, SupportStiffness, cantilever_disk, disk_on_clamped_shaft,
+from stand.rotors.spatial_supports import (COORDS, SupportStiffness, cantilever_disk, disk_on_clamped_shaft,
                                disk_on_hinged_shaft, isotropic_supports, numbered_planes, plane_map,
                                two_elastic_supports)
-from .spatial_two_support import TwoSupportRotor, two_support_rotor
-from .structure import LinearRotor
+from stand.rotors.spatial_two_support import TwoSupportRotor, two_support_rotor
+from stand.rotors.structure import LinearRotor
 
 __all__ = [
     "SupportStiffness", "two_elastic_supports", "isotropic_supports", "cantilever_disk",

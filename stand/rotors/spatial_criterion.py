@@ -23,8 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._build import finite, nonnegative, positive
-from .spatial_supports import _REL, _check_isotropic_coefficients
+from stand.rotors._build import finite, nonnegative, positive
+from stand.rotors.spatial_supports import _REL, _check_isotropic_coefficients
 
 __all__ = ["rotor_shape", "delta", "r_ac", "high_speed_limit", "balances_at_high_speed",
            "auxiliary_speed", "frequency_polynomial", "frequency_roots", "SpeedRegions",

@@ -26,8 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._build import finite, nonnegative, positive
-from .structure import Unbalance
+from stand.rotors._build import finite, nonnegative, positive
+from stand.rotors.structure import Unbalance
 
 __all__ = ["COORDS", "SupportStiffness", "two_elastic_supports", "isotropic_supports",
            "cantilever_disk", "disk_on_hinged_shaft", "disk_on_clamped_shaft", "plane_map",

@@ -19,9 +19,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._build import finite, gyroscopic_pair, nonnegative, positive
-from .spatial_supports import _REL, _supports_at, numbered_planes, plane_map
-from .structure import LinearRotor
+from stand.rotors._build import finite, gyroscopic_pair, nonnegative, positive
+from stand.rotors.spatial_supports import _REL, _supports_at, numbered_planes, plane_map
+from stand.rotors.structure import LinearRotor
 
 __all__ = ["TwoSupportRotor", "two_support_rotor"]
 

@@ -30,8 +30,8 @@ from typing import Sequence
 
 import numpy as np
 
-from .coupled import CoupledModel, PlaneWeights, build_model, simulate_coupled
-from .structure import LinearRotor
+from stand.rotors.coupled import CoupledModel, PlaneWeights, build_model, simulate_coupled
+from stand.rotors.structure import LinearRotor
 
 __all__ = ["settle", "periodic_orbit", "floquet", "MainMotionStability",
            "main_motion_stability", "main_motion_critical_speeds"]
@@ -42,9 +42,9 @@ ATOL = 1e-13
 
 def _flow(model: CoupledModel, y0: np.ndarray, T: float) -> np.ndarray:
     """State after the scaled time T from y0 at tau = 0 (compiled DOP853)."""
-    from ..integrate.dop853 import REACHED_END
-    from ..integrate.kernel_set import kernels
-    from ..kernels import GENERIC
+    from stand.integrate.dop853 import REACHED_END
+    from stand.integrate.kernel_set import kernels
+    from stand.kernels import GENERIC
 
     ks = kernels(GENERIC)
     y = np.array(y0, dtype=float)

@@ -23,8 +23,8 @@ import math
 
 import numpy as np
 
-from ._build import listed_unbalance, nonnegative, positive, transverse_gravity, weight_force
-from .structure import LinearRotor
+from stand.rotors._build import listed_unbalance, nonnegative, positive, transverse_gravity, weight_force
+from stand.rotors.structure import LinearRotor
 
 __all__ = ["two_mass", "two_mass_natural_frequencies", "two_mass_critical_speeds",
            "two_mass_working_ranges", "two_mass_criterion"]

@@ -8,8 +8,8 @@ from typing import Any, Mapping, Optional
 
 import numpy as np
 
-from .checks import SweepSpecError, _allow, _fmt, _integer, _kind, _number, _require
-from .keys import check_key
+from stand.sweep.checks import SweepSpecError, _allow, _fmt, _integer, _kind, _number, _require
+from stand.sweep.keys import check_key
 
 __all__ = ["Axis", "read_axis", "AXIS_KEYS"]
 

@@ -15,8 +15,8 @@ from typing import Any, Iterator, Mapping
 
 import numpy as np
 
-from ..scene import SceneError
-from ..io.validate import fmt as _fmt, kind as _kind, number
+from stand.scene import SceneError
+from stand.io.validate import fmt as _fmt, kind as _kind, number
 
 __all__ = ["SweepSpecError", "MAX_POINTS", "spec_errors"]
 

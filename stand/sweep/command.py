@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import time
 
-from ..io.jsonable import dumps
-from .spec import SweepSpecError, load_sweep
+from stand.io.jsonable import dumps
+from stand.sweep.spec import SweepSpecError, load_sweep
 
 __all__ = ["add_sweep_arguments", "sweep_main"]
 
@@ -58,7 +58,7 @@ def sweep_main(args) -> int:
     """
     import sys
 
-    from .run import run_sweep
+    from stand.sweep.run import run_sweep
 
     g = lambda name, default=None: getattr(args, name, default)  # noqa: E731
     try:
@@ -77,7 +77,7 @@ def sweep_main(args) -> int:
                       progress=not g("no_progress", False),
                       log=lambda line: print(f"stand sweep: {line}", file=sys.stderr, flush=True))
     wall = time.perf_counter() - t0
-    from . import maps
+    from stand.sweep import maps
 
     made = []
     if g("regime_map"):

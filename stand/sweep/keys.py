@@ -31,9 +31,9 @@ from typing import Any, Optional
 
 import numpy as np
 
-from .. import scene_file as sf
-from ..scene import SceneError
-from .checks import SweepSpecError, _fmt, _suggest
+from stand import scene_file as sf
+from stand.scene import SceneError
+from stand.sweep.checks import SweepSpecError, _fmt, _suggest
 
 __all__ = ["SPECIAL_KEYS", "RATIO_KEYS", "DIMENSIONLESS_NAMES", "SCENE_TABLE_KEYS", "BODY_TYPES",
            "body_keys", "scene_kind", "check_key", "point_scene_dict", "with_speed"]
@@ -190,7 +190,7 @@ def _check_planar(name: str, key: str, path: list, base: dict) -> None:
 
 
 def _check_rotor(name: str, key: str, path: list, base: dict) -> None:
-    from ..rotors.scene import FRICTION_KEYS, _builder
+    from stand.rotors.scene import FRICTION_KEYS, _builder
 
     table, first = path[0], path[1]
     if table == "structure":
@@ -217,7 +217,7 @@ def _check_rotor(name: str, key: str, path: list, base: dict) -> None:
 def body_keys(kind: str) -> tuple:
     """The keys of a body weight's ``[[weights]]`` table of type ``kind`` (empty if not a body;
     :mod:`stand.rotors.bodies_scene`, imported here only: ``stand --help`` loads this module)."""
-    from ..rotors import bodies_scene as bs
+    from stand.rotors import bodies_scene as bs
 
     return {"two_axis_pendulum": bs._TILT_KEYS, "coupled_pair": bs._TILT_KEYS,
             "damper": bs._DAMPER_KEYS, "liquid_float": bs._FLOAT_KEYS,
@@ -268,11 +268,11 @@ def _check_weights(name: str, key: str, path: list, base: dict, ball_keys: tuple
 def _check_book(name: str, key: str, path: list, base: dict) -> None:
     import dataclasses
 
-    from ..balancers.scene import MODEL_TYPES, RUN_KEYS
+    from stand.balancers.scene import MODEL_TYPES, RUN_KEYS
 
     table, first = path[0], path[1]
     if table == "weight_model":
-        from ..registry import resolve
+        from stand.registry import resolve
 
         cls = resolve(MODEL_TYPES, base["weight_model"]["type"], "weight_model.type", "weight model")
         fields = [f.name for f in dataclasses.fields(cls)]

@@ -27,15 +27,15 @@ from typing import Any, Callable, Optional, Union
 import numpy as np
 import pandas as pd
 
-from ..executor import Executor, progress_bar
-from ..io.jsonable import dumps
-from .command import add_sweep_arguments, sweep_main
-from .compute import compute_chunk
-from .keys import SPECIAL_KEYS
-from .schema import (COMMON_COLUMNS, RESULT_SCHEMA, SIMULATE_COLUMNS,  # noqa: F401
+from stand.executor import Executor, progress_bar
+from stand.io.jsonable import dumps
+from stand.sweep.command import add_sweep_arguments, sweep_main
+from stand.sweep.compute import compute_chunk
+from stand.sweep.keys import SPECIAL_KEYS
+from stand.sweep.schema import (COMMON_COLUMNS, RESULT_SCHEMA, SIMULATE_COLUMNS,  # noqa: F401
                      THEORY_COLUMNS, TIMING_COLUMNS, rows_to_frame)
-from .spec import SweepSpec, load_sweep
-from .store import (parts_dir, read_parts, read_results, remove_parts, write_part,
+from stand.sweep.spec import SweepSpec, load_sweep
+from stand.sweep.store import (parts_dir, read_parts, read_results, remove_parts, write_part,
                     write_table)
 
 __all__ = ["run_sweep", "compute_chunk", "read_results", "parts_dir", "RESULT_SCHEMA",

@@ -10,7 +10,7 @@ from typing import Iterable, Optional
 
 import pandas as pd
 
-from .spec import SweepSpec
+from stand.sweep.spec import SweepSpec
 
 __all__ = ["COMMON_COLUMNS", "THEORY_COLUMNS", "SIMULATE_COLUMNS", "RESULT_SCHEMA",
            "TIMING_COLUMNS", "rows_to_frame"]

@@ -74,13 +74,13 @@ try:
 except ModuleNotFoundError:  # Python < 3.11
     import tomli as tomllib
 
-from .. import scene_file as sf
-from ..io.jsonable import dumps
-from ..io.tomlfile import read_toml
-from .axes import AXIS_KEYS, Axis, read_axis  # noqa: F401  (AXIS_KEYS re-exported)
-from .checks import (MAX_POINTS, SweepSpecError, _allow, _fmt, _integer, _number, _suggest, _table,
+from stand import scene_file as sf
+from stand.io.jsonable import dumps
+from stand.io.tomlfile import read_toml
+from stand.sweep.axes import AXIS_KEYS, Axis, read_axis  # noqa: F401  (AXIS_KEYS re-exported)
+from stand.sweep.checks import (MAX_POINTS, SweepSpecError, _allow, _fmt, _integer, _number, _suggest, _table,
                      spec_errors)
-from .keys import (DIMENSIONLESS_NAMES, SCENE_TABLE_KEYS, SPECIAL_KEYS,  # noqa: F401
+from stand.sweep.keys import (DIMENSIONLESS_NAMES, SCENE_TABLE_KEYS, SPECIAL_KEYS,  # noqa: F401
                    TWO_PI, point_scene_dict)
 
 __all__ = ["SweepSpecError", "Axis", "SweepSpec", "load_sweep", "parse_sweep", "point_scene_dict",
@@ -202,7 +202,7 @@ def _options(data: Mapping, table: str, keys) -> dict:
                                  "fraction of the capacity", gt=0)
     method = t.get("method")
     if method is not None:
-        from ..scene import METHODS
+        from stand.scene import METHODS
         if method not in METHODS:
             raise SweepSpecError(f"simulate.method = {_fmt(method)}: {_suggest(str(method), METHODS)}"
                                  f"must be one of {', '.join(METHODS)}")

@@ -21,9 +21,9 @@ from typing import Union
 import numpy as np
 import pandas as pd
 
-from ..io.atomic import atomic_path
-from ..io.jsonable import dumps
-from .schema import rows_to_frame
+from stand.io.atomic import atomic_path
+from stand.io.jsonable import dumps
+from stand.sweep.schema import rows_to_frame
 
 __all__ = ["parts_dir", "read_results", "read_parts", "write_part", "write_table", "remove_parts"]
 
