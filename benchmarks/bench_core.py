@@ -4,12 +4,12 @@
 Everything is measured in one run on this machine and printed as plain text,
 then as markdown tables for the README:
 
-(a) ``stand.simulate(method="DOP853")`` (compiled Dormand-Prince 8(5,3) with the
+(a) ``stand.integrate.simulate(method="DOP853")`` (compiled Dormand-Prince 8(5,3) with the
     O(n) compiled right-hand side) against ``scipy.integrate.solve_ivp(method=
     "DOP853")`` on the plain-numpy right-hand side that solves the full (n+2)
-    linear system (``stand.planar.rhs_planar_numpy``);
+    linear system (``stand.model.planar.rhs_planar_numpy``);
 (b) the same problem against a compiled LSODA: numbalsoda's C++ LSODA calling a
-    numba ``cfunc`` wrapper of ``stand.planar.rhs_planar`` (plus two clearly
+    numba ``cfunc`` wrapper of ``stand.model.planar.rhs_planar`` (plus two clearly
     labelled extra peers: numbalsoda's Fortran DOP853 on the same cfunc, and
     scipy's ``odeint`` -- Fortran LSODA calling the compiled RHS through Python);
 (c) the cost per rotor revolution for n = 2, 8, 32, 64 weights.
@@ -60,10 +60,10 @@ from _peers import check_peer  # noqa: E402
 from numba import njit
 from scipy.integrate import odeint, solve_ivp
 
-from stand.planar import build_planar_model, initial_state, rhs_planar, rhs_planar_numpy
-from stand.scene import RunSettings, SpeedDrive
-from stand.scene_file import load_scene, scene_from_dimensionless
-from stand.simulate import simulate
+from stand.model.planar import build_planar_model, initial_state, rhs_planar, rhs_planar_numpy
+from stand.scene.model import RunSettings, SpeedDrive
+from stand.scene.parse import load_scene, scene_from_dimensionless
+from stand.integrate.simulate import simulate
 
 # ---------------------------------------------------------------- the problem
 R_OMEGA = 3.0                     # rad/s = dimensionless (omega_1 = 1 rad/s)

@@ -9,7 +9,7 @@ speed x unbalance):
 * theory  -- main/QP stability and critical speeds over ``--points`` (speed x unbalance,
   as data_samples/sweeps/ball_theory_map.toml);
 * simulate -- constant-speed runs (tau = 2000 by default, ~300-1900 revolutions,
-  tens of ms each) classified by stand.regime.
+  tens of ms each) classified by stand.analysis.regime.
 
 The overhead row runs cheap theory points (no critical speeds) in small chunks (50
 points per task) so that scheduling dominates: overhead per point = (wall x workers -
@@ -114,8 +114,8 @@ def main() -> None:
     ap.add_argument("--no-dask", action="store_true")
     a = ap.parse_args()
 
-    from stand.scene_file import parse
-    from stand.simulate import simulate
+    from stand.scene.parse import parse
+    from stand.integrate.simulate import simulate
 
     simulate(parse(base_scene()))    # compile/load the integrator once
     n_e0 = 40

@@ -5,11 +5,11 @@ Two measurements, every number from this one run on this machine:
 (a) **Liquid float sample** (data_samples/scenes/weight_liquid_float.toml, paper
     001 model M1, run-up over 45 s through the critical speed): the old path
     (the model's own right-hand side in Python stepped by ``solve_ivp``'s
-    DOP853, ``stand.balancers.book_run.run_book(compiled=False)``) against the
+    DOP853, ``stand.model.balancers.book_run.run_book(compiled=False)``) against the
     generic composition on the compiled kernel (``compiled=True``, what
     ``stand run`` does), both at the scene's tolerances.  The error of each is
     measured against the exact closed-form run-up of paper 001
-    (:func:`stand.balancers.runup_closed_form.runup_closed_form`), so the ratio
+    (:func:`stand.model.balancers.runup_closed_form.runup_closed_form`), so the ratio
     is at equal (or better) accuracy; the script says which.  Each path's
     answer is checked first (``benchmarks/_peers.py``): a relative error above
     ``TOL_RTOL`` x the scene's rtol makes it "invalid (error X > tolerance Y)",
@@ -52,8 +52,8 @@ def _best(fn, repeats):
 
 def liquid_float(repeats: int) -> dict:
     import stand
-    from stand.balancers.book_run import run_book
-    from stand.balancers.runup_closed_form import runup_closed_form
+    from stand.model.balancers.book_run import run_book
+    from stand.model.balancers.runup_closed_form import runup_closed_form
 
     scene = stand.load(SAMPLE)
     run_book(scene)                                   # compile outside the timing
@@ -72,10 +72,10 @@ def liquid_float(repeats: int) -> dict:
 
 def per_weight_cost(counts=(1, 2, 4, 8, 16, 32), calls: int = 200_000) -> list:
     from stand._jit import njit
-    from stand.rotors.bodies import PlaneBody, TiltingWeight
-    from stand.rotors.coupled import build_model, initial_state
-    from stand.rotors.coupled_kernel import rhs_generic
-    from stand.rotors.planar_supports import planar_rotor
+    from stand.model.rotors.bodies import PlaneBody, TiltingWeight
+    from stand.model.rotors.coupled import build_model, initial_state
+    from stand.model.rotors.coupled_kernel import rhs_generic
+    from stand.model.rotors.planar_supports import planar_rotor
 
     @njit
     def loop(n, y, dy, sp, wt, prog):

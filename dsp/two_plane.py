@@ -70,7 +70,7 @@ def two_plane_unbalances(displacements, influence):
     influence : (2, 2) complex
         ``influence[i, j]``: phasor at point i per unit unbalance (1 kg m, angle
         0) in plane j [m / (kg m)] -- from trial-weight runs or from a model
-        (:meth:`stand.rotors.LinearRotor.unbalance_response`).
+        (:meth:`stand.model.rotors.LinearRotor.unbalance_response`).
 
     Returns
     -------

@@ -12,8 +12,8 @@ __all__ = ["load", "run", "read", "theory", "analyze", "report", "Scene", "Run",
            "SceneError", "RecordingError", "__version__"]
 
 _LAZY = {"load": "api", "run": "api", "read": "api", "theory": "api", "analyze": "api",
-         "report": "api", "Scene": "scene", "SceneError": "scene", "Run": "result",
-         "Recording": "recording", "RecordingError": "recording"}
+         "report": "api", "Scene": "scene.model", "SceneError": "scene.model", "Run": "integrate.result",
+         "Recording": "recording.hdf5", "RecordingError": "recording.hdf5"}
 
 
 def __getattr__(name):  # PEP 562: import the API on first use

@@ -1,6 +1,6 @@
 """``python -m stand``: the ``stand`` command line."""
 import sys
 
-from stand.cli import main
+from stand.cli.main import main
 
 sys.exit(main())

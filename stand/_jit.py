@@ -42,7 +42,7 @@ PACKAGE = Path(__file__).resolve().parent
 
 #: modules whose compiled code calls kernels chosen at compile time (by model kind), so
 #: the static imports do not show them: module -> modules it compiles against
-DYNAMIC_IMPORTS = {"stand.kernels": ("stand.planar", "stand.rotors.coupled_kernel")}
+DYNAMIC_IMPORTS = {"stand.model.kernels": ("stand.model.planar", "stand.model.rotors.coupled_kernel")}
 
 _numba = None          # the numba module, once imported
 _PENDING: list = []    # LazyKernel objects made before numba was imported

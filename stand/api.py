@@ -24,8 +24,8 @@ __all__ = ["load", "run", "read", "theory", "analyze", "report"]
 
 
 def load(source: Union[str, os.PathLike]):
-    """Read a scene file (any form) or TOML text into a :class:`stand.scene.Scene`."""
-    from stand.scene_file import load_scene
+    """Read a scene file (any form) or TOML text into a :class:`stand.scene.model.Scene`."""
+    from stand.scene.parse import load_scene
 
     return load_scene(source)
 
@@ -45,7 +45,7 @@ def run(scene, method: Optional[str] = None, rtol: Optional[float] = None,
     progress : bool
         Progress bar on stderr for long runs.
     checkpoint : path, optional
-        Resumable compiled DOP853 runs (:func:`stand.simulate.simulate`).
+        Resumable compiled DOP853 runs (:func:`stand.integrate.simulate.simulate`).
 
     Returns
     -------
@@ -54,7 +54,7 @@ def run(scene, method: Optional[str] = None, rtol: Optional[float] = None,
         (what was computed is kept); ``run.write(path)`` also stores the
         instruments' output.
     """
-    from stand.scene import Scene
+    from stand.scene.model import Scene
 
     if not isinstance(scene, Scene):
         scene = load(scene)
@@ -65,26 +65,26 @@ def run(scene, method: Optional[str] = None, rtol: Optional[float] = None,
                                            checkpoint=checkpoint, rtol=rtol, atol=atol)
         res.instrument_writer = writer
         return res
-    from stand.simulate import simulate
+    from stand.integrate.simulate import simulate
 
     return simulate(scene, method=method, rtol=rtol, atol=atol, progress=progress,
                     checkpoint=checkpoint)
 
 
 def read(path: Union[str, os.PathLike]):
-    """Read a recording into a :class:`stand.Recording` (:func:`stand.recording.read_recording`)."""
-    from stand.recording import read_recording
+    """Read a recording into a :class:`stand.Recording` (:func:`stand.recording.hdf5.read_recording`)."""
+    from stand.recording.hdf5 import read_recording
 
     return read_recording(path)
 
 
 def theory(scene, max_speed: Optional[float] = None, floquet: bool = True) -> dict:
-    """What the theory says of a scene (:func:`stand.scene_theory.theory`); a dict.
+    """What the theory says of a scene (:func:`stand.theories.scene.theory`); a dict.
 
     ``max_speed`` [rev/s] is the upper end of the speed scans.
     """
-    from stand.scene import Scene
-    from stand.scene_theory import theory as _theory
+    from stand.scene.model import Scene
+    from stand.theories.scene import theory as _theory
 
     if not isinstance(scene, Scene):
         scene = load(scene)
@@ -103,13 +103,13 @@ def _recording_map(recording_map, columns):
 
 def analyze(source, grade_mm_s: float = 6.3, service_speed_rpm: Optional[float] = None,
             recording_map=None, columns: Optional[str] = None) -> dict:
-    """Identification from a recording (:func:`stand.identify.analyze`): a Run, a Recording,
+    """Identification from a recording (:func:`stand.analysis.identify.analyze`): a Run, a Recording,
     or a path (HDF5 recording, or a lab table: CSV, Parquet, pandas HDF5).
 
     ``recording_map`` (a :class:`stand.lab.recording_map.RecordingMap` or the path of a
     TOML map) and ``columns`` (``"time=time_ms[ms],x=..."``) say which column of a table
     is what (docs/lab_recordings.md)."""
-    from stand.identify import analyze as _analyze
+    from stand.analysis.identify import analyze as _analyze
 
     return _analyze(source, grade_mm_s=grade_mm_s, service_speed_rpm=service_speed_rpm,
                     recording_map=_recording_map(recording_map, columns))
@@ -122,9 +122,9 @@ def report(source, *, html_path=None, json_path=None, grade=6.3,
     a Recording or a path (``recording_map`` / ``columns`` for lab tables, as
     :func:`analyze`); writes ``html_path`` / ``json_path`` when given, returns the
     report's JSON document."""
-    from stand.recording import Recording
+    from stand.recording.hdf5 import Recording
     from stand.reports.balancing import balancing_report
-    from stand.result import Run
+    from stand.integrate.result import Run
 
     if isinstance(source, Recording):
         source = source.path

@@ -11,9 +11,9 @@ from contextlib import contextmanager, redirect_stderr, redirect_stdout
 
 import numpy as np
 
-from stand.planar import build_planar_model
-from stand.scene import RunSettings, SpeedDrive
-from stand.scene_file import scene_from_dimensionless
+from stand.model.planar import build_planar_model
+from stand.scene.model import RunSettings, SpeedDrive
+from stand.scene.parse import scene_from_dimensionless
 
 
 # ------------------------------------------------------------------ scene and sweep texts
@@ -88,9 +88,9 @@ def wait_for(condition, proc: subprocess.Popen, timeout_s: float = 120.0, poll_s
 
 # ------------------------------------------------------------------ the stand program, in process
 def stand_stdout(*argv) -> str:
-    """``stand <argv>`` run in this process (stand.cli.main, as the ``stand`` program
+    """``stand <argv>`` run in this process (stand.cli.main.main, as the ``stand`` program
     runs it): asserts exit 0 and returns what it printed on stdout."""
-    from stand.cli import main
+    from stand.cli.main import main
 
     out, err = io.StringIO(), io.StringIO()
     with redirect_stdout(out), redirect_stderr(err):
@@ -135,8 +135,8 @@ def theory_computed_once():
     physics, without this, in test_theory_scene.py, test_rotors_*.py, test_report_*.py.
     Every caller imports them at call time from their modules, where they are replaced;
     the originals are put back when the block ends."""
-    from stand.planar_theory import speedmap
-    from stand.rotors import run as rotors_run
+    from stand.theories.planar import speedmap
+    from stand.theories import rotors as rotors_run
 
     cache: dict = {}
     saved = speedmap.scene_theory, rotors_run.family_theory

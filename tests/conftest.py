@@ -28,9 +28,9 @@ def pytest_terminal_summary(terminalreporter):
 def pytest_configure(config):
     if hasattr(config, "workerinput"):   # an xdist worker: the controller compiled already
         return
-    from stand.kernels import KIND_NAMES
+    from stand.model.kernels import KIND_NAMES
 
-    code = "from stand.warmup import warmup; warmup(kinds=[{k}], say=lambda s: None)"
+    code = "from stand.integrate.warmup import warmup; warmup(kinds=[{k}], say=lambda s: None)"
     procs = [subprocess.Popen([sys.executable, "-c", code.format(k=k)]) for k in sorted(KIND_NAMES)]
     procs.append(subprocess.Popen([sys.executable, "-c", "from vision.blur import warm; warm()"]))
     procs.append(subprocess.Popen([sys.executable, "-c", "from dsp._line_kernel import warm; warm()"]))

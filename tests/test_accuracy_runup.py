@@ -7,10 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from stand.accuracy import accuracy, runup_params
-from stand.cli import main
-from stand.scene import SpeedDrive
-from stand.scene_file import load_scene
+from stand.integrate.accuracy import accuracy, runup_params
+from stand.cli.main import main
+from stand.scene.model import SpeedDrive
+from stand.scene.parse import load_scene
 
 SCENE = "data_samples/scenes/paper001_runup.toml"
 

@@ -212,7 +212,7 @@ def _digest(paths) -> dict:
 
 def run_cell(argv, inputs) -> dict:
     """Run ``stand <argv>`` in this process; classify the outcome."""
-    from stand.cli import main
+    from stand.cli.main import main
 
     before = _digest(inputs)
     out, err = io.StringIO(), io.StringIO()
@@ -253,7 +253,7 @@ def run_cell(argv, inputs) -> dict:
 
 def cells(tmp: Path):
     """Yield (command, input label, argv, inputs) for every cell of the catalogue."""
-    from stand.cli import main
+    from stand.cli.main import main
 
     rng = random.Random(SEED)
     for base in BASES:
@@ -297,7 +297,7 @@ def run_harness(tmp: Path) -> tuple:
     """All cells; returns (rows, table text)."""
     import warnings
 
-    from stand.warmup import warmup
+    from stand.integrate.warmup import warmup
 
     # compile ahead: a cell's time limit is about input handling, not a cold compiler
     warmup(every_kind=True, say=lambda line: None, precompile=False)

@@ -7,7 +7,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from stand.cli import main
+from stand.cli.main import main
 
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 KEYS = ("natural_frequency_hz", "damping_ratio", "unbalance_gmm", "unbalance_angle_deg", "iso_grade",

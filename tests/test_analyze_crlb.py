@@ -13,7 +13,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from stand.identify import analyze
+from stand.analysis.identify import analyze
 
 N, FS, SIGMA = 2 ** 14, 1000.0, 0.1
 

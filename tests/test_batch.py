@@ -4,8 +4,8 @@ import shutil
 import pandas as pd
 import pytest
 
-from stand.batch import analyze_row, expand_sources, run_batch
-from stand.cli import main
+from stand.analysis.batch import analyze_row, expand_sources, run_batch
+from stand.cli.main import main
 
 REC = "data_samples/recordings/stand_cameras.h5"
 

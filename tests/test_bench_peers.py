@@ -62,7 +62,7 @@ def core():
 def _runup_model(core):
     """ball_runup.toml with a 5-row speed programme (run-up, hold, slow down, run-up again)."""
     import stand
-    from stand.planar import build_planar_model, initial_state
+    from stand.model.planar import build_planar_model, initial_state
 
     sc = stand.load(ROOT / "data_samples" / "scenes" / "ball_runup.toml")
     w = 2 * np.pi
@@ -73,7 +73,7 @@ def _runup_model(core):
 
 
 def test_packed_model_gives_the_rhs_of_the_model_for_a_multi_row_programme(core):
-    from stand.planar import N_PROG, rhs_planar
+    from stand.model.planar import N_PROG, rhs_planar
 
     model, y0 = _runup_model(core)
     npg = int(model.sp[N_PROG])

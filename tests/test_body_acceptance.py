@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import stand
-from stand.cli import main
+from stand.cli.main import main
 
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 KINDS = ["two_axis_pendulum", "coupled_pair", "damper", "liquid_float", "liquid_chamber"]

@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 import stand
-from stand import experiments as ex
-from stand.cli import main
+from stand.scene import experiments as ex
+from stand.cli.main import main
 from stand.reports.stress import load_catalogue, run_stress
 from stand.reports.stress_catalogue import CatalogueError
 from stand.sweep import SweepSpecError, load_sweep, run_sweep

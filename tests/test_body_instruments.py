@@ -24,12 +24,12 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from stand.cli import main
+from stand.cli.main import main
 from stand.instruments.stroboscope import (LEVEL_FLOAT, LEVEL_INTERIOR, Stroboscope,
                                            body_looks, render_strobe_frames, strobe_angles)
 from stand.instruments.timing import shaft_velocity, wrap
-from stand.scene_file import load_scene
-from stand.simulate import simulate
+from stand.scene.parse import load_scene
+from stand.integrate.simulate import simulate
 
 BASE = """
 [scene]

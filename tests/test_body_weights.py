@@ -1,8 +1,8 @@
 """Body weights on the generic kernel (issue 16): the book models are the oracles.
 
-Each book model of stand/balancers (its own rotor, its own dimensionless
+Each book model of stand/model/balancers (its own rotor, its own dimensionless
 right-hand side in Python) is rebuilt as a generic composition -- the planar
-rotor 2.5.1 x one body weight of stand/rotors/bodies -- and both are
+rotor 2.5.1 x one body weight of stand/model/rotors/bodies -- and both are
 integrated over a transient at rtol 1e-12.  Two independent integrations of
 the same equations at that tolerance agree to ~1e-11 over these spans (the
 spans are kept where the motion is not sensitive to its initial state: the
@@ -17,15 +17,15 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import stand
-from stand.balancers import damper, gravity_pair, liquid_chamber, liquid_float, two_axis
-from stand.balancers.book_run import STATE_COLUMNS, _rhs, initial_state
-from stand.balancers.composition import composition
+from stand.model.balancers import damper, gravity_pair, liquid_chamber, liquid_float, two_axis
+from stand.model.balancers.book_run import STATE_COLUMNS, _rhs, initial_state
+from stand.model.balancers.composition import composition
 from stand.integrate.driver import run_dop853
-from stand.result import SolverStats
-from stand.rotors.bodies import LiquidWeight, PlaneBody, body_channels
-from stand.rotors.coupled import build_model, initial_state as generic_initial, samples_si
-from stand.rotors.planar_supports import planar_rotor
-from stand.scene import SceneError
+from stand.integrate.result import SolverStats
+from stand.model.rotors.bodies import LiquidWeight, PlaneBody, body_channels
+from stand.model.rotors.coupled import build_model, initial_state as generic_initial, samples_si
+from stand.model.rotors.planar_supports import planar_rotor
+from stand.scene.model import SceneError
 
 RTOL = 1e-12
 
@@ -229,7 +229,7 @@ def test_bad_body_weights_name_key_value_unit(tmp_path, body, message):
 def test_bad_body_weight_cli_one_line(tmp_path, capsys):
     p = tmp_path / "bad.toml"
     p.write_text(SCENE.format(weights=BAD[0][0]))
-    from stand.cli import main
+    from stand.cli.main import main
 
     assert main(["run", str(p), "-o", str(tmp_path / "o.h5")]) == 2
     err = capsys.readouterr().err.strip()
@@ -305,7 +305,7 @@ def test_si_scene_and_its_book_parameters_move_alike(tmp_path):
     """A planar SI scene with a two-axis pendulum and the book model of its parameters
     (composition.book_params, (6.9)-(6.11)) give the same motion: x_book = x l / rho1^2
     at tau = omega0 t (the scalings checked both ways)."""
-    from stand.balancers.composition import book_params
+    from stand.model.balancers.composition import book_params
 
     p = tmp_path / "s.toml"
     p.write_text(SCENE.replace('programme = [[0.0, 0.0], [2.0, 20.0]]',
@@ -335,7 +335,7 @@ def test_theory_of_a_body_scene_holds_the_book_model(tmp_path, capsys):
     frequencies (liquid locked) and the thesis's optimal fill and liquid choice."""
     import json
 
-    from stand.cli import main
+    from stand.cli.main import main
 
     p = tmp_path / "c.toml"
     p.write_text(SCENE.format(weights='type = "liquid_chamber"\nchamber_radius = 0.1\n'
@@ -357,9 +357,9 @@ def test_theory_of_a_body_scene_holds_the_book_model(tmp_path, capsys):
 def test_book_steady_motions_are_equilibria_of_the_derived_rotating_form(kind):
     """The books' steady motions ((6.12) steady states, (7.6), (7.51)) are equilibria of
     the rotating-frame form derived from the one fixed-frame composition
-    (stand.rotors.bodies_rotating) to 1e-10."""
-    from stand.balancers import damper_steady, gravity_pair_steady, two_axis_steady
-    from stand.rotors.bodies_rotating import rotating_rhs
+    (stand.model.rotors.bodies_rotating) to 1e-10."""
+    from stand.model.balancers import damper_steady, gravity_pair_steady, two_axis_steady
+    from stand.model.rotors.bodies_rotating import rotating_rhs
 
     p = CASES[kind]
     comp = composition(kind, p, 1.0)
@@ -411,7 +411,7 @@ def test_bodies_on_the_spatial_rigid_rotor():
 def test_dimensionless_sugar_round_trips(tmp_path, kind, table):
     """The book's dimensionless form of a body weight (with its SI mass and arm) gives back
     the same book parameters (composition.book_params)."""
-    from stand.balancers.composition import book_params
+    from stand.model.balancers.composition import book_params
 
     p = tmp_path / "d.toml"
     p.write_text(SCENE.format(weights=f'type = "{kind}"\nmass = 0.1\narm = 0.03\n'

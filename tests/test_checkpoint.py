@@ -9,17 +9,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from stand.scene import SceneError
-from stand.scene_file import load_scene
-from stand.simulate import simulate
+from stand.scene.model import SceneError
+from stand.scene.parse import load_scene
+from stand.integrate.simulate import simulate
 
 from _helpers import wait_for
 
 SCENE = "data_samples/scenes/paper001_runup.toml"   # ~3 s of integration, 1e5 revolutions
 CHILD = """
 import sys
-from stand.scene_file import load_scene
-from stand.simulate import simulate
+from stand.scene.parse import load_scene
+from stand.integrate.simulate import simulate
 sc = load_scene(sys.argv[1])
 simulate(sc, checkpoint=sys.argv[2], checkpoint_steps=20000)
 """

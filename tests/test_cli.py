@@ -9,7 +9,7 @@ import h5py
 import numpy as np
 import pytest
 
-from stand.cli import main
+from stand.cli.main import main
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ROOT / "data_samples" / "scenes"
@@ -76,7 +76,7 @@ def test_accuracy_json_closed_form(capsys):
 def test_console_script_entry_point(tmp_path):
     """The installed ``stand`` program (as in the README) runs."""
     exe = Path(sys.executable).with_name("stand")
-    cmd = [str(exe)] if exe.exists() else [sys.executable, "-m", "stand.cli"]
+    cmd = [str(exe)] if exe.exists() else [sys.executable, "-m", "stand.cli.main"]
     r = subprocess.run(cmd + ["run", str(SCENES / "no_balancer.toml"), "-o", str(tmp_path / "nb.h5")],
                        capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr
@@ -87,9 +87,9 @@ def test_pure_python_fallback_path(tmp_path):
     """STAND_DISABLE_JIT=1 runs the same kernels without numba and agrees."""
     code = (
         "import numpy as np\n"
-        "from stand.scene import SpeedDrive, RunSettings\n"
-        "from stand.scene_file import scene_from_dimensionless\n"
-        "from stand.simulate import simulate\n"
+        "from stand.scene.model import SpeedDrive, RunSettings\n"
+        "from stand.scene.parse import scene_from_dimensionless\n"
+        "from stand.integrate.simulate import simulate\n"
         "import stand._jit as j\n"
         "assert not j.HAVE_NUMBA\n"
         "sc = scene_from_dimensionless(2, 0.01, 0.5, 0.1, 0.3, drive=SpeedDrive(np.array([[0.0, 3.0]])),"
@@ -100,9 +100,9 @@ def test_pure_python_fallback_path(tmp_path):
     env = dict(os.environ, STAND_DISABLE_JIT="1")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=300)
     assert r.returncode == 0, r.stderr
-    from stand.scene import RunSettings, SpeedDrive
-    from stand.scene_file import scene_from_dimensionless
-    from stand.simulate import simulate
+    from stand.scene.model import RunSettings, SpeedDrive
+    from stand.scene.parse import scene_from_dimensionless
+    from stand.integrate.simulate import simulate
     sc = scene_from_dimensionless(2, 0.01, 0.5, 0.1, 0.3, drive=SpeedDrive(np.array([[0.0, 3.0]])),
                                   run=RunSettings(5.0, 2.0, 1e-9, 1e-11))
     compiled = simulate(sc).state
@@ -141,7 +141,7 @@ def test_scenes_out_of_range_give_clear_errors(tmp_path, capsys, edit, key):
 
 @pytest.mark.parametrize("duration, rate", [(0.7, 10.0), (1.1, 10.0), (40.0, 0.33), (3.0, 7.0)])
 def test_last_sample_is_never_lost_to_rounding(duration, rate):
-    from stand.simulate import sample_times
+    from stand.integrate.simulate import sample_times
     t = sample_times(duration, rate)
     assert len(t) == int(np.floor(duration * rate + 1e-9)) + 1
     assert np.all(np.diff(t) > 0) and t[-1] <= duration

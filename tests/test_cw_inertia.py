@@ -1,4 +1,4 @@
-"""Tables 2.1 / 2.2 (stand.rotors.cw_inertia) against independent numerical integration.
+"""Tables 2.1 / 2.2 (stand.model.rotors.cw_inertia) against independent numerical integration.
 
 Every body is rebuilt from its geometry as a quadrature point cloud (tensor
 Gauss-Legendre rules over the body's own coordinates, or scipy.integrate for the
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from stand.rotors import cw_inertia as cw
+from stand.model.rotors import cw_inertia as cw
 
 RTOL = 1e-6
 

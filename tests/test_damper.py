@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from stand.balancers import damper as d
+from stand.model.balancers import damper as d
 
 FIG726 = dict(R_m=0.1, R_omega=3.0, R_g=0.3, h=0.3, H=0.3, e0=0.5)
 

@@ -5,12 +5,12 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from stand.planar import build_planar_model
-from stand.programme import build_table, rotor_kinematics
-from stand.scene import (Balancer, InitialState, Rotor, RunSettings, Scene, SpeedDrive,
+from stand.model.planar import build_planar_model
+from stand.model.programme import build_table, rotor_kinematics
+from stand.scene.model import (Balancer, InitialState, Rotor, RunSettings, Scene, SpeedDrive,
                          Supports, TorqueDrive)
-from stand.scene_file import load_scene
-from stand.simulate import simulate
+from stand.scene.parse import load_scene
+from stand.integrate.simulate import simulate
 
 from _helpers import toml_text
 

@@ -14,8 +14,8 @@ ROOT = Path(__file__).resolve().parents[1]
 @pytest.fixture(scope="module")
 def stuck():
     """ball_stuck.toml, the last 40 % of the run (after the run-up), 100 Hz."""
-    from stand.scene_file import load_scene
-    from stand.simulate import simulate
+    from stand.scene.parse import load_scene
+    from stand.integrate.simulate import simulate
 
     tr = simulate(load_scene(ROOT / "data_samples/scenes/ball_stuck.toml"))
     assert tr.success and tr.scene.run.sample_rate == 100.0

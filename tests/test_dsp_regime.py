@@ -6,11 +6,11 @@ import pytest
 
 from dsp.errors import SignalError
 from dsp.regime import classify_windows, critical_speeds, speed_band
-from stand import experiments as ex
-from stand.scene_file import load_scene
-from stand.simulate import simulate
-from stand.planar_theory import main_motion as mm
-from stand.planar_theory.speedmap import scene_theory
+from stand.scene import experiments as ex
+from stand.scene.parse import load_scene
+from stand.integrate.simulate import simulate
+from stand.theories.planar import main_motion as mm
+from stand.theories.planar.speedmap import scene_theory
 
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 

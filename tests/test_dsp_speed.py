@@ -190,7 +190,7 @@ def test_run_down_through_the_resonance():
     """A run-down (26 -> 2 rev/s at -1 rev/s^2): the fit and the sweep-corrected peak (lag
     below f0 on a run-down) give f0 and the critical speed back."""
     from dsp.speed import RotorAngle
-    from stand.runup_identify import sweep_identification
+    from stand.analysis.runup import sweep_identification
 
     t, z, phi, w, a = _runup_record(w_start=TWO_PI * 26, alpha=-TWO_PI * 1.0, T=23.0, noise=1e-6)
     ra = RotorAngle(phi, w, a, np.ones(t.size, bool), "angle", referenced=True)

@@ -21,8 +21,8 @@ SPEED_REV_S = 15.0
 @pytest.fixture(scope="module")
 def no_balancer_run():
     """no_balancer.toml held at a constant 15 rev/s (supercritical, R = 4.95) for 20 s."""
-    from stand.scene_file import parse_scene
-    from stand.simulate import simulate
+    from stand.scene.parse import parse_scene
+    from stand.integrate.simulate import simulate
 
     data = tomllib.loads((ROOT / "data_samples/scenes/no_balancer.toml").read_text())
     data["drive"]["programme"] = [[0.0, SPEED_REV_S], [1.0, SPEED_REV_S]]

@@ -6,12 +6,12 @@ import h5py
 import numpy as np
 import pytest
 
-from stand import experiments as ex
-from stand.cli import main
-from stand.regime import classify
-from stand.scene import SceneError
-from stand.scene_file import load_scene
-from stand.simulate import simulate
+from stand.scene import experiments as ex
+from stand.cli.main import main
+from stand.analysis.regime import classify
+from stand.scene.model import SceneError
+from stand.scene.parse import load_scene
+from stand.integrate.simulate import simulate
 
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 

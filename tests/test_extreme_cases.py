@@ -14,11 +14,11 @@ import time
 import numpy as np
 import pytest
 
-from stand.planar import build_planar_model, initial_state, rhs_planar, rhs_planar_numpy
-from stand.scene import (Balancer, Rotor, RunSettings, Scene, SpeedDrive, Supports,
+from stand.model.planar import build_planar_model, initial_state, rhs_planar, rhs_planar_numpy
+from stand.scene.model import (Balancer, Rotor, RunSettings, Scene, SpeedDrive, Supports,
                          dimensionless)
-from stand.scene_file import scene_from_dimensionless
-from stand.simulate import simulate
+from stand.scene.parse import scene_from_dimensionless
+from stand.integrate.simulate import simulate
 
 ARRAYS = ("t", "x", "y", "rotor_angle", "rotor_speed", "weight_angle", "weight_speed", "state")
 

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import stand
-from stand import experiments as ex
-from stand.cli import main
-from stand.rotors.coupled import with_locked_weights
+from stand.scene import experiments as ex
+from stand.cli.main import main
+from stand.model.rotors.coupled import with_locked_weights
 
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 
@@ -64,7 +64,7 @@ def test_impact_on_the_generic_kernel_matches_the_planar_kernel():
     (the blow as a jump of its scaled state) and the planar kernel agree to 1e-8."""
     import dataclasses
 
-    from stand.simulate import simulate
+    from stand.integrate.simulate import simulate
 
     base = stand.load(SCENES / "ball_runup.toml")
     sc = ex.programme(base, "impact", speed=10.0, at=3.0, velocity=0.02, angle_deg=30.0)

@@ -13,9 +13,9 @@ import pandas as pd
 import pytest
 
 import stand
-from stand.cli import main
+from stand.cli.main import main
 from stand.instruments.placement import axis_plane_name, placement_of
-from stand.scene import SceneError
+from stand.scene.model import SceneError
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = sorted(glob.glob(str(ROOT / "data_samples/scenes/family_*.toml")))

@@ -1,5 +1,5 @@
 """Torque drives on the generic kernel (issue 17 part 4): the rotor angle and speed are
-states of any LinearRotor with weights (stand.rotors.coupled_kernel)."""
+states of any LinearRotor with weights (stand.model.rotors.coupled_kernel)."""
 from __future__ import annotations
 
 import dataclasses
@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 import stand
-from stand.scene import SceneError, TorqueDrive
-from stand.simulate import simulate
+from stand.scene.model import SceneError, TorqueDrive
+from stand.integrate.simulate import simulate
 
 try:
     import tomllib
@@ -61,7 +61,7 @@ def _two_mass_torque_text(drive: str, rtol=1e-10, atol=1e-12, duration=8.0) -> s
 
 
 def _family(text):
-    from stand.scene_file import parse
+    from stand.scene.parse import parse
 
     return parse(tomllib.loads(text), text, "family_two_mass_torque")
 
@@ -74,8 +74,8 @@ def test_two_mass_torque_runup_passes_its_criticals():
     """Acceptance: the two-mass rotor (2.5.2) driven by a speed-feedback torque to 42 rev/s
     runs through the criticals of its criterion and ends above them; the run agrees with a
     tight reference (rtol 1e-12) to 1e-6."""
-    from stand.rotors.coupled_kernel import with_locked_weights
-    from stand.rotors.structure import working_ranges
+    from stand.model.rotors.coupled_kernel import with_locked_weights
+    from stand.model.rotors.structure import working_ranges
 
     sc = _family(_two_mass_torque_text(SPEED_FEEDBACK))
     assert sc.drive.kind == "torque" and sc.drive.inertia == 0.02
@@ -143,7 +143,7 @@ def test_family_torque_drive_keys():
 def test_commands_on_a_torque_driven_family_scene(tmp_path, capsys):
     """theory, run (with a stroboscope), analyze and report take a torque-driven [structure]
     scene (the drive has no programme: its operating speed is the target speed)."""
-    from stand.cli import main
+    from stand.cli.main import main
 
     text = _two_mass_torque_text(SPEED_FEEDBACK, duration=3.0) + (
         "\n[instruments.stroboscope]\nflash_angle = 90.0\nslot_width = 0.003\n"

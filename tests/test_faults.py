@@ -38,7 +38,7 @@ def _stand(*argv, limit_bytes=None, **kw):
 def _stand_here(*argv) -> int:
     """``stand <argv>`` in this process: for the set-up steps (a recording, a previous
     output, the uninterrupted reference) that need no process of their own."""
-    from stand.cli import main
+    from stand.cli.main import main
 
     with redirect_stdout(io.StringIO()), redirect_stderr(io.StringIO()):
         return main([str(a) for a in argv])

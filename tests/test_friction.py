@@ -1,4 +1,4 @@
-"""Dry friction, sticking and rolling inertia of the weights (stand.balancers.friction
+"""Dry friction, sticking and rolling inertia of the weights (stand.model.balancers.friction
 in the generic coupled kernel), on the universal stand's planar rotor."""
 import dataclasses
 import math
@@ -6,11 +6,11 @@ import math
 import numpy as np
 import pytest
 
-from stand.balancers.friction import Friction
-from stand.rotors.coupled import PlaneWeights, simulate_coupled
-from stand.rotors.planar_supports import planar_rotor
-from stand.rotors.scene import parse_family_scene
-from stand.scene import Balancer, SceneError
+from stand.model.balancers.friction import Friction
+from stand.model.rotors.coupled import PlaneWeights, simulate_coupled
+from stand.model.rotors.planar_supports import planar_rotor
+from stand.scene.structure_tables import parse_family_scene
+from stand.scene.model import Balancer, SceneError
 
 M, m, l = 4.45, 0.045, 0.08                    # universal stand (ch. 4.3), two balls
 MS = M + 2 * m

@@ -7,7 +7,7 @@ non-HDF5 bytes.  CSV inputs for ``stand analyze`` get missing columns, text in
 numbers, NaN, unsorted and duplicate times, empty files.
 
 Properties: ``read_recording`` returns a Recording or raises ``RecordingError``
-naming the file; ``stand analyze`` (``stand.cli.main``) ends with exit code 0,
+naming the file; ``stand analyze`` (``stand.cli.main.main``) ends with exit code 0,
 or 2 with one ``error:`` line naming the file -- never exit 3 (internal
 error), never a traceback -- within a time bound.
 """
@@ -26,10 +26,10 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from stand.cli import main
-from stand.recording import DATASETS, Recording, RecordingError, read_recording, write_recording
-from stand.result import Run, SolverStats
-from stand.scene_file import load_scene
+from stand.cli.main import main
+from stand.recording.hdf5 import DATASETS, Recording, RecordingError, read_recording, write_recording
+from stand.integrate.result import Run, SolverStats
+from stand.scene.parse import load_scene
 
 from _helpers import toml_text
 
@@ -70,7 +70,7 @@ def originals(tmp_path_factory):
 
 
 def run_cli(*argv):
-    """``stand.cli.main`` with captured output; returns (code, stdout, stderr, wall)."""
+    """``stand.cli.main.main`` with captured output; returns (code, stdout, stderr, wall)."""
     out, err = io.StringIO(), io.StringIO()
     t0 = time.perf_counter()
     with redirect_stdout(out), redirect_stderr(err):

@@ -5,7 +5,7 @@ document), ``load_scene`` (TOML text or a file) and ``parse_family_scene``
 (rotor-family ``[structure]`` scenes) -- must either return a scene or raise
 ``SceneError`` whose message names the offending key; never another exception,
 never a hang.  Valid scenes with tiny durations must also run through
-``stand.simulate.simulate`` to success or a clear failed status, in bounded time.
+``stand.integrate.simulate.simulate`` to success or a clear failed status, in bounded time.
 
 The suites are derandomized (reproducible in CI) and sized to run in well under
 90 s together.
@@ -21,10 +21,10 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from stand.rotors.scene import parse_family_scene
-from stand.scene import Scene as FamilyScene
-from stand.scene import METHODS, Scene, SceneError
-from stand.scene_file import load_scene, parse_scene
+from stand.scene.structure_tables import parse_family_scene
+from stand.scene.model import Scene as FamilyScene
+from stand.scene.model import METHODS, Scene, SceneError
+from stand.scene.parse import load_scene, parse_scene
 
 FAST = settings(max_examples=200, deadline=10_000, derandomize=True, database=None,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
@@ -721,7 +721,7 @@ def test_arbitrary_family_documents_never_crash(doc):
 # ---------------------------------------------------------------- simulation of valid scenes
 @pytest.fixture(scope="module")
 def warm():
-    from stand.simulate import simulate
+    from stand.integrate.simulate import simulate
 
     simulate(load_scene(
         "[rotor]\nmass = 1.0\n[supports]\nstiffness = 1e4\n[balancer]\ntype = \"balls\"\n"

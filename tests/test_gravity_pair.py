@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from stand.balancers import gravity_pair as gp
+from stand.model.balancers import gravity_pair as gp
 
 E2 = dict(R_m=0.05, R_omega=3.0, R_rho=1.0, H=0.1, h1=0.5, h2=0.5, e0=0.5)
 E3 = dict(R_m=0.02, R_omega=4.0, R_rho=1.0, H=0.05, h1=0.05, h2=0.05, e0=0.1)

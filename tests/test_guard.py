@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from stand.cli import main
+from stand.cli.main import main
 from stand.io.guard import OutputRefused, check_outputs
 
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"

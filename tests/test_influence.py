@@ -1,5 +1,5 @@
 """Influence-coefficient balancing (issue 17, part 3): dsp.influence on synthetic
-phasors, stand.influence on the flexible-shaft sample (reference + two trial
+phasors, stand.analysis.influence on the flexible-shaft sample (reference + two trial
 runs) against the model's exact correction, bad input, the CLI."""
 import json
 import math
@@ -10,8 +10,8 @@ import pytest
 
 import stand
 from dsp.influence import influence_balance, influence_matrix
-from stand.cli import main
-from stand.influence import (TrialWeight, influence_from_recordings, model_correction,
+from stand.cli.main import main
+from stand.analysis.influence import (TrialWeight, influence_from_recordings, model_correction,
                              parse_trial)
 
 ROOT = Path(__file__).resolve().parents[1]

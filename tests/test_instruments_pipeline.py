@@ -6,10 +6,10 @@ import h5py
 import numpy as np
 import pytest
 
-from stand.cli import main
+from stand.cli.main import main
 from stand.instruments.pipeline import run_with_instruments
-from stand.scene_file import load_scene
-from stand.scene import SceneError
+from stand.scene.parse import load_scene
+from stand.scene.model import SceneError
 
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 

@@ -19,9 +19,9 @@ from stand.instruments.probes import (DisplacementProbes, Keyphasor, Tachometer,
                                       keyphasor_pulses, probe_signals, tachometer_readings)
 from stand.instruments.timing import (MeasurementError, crossing_times, hermite,
                                       sample_trajectory, shaft_velocity)
-from stand.scene import SceneError, SpeedDrive
-from stand.scene_file import Table, load_scene
-from stand.simulate import simulate
+from stand.scene.model import SceneError, SpeedDrive
+from stand.scene.parse import Table, load_scene
+from stand.integrate.simulate import simulate
 
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 TWO_PI = 2 * math.pi

@@ -25,10 +25,10 @@ from stand.instruments.rings import (check_spot_size, render_ring_image, ring_ra
 from stand.instruments.screen import (ScreenCamera, exposure_times, frame_times, frame_truth,
                                       pixels_to_screen, screen_to_pixels, spot_on_screen,
                                       spot_positions)
-from stand.scene import RunSettings, SceneError
-from stand.scene_file import Table, load_scene
-from stand.simulate import simulate
-from stand.planar_theory.qp import epitrochoid, spot_law
+from stand.scene.model import RunSettings, SceneError
+from stand.scene.parse import Table, load_scene
+from stand.integrate.simulate import simulate
+from stand.theories.planar.qp import epitrochoid, spot_law
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ROOT / "data_samples" / "scenes"
@@ -388,10 +388,10 @@ def test_simulated_stuck_balls_long_exposure_shows_k_minus_1_petals():
     2 pi / Omega of the simulated spot shows k - 1 = 2 petals."""
     from scipy.optimize import brentq
 
-    from stand.scene_file import load_scene
-    from stand.simulate import simulate
-    from stand.planar_theory.qp import qp_roots
-    from stand.planar_theory.verify import at_speed
+    from stand.scene.parse import load_scene
+    from stand.integrate.simulate import simulate
+    from stand.theories.planar.qp import qp_roots
+    from stand.theories.planar.verify import at_speed
 
     base = load_scene(Path(__file__).resolve().parents[1] / "data_samples" / "scenes" / "ball_stuck.toml")
     R = brentq(lambda r: r / qp_roots(r, 0.01, 0.05, 0.05)[0] - 3.0, 2.5, 3.2, xtol=1e-13)

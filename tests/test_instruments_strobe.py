@@ -25,10 +25,10 @@ from stand.instruments.stroboscope import (LEVEL_BALL, LEVEL_INTERIOR, Strobosco
                                            multiplicity_for_ratio, reading_error,
                                            render_strobe_frames, strobe_angles)
 from stand.instruments.timing import wrap
-from stand.scene import SceneError, SpeedDrive
-from stand.scene_file import Table, load_scene
-from stand.simulate import simulate
-from stand.planar_theory.qp import qp_roots
+from stand.scene.model import SceneError, SpeedDrive
+from stand.scene.parse import Table, load_scene
+from stand.integrate.simulate import simulate
+from stand.theories.planar.qp import qp_roots
 
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 TWO_PI = 2 * math.pi

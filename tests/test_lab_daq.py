@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from stand.cli import main
+from stand.cli.main import main
 
 ROOT = Path(__file__).resolve().parents[1]
 DAQ = ROOT / "data_samples" / "daq"

@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from stand.cli import main
+from stand.cli.main import main
 from stand.lab.recording_map import MapError, parse_columns, read_map
 from stand.lab.table import TableError, read_table
 
@@ -211,7 +211,7 @@ def test_read_table_is_the_one_reader():
     """stand analyze and stand report read tables through stand.lab.table (no second parser)."""
     import inspect
 
-    from stand import identify
+    from stand.analysis import identify
     from stand.reports import balancing_input
 
     for mod in (identify, balancing_input):

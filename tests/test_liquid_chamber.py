@@ -9,8 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from stand.balancers import liquid_chamber as lc
-from stand.balancers.liquid_chamber import LiquidChamberParams
+from stand.model.balancers import liquid_chamber as lc
+from stand.model.balancers.liquid_chamber import LiquidChamberParams
 
 GAMMAS = (0.4, 0.6, 0.8, 1.0, 1.2, 1.4)
 WCR = 59.7

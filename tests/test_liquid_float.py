@@ -14,10 +14,10 @@ import math
 import numpy as np
 import pytest
 
-from stand.balancers.liquid_float import (
+from stand.model.balancers.liquid_float import (
     FRAMES, GeneralSpeed, LinearSpeed, LiquidFloatParams, StepSpeed, initial_state,
     rhs_fixed, rhs_rotating, simulate, stationary_amplitude, steady_amplitudes)
-from stand.balancers.runup_closed_form import (
+from stand.model.balancers.runup_closed_form import (
     _state_in_frame, accuracy_against_closed_form, free_whirl_amplitudes, fresnel_overshoot,
     runup_closed_form, runup_closed_form_state, runup_extrema, undamped_asymptotics)
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import stand
-from stand.cli import main
+from stand.cli.main import main
 
 DATA = Path(__file__).resolve().parent / "data"
 

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import stand
-from stand.cli import main
+from stand.cli.main import main
 
 from _helpers import theory_computed_once
 
@@ -159,7 +159,7 @@ def test_python_dash_m_stand_help():
 def test_planar_scene_on_the_generic_kernel_matches_the_planar_kernel():
     """The planar rotor is one structure among others: through the generic structure +
     weights kernel it gives the planar kernel's motion to 1e-9 over 1000 revolutions."""
-    from stand.simulate import simulate
+    from stand.integrate.simulate import simulate
 
     scene = stand.load(str(Path(SCENES[0]).with_name("ball_runup.toml")))
     # 1000 revolutions: 10 s run-up to 15 rev/s, then 60 s held (~975 + 75 revolutions)

@@ -8,11 +8,11 @@ import math
 import numpy as np
 import pytest
 
-from stand.accuracy import closed_form_no_balancer
-from stand.scene import (Balancer, Impulse, Rotor, RunSettings, Scene, SideForce, SpeedDrive,
+from stand.integrate.accuracy import closed_form_no_balancer
+from stand.scene.model import (Balancer, Impulse, Rotor, RunSettings, Scene, SideForce, SpeedDrive,
                          Supports, UnbalanceChange)
-from stand.scene_file import load_scene, SceneError
-from stand.simulate import simulate
+from stand.scene.parse import load_scene, SceneError
+from stand.integrate.simulate import simulate
 
 from _helpers import toml_text
 

@@ -1,4 +1,4 @@
-"""Physics oracles for the planar rotor with n weights (stand.planar, stand.simulate).
+"""Physics oracles for the planar rotor with n weights (stand.model.planar, stand.integrate.simulate).
 
 Every expected value is a closed form, a conservation law or a number from the
 shared physics digest (/work/shared/physics/ch5_multiball.md sections 0-4, 8.3,
@@ -16,15 +16,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from stand.planar_theory.main_motion import main_eigenvalues
-from stand.planar_theory.qp import qp_roots
+from stand.theories.planar.main_motion import main_eigenvalues
+from stand.theories.planar.qp import qp_roots
 
-from stand.accuracy import closed_form_no_balancer
-from stand.planar import build_planar_model, rhs_planar, rhs_planar_numpy
-from stand.scene import (Balancer, InitialState, Rotor, RunSettings, Scene, SpeedDrive,
+from stand.integrate.accuracy import closed_form_no_balancer
+from stand.model.planar import build_planar_model, rhs_planar, rhs_planar_numpy
+from stand.scene.model import (Balancer, InitialState, Rotor, RunSettings, Scene, SpeedDrive,
                          Supports, TorqueDrive, dimensionless)
-from stand.scene_file import load_scene, scene_from_dimensionless
-from stand.simulate import simulate
+from stand.scene.parse import load_scene, scene_from_dimensionless
+from stand.integrate.simulate import simulate
 
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 

@@ -1,4 +1,4 @@
-"""Tests for stand.recording: HDF5 round trip, metadata, atomic writes, bad files."""
+"""Tests for stand.recording.hdf5: HDF5 round trip, metadata, atomic writes, bad files."""
 import json
 import os
 
@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 from stand import __version__
-from stand.recording import (FORMAT, FORMAT_VERSION, Recording, RecordingError,
+from stand.recording.hdf5 import (FORMAT, FORMAT_VERSION, Recording, RecordingError,
                              read_recording, write_recording)
-from stand.scene_file import load_scene
-from stand.result import SolverStats
-from stand.simulate import simulate
+from stand.scene.parse import load_scene
+from stand.integrate.result import SolverStats
+from stand.integrate.simulate import simulate
 
 from _helpers import toml_text
 

@@ -4,10 +4,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from stand.regime import classify
-from stand.scene import RunSettings, SpeedDrive
-from stand.scene_file import load_scene, scene_from_dimensionless
-from stand.simulate import simulate
+from stand.analysis.regime import classify
+from stand.scene.model import RunSettings, SpeedDrive
+from stand.scene.parse import load_scene, scene_from_dimensionless
+from stand.integrate.simulate import simulate
 
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 

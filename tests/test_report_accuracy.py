@@ -5,7 +5,7 @@ import re
 import pytest
 from _html import body_children
 
-from stand.cli import main
+from stand.cli.main import main
 from stand.reports.accuracy_report import ROW_SCHEMA, SCHEMA, accuracy_banner, recommend
 from stand.reports.html import check_schema
 

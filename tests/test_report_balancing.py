@@ -27,11 +27,11 @@ import h5py
 import numpy as np
 import pytest
 
-from stand.recording import read_recording, write_recording
+from stand.recording.hdf5 import read_recording, write_recording
 from stand.reports.balancing import SCHEMA, balancing_report
 from stand.reports.html import _fmt, check_schema
-from stand.scene_file import load_scene
-from stand.simulate import simulate
+from stand.scene.parse import load_scene
+from stand.integrate.simulate import simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ROOT / "data_samples" / "scenes"

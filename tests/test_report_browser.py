@@ -11,7 +11,7 @@ import pytest
 from _helpers import CHEAP_STRESS_CASE
 from _browser import find_chromium, render
 
-from stand.cli import main
+from stand.cli.main import main
 
 pytestmark = pytest.mark.skipif(find_chromium() is None,
                                 reason="Chromium not installed (apt-get install chromium)")

@@ -4,7 +4,7 @@ import shutil
 
 import pandas as pd
 
-from stand.cli import main
+from stand.cli.main import main
 
 REC = "data_samples/recordings/stand_cameras.h5"
 

@@ -148,7 +148,7 @@ def test_every_schema_key_has_a_label():
 def test_folder_summary_links_each_report_failures_first(tmp_path):
     import shutil
 
-    from stand.cli import main
+    from stand.cli.main import main
 
     src = tmp_path / "in"
     src.mkdir()
@@ -173,7 +173,7 @@ def test_folder_summary_links_each_report_failures_first(tmp_path):
 
 def test_pdf_first_page_holds_the_verdict(tmp_path):
     pypdf = pytest.importorskip("pypdf")
-    from stand.cli import main
+    from stand.cli.main import main
 
     pdf = tmp_path / "r.pdf"
     assert main(["report", str(SAMPLE), "--pdf", str(pdf)]) == 0

@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from stand.rotors.flexible import (flexible_shaft, shaft_criterion, shaft_natural_frequencies,
+from stand.model.rotors.flexible import (flexible_shaft, shaft_criterion, shaft_natural_frequencies,
                                    shaft_working_ranges)
-from stand.rotors.structure import (criterion_matrices, generalised_working_ranges,
+from stand.model.rotors.structure import (criterion_matrices, generalised_working_ranges,
                                     sign_changes, synchronous_poles, working_ranges)
 
 from _helpers import stand_stdout
@@ -149,14 +149,14 @@ def test_theory_json_holds_the_generalised_criterion(scene003):
     working ranges are where the matrix is negative definite."""
     import json
 
-    from stand.rotors.spatial import two_support_rotor
+    from stand.model.rotors.spatial import two_support_rotor
     path, sc = scene003
     out = stand_stdout("theory", path, "--json", "--no-floquet")
     doc = json.loads(out)
     gc = doc["generalised_criterion"]
     assert gc["planes"] == ["balancer1", "balancer2"]
     assert "K_xi and K_eta negative definite" in gc["condition"]
-    from stand.rotors.coupled import with_locked_weights
+    from stand.model.rotors.coupled import with_locked_weights
     rot = with_locked_weights(sc.linear_rotor(), sc.weights, sc.bodies)
     planes = ["balancer1", "balancer2"]
     assert gc["onsets_hz"]
@@ -207,7 +207,7 @@ def test_generalised_onsets_of_a_damped_flexible_shaft_bracket_definiteness():
 
 # ------------------------------------------------------ part 5: axial convention
 def test_axial_convention_paper003_is_the_mirrored_book_rotor():
-    from stand.rotors.scene import build_rotor
+    from stand.scene.structure_tables import build_rotor
 
     base = dict(mass=10.0, A=0.3, C=0.1, balancer_positions=[0.1])
     pap = build_rotor("spatial", dict(base, l1=0.2, l2=0.3, c1=2e4, c2=3e4,
@@ -220,7 +220,7 @@ def test_axial_convention_paper003_is_the_mirrored_book_rotor():
     assert bk.K[0, 3] == pytest.approx(2e4 * 0.2 - 3e4 * 0.3, rel=1e-14)
     default = build_rotor("spatial", dict(base, l1=0.2, l2=0.3, c1=2e4, c2=3e4))
     np.testing.assert_array_equal(default.K, bk.K)
-    from stand.scene import SceneError
+    from stand.scene.model import SceneError
     with pytest.raises(SceneError, match="axial_convention"):
         build_rotor("spatial", dict(base, l1=0.2, l2=0.3, c1=2e4, axial_convention="left"))
 
@@ -263,7 +263,7 @@ def test_every_builder_argument_is_a_scene_key(kind, tmp_path):
     import inspect
 
     import stand
-    from stand.rotors.scene import ROTOR_TYPES, _builder
+    from stand.scene.structure_tables import ROTOR_TYPES, _builder
 
     fn = _builder(kind)
     names = set(inspect.signature(fn).parameters) - {"params"}
@@ -281,7 +281,7 @@ def test_every_builder_argument_is_a_scene_key(kind, tmp_path):
 
 
 def test_platform_keywords_default_to_the_current_platform():
-    from stand.rotors.platform import default_params, platform_rotor, scene_params
+    from stand.model.rotors.platform import default_params, platform_rotor, scene_params
 
     assert scene_params() == default_params()
     a, b = platform_rotor(), platform_rotor(m=60.0, S1=1.0, rod_stiffness=3.75e6, rim_damping=10.0)
@@ -295,7 +295,7 @@ def test_platform_keywords_act_on_the_physics():
     """The rods enter A (42) linearly, c_1i v v^T / l^2: K(2c) - K(c) = K(c) - K(0)
     (1e-9 relative: three sums of O(1e6) entries); the balancer plane follows z_B ((5):
     dx = (1 + z d_3) x + z beta - y_D gamma); the unbalance is m2 e."""
-    from stand.rotors.platform import platform_rotor
+    from stand.model.rotors.platform import platform_rotor
 
     K0, K1, K2 = (platform_rotor(rod_stiffness=c).K for c in (0.0, 2.0e6, 4.0e6))
     np.testing.assert_allclose(K2 - K1, K1 - K0, atol=1e-9 * np.abs(K2).max())

@@ -17,9 +17,9 @@ import math
 import numpy as np
 import pytest
 
-from stand.rotors import working_ranges
-from stand.rotors.coupled import PlaneWeights, simulate_coupled, with_locked_weights
-from stand.scene import Balancer
+from stand.model.rotors import working_ranges
+from stand.model.rotors.coupled import PlaneWeights, simulate_coupled, with_locked_weights
+from stand.scene.model import Balancer
 
 
 def _balls(m, R, drag, angles=(60.0, 250.0)):
@@ -29,13 +29,13 @@ def _balls(m, R, drag, angles=(60.0, 250.0)):
 
 
 def _cases():
-    from stand.rotors.fixed_point import cylindrical_hinge, spherical_hinge
-    from stand.rotors.flexible import flexible_shaft
-    from stand.rotors.grinding import grinding_rotor
-    from stand.rotors.two_mass import two_mass
+    from stand.model.rotors.fixed_point import cylindrical_hinge, spherical_hinge
+    from stand.model.rotors.flexible import flexible_shaft
+    from stand.model.rotors.grinding import grinding_rotor
+    from stand.model.rotors.two_mass import two_mass
 
-    from stand.rotors.platform import platform_rotor
-    from stand.rotors.spatial import spatial_scene_rotor
+    from stand.model.rotors.platform import platform_rotor
+    from stand.model.rotors.spatial import spatial_scene_rotor
 
     # name, rotor, balls, balancer plane, duration [s]
     yield "spatial", spatial_scene_rotor(10.0, 0.3, 0.1, 0.2, 0.3, 2.0e4, balancer_positions=[0.1],

@@ -1,6 +1,6 @@
 """Rotor builders of Chapter 2 (models 2.5.2, 2.5.3, 2.6.1, 2.6.2, 2.8) against the
 digest ch2_ch3: the oracle tables 6.1 and 6.2, the closed forms of section 7.3,
-and the generic criterion of :mod:`stand.rotors.structure`.
+and the generic criterion of :mod:`stand.model.rotors.structure`.
 
 Tolerances: the closed forms are exact, and the generic sign-change search
 bisects to 1e-13.  So generic vs closed form is held to 1e-6 relative, as the
@@ -12,19 +12,19 @@ import math
 import numpy as np
 import pytest
 
-from stand.rotors.structure import working_ranges
-from stand.rotors.two_mass import (two_mass, two_mass_criterion, two_mass_critical_speeds,
+from stand.model.rotors.structure import working_ranges
+from stand.model.rotors.two_mass import (two_mass, two_mass_criterion, two_mass_critical_speeds,
                                    two_mass_natural_frequencies, two_mass_working_ranges)
-from stand.rotors.grinding import (contact_force, grinding, grinding_critical_speed,
+from stand.model.rotors.grinding import (contact_force, grinding, grinding_critical_speed,
                                    grinding_criterion, grinding_working_ranges,
                                    rotated_stiffness, static_offset)
-from stand.rotors.fixed_point import (cylindrical_hinge, cylindrical_hinge_criterion,
+from stand.model.rotors.fixed_point import (cylindrical_hinge, cylindrical_hinge_criterion,
                                       cylindrical_hinge_working_ranges, fixed_point_stand,
                                       hinge_stiffnesses, spherical_hinge,
                                       spherical_hinge_criterion, spherical_hinge_delta,
                                       spherical_hinge_natural_frequencies,
                                       spherical_hinge_working_ranges)
-from stand.rotors.flexible import (flexible_shaft, optimal_positions, shaft_criterion,
+from stand.model.rotors.flexible import (flexible_shaft, optimal_positions, shaft_criterion,
                                    shaft_natural_frequencies, shaft_receptance,
                                    shaft_working_ranges)
 
@@ -462,8 +462,8 @@ def test_shaft_rejects_bad_input():
 
 
 def test_scene_registry_names():
-    """stand.rotors.scene builds these types by name (grinding -> grinding_rotor)."""
-    from stand.rotors.scene import build_rotor
+    """stand.scene.structure_tables builds these types by name (grinding -> grinding_rotor)."""
+    from stand.scene.structure_tables import build_rotor
     r = build_rotor("grinding", dict(GR))
     assert r.K[0, 0] == pytest.approx(grinding_critical_speed(**GR) ** 2)
     r = build_rotor("flexible", dict(length=1.0, mass_per_length=1.0, EJ=1.0, n_modes=3,

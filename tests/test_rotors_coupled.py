@@ -1,14 +1,14 @@
-"""Weights coupled to the generic LinearRotor (stand.rotors.coupled)."""
+"""Weights coupled to the generic LinearRotor (stand.model.rotors.coupled)."""
 import math
 
 import numpy as np
 import pytest
 
-from stand.rotors import LinearRotor, Unbalance, working_ranges
-from stand.rotors.coupled import PlaneWeights, simulate_coupled
-from stand.scene import Balancer
-from stand.scene_file import load_scene
-from stand.simulate import simulate
+from stand.model.rotors import LinearRotor, Unbalance, working_ranges
+from stand.model.rotors.coupled import PlaneWeights, simulate_coupled
+from stand.scene.model import Balancer
+from stand.scene.parse import load_scene
+from stand.integrate.simulate import simulate
 
 
 def _planar_rotor(sc):

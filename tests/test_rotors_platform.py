@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from stand.rotors.platform import (
+from stand.model.rotors.platform import (
     Hanger, PlatformParams, default_params, quadrifilar_hangers, linkage_coefficients,
     hanger_vector, mass_matrix, gyro_matrix, damping_matrix, stiffness_matrix,
     plane_map, force_amplitude, generalized_force, platform_rotor, modal_frequencies,

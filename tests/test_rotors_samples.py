@@ -6,10 +6,10 @@ import json
 
 import pytest
 
-from stand.cli import main
+from stand.cli.main import main
 import stand
-from stand.rotors.run import family_theory
-from stand.rotors.scene import ROTOR_TYPES
+from stand.theories.rotors import family_theory
+from stand.scene.structure_tables import ROTOR_TYPES
 
 SAMPLES = sorted(glob.glob("data_samples/scenes/family_*.toml") +
                  ["data_samples/scenes/platform_paper004.toml"])

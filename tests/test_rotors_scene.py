@@ -6,12 +6,12 @@ import h5py
 import numpy as np
 import pytest
 
-from stand.cli import main
-from stand.rotors.coupled import PlaneWeights, simulate_coupled
-from stand.rotors.planar_supports import planar_critical_speeds, planar_rotor
-from stand.rotors.scene import parse_family_scene
-from stand.scene_file import load_scene
-from stand.scene import SceneError
+from stand.cli.main import main
+from stand.model.rotors.coupled import PlaneWeights, simulate_coupled
+from stand.model.rotors.planar_supports import planar_critical_speeds, planar_rotor
+from stand.scene.structure_tables import parse_family_scene
+from stand.scene.parse import load_scene
+from stand.scene.model import SceneError
 
 SAMPLE = "data_samples/scenes/family_planar.toml"
 
@@ -68,7 +68,7 @@ def test_gravity_only_where_the_axis_is_not_vertical():
     """Horizontal axis (g along -y): the static sag is -(M + m) g / c_y, and a
     pendulum-free ball at rest hangs at the bottom; a vertical axis has no
     gravity terms at all (the generalised gravity force is zero)."""
-    from stand.scene import Balancer
+    from stand.scene.model import Balancer
 
     g = 9.81
     c = 4.0e4

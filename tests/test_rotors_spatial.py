@@ -1,4 +1,4 @@
-"""Spatial rigid rotor (book 2.7.1-2.7.3) and paper 003 model M2 (stand.rotors.spatial).
+"""Spatial rigid rotor (book 2.7.1-2.7.3) and paper 003 model M2 (stand.model.rotors.spatial).
 
 Oracles: digest ch2_ch3 table 6.1 (rows 2.7.2 / 2.7.3), sections 2.6-2.8, 7.3;
 papers digest section 2 and oracles O10-O13 of section 5.3.  Each closed form is
@@ -13,8 +13,8 @@ import pytest
 import scipy.linalg as sla
 from scipy.integrate import solve_ivp
 
-from stand.rotors import working_ranges
-from stand.rotors.spatial import (
+from stand.model.rotors import working_ranges
+from stand.model.rotors.spatial import (
     SupportStiffness, auxiliary_speed, balances_at_high_speed, cantilever_disk, couple_unbalance,
     critical_speeds, delta, disk_on_clamped_shaft, disk_on_hinged_shaft, frequency_polynomial,
     frequency_roots, high_speed_limit, intersect_ranges, isotropic_supports, r_ac, spatial_rotor,

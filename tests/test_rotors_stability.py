@@ -1,17 +1,17 @@
 """Main-motion stability of any rotor with weights by Floquet multipliers
-(stand.rotors.stability), checked against the planar theory of the theory issue
+(stand.model.rotors.stability), checked against the planar theory of the theory issue
 and against simulation for a rotor the theory does not cover."""
 import math
 
 import numpy as np
 import pytest
 
-from stand.rotors import LinearRotor, Unbalance
-from stand.rotors.coupled import PlaneWeights, simulate_coupled
-from stand.scene_file import load_scene
-from stand.rotors.stability import _state_guess, main_motion_critical_speeds, main_motion_stability
-from stand.scene import Balancer
-from stand.planar_theory.main_motion import critical_speeds, d_two_balls, spectral_abscissa
+from stand.model.rotors import LinearRotor, Unbalance
+from stand.model.rotors.coupled import PlaneWeights, simulate_coupled
+from stand.scene.parse import load_scene
+from stand.model.rotors.stability import _state_guess, main_motion_critical_speeds, main_motion_stability
+from stand.scene.model import Balancer
+from stand.theories.planar.main_motion import critical_speeds, d_two_balls, spectral_abscissa
 
 
 def _planar(m=0.025, l=0.1, e0=0.5, h=0.3, H=0.1):

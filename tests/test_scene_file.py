@@ -1,12 +1,12 @@
-"""Tests for stand.scene_file: loading, unit conversion, errors."""
+"""Tests for stand.scene.parse: loading, unit conversion, errors."""
 import math
 import re
 
 import numpy as np
 import pytest
 
-from stand.scene import RunSettings, SceneError, SpeedDrive, TorqueDrive, dimensionless
-from stand.scene_file import load_scene, parse_scene, scene_from_dimensionless
+from stand.scene.model import RunSettings, SceneError, SpeedDrive, TorqueDrive, dimensionless
+from stand.scene.parse import load_scene, parse_scene, scene_from_dimensionless
 
 from _helpers import toml_text
 

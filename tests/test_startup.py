@@ -35,7 +35,7 @@ def _python(code: str, env=None) -> str:
 
 def _modules_after(argv) -> set:
     """Top-level modules imported by ``stand ARGV`` run in a fresh process."""
-    code = ("import sys, json\nfrom stand.cli import main\n"
+    code = ("import sys, json\nfrom stand.cli.main import main\n"
             f"try:\n    main({list(map(str, argv))!r})\nexcept SystemExit:\n    pass\n"
             "print('@@' + json.dumps(sorted({m.split('.')[0] for m in sys.modules})))")
     out = _python(code)
@@ -63,9 +63,9 @@ def test_theory_and_analyze_import_no_numba_pandas_dask_matplotlib():
 
 
 def test_importing_the_kernels_does_not_import_numba():
-    out = _python("import sys\nimport stand.planar, stand.integrate.driver, stand.simulate\n"
+    out = _python("import sys\nimport stand.model.planar, stand.integrate.driver, stand.integrate.simulate\n"
                   "from stand._jit import LazyKernel, HAVE_NUMBA\n"
-                  "import stand.planar as p\n"
+                  "import stand.model.planar as p\n"
                   "print('numba' in sys.modules, isinstance(p.rhs_planar, LazyKernel) or not HAVE_NUMBA)")
     assert out.split() == ["False", "True"]
 
@@ -74,7 +74,7 @@ def test_first_call_turns_every_stand_in_into_a_dispatcher():
     if not _jit.HAVE_NUMBA:
         pytest.skip("numba not installed")
     out = _python(
-        "import numpy as np\nimport stand.programme as pr, stand.planar as pl\n"
+        "import numpy as np\nimport stand.model.programme as pr, stand.model.planar as pl\n"
         "from stand._jit import LazyKernel\n"
         "prog = np.array([[0.0, 1.0, 0.0], [1.0, 2.0, 1.5]])\n"
         "v = pr.programme_kinematics(0.5, prog, len(prog))\n"
@@ -94,7 +94,7 @@ def test_planar_run_compiles_only_the_planar_kernel():
         "import stand\nsc = stand.load(%r)\n"
         "from dataclasses import replace\nsc = replace(sc, run=replace(sc.run, duration=0.5))\n"
         "stand.run(sc)\nfrom stand.integrate.dop853 import dop853_loop\n"
-        "from stand.rotors import coupled_kernel as ck\n"
+        "from stand.model.rotors import coupled_kernel as ck\n"
         "print(sorted(str(s[0]) for s in dop853_loop.signatures), len(ck.rhs_generic.signatures))"
         % str(RUNUP), env={"STAND_KERNELS": "jit"})
     assert out.strip() == "['Literal[int](0)'] 0"
@@ -160,10 +160,10 @@ def test_precompiled_module_name_follows_its_sources():
     name does not depend on the generic kernel's files, and both depend on the loop."""
     planar = set(precompiled.kernel_modules(0))
     generic = set(precompiled.kernel_modules(1))
-    assert "stand.planar" in planar and "stand.rotors.coupled_kernel" not in planar
-    assert {"stand.rotors.coupled_kernel", "stand.rotors.bodies_kernel"} <= generic
-    assert "stand.planar" not in generic
-    assert {"stand.integrate.dop853", "stand.kernels"} <= planar & generic
+    assert "stand.model.planar" in planar and "stand.model.rotors.coupled_kernel" not in planar
+    assert {"stand.model.rotors.coupled_kernel", "stand.model.rotors.bodies_kernel"} <= generic
+    assert "stand.model.planar" not in generic
+    assert {"stand.integrate.dop853", "stand.model.kernels"} <= planar & generic
     assert precompiled.module_name(0) != precompiled.module_name(1)
 
 
@@ -235,7 +235,7 @@ def test_compilation_is_announced_only_when_it_takes_time(capsys):
 
 
 def test_warmup_command(capsys):
-    from stand.cli import main
+    from stand.cli.main import main
 
     assert main(["warmup"]) == 0
     out = capsys.readouterr().out
@@ -247,8 +247,8 @@ def test_programme_in_numpy_equals_the_compiled_scalar_programme():
     """Reading a run's rotor angle and speed needs no compiled code: the numpy version of the
     programme equals the kernel's scalar one exactly, at random times, at the knots and
     before / after the table, with a repeated knot time (a jump in acceleration)."""
-    from stand.planar import rotor_kinematics_many
-    from stand.programme import programme_kinematics, programme_kinematics_many, rotor_kinematics
+    from stand.model.planar import rotor_kinematics_many
+    from stand.model.programme import programme_kinematics, programme_kinematics_many, rotor_kinematics
 
     rng = np.random.default_rng(7)
     for k in (1, 2, 3, 6, 17):
@@ -261,7 +261,7 @@ def test_programme_in_numpy_equals_the_compiled_scalar_programme():
         ref = np.array([programme_kinematics(x, prog, len(prog)) for x in taus])
         np.testing.assert_array_equal(programme_kinematics_many(taus, prog), ref)
     sp = np.zeros(64)
-    from stand.planar import COAST_PHI0, COAST_R0, COAST_T, COAST_T0
+    from stand.model.planar import COAST_PHI0, COAST_R0, COAST_T, COAST_T0
     sp[COAST_T0], sp[COAST_T], sp[COAST_R0], sp[COAST_PHI0] = 5.0, 2.0, 3.0, 11.0
     taus = np.linspace(0.0, 9.0, 301)
     phi, R = rotor_kinematics_many(taus, prog, sp)
@@ -310,7 +310,7 @@ def test_kernel_set_takes_any_array_layout(mode, monkeypatch):
     if mode == "precompiled" and precompiled.available() is not None:
         pytest.skip(f"precompiling unavailable: {precompiled.available()}")
     from stand.integrate import kernel_set
-    from stand.planar import build_planar_model, initial_state
+    from stand.model.planar import build_planar_model, initial_state
 
     monkeypatch.setenv("STAND_KERNELS", mode)
     monkeypatch.setattr(kernel_set, "_CACHE", {})
@@ -337,7 +337,7 @@ def test_kernel_set_dop853_takes_lists_and_checks_its_workspace():
     inputs too, and the compiled loop refuses a scratch array too small for the state."""
     from stand.integrate import kernel_set
     from stand.integrate.dop853 import WORK_ROWS, dop853_loop
-    from stand.planar import build_planar_model, initial_state
+    from stand.model.planar import build_planar_model, initial_state
 
     sc = stand.load(RUNUP)
     m = build_planar_model(sc)

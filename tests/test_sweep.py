@@ -19,7 +19,7 @@ import pytest
 from stand.sweep import (TIMING_COLUMNS, SweepSpecError, add_sweep_arguments, load_sweep,
                          parts_dir, read_results, run_sweep, sweep_main)
 from stand.sweep.maps import critical_speed_map, regime_map
-from stand.planar_theory import main_motion as mm
+from stand.theories.planar import main_motion as mm
 
 from _helpers import toml_text, wait_for
 
@@ -115,9 +115,9 @@ def test_theory_sweep_10k_points_under_a_minute_and_band_structure(tmp_path):
     """10^4 points (speed x unbalance) of the universal stand's ball balancer on the local
     pool (all cores) in < 60 s; the main/QP stability at sampled points equals
     is_stable / the QP escape speed, and the band structure of scene_theory."""
-    from stand.scene_file import load_scene, parse_scene
+    from stand.scene.parse import load_scene, parse_scene
     from stand.sweep.spec import point_scene_dict
-    from stand.planar_theory.speedmap import scene_theory
+    from stand.theories.planar.speedmap import scene_theory
 
     spec = load_sweep(SWEEPS / "ball_theory_map.toml")
     assert spec.n_points == 10_000
@@ -176,9 +176,9 @@ def test_theory_sweep_10k_points_under_a_minute_and_band_structure(tmp_path):
 
 def test_theory_with_side_motions_matches_scene_theory(tmp_path):
     """theory.side = true: the full set of stable motions equals scene_theory's band."""
-    from stand.scene_file import parse_scene
+    from stand.scene.parse import parse_scene
     from stand.sweep.spec import point_scene_dict
-    from stand.planar_theory.speedmap import scene_theory
+    from stand.theories.planar.speedmap import scene_theory
 
     spec = load_sweep(_spec_text(toml_text(
         sweep=dict(compute=["theory"]),
@@ -276,8 +276,8 @@ def test_structure_base_scene_swept_over_a_structure_parameter(tmp_path):
     """A [structure] base scene (data_samples/scenes/family_two_mass.toml, shortened) swept
     over structure.rotor_stiffness: theory (engineering criterion of stand.theory) and
     simulation; keys that only the planar rotor has are refused by name."""
-    from stand.scene_file import parse
-    from stand.scene_theory import theory
+    from stand.scene.parse import parse
+    from stand.theories.scene import theory
     from stand.sweep.spec import point_scene_dict
 
     spec = load_sweep(TWO_MASS + """
@@ -319,8 +319,8 @@ def test_structure_base_scene_swept_over_a_structure_parameter(tmp_path):
 def warm_jit():
     """Compile (or load) the integrator once here, so that worker processes find the
     numba cache on disk instead of compiling concurrently."""
-    from stand.scene_file import load_scene
-    from stand.simulate import simulate
+    from stand.scene.parse import load_scene
+    from stand.integrate.simulate import simulate
 
     simulate(load_scene(_spec_text("").replace("[base.", "[")))
 

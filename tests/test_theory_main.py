@@ -1,4 +1,4 @@
-"""Main-motion stability theory (stand.planar_theory.main_motion) against the digest.
+"""Main-motion stability theory (stand.theories.planar.main_motion) against the digest.
 
 Oracles: digest ch5 sections 4.1-4.4, 6.5 and the tests T1-T5 of section 8.3.
 Tables quoted there are reproduced row by row; where the digest prints 5 decimals
@@ -11,8 +11,8 @@ import numpy as np
 import numpy.polynomial.polynomial as P
 import pytest
 
-from stand.rotating import main_motion_state, rotating_jacobian, rotating_rhs
-from stand.planar_theory.main_motion import (
+from stand.model.rotating import main_motion_state, rotating_jacobian, rotating_rhs
+from stand.theories.planar.main_motion import (
     CriticalSpeed, StabilityWarning, R1_first_order, R1_max_closed_form, R1_max_validity,
     R1_refined, R_window_large_H, balancing_rate, charpoly_coefficients,
     conservative_coefficients, conservative_R1_k1, conservative_R1_parametric,

@@ -10,11 +10,11 @@ import warnings
 import numpy as np
 import pytest
 
-from stand.planar import COAST_T0, build_planar_model, rhs_planar
-from stand.rotating import constant_speed_programme
-from stand.scene import RunSettings, SpeedDrive
-from stand.scene_file import scene_from_dimensionless
-from stand.planar_theory.qp import (QPWarning, dspeed_dOmega, epitrochoid, escape_speed,
+from stand.model.planar import COAST_T0, build_planar_model, rhs_planar
+from stand.model.rotating import constant_speed_programme
+from stand.scene.model import RunSettings, SpeedDrive
+from stand.scene.parse import scene_from_dimensionless
+from stand.theories.planar.qp import (QPWarning, dspeed_dOmega, epitrochoid, escape_speed,
                              frequency_polynomial, qp_roots, qp_stability, qp_thresholds,
                              speed_of_precession, spot_law)
 
@@ -201,7 +201,7 @@ def test_asymptotic_5_204_small_RmH():
 def _omega_frame_rhs(model, R, W):
     """d/dtau of the state [u, v, a_1..a_n, u', v', a_1'..a_n'] in a frame turning at W.
 
-    Built from the fixed-frame :func:`stand.planar.rhs_planar` at tau = 0, where
+    Built from the fixed-frame :func:`stand.model.planar.rhs_planar` at tau = 0, where
     the frame, the rotor (constant speed R) and the fixed axes coincide; with
     e0 = 0 the system is autonomous in this frame.
     """
@@ -493,6 +493,6 @@ def test_invalid_inputs_name_the_parameter(name, args):
 
 def test_docstring_examples():
     import doctest
-    import stand.planar_theory.qp as qp
+    import stand.theories.planar.qp as qp
     res = doctest.testmod(qp, optionflags=doctest.NORMALIZE_WHITESPACE)
     assert res.failed == 0 and res.attempted >= 5

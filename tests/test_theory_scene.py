@@ -6,15 +6,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from stand.cli import main
-from stand.regime import classify
-from stand.scene import RunSettings, SpeedDrive
-from stand.scene_file import load_scene, scene_from_dimensionless
-from stand.simulate import simulate
-from stand.planar_theory import main_motion as mm
-from stand.planar_theory import qp
-from stand.planar_theory.speedmap import TheoryError, scene_theory
-from stand.planar_theory.verify import at_speed, check_thresholds
+from stand.cli.main import main
+from stand.analysis.regime import classify
+from stand.scene.model import RunSettings, SpeedDrive
+from stand.scene.parse import load_scene, scene_from_dimensionless
+from stand.integrate.simulate import simulate
+from stand.theories.planar import main_motion as mm
+from stand.theories.planar import qp
+from stand.theories.planar.speedmap import TheoryError, scene_theory
+from stand.theories.planar.verify import at_speed, check_thresholds
 
 from _helpers import theory_computed_once
 
@@ -158,7 +158,7 @@ def test_band_between_two_close_thresholds_is_kept():
 
 def test_torque_drive_is_analysed_at_its_target_speed(runup):
     import dataclasses as dc
-    from stand.scene import TorqueDrive
+    from stand.scene.model import TorqueDrive
     s, a = runup
     st = dc.replace(s, rotor=dc.replace(s.rotor, inertia=0.05),
                     drive=TorqueDrive("speed_feedback", c1=0.5, target_speed=2 * np.pi * 15))

@@ -4,18 +4,18 @@ Oracles: digest ch5 section 3 (steady equations (5.49), main motions (5.50),
 side motions (5.51)-(5.75) with the corrected (5.57) and (5.64)), section 4.5
 (stability of side motions and of the e0 > 1 main motion, (5.140)-(5.161)),
 tests T6 and T6b of section 8.3.  Equilibria are checked against the
-simulator's own equations in the rotating frame (stand.rotating).
+simulator's own equations in the rotating frame (stand.model.rotating).
 """
 import math
 
 import numpy as np
 import pytest
 
-from stand.planar import build_planar_model
-from stand.rotating import rotating_rhs
-from stand.scene import RunSettings, SpeedDrive
-from stand.scene_file import scene_from_dimensionless
-from stand.planar_theory.side import (
+from stand.model.planar import build_planar_model
+from stand.model.rotating import rotating_rhs
+from stand.scene.model import RunSettings, SpeedDrive
+from stand.scene.parse import scene_from_dimensionless
+from stand.theories.planar.side import (
     bits_of, identical_side_classes, is_stable, large_unbalance_coefficients,
     main_motion_angles, maximally_balanced_motion, net_unbalance, side_motions, side_window,
     stable_steady_motions, steady_deflection, steady_eigenvalues, steady_residual, steady_state,

@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from stand.balancers.two_axis import (
+from stand.model.balancers.two_axis import (
     TwoAxisParams, residual_rotating, residual_fixed, rhs_rotating, rhs_fixed,
     rhs_fixed_variable_speed, linear_ramp, rotating_to_fixed, fixed_to_rotating,
     steady_polynomial, first_group, second_group, steady_motions, no_gravity_no_damping,
     r0, eigenvalues, max_real_part)
-from stand.balancers.two_axis_theory import (
+from stand.model.balancers.two_axis_theory import (
     char_poly_first_group, char_poly_second_group, small_mass_roots,
     fast_rotation_main_roots, fast_rotation_side_roots, R_star_omega1, fold_speeds,
     above_pivot_onset, fast_rotation_u, near_resonance_u, efficiency_approx,

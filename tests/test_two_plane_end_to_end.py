@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from stand.cli import main
+from stand.cli.main import main
 
 SAMPLE = Path(__file__).resolve().parents[1] / "data_samples" / "scenes" / "paper003_two_screens.toml"
 
@@ -102,7 +102,7 @@ def test_single_screen_form_still_parses():
 
 def test_named_instances_only_for_screens(tmp_path):
     import stand
-    from stand.scene import SceneError
+    from stand.scene.model import SceneError
 
     text = SAMPLE.read_text() + "\n[instruments.keyphasor.extra]\nmark_angle = 0.0\n"
     p = tmp_path / "bad.toml"

@@ -7,9 +7,9 @@ import pytest
 
 from dsp.errors import SignalError
 from dsp.two_plane import principal_axis_offsets, shaft_axis_points, two_plane_unbalances
-from stand.rotors import Unbalance
-from stand.rotors.coupled import simulate_coupled
-from stand.rotors.spatial import spatial_scene_rotor
+from stand.model.rotors import Unbalance
+from stand.model.rotors.coupled import simulate_coupled
+from stand.model.rotors.spatial import spatial_scene_rotor
 
 
 def test_printed_43_is_the_negated_axis_line():

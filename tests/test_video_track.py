@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from stand.cli import main
+from stand.cli.main import main
 from vision import artificial as art
 from vision.blur import fit_blurred_spot
 from vision.io import iter_frames

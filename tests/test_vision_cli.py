@@ -5,7 +5,7 @@ import h5py
 import numpy as np
 import pandas as pd
 
-from stand.cli import main
+from stand.cli.main import main
 
 ROOT = Path(__file__).resolve().parents[1]
 REC = ROOT / "data_samples" / "recordings" / "stand_cameras.h5"

@@ -16,10 +16,10 @@ from dsp.quasiperiodic import decompose
 from dsp.unbalance import synchronous_component, unbalance_from_response
 from stand.instruments.pipeline import run_with_instruments
 from stand.instruments.screen import ScreenCamera, pixels_to_screen
-from stand.recording import write_recording
-from stand.scene import SpeedDrive
-from stand.scene_file import load_scene
-from stand.planar_theory.qp import qp_roots
+from stand.recording.hdf5 import write_recording
+from stand.scene.model import SpeedDrive
+from stand.scene.parse import load_scene
+from stand.theories.planar.qp import qp_roots
 from vision.io import iter_frames
 from vision.spot import track
 
@@ -93,7 +93,7 @@ def locked_stand(ecc: float) -> str:
 def test_stand_track_trace_reads_the_unbalance_through_the_rings(tmp_path):
     """stand run -> long-exposure frames (3 revolutions each) -> `stand track --trace`
     with the sample ring image -> unbalance within 2 % of the truth (0.5 S)."""
-    from stand.cli import main
+    from stand.cli.main import main
 
     root = SCENES.parents[1]
     S_gmm = 2 * 0.045 * 0.08 * 1e6          # stand_cameras.toml: two 45 g balls at 80 mm

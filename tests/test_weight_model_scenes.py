@@ -4,11 +4,11 @@ import json
 import numpy as np
 import pytest
 
-from stand.balancers.scene import model_theory
-from stand.scene_file import load_scene as load_weight_model
+from stand.scene.book_tables import model_theory
+from stand.scene.parse import load_scene as load_weight_model
 import stand
-from stand.cli import main
-from stand.scene import SceneError
+from stand.cli.main import main
+from stand.scene.model import SceneError
 
 S = "data_samples/scenes/weight_{}.toml"
 

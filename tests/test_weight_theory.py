@@ -1,4 +1,4 @@
-"""Theory of the book weight models (issue 16 item 6): stand.balancers.weight_theory.
+"""Theory of the book weight models (issue 16 item 6): stand.model.balancers.weight_theory.
 
 Numbers are the digests' oracles (/work/shared/physics/ch7_ch1.md section 5,
 ch6_two_axis.md section 8, thesis_002_liquid.md sections 4-5) and the optimal
@@ -11,13 +11,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from stand.balancers import liquid_chamber as lc
-from stand.balancers.damper import DamperParams
-from stand.balancers.gravity_pair import GravityPairParams
-from stand.balancers.liquid_chamber import LiquidChamberParams
-from stand.balancers.liquid_float import LiquidFloatParams
-from stand.balancers.two_axis import TwoAxisParams
-from stand.balancers.weight_theory import LIQUIDS, weight_theory
+from stand.model.balancers import liquid_chamber as lc
+from stand.model.balancers.damper import DamperParams
+from stand.model.balancers.gravity_pair import GravityPairParams
+from stand.model.balancers.liquid_chamber import LiquidChamberParams
+from stand.model.balancers.liquid_float import LiquidFloatParams
+from stand.model.balancers.two_axis import TwoAxisParams
+from stand.model.balancers.weight_theory import LIQUIDS, weight_theory
 
 from _helpers import stand_stdout
 
@@ -278,7 +278,7 @@ def test_weight_theory_from_physical_parameters_is_json():
 
 # =========================================================================== stand theory
 def _stand(*args):
-    return stand_stdout(*args)     # stand.cli.main in this process (exit 0 asserted)
+    return stand_stdout(*args)     # stand.cli.main.main in this process (exit 0 asserted)
 
 
 def test_stand_theory_gravity_pair_json_and_text():

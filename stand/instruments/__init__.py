@@ -1,6 +1,6 @@
 """Virtual instruments of the stand (monograph chapter 4, digest ch5 sections 6 and 8.1.4).
 
-Each instrument turns the ground-truth motion (a :class:`stand.simulate.Trajectory`
+Each instrument turns the ground-truth motion (a :class:`stand.integrate.simulate.Trajectory`
 or plain arrays) into what the real instrument would record -- with its
 imperfections -- and keeps the truth beside it:
 

@@ -14,12 +14,12 @@ TOML file travel in the field's metadata.  Then
 * :func:`check` validates the attributes in ``__post_init__`` and stores them
   normalised (``float``, ``int``, ``bool``, a tuple of ``float``);
 * :func:`read_table` reads the same fields from an ``[instruments.<name>]``
-  table (:class:`stand.scene_file.Table`), each in its TOML unit (e.g. degrees
+  table (:class:`stand.scene.parse.Table`), each in its TOML unit (e.g. degrees
   for an angle kept in radians);
 * :func:`rebased` constructs the dataclass so that the messages of its own
   checks name the table's dotted path.
 
-Every problem raises :class:`stand.scene.SceneError` (a ``ValueError``) whose
+Every problem raises :class:`stand.scene.model.SceneError` (a ``ValueError``) whose
 message names the field (dotted path), the value and the unit, e.g.
 ``instruments.stroboscope.slot_width = -0.002: must be > 0 (m)``.
 """
@@ -31,7 +31,7 @@ from typing import Callable, Iterable, Optional
 
 import numpy as np
 
-from stand.scene import SceneError
+from stand.scene.model import SceneError
 
 __all__ = ["REQUIRED", "number", "integer", "boolean", "choice", "numbers", "keys", "check",
            "read_table", "rebased", "check_number", "check_integer", "table_boolean",
@@ -217,7 +217,7 @@ def check(obj, path: str, names: Optional[Iterable[str]] = None) -> None:
 
 
 def read_table(t, cls) -> dict:
-    """Keyword arguments of ``cls`` from a TOML table (:class:`stand.scene_file.Table`).
+    """Keyword arguments of ``cls`` from a TOML table (:class:`stand.scene.parse.Table`).
 
     Every declared field present in the table is read in its TOML unit and
     converted (a required field must be present); absent ones are left to the
@@ -252,7 +252,7 @@ def rebased(cls, kwargs: dict, default_path: str, path: str):
 
 
 # ---------------------------------------------------------------- TOML values
-# The public :class:`stand.scene_file.Table` has no boolean or variable-length list getter.
+# The public :class:`stand.scene.parse.Table` has no boolean or variable-length list getter.
 def table_boolean(t, key: str, default: Optional[bool]) -> Optional[bool]:
     """``t[key]`` as ``bool`` (``default`` when absent); must be true or false."""
     if key not in t:

@@ -35,7 +35,7 @@ from typing import Optional
 
 import numpy as np
 
-from stand.scene import (Balancer, InitialState, Rotor, RunSettings, Scene, SceneError,
+from stand.scene.model import (Balancer, InitialState, Rotor, RunSettings, Scene, SceneError,
                      SpeedDrive)
 from stand.instruments._settings import (check, check_integer, check_number, choice, integer, keys, number,
                         read_table, rebased)
@@ -304,7 +304,7 @@ def natural_frequency_test(scene: Scene, deflection: float, gate: Optional[Photo
     MeasurementError
         The counter does not stop (fewer pulses than ``stop_pass``).
     """
-    from stand.simulate import simulate
+    from stand.integrate.simulate import simulate
 
     gate = gate if gate is not None else PhotoGate()
     check_number("deflection", deflection, "m")

@@ -8,7 +8,7 @@ tachometer and probes interpolate the recorded samples (cubic Hermite with the
 recorded speeds, :mod:`stand.instruments.timing`).  Frames are rendered and
 written one at a time, so a long video never sits in memory.
 
-Recording layout (HDF5, beside the core datasets of :mod:`stand.recording`)::
+Recording layout (HDF5, beside the core datasets of :mod:`stand.recording.hdf5`)::
 
     instruments/<name>/...        what the instrument outputs (frames, times, readings)
     instruments/<name>.attrs      its settings as JSON (SI units)
@@ -30,8 +30,8 @@ import math
 
 import numpy as np
 
-from stand.scene import Scene, SceneError
-from stand.simulate import Trajectory, simulate
+from stand.scene.model import Scene, SceneError
+from stand.integrate.simulate import Trajectory, simulate
 from stand.instruments.placement import instrument_plane, placement_of, screens, with_axis_planes
 from stand.instruments.rings import scene_capacity
 
@@ -66,8 +66,8 @@ def plane_view(traj, scene: Scene, settings):
     plane = instrument_plane(scene, settings)
     if scene.kind != "rotor" or traj is None:
         return traj, plane, {}
-    from stand.result import weight_names
-    from stand.scene import Balancer
+    from stand.integrate.result import weight_names
+    from stand.scene.model import Balancer
     from stand.instruments.timing import shaft_velocity
 
     full = dataclasses.replace(traj, main_plane=plane, extra=None)
@@ -79,7 +79,7 @@ def plane_view(traj, scene: Scene, settings):
     def named(sc):
         n, p = weight_names(sc.weights)
         if sc.bodies:
-            from stand.rotors.bodies import body_names
+            from stand.model.rotors.bodies import body_names
 
             bn, bp = body_names(sc.bodies)
             n, p = n + bn, p + bp
@@ -147,7 +147,7 @@ def run_with_instruments(scene: Scene, method: str | None = None, progress: bool
         exposure samples when there is a screen camera).
     writer : callable or None
         ``writer(h5file)`` stores every instrument's output and truth; pass it
-        to :func:`stand.recording.write_recording`.  None without instruments.
+        to :func:`stand.recording.hdf5.write_recording`.  None without instruments.
     """
     if not scene.instruments:
         return simulate(scene, method=method, progress=progress, checkpoint=checkpoint,
@@ -166,7 +166,7 @@ def run_with_instruments(scene: Scene, method: str | None = None, progress: bool
         write_instruments(f, scene, traj, plans)
 
     # an upper bound of what the instruments store (16-bit frames, uncompressed), so the
-    # recording writer knows whether it may assemble the file in memory (stand.recording)
+    # recording writer knows whether it may assemble the file in memory (stand.recording.hdf5)
     frame_bytes = sum((len(p[1]) + 1) * 2 * p[0].width * p[0].height for p in plans.values())
     writer.estimated_bytes = frame_bytes + \
         (MAX_STROBE_FRAMES * 2 * 1024 * 1024 if "stroboscope" in scene.instruments else 0) + \

@@ -7,11 +7,11 @@ Every ``[instruments.<name>]`` table may say where the instrument is attached::
     # or
     axial_position = 0.45     # m: the point of the shaft axis at this axial distance
 
-* ``plane`` names one of the scene's planes (:attr:`stand.scene.Scene.planes`): the
+* ``plane`` names one of the scene's planes (:attr:`stand.scene.model.Scene.planes`): the
   screen films the spot of that plane's fixed-frame translation
-  (:attr:`stand.result.Run.planes`), the probes measure it, the stroboscope draws
+  (:attr:`stand.integrate.result.Run.planes`), the probes measure it, the stroboscope draws
   the weights that sit in that plane (balls at their angles; body weights as on
-  planar scenes).  Default: :attr:`stand.scene.Scene.main_plane`.
+  planar scenes).  Default: :attr:`stand.scene.model.Scene.main_plane`.
 * ``axial_position = d`` [m] (rotors with tilt coordinates only): the laser beam
   along the shaft axis hits a screen at axial distance ``d`` where the axis line
   is ((4.2) of the book: ``x + d beta, y - d alpha`` for the rigid rotor (2.131)).
@@ -36,7 +36,7 @@ from typing import Optional
 
 import numpy as np
 
-from stand.scene import SceneError
+from stand.scene.model import SceneError
 
 __all__ = ["Placement", "PLACEMENT_KEYS", "AXIS_MAPS", "NO_TILT", "split_placement",
            "attach", "placement_of", "instrument_plane", "axis_plane_name", "axis_map",
@@ -120,7 +120,7 @@ def placement_of(settings) -> Placement:
 
 # ---------------------------------------------------------------- axis points
 def _spatial(params, rotor, d):
-    from stand.rotors.spatial_supports import plane_map
+    from stand.model.rotors.spatial_supports import plane_map
 
     return plane_map(d)
 
@@ -148,7 +148,7 @@ def _platform(params, rotor, d):
         raise SceneError("axial_position on a platform with parameters given in [structure]: not "
                          "applicable in this version (the axis map needs the platform's "
                          "parameter set); use plane = \"rotor\" or \"balancer\"")
-    from stand.rotors.platform import default_params, plane_map
+    from stand.model.rotors.platform import default_params, plane_map
 
     return plane_map(default_params(), d)
 
@@ -245,7 +245,7 @@ def screens(instruments) -> dict:
 
 
 def check_instruments(scene) -> None:
-    """The checks :func:`stand.scene_file.check_derived` makes of the instruments of a
+    """The checks :func:`stand.scene.parse.check_derived` makes of the instruments of a
     planar scene, for a rotor-family scene: placements (axis maps built), then
     :func:`check_instrument_budget`."""
     if scene.kind == "book":
@@ -262,7 +262,7 @@ def check_instrument_budget(scene, width: int) -> None:
     """Every scene's instruments: image sizes, the memory of all screens' exposure
     sub-samples (simulated state rows of ``width`` numbers), each instrument against the
     run settings.  Errors name the table, the value and the limit."""
-    from stand.scene_file import MAX_IMAGE_PIXELS, MAX_STATE_BYTES
+    from stand.scene.parse import MAX_IMAGE_PIXELS, MAX_STATE_BYTES
 
     for inst in scene.instruments.values():
         w, h = getattr(inst, "width", 0), getattr(inst, "height", 0)

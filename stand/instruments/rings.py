@@ -24,7 +24,7 @@ from typing import Iterable, Optional
 
 import numpy as np
 
-from stand.scene import (Balancer, InitialState, Rotor, RunSettings, Scene, SceneError,
+from stand.scene.model import (Balancer, InitialState, Rotor, RunSettings, Scene, SceneError,
                      SpeedDrive)
 
 __all__ = ["scene_capacity", "ring_radii", "family_ring_radii", "ring_radii_by_simulation",
@@ -37,7 +37,7 @@ ZONES = range(0, 21)       #: zones 0..20, up to 1.25 S
 def scene_capacity(scene: Scene) -> float:
     """Balancing capacity S of the main plane [kg m]: ``sum m l`` of the balls / pendulums
     plus each body weight's ``capacity`` (tilting weights and the damper m l, a liquid
-    m kappa (R - r); :mod:`stand.rotors.bodies`)."""
+    m kappa (R - r); :mod:`stand.model.rotors.bodies`)."""
     if getattr(scene, "structure", None) is None:
         S = float(scene.balancer.capacity)
     else:
@@ -124,7 +124,7 @@ def family_ring_radii(scene: Scene, speed: Optional[float] = None,
                       zones: Iterable[int] = ZONES, cam=None,
                       plane: Optional[str] = None) -> np.ndarray:
     """Ring radii [m] of a rotor-family scene: the steady response of the locked-weights
-    rotor (:func:`stand.rotors.coupled.with_locked_weights`, every weight's mass moving
+    rotor (:func:`stand.model.rotors.coupled.with_locked_weights`, every weight's mass moving
     with its plane) to the unbalance i S / 16 in the main plane (where the balancer of
     capacity S sits), seen in ``plane`` (the screen's; an axis point ``axis@<d>m`` too).
 
@@ -132,7 +132,7 @@ def family_ring_radii(scene: Scene, speed: Optional[float] = None,
     isotropic rotor and an ellipse otherwise; the radius is its semi-major axis
     ``|A| + |B|`` (as the planar closed form).  The phase of the unbalance does not change it.
     """
-    from stand.rotors.coupled import with_locked_weights
+    from stand.model.rotors.coupled import with_locked_weights
 
     S = _capacity(scene)
     w = _speed(scene, speed)
@@ -190,7 +190,7 @@ def ring_radii_by_simulation(scene: Scene, speed: Optional[float] = None,
     """Ring radii [m on the screen] measured from calibration runs on the simulator.
 
     For each i, :func:`calibration_scene` with unbalance i S / 16 is simulated
-    (:func:`stand.simulate.simulate`) at constant ``speed`` until the start
+    (:func:`stand.integrate.simulate.simulate`) at constant ``speed`` until the start
     transient has decayed (``duration``, default :func:`settle_time`), and the
     radius is measured over the last ``revolutions`` revolutions by a least-
     squares fit of z = x + i y = A e^{i phi} + B e^{-i phi} + C (phi the rotor
@@ -201,7 +201,7 @@ def ring_radii_by_simulation(scene: Scene, speed: Optional[float] = None,
     -------
     ndarray (len(zones),)
     """
-    from stand.simulate import simulate
+    from stand.integrate.simulate import simulate
 
     S = _capacity(scene)
     w = _speed(scene, speed)

@@ -42,7 +42,7 @@ from typing import Optional
 
 import numpy as np
 
-from stand.scene import SceneError
+from stand.scene.model import SceneError
 from stand.instruments._settings import REQUIRED, boolean, check, integer, keys, number, read_table
 
 __all__ = ["ScreenCamera", "spot_on_screen", "screen_to_pixels", "pixels_to_screen",
@@ -282,7 +282,7 @@ class ScreenCamera:
         return int(min(max(k, DEFAULT_SUBSAMPLES), MAX_SUBSAMPLES))
 
     def check_against_run(self, run) -> None:
-        """Check the camera against the run settings (:class:`stand.scene.RunSettings`).
+        """Check the camera against the run settings (:class:`stand.scene.model.RunSettings`).
 
         Raises
         ------
@@ -318,10 +318,10 @@ class ScreenCamera:
     # ------------------------------------------------------------ TOML
     @classmethod
     def from_table(cls, t) -> "ScreenCamera":
-        """Settings from a ``[instruments.screen]`` table (:class:`stand.scene_file.Table`).
+        """Settings from a ``[instruments.screen]`` table (:class:`stand.scene.parse.Table`).
 
         TOML units: SI; ``misalignment_phase`` and ``tilt`` in degrees.  Every
-        problem raises :class:`stand.scene.SceneError` naming the key, the
+        problem raises :class:`stand.scene.model.SceneError` naming the key, the
         value and the unit.
         """
         t.allow(SCREEN_KEYS)

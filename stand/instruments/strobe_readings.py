@@ -37,7 +37,7 @@ from typing import Optional
 
 import numpy as np
 
-from stand.scene import SceneError
+from stand.scene.model import SceneError
 from stand.instruments._settings import boolean, check, integer, keys, number, read_table, rebased
 from stand.instruments.timing import crossing_times, hermite, sample_trajectory, time_window, wrap
 
@@ -187,7 +187,7 @@ class Stroboscope:
 
         Parameters
         ----------
-        t : stand.scene_file.Table
+        t : stand.scene.parse.Table
 
         Raises
         ------
@@ -324,7 +324,7 @@ def point_weights(traj):
     if scene is None or not getattr(scene, "bodies", ()) or not isinstance(
             getattr(traj, "weights", None), dict):
         return traj
-    from stand.result import weight_names
+    from stand.integrate.result import weight_names
 
     names = [nm for nm in weight_names(scene.weights)[0] if nm in traj.weights]
     return _PointWeights(traj, names)
@@ -406,7 +406,7 @@ def body_looks(scene, strobe: Optional[Stroboscope] = None) -> tuple:
     bodies = tuple(getattr(scene, "bodies", ()) or ()) if scene is not None else ()
     if not bodies:
         return ()
-    from stand.rotors.bodies import LiquidWeight, body_names
+    from stand.model.rotors.bodies import LiquidWeight, body_names
 
     names, _ = body_names(bodies)
     looks = []
@@ -445,7 +445,7 @@ def body_coordinates(traj, looks, tq, rotor_angle=None) -> dict:
     Parameters
     ----------
     traj : Run
-        With ``weights[name]`` for every body (:attr:`stand.result.Run.weights`).
+        With ``weights[name]`` for every body (:attr:`stand.integrate.result.Run.weights`).
     looks : sequence of BodyLook
     tq : array_like (M,)
         Times [s] inside the run.

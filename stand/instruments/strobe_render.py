@@ -46,7 +46,7 @@ from typing import Iterator, Optional
 
 import numpy as np
 
-from stand.scene import SceneError
+from stand.scene.model import SceneError
 from stand.instruments.strobe_readings import (PATH, TWO_PI, Stroboscope, body_coordinates, body_looks,
                               default_ball_radius, flash_times, point_weights)
 from stand.instruments.timing import sample_trajectory, shaft_velocity, time_window, wrap
@@ -188,7 +188,7 @@ def render_strobe_frames(traj, strobe: Stroboscope, t_start: Optional[float] = N
         ``shaft_motion``, and ``scene.balancer`` for the weights' kind and size
         unless ``track_radius`` and ``ball_radius`` are set.  Body weights
         (``scene.bodies``) are drawn from their coordinates in ``traj.weights``
-        (a :class:`stand.result.Run`); ``weight_angle`` then means the balls and
+        (a :class:`stand.integrate.result.Run`); ``weight_angle`` then means the balls and
         pendulums only.
     strobe : Stroboscope
     t_start, t_end : float, optional
@@ -261,7 +261,7 @@ def drawn_weights(scene, strobe: Stroboscope) -> list:
     ``surface_radius``, ``kappa``), lengths in m and px.  Empty when the geometry of the
     balls is unknown (no balancer and no ``track_radius``/``ball_radius`` settings).
     """
-    from stand.result import weight_names
+    from stand.integrate.result import weight_names
 
     out = []
     pitch = strobe.pixel_pitch

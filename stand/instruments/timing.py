@@ -249,7 +249,7 @@ def shaft_velocity(traj) -> tuple[np.ndarray, np.ndarray]:
     Attributes ``traj.vx``, ``traj.vy`` are used when present (e.g. an object
     read from a recording that stores them); otherwise taken from the dimensionless state (``traj.state[:, nq]``,
     ``traj.state[:, nq + 1]`` in units of ``L * omega_1``, ``nq`` = half the
-    state width, see :mod:`stand.planar`), not by differencing.
+    state width, see :mod:`stand.model.planar`), not by differencing.
 
     Raises
     ------
@@ -277,7 +277,7 @@ def _generic_velocity(traj, state):
     """Main-plane velocity (vx, vy) [m/s] of a run of the generic kernel, or None.
 
     Scenes with body weights (and the rotor family) run on the generic kernel
-    (:mod:`stand.rotors.coupled`), whose state is ``[q, alpha, q', alpha', body
+    (:mod:`stand.model.rotors.coupled`), whose state is ``[q, alpha, q', alpha', body
     states]`` scaled per coordinate: the planar layout (half the state width)
     does not apply.  The model is rebuilt from the scene (cheap: tables only)
     for its layout and scales.
@@ -285,7 +285,7 @@ def _generic_velocity(traj, state):
     scene = getattr(traj, "scene", None)
     if scene is None or not (getattr(scene, "kind", None) == "rotor" or getattr(scene, "bodies", ())):
         return None
-    from stand.rotors.coupled import build_model
+    from stand.model.rotors.coupled import build_model
 
     d = scene.drive
     torque = d.kind != "speed"
@@ -337,7 +337,7 @@ def wrap(a):
 
 
 def sample_trajectory(traj, tq, velocities: Optional[tuple] = None) -> TrajectorySample:
-    """Interpolate a :class:`stand.simulate.Trajectory` at times ``tq`` [s].
+    """Interpolate a :class:`stand.integrate.simulate.Trajectory` at times ``tq`` [s].
 
     Shaft position from (x, y) and :func:`shaft_velocity`; rotor angle from
     (rotor_angle, rotor_speed); weight angles from (weight_angle,
@@ -380,7 +380,7 @@ def time_window(traj, t_start: Optional[float], t_end: Optional[float],
         The window is empty; the message names ``what`` (e.g. "stroboscope")
         and the run's time span.
     """
-    from stand.scene import SceneError
+    from stand.scene.model import SceneError
 
     t0 = float(traj.t[0]) if t_start is None else max(float(t_start), float(traj.t[0]))
     t1 = float(traj.t[-1]) if t_end is None else min(float(t_end), float(traj.t[-1]))

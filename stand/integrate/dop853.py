@@ -17,7 +17,7 @@ import numpy as np
 from stand.integrate.vendor import dop853_coefficients as _co
 
 from stand._jit import literally, njit
-from stand.kernels import rhs
+from stand.model.kernels import rhs
 
 N_STAGES = _co.N_STAGES  # 12
 A = np.ascontiguousarray(_co.A, dtype=float)  # (16, 16)
@@ -81,7 +81,7 @@ def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_
     Parameters
     ----------
     kind : int
-        Model kind for :func:`stand.kernels.rhs`.
+        Model kind for :func:`stand.model.kernels.rhs`.
     sp, wt, prog : ndarray
         Model parameters passed through to ``rhs``.
     t : float

@@ -1,7 +1,7 @@
 """One integrator path for every compiled model: the DOP853 driver and scipy's methods.
 
 A *model* is anything with ``kind`` (the compiled right-hand side's number in
-:mod:`stand.kernels`), the packed arrays ``sp``, ``wt``, ``prog``, the state
+:mod:`stand.model.kernels`), the packed arrays ``sp``, ``wt``, ``prog``, the state
 ``size``, the time scale ``omega_1`` [rad/s] (time is integrated as
 ``tau = omega_1 t``), ``angle_mask()``, ``breakpoints()`` (dimensionless times
 where the forcing has a kink; the step restarts there) and ``impulses``
@@ -16,7 +16,7 @@ where the forcing has a kink; the step restarts there) and ``impulses``
 
 Both fill the sample array ``out`` at the times ``ts``, keep what was computed
 before a failure, honour a step budget and report in a
-:class:`stand.result.SolverStats` (``status``, ``message``, ``nfev``, ...).
+:class:`stand.integrate.result.SolverStats` (``status``, ``message``, ``nfev``, ...).
 """
 from __future__ import annotations
 
@@ -28,8 +28,8 @@ import numpy as np
 from stand._jit import literally, njit
 from stand.integrate.dop853 import DIVERGED, NOT_FINITE, REACHED_END, STEP_BUDGET
 from stand.integrate.kernel_set import kernels
-from stand.kernels import rhs
-from stand.scene import SceneError
+from stand.model.kernels import rhs
+from stand.scene.model import SceneError
 
 __all__ = ["run_dop853", "run_scipy", "warm_up", "Checkpoint", "fingerprint", "segments",
            "CHUNK_STEPS", "DIVERGENCE_LIMIT"]
@@ -205,7 +205,7 @@ def apply_impulses(model, tau, y):
 
     ``model.impulses``: rows ``(tau, dvx, dvy)`` on the planar state layout, or rows
     ``(tau, dy_0, ..., dy_{size-1})`` -- a jump of the whole scaled state -- on the
-    generic one (:class:`stand.rotors.coupled_kernel.CoupledModel`)."""
+    generic one (:class:`stand.model.rotors.coupled_kernel.CoupledModel`)."""
     imp = model.impulses
     if imp is None or imp.size == 0:
         return

@@ -34,7 +34,7 @@ from typing import Callable
 import numpy as np
 
 from stand import _jit
-from stand.kernels import KIND_NAMES
+from stand.model.kernels import KIND_NAMES
 
 #: about how long building / JIT-compiling a kind's kernels takes on a 2-core machine [s]
 BUILD_SECONDS = {0: 8, 1: 25}
@@ -138,7 +138,7 @@ def _checked(kind: int, source: str, loop, ev, jac) -> KernelSet:
 
     def evaluate(t, y, dy, sp, wt, prog):
         if not ok(dy):
-            from stand.kernels import evaluate as dispatch
+            from stand.model.kernels import evaluate as dispatch
             return dispatch(kind, float(t), c(y, float), dy, c(sp, float), c(wt, float),
                             c(prog, float))
         ev(float(t), c(y, float), dy, c(sp, float), c(wt, float), c(prog, float))
@@ -170,7 +170,7 @@ def _entry_points(kind: int, jacobian_only: bool = False):
     numba = _jit.import_numba()
     from numba import typeof, types
 
-    from stand.kernels import evaluate
+    from stand.model.kernels import evaluate
     from stand.integrate.dop853 import dop853_loop
     from stand.integrate.driver import jac_fd
 
@@ -202,7 +202,7 @@ def _jit_set(kind: int) -> KernelSet:
     """numba's JIT kernels of ``kind`` (compiled now, announced if it takes a while), or the
     plain-Python ones when numba is disabled."""
     if not _jit.HAVE_NUMBA:
-        from stand.kernels import evaluate
+        from stand.model.kernels import evaluate
         from stand.integrate.dop853 import dop853_loop
         from stand.integrate.driver import jac_fd
 

@@ -34,7 +34,7 @@ import warnings
 from pathlib import Path
 
 from stand import _jit
-from stand.kernels import KIND_NAMES, RHS
+from stand.model.kernels import KIND_NAMES, RHS
 
 #: (name, numba signature) of the exported functions; ``{k}`` is the kind's name
 _ARR1, _ARR2 = "f8[::1]", "f8[:,::1]"
@@ -88,7 +88,7 @@ def module_name(kind: int) -> str:
 
 def kernel_modules(kind: int) -> list:
     """The package modules whose sources make up kind ``kind``'s compiled kernels."""
-    return _jit.closure("stand.integrate.dop853", "stand.kernels", RHS[kind][0], dynamic=False)
+    return _jit.closure("stand.integrate.dop853", "stand.model.kernels", RHS[kind][0], dynamic=False)
 
 
 def _path(name: str) -> Path:
@@ -241,7 +241,7 @@ def _build(kind, numba, out):
     import numpy as np
 
     from stand.integrate.dop853 import WORK_ROWS, dop853_loop
-    from stand.kernels import evaluate
+    from stand.model.kernels import evaluate
 
     loop = dop853_loop.dispatcher if hasattr(dop853_loop, "dispatcher") else dop853_loop
     ev = evaluate.dispatcher if hasattr(evaluate, "dispatcher") else evaluate

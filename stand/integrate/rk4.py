@@ -13,7 +13,7 @@ from typing import Callable
 import numpy as np
 
 from stand._jit import literally, njit
-from stand.kernels import rhs
+from stand.model.kernels import rhs
 
 __all__ = ["rk4_loop", "rk4_fixed_step"]
 

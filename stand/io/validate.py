@@ -1,9 +1,9 @@
 """One validation module for every input table: typed getters whose messages name the key
 (as a dotted path), the value as the user wrote it, and the expected unit.
 
-Used by the scene files (:mod:`stand.scene_file`, :mod:`stand.rotors.scene`,
-:mod:`stand.balancers.scene`), the instruments' settings, the sweep and stress
-catalogues.  Every problem raises :class:`stand.scene.SceneError` (a
+Used by the scene files (:mod:`stand.scene.parse`, :mod:`stand.scene.structure_tables`,
+:mod:`stand.scene.book_tables`), the instruments' settings, the sweep and stress
+catalogues.  Every problem raises :class:`stand.scene.model.SceneError` (a
 ``ValueError``), e.g. ``balancer.mass = -0.045: must be > 0 (kg)``, with a
 "did you mean" suggestion for misspelt keys.
 """

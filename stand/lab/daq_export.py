@@ -90,7 +90,7 @@ def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
         The truth (also written).
     """
     from stand.io.atomic import write_text
-    from stand.recording import Recording, read_recording
+    from stand.recording.hdf5 import Recording, read_recording
 
     rec = recording if isinstance(recording, Recording) else read_recording(recording)
     if rec.shape("instruments/probes/signal") is None:

@@ -99,7 +99,7 @@ class LabTable:
 def is_table(path) -> bool:
     """A lab table rather than a stand recording: a table file by its name, or an HDF5 file
     holding a pandas table."""
-    from stand.recording import pandas_table_key
+    from stand.recording.hdf5 import pandas_table_key
 
     p = Path(path)
     return is_table_file(p) or (p.suffix.lower() in (".h5", ".hdf5", ".hdf") and p.is_file()
@@ -107,7 +107,7 @@ def is_table(path) -> bool:
 
 
 def is_table_file(path) -> bool:
-    """A tabular recording by its name (an HDF5 file: :func:`stand.recording.pandas_table_key`)."""
+    """A tabular recording by its name (an HDF5 file: :func:`stand.recording.hdf5.pandas_table_key`)."""
     return Path(path).suffix.lower() in TABLE_SUFFIXES
 
 
@@ -194,12 +194,12 @@ def read_frame(path, rmap: Optional[RecordingMap] = None):
         if suffix in (".parquet", ".pq"):
             return pd.read_parquet(p), {}
         if suffix in (".h5", ".hdf5", ".hdf"):
-            from stand.recording import pandas_table_key
+            from stand.recording.hdf5 import pandas_table_key
 
             key = rmap.key or pandas_table_key(p)
             if key is None:
                 raise TableError(f"{label}: no pandas table in this HDF5 file")
-            from stand.recording import RecordingError, read_pandas_table
+            from stand.recording.hdf5 import RecordingError, read_pandas_table
 
             try:
                 return read_pandas_table(p, key), {}

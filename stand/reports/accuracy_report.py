@@ -1,5 +1,5 @@
 """Error against run time (`stand accuracy -o accuracy.html`): the accuracy
-ladder of :mod:`stand.accuracy` as a report with a work-precision plot and the
+ladder of :mod:`stand.integrate.accuracy` as a report with a work-precision plot and the
 recommended setting for the scene, stated first ("Use DOP853 at rtol 1e-8:
 2e-9 relative error in 0.3 s", :func:`accuracy_banner`)."""
 from __future__ import annotations
@@ -118,7 +118,7 @@ def accuracy_banner(doc) -> dict:
 
 
 def _rows(rep) -> list:
-    """The report's rows (:data:`ROW_SCHEMA`) from a :class:`stand.accuracy` report."""
+    """The report's rows (:data:`ROW_SCHEMA`) from a :class:`stand.integrate.accuracy` report."""
     out = []
     for r in rep.rows:
         out.append({"method": r.method, "rtol": None if r.method == "RK4" else r.rtol,
@@ -158,7 +158,7 @@ def accuracy_report(scene, *, rtols=(1e-4, 1e-6, 1e-8, 1e-10), methods=None, rk4
     Parameters
     ----------
     scene : Scene
-        The scene to run (:mod:`stand.accuracy` says which scenes have an
+        The scene to run (:mod:`stand.integrate.accuracy` says which scenes have an
         oracle).
     rtols : sequence of float
         Relative tolerances of the adaptive methods [-].
@@ -166,7 +166,7 @@ def accuracy_report(scene, *, rtols=(1e-4, 1e-6, 1e-8, 1e-10), methods=None, rk4
         Default: the compiled DOP853, scipy's LSODA and Radau, and fixed-step
         RK4 (every available class of method).
     rk4_steps : sequence of float, optional
-        Fixed steps of RK4 [s]; default chosen by :func:`stand.accuracy.accuracy`.
+        Fixed steps of RK4 [s]; default chosen by :func:`stand.integrate.accuracy.accuracy`.
     target : float
         Relative error the recommended setting must reach [-].
     html_path, json_path : str or Path, optional
@@ -180,7 +180,7 @@ def accuracy_report(scene, *, rtols=(1e-4, 1e-6, 1e-8, 1e-10), methods=None, rk4
         errors in m and relative to max |r_ref|, times in s; ``verdict`` the
         recommendation in words (:func:`accuracy_banner`), shown first in the HTML.
     """
-    from stand.accuracy import accuracy
+    from stand.integrate.accuracy import accuracy
 
     if methods is None:
         methods = ["DOP853", "LSODA", "Radau", "RK4"]

@@ -13,7 +13,7 @@ units in ``docs/reports.md``):
   seeds' household and general-machine criteria;
 * ``dynamics`` -- natural frequency and damping (identified with their
   standard uncertainties when the record allows it, and the model's values),
-  critical speeds found vs the theory (:func:`stand.planar_theory.speedmap.scene_theory`),
+  critical speeds found vs the theory (:func:`stand.theories.planar.speedmap.scene_theory`),
   the regime timeline, settling times after each perturbation;
 * ``warnings`` -- capacity exceeded, stuck-ball risk band, friction-limited
   residual, model-validity flags;
@@ -256,8 +256,8 @@ def _scene_warnings(rec, bq, dyn, w_service, final_speed, steady_len, warn, note
                  "balancer's capacity S; the weights cannot balance it (they gather on the light "
                  "side)")
     if scene.balancer.count and final_speed:
-        from stand.scene import dimensionless
-        from stand.planar_theory import qp
+        from stand.scene.model import dimensionless
+        from stand.theories.planar import qp
 
         try:
             p = dimensionless(scene)

@@ -4,7 +4,7 @@ The natural frequency and damping are identified from a free decay (rotor at
 rest) or from the 1X resonance of a run-up without loose weights
 (:mod:`dsp.frequency`); the critical speeds of the recording are where the
 weights gain or lose synchrony (:mod:`dsp.regime`), compared with those of
-the chapter-5 theory (:func:`stand.planar_theory.speedmap.scene_theory`); the
+the chapter-5 theory (:func:`stand.theories.planar.speedmap.scene_theory`); the
 settling time after each event of the scene is that of the whirl envelope.
 """
 from __future__ import annotations
@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from stand.reports.balancing_schema import REGIME_NAMES
-from stand.signals import per_revolution, plane_free_decay
+from stand.analysis.signals import per_revolution, plane_free_decay
 
 __all__ = ["dynamics"]
 
@@ -100,7 +100,7 @@ def dynamics(rec, notes, warn):
         try:
             import warnings as _w
 
-            from stand.planar_theory.speedmap import scene_theory
+            from stand.theories.planar.speedmap import scene_theory
 
             with _w.catch_warnings():
                 _w.simplefilter("ignore")

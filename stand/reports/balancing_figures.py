@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from stand.reports.html import figure_png
-from stand.signals import per_revolution
+from stand.analysis.signals import per_revolution
 
 __all__ = ["figures", "polar_figures"]
 

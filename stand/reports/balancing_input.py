@@ -1,7 +1,7 @@
 """Input of the balancing report: one recording (HDF5 or CSV) as arrays and metadata.
 
 HDF5 files are read by the one recording reader
-(:func:`stand.recording.read_recording`, every layout it accepts); a CSV has
+(:func:`stand.recording.hdf5.read_recording`, every layout it accepts); a CSV has
 the columns ``stand analyze`` accepts.  :func:`read_input` checks what the
 report needs (3 finite samples at least, increasing time) and names the file
 and the field in every error; :func:`load_record` adds the rotor speed and
@@ -17,7 +17,7 @@ from typing import Any, Optional
 
 import numpy as np
 
-from stand.signals import steady_start
+from stand.analysis.signals import steady_start
 
 __all__ = ["read_input", "load_record", "Record"]
 
@@ -25,10 +25,10 @@ TWO_PI = 2.0 * math.pi
 
 
 def _read_table(p: Path, recording_map=None) -> dict:
-    """A lab table (:func:`stand.identify._from_table`: the one table reader and speed
+    """A lab table (:func:`stand.analysis.identify._from_table`: the one table reader and speed
     source).  A tachometer's speed or, with no speed channel, the whirl's own phase gives
     the rotor angle the report's order tracking needs (flagged: no phase reference)."""
-    from stand.identify import _from_table, _whirls
+    from stand.analysis.identify import _from_table, _whirls
 
     d = _from_table(p, recording_map)
     angle = d["angle"]
@@ -60,8 +60,8 @@ def _read_table(p: Path, recording_map=None) -> dict:
 
 
 def _read_h5(p: Path) -> dict:
-    """The HDF5 form, through the one reader :func:`stand.recording.read_recording`."""
-    from stand.recording import read_recording
+    """The HDF5 form, through the one reader :func:`stand.recording.hdf5.read_recording`."""
+    from stand.recording.hdf5 import read_recording
 
     rec = read_recording(p)  # RecordingError (a ValueError) names file and dataset
     scene, scene_error = rec.scene, None
@@ -105,7 +105,7 @@ def read_input(path, recording_map=None) -> dict:
     Parameters
     ----------
     path : str or Path
-        HDF5 recording (any layout :func:`stand.recording.read_recording`
+        HDF5 recording (any layout :func:`stand.recording.hdf5.read_recording`
         reads) or CSV (``t_s`` [s], ``x_m``, ``y_m`` [m], optionally
         ``rotor_angle_rad`` [rad] or ``keyphasor`` (1 on a once-per-revolution
         pulse)).

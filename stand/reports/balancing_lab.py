@@ -2,9 +2,9 @@
 
 A DAQ export has no scene: the unbalance, natural frequency, damping and
 critical speed come from the record itself (the run-up model fit and the
-sweep-corrected resonance, :mod:`stand.runup_identify`) and the machine's data
+sweep-corrected resonance, :mod:`stand.analysis.runup`) and the machine's data
 from the recording map.  :func:`lab_identification` runs
-:func:`stand.identify.analyze` on the table and keeps what the report shows;
+:func:`stand.analysis.identify.analyze` on the table and keeps what the report shows;
 :func:`fill_from_lab` puts its numbers where the report's common sections
 expect them (residual unbalance, ISO 21940-11 grade, natural frequency,
 critical speeds), so a lab table and a simulated run read alike.
@@ -30,7 +30,7 @@ LAB_SCHEMA = {"input": O, "speed_source": S_, "programme": O, "critical_speed_hz
 def lab_identification(path, recording_map, grade, service_speed_rpm, notes) -> dict:
     """The ``lab_identification`` section (keys of :data:`LAB_SCHEMA`); the analysis' notes
     are added to ``notes``."""
-    from stand.identify import analyze
+    from stand.analysis.identify import analyze
 
     a = analyze(path, grade_mm_s=grade, service_speed_rpm=service_speed_rpm,
                 recording_map=recording_map)

@@ -92,7 +92,7 @@ def balancing_quality(rec, w_service, grade, notes, warn):
 
     # initial unbalance: the rotor's own (balancer off), from the scene
     if scene is not None:
-        from stand.planar import rotor_unbalance
+        from stand.model.planar import rotor_unbalance
 
         U0 = float(abs(rotor_unbalance(scene, np.array([t[0]]))[0]))
         bq["initial_unbalance_gmm"] = U0 * 1e6
@@ -159,7 +159,7 @@ def balancing_quality(rec, w_service, grade, notes, warn):
                  f"the grade (G = {g.grade_mm_s:.4g} mm/s > {grade:g} mm/s)")
         n_rpm = w_service * 60 / TWO_PI
         e_um = U * 1e6 / m_iso
-        from stand.balancers.liquid_chamber import (permissible_eccentricity_general,
+        from stand.model.balancers.liquid_chamber import (permissible_eccentricity_general,
                                                 permissible_eccentricity_household)
         for crit, fn, rel in (
                 ("household (machines a person contacts): [e] = 6000/n um", 

@@ -22,16 +22,16 @@ the balanced state's residual), the wall time, and pass/fail with a reason.
 Kinds and checks
 ----------------
 ``dimensionless`` (planar ball balancer from the book's dimensionless
-parameters, :func:`stand.scene_file.scene_from_dimensionless`, omega_1 = 1
+parameters, :func:`stand.scene.parse.scene_from_dimensionless`, omega_1 = 1
 rad/s so t [s] = tau):
 
 * ``balanced`` -- residual unbalance |psi|/S at the end against the main
   motion of the theory: 0 for e0 <= 1, e0 - 1 for e0 > 1 (all weights on
   the light side, digest 4.5); stability of the main motion from
-  :func:`stand.planar_theory.main_motion.is_stable`.
+  :func:`stand.theories.planar.main_motion.is_stable`.
 * ``locked`` -- huge ball drag: the shaft against the closed form of the same
   rotor with the weights locked at their initial angles (the limit h -> inf,
-  :func:`stand.accuracy.closed_form_no_balancer`).
+  :func:`stand.integrate.accuracy.closed_form_no_balancer`).
 * ``energy`` -- h = H = 0, e0 = 0: the total energy (shaft + weights +
   supports) is conserved; relative drift.
 * ``jacobi`` -- h = H = 0, constant speed, isotropic supports: the Jacobi
@@ -40,12 +40,12 @@ rad/s so t [s] = tau):
 * ``reference`` -- only the comparison with a converged reference run.
 
 ``scene_file`` (a TOML scene): ``runup_closed_form`` (weight-free run-up at
-constant acceleration, :func:`stand.accuracy.runup_params`: error against the
+constant acceleration, :func:`stand.integrate.accuracy.runup_params`: error against the
 Fresnel/Faddeeva closed form and, undamped, drift of the free-whirl amplitude
 |c+|) or ``closed_form`` (weight-free, constant speed).
 
 ``liquid_runup`` (paper-001 liquid float balancer, model M1,
-:mod:`stand.balancers.liquid_float`): ``runup_closed_form``.
+:mod:`stand.model.balancers.liquid_float`): ``runup_closed_form``.
 
 ``platform`` (paper-004 suspended platform, :func:`platform_rotor`,
 :func:`simulate_coupled`): ``steady_response`` (no weights, started on the
@@ -53,7 +53,7 @@ exact steady unbalance response, which it must keep) or ``balanced`` (two
 balls: static residual / unbalance at the end).
 
 ``qp_threshold`` (stuck balls near the escape speed R*_omega = 1 + 2 Rt/(h H)
-of :mod:`stand.planar_theory.qp`, e0 = 0, started on the quasi-periodic motion with a
+of :mod:`stand.theories.planar.qp`, e0 = 0, started on the quasi-periodic motion with a
 small separation of the balls): ``qp_persists`` (R < R*: the precession speed
 must stay Omega_1 of (5.181)) or ``escape`` (R > R*: the balls leave the QP
 motion and balance).

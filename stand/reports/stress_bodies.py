@@ -3,27 +3,27 @@
 A ``body_scene`` case names a scene file (``params.path``, any form: the
 planar rotor or a ``[structure]`` rotor) whose ``[[weights]]`` carry body
 weights (two-axis pendulum, coupled pair, damper, liquid float, liquid chamber;
-:mod:`stand.rotors.bodies_scene`), optionally shortened (``params.duration``)
+:mod:`stand.scene.body_tables`), optionally shortened (``params.duration``)
 or run at other tolerances.  It runs on the generic compiled kernel
-(:func:`stand.simulate.simulate`) and is judged by one of three checks:
+(:func:`stand.integrate.simulate.simulate`) and is judged by one of three checks:
 
 * ``runup_closed_form`` -- the planar rotor with one liquid whose centre of
   mass follows the shaft at once (paper 001's float, or a chamber without
   relaxation) is model M1 of paper 001 itself (``psi = M / (M + m lambda)``):
   run up at constant acceleration from the stationary whirl, the shaft must
   follow the closed form (Fresnel integrals undamped, Faddeeva damped;
-  :func:`stand.accuracy.runup_params`) up to the programme's last node; error
+  :func:`stand.integrate.accuracy.runup_params`) up to the programme's last node; error
   ``max |r - r_exact| / max |r_exact|`` and, undamped, the drift of the free-whirl
   amplitude ``|c+|`` left after the passage.  A float that touches the chamber
   wall (``max |r| > r1 - r2``) is outside the model.
 * ``steady_theory`` -- the planar rotor with one tilting weight or damper
-  (the book's stand, :func:`stand.balancers.composition.book_params`) held at
+  (the book's stand, :func:`stand.model.balancers.composition.book_params`) held at
   its last speed over the last 30 % of the run: the residual unbalance of the
   plane (truth, rotor frame) divided by the rotor's unbalance ``M e`` at the end
   against the theory's stable main motions (ch. 6 (6.40): efficiency ``n`` of
-  :func:`stand.balancers.two_axis_steady.steady_motions`; ch. 7.1 (7.7): 0, or
+  :func:`stand.model.balancers.two_axis_steady.steady_motions`; ch. 7.1 (7.7): 0, or
   ``(e0 - 1) / e0`` above capacity; ch. 7.2 (7.54):
-  :func:`stand.balancers.damper_steady.efficiency` of the stable main motions;
+  :func:`stand.model.balancers.damper_steady.efficiency` of the stable main motions;
   without gravity 0).  The error is the distance to the nearest stable main
   motion; the drift is the spread of that ratio over the last 30 %.
 * ``reference`` -- the run against itself at ``reference_rtol``.
@@ -55,8 +55,8 @@ def load_body_scene(case):
     CatalogueError
         The scene file is invalid, or it carries no body weight.
     """
-    from stand.scene import SceneError
-    from stand.scene_file import load_scene
+    from stand.scene.model import SceneError
+    from stand.scene.parse import load_scene
 
     p = case["params"]
     try:
@@ -75,8 +75,8 @@ def load_body_scene(case):
 
 
 def _runup(scene, tr, res) -> list:
-    from stand.accuracy import runup_params
-    from stand.rotors.bodies import LiquidWeight
+    from stand.integrate.accuracy import runup_params
+    from stand.model.rotors.bodies import LiquidWeight
     from stand.reports.stress_planar import runup_check
 
     invalid = runup_check(scene, tr, res, "the closed-form run-up needs the planar rotor with "
@@ -105,13 +105,13 @@ def _expected_ratios(kind, prm) -> tuple:
         return [over], ("main motions (7.7): exact balance" if e0 < 1 else
                         "main motion above capacity: residual (e0 - 1) S")
     if kind == "two_axis":
-        from stand.balancers.two_axis_steady import steady_motions
+        from stand.model.balancers.two_axis_steady import steady_motions
 
         mains = [m for m in steady_motions(prm) if m.kind.startswith("main") and m.stable]
         return ([float(m.n) for m in mains],
                 "stable main motions of ch. 6, efficiency n (6.40): "
                 + ", ".join(f"{m.kind} n = {m.n:.6g}" for m in mains))
-    from stand.balancers.damper_steady import efficiency, is_stable, steady_motions
+    from stand.model.balancers.damper_steady import efficiency, is_stable, steady_motions
 
     mains = [m for m in steady_motions(prm) if m.kind == "main" and is_stable(prm, m)]
     ns = [float(efficiency(prm, m.u)) for m in mains]
@@ -120,14 +120,14 @@ def _expected_ratios(kind, prm) -> tuple:
 
 
 def _steady(scene, tr, res) -> list:
-    from stand.balancers.composition import book_params
+    from stand.model.balancers.composition import book_params
 
     invalid = []
     bp = book_params(scene)
     if bp is None or bp[0] not in ("two_axis", "gravity_pair", "damper"):
         invalid.append("the steady-motion theory needs the planar rotor on isotropic supports "
                        "with one tilting weight or damper and no balls (the book's stand, "
-                       "stand.balancers.composition.book_params)")
+                       "stand.model.balancers.composition.book_params)")
         res.update(oracle="none (no book model)", error_measure="")
         return invalid
     kind, prm = bp

@@ -57,8 +57,8 @@ def outcome(**kw) -> dict:
 
 # ------------------------------------------------------------------ kind: liquid_runup
 def _kind_liquid(case, res):
-    from stand.balancers.liquid_float import LiquidFloatParams, simulate as lf_simulate
-    from stand.balancers.runup_closed_form import free_whirl_amplitudes, runup_closed_form_state
+    from stand.model.balancers.liquid_float import LiquidFloatParams, simulate as lf_simulate
+    from stand.model.balancers.runup_closed_form import free_whirl_amplitudes, runup_closed_form_state
 
     p = case["params"]
     try:
@@ -100,9 +100,9 @@ def _kind_liquid(case, res):
 
 # ------------------------------------------------------------------ kind: platform
 def _kind_platform(case, res):
-    from stand.rotors.coupled import PlaneWeights, simulate_coupled
-    from stand.rotors.platform import platform_rotor
-    from stand.scene import Balancer
+    from stand.model.rotors.coupled import PlaneWeights, simulate_coupled
+    from stand.model.rotors.platform import platform_rotor
+    from stand.scene.model import Balancer
 
     p, chk = case["params"], case["check"]
     rot = platform_rotor()
@@ -186,9 +186,9 @@ def warm(case: dict) -> None:
     if case["kind"] in PLANAR_KINDS or case["kind"] == "body_scene":
         warm_planar(case)   # a scene file: a tiny run of it compiles its kernels
     elif case["kind"] == "platform":
-        from stand.rotors.coupled import PlaneWeights, simulate_coupled
-        from stand.rotors.platform import platform_rotor
-        from stand.scene import Balancer
+        from stand.model.rotors.coupled import PlaneWeights, simulate_coupled
+        from stand.model.rotors.platform import platform_rotor
+        from stand.scene.model import Balancer
 
         b = Balancer(type="balls", mass=np.full(2, 0.1), radius=np.full(2, 0.1), drag=np.full(2, 1.0),
                      inertia=np.full(2, 1e-3), initial_angles=np.zeros(2), initial_speeds=np.zeros(2))

@@ -7,7 +7,7 @@ file, the case (number and name) and the field, e.g.
 ``cat.toml: case #2 'bad': field tolerance = -1.0: must be > 0 (dimensionless)``.
 
 The checks of single values are those of the scene files
-(:class:`stand.scene_file.Table`, the same messages and unit conventions);
+(:class:`stand.scene.parse.Table`, the same messages and unit conventions);
 this module adds the catalogue's own fields, the parameter specs of each kind
 (:data:`KINDS`) and the checks that involve several fields.
 """
@@ -17,8 +17,8 @@ from pathlib import Path
 from typing import Any, Mapping
 
 
-from stand.scene import SceneError
-from stand.scene_file import Table, _fmt, _kind, _suggest
+from stand.scene.model import SceneError
+from stand.scene.parse import Table, _fmt, _kind, _suggest
 
 __all__ = ["load_catalogue", "CatalogueError", "DEFAULT_CATALOGUE", "KINDS", "select_cases"]
 

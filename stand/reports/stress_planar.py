@@ -3,7 +3,7 @@
 
 Each runner ``kind_<kind>(case, res)`` builds the scene from the case's
 validated ``params`` (:mod:`stand.reports.stress_catalogue`), simulates it
-(:func:`stand.simulate.simulate`), fills the result fields of ``res``
+(:func:`stand.integrate.simulate.simulate`), fills the result fields of ``res``
 (:func:`stand.reports.stress_cases.outcome`) and returns the reasons it found
 the case outside the model's validity (empty when inside).  The checks and
 oracles are described in :mod:`stand.reports.stress` and
@@ -49,8 +49,8 @@ def warm_planar(case: dict) -> None:
         (:func:`stand.reports.stress_catalogue.load_catalogue`); its scene is
         run for at most 0.01 s (or tau) at 1 kHz with loose tolerances.
     """
-    from stand.scene import RunSettings
-    from stand.simulate import simulate
+    from stand.scene.model import RunSettings
+    from stand.integrate.simulate import simulate
 
     kind, p = case["kind"], case["params"]
     if kind == "dimensionless":
@@ -58,7 +58,7 @@ def warm_planar(case: dict) -> None:
     elif kind == "qp_threshold":
         scene = qp_scene(p)[0]
     else:
-        from stand.scene_file import load_scene
+        from stand.scene.parse import load_scene
 
         scene = load_scene(scene_path(case))
         scene = dataclasses.replace(scene, run=dataclasses.replace(scene.run, method=p["method"]))
@@ -77,7 +77,7 @@ def _shaft(tr):
 def _velocity(tr):
     """The shaft's velocity dr/dt [m/s] of a run, from its state (the generic kernel's
     layout through :func:`stand.instruments.timing.shaft_velocity`)."""
-    from stand.planar import build_planar_model
+    from stand.model.planar import build_planar_model
 
     if tr.scene.kind != "planar" or tr.scene.bodies:
         from stand.instruments.timing import shaft_velocity
@@ -90,19 +90,19 @@ def _velocity(tr):
 
 
 def runup_check(scene, tr, res, needs: str) -> list:
-    """Judge a run-up against the closed form of paper 001 (:func:`stand.accuracy.runup_params`:
+    """Judge a run-up against the closed form of paper 001 (:func:`stand.integrate.accuracy.runup_params`:
     a weight-free rotor, or model M1 itself with one liquid lever); fills ``res`` (oracle,
     error, revolutions, the undamped free-whirl drift) and returns the reasons it does not
     apply (``needs``: what the case kind requires, for the message)."""
-    from stand.accuracy import runup_params
-    from stand.balancers.runup_closed_form import free_whirl_amplitudes, runup_closed_form_state
+    from stand.integrate.accuracy import runup_params
+    from stand.model.balancers.runup_closed_form import free_whirl_amplitudes, runup_closed_form_state
 
     ru = runup_params(scene)
     if ru is None:
         res.update(oracle="none (closed form not applicable)", error_measure="")
         return [f"{needs}, isotropic supports, a two-node speed programme (constant "
                 "acceleration) and the stationary whirl as initial state "
-                "(stand.accuracy.runup_params); none applies"]
+                "(stand.integrate.accuracy.runup_params); none applies"]
     prm, t_end = ru
     t = tr.t
     valid = t <= t_end
@@ -163,8 +163,8 @@ def _mechanics(tr):
 # ------------------------------------------------------------------ kind: dimensionless
 def dimensionless_scene(p):
     """The planar ball-balancer scene of a ``dimensionless`` case (omega_1 = 1 rad/s)."""
-    from stand.scene import InitialState, RunSettings, SpeedDrive
-    from stand.scene_file import scene_from_dimensionless
+    from stand.scene.model import InitialState, RunSettings, SpeedDrive
+    from stand.scene.parse import scene_from_dimensionless
 
     if p["programme"] is not None:
         prog = np.array(p["programme"], float)
@@ -192,7 +192,7 @@ def _top_speed(p):
 
 def _run_planar(case, scene, res):
     """Simulate a planar scene; the method, solver status and step statistics go to ``res``."""
-    from stand.simulate import simulate
+    from stand.integrate.simulate import simulate
 
     tr = simulate(scene, method=scene.run.method)
     st = tr.stats
@@ -219,7 +219,7 @@ def _reference(case, scene, tr, res):
     CatalogueError
         Check ``"reference"`` without ``reference_rtol``.
     """
-    from stand.simulate import simulate
+    from stand.integrate.simulate import simulate
 
     rr = case["reference_rtol"]
     if rr is None:
@@ -238,9 +238,9 @@ def _reference(case, scene, tr, res):
 
 
 def kind_dimensionless(case, res):
-    from stand.accuracy import closed_form_no_balancer
-    from stand.scene import Balancer, Rotor
-    from stand.planar_theory.main_motion import StabilityWarning, d_from_angles, d_two_balls, is_stable
+    from stand.integrate.accuracy import closed_form_no_balancer
+    from stand.scene.model import Balancer, Rotor
+    from stand.theories.planar.main_motion import StabilityWarning, d_from_angles, d_two_balls, is_stable
 
     p, chk = case["params"], case["check"]
     scene = dimensionless_scene(p)
@@ -264,7 +264,7 @@ def kind_dimensionless(case, res):
         if stable is False:
             invalid.append(f"the main motion is not asymptotically stable at R_omega = {R:g} "
                            f"(Rt = {p['Rt']:g}, h = {p['h']:g}, H = {p['H']:g}, d = {d:.3g}; "
-                           "stand.planar_theory.main_motion.is_stable): balancing is not predicted")
+                           "stand.theories.planar.main_motion.is_stable): balancing is not predicted")
         final = float(psi[-1]) if len(psi) else float("nan")
         res.update(oracle=f"main motion of the theory: residual {expected:g} S at R_omega = {R:g}"
                    + ("" if stable is None else f" (stable: {stable})"),
@@ -339,9 +339,9 @@ def scene_path(case) -> Path:
 
 
 def kind_scene_file(case, res):
-    from stand.accuracy import closed_form_no_balancer
-    from stand.scene import SceneError
-    from stand.scene_file import load_scene
+    from stand.integrate.accuracy import closed_form_no_balancer
+    from stand.scene.model import SceneError
+    from stand.scene.parse import load_scene
 
     p, chk = case["params"], case["check"]
     try:
@@ -362,7 +362,7 @@ def kind_scene_file(case, res):
         ref = closed_form_no_balancer(scene, tr.t)
         if ref is None:
             invalid.append("the constant-speed closed form needs no weights, one programme node and "
-                           "isotropic supports (stand.accuracy.closed_form_no_balancer)")
+                           "isotropic supports (stand.integrate.accuracy.closed_form_no_balancer)")
             res.update(oracle="none (closed form not applicable)")
             return invalid
         res.update(oracle="closed form (no weights, constant speed, isotropic supports)",
@@ -375,9 +375,9 @@ def kind_scene_file(case, res):
 # ------------------------------------------------------------------ kind: qp_threshold
 def qp_scene(p):
     """The stuck-ball (QP) motion of the theory as an initial state, e0 = 0."""
-    from stand.scene import InitialState, RunSettings, SpeedDrive
-    from stand.scene_file import scene_from_dimensionless
-    from stand.planar_theory.qp import escape_speed, qp_roots
+    from stand.scene.model import InitialState, RunSettings, SpeedDrive
+    from stand.scene.parse import scene_from_dimensionless
+    from stand.theories.planar.qp import escape_speed, qp_roots
 
     Rt, h, H = p["Rt"], p["h"], p["H"]
     Rs = escape_speed(Rt, h, H)
@@ -399,7 +399,7 @@ def qp_scene(p):
 
 
 def kind_qp(case, res):
-    from stand.planar_theory.qp import qp_stability
+    from stand.theories.planar.qp import qp_stability
 
     p, chk = case["params"], case["check"]
     Rt, h, H = p["Rt"], p["h"], p["H"]

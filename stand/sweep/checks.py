@@ -3,7 +3,7 @@ messages name the field, its value and what is expected.
 
 The number check and the value spelling are those of every input table
 (:mod:`stand.io.validate`, also the scene files'); its
-:class:`stand.scene.SceneError` becomes a :class:`SweepSpecError` here
+:class:`stand.scene.model.SceneError` becomes a :class:`SweepSpecError` here
 (:func:`spec_errors`).
 """
 from __future__ import annotations
@@ -15,7 +15,7 @@ from typing import Any, Iterator, Mapping
 
 import numpy as np
 
-from stand.scene import SceneError
+from stand.scene.model import SceneError
 from stand.io.validate import fmt as _fmt, kind as _kind, number
 
 __all__ = ["SweepSpecError", "MAX_POINTS", "spec_errors"]
@@ -29,7 +29,7 @@ class SweepSpecError(ValueError):
 
 @contextmanager
 def spec_errors(prefix: str = "") -> Iterator[None]:
-    """Re-raise a :class:`stand.scene.SceneError` of the scene-file checks as a
+    """Re-raise a :class:`stand.scene.model.SceneError` of the scene-file checks as a
     :class:`SweepSpecError` (message prefixed with ``prefix``)."""
     try:
         yield

@@ -14,7 +14,7 @@
 Body weights (two-axis pendulum, coupled pair, damper, liquids) count as
 weights: ``p.n`` counts them and ``p.e0`` divides the main plane's unbalance by
 the capacity of all its weights (balls ``sum m l``, bodies
-:attr:`~stand.rotors.bodies.TiltingWeight.capacity` ...).  A scene with body
+:attr:`~stand.model.rotors.bodies.TiltingWeight.capacity` ...).  A scene with body
 weights is classified by :func:`_body_regime` and gets the structure theory
 (natural frequencies, critical speeds) whatever its rotor.
 
@@ -29,7 +29,7 @@ import warnings
 
 import numpy as np
 
-from stand.executor import error_text
+from stand.io.executor import error_text
 from stand.sweep.keys import RATIO_KEYS, SPECIAL_KEYS, point_scene_dict, with_speed
 from stand.sweep.theory_points import planar_theory_rows, structure_theory_rows
 
@@ -46,7 +46,7 @@ def _reference_frequency(scene) -> float:
         return scene.natural_frequency
     if scene.kind == "book":
         return math.nan
-    from stand.rotors.coupled_kernel import with_locked_weights
+    from stand.model.rotors.coupled_kernel import with_locked_weights
 
     wn = with_locked_weights(scene.linear_rotor(), scene.weights).natural_frequencies(0.0)
     wn = np.asarray(wn, float)
@@ -56,7 +56,7 @@ def _reference_frequency(scene) -> float:
 
 def _operating_R(scene, w_ref: float) -> float:
     """The held speed in units of ``w_ref`` (NaN without one)."""
-    from stand.planar_theory.speedmap import _operating_speed
+    from stand.theories.planar.speedmap import _operating_speed
 
     if scene.drive is None or not math.isfinite(w_ref):
         return math.nan
@@ -86,7 +86,7 @@ def point_parameters(scene) -> dict:
 
     Parameters
     ----------
-    scene : stand.scene.Scene
+    scene : stand.scene.model.Scene
 
     Returns
     -------
@@ -94,7 +94,7 @@ def point_parameters(scene) -> dict:
     """
     nan = math.nan
     if scene.kind == "planar":
-        from stand.scene import dimensionless
+        from stand.scene.model import dimensionless
 
         p = dimensionless(scene)
         H = p.H_x if p.H_x == p.H_y else 0.5 * (p.H_x + p.H_y)
@@ -119,7 +119,7 @@ def _structure_regime(run, opts: dict, w_ref: float) -> dict:
     e0 - 1 beyond capacity); ``sim.residual``: the largest |psi| / S of those planes."""
     from dsp.regime import motion_regime
 
-    from stand.regime import QP_SPREAD_TOL
+    from stand.analysis.regime import QP_SPREAD_TOL
 
     sc = run.scene
     window = opts.get("window", 0.2)
@@ -174,7 +174,7 @@ def _body_regime(run, opts: dict, w_ref: float) -> dict:
     """
     from dsp.regime import motion_regime
 
-    from stand.regime import QP_SPREAD_TOL
+    from stand.analysis.regime import QP_SPREAD_TOL
 
     sc = run.scene
     window = opts.get("window", 0.2)
@@ -204,10 +204,10 @@ def _body_regime(run, opts: dict, w_ref: float) -> dict:
 
 
 def _simulate_row(row: dict, scene, opts: dict) -> None:
-    """The ``sim.*`` columns: the run, its regime (planar: :func:`stand.regime.classify`;
+    """The ``sim.*`` columns: the run, its regime (planar: :func:`stand.analysis.regime.classify`;
     structure: :func:`_structure_regime`; body weights: :func:`_body_regime`; book model:
     not classified) and solver stats."""
-    from stand.simulate import simulate
+    from stand.integrate.simulate import simulate
 
     t0 = time.perf_counter()
     run = simulate(scene, method=opts.get("method"))
@@ -215,7 +215,7 @@ def _simulate_row(row: dict, scene, opts: dict) -> None:
     if scene.kind in ("planar", "rotor") and scene.bodies:
         row.update(_body_regime(run, opts, TWO_PI * row["p.f0_hz"]))
     elif scene.kind == "planar":
-        from stand.regime import classify
+        from stand.analysis.regime import classify
 
         reg = classify(run, window=window, sync_tol=opts.get("sync_tol", 1e-3),
                        balance_tol=opts.get("balance_tol", 1e-2))
@@ -237,7 +237,7 @@ def _point_scene(payload: dict, vals, speed: list, cache: dict):
     """(scene, ``p.*`` columns) of one point.  Theory-only sweeps with a speed axis parse
     the scene of the non-speed inputs once (``cache``) and apply the speed to the
     validated drive (the same scaling as :func:`point_scene_dict`)."""
-    from stand.scene_file import parse
+    from stand.scene.parse import parse
 
     keys, base = payload["keys"], payload["base"]
     if not speed:

@@ -6,7 +6,7 @@
   axes' values applied;
 * :func:`with_speed` -- the same for a speed key, on a validated scene.
 
-Keys by base scene kind (:attr:`stand.scene.Scene.kind`):
+Keys by base scene kind (:attr:`stand.scene.model.Scene.kind`):
 
 * every kind: dotted scene keys ``table.key``; ``[[weights]]`` tables by index,
   ``weights[0].drag``; a body weight's keys by its ``type`` (:func:`body_keys`:
@@ -31,8 +31,8 @@ from typing import Any, Optional
 
 import numpy as np
 
-from stand import scene_file as sf
-from stand.scene import SceneError
+from stand.scene import parse as sf
+from stand.scene.model import SceneError
 from stand.sweep.checks import SweepSpecError, _fmt, _suggest
 
 __all__ = ["SPECIAL_KEYS", "RATIO_KEYS", "DIMENSIONLESS_NAMES", "SCENE_TABLE_KEYS", "BODY_TYPES",
@@ -52,7 +52,7 @@ SCENE_TABLE_KEYS = {
     "dimensionless": sf.DIMENSIONLESS_KEYS,
     "drive": tuple(dict.fromkeys(sf.SPEED_KEYS + sf.TORQUE_KEYS + ("torque", "c1", "c2", "target_speed"))),
 }
-#: the body weights' ``type`` values (:data:`stand.rotors.bodies_scene.BODY_TYPES`)
+#: the body weights' ``type`` values (:data:`stand.scene.body_tables.BODY_TYPES`)
 BODY_TYPES = ("two_axis_pendulum", "coupled_pair", "damper", "liquid_float", "liquid_chamber")
 #: keys of the ``dimensionless`` sugar table of a body weight (``weights[i].dimensionless.<name>``)
 BODY_SUGAR_KEYS = {"two_axis_pendulum": ("R_m", "R_rho", "R_g", "h1", "h2"),
@@ -190,7 +190,7 @@ def _check_planar(name: str, key: str, path: list, base: dict) -> None:
 
 
 def _check_rotor(name: str, key: str, path: list, base: dict) -> None:
-    from stand.rotors.scene import FRICTION_KEYS, _builder
+    from stand.scene.structure_tables import FRICTION_KEYS, _builder
 
     table, first = path[0], path[1]
     if table == "structure":
@@ -216,8 +216,8 @@ def _check_rotor(name: str, key: str, path: list, base: dict) -> None:
 
 def body_keys(kind: str) -> tuple:
     """The keys of a body weight's ``[[weights]]`` table of type ``kind`` (empty if not a body;
-    :mod:`stand.rotors.bodies_scene`, imported here only: ``stand --help`` loads this module)."""
-    from stand.rotors import bodies_scene as bs
+    :mod:`stand.scene.body_tables`, imported here only: ``stand --help`` loads this module)."""
+    from stand.scene import body_tables as bs
 
     return {"two_axis_pendulum": bs._TILT_KEYS, "coupled_pair": bs._TILT_KEYS,
             "damper": bs._DAMPER_KEYS, "liquid_float": bs._FLOAT_KEYS,
@@ -268,11 +268,11 @@ def _check_weights(name: str, key: str, path: list, base: dict, ball_keys: tuple
 def _check_book(name: str, key: str, path: list, base: dict) -> None:
     import dataclasses
 
-    from stand.balancers.scene import MODEL_TYPES, RUN_KEYS
+    from stand.scene.book_tables import MODEL_TYPES, RUN_KEYS
 
     table, first = path[0], path[1]
     if table == "weight_model":
-        from stand.registry import resolve
+        from stand.model.registry import resolve
 
         cls = resolve(MODEL_TYPES, base["weight_model"]["type"], "weight_model.type", "weight model")
         fields = [f.name for f in dataclasses.fields(cls)]
@@ -384,7 +384,7 @@ def point_scene_dict(base: dict, keys, values) -> dict:
     Returns
     -------
     dict
-        A new document; validate it with :func:`stand.scene_file.parse`.
+        A new document; validate it with :func:`stand.scene.parse.parse`.
 
     Raises
     ------
@@ -441,7 +441,7 @@ def with_speed(scene, key: str, value: float, omega_1: Optional[float] = None):
 
     Parameters
     ----------
-    scene : stand.scene.Scene
+    scene : stand.scene.model.Scene
     key : str
         A speed key (:data:`SPECIAL_KEYS`).
     value : float

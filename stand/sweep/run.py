@@ -1,5 +1,5 @@
 """Run a sweep: compute the points in chunks on a local process pool or a Dask cluster
-(:class:`stand.executor.Executor`), append each finished chunk to a checkpoint
+(:class:`stand.io.executor.Executor`), append each finished chunk to a checkpoint
 directory (:mod:`.store`), combine at the end.
 
 Re-running the same command reads the parts, skips every point whose id is
@@ -27,7 +27,7 @@ from typing import Any, Callable, Optional, Union
 import numpy as np
 import pandas as pd
 
-from stand.executor import Executor, progress_bar
+from stand.io.executor import Executor, progress_bar
 from stand.io.jsonable import dumps
 from stand.sweep.command import add_sweep_arguments, sweep_main
 from stand.sweep.compute import compute_chunk
@@ -146,7 +146,7 @@ def run_sweep(spec: Union[SweepSpec, str, Path, dict], output: Union[str, Path],
         None: local process pool (``workers`` processes, default all cores;
         one worker or one task: in this process); "serial": in this process;
         an address or a Client: the same chunks are submitted to that Dask
-        cluster (:class:`stand.executor.Executor`).
+        cluster (:class:`stand.io.executor.Executor`).
     workers : int, optional
         Local pool size (default ``os.cpu_count()``); with Dask only used to
         size the chunks (default: the cluster's thread count).

@@ -29,13 +29,13 @@ A sweep file has four kinds of tables (all documented in ``docs/sweep.md``)::
     critical_speeds = true
 
     [simulate]                   # options of compute = "simulate"
-    window = 0.2                 # fraction of the run classified (stand.regime.classify)
+    window = 0.2                 # fraction of the run classified (stand.analysis.regime.classify)
 
 Every problem raises :class:`SweepSpecError` naming the field, its value and
 what is expected, e.g. ``axis[1].num = 1: must be an integer >= 2``.  Nothing
 is evaluated (no ``eval``) and nothing is unpickled: the file is TOML only.
 
-The base scene may be any scene kind (:attr:`stand.scene.Scene.kind`): the
+The base scene may be any scene kind (:attr:`stand.scene.model.Scene.kind`): the
 planar rotor of chapter 5, any rotor of the family (``[structure]``) or a book
 weight model (``[weight_model]``); what each kind accepts is in
 :mod:`stand.sweep.keys`.
@@ -74,7 +74,7 @@ try:
 except ModuleNotFoundError:  # Python < 3.11
     import tomli as tomllib
 
-from stand import scene_file as sf
+from stand.scene import parse as sf
 from stand.io.jsonable import dumps
 from stand.io.tomlfile import read_toml
 from stand.sweep.axes import AXIS_KEYS, Axis, read_axis  # noqa: F401  (AXIS_KEYS re-exported)
@@ -124,7 +124,7 @@ class SweepSpec:
     theory: dict = field(default_factory=dict)
     simulate: dict = field(default_factory=dict)
     source: str = "<string>"
-    #: kind of the base scene: "planar", "rotor" or "book" (:attr:`stand.scene.Scene.kind`)
+    #: kind of the base scene: "planar", "rotor" or "book" (:attr:`stand.scene.model.Scene.kind`)
     kind: str = "planar"
 
     @property
@@ -202,7 +202,7 @@ def _options(data: Mapping, table: str, keys) -> dict:
                                  "fraction of the capacity", gt=0)
     method = t.get("method")
     if method is not None:
-        from stand.scene import METHODS
+        from stand.scene.model import METHODS
         if method not in METHODS:
             raise SweepSpecError(f"simulate.method = {_fmt(method)}: {_suggest(str(method), METHODS)}"
                                  f"must be one of {', '.join(METHODS)}")
@@ -226,7 +226,7 @@ def _compute(sw: Mapping) -> tuple:
 
 def _base(data: Mapping, base_dir: Union[str, Path, None]) -> tuple:
     """(document, kind) of the base scene: a path (read and validated by
-    :func:`stand.scene_file.load_scene`) or inline tables (:func:`stand.scene_file.parse`)."""
+    :func:`stand.scene.parse.load_scene`) or inline tables (:func:`stand.scene.parse.parse`)."""
     if "base" not in data:
         raise SweepSpecError("missing table [base] (the base scene: base.scene = \"path.toml\" "
                              "or inline tables [base.rotor], [base.drive], ...)")

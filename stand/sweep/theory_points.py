@@ -22,7 +22,7 @@ import warnings
 
 import numpy as np
 
-from stand.executor import error_text
+from stand.io.executor import error_text
 from stand.io.jsonable import dumps
 
 __all__ = ["planar_theory_rows", "structure_theory_rows"]
@@ -36,8 +36,8 @@ def _fail(row: dict, exc: BaseException) -> None:
 @functools.lru_cache(maxsize=4096)
 def _main_d(n: int, e0: float):
     """Configuration parameter d of the main motion (as :func:`scene_theory`); None if none."""
-    from stand.planar_theory import main_motion as mm
-    from stand.planar_theory import side
+    from stand.theories.planar import main_motion as mm
+    from stand.theories.planar import side
 
     if not e0 <= 1:
         return None
@@ -48,7 +48,7 @@ def _main_d(n: int, e0: float):
 @functools.lru_cache(maxsize=4096)
 def _critical(Rt: float, h: float, H: float, d: float, R_max: float):
     """Critical speeds of the main motion (R, kind) on (0.05, R_max), cached per worker."""
-    from stand.planar_theory import main_motion as mm
+    from stand.theories.planar import main_motion as mm
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -65,7 +65,7 @@ def _q(x: float) -> float:
 
 def _main_stable_batch(R: np.ndarray, Rt: float, h: float, H: float, d: float):
     """(abscissa, stable) at the speeds ``R``: :func:`main_motion.is_stable`, vectorised."""
-    from stand.planar_theory import main_motion as mm
+    from stand.theories.planar import main_motion as mm
 
     if h == 0.0 and H == 0.0:
         marg = mm._conservative_margin_batch(R, Rt, d)
@@ -78,8 +78,8 @@ def _main_stable_batch(R: np.ndarray, Rt: float, h: float, H: float, d: float):
 
 def _main_and_qp(row: dict, sc, groups: dict, i: int) -> None:
     """Scope checks, d, the QP verdict; the point joins its (Rt, h, H, d) group."""
-    from stand.planar_theory import qp
-    from stand.planar_theory.speedmap import TheoryError, _check_scope
+    from stand.theories.planar import qp
+    from stand.theories.planar.speedmap import TheoryError, _check_scope
 
     _check_scope(sc, None)
     s = sc.supports
@@ -106,10 +106,10 @@ def _main_and_qp(row: dict, sc, groups: dict, i: int) -> None:
 
 def _motions(row: dict, sc, opts: dict) -> None:
     """Stable motions (with the side motions when asked) and the critical speeds."""
-    from stand.planar import build_planar_model
-    from stand.planar_theory import side
-    from stand.planar_theory.speedmap import MAX_WEIGHTS_FOR_SIDE
-    from stand.scene import SpeedDrive
+    from stand.model.planar import build_planar_model
+    from stand.theories.planar import side
+    from stand.theories.planar.speedmap import MAX_WEIGHTS_FOR_SIDE
+    from stand.scene.model import SpeedDrive
 
     motions = []
     if row["theory.main_stable"]:
@@ -141,7 +141,7 @@ def planar_theory_rows(rows: list, scenes: list, opts: dict) -> None:
     ----------
     rows : list of dict
         The points' rows, with their ``p.*`` columns; rows not "ok" are skipped.
-    scenes : list of stand.scene.Scene
+    scenes : list of stand.scene.model.Scene
         The points' validated scenes.
     opts : dict
         ``[theory]`` options: ``side``, ``critical_speeds``, ``R_max``.
@@ -179,13 +179,13 @@ def structure_theory_rows(rows: list, scenes: list, opts: dict) -> None:
     ----------
     rows : list of dict
         The points' rows, with ``p.R`` and ``p.f0_hz``; rows not "ok" are skipped.
-    scenes : list of stand.scene.Scene
+    scenes : list of stand.scene.model.Scene
         The points' validated scenes.
     opts : dict
         ``[theory]`` options: ``critical_speeds`` (``side`` and ``R_max`` are the
         planar rotor's).
     """
-    from stand.scene_theory import theory
+    from stand.theories.scene import theory
 
     for row, sc in zip(rows, scenes):
         if row["status"] != "ok":

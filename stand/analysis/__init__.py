@@ -1,0 +1,11 @@
+"""From recordings to a lab's numbers (``stand analyze``), on top of the leaves ``dsp`` and ``vision``.
+
+* :mod:`.identify`  -- the journal's numbers from one recording (natural frequency, damping,
+  unbalance, components, regime);
+* :mod:`.runup`     -- run-up / run-down: Bode data, sweep-corrected resonance, model fit;
+* :mod:`.signals`   -- signal helpers on one recorded run;
+* :mod:`.regime`    -- the motion regime at the end of a simulated run;
+* :mod:`.influence` -- influence-coefficient balancing from recordings;
+* :mod:`.tracking`  -- images to numbers: spot tracks, ring calibration, strobe angles;
+* :mod:`.batch`     -- many recordings in parallel, one summary table.
+"""

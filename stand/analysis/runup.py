@@ -1,0 +1,155 @@
+"""Run-up and run-down recordings: Bode data, the sweep-corrected resonance and the model fit.
+
+What ``stand analyze`` adds for a record whose speed sweeps (one of the
+programme's stretches is a run-up, run-down or coast-down), on lab tables and
+on recordings of rotors without weights:
+
+* **Bode data**: the 1X vector revolution by revolution (order tracking,
+  :func:`stand.analysis.signals.per_revolution`) against the speed; the phase only when
+  the angle is referenced to a mark (keyphasor, encoder).
+* **Model fit** over the whole record (:func:`dsp.response_fit.fit_unbalance_response`):
+  natural frequency, damping ratio, specific unbalance and its angle, the
+  probes' DC offset and 1X runout; no quasi-steady assumption.  Without a
+  keyphasor or encoder (a tachometer or nothing) the angle is estimated from
+  the whirl (:func:`dsp.response_fit.fit_response_without_speed`) and the
+  unbalance has a magnitude but no angle.
+* **Critical speed** from the resonance peak of the 1X amplitude with the
+  sweep-rate lag removed (:func:`dsp.runup.resonance_from_runup`, papers
+  001/003/004 sections 4.3, 5.4), using the fitted damping ratio; the runout
+  is taken out of the 1X vectors first.
+"""
+from __future__ import annotations
+
+import math
+from typing import Optional
+
+import numpy as np
+
+__all__ = ["sweep_identification", "SWEEPS"]
+
+TWO_PI = 2.0 * math.pi
+SWEEPS = ("run-up", "run-down", "coast-down")
+
+
+def _fit_dict(fit, referenced: bool) -> dict:
+    return {"natural_frequency_hz": fit.natural_frequency_hz,
+            "natural_frequency_hz_std": fit.natural_frequency_hz_std,
+            "damping_ratio": fit.damping_ratio, "damping_ratio_std": fit.damping_ratio_std,
+            "critical_speed_hz": fit.critical_speed_hz,
+            "critical_speed_hz_std": fit.critical_speed_hz_std,
+            "specific_unbalance_m": fit.specific_unbalance_m,
+            "specific_unbalance_m_std": fit.specific_unbalance_m_std,
+            "unbalance_angle_deg": (math.degrees(fit.angle_rad) % 360.0 if referenced else None),
+            "unbalance_angle_deg_std": (math.degrees(fit.angle_rad_std) if referenced else None),
+            "offset_x_m": fit.offset_m.real, "offset_y_m": fit.offset_m.imag,
+            "runout_m": abs(fit.runout_m), "residual_rms_m": fit.residual_rms_m,
+            "samples": fit.samples}
+
+
+def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bool] = None,
+                         fit_model: bool = True) -> Optional[dict]:
+    """Identify what a swept record gives (module docstring).
+
+    Parameters
+    ----------
+    t, x, y : ndarray
+        Times [s] (uniform) and shaft displacements [m].
+    angle : dsp.speed.RotorAngle or None
+        The rotor angle; None or not ``referenced``: estimated from the whirl.
+    notes : list of str
+        Receives what could not be done and why.
+    fit_model : bool
+        Fit the rigid-rotor model (off for rotors whose weights make it wrong).
+
+    Returns
+    -------
+    dict or None
+        ``programme``, ``speed_source``, ``bode``, ``resonance``, ``model_fit``
+        (each None when not obtained, with the reason in ``notes``); None when
+        the record is not swept.
+    """
+    from dsp.errors import SignalError
+    from dsp.response_fit import fit_response_without_speed, fit_unbalance_response
+    from dsp.runup import resonance_from_runup
+    from dsp.speed import speed_programme
+
+    from stand.analysis.signals import per_revolution
+
+    z = np.asarray(x) + 1j * np.asarray(y)
+    ref = bool(angle is not None and angle.referenced) if referenced is None else referenced
+    out = {"speed_source": None if angle is None else angle.source, "speed_estimated": False,
+           "bode": None, "resonance": None, "model_fit": None, "programme": None}
+    fit = None
+    if angle is not None and ref:
+        c = angle.covered
+        prog = speed_programme(t[c], angle.speed_rad_s[c])
+        if not any(s.kind in SWEEPS for s in prog.stretches):
+            return None
+        if fit_model:
+            try:
+                fit = fit_unbalance_response(t[c], z[c], angle.angle_rad[c], angle.speed_rad_s[c],
+                                             angle.acceleration_rad_s2[c])
+            except SignalError as exc:
+                notes.append(f"run-up model fit: {exc}")
+    else:
+        if angle is not None:       # a tachometer: is the record swept at all?
+            prog = speed_programme(t, angle.speed_rad_s)
+            if not any(s.kind in SWEEPS for s in prog.stretches):
+                return None
+        if not fit_model:
+            return None
+        try:
+            fit, angle = fit_response_without_speed(t, z)
+        except SignalError as exc:
+            notes.append(f"run-up model fit without a keyphasor: {exc}")
+            return None
+        out.update(speed_source="1X line (estimated from the vibration)", speed_estimated=True)
+        c = angle.covered
+        prog = speed_programme(t[c], angle.speed_rad_s[c])
+        if not any(s.kind in SWEEPS for s in prog.stretches):
+            notes.append("run-up: the speed estimated from the 1X line does not sweep")
+            return None
+    out["programme"] = _programme_dict(prog)
+    if fit is not None:
+        out["model_fit"] = _fit_dict(fit, ref)
+    # Bode: the 1X vector revolution by revolution, runout removed
+    c = angle.covered
+    try:
+        pr = per_revolution(t[c], z[c].real, z[c].imag, angle.angle_rad[c])
+    except SignalError as exc:
+        notes.append(f"1X vs speed: {exc}")
+        pr = None
+    if pr is None:
+        return out
+    tm, w, v = pr
+    if fit is not None:
+        v = v - fit.runout_m
+    out["bode"] = {"t_s": tm.tolist(), "speed_hz": (w / TWO_PI).tolist(),
+                   "amplitude_m": np.abs(v).tolist(),
+                   "phase_deg": np.degrees(np.angle(v)).tolist() if ref else None}
+    # the sweep-rate-corrected resonance, on the longest sweep stretch
+    sweeps = [s for s in prog.stretches if s.kind in SWEEPS]
+    s = max(sweeps, key=lambda s: s.duration_s)
+    inside = (tm >= s.t_start_s) & (tm <= s.t_end_s)
+    zeta = fit.damping_ratio if fit is not None else 0.0
+    try:
+        if inside.sum() < 16:
+            raise SignalError(f"{int(inside.sum())} revolutions in the {s.kind}; need 16")
+        r = resonance_from_runup(tm[inside], w[inside], np.abs(v[inside]), damping_ratio=zeta)
+        shift = 1.0 / math.sqrt(1.0 - 2.0 * zeta * zeta)
+        out["resonance"] = {"stretch": s.kind, "peak_speed_hz": r.peak_frequency_hz,
+                            "sweep_rate_hz_s": r.angular_acceleration_rad_s2 / TWO_PI,
+                            "lag_hz": r.lag_rad_s / TWO_PI,
+                            "critical_speed_hz": r.corrected_frequency_hz * shift,
+                            "natural_frequency_hz": r.corrected_frequency_hz,
+                            "damping_ratio_used": zeta, "direction": r.direction}
+    except SignalError as exc:
+        notes.append(f"resonance from the {s.kind}: {exc}")
+    return out
+
+
+def _programme_dict(prog) -> dict:
+    return {"kind": prog.kind,
+            "stretches": [{"kind": s.kind, "t_start_s": s.t_start_s, "t_end_s": s.t_end_s,
+                           "speed_start_hz": s.speed_start_hz, "speed_end_hz": s.speed_end_hz,
+                           "rate_hz_s": s.rate_hz_s} for s in prog.stretches]}

@@ -1,0 +1,391 @@
+"""One run result for every scene: :class:`Run` (and the solver's :class:`SolverStats`).
+
+Whatever the structure (planar rotor, any rotor of the family, a book weight
+model) and the weights, :func:`stand.run` returns a :class:`Run`: the sample
+times, every plane's fixed-frame translation, the rotor's angle and speed,
+each weight's coordinates by name, the solver statistics shaped like SciPy's
+``OdeResult`` (``status``, ``message``, ``success``, ``nfev``, ``njev``,
+``nlu``), and the scene.  :meth:`Run.to_frame` gives a pandas DataFrame with
+SI columns (units in the names), :meth:`Run.write` the one HDF5 recording
+(:mod:`stand.recording.hdf5`), which :func:`stand.read` turns back into a
+:class:`stand.recording.hdf5.Recording` with the same fields.
+
+Channel names (also the recording's dataset paths)::
+
+    time                         s
+    planes/<plane>/x, .../y      m       fixed-frame translation of each plane
+    rotor/angle, rotor/speed     rad, rad/s
+    weights/<weight>/<coord>     per coordinate (angle [rad], speed [rad/s], ...)
+    coordinates/<name>           structure coordinates or a book model's state
+
+Weights are named ``<kind><j>`` (``ball1``, ``pendulum2``; numbered across the
+whole scene) with their plane in :attr:`Run.weight_planes`.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Optional
+
+import numpy as np
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
+
+__all__ = ["Run", "SolverStats", "weight_names"]
+
+#: units of the weights' standard coordinates
+WEIGHT_UNITS = {"angle": "rad", "speed": "rad/s", "relative_angle": "rad", "tilt": "rad",
+                "tilt_rate": "rad/s", "n_x": "1", "n_y": "1", "n_z": "1", "liquid_x": "m",
+                "liquid_y": "m", "surface_x": "m", "surface_y": "m"}
+
+
+class _OdeResult(dict):
+    """SciPy's result type (``scipy.optimize.OptimizeResult``, the base of ``solve_ivp``'s
+    ``OdeResult``): a dict whose keys are also attributes, printed as aligned ``key: value``
+    lines.  The same behaviour without importing scipy.optimize, which alone takes
+    longer (0.35 s) than a whole run from the precompiled kernels."""
+
+    def __getattr__(self, name):
+        try:
+            return self[name]
+        except KeyError as e:
+            raise AttributeError(name) from e
+
+    __setattr__ = dict.__setitem__
+    __delattr__ = dict.__delitem__
+
+    def __repr__(self):
+        if not self:
+            return f"{type(self).__name__}()"
+        w = max(map(len, self)) + 1
+        return "\n".join(f"{k.rjust(w)}: {v!r}" for k, v in self.items())
+
+    def __dir__(self):
+        return list(self.keys())
+
+
+class SolverStats(_OdeResult):
+    """Solver statistics shaped like SciPy's ``OdeResult`` (a dict whose keys are also
+    attributes).
+
+    Attributes
+    ----------
+    method : str
+        Integration method (``"DOP853"``, ``"Radau"``, ...).
+    rtol, atol : float
+        Tolerances on the integrated (scaled) state.
+    n_steps, n_rejected : int
+        Accepted and rejected steps.
+    nfev, njev, nlu : int
+        Right-hand-side and Jacobian evaluations, LU decompositions (as SciPy's).
+    wall_time : float
+        Integration time [s] (compilation excluded).
+    status : int
+        0: reached the end; -1 step-size collapse or solver failure; -2 non-finite or
+        diverged state; -3 step budget.
+    message : str
+    success : bool
+    stiffness_ratio : float
+        Fastest decay rate / fastest frequency of the model (auto picks Radau above 30).
+    method_reason : str
+        Why the method was chosen.
+    """
+
+    FIELDS = dict(method="", rtol=float("nan"), atol=float("nan"), n_steps=0, n_rejected=0,
+                  nfev=0, njev=0, nlu=0, wall_time=0.0, status=0, message="", success=True,
+                  stiffness_ratio=0.0, method_reason="")
+
+    def __init__(self, method: str = "", rtol: float = float("nan"), atol: float = float("nan"),
+                 **fields):
+        unknown = sorted(set(fields) - set(self.FIELDS))
+        if unknown:
+            raise TypeError(f"SolverStats: unknown field(s) {', '.join(unknown)}; valid: "
+                            f"{', '.join(self.FIELDS)}")
+        super().__init__({**self.FIELDS, "method": method, "rtol": rtol, "atol": atol, **fields})
+
+    def to_dict(self) -> dict:
+        return dict(self)
+
+    def to_json(self) -> str:
+        from stand.io.jsonable import dumps
+
+        return dumps(dict(self))
+
+
+def weight_names(weights) -> tuple:
+    """``(names, planes)`` of the weights of a scene's ``weights`` (PlaneWeights), numbered
+    across the scene: ``ball1, ball2, ...`` / ``pendulum1, ...``."""
+    names, planes = [], []
+    counter: dict = {}
+    for w in weights:
+        kind = {"balls": "ball", "pendulums": "pendulum"}.get(w.balancer.type, "weight")
+        for _ in range(w.balancer.count):
+            counter[kind] = counter.get(kind, 0) + 1
+            names.append(f"{kind}{counter[kind]}")
+            planes.append(w.plane)
+    return tuple(names), tuple(planes)
+
+
+@dataclass(eq=False)
+class Run:
+    """Sampled motion of the stand, SI units (module docstring).
+
+    Attributes
+    ----------
+    t : ndarray (N,)
+        Sample times [s].
+    planes : dict of str -> ndarray (N, 2)
+        Fixed-frame translation (x, y) of each plane [m].
+    main_plane : str
+        The plane recorded as ``shaft/x|y`` (the instrumented or only plane).
+    rotor_angle, rotor_speed : ndarray (N,)
+        Angle of the reference mark [rad] and spin [rad/s].
+    weights : dict of str -> dict of str -> ndarray (N,)
+        Each weight's coordinates by name (balls and pendulums: ``angle``,
+        ``speed`` absolute [rad, rad/s]).
+    weight_planes : dict of str -> str
+        The plane each weight sits in.
+    stats : SolverStats
+    scene : stand.scene.model.Scene or None
+    coordinates : dict of str -> (ndarray (N,), units)
+        Further channels: the structure's generalised coordinates, a book
+        model's state.
+    truth : dict of str -> (ndarray, units)
+        Model quantities an instrument cannot see (e.g. each plane's residual
+        unbalance in the rotor frame [kg m]).
+    state : ndarray, optional
+        The integrator's (scaled) state at the samples.
+    extra : Run, optional
+        Samples at extra times requested by the instruments.
+    notes : tuple of str
+        What a reader should know (e.g. a book model's units); a
+        :class:`stand.recording.hdf5.Recording` adds what the reader filled in.
+    """
+
+    t: np.ndarray
+    planes: dict
+    main_plane: str
+    rotor_angle: np.ndarray
+    rotor_speed: np.ndarray
+    weights: dict
+    weight_planes: dict
+    stats: Optional[SolverStats] = None
+    scene: Any = None
+    coordinates: dict = field(default_factory=dict)
+    truth: dict = field(default_factory=dict)
+    state: Optional[np.ndarray] = field(repr=False, default=None)
+    extra: Optional["Run"] = field(repr=False, default=None)
+    notes: tuple = ()
+    #: writes the instruments' frames and truth into the open recording (stand.instruments)
+    instrument_writer: Optional[Any] = field(repr=False, default=None)
+
+    UNITS = {"t": "s", "x": "m", "y": "m", "rotor_angle": "rad", "rotor_speed": "rad/s",
+             "weight_angle": "rad", "weight_speed": "rad/s"}
+
+    # ------------------------------------------------------------ views
+    @property
+    def success(self) -> bool:
+        return bool(self.stats.success) if self.stats is not None else True
+
+    @property
+    def x(self) -> np.ndarray:
+        """Main plane's fixed-frame X translation [m] (``shaft/x``)."""
+        return self.planes[self.main_plane][:, 0]
+
+    @property
+    def y(self) -> np.ndarray:
+        """Main plane's fixed-frame Y translation [m] (``shaft/y``)."""
+        return self.planes[self.main_plane][:, 1]
+
+    def _stack(self, coord: str) -> np.ndarray:
+        """(N, n) ``coord`` of every weight with an angle (NaN where one lacks ``coord``, e.g.
+        a damaged recording), so that angles and speeds always have the same columns."""
+        nan = np.full(len(self.t), np.nan)
+        cols = [np.asarray(w.get(coord, nan)) for w in self.weights.values() if "angle" in w]
+        if not cols:
+            return np.zeros((len(self.t), 0))
+        return np.column_stack(cols)
+
+    @property
+    def weight_angle(self) -> np.ndarray:
+        """(N, n) absolute angles of the balls / pendulums [rad] (n = 0 without)."""
+        return self._stack("angle")
+
+    @property
+    def weight_speed(self) -> np.ndarray:
+        """(N, n) absolute speeds of the balls / pendulums [rad/s]."""
+        return self._stack("speed")
+
+    @property
+    def relative_angle(self) -> np.ndarray:
+        """Weight angles relative to the rotor's reference mark, wrapped to (-pi, pi] [rad]."""
+        a = self.weight_angle - self.rotor_angle[:, None]
+        return np.angle(np.exp(1j * a))
+
+    def whirl_radius(self) -> np.ndarray:
+        """|r| of the main plane = sqrt(x^2 + y^2) [m]."""
+        return np.hypot(self.x, self.y)
+
+    def residual_unbalance(self) -> np.ndarray:
+        """Total unbalance of the main plane (rotor + weights), complex, rotor frame [kg m].
+
+        Planar rotor: psi = M e e^{i beta} + sum m_j l_j e^{i alpha_j} ((5.76)-(5.77)
+        times S), following the scene's unbalance changes.  Other structures: the
+        plane's residual from :attr:`truth` (``residual/<plane>``).
+        """
+        key = f"residual/{self.main_plane}"
+        if key in self.truth:
+            U = np.asarray(self.truth[key][0])
+            return U[:, 0] + 1j * U[:, 1]
+        from stand.model.planar import rotor_unbalance
+
+        scene = self.scene
+        b = scene.balancer
+        psi = rotor_unbalance(scene, self.t)
+        if b.count:
+            psi = psi + np.sum(b.mass * b.radius * np.exp(1j * (self.weight_angle - self.rotor_angle[:, None])), axis=1)
+        return psi
+
+    def capacity(self) -> float:
+        """Balancing capacity S = sum m_l of the main plane's weights [kg m] (0 without)."""
+        if self.scene is None:
+            return 0.0
+        return float(sum(w.balancer.capacity for w in self.scene.weights
+                         if w.plane == self.main_plane)
+                     + sum(b.body.capacity for b in self.scene.bodies
+                           if b.plane == self.main_plane))
+
+    # ------------------------------------------------------------ channels
+    def channels(self) -> dict:
+        """Every channel by its recording path: ``{path: (array, units)}`` (module docstring)."""
+        ch = {"time": (self.t, "s")}
+        for p, xy in self.planes.items():
+            ch[f"planes/{p}/x"] = (xy[:, 0], "m")
+            ch[f"planes/{p}/y"] = (xy[:, 1], "m")
+        ch["rotor/angle"] = (self.rotor_angle, "rad")
+        ch["rotor/speed"] = (self.rotor_speed, "rad/s")
+        for name, coords in self.weights.items():
+            for c, a in coords.items():
+                ch[f"weights/{name}/{c}"] = (a, self.weight_units(name, c))
+        for name, (a, u) in self.coordinates.items():
+            ch[f"coordinates/{name}"] = (a, u)
+        return ch
+
+    def weight_units(self, name: str, coord: str) -> str:
+        u = getattr(self, "_weight_units", {}).get((name, coord))
+        return u or WEIGHT_UNITS.get(coord, "1")
+
+    def to_frame(self) -> "pd.DataFrame":
+        """The samples as a pandas DataFrame, one row per sample, SI units in the names.
+
+        Columns: ``t_s``; ``x_m``, ``y_m`` (main plane, as ``shaft/x|y``);
+        ``<plane>_x_m``, ``<plane>_y_m`` for every other plane; ``rotor_angle_rad``,
+        ``rotor_speed_rad_s``; ``<weight>_<coordinate>_<unit>`` for each weight
+        (``ball1_angle_rad``, ...); ``<coordinate>_<unit>`` for further channels.
+        """
+        import pandas as pd
+
+        def unit(u):
+            return u.replace("/", "_").replace("*", "").replace(" ", "").replace("^", "") or "1"
+
+        cols = {"t_s": self.t, "x_m": self.x, "y_m": self.y}
+        for p, xy in self.planes.items():
+            if p != self.main_plane:
+                cols[f"{p}_x_m"], cols[f"{p}_y_m"] = xy[:, 0], xy[:, 1]
+        cols["rotor_angle_rad"] = self.rotor_angle
+        cols["rotor_speed_rad_s"] = self.rotor_speed
+        for name, coords in self.weights.items():
+            for c, a in coords.items():
+                cols[f"{name}_{c}_{unit(self.weight_units(name, c))}"] = a
+        for name, (a, u) in self.coordinates.items():
+            cols[f"{name}_{unit(u)}"] = a
+        return pd.DataFrame({k: np.array(v, dtype=np.float64) for k, v in cols.items()})
+
+    def plot(self, ax=None, kind: str = "time"):
+        """Draw the main plane's motion; returns the matplotlib Figure.
+
+        ``kind="time"``: x and y [mm] against t [s]; ``"orbit"``: y against x [mm].
+        ``ax``: draw into these axes (default: a new backend-free figure).
+        """
+        from stand.reports.figures import figure_and_axes
+
+        if kind not in ("time", "orbit"):
+            raise ValueError(f"kind = {kind!r}: one of time, orbit")
+        fig, ax = figure_and_axes(ax, figsize=(7, 4) if kind == "time" else (5, 5))
+        name = getattr(self.scene, "name", "") or "run"
+        if kind == "time":
+            ax.plot(self.t, self.x * 1e3, lw=0.8, label="x")
+            ax.plot(self.t, self.y * 1e3, lw=0.8, label="y")
+            ax.set_xlabel("time [s]")
+            ax.set_ylabel(f"plane {self.main_plane} [mm]")
+            ax.legend(loc="upper right")
+        else:
+            ax.plot(self.x * 1e3, self.y * 1e3, lw=0.6)
+            ax.set_aspect("equal", adjustable="datalim")
+            ax.set_xlabel("x [mm]")
+            ax.set_ylabel("y [mm]")
+        ax.set_title(f"{name}: plane {self.main_plane}")
+        return fig
+
+    def write(self, path, *, writer=None, extra_attrs=None):
+        """Write the one HDF5 recording (atomically), :func:`stand.recording.hdf5.write_recording`."""
+        from stand.recording.hdf5 import write_recording
+
+        return write_recording(self, path, writer=writer or self.instrument_writer,
+                               extra_attrs=extra_attrs)
+
+    def __len__(self) -> int:
+        return int(np.shape(self.t)[0])
+
+    def __repr__(self) -> str:
+        name = getattr(self.scene, "name", "")
+        msg = self.stats.message if self.stats is not None else ""
+        return (f"{type(self).__name__}(scene={name!r}, samples={len(self)}, planes={list(self.planes)}, "
+                f"weights={list(self.weights)}, message={msg!r})")
+
+    # ------------------------------------------------------------ summary
+    def summary(self, window: float | None = None) -> dict:
+        """Final state for reports and ``stand run --json``.
+
+        Parameters
+        ----------
+        window : float, optional
+            Averaging window at the end of the run [s]; default: the last rotor
+            revolution (or the last 5 % of the run when the rotor is at rest).
+        """
+        N = len(self.t)
+        out = {"solver": dict(self.stats) if self.stats is not None else {}}
+        if N == 0:
+            out["final"] = None
+            return out
+        if window is None:
+            w = abs(self.rotor_speed[-1])
+            window = 2 * np.pi / w if w > 0 and np.isfinite(w) else 0.05 * self.t[-1]
+        sel = self.t >= self.t[-1] - window
+        final = {"time_s": float(self.t[-1]),
+                 "rotor_speed_rev_per_s": float(self.rotor_speed[-1] / (2 * np.pi)),
+                 "main_plane": self.main_plane}
+        scene = self.scene
+        kind = getattr(scene, "kind", None)
+        if kind in ("planar", "rotor"):
+            S = self.capacity()
+            psi = abs(self.residual_unbalance()[-1])
+            final.update({
+                "residual_unbalance": float(psi / S) if S > 0 else None,
+                "residual_unbalance_g_mm": float(psi * 1e6),
+                "capacity_g_mm": float(S * 1e6),
+            })
+        rel = np.degrees(self.relative_angle[-1]) if self.weight_angle.shape[1] else np.zeros(0)
+        final["weights_relative_angle_deg"] = [float(a) for a in rel]
+        final["whirl_radius_m"] = float(np.mean(self.whirl_radius()[sel]))
+        final["whirl_radius_last_m"] = float(self.whirl_radius()[-1])
+        if len(self.planes) > 1:
+            final["plane_radius_m"] = {p: float(np.hypot(*xy[-1])) for p, xy in self.planes.items()}
+        out["final"] = final
+        return out
+
+
+def planar_weights(names, planes, angle, speed) -> tuple:
+    """``weights`` and ``weight_planes`` dicts from (N, n) absolute angles and speeds."""
+    w = {n: {"angle": angle[:, j], "speed": speed[:, j]} for j, n in enumerate(names)}
+    return w, dict(zip(names, planes))

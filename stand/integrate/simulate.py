@@ -1,0 +1,352 @@
+"""Run a scene: integrate its model and return one :class:`stand.integrate.result.Run`.
+
+One entry point for every scene (:func:`simulate`, also :func:`stand.run`),
+shaped like ``scipy.integrate.solve_ivp``: ``method=`` by name, a result with
+``status``/``message``/``nfev``... plus SI arrays with units.  The planar rotor
+of chapter 5 runs on its own compiled kernel (:mod:`stand.model.planar`); any other
+structure (and the planar rotor with ``kernel="generic"``) on the generic
+kernel (:mod:`stand.model.rotors.coupled_kernel`); both through the one integrator
+path :mod:`stand.integrate.driver`.  A book weight model (``[weight_model]``)
+runs its own right-hand side through scipy's solvers
+(:mod:`stand.model.balancers.book_run`).  Methods:
+
+* ``"DOP853"`` -- compiled explicit 8th-order Runge-Kutta (:mod:`stand.integrate.dop853`),
+  the default for ordinary scenes;
+* ``"Radau"``, ``"BDF"``, ``"LSODA"`` -- scipy's implicit/switching solvers on
+  the compiled right-hand side with a compiled finite-difference Jacobian; "auto"
+  picks Radau when the scene is stiff (large weight drag, h >> R_omega);
+* ``"numpy-DOP853"`` -- scipy's DOP853 on the pure-numpy right-hand side that
+  solves the full linear system: the slow reference path for checking.
+"""
+from __future__ import annotations
+
+import math
+import time as _time
+
+import numpy as np
+
+from stand.integrate.driver import (CHUNK_STEPS, Checkpoint, fingerprint, run_dop853, run_scipy,
+                               warm_up)
+from stand.model.planar import (D11, D22, H0, K22, N_PROG, WTARGET, PlanarModel, build_planar_model,
+                     initial_state)
+from stand.integrate.result import Run, SolverStats, weight_names
+from stand.scene.model import METHODS, Scene, SceneError
+from stand.model.weights import EPS, H, MU
+
+__all__ = ["simulate", "Run", "Trajectory", "SolverStats", "sample_times", "METHODS"]
+
+#: a scene is stiff when its fastest decay rate exceeds this many times its
+#: fastest oscillation (explicit methods would be limited by stability, not accuracy)
+STIFFNESS_RATIO = 30.0
+#: the planar run's result type under its earlier name
+Trajectory = Run
+
+
+def stiffness(model: PlanarModel) -> float:
+    """Ratio of the fastest decay rate to the fastest oscillation frequency.
+
+    Decay rates: weight drag h_j / (1 - eps_j mu_j), support damping, rotor
+    drag; oscillation: 1 (omega_1), sqrt(k22), the largest rotor speed.
+    """
+    sp, wt = model.sp, model.wt
+    rates = [sp[D11], sp[D22], abs(sp[H0])]
+    if model.n:
+        rates.append(float(np.max(wt[:, H] / np.maximum(1.0 - wt[:, EPS] * wt[:, MU], 1e-12))))
+    speed = max(1.0, math.sqrt(abs(sp[K22])), float(np.max(np.abs(model.prog[:int(sp[N_PROG]), 1]))),
+                abs(sp[WTARGET]))
+    return max(rates) / speed
+
+
+def generic_stiffness(model) -> float:
+    """:func:`stiffness` for the generic kernel: the fastest weight drag rate H_j / J_j and
+    the structure's fastest damping rate against its fastest frequency (natural frequencies
+    at rest, the programme's top speed), in units of omega_ref."""
+    rot = model.rotor
+    rates = [0.0]
+    if model.nw:
+        rates.append(float(np.max(model.wt[:, 4] / model.wt[:, 3])))
+    ev = np.linalg.eigvals(np.linalg.solve(rot.M, rot.D)) if rot.n else np.zeros(0)
+    if ev.size:
+        rates.append(float(np.max(np.abs(ev))))
+    wn = rot.natural_frequencies(0.0)
+    speed = max([1.0] + [float(np.max(np.abs(model.prog[:, 1])))]
+                + ([float(np.max(wn)) / model.omega_ref] if wn.size else []))
+    return max(rates) / model.omega_ref / speed
+
+
+def choose_method(model: PlanarModel, requested: str) -> tuple[str, float, str]:
+    ratio = stiffness(model) if isinstance(model, PlanarModel) else generic_stiffness(model)
+    if requested != "auto":
+        return requested, ratio, "requested"
+    if ratio > STIFFNESS_RATIO:
+        return "Radau", ratio, f"stiff: fastest decay rate / fastest frequency = {ratio:.3g} > {STIFFNESS_RATIO:g}"
+    return "DOP853", ratio, f"non-stiff: fastest decay rate / fastest frequency = {ratio:.3g} <= {STIFFNESS_RATIO:g}"
+
+
+def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
+             atol: float | None = None, progress: bool = False,
+             extra_times=None, checkpoint=None, checkpoint_steps: int = CHUNK_STEPS,
+             kernel: str = "auto") -> Run:
+    """Integrate a scene (any structure, any weights).
+
+    Parameters
+    ----------
+    scene : Scene
+    method : str, optional
+        Overrides ``scene.run.method``; one of :data:`METHODS`.
+    rtol, atol : float, optional
+        Override the scene's tolerances (dimensionless state, see docs/scene.md).
+    progress : bool
+        Show a progress bar (stderr) when the run lasts more than ~2 s.
+    extra_times : array_like, optional
+        Additional sample times [s], non-decreasing, within [0, duration]
+        (e.g. the instruments' exposure and flash times).  They are sampled by
+        the same dense output in the same run and returned as
+        ``trajectory.extra`` (a Trajectory of its own); the recording grid is
+        unchanged.
+    checkpoint : path, optional
+        Long runs (compiled DOP853 only): the integrator's state and the samples
+        so far are saved to this ``.npz`` file after every chunk of steps
+        (atomically: temporary file + rename; no pickle).  If the file exists
+        when the run starts and belongs to the same scene and settings, the run
+        resumes from it (same steps, same samples as an uninterrupted run); it
+        is deleted when the run ends.  A killed run loses at most one chunk.
+    checkpoint_steps : int
+        Steps between checkpoints (default 200 000, a few seconds of work).
+    kernel : {"auto", "planar", "generic"}
+        The planar rotor runs on its own kernel by default; ``"generic"`` runs it
+        through the generic structure + weights kernel (the other structures'
+        path; used to check that both agree).
+
+    Returns
+    -------
+    Run
+        ``stats.status`` is 0 on success, negative on failure (non-finite state,
+        step size collapse, step budget); what was computed until then is kept.
+    """
+    run = scene.run
+    method = method or run.method
+    if method not in METHODS:
+        raise SceneError(f"run.method = {method!r}: must be one of {', '.join(METHODS)}")
+    if kernel not in ("auto", "planar", "generic"):
+        raise ValueError(f"kernel = {kernel!r}: one of auto, planar, generic")
+    rtol = run.rtol if rtol is None else rtol
+    atol = run.atol if atol is None else atol
+    if scene.kind == "book":
+        from stand.model.balancers.book_run import run_book
+
+        return run_book(scene, method=method, rtol=rtol, atol=atol)
+    if scene.kind == "rotor" or kernel == "generic" or scene.bodies:
+        if kernel == "planar" and scene.bodies:
+            raise SceneError('kernel = "planar": body weights run on the generic kernel')
+        return _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoint,
+                                 checkpoint_steps)
+    model = build_planar_model(scene)
+    method, ratio, reason = choose_method(model, method)
+    w1 = model.omega_1
+    tau_end = run.duration * w1
+    ts_rec = sample_times(run.duration, run.sample_rate) * w1
+    ts, rec_idx, ex_idx = _merge_times(ts_rec, extra_times, run.duration, w1)
+    n_samples = ts.size
+    y0 = initial_state(scene, model)
+    out = np.full((n_samples, model.size), np.nan)
+    out[0] = y0
+    stats = SolverStats(method=method, rtol=rtol, atol=atol, stiffness_ratio=ratio, method_reason=reason)
+    k = _integrate(scene, model, y0, tau_end, ts, out, stats, method, progress, checkpoint,
+                   checkpoint_steps)
+    if ex_idx is None:
+        return _trajectory(scene, model, out[:k], ts[:k], stats)
+    r = rec_idx[rec_idx < k]
+    e = ex_idx[ex_idx < k]
+    traj = _trajectory(scene, model, out[r], ts[r], stats)
+    traj.extra = _trajectory(scene, model, out[e], ts[e], stats)
+    return traj
+
+
+def auto_method(scene: Scene) -> str:
+    """The method ``run.method = "auto"`` picks for ``scene`` (DOP853, or Radau when stiff)."""
+    if scene.kind == "book":
+        return "DOP853"
+    if scene.kind == "planar":
+        return choose_method(build_planar_model(scene), "auto")[0]
+    from stand.model.rotors.coupled import build_model
+
+    d = scene.drive
+    torque = d.kind == "torque"
+    return choose_method(build_model(
+        scene.linear_rotor(), scene.weights, d if torque else d.programme, bodies=scene.bodies,
+        inertia=scene.rotor.inertia_about_shaft if torque and scene.kind == "planar" else None),
+        "auto")[0]
+
+
+def _integrate(scene, model, y0, tau_end, ts, out, stats, method, progress, checkpoint,
+               checkpoint_steps) -> int:
+    """Run the driver (compiled DOP853, with checkpoints, or a scipy method); returns the
+    number of samples computed and sets ``stats.wall_time``."""
+    warm_up(model)  # compile / load the kernels outside the timed region
+    t0 = _time.perf_counter()
+    if method == "DOP853":
+        ck = None
+        if checkpoint is not None:
+            ck = Checkpoint(checkpoint, fingerprint(scene, method, stats.rtol, stats.atol, ts,
+                                                    model.size))
+        k = run_dop853(model, y0, tau_end, stats.rtol, stats.atol, ts, out, stats,
+                       scene.run.max_steps, progress, ck,
+                       int(checkpoint_steps) if ck is not None else CHUNK_STEPS)
+        if ck is not None and stats.success:
+            ck.remove()
+    elif checkpoint is not None:
+        raise SceneError(f"checkpoint: only with the compiled DOP853 method (this run uses {method})")
+    else:
+        k = run_scipy(model, y0, tau_end, stats.rtol, stats.atol, ts, out, stats, method,
+                      scene.run.max_steps)
+    stats.wall_time = _time.perf_counter() - t0
+    return k
+
+
+def _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoint,
+                      checkpoint_steps) -> Run:
+    """Any LinearRotor with its weights (stand.model.rotors.coupled_kernel) -> Run."""
+    from stand.model.rotors.coupled import build_model, initial_state as generic_initial
+
+    torque = scene.drive.kind == "torque"
+    blows = [p for p in scene.perturbations if p.kind == "impulse"]
+    if len(blows) != len(scene.perturbations):
+        raise SceneError("kernel = \"generic\": of the perturbations the generic kernel takes "
+                         "the blows to the housing (impact) only; an unbalance change or a side "
+                         "pressure runs on the planar kernel")
+    if scene.kind == "planar":
+        if not torque and scene.drive.coast_down_start is not None:
+            raise SceneError("kernel = \"generic\": no exponential coast-down on the generic kernel")
+        if torque and scene.rotor.inertia_about_shaft is None:
+            raise SceneError("drive.type = \"torque\": rotor.inertia is required")
+    run = scene.run
+    rotor = scene.linear_rotor()
+    weights = scene.weights
+    try:
+        model = build_model(rotor, weights, scene.drive if torque else scene.drive.programme,
+                            bodies=scene.bodies,
+                            inertia=scene.rotor.inertia_about_shaft
+                            if torque and scene.kind == "planar" else None)
+    except ValueError as exc:
+        raise SceneError(str(exc)) from None
+    if blows:
+        model = _with_blows(model, scene, blows)
+    method, ratio, reason = choose_method(model, method)
+    if method == "numpy-DOP853":
+        raise SceneError("run.method = \"numpy-DOP853\": the pure-numpy reference path exists for "
+                         "the planar rotor only; use DOP853, Radau, BDF or LSODA")
+    w = model.omega_1
+    ts_rec = sample_times(run.duration, run.sample_rate) * w
+    ts, rec_idx, ex_idx = _merge_times(ts_rec, extra_times, run.duration, w)
+    q0 = qd0 = None
+    ini = scene.initial
+    if scene.kind == "planar":
+        q0 = [ini.x, ini.y]
+        qd0 = [ini.vx, ini.vy]
+    elif any((ini.x, ini.y, ini.vx, ini.vy)):
+        # the main plane's displacement and velocity: the least-norm coordinates giving them
+        Tp = np.linalg.pinv(rotor.planes[scene.main_plane])
+        q0, qd0 = Tp @ [ini.x, ini.y], Tp @ [ini.vx, ini.vy]
+    y0 = generic_initial(model, weights, q0, qd0)
+    out = np.full((ts.size, model.size), np.nan)
+    out[0] = y0
+    stats = SolverStats(method=method, rtol=rtol, atol=atol, stiffness_ratio=ratio,
+                        method_reason=reason)
+    k = _integrate(scene, model, y0, run.duration * w, ts, out, stats, method, progress,
+                   checkpoint, checkpoint_steps)
+    if ex_idx is None:
+        return _generic_run(scene, model, out[:k], ts[:k], stats)
+    r, e = rec_idx[rec_idx < k], ex_idx[ex_idx < k]
+    res = _generic_run(scene, model, out[r], ts[r], stats)
+    res.extra = _generic_run(scene, model, out[e], ts[e], stats)
+    return res
+
+
+def _with_blows(model, scene, blows):
+    """The model with the blows to the housing (table 4.6) as jumps of its scaled state: the
+    main plane's velocity jumps by (velocity_x, velocity_y) [m/s], carried by the least-norm
+    coordinate rates."""
+    import dataclasses
+
+    T = model.rotor.planes[scene.main_plane]
+    n, nw = model.n, model.nw
+    rows = []
+    for b in blows:
+        row = np.zeros(1 + model.size)
+        row[0] = b.start * model.omega_1
+        dqd = np.linalg.pinv(T) @ [b.velocity_x, b.velocity_y]
+        row[1 + n + nw:1 + 2 * n + nw] = dqd / (model.scale * model.omega_ref)
+        rows.append(row)
+    m = dataclasses.replace(model)
+    object.__setattr__(m, "impulses", np.array(rows))
+    return m
+
+
+def _generic_run(scene, model, out, tau, stats) -> Run:
+    from stand.model.rotors.coupled import samples_si
+
+    t, q, qd, phi, speed, alpha, planes, residual = samples_si(model, out, tau)
+    n, nw, w = model.n, model.nw, model.omega_1
+    dalpha = out[:, 2 * n + nw:2 * (n + nw)] * w
+    names, wplanes = weight_names(scene.weights)
+    weights = {nm: {"angle": phi + alpha[:, j], "speed": speed + dalpha[:, j]}
+               for j, nm in enumerate(names)}
+    notes = ()
+    if model.bodies:
+        from stand.model.rotors.bodies import body_channels, body_names, liquid_notes
+
+        bnames, bplanes = body_names(model.bodies)
+        bcoords, _ = body_channels(model.bt, model.bodies, out, w, phi, planes)
+        weights.update(zip(bnames, bcoords))
+        names, wplanes = names + bnames, wplanes + bplanes
+        notes = liquid_notes(model.bodies, planes)
+    coords = {}
+    for i, c in enumerate(model.rotor.coords):
+        name, _, unit = c.partition(" [")
+        coords[f"structure/{name}"] = (q[:, i], unit.rstrip("]") or "1")
+    truth = {f"residual/{p}": (U, "kg*m") for p, U in residual.items()}
+    return Run(t=t, planes=planes, main_plane=scene.main_plane, rotor_angle=phi,
+               rotor_speed=speed, weights=weights, weight_planes=dict(zip(names, wplanes)),
+               stats=stats, scene=scene, coordinates=coords, truth=truth, state=out, notes=notes)
+
+
+def _merge_times(ts_rec, extra_times, duration, w1):
+    """Merge the recording grid with extra sample times (both dimensionless)."""
+    if extra_times is None:
+        return ts_rec, None, None
+    ex = np.asarray(extra_times, dtype=float).ravel()
+    if ex.size == 0:
+        return ts_rec, np.arange(ts_rec.size), np.zeros(0, int)
+    if not np.all(np.isfinite(ex)) or ex[0] < 0 or ex[-1] > duration or np.any(np.diff(ex) < 0):
+        raise ValueError(f"extra_times: must be finite, non-decreasing and within [0, {duration:g}] s")
+    ex = ex * w1
+    ts = np.union1d(ts_rec, ex)
+    return ts, np.searchsorted(ts, ts_rec), np.searchsorted(ts, ex)
+
+
+def sample_times(duration: float, sample_rate: float) -> np.ndarray:
+    """Sample times [s]: k / sample_rate for k = 0, 1, ...; a last time within
+    1e-9 of a sample interval of ``duration`` is set to ``duration`` exactly, so
+    that rounding never drops the final sample."""
+    n = int(math.floor(duration * sample_rate + 1e-9)) + 1
+    t = np.arange(n) / sample_rate
+    if abs(t[-1] - duration) <= 1e-9 / sample_rate:
+        t[-1] = duration
+    return np.minimum(t, duration)
+
+
+def _trajectory(scene: Scene, model: PlanarModel, out: np.ndarray, tau: np.ndarray,
+                stats: SolverStats) -> Run:
+    nq, n, L, w1 = model.nq, model.n, model.length, model.omega_1
+    phi, R = model.rotor(tau, out)
+    phi = np.asarray(phi, float).copy()
+    R = np.asarray(R, float)
+    alpha = out[:, 2:2 + n]
+    dalpha = out[:, nq + 2:nq + 2 + n]
+    names, wplanes = weight_names(scene.weights)
+    weights = {nm: {"angle": phi + alpha[:, j], "speed": (R + dalpha[:, j]) * w1}
+               for j, nm in enumerate(names)}
+    return Run(t=tau / w1, planes={"balancer": out[:, :2] * L}, main_plane="balancer",
+               rotor_angle=phi, rotor_speed=R * w1, weights=weights,
+               weight_planes=dict(zip(names, wplanes)), stats=stats, scene=scene, state=out)

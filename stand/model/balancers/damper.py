@@ -1,0 +1,255 @@
+"""The autobalancer-damper (ABD, book 7.2): one correction weight in spherical motion.
+
+Digest ``ch7_ch1.md`` sections 0, 2, 5 and 6 (Filimonikhin 2004, section 7.2).
+
+Physical model (digest 2.2)
+---------------------------
+The rotor of 7.1 (plane-parallel motion, isotropic supports ``c`` [N/m], external
+viscous coefficient ``H2`` [N s/m], constant spin ``omega`` [rad/s]) carries one
+correction weight (CW) of mass ``m`` [kg] that can turn in any way about a
+suspension point on the rotor axis (cardan, sphere in a spherical cavity or a
+ball joint).  The CW's centre of mass lies at distance ``l`` [m] from the point,
+its inertia tensor about the point is spherical, ``A`` [kg m^2] (the book's
+design rule), a viscous moment ``-H1 (w - omega e_z)`` [N m s] acts on its
+angular velocity relative to the rotor, gravity ``g`` acts downwards along the
+rotor axis.  5 DOF: shaft ``x, y`` and the three orientation angles.
+
+Singularity-free formulation (replaces the Euler angles of (7.47))
+------------------------------------------------------------------
+The book writes the CW equations in Euler angles ``psi, phi, theta``, which are
+singular at the neutral position ``phi = 0`` -- exactly where the weight rests.
+Because the inertia tensor about the suspension point is spherical, the
+angular momentum is ``A w`` in *any* frame, so the CW dynamics is Euler's law in
+the inertial frame, and only the unit vector ``n`` from the suspension point to
+the CW's centre of mass matters (the proper rotation ``theta`` is cyclic; its
+rate is the component ``w . n``).  Dimensionless, with ``tau = omega0 t``::
+
+    n'  = W x n  +  k_c (1 - |n|^2) n / 2          (constraint stabilisation)
+    W'  = -R_g^2 n x e_z  -  n x a  -  h (W - R_omega e_z)  [+ friction]
+    a   = z'' (the shaft acceleration as a horizontal 3-vector)
+    z'' + H z' + z = -R_m (n_x + i n_y)'' + R_m R_omega^2 e0 e^{i(R_omega tau + gamma)}
+
+``W`` is the absolute angular velocity in ``omega0`` units.  ``n' = W x n``
+preserves ``|n| = 1`` exactly; the term ``k_c (1 - |n|^2) n / 2`` (default
+``k_c = 1``) makes the unit sphere attracting for the integration error.  All
+forces use ``n / |n|``.  Eliminating ``n''`` gives a 2x2 system for ``a`` solved
+in closed form (Sherman-Morrison):
+``[(1 - R_m) I + R_m n_h n_h^T] a_h = b``.
+
+The relation to the book's angles: ``n = (-sin phi sin psi_a, sin phi cos psi_a,
+-cos phi)`` with ``psi_a = psi + R_omega tau`` the absolute angle (``phi = 0``:
+centre of mass straight below the point), and ``W = (psi' + R_omega) e_z +
+phi' e_N + theta' e_3`` (``e_N = (cos psi_a, sin psi_a, 0)``, ``e_3 = -n``).
+This reproduces the three CW equations of (7.47) (the digest checked them) and
+the rotor equations of (7.47) with erratum E1 (``phi''``, ``psi''`` in the
+braces).  The steady-motion equations (7.51)-(7.53) follow from it by hand
+(torque balance ``n x (R_g^2 e_z - R_omega^2 Z) = 0`` gives (7.62), the rotor
+equation then (7.53)); the test suite checks that every root of (7.53) is an
+equilibrium of :func:`rhs_rotating` to 1e-12.
+
+Dimensionless parameters (7.48)-(7.50)::
+
+    omega0 = sqrt(c/M_Sigma),  rho = sqrt(A/m),  z = (x + i y) l / rho^2,
+    R_m = m l^2/(M_Sigma rho^2),  R_omega = omega/omega0,  R_g^2 = g l/(rho^2 omega0^2),
+    h = H1/(m rho^2 omega0),  H = H2/(M_Sigma omega0),  e0 = M e/(m l).
+
+Dry friction (7.79)-(7.84), optional (:class:`DryFriction`)
+-----------------------------------------------------------
+A regularised Coulomb moment on the relative angular velocity
+``W_r = W - R_omega e_z``::
+
+    T_f = -R_f N W_r / sqrt(|W_r|^2 + eps^2),
+    N   = |a + kappa n'' + R_g^2 e_z|     (the joint reaction / (m l omega0^2 ...))
+
+where ``N`` is the dimensionless joint reaction force (``m`` times the
+absolute acceleration of the CW's centre of mass minus gravity) and
+``kappa = m l^2 / A`` (1 for a point-mass CW).  ``R_f = h_j f / (l sqrt(1 + f^2))``
+(7.81) for a cardan or sphere, or the ball-joint law (7.84).  ``N`` depends on
+the accelerations, which depend on ``T_f``: two fixed-point passes are made
+(contraction factor about ``R_f``).  The regularisation ``eps`` turns perfect
+sticking into a slow creep at relative rates ~ ``eps`` (use a small ``eps``
+with ``method="LSODA"``: the regularised law is stiff); the quasi-static
+residual unbalance of (7.80) is recovered when ``eps`` is small.  In (7.80) the
+ratio ``R_m`` is ``m / M_Sigma`` -- equal to this module's ``R_m`` for
+``kappa = 1``; :func:`residual_unbalance` takes it as an argument.
+
+State vector (:func:`rhs`, fixed frame; :func:`rhs_rotating`, the same
+quantities in rotating-frame components)::
+
+    s = [x, y, x', y', n_x, n_y, n_z, W_x, W_y, W_z]
+
+Modules
+-------
+This module holds the parameters and re-exports the model's functions from
+:mod:`.damper_motion` (equations of motion, frames, initial states,
+integration), :mod:`.damper_steady` (steady motions (7.51)-(7.62), efficiency
+(7.54), stability (7.63)-(7.74)) and :mod:`.damper_residual` (dry-friction
+residual unbalance (7.80)-(7.84)), so ``stand.model.balancers.damper.<name>`` keeps
+working for all of them.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+from stand.model.balancers._params import BOOK, group
+from stand.model.balancers.damper_motion import (angles_from_state, make_rhs, residual_unbalance_now, rhs, rhs_rotating,
+                            simulate, state_from_angles, to_fixed, to_rotating)
+from stand.model.balancers.damper_residual import (R_f_ball_joint, R_f_cardan, residual_cubic, residual_parametric,
+                              residual_unbalance)
+from stand.model.balancers.damper_steady import (DamperSteady, critical_speeds_undamped, efficiency, efficiency_approx,
+                            eigenvalues, fast_rotor_roots, is_stable, jacobian, stability_scan,
+                            steady_motions, steady_quartic_roots)
+
+__all__ = [
+    "DryFriction", "DamperParams", "DamperSteady", "rhs", "rhs_rotating", "make_rhs",
+    "state_from_angles", "angles_from_state", "to_rotating", "to_fixed", "simulate",
+    "steady_quartic_roots", "steady_motions", "efficiency", "efficiency_approx",
+    "critical_speeds_undamped", "jacobian", "eigenvalues", "is_stable",
+    "fast_rotor_roots", "stability_scan", "R_f_cardan", "R_f_ball_joint",
+    "residual_parametric", "residual_unbalance", "residual_cubic", "residual_unbalance_now",
+]
+
+
+# ---------------------------------------------------------------------------
+# parameters
+# ---------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class DryFriction:
+    """Regularised Coulomb friction in the CW suspension (7.79)-(7.84).
+
+    Parameters
+    ----------
+    R_f : float
+        Friction ratio ``h_j f / (l sqrt(1+f^2))`` [-] (7.81), 0 <= R_f < 1.
+    eps : float
+        Regularisation rate [-] (relative angular speed in ``omega0`` units
+        below which the moment grows linearly), > 0.
+    kappa : float
+        ``m l^2 / A`` [-] (1 for a point-mass CW), 0 < kappa <= 1.
+    """
+
+    R_f: float
+    eps: float = 1e-3
+    kappa: float = 1.0
+
+    def __post_init__(self):
+        BOOK.fields(self, ("R_f", "dimensionless", ">= 0"), ("eps", "dimensionless rate", "> 0"),
+                    ("kappa", "dimensionless", "> 0"))
+        if self.R_f >= 1.0:
+            raise BOOK.error("R_f", self.R_f, "dimensionless", "< 1 (7.81)")
+        if self.kappa > 1.0:
+            raise BOOK.error("kappa = m l^2/A", self.kappa, "dimensionless", "<= 1")
+
+
+@dataclass(frozen=True)
+class DamperParams:
+    """Dimensionless ABD parameters (7.48)-(7.49).
+
+    Parameters
+    ----------
+    R_m : float
+        ``m l^2/(M_Sigma rho^2)`` [-], 0 <= R_m < 1.
+    R_omega : float
+        Spin speed ``omega/omega0`` [-], >= 0.
+    R_g : float
+        Gravity parameter, ``R_g^2 = g l/(rho^2 omega0^2)`` [-], >= 0.
+    h : float
+        Relative viscous damping of the CW ``H1/(m rho^2 omega0)`` [-], >= 0.
+    H : float
+        External viscous damping ``H2/(M_Sigma omega0)`` [-], >= 0.
+    e0 : float
+        Unbalance in units of the capacity ``M e/(m l)`` [-], >= 0.
+    gamma : float
+        Unbalance angle in the rotor frame [rad].
+    friction : DryFriction or None
+        Optional dry friction in the suspension.
+    k_c : float
+        Constraint-stabilisation rate for ``|n| = 1`` [-], >= 0.
+    """
+
+    R_m: float
+    R_omega: float
+    R_g: float = 0.3
+    h: float = 0.3
+    H: float = 0.3
+    e0: float = 0.0
+    gamma: float = 0.0
+    friction: DryFriction | None = None
+    k_c: float = 1.0
+
+    def __post_init__(self):
+        BOOK.fields(self, *group(("R_m", "R_omega", "R_g", "h", "H", "e0", "k_c"), "dimensionless",
+                                 ">= 0"), ("gamma", "rad", "finite"))
+        if self.R_m >= 1.0:
+            raise BOOK.error("R_m", self.R_m, "dimensionless", "< 1")
+        if self.friction is not None and not isinstance(self.friction, DryFriction):
+            raise ValueError(f"friction must be a DryFriction or None, got {self.friction!r}")
+
+    def with_speed(self, R_omega: float) -> "DamperParams":
+        """The same parameters at another speed ``R_omega`` [-]."""
+        return replace(self, R_omega=R_omega)
+
+    @classmethod
+    def from_physical(cls, M: float, c: float, omega: float, m: float, A: float, l: float,
+                      H1: float, H2: float, e: float, gamma: float = 0.0, *,
+                      g: float = 9.80665, M_sigma: float | None = None,
+                      f: float | None = None, joint_radius: float | None = None,
+                      eps: float = 1e-3) -> "DamperParams":
+        """Dimensionless parameters from the eleven SI parameters (7.48)-(7.50).
+
+        Parameters
+        ----------
+        M : float
+            Rotor mass without the CW [kg].
+        c : float
+            Support stiffness [N/m].
+        omega : float
+            Spin rate [rad/s].
+        m : float
+            CW mass [kg].
+        A : float
+            CW moment of inertia about the suspension point (spherical tensor) [kg m^2].
+        l : float
+            Suspension point to CW centre of mass [m].
+        H1 : float
+            Viscous moment coefficient on the relative angular velocity [N m s].
+        H2 : float
+            External viscous coefficient of the supports [N s/m].
+        e : float
+            Rotor eccentricity [m].
+        gamma : float
+            Unbalance angle [rad].
+        g : float
+            Gravity [m/s^2].
+        M_sigma : float, optional
+            Total moving mass [kg]; default ``M + m``.
+        f : float, optional
+            Dry-friction coefficient [-]; with ``joint_radius`` enables
+            :class:`DryFriction` with ``R_f = h_j f/(l sqrt(1+f^2))`` (7.81).
+        joint_radius : float, optional
+            Radius ``h_j`` of the inner sphere or joint axle [m].
+        eps : float
+            Friction regularisation rate [-].
+        """
+        M, c, omega, m, A, l, H1, H2, e, g = BOOK.each(
+            ("M", M, "kg", "> 0"), ("c", c, "N/m", "> 0"), ("omega", omega, "rad/s", ">= 0"),
+            ("m", m, "kg", "> 0"), ("A", A, "kg m^2", "> 0"), ("l", l, "m", "> 0"),
+            ("H1", H1, "N m s", ">= 0"), ("H2", H2, "N s/m", ">= 0"), ("e", e, "m", ">= 0"),
+            ("g", g, "m/s^2", ">= 0"))
+        if m * l * l > A * (1 + 1e-12):
+            raise BOOK.error("A", A, "kg m^2", f">= m l^2 = {m * l * l:g}")
+        Ms = M + m if M_sigma is None else BOOK.positive("M_sigma", M_sigma, "kg")
+        w0 = math.sqrt(c / Ms)
+        rho2 = A / m
+        fr = None
+        if f is not None or joint_radius is not None:
+            if f is None or joint_radius is None:
+                raise ValueError("f [-] and joint_radius [m] must be given together for dry friction")
+            f, hj = BOOK.each(("f", f, "dimensionless", ">= 0"),
+                              ("joint_radius", joint_radius, "m", ">= 0"))
+            fr = DryFriction(R_f=R_f_cardan(hj / l, f), eps=eps, kappa=m * l * l / A)
+        return cls(R_m=m * l * l / (Ms * rho2), R_omega=omega / w0,
+                   R_g=math.sqrt(g * l / (rho2 * w0 * w0)), h=H1 / (m * rho2 * w0),
+                   H=H2 / (Ms * w0), e0=M * e / (m * l), gamma=gamma, friction=fr)

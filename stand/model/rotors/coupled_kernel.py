@@ -1,0 +1,588 @@
+"""Correction weights (balls, pendulums) coupled to any :class:`LinearRotor`.
+
+Weight j (mass m_j, radius l_j, moment of inertia J_j about the shaft axis,
+viscous moment coefficient H_j on its speed relative to the rotor) sits in
+plane p with absolute angle psi_j = phi + alpha_j; its centre is at
+``r_j = T_p q + l_j e_j``, ``e_j = (cos psi_j, sin psi_j)``,
+``n_j = (sin psi_j, -cos psi_j)``.  Lagrange's equations (the corrected
+(5.4)/(5.7) of the planar model, digest ch5 section 0.2, generalised through
+the plane map T_p, and (3.1)-(3.11) of ch. 3)::
+
+    J_j psi_j'' = m_j l_j n_j . (T_p q'' - g_p) - H_j alpha_j'
+    M q'' + (D + Omega G) q' + K q = f_unb + f_grav
+          + sum_j T_p^T [ m_j g_p - m_j (T_p q'' - l_j psi_j'' n_j - l_j psi_j'^2 e_j) ]
+
+(g_p: the transverse gravity acceleration, zero for a vertical axis).
+Eliminating psi_j'' (the weights couple only through the shaft) leaves one
+n x n system for q'' (n = rotor coordinates)::
+
+    [M + sum_j m_j T_p^T T_p - sum_j (m_j^2 l_j^2 / J_j) T_p^T n_j n_j^T T_p] q''
+        = f + sum_j T_p^T [ m_j g_p + m_j l_j psi_j'^2 e_j
+                            - (m_j^2 l_j^2 / J_j)(n_j . g_p) n_j - (m_j l_j H_j alpha_j' / J_j) n_j ]
+
+(forces through the plane's force map F_p^T when it has one, see
+:mod:`stand.model.rotors.structure`), so one right-hand side costs O(N_weights n^2 + n^3): linear in the number of
+weights.  For point balls (J = m l^2) the bracket is M + sum m T^T e e^T T.
+The weights are point masses in their plane (their own transverse moments of
+inertia are neglected, as in the book's linear models).
+
+**Torque drive** (the rotor angle phi and speed Omega = phi' are states, the last two
+of ``y``; header flag ``H_FREE`` = index of phi, 0 for a speed programme, whose path is
+unchanged).  The book's free rotor of section 5.1.1 ((5.1)-(5.10); digest ch5 sections
+1-2: the corrected (5.7), with the drag reaction nu_j = H_j/(omega_1 J_0) of correction 4)
+generalised to any LinearRotor.  An unbalance s_u = m e at angle phi + theta_u in plane p
+sits at ``T_p q + e e_u`` (``e_u = (cos, sin)(phi + theta_u)``, ``n_u = (sin, -cos)(...)``);
+its Lagrange terms give, besides the weights' equations above (unchanged: psi_j is
+absolute, so the weights' elimination does not involve phi'')::
+
+    M q'' + ... = ... + F_p^T s_u (phi'^2 e_u + phi'' n_u)           (translations)
+    J_p phi'' = M_drive(phi', phi, t) - H0 phi' + sum_j (H_j alpha_j' + M_fric,j)
+                + sum_b M_b + sum_u s_u n_u . (T_p q'' - g_p)          (spin)
+
+(J_p: the rotor's polar moment of inertia about the shaft, m e^2 included, the weights
+not; the weights' drag and friction moments act back on the rotor; body weights' turn
+drags M_b = H2 (alpha' - Omega) (tilting weights) and the damper's drag z-moment
+H1 (W_z - Omega) likewise; a liquid exerts no moment about the shaft in its models.)
+The gyroscopic matrix takes the state Omega.  phi'' enters the translations linearly
+(through the unbalances and, for the ``LAG`` liquid, through the body reaction, whose
+phi''-part is found by evaluating it at phi'' = 1 and 0), so the accelerations solve one
+augmented (n+1) system::
+
+    [ A_schur            -sum_u s_u F_p^T n_u ] [ q''  ]   [ f (phi'' = 0)                      ]
+    [ -sum_u s_u n_u^T T_p       J_p           ] [ phi'' ] = [ M_drive - H0 Omega + moments - sum_u s_u n_u . g_p ]
+
+with A_schur and f the speed-programme system above (the body reactions' phi'' column
+added to the first block column); for the planar rotor this is the book's 3x3 Schur
+complement of (5.4)-(5.10) (:func:`stand.model.planar.rhs_planar`), which the generic path
+reproduces to 1e-8 (tests/test_family_torque.py).  Drive models (``DRIVE_MODELS``, book
+models 1-3): constant M; c1 (omega - phi'); c1 (omega - phi') + c2 (omega t - phi).
+
+The integration is the one integrator path (:mod:`stand.integrate.driver`,
+compiled DOP853 or scipy's methods) with model kind ``GENERIC`` in
+:mod:`stand.model.kernels`; this module holds the compiled right-hand side and the
+packing only (the runner is :mod:`stand.model.rotors.coupled`), so that the kernels
+import nothing that imports them.  Time is scaled by a
+reference frequency omega_ref (tau = omega_ref t) and each coordinate by its
+own length scale, so that the tolerances mean the same for every rotor.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Optional, Sequence
+
+import numpy as np
+
+from stand._jit import njit
+from stand.model.programme import build_table, drive_torque_law, programme_kinematics
+from stand.scene.model import Balancer
+from stand.model.rotors.bodies import PlaneBody, body_rows
+from stand.model.rotors.bodies_kernel import (B_H1, B_H2, B_KIND, B_OFF, B_PLANE, N_BCOL, SPHERE, TILT,
+                            body_derivatives, body_reaction)
+from stand.model.rotors.structure import LinearRotor
+
+__all__ = ["PlaneWeights", "CoupledModel", "build_model", "rhs_generic", "with_locked_weights"]
+
+# header of the scalar parameter vector sp
+H_N, H_NW, H_NPL, H_NUB, H_WREF, H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OGR, H_OGP, \
+    H_OF, H_NB, H_OB = range(17)
+# torque drive (rotor angle and speed are states): index of phi in y (0: speed programme,
+# phi and Omega from ``prog``), polar inertia J_p [kg m^2], drive model (0 constant,
+# 1 speed feedback, 2 angle feedback), torque [N m], c1 [N m s], c2 [N m], target speed
+# [rad/s], rotor drag H0 [N m s], initial speed [rad/s]
+H_FREE, H_JP, H_DMODEL, H_TQ, H_C1, H_C2, H_WT, H_H0, H_W0 = range(17, 26)
+N_HEAD = 26
+DRIVE_MODELS = {"constant": 0, "speed_feedback": 1, "angle_feedback": 2}
+# weight table columns: plane, mass, radius, inertia, drag, friction (kinetic,
+# static, slip speed, dwell, release), index of its adhesion state (-1: none)
+W_PLANE, W_M, W_L, W_J, W_H, W_MUK, W_MUS, W_VS, W_TD, W_TR, W_Z = range(11)
+N_WCOL = 11
+
+
+@dataclass(frozen=True)
+class PlaneWeights:
+    """Correction weights in one named plane of the rotor (a :class:`stand.scene.model.Balancer`)."""
+
+    plane: str
+    balancer: Balancer
+    friction: Optional["Friction"] = None    # stand.model.balancers.friction.Friction
+
+
+def with_locked_weights(rotor: LinearRotor, weights: Sequence[PlaneWeights],
+                        bodies: Sequence[PlaneBody] = ()) -> LinearRotor:
+    """The rotor with its weights locked (their masses moving with the planes:
+    ``M + sum m_j T_p^T T_p``, body weights included): the structure the engineering
+    criterion and the calibration rings refer to."""
+    import dataclasses
+
+    M = rotor.M.copy()
+    for w in weights:
+        T = rotor.planes[w.plane]
+        M += float(np.sum(w.balancer.mass)) * (rotor.force_map(w.plane).T @ T)
+    for b in bodies:
+        M += b.mass * (rotor.force_map(b.plane).T @ rotor.planes[b.plane])
+    return dataclasses.replace(rotor, M=M)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy):
+    """Regularised Coulomb moment [N m] on weight j (stand.model.balancers.friction)."""
+    muk = wt[j, W_MUK]
+    if muk <= 0.0 and wt[j, W_MUS] <= 0.0:
+        return 0.0
+    mu = muk
+    iz = int(wt[j, W_Z])
+    if iz >= 0:
+        mu = muk + (wt[j, W_MUS] - muk) * y[iz]
+    N = m * (l * psid * psid + c * gx + si * gy)
+    if N < 0.0:
+        N = 0.0
+    x = ad / wt[j, W_VS]
+    return mu * N * l * x / math.sqrt(1.0 + x * x)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def solve_small(buf, oA, of, ox, n):
+    """Solve ``A x = f`` held in the flat buffer (A row-major at ``oA``, f at ``of``, x
+    written at ``ox``; A and f overwritten): Gaussian elimination with partial pivoting
+    for n <= 12 -- at these sizes LAPACK's call and copy overhead (np.linalg.solve)
+    costs more than the arithmetic, inside a right-hand side called millions of times --
+    and np.linalg.solve above.  A singular A gives non-finite x (the integrator stops)."""
+    if n == 2:      # Cramer's rule (the planar rotor, the liquid's paper-001 stand)
+        a, b, c, d = buf[oA], buf[oA + 1], buf[oA + 2], buf[oA + 3]
+        det = a * d - b * c
+        buf[ox] = (d * buf[of] - b * buf[of + 1]) / det
+        buf[ox + 1] = (a * buf[of + 1] - c * buf[of]) / det
+        return
+    if n > 12:
+        x = np.linalg.solve(buf[oA:oA + n * n].copy().reshape((n, n)), buf[of:of + n].copy())
+        for i in range(n):
+            buf[ox + i] = x[i]
+        return
+    for k in range(n):
+        p = k
+        big = abs(buf[oA + k * n + k])
+        for i in range(k + 1, n):
+            if abs(buf[oA + i * n + k]) > big:
+                big = abs(buf[oA + i * n + k])
+                p = i
+        if p != k:
+            for j in range(k, n):
+                tmp = buf[oA + k * n + j]
+                buf[oA + k * n + j] = buf[oA + p * n + j]
+                buf[oA + p * n + j] = tmp
+            tmp = buf[of + k]
+            buf[of + k] = buf[of + p]
+            buf[of + p] = tmp
+        piv = buf[oA + k * n + k]
+        for i in range(k + 1, n):
+            r = buf[oA + i * n + k] / piv
+            if r != 0.0:
+                for j in range(k + 1, n):
+                    buf[oA + i * n + j] -= r * buf[oA + k * n + j]
+                buf[of + i] -= r * buf[of + k]
+    for k in range(n - 1, -1, -1):
+        acc = buf[of + k]
+        for j in range(k + 1, n):
+            acc -= buf[oA + k * n + j] * buf[ox + j]
+        buf[ox + k] = acc / buf[oA + k * n + k]
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def drive_moment(t, phi, Om, sp):
+    """Drive torque M_drive [N m] of the book's models 1-3 (section 5.1.1) at time t [s]."""
+    return drive_torque_law(sp[H_DMODEL], sp[H_TQ], sp[H_C1], sp[H_C2], sp[H_WT], t, phi, Om)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def body_spin_moment(sp, rb, y, wref, Om):
+    """Moment [N m] about the shaft that body weight ``rb`` exerts on the rotor: the
+    reaction of its turn drag (TILT: H2 (alpha' - Omega); SPHERE: the z-component
+    H1 (W_z - Omega) of the damper's drag); none for the liquids."""
+    kind = int(sp[rb + B_KIND])
+    o = int(sp[rb + B_OFF])
+    if kind == TILT:
+        return sp[rb + B_H2] * (wref * y[o + 3] - Om)
+    if kind == SPHERE:
+        return sp[rb + B_H1] * (wref * y[o + 5] - Om)
+    return 0.0
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def rhs_generic(tau, y, dy, sp, wt, prog):
+    """Right-hand side of a LinearRotor with weights (module docstring), scaled time."""
+    n = int(sp[H_N])
+    nw = int(sp[H_NW])
+    nub = int(sp[H_NUB])
+    wref = sp[H_WREF]
+    oM, oG, oD, oK = int(sp[H_OM]), int(sp[H_OG]), int(sp[H_OD]), int(sp[H_OK])
+    oT, oUB, oL, oGR, oGP = int(sp[H_OT]), int(sp[H_OUB]), int(sp[H_OL]), int(sp[H_OGR]), int(sp[H_OGP])
+    oF = int(sp[H_OF])
+    ifree = int(sp[H_FREE])
+    if ifree == 0:      # speed programme
+        phi, R, dR = programme_kinematics(tau, prog, prog.shape[0])
+        Om = R * wref
+        dOm = dR * wref * wref
+        ld = n
+    else:               # torque drive: phi, Omega states, phi'' the (n+1)-th unknown
+        phi = y[ifree]
+        Om = wref * y[ifree + 1]
+        dOm = 0.0
+        ld = n + 1
+    gx = sp[oGP]
+    gy = sp[oGP + 1]
+    ns = n + nw
+    nb = int(sp[H_NB])
+    oB = int(sp[H_OB])
+    # one flat scratch buffer, indexed by offsets (views and allocations dominate at small n):
+    # q, qd, A (row-major), f, q'', then per point weight cos, sin, moment, then the body
+    # reaction and each body's plane point state
+    oq, oqd, oA = 0, n, 2 * n
+    of = oA + ld * ld
+    ox = of + ld
+    oc = ox + ld
+    os_ = oc + nw
+    om = os_ + nw
+    oR = om + nw
+    oz = oR + 6
+    buf = np.empty(oz + 4 * nb)
+    for i in range(n):
+        L = sp[oL + i]
+        buf[oq + i] = L * y[i]
+        buf[oqd + i] = wref * L * y[ns + i]
+    for i in range(n):
+        acc = sp[oGR + i]
+        for k in range(n):
+            acc -= sp[oK + i * n + k] * buf[oq + k]
+            acc -= (sp[oD + i * n + k] + Om * sp[oG + i * n + k]) * buf[oqd + k]
+            buf[oA + i * ld + k] = sp[oM + i * n + k]
+        buf[of + i] = acc
+    if ifree != 0:      # the phi'' column and the spin row
+        for i in range(ld):
+            buf[oA + i * ld + n] = 0.0
+            buf[oA + n * ld + i] = 0.0
+        buf[of + n] = 0.0
+    # unbalances
+    for u in range(nub):
+        p = int(sp[oUB + 3 * u])
+        s = sp[oUB + 3 * u + 1]
+        th = phi + sp[oUB + 3 * u + 2]
+        c, si = math.cos(th), math.sin(th)
+        fx = s * (Om * Om * c + dOm * si)
+        fy = s * (Om * Om * si - dOm * c)
+        base = oF + p * 2 * n
+        for i in range(n):
+            buf[of + i] += sp[base + i] * fx + sp[base + n + i] * fy
+        if ifree != 0:  # s phi'' (sin, -cos) = s phi'' n_u: moved to the left; the spin row
+            tb = oT + p * 2 * n
+            for i in range(n):
+                buf[oA + i * ld + n] -= s * (sp[base + i] * si - sp[base + n + i] * c)
+                buf[oA + n * ld + i] -= s * (sp[tb + i] * si - sp[tb + n + i] * c)
+            buf[of + n] -= s * (si * gx - c * gy)
+    # weights: assemble the Schur complement (the angle's cosine, sine and the resisting
+    # moment are kept for the weights' own accelerations below)
+    for j in range(nw):
+        p = int(wt[j, W_PLANE])
+        m = wt[j, W_M]
+        l = wt[j, W_L]
+        J = wt[j, W_J]
+        H = wt[j, W_H]
+        a = y[n + j]
+        ad = wref * y[ns + n + j]
+        psi = phi + a
+        psid = Om + ad
+        c, si = math.cos(psi), math.sin(psi)
+        k2 = m * m * l * l / J
+        ng = si * gx - c * gy
+        Mr = H * ad + _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy)
+        buf[oc + j], buf[os_ + j], buf[om + j] = c, si, Mr
+        gxw = m * gx + m * l * psid * psid * c - k2 * ng * si - m * l * Mr / J * si
+        gyw = m * gy + m * l * psid * psid * si + k2 * ng * c + m * l * Mr / J * c
+        base = oT + p * 2 * n
+        fbase = oF + p * 2 * n
+        for i in range(n):
+            tx = sp[fbase + i]      # forces act through the force map F_p
+            ty = sp[fbase + n + i]
+            buf[of + i] += tx * gxw + ty * gyw
+            nti = tx * si - ty * c
+            for k in range(n):
+                txk = sp[base + k]
+                tyk = sp[base + n + k]
+                ntk = txk * si - tyk * c
+                buf[oA + i * ld + k] += m * (tx * txk + ty * tyk) - k2 * nti * ntk
+    # body weights (stand.model.rotors.bodies_kernel): reaction F = R a + r on their plane point
+    for b in range(nb):
+        rb = oB + b * N_BCOL
+        pl = int(sp[rb + B_PLANE])
+        base = oT + pl * 2 * n
+        fbase = oF + pl * 2 * n
+        zx = zy = zdx = zdy = 0.0
+        for k in range(n):
+            zx += sp[base + k] * buf[oq + k]
+            zy += sp[base + n + k] * buf[oq + k]
+            zdx += sp[base + k] * buf[oqd + k]
+            zdy += sp[base + n + k] * buf[oqd + k]
+        zo = oz + 4 * b
+        buf[zo], buf[zo + 1], buf[zo + 2], buf[zo + 3] = zx, zy, zdx, zdy
+        if ifree != 0:
+            # the reaction's part proportional to phi'' (LAG), and the drag moments about
+            # the shaft that act back on the rotor
+            body_reaction(sp, rb, y, wref, Om, 1.0, gx, gy, zx, zy, zdx, zdy, buf, oR)
+            d4, d5 = buf[oR + 4], buf[oR + 5]
+            body_reaction(sp, rb, y, wref, Om, 0.0, gx, gy, zx, zy, zdx, zdy, buf, oR)
+            d4 -= buf[oR + 4]
+            d5 -= buf[oR + 5]
+            for i in range(n):
+                buf[oA + i * ld + n] -= sp[fbase + i] * d4 + sp[fbase + n + i] * d5
+            buf[of + n] += body_spin_moment(sp, rb, y, wref, Om)
+        else:
+            body_reaction(sp, rb, y, wref, Om, dOm, gx, gy, zx, zy, zdx, zdy, buf, oR)
+        R0, R1, R2, R3 = buf[oR], buf[oR + 1], buf[oR + 2], buf[oR + 3]
+        for i in range(n):
+            tx = sp[fbase + i]
+            ty = sp[fbase + n + i]
+            buf[of + i] += tx * buf[oR + 4] + ty * buf[oR + 5]
+            for k in range(n):
+                txk = sp[base + k]
+                tyk = sp[base + n + k]
+                buf[oA + i * ld + k] -= tx * (R0 * txk + R1 * tyk) + ty * (R2 * txk + R3 * tyk)
+    if ifree != 0:
+        mw = 0.0
+        for j in range(nw):
+            mw += buf[om + j]       # the weights' drag and friction act back on the rotor
+        buf[oA + n * ld + n] = sp[H_JP]
+        buf[of + n] += drive_moment(tau / wref, phi, Om, sp) - sp[H_H0] * Om + mw
+        solve_small(buf, oA, of, ox, ld)
+        dOm = buf[ox + n]
+        dy[ifree] = y[ifree + 1]
+        dy[ifree + 1] = dOm / (wref * wref)
+    else:
+        solve_small(buf, oA, of, ox, n)
+    for i in range(n):
+        L = sp[oL + i]
+        dy[i] = y[ns + i]
+        dy[ns + i] = buf[ox + i] / (wref * wref * L)
+    for b in range(nb):
+        rb = oB + b * N_BCOL
+        base = oT + int(sp[rb + B_PLANE]) * 2 * n
+        apx = 0.0
+        apy = 0.0
+        for k in range(n):
+            apx += sp[base + k] * buf[ox + k]
+            apy += sp[base + n + k] * buf[ox + k]
+        zo = oz + 4 * b
+        body_derivatives(sp, rb, y, dy, wref, Om, dOm, gx, gy, buf[zo], buf[zo + 1],
+                         buf[zo + 2], buf[zo + 3], apx, apy)
+    for j in range(nw):
+        base = oT + int(wt[j, W_PLANE]) * 2 * n
+        apx = 0.0
+        apy = 0.0
+        for k in range(n):
+            apx += sp[base + k] * buf[ox + k]
+            apy += sp[base + n + k] * buf[ox + k]
+        ml = wt[j, W_M] * wt[j, W_L]
+        psidd = (ml * (buf[os_ + j] * (apx - gx) - buf[oc + j] * (apy - gy)) - buf[om + j]) \
+            / wt[j, W_J]
+        dy[n + j] = y[ns + n + j]
+        dy[ns + n + j] = (psidd - dOm) / (wref * wref)
+        iz = int(wt[j, W_Z])
+        if iz >= 0:   # adhesion (sticking after a dwell), stand.model.balancers.friction
+            z = y[iz]
+            sl = math.exp(-(wref * y[ns + n + j] / wt[j, W_VS]) ** 2)
+            dy[iz] = (sl * (1.0 - z) / wt[j, W_TD] - (1.0 - sl) * z / wt[j, W_TR]) / wref
+
+
+@dataclass(frozen=True)
+class CoupledModel:
+    """Packed arrays for :func:`rhs_generic` plus the scales to undo them."""
+
+    rotor: LinearRotor
+    weights: tuple
+    plane_names: tuple
+    sp: np.ndarray
+    wt: np.ndarray
+    prog: np.ndarray
+    omega_ref: float
+    scale: np.ndarray      # per rotor coordinate [m or rad per unit state]
+    bodies: tuple = ()     #: PlaneBody weights (stand.model.rotors.bodies)
+    bt: np.ndarray = field(default_factory=lambda: np.zeros((0, N_BCOL)))   #: packed rows
+    n_body_states: int = 0
+    free: bool = False     #: torque drive: the rotor angle and speed are the last two states
+
+    @property
+    def n(self) -> int:
+        return self.rotor.n
+
+    @property
+    def nw(self) -> int:
+        return int(self.wt.shape[0])
+
+    @property
+    def n_adhesion(self) -> int:
+        """Extra states: one adhesion variable per sticking weight (after the 2(n + nw))."""
+        return int(np.count_nonzero(self.wt[:, W_Z] >= 0)) if self.wt.size else 0
+
+    # the model protocol of stand.integrate.driver
+    kind = 1                 #: stand.model.kernels.GENERIC
+    #: blows to the housing: rows (tau, jump of the scaled state) (stand.integrate.driver)
+    impulses = None
+
+    @property
+    def omega_1(self) -> float:
+        """Time scale [rad/s] (tau = omega_ref t)."""
+        return self.omega_ref
+
+    @property
+    def size(self) -> int:
+        return 2 * (self.n + self.nw) + self.n_adhesion + self.n_body_states + 2 * self.free
+
+    @property
+    def i_phi(self) -> int:
+        """Index of the rotor angle phi [rad] in the state (torque drive; Omega / omega_ref
+        follows it); ``None`` under a speed programme."""
+        return int(self.sp[H_FREE]) if self.free else None
+
+    @property
+    def first_body_state(self) -> int:
+        return 2 * (self.n + self.nw) + self.n_adhesion
+
+    def angle_mask(self) -> np.ndarray:
+        """True for the weights' angles (error scale capped at pi)."""
+        from stand.model.rotors.bodies_kernel import B_KIND, B_OFF, TILT
+
+        mask = np.zeros(self.size, bool)
+        mask[self.n:self.n + self.nw] = True
+        for row in self.bt:
+            if int(row[B_KIND]) == TILT:
+                mask[int(row[B_OFF]):int(row[B_OFF]) + 2] = True
+        if self.free:
+            mask[self.i_phi] = True
+        return mask
+
+    def breakpoints(self) -> np.ndarray:
+        """Dimensionless times where the programme's acceleration jumps."""
+        pts = [] if self.free else [b for b in self.prog[1:, 0] if b > 0 and np.isfinite(b)]
+        if self.impulses is not None:
+            pts += [t for t in self.impulses[:, 0] if t > 0]
+        return np.array(sorted(set(pts)))
+
+
+def _positive(name, v, unit):
+    v = float(v)
+    if not (math.isfinite(v) and v > 0):
+        raise ValueError(f"{name} = {v!r}: must be > 0 ({unit})")
+    return v
+
+
+def build_model(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,
+                omega_ref: Optional[float] = None, bodies: Sequence[PlaneBody] = (),
+                inertia: Optional[float] = None) -> CoupledModel:
+    """Pack a rotor, its weights and a speed programme for the compiled RHS.
+
+    Parameters
+    ----------
+    rotor : LinearRotor
+    weights : sequence of PlaneWeights
+        Weights per plane (any number of planes, any number of weights).
+    programme : array (k, 2) or TorqueDrive
+        Speed programme ``[[t_s, omega_rad_s], ...]``, piecewise linear, held
+        after the last node; or a torque drive (:class:`stand.scene.model.TorqueDrive`):
+        the rotor angle and speed become states (module docstring).
+    omega_ref : float, optional
+        Time scale [rad/s]; default the lowest natural frequency at rest.
+    bodies : sequence of PlaneBody, optional
+        Body weights (two-axis pendulums, coupled pairs, dampers, liquids;
+        :mod:`stand.model.rotors.bodies`); their states follow the point weights'.
+    inertia : float, optional
+        Torque drive: the rotor's polar moment of inertia J_p about the shaft [kg m^2]
+        (default ``programme.inertia``); required then.
+    """
+    names = tuple(rotor.planes)
+    for w in tuple(weights) + tuple(bodies):
+        if w.plane not in rotor.planes:
+            raise ValueError(f"weights: plane {w.plane!r} is not a plane of rotor {rotor.name!r} "
+                             f"(planes: {', '.join(names)})")
+    drive = None
+    if getattr(programme, "kind", None) == "torque":
+        drive = programme
+        if inertia is None:
+            inertia = getattr(drive, "inertia", None)
+        if inertia is None:
+            raise ValueError("torque drive: the rotor's polar moment of inertia (inertia, "
+                             "kg m^2) is required")
+        inertia = _positive("drive.inertia", inertia, "kg m^2")
+        if drive.model not in DRIVE_MODELS:
+            raise ValueError(f"drive.model = {drive.model!r}: one of {', '.join(DRIVE_MODELS)}")
+        programme = [[0.0, max(abs(float(drive.initial_speed)), abs(float(drive.target_speed)))]]
+    prog_si = np.atleast_2d(np.asarray(programme, dtype=float))
+    if prog_si.ndim != 2 or prog_si.shape[1] != 2 or not np.all(np.isfinite(prog_si)) \
+            or np.any(np.diff(prog_si[:, 0]) <= 0) or prog_si[0, 0] < 0:
+        raise ValueError("programme: expected rows [t_s, omega_rad_s] with increasing times >= 0 (s)")
+    if omega_ref is None:
+        wn = rotor.natural_frequencies(0.0)
+        wn = wn[wn > 0]
+        omega_ref = float(wn[0]) if wn.size else 1.0
+    omega_ref = _positive("omega_ref", omega_ref, "rad/s")
+    n = rotor.n
+    rows = []
+    cap = 0.0
+    nw_total = sum(w.balancer.count for w in weights)
+    n_adh = 0
+    for w in weights:
+        b = w.balancer
+        p = names.index(w.plane)
+        H = b.moment_drag
+        fr = w.friction
+        for k in range(b.count):
+            m = _positive(f"weights[{w.plane}].mass[{k}]", b.mass[k], "kg")
+            l = _positive(f"weights[{w.plane}].radius[{k}]", b.radius[k], "m")
+            J = _positive(f"weights[{w.plane}].inertia[{k}]", b.inertia[k], "kg m^2")
+            row = [p, m, l, J, float(H[k]), 0.0, 0.0, 1.0, 1.0, 1.0, -1.0]
+            if fr is not None:
+                row[W_MUK:W_TR + 1] = [fr.kinetic, fr.static, fr.slip_speed, fr.dwell_time,
+                                       fr.release_time]
+                if fr.sticks:
+                    row[W_Z] = 2 * (n + nw_total) + n_adh
+                    n_adh += 1
+            rows.append(row)
+            cap += m * l
+    wt = np.array(rows, dtype=float).reshape(-1, N_WCOL)
+    # coordinate scales: the high-speed response to the larger of the capacity
+    # and the unbalance, per coordinate (floor 1e-3 of the largest)
+    cap += sum(b.body.capacity for b in bodies)
+    s_ref = max(cap, sum(abs(u.s) for u in rotor.unbalances), 1e-12)
+    Minv = np.linalg.inv(rotor.M)
+    resp = np.zeros(n)
+    for T in rotor.planes.values():
+        resp = np.maximum(resp, np.abs(Minv @ T.T).max(axis=1) * s_ref)
+    scale = np.maximum(resp, 1e-3 * resp.max()) if resp.max() > 0 else np.ones(n)
+    ub = np.array([[names.index(u.plane), u.s, u.angle] for u in rotor.unbalances],
+                  dtype=float).reshape(-1, 3)
+    parts = [rotor.M.ravel(), rotor.G.ravel(), rotor.D.ravel(), rotor.K.ravel(),
+             np.concatenate([rotor.planes[p].ravel() for p in names]), ub.ravel(), scale,
+             rotor.gravity, rotor.gravity_plane,
+             np.concatenate([rotor.force_map(p).ravel() for p in names])]
+    length = float(np.max(np.abs(np.concatenate([rotor.planes[p] for p in names], axis=0))
+                          @ scale)) or 1.0
+    bt, nbs = body_rows(bodies, names, 2 * (n + wt.shape[0]) + n_adh, length)
+    parts.append(bt.ravel())
+    head = np.zeros(N_HEAD)
+    head[H_N], head[H_NW], head[H_NPL], head[H_NUB], head[H_WREF] = n, wt.shape[0], len(names), \
+        ub.shape[0], omega_ref
+    off = N_HEAD
+    head[H_NB] = bt.shape[0]
+    if drive is not None:
+        head[H_FREE] = 2 * (n + wt.shape[0]) + n_adh + nbs
+        head[H_JP], head[H_DMODEL] = inertia, DRIVE_MODELS[drive.model]
+        head[H_TQ], head[H_C1], head[H_C2] = drive.torque, drive.c1, drive.c2
+        head[H_WT], head[H_H0] = drive.target_speed, drive.rotor_drag
+        head[H_W0] = drive.initial_speed
+    for slot, a in zip((H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OGR, H_OGP, H_OF, H_OB), parts):
+        head[slot] = off
+        off += a.size
+    sp = np.concatenate([head] + parts)
+    prog = build_table(prog_si[:, 0] * omega_ref, prog_si[:, 1] / omega_ref)
+    return CoupledModel(rotor, tuple(weights), names, sp, wt, prog, omega_ref, scale,
+                        tuple(bodies), bt, nbs, drive is not None)
+
+
