@@ -42,6 +42,7 @@ from _helpers import theory_computed_once, toml_text  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ROOT / "data_samples" / "scenes"
 CELL_TIME_LIMIT_S = 20.0       #: a cell that runs longer is a hang
+REFUSAL_TIME_LIMIT_S = 8.0     #: a refusal (exit 2) that takes longer is a defect (issue 34)
 MEMORY_BOUND_BYTES = 4 << 30   #: peak resident memory of the whole harness
 SEED = 20261125
 
@@ -169,6 +170,16 @@ def table_mutations():
         ("semicolons", good.replace(",", ";").encode()),
         ("BOM", ("\ufeff" + good).encode("utf-8")),
         ("empty", b""),
+        # shape extremes (issue 34): refused from the shape, before any parsing work
+        ("header of 10^6 columns over 3-column rows",
+         (rows[0] + "," + ",".join(f"c{i}" for i in range(10 ** 6)) + "\n"
+          + "\n".join(rows[1:]) + "\n").encode()),
+        ("header of 10^5 columns", (rows[0] + "," + ",".join(f"c{i}" for i in range(10 ** 5))
+                                    + "\n" + "\n".join(rows[1:]) + "\n").encode()),
+        ("a row of 10^6 fields", ("\n".join(rows[:3]) + "," + ",".join(["1"] * 10 ** 6) + "\n"
+                                  + "\n".join(rows[3:]) + "\n").encode()),
+        ("a field over the csv field limit", ("\n".join(rows[:3]) + ',"' + "9" * 200_000 + '"\n'
+                                              + "\n".join(rows[3:]) + "\n").encode()),
     ]
 
 
@@ -244,6 +255,8 @@ def run_cell(argv, inputs) -> dict:
         lines = [ln for ln in e.splitlines() if ln.strip()]
         named = any(Path(str(p)).name in e for p in inputs)
         verdict = "clear error" if len(lines) == 1 and named else f"unclear error: {e.strip()[:200]!r}"
+        if verdict == "clear error" and wall > REFUSAL_TIME_LIMIT_S:
+            verdict = f"slow refusal ({wall:.1f} s > {REFUSAL_TIME_LIMIT_S} s)"
     elif code in (0, 1):
         verdict = "partial result"
     else:

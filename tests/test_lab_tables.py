@@ -237,3 +237,36 @@ def test_photogate_channel_of_a_free_decay(tmp_path):
     # ~ (gate / amplitude) x zeta x period / 2 pi ~ 1e-4 of the period
     assert pg["frequency_hz"] == pytest.approx(wd / TWO_PI, rel=2e-3)
     assert doc["natural_frequency_hz"] == pytest.approx(f0, rel=1e-3)    # free decay fit
+
+
+# ------------------------------------------------------------------ shape limits (issue 34)
+def test_shape_limits_refuse_before_parsing(tmp_path, monkeypatch):
+    """Too many columns, a too long line, a field over csv's limit and a table larger than the
+    memory budget are refused with the file, the number and the limit, whatever the layout."""
+    import stand.lab.table as table
+
+    good = _frame().to_csv(index=False)
+    head, body = good.split("\n", 1)
+    cases = {
+        "columns": (head + "," + ",".join(f"c{i}" for i in range(table.MAX_COLUMNS)) + "\n" + body,
+                    f"{table.MAX_COLUMNS + len(head.split(','))} columns, over the limit of {table.MAX_COLUMNS}"),
+        "line": (head + "\n" + "1" * (table.MAX_LINE_CHARS + 1) + "\n" + body,
+                 f"line 2 has {table.MAX_LINE_CHARS + 1} characters, over the limit"),
+        "field": (head + "\n" + '1,"' + "9" * 200_000 + '",2\n' + body, "field larger than"),
+    }
+    for name, (text, says) in cases.items():
+        p = tmp_path / f"{name}.csv"
+        p.write_text(text)
+        with pytest.raises(TableError) as err:
+            read_table(p)
+        assert str(err.value).startswith(str(p)) and says in str(err.value), (name, str(err.value))
+    # memory: rows x columns x CELL_BYTES against the budget (here made small)
+    p = tmp_path / "big.csv"
+    p.write_text(good)
+    n_rows = len(body.strip().splitlines())
+    monkeypatch.setattr(table, "_memory_budget", lambda: 4.0 * p.stat().st_size + 1)
+    monkeypatch.setattr(table, "CELL_BYTES", 4.0 * p.stat().st_size)
+    with pytest.raises(TableError, match=rf"{n_rows} rows x {len(head.split(','))} columns would need"):
+        read_table(p)
+    monkeypatch.undo()
+    assert read_table(p).t.size == n_rows

@@ -43,6 +43,12 @@ TABLE_SUFFIXES = (".csv", ".tsv", ".txt", ".dat", ".parquet", ".pq")
 CLIP_RUN = 4          #: samples at the extreme value that make a channel clipped
 GAP_FACTOR = 1.5      #: a time step above this x the median step is a gap
 MIN_ROWS = 2          #: fewest rows of a usable stretch
+#: the shape limits of a table, checked before it is parsed (issue 34: a reader's work is
+#: bounded by its input): a lab export has tens of channels, not thousands
+MAX_COLUMNS = 4096
+MAX_LINE_CHARS = 1 << 20        #: one line of a text table [characters]
+#: parsing a cell costs ~3 float64 copies; the table may use a quarter of the memory
+CELL_BYTES = 24
 
 
 class TableError(ValueError):
@@ -119,7 +125,34 @@ _NUMBER = re.compile(r"^\s*[-+]?(\d+([.,]\d*)?|[.,]\d+)([eE][-+]?\d+)?\s*$")
 def _fields(line: str, delim: Optional[str]) -> list:
     if delim is None:
         return line.split()
-    return next(csv.reader([line], delimiter=delim))
+    try:
+        return next(csv.reader([line], delimiter=delim))
+    except csv.Error as exc:   # e.g. a field over csv's field limit: one clear line upstream
+        raise TableError(f"a line that is not a table row ({exc})") from None
+
+
+def _memory_budget() -> float:
+    """Bytes a table may take while it is read: a quarter of the physical memory (8 GiB
+    where the system does not say)."""
+    import os
+
+    try:
+        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 4
+    except (ValueError, OSError, AttributeError):
+        return 2.0 ** 33 / 4
+
+
+def _check_shape(label: str, n_columns: int, n_rows: int) -> None:
+    """Refuse a table wider than :data:`MAX_COLUMNS` or larger than the memory budget."""
+    if n_columns > MAX_COLUMNS:
+        raise TableError(f"{label}: {n_columns} columns, over the limit of {MAX_COLUMNS}; "
+                         f"export only the channels to analyse")
+    need = float(n_columns) * n_rows * CELL_BYTES
+    if need > _memory_budget():
+        raise TableError(f"{label}: {n_rows} rows x {n_columns} columns would need "
+                         f"{need / 2 ** 30:.1f} GiB to read, over the limit of "
+                         f"{_memory_budget() / 2 ** 30:.1f} GiB (a quarter of the memory); "
+                         f"split the table or export fewer channels")
 
 
 def _numeric_share(row) -> float:
@@ -192,6 +225,7 @@ def read_frame(path, rmap: Optional[RecordingMap] = None):
     suffix = p.suffix.lower()
     try:
         if suffix in (".parquet", ".pq"):
+            _check_parquet_shape(p, label)
             return pd.read_parquet(p), {}
         if suffix in (".h5", ".hdf5", ".hdf"):
             from stand.recording.hdf5 import pandas_table_key
@@ -212,6 +246,11 @@ def read_frame(path, rmap: Optional[RecordingMap] = None):
             raise
         raise TableError(f"{label}: not a readable table ({' '.join(str(exc).split())})") from None
     try:
+        size = p.stat().st_size
+        if 4.0 * size > _memory_budget():   # bytes, text, lines, cells: ~4 copies of the file
+            raise TableError(f"{label}: {size / 2 ** 30:.1f} GiB of text, over the limit of "
+                             f"{_memory_budget() / 4 / 2 ** 30:.1f} GiB for a text table; split it "
+                             f"or convert it to Parquet")
         raw = p.read_bytes()
     except OSError as exc:
         raise TableError(f"{label}: cannot read ({exc.strerror or exc})") from None
@@ -222,9 +261,20 @@ def read_frame(path, rmap: Optional[RecordingMap] = None):
         except UnicodeDecodeError:
             continue
     lines = text.splitlines()
-    delim, decimal, header, meta = _layout(lines[:400], rmap, label)
+    longest = max(range(len(lines)), key=lambda i: len(lines[i]), default=0)
+    if lines and len(lines[longest]) > MAX_LINE_CHARS:
+        raise TableError(f"{label}: line {longest + 1} has {len(lines[longest])} characters, over "
+                         f"the limit of {MAX_LINE_CHARS} for a line of a table")
+    try:
+        delim, decimal, header, meta = _layout(lines[:400], rmap, label)
+    except TableError as exc:
+        msg = str(exc)
+        raise TableError(msg if msg.startswith(label) else f"{label}: {msg}") from None
     if not any(ln.strip() for ln in lines[header + 1:]):
         raise TableError(f"{label}: 0 data rows; at least {MIN_ROWS} are needed")
+    width = max((len(_fields(ln, delim)) for ln in lines[header:header + 50] if ln.strip()),
+                default=0)
+    _check_shape(label, width, len(lines) - header - 1)
     try:
         df = pd.read_csv(io.StringIO("\n".join(lines[header:])), sep=delim if delim else r"\s+",
                          decimal=decimal, skipinitialspace=True, engine="c" if delim else "python")
@@ -233,6 +283,20 @@ def read_frame(path, rmap: Optional[RecordingMap] = None):
     df.columns = [str(c).strip() for c in df.columns]
     df.attrs["first_data_line"] = header + 2
     return df, meta
+
+
+def _check_parquet_shape(p: Path, label: str) -> None:
+    """The shape limits of a Parquet file from its footer, before it is read."""
+    try:
+        import pyarrow.parquet as pq
+    except ImportError:
+        return                       # read_parquet says what is missing
+    try:
+        meta = pq.read_metadata(p)
+    except Exception as exc:  # noqa: BLE001 -- any footer error: one clear line
+        raise TableError(f"{label}: not a readable Parquet file ({' '.join(str(exc).split())})") \
+            from None
+    _check_shape(label, meta.num_columns, meta.num_rows)
 
 
 # ------------------------------------------------------------------ checks
