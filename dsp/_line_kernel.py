@@ -1,24 +1,25 @@
 """The fast line fit of :func:`dsp.lines.refine_frequencies` after the FFT, compiled by numba.
 
-:func:`fit_after_peaks` does in one call what :func:`dsp.lines._fast_fit` does with numpy
-after it has picked the peaks: the close-peak separation (:func:`dsp.lines._separate_peaks`),
+:func:`fit_after_peaks` does in one call what :func:`dsp.line_fast._fast_fit` does with numpy
+after it has picked the peaks: the close-peak separation (:func:`dsp.line_fast._separate_peaks`),
 the Gauss-Newton fit from projections (:func:`dsp.line_gn.projection_fit`) and the spectrum
-of the residual near and away from the lines (:func:`dsp.lines._residual_extremes`).  The
+of the residual near and away from the lines (:func:`dsp.line_fast._residual_extremes`).  The
 same equations, as loops: the numpy path spends most of its time in numpy's per-call
 overhead on (3K) x (3K) matrices, which this avoids.  No BLAS call inside (scipy's BLAS,
 which numba calls, has a thread pool of its own that fights numpy's for the cores).  The
 two give the same numbers to rounding (``tests/test_dsp_line_kernel.py``).
 
 numba is imported only when the kernel is first asked for (:func:`compiled`); which
-estimates ask is :func:`dsp.lines._compiled_kernel`'s rule (at once when numba is already
+estimates ask is :func:`dsp.line_fast._compiled_kernel`'s rule (at once when numba is already
 imported and the kernel is in its cache, else once the numpy path has spent what loading
 it costs, :func:`load_cost`), so a command that makes a few estimates never pays for it.
 ``STAND_DISABLE_JIT=1`` or ``NUMBA_DISABLE_JIT=1`` keeps the numpy path.
 
 Also here, shared with :mod:`dsp.line_gn` as plain Python: :func:`dirichlet_core`,
-:func:`hann_delta`, the Hann window's exponentials :data:`HANN` and the projection block
-:data:`BLOCK` (numba's cache is invalidated per source file: code compiled into the
-kernel lives in this one file).
+:func:`hann_delta`, :func:`power_sums`, the Hann window's exponentials :data:`HANN` and the
+projection block :data:`BLOCK` (numba's cache is invalidated per source file: code compiled
+into the kernel lives in this one file).  This module is the bottom of the line estimator:
+it imports nothing of ``dsp``.
 """
 from __future__ import annotations
 
@@ -35,7 +36,7 @@ import warnings
 import numpy as np
 
 __all__ = ["fit_after_peaks", "fit_acceptable", "step_is_last", "compiled", "disable",
-           "load_cost", "warm", "OK", "DECLINED", "HANN", "BLOCK", "MIN_LINE_SNR"]
+           "load_cost", "warm", "OK", "DECLINED", "HANN", "BLOCK", "MIN_LINE_SNR", "power_sums"]
 
 OK, DECLINED = 0, 1      #: status of :func:`fit_after_peaks`
 TWO_PI = 2.0 * math.pi
@@ -63,7 +64,7 @@ _SUMS = ("projections", "sum_sq")   # long sums, which may be reordered (vectori
 def dirichlet_core(th, n, s2, s4, s6, s8):
     """(S0, Im S1, S2) of :func:`dirichlet_sums`: S0 = sin(n theta/2) / sin(theta/2),
     S1 = -i S0', S2 = -S0'', a Taylor series in theta where n |theta| < 0.2 (``s2`` .. ``s8``:
-    sum m^p over the grid, :func:`_power_sums`).  Plain floats: also compiled by numba
+    sum m^p over the grid, :func:`power_sums`).  Plain floats: also compiled by numba
     (here, with the kernel)."""
     if n * abs(th) < 0.2:      # the series (to theta^8) and the closed form meet at ~5e-14
         t2 = th * th
@@ -91,6 +92,15 @@ def hann_delta(ym, y0, yp):
         return 0.0
     side, alpha = (1.0, yp / y0) if yp >= ym else (-1.0, ym / y0)
     return side * min(max((2.0 * alpha - 1.0) / (1.0 + alpha), 0.0), 0.5)
+
+
+@functools.lru_cache(maxsize=64)
+def power_sums(n):
+    """sum m^p over the centred grid of n samples, p = 2, 4, 6, 8 (the ``s2`` .. ``s8`` of
+    :func:`dirichlet_core`)."""
+    k = np.arange(n) - 0.5 * (n - 1)
+    k2 = k * k
+    return tuple(float(np.sum(k2 ** j)) for j in (1, 2, 3, 4))
 
 
 def _disabled() -> bool:
@@ -157,16 +167,20 @@ def _in_cache() -> bool:
 
 def warm() -> str:
     """Compile (or load from numba's cache) the kernel for the argument types
-    :func:`dsp.lines._fast_fit` passes (by calling it); returns the engine ("numba", or
-    "numpy" when the kernel is unavailable)."""
-    if compiled() is None:
+    :func:`dsp.line_fast._fast_fit` passes, by calling it on two lines 3.2 bins apart
+    (``tests/test_dsp_line_kernel.py`` checks that ``_fast_fit`` then needs no other
+    signature); returns the engine ("numba", or "numpy" when the kernel is unavailable)."""
+    kernel = compiled()
+    if kernel is None:
         return "numpy"
-    from .lines import _fast_fit, _hann
-
     n = 256
     m = np.arange(n) - 0.5 * (n - 1)
     z = np.exp(2j * math.pi * 0.1 * m) + 0.1 * np.exp(2j * math.pi * (0.1 + 3.2 / n) * m)
-    _fast_fit(z, _hann(n), 2, 1.0, "numba", True)
+    X = np.fft.fft(z)
+    spec = np.abs(X)
+    peaks = np.sort(np.argsort(spec)[-2:]).astype(np.int64)
+    # the scalars as _fast_fit passes them: a bool, then ints (NEAR, MAX_ITER) and a float
+    kernel(z, X, spec, peaks, peaks / n, True, np.array(power_sums(n)), 4, 30, MIN_LINE_SNR)
     return "numba" if compiled() is not None else "numpy"
 
 
@@ -209,7 +223,7 @@ def _build():
 
 def hann_response(j, nu, n):
     """Hann-windowed DFT at FFT bin ``j`` of a unit line e^{2 pi i nu m} on the centred grid
-    (one entry of :func:`dsp.lines._hann_response`)."""
+    (one entry of :func:`dsp.line_fast._hann_response`)."""
     m0 = -0.5 * (n - 1)
     dnu = (nu - j / n + 0.5) % 1.0 - 0.5
     kern = 0.0
@@ -309,7 +323,7 @@ def normal_matrix(G, c, A):
 
 
 def separate_peaks(X, peaks, nus, n):
-    """:func:`dsp.lines._separate_peaks` (one pass) for ``nus`` in place."""
+    """:func:`dsp.line_fast._separate_peaks` (one pass) for ``nus`` in place."""
     K = peaks.size
     c = np.empty(K, dtype=np.complex128)
     for k in range(K):
@@ -455,7 +469,7 @@ def fit_acceptable(nus, c, var, cost, n, min_line_snr):
 def residual_extremes(X, spec, nus, c, n, near):
     """(Largest |X - the fitted lines' windowed spectra| within ``near`` bins of a line,
     largest of ``spec`` farther away), unscaled; ``spec`` is zeroed near the lines
-    (:func:`dsp.lines._residual_extremes`)."""
+    (:func:`dsp.line_fast._residual_extremes`)."""
     K = nus.size
     best = 0.0
     for k in range(K):
@@ -474,7 +488,7 @@ def residual_extremes(X, spec, nus, c, n, near):
 
 
 def fit_after_peaks(z, X, spec, peaks, nus0, separate, psums, near, max_iter, min_line_snr):
-    """Everything :func:`dsp.lines._fast_fit` does after picking the peaks (Hann window).
+    """Everything :func:`dsp.line_fast._fast_fit` does after picking the peaks (Hann window).
 
     Parameters
     ----------
@@ -482,7 +496,7 @@ def fit_after_peaks(z, X, spec, peaks, nus0, separate, psums, near, max_iter, mi
     spec : float (n,)   |X| (scratch: zeroed near the lines);
     peaks : int (K,)    peak bins;    nus0 : float (K,)   their two-point frequencies;
     separate : bool     take the other lines out of each peak's bins first;
-    psums : float (4,)  dsp.line_gn._power_sums(n);  near : bins checked either side of a
+    psums : float (4,)  power_sums(n);  near : bins checked either side of a
     line;  max_iter, min_line_snr: as :func:`dsp.line_gn.projection_fit`.
 
     Returns

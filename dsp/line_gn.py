@@ -8,7 +8,8 @@ matrix Re(D^H W D) therefore needs only the sums sum w m^p conj(col_j) col_k
 lines off it -- and the gradient Re(D^H W r) the sums sum w m^p conj(p_k) r:
 a few dot products per iteration, never an N x P Jacobian.  The phasors are an
 outer product of two short exponentials (BLOCK and N / BLOCK of them).  Used
-by :mod:`dsp.lines` (the one line estimator of ``dsp``).
+by :mod:`dsp.lines` (the one line estimator of ``dsp``), :mod:`dsp.line_fit` and
+:mod:`dsp.line_fast`.
 """
 from __future__ import annotations
 
@@ -18,13 +19,14 @@ import math
 import numpy as np
 
 from ._line_kernel import (BLOCK, HANN, MIN_LINE_SNR, dirichlet_core, fit_acceptable,
-                           hann_delta, step_is_last)
+                           hann_delta, power_sums as _power_sums, step_is_last)
 
 __all__ = ["phasor", "columns", "wls", "Sums", "normal_matrix", "gauss_newton", "peak_nu",
            "hann_peak_nu", "hann_delta", "dirichlet_sums", "dirichlet_core", "windowed_sums", "windowed_kernel",
            "projection_fit"]
 
 MAX_ITER = 30              #: Gauss-Newton iterations at most
+LOBE = 2.0                 #: half-width of the Hann main lobe, in frequency resolutions 1/T
 TWO_PI = 2.0 * math.pi
 
 
@@ -64,14 +66,6 @@ def _hann(n):
     w = 0.5 - 0.5 * np.cos(2.0 * math.pi * (np.arange(n) + 0.5) / n)
     w.flags.writeable = False
     return w
-
-
-@functools.lru_cache(maxsize=64)
-def _power_sums(n):
-    """sum m^p over the centred grid of n samples, p = 2, 4, 6, 8."""
-    k = np.arange(n) - 0.5 * (n - 1)
-    k2 = k * k
-    return tuple(float(np.sum(k2 ** j)) for j in (1, 2, 3, 4))
 
 
 def dirichlet_sums(theta, n):

@@ -1,5 +1,5 @@
 """The compiled line fit (dsp._line_kernel) against the numpy path it replaces, and the rule
-that picks between them (dsp.lines._compiled_kernel)."""
+that picks between them (dsp.line_fast._compiled_kernel)."""
 from __future__ import annotations
 
 import math
@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from dsp import _line_kernel, lines
+from dsp import _line_kernel, line_fast
 from dsp.errors import SignalError
 from dsp.lines import refine_frequencies
 
@@ -20,7 +20,7 @@ def _engine_state(monkeypatch):
     """Whatever these tests do to the kernel's state is undone after each (the rest of the
     suite sees the state it would have seen without them)."""
     monkeypatch.setattr(_line_kernel, "_compiled", _line_kernel._compiled)
-    monkeypatch.setattr(lines, "_numpy_seconds", lines._numpy_seconds)
+    monkeypatch.setattr(line_fast, "_numpy_seconds", line_fast._numpy_seconds)
 
 
 def _signal(n, lines_, sigma, seed):
@@ -44,9 +44,9 @@ CASES = {
 def test_compiled_and_numpy_give_the_same_fit(case):
     n, lines_, sigma = CASES[case]
     z = _signal(n, lines_, sigma, seed=7)
-    w = lines._hann(n)
-    a = lines._fast_fit(z, w, len(lines_), 1.0, engine="numpy", hann=True)
-    b = lines._fast_fit(z, w, len(lines_), 1.0, engine="numba", hann=True)
+    w = line_fast._hann(n)
+    a = line_fast._fast_fit(z, w, len(lines_), 1.0, engine="numpy", hann=True)
+    b = line_fast._fast_fit(z, w, len(lines_), 1.0, engine="numba", hann=True)
     assert a is not None and b is not None
     # the same equations: differences are rounding (the compiled sums are reordered), far
     # below the uncertainty -- or, without noise, below 1e-9 of a bin.  (Rounding may move
@@ -67,9 +67,9 @@ def test_compiled_fit_declines_what_the_numpy_one_declines():
     finds the one line."""
     n = 4096
     z = _signal(n, [(0.1, 1.0)], 0.1, seed=3)
-    w = lines._hann(n)
-    assert lines._fast_fit(z, w, 2, 1.0, engine="numpy", hann=True) is None
-    assert lines._fast_fit(z, w, 2, 1.0, engine="numba", hann=True) is None
+    w = line_fast._hann(n)
+    assert line_fast._fast_fit(z, w, 2, 1.0, engine="numpy", hann=True) is None
+    assert line_fast._fast_fit(z, w, 2, 1.0, engine="numba", hann=True) is None
     c = refine_frequencies(np.arange(n, dtype=float), z, 2)
     assert c.frequency_hz[0] == pytest.approx(0.1, abs=3e-3 / n)     # 5x its CRLB
 
@@ -80,7 +80,7 @@ def test_lines_0_6_bins_apart_are_resolved_by_both_paths():
     truth = [0.1, 0.1 + 0.6 / n]
     z = _signal(n, [(truth[0], 1.0), (truth[1], 0.8j)], 0.01, seed=3)
     for engine in ("numpy", "numba"):
-        fit = lines._fast_fit(z, lines._hann(n), 2, 1.0, engine=engine, hann=True)
+        fit = line_fast._fast_fit(z, line_fast._hann(n), 2, 1.0, engine=engine, hann=True)
         assert fit is not None
         assert np.sort(fit.frequency) == pytest.approx(truth, abs=5 * fit.frequency_std().max())
 
@@ -91,9 +91,9 @@ def test_lines_merging_across_half_a_cycle_are_declined():
     fit must not return them as two lines with a zero or negative variance."""
     n = 3001
     z = _signal(n, [(1497.53 / n, 1.0), (1499.65 / n, 1.0)], 0.5, seed=5)
-    w = lines._hann(n)
+    w = line_fast._hann(n)
     for engine in ("numpy", "numba"):
-        fit = lines._fast_fit(z, w, 2, 1.0, engine=engine, hann=True)
+        fit = line_fast._fast_fit(z, w, 2, 1.0, engine=engine, hann=True)
         if fit is not None:
             assert np.all(fit.frequency_std() > 0)
             assert np.all((-0.5 <= fit.frequency) & (fit.frequency < 0.5))
@@ -133,20 +133,33 @@ def test_auto_takes_the_kernel_once_it_has_paid_for_itself(monkeypatch):
     sentinel = object()
     monkeypatch.setattr(_line_kernel, "compiled", lambda: sentinel)
     monkeypatch.setattr(_line_kernel, "load_cost", lambda: 0.4)
-    monkeypatch.setattr(lines, "_numpy_seconds", 0.39)
-    assert lines._compiled_kernel("auto") is None
-    assert lines._compiled_kernel("numba") is sentinel
-    assert lines._compiled_kernel("numpy") is None
-    monkeypatch.setattr(lines, "_numpy_seconds", 0.41)
-    assert lines._compiled_kernel("auto") is sentinel
+    monkeypatch.setattr(line_fast, "_numpy_seconds", 0.39)
+    assert line_fast._compiled_kernel("auto") is None
+    assert line_fast._compiled_kernel("numba") is sentinel
+    assert line_fast._compiled_kernel("numpy") is None
+    monkeypatch.setattr(line_fast, "_numpy_seconds", 0.41)
+    assert line_fast._compiled_kernel("auto") is sentinel
 
 
 def test_numpy_path_time_is_counted(monkeypatch):
     monkeypatch.setattr(_line_kernel, "load_cost", lambda: math.inf)
-    monkeypatch.setattr(lines, "_numpy_seconds", 0.0)
+    monkeypatch.setattr(line_fast, "_numpy_seconds", 0.0)
     n = 1024
     refine_frequencies(np.arange(n, dtype=float), _signal(n, [(0.1, 1.0)], 0.1, 1), 1)
-    assert 0.0 < lines._numpy_seconds < 1.0
+    assert 0.0 < line_fast._numpy_seconds < 1.0
+
+
+@numba_only
+def test_warm_compiles_the_signature_the_fast_fit_uses():
+    """The kernel's own warm-up (which imports nothing above it) calls the kernel with the
+    argument types of :func:`dsp.line_fast._fast_fit`: the fit then compiles nothing new."""
+    assert _line_kernel.warm() == "numba"
+    kernel = _line_kernel.compiled()
+    before = set(kernel.signatures)
+    n = 4096
+    z = _signal(n, [(0.11, 1.0), (0.11 + 3.2 / n, 0.1)], 0.1, seed=7)
+    assert line_fast._fast_fit(z, line_fast._hann(n), 2, 1.0, engine="numba", hann=True) is not None
+    assert set(kernel.signatures) == before and len(before) == 1
 
 
 @pytest.mark.parametrize("var", ["STAND_DISABLE_JIT", "NUMBA_DISABLE_JIT"])

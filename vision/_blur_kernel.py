@@ -1,18 +1,20 @@
-"""The normal equations of the blurred-spot fit (:mod:`vision.blur`): one pass over the pixels.
+"""The blurred-spot fit of :mod:`vision.blur` as loops that numba compiles.
 
-:func:`normal_equations` returns the residual sum of squares, ``J^T J`` (9 x 9)
-and ``J^T r`` (9) of the model at given path points, over the fitted pixels,
-with clipped pixels censored (module docstring of :mod:`vision.blur`).  Two
-implementations give the same numbers (to rounding, ``tests/test_video_track.py``):
+:func:`path` gives the path's points, weights and derivatives;
+:func:`_normal_equations_loops` the residual sum of squares, ``J^T J`` (9 x 9),
+``J^T r`` (9) and the sandwich's meat of the model over the fitted pixels, with
+clipped pixels censored (module docstring of :mod:`vision.blur`), by loops over
+the pixels and, for each, over the path points within a few sigma of it -- about
+20 us for a still spot and 0.3 ms for an 80 px arc; :func:`fit_loops` the whole
+Levenberg-Marquardt fit with its score test.  :func:`compiled_fit` compiles them
+(numba, ``cache=True``; numba imported only then).
 
-* compiled (numba, ``cache=True``): loops over the pixels and, for each, over
-  the path points within 6 sigma of it -- about 20 us for a still spot and
-  0.3 ms for an 80 px arc;
-* numpy (when numba is missing, or ``STAND_DISABLE_JIT=1`` / ``NUMBA_DISABLE_JIT=1``
-  is set): the separable sums as matrix products over the patch -- the same
-  results, about 5-10x slower (numpy's per-call overhead dominates on small blobs).
-
-numba is imported only when the compiled kernel is first needed.
+The numpy twin of the normal equations (the separable sums as matrix products
+over the patch: the same numbers to rounding, ``tests/test_video_track.py``,
+about 5-10x slower) and the plain-Python copy of the fit that uses it, for when
+numba is missing or ``STAND_DISABLE_JIT=1`` / ``NUMBA_DISABLE_JIT=1`` is set, are
+:mod:`vision._blur_numpy`.  This module imports nothing of ``vision``: numba's
+cache is invalidated per source file, so the compiled code lives in this one file.
 """
 from __future__ import annotations
 
@@ -21,7 +23,8 @@ import os
 
 import numpy as np
 
-__all__ = ["normal_equations", "compiled_available", "CUTOFF_SIGMAS"]
+__all__ = ["fit_loops", "compiled_fit", "compiled_available", "compile_needed", "path",
+           "n_points", "CUTOFF_SIGMAS"]
 
 NP = 9                  #: parameters (m_u, m_v, h_u, h_v, kappa, a2, a3, ln A, ln s)
 CUTOFF_SIGMAS = 5.0     #: a point contributes to pixels within this many sigma (exp(-12.5) ~ 4e-6)
@@ -234,7 +237,11 @@ def _normal_equations_loops(patch, pi, pj, clipped, level, sat_eff, p, n, want_j
 
 
 #: the plain Python functions, kept before any of them is replaced by its compiled version
+#: (:func:`vision._blur_numpy.python_fit` runs them)
 _PY = {}
+#: the normal equations :func:`_evaluate` calls: the compiled loops once :func:`compiled_fit`
+#: has run (the plain Python copy of :mod:`vision._blur_numpy` binds its numpy twin instead)
+_EVALUATE = None
 
 
 def compiled_available() -> bool:
@@ -257,67 +264,6 @@ def _compiled_kernel():
                 globals()["_profile_row"] = jit(_profile_row)
                 _compiled = jit(_normal_equations_loops)
     return _compiled or None
-
-
-# ---------------------------------------------------------------- numpy
-def _profile(d, s):
-    """Pixel-integrated 1-D profile sqrt(2 pi) s [Phi((d+1/2)/s) - Phi((d-1/2)/s)] at offsets
-    ``d`` = pixel - point [px], its derivative with respect to the point, and to ``s``."""
-    from scipy.special import ndtr
-
-    a = (d + 0.5) / s
-    b = (d - 0.5) / s
-    ea = np.exp(-0.5 * a * a)
-    eb = np.exp(-0.5 * b * b)
-    g = _SQRT2PI * s * (ndtr(a) - ndtr(b))
-    return g, eb - ea, g / s - (ea * a - eb * b)
-
-
-def _normal_equations_numpy(patch, pi, pj, clipped, level, sat_eff, p, n, want_jac, want_meat):
-    """The same numbers as :func:`_normal_equations_loops` by matrix products over the patch
-    (the separable sums): ``(cost, J^T J, J^T r, sum r^2 J J^T)``, None where not asked."""
-    H, W = patch.shape
-    u, v, w, pu, pv = path(p[0], p[1], p[2], p[3], p[4], p[5], p[6], n)
-    A = math.exp(p[7])
-    s = math.exp(p[8])
-    rows = np.arange(H, dtype=float)
-    cols = np.arange(W, dtype=float)
-    gu, dgu, su = _profile(cols[None, :] - u[:, None], s)      # (n, W)
-    gv, dgv, sv = _profile(rows[None, :] - v[:, None], s)      # (n, H)
-    wc = w[:, None]
-    gu, dgu, su = gu * wc, dgu * wc, su * wc
-    base = gv.T @ gu
-    full = (level + A * base)[pi, pj]
-    d = patch[pi, pj]
-    over = clipped & (full >= sat_eff)
-    r = np.where(clipped, np.where(over, 0.0, sat_eff - full), d - full)
-    cost = float(r @ r)
-    if not want_jac:
-        return cost, None, None, None
-    J = np.empty((NP, pi.size))
-    J[0] = A * (gv.T @ dgu)[pi, pj]
-    J[1] = A * (dgv.T @ gu)[pi, pj]
-    for a in range(5):
-        J[2 + a] = A * ((gv.T * pu[a][None, :]) @ dgu + (dgv.T * pv[a][None, :]) @ gu)[pi, pj]
-    J[7] = A * base[pi, pj]
-    J[8] = A * s * (gv.T @ su + sv.T @ gu)[pi, pj]
-    J[:, over] = 0.0
-    return cost, J @ J.T, J @ r, ((J * (r * r)) @ J.T if want_meat else None)
-
-
-def _normal_equations_numpy_into(patch, pi, pj, clipped, level, sat_eff, p, n, want_jac,
-                                 want_meat, JTJ, g, MJ):
-    """:func:`_normal_equations_numpy` with the signature of the loops (results written into
-    ``JTJ``, ``g``, ``MJ``; returns the cost)."""
-    cost, a, b, c = _normal_equations_numpy(patch, pi, pj, clipped, level, sat_eff, p, n,
-                                            want_jac, want_meat)
-    if want_jac:
-        JTJ[:, :] = a
-        g[:] = b
-        if want_meat:
-            MJ[:, :] = c
-    return cost
-
 
 
 # ---------------------------------------------------------------- Levenberg-Marquardt
@@ -543,17 +489,19 @@ def fit_loops(patch, pi, pj, clipped, level, sat_eff, starts, size, c, tol, max_
     return p, cost, JTJ, MJ, free, it, converged
 
 
-_EVALUATE = _normal_equations_numpy_into       # the numpy fallback's; the compiled one below
+_PY.update({name: globals()[name] for name in ("path", "n_points", "_bound", "_evaluate",
+                                                 "_cholesky_solve", "_lm", "_score")})
+
+
 _compiled_fit = None    # None: not tried yet; False: unavailable; else the dispatcher
-_numpy_fit = None
 
 
-def fit_function(engine: str = "auto"):
-    """The fit (:func:`fit_loops`) for ``engine``: "numba" compiled (numba imported on the
-    first call, ``cache=True``), "numpy" the plain Python loop over the numpy normal
-    equations, "auto" the first available.  Raises RuntimeError for "numba" without it."""
-    global _compiled_fit, _numpy_fit
-    if engine in ("auto", "numba") and _compiled_fit is None:
+def compiled_fit():
+    """:func:`fit_loops` compiled by numba (numba imported, the helpers replaced by their
+    compiled versions and :func:`_evaluate` bound to the compiled normal equations on the
+    first call, ``cache=True``), or None when numba is missing or disabled."""
+    global _compiled_fit
+    if _compiled_fit is None:
         _compiled_fit = False
         kern = _compiled_kernel()
         if kern is not None:
@@ -565,13 +513,7 @@ def fit_function(engine: str = "auto"):
             for name in ("n_points", "_bound", "_evaluate", "_cholesky_solve", "_lm", "_score"):
                 mod[name] = jit(mod[name])
             _compiled_fit = jit(fit_loops)
-    if engine in ("auto", "numba") and _compiled_fit:
-        return _compiled_fit
-    if engine == "numba":
-        raise RuntimeError("engine='numba': numba is not available (or disabled)")
-    if _numpy_fit is None:
-        _numpy_fit = _python_copy(fit_loops)
-    return _numpy_fit
+    return _compiled_fit or None
 
 
 def compile_needed() -> bool:
@@ -584,85 +526,7 @@ def compile_needed() -> bool:
         import importlib.util
         if importlib.util.find_spec("numba") is None:
             return False
-        fit = fit_function("numba")
-        return not os.path.exists(fit._cache._cache_file._index_path)
+        fit = compiled_fit()
+        return fit is not None and not os.path.exists(fit._cache._cache_file._index_path)
     except Exception:   # noqa: BLE001 - numba's private cache layout: no answer, no message
         return False
-
-
-def warm() -> str:
-    """Compile (or load from numba's cache) the fit for the argument types
-    :func:`vision.blur.fit_blurred_spot` passes; returns the engine ("numba" or "numpy")."""
-    engine = "numba" if _compiled_kernel() is not None else "numpy"
-    rows, cols = np.mgrid[0:24, 0:24]
-    patch = 8.0 + 200.0 * np.exp(-((cols - 11.7) ** 2 + (rows - 12.2) ** 2) / 8.0)
-    pi = rows.ravel().astype(np.int64)
-    pj = cols.ravel().astype(np.int64)
-    start = np.array([[11.5, 12.0, 1.0, 0.5, 0.0, 0.0, 0.0, math.log(200.0), math.log(2.0)]])
-    fit_function(engine)(patch, pi, pj, np.zeros(pi.size, np.bool_), 8.0, np.inf, start,
-                         34.0, np.array([0.35, math.pi, 0.5, 4000.0]), np.array([2e-3, 1e-2]),
-                         40, 6.0)
-    return engine
-
-
-def _python_copy(func):
-    """``func`` and the helpers it calls, as plain Python bound to the numpy normal
-    equations (whatever the module's globals hold after compiling)."""
-    import types
-
-    env = dict(globals())
-    env["_EVALUATE"] = _normal_equations_numpy_into
-    env["path"] = _PY["path"]
-    for name in ("n_points", "_bound", "_evaluate", "_cholesky_solve", "_lm", "_score"):
-        env[name] = types.FunctionType(_PY[name].__code__, env, name)
-    return types.FunctionType(func.__code__, env, func.__name__)
-
-
-def normal_equations(patch, pi, pj, clipped, level, sat_eff, p, n, want_jac=True,
-                     want_meat=False, engine="auto"):
-    """``(cost, J^T J, J^T r, sum r^2 J J^T)`` of the model over the pixels ``(pi, pj)``
-    (rows, columns of ``patch``); the last is the "meat" of the sandwich covariance.
-
-    Parameters
-    ----------
-    patch : float64 (H, W)
-    pi, pj : int64 (P,)
-    clipped : bool (P,)
-        The pixel is at full scale (censored: ``model >= sat_eff``).
-    level, sat_eff : float
-        Background and effective saturation [DN].
-    p : float64 (9,)
-        (m_u, m_v, h_u, h_v, kappa, a2, a3, ln A, ln s) in patch coordinates [px, 1/px,
-        1, 1, ln DN, ln px].
-    n : int
-        Points along the path (>= 7).
-    want_jac : bool
-        False: the cost only (the matrices are None).
-    want_meat : bool
-        With ``want_jac``: also ``sum r^2 J J^T`` (else None).
-    engine : {"auto", "numba", "numpy"}
-
-    Returns
-    -------
-    cost : float
-    JTJ : (9, 9) or None  (derivatives with respect to ``p``)
-    g : (9,) or None
-    MJ : (9, 9) or None
-    """
-    want_meat = bool(want_meat and want_jac)
-    kern = _compiled_kernel() if engine in ("auto", "numba") else None
-    if engine == "numba" and kern is None:
-        raise RuntimeError("engine='numba': numba is not available (or disabled)")
-    if kern is None:
-        return _normal_equations_numpy(patch, pi, pj, clipped, level, sat_eff, p, n, want_jac,
-                                       want_meat)
-    JTJ = np.empty((NP, NP))
-    g = np.empty(NP)
-    MJ = np.empty((NP, NP))
-    cost = kern(patch, pi, pj, clipped, float(level), float(sat_eff), p, int(n), bool(want_jac),
-                want_meat, JTJ, g, MJ)
-    return (cost, JTJ, g, MJ if want_meat else None) if want_jac else (cost, None, None, None)
-
-
-_PY.update({name: globals()[name] for name in ("path", "n_points", "_bound", "_evaluate",
-                                                 "_cholesky_solve", "_lm", "_score", "_profile_row")})

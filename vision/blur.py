@@ -54,7 +54,8 @@ blob's moments (centroid, principal axis, second and third moments) and, for
 long blobs, an algebraic circle fit; the amplitude by linear least squares on
 the unclipped pixels.  In a video the previous frame's A and s start the next
 fit (:func:`vision.spot.track`).  The loop and the normal equations are
-:mod:`vision._blur_kernel` (compiled by numba, or plain Python and numpy).
+:mod:`vision._blur_kernel` (compiled by numba) or :mod:`vision._blur_numpy` (plain
+Python and numpy).
 
 The centre's uncertainty is the (m_u, m_v) block of the sandwich covariance
 ``B^-1 M B^-1`` (B = J^T J, M = sum r^2 J J^T): the camera's noise model is not
@@ -157,7 +158,8 @@ def arc_points(u, v, half_path, curvature, shape=(0.0, 0.0), n: int = 64):
 def _dense_model(p, shape) -> np.ndarray:
     """Unclipped model above background over a whole (rows, columns) patch; ``p``
     in the internal form (..., ln A, ln s)."""
-    from ._blur_kernel import _profile, path
+    from ._blur_kernel import path
+    from ._blur_numpy import _profile
 
     s = math.exp(p[IS])
     u, v, w, _, _ = path(p[0], p[1], p[2], p[3], p[4], p[5], p[6],
@@ -363,9 +365,7 @@ def fit_blurred_spot(patch, mask, level: float, *, saturation: Optional[float] =
             raise ValueError(f"p0: expected {N_PARAMS} parameters, got shape {p.shape}")
         p[IA], p[IS] = math.log(max(p[IA], 1e-6)), math.log(max(p[IS], MIN_SIGMA))
         starts = [p]
-    from ._blur_kernel import fit_function
-
-    run = fit_function(engine)
+    run = _fit_function(engine)
     consts = np.array([MIN_SIGMA, MAX_SWEEP, MAX_SHAPE, MAX_POINTS], float)
     tol = np.array([CENTRE_TOL, COST_TOL])
     p, cost, JTJ, MJ, free, it, converged = run(
@@ -386,12 +386,39 @@ def fit_blurred_spot(patch, mask, level: float, *, saturation: Optional[float] =
                    n_pix, int(clipped.sum()), int(it), bool(converged))
 
 
+def _fit_function(engine: str = "auto"):
+    """The fit (:func:`vision._blur_kernel.fit_loops`) for ``engine``: "numba" compiled
+    (numba imported on the first call, ``cache=True``), "numpy" the plain Python loop over
+    the numpy normal equations (:mod:`vision._blur_numpy`), "auto" the first available.
+    Raises RuntimeError for "numba" without it."""
+    from ._blur_kernel import compiled_fit
+    from ._blur_numpy import python_fit
+
+    if engine in ("auto", "numba"):
+        fit = compiled_fit()
+        if fit is not None:
+            return fit
+        if engine == "numba":
+            raise RuntimeError("engine='numba': numba is not available (or disabled)")
+    return python_fit()
+
+
 def warm() -> str:
     """Compile the fit ahead (or load it from numba's cache: about 10 s the first time
-    after an install, then 0.3 s per process); returns the engine, "numba" or "numpy"."""
-    from ._blur_kernel import warm as _warm
+    after an install, then 0.3 s per process) for the argument types
+    :func:`fit_blurred_spot` passes; returns the engine, "numba" or "numpy"."""
+    from ._blur_kernel import compiled_available
 
-    return _warm()
+    engine = "numba" if compiled_available() else "numpy"
+    rows, cols = np.mgrid[0:24, 0:24]
+    patch = 8.0 + 200.0 * np.exp(-((cols - 11.7) ** 2 + (rows - 12.2) ** 2) / 8.0)
+    pi = rows.ravel().astype(np.int64)
+    pj = cols.ravel().astype(np.int64)
+    start = np.array([[11.5, 12.0, 1.0, 0.5, 0.0, 0.0, 0.0, math.log(200.0), math.log(2.0)]])
+    _fit_function(engine)(patch, pi, pj, np.zeros(pi.size, np.bool_), 8.0, np.inf, start,
+                          34.0, np.array([0.35, math.pi, 0.5, 4000.0]), np.array([2e-3, 1e-2]),
+                          40, 6.0)
+    return engine
 
 
 def compile_needed() -> bool:

@@ -9,8 +9,8 @@ Algorithm of :func:`locate`
    searched region (the whole frame, or the ROI) are clipped around their
    median (+- 5 robust sigma) and give the background level (their mean, which
    is not quantised like a median) and the background noise sigma_bg (their
-   standard deviation, read + background shot + quantisation noise).  Pass
-   ``background=`` to impose the level.
+   standard deviation, read + background shot + quantisation noise;
+   :mod:`vision.levels`).  Pass ``background=`` to impose the level.
 2. **Coarse detection** (OpenCV): ``cv2.GaussianBlur`` (sigma 1 px) then
    ``cv2.minMaxLoc`` gives the brightest point; its height above the
    background is the amplitude.  Amplitude below ``threshold`` (default
@@ -25,7 +25,8 @@ Algorithm of :func:`locate`
    the amplitude, i.e. at ~2.45 sigma for a Gaussian, so the window is about
    +-3 sigma); for asymmetric blobs (motion-blurred arcs) it is widened until,
    centred on the centroid, it covers the whole blob plus that padding.
-4. **Sub-pixel refinement, two stages, or a model fit.**
+4. **Sub-pixel refinement, two stages, or a model fit** (the centroids (a) and (b):
+   :mod:`vision.centroid`).
    (a) *Iteratively re-centred intensity-weighted centroid* of the
    background-subtracted image in a *soft-edged* window (pixel weight = the
    fraction of the pixel inside the window, so the window moves continuously
@@ -88,14 +89,14 @@ from typing import Iterable, Optional
 import cv2
 import numpy as np
 
+from .centroid import GAUSS_HALF, TOL, gauss_centroid, gauss_weights, recentre, soft, spot_sigma
 from .io import frame_table
+from .levels import background_level, saturation_level
 
 __all__ = ["SpotResult", "locate", "track", "MIN_BLOB_AREA", "TRACK_COLUMNS"]
 
 MIN_BLOB_AREA = 4          #: px, smallest component counted as a second blob
-BORDER = 2                 #: px, width of the border used for the background
 COARSE_SIGMA = 1.0         #: px, blur of the coarse detection
-MAX_ITER = 30
 ARC_PAD = 4                #: px, dilation of a sparse blob (arc) before its centroid or fit
 _PAD_KERNEL = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * ARC_PAD + 1,) * 2)
 MIN_FIT_SIGMA = 0.4        #: px, smallest spot sigma a blurred-spot fit may return
@@ -109,12 +110,9 @@ MAX_FIT_CHI2 = 3.5
 #: pixel read as an ordinary 249 would pull the fit down (0.04 px RMS, 0.26 px at worst on
 #: the video sample with a 3 DN margin; 0.014 px RMS, as the lossless frames, with 8 DN)
 CENSOR_MARGIN = 0.03
-TOL = 1e-4                 #: px
-GAUSS_HALF = 3.5           #: window half-width of the Gaussian-weighted centroid [s]
 REFINE = ("auto", "centroid", "gaussian", "blur")
 FILL_ROUND = 0.6           #: a round blob fills >= this fraction of its bounding box (a disc: 0.785)
 AGREE_PX = 0.1             #: px, largest centroid / Gaussian-centroid difference of a spot
-NEWTON_TOL = 3e-3          #: px, last Newton step of the Gaussian-weighted centroid
 COARSE_TOL = 2e-2          #: px, soft-window centroid tolerance when stage (b) follows
 BAD_FLAGS = frozenset({"missing", "blank", "edge"})
 #: flag of a saturated or elongated blob whose blurred-spot fit failed (the centroid is kept)
@@ -149,137 +147,6 @@ class SpotResult:
 def _missing(flags, background=math.nan, noise=math.nan, peak=math.nan):
     return SpotResult(math.nan, math.nan, math.nan, math.nan, peak, math.nan, set(flags),
                       background, noise)
-
-
-def _border(a: np.ndarray) -> np.ndarray:
-    b = BORDER if min(a.shape) > 2 * BORDER + 2 else 1
-    return np.concatenate([a[:b].ravel(), a[-b:].ravel(), a[b:-b, :b].ravel(),
-                           a[b:-b, -b:].ravel()])
-
-
-def _background(a: np.ndarray) -> tuple[float, float]:
-    """(level, sigma) from the border pixels, clipped around the median."""
-    x = _border(a).astype(np.float64)
-    x.sort()
-    med = float(x[x.size // 2])
-    d = np.abs(x - med)
-    mad = 1.4826 * float(np.partition(d, d.size // 2)[d.size // 2])
-    keep = x[d <= max(5.0 * mad, 3.0)]
-    if keep.size < 4:
-        keep = x
-    m, sd = cv2.meanStdDev(keep)     # (one call: small-array numpy overhead dominates here)
-    return float(m[0, 0]), float(sd[0, 0])
-
-
-def _saturation_level(frame: np.ndarray, saturation) -> Optional[float]:
-    if saturation is not None:
-        return float(saturation)
-    if frame.dtype == np.uint8:
-        return 255.0
-    if frame.dtype == np.uint16:
-        m = int(frame.max())
-        for bits in (10, 12, 14, 16):
-            if m == (1 << bits) - 1:
-                return float(m)
-    return None
-
-
-def _soft(x: np.ndarray, h: float) -> np.ndarray:
-    """Fraction of pixel [x - 0.5, x + 0.5] inside [-h, h]."""
-    w = h + 0.5 - np.abs(x)
-    np.minimum(w, 1.0, out=w)
-    np.maximum(w, 0.0, out=w)
-    return w
-
-
-def _recentre(img, level, cu, cv, hu, hv, sel=None, tol=TOL):
-    """Iterate the soft-windowed intensity centroid until it moves < TOL px.
-
-    ``sel`` (same shape as ``img``) restricts the pixels (an arc's neighbourhood).
-    Returns the centre (u, v), or None when the window holds no signal.
-    """
-    Hs, Ws = img.shape
-    for _ in range(MAX_ITER):
-        i0 = max(int(math.floor(cv - hv - 0.5)), 0)
-        i1 = min(int(math.ceil(cv + hv + 0.5)), Hs - 1)
-        j0 = max(int(math.floor(cu - hu - 0.5)), 0)
-        j1 = min(int(math.ceil(cu + hu + 0.5)), Ws - 1)
-        if i1 < i0 or j1 < j0:
-            return None
-        patch = img[i0:i1 + 1, j0:j1 + 1] - level
-        if sel is not None:
-            patch = patch * sel[i0:i1 + 1, j0:j1 + 1]
-        xu = np.arange(j0, j1 + 1) - cu
-        xv = np.arange(i0, i1 + 1) - cv
-        pw = patch * _soft(xv, hv)[:, None] * _soft(xu, hu)[None, :]
-        total = float(pw.sum())
-        if not total > 0:
-            return None
-        du = float((pw.sum(axis=0) * xu).sum()) / total
-        dv = float((pw.sum(axis=1) * xv).sum()) / total
-        cu += du
-        cv += dv
-        if abs(du) < tol and abs(dv) < tol:
-            break
-    return cu, cv
-
-
-def _gauss_weights(x: np.ndarray, s: float, h: float) -> np.ndarray:
-    """Gaussian weight of width ``s`` times the soft window of half-width ``h``."""
-    return np.exp(-0.5 * (x / s) ** 2) * _soft(x, h)
-
-
-def _spot_sigma(img, level, cu, cv, h) -> float:
-    """Spot sigma [px] from the second moment inside a soft window (``h`` px)."""
-    Hs, Ws = img.shape
-    i0, i1 = max(int(cv - h - 1), 0), min(int(cv + h + 1) + 1, Hs - 1)
-    j0, j1 = max(int(cu - h - 1), 0), min(int(cu + h + 1) + 1, Ws - 1)
-    p = img[i0:i1 + 1, j0:j1 + 1] - level
-    xu = np.arange(j0, j1 + 1) - cu
-    xv = np.arange(i0, i1 + 1) - cv
-    pw = p * _soft(xv, h)[:, None] * _soft(xu, h)[None, :]
-    tot = float(pw.sum())
-    if not tot > 0:
-        return math.nan
-    m2 = (float((pw.sum(axis=0) * xu * xu).sum()) + float((pw.sum(axis=1) * xv * xv).sum())) / (2 * tot)
-    # a Gaussian cut at +-h has a second moment below sigma^2; for h = 3 sigma by 2.6 %
-    return math.sqrt(m2 / 0.974) if m2 > 0 else math.nan
-
-
-def _gauss_centroid(img, level, cu, cv, s):
-    """Newton solution of sum g (x - c) I = 0 with Gaussian weights g of width s."""
-    Hs, Ws = img.shape
-    h = GAUSS_HALF * s
-    for _ in range(MAX_ITER):
-        i0 = int(math.floor(cv - h - 0.5))
-        i1 = int(math.ceil(cv + h + 0.5))
-        j0 = int(math.floor(cu - h - 0.5))
-        j1 = int(math.ceil(cu + h + 0.5))
-        if i0 < 0 or j0 < 0 or i1 > Hs - 1 or j1 > Ws - 1:
-            return None
-        p = img[i0:i1 + 1, j0:j1 + 1] - level
-        xu = np.arange(j0, j1 + 1) - cu
-        xv = np.arange(i0, i1 + 1) - cv
-        gu = _gauss_weights(xu, s, h)
-        gv = _gauss_weights(xv, s, h)
-        pu = (p * gv[:, None]).sum(axis=0) * gu      # = sum over rows of g I
-        pv = (p * gu[None, :]).sum(axis=1) * gv
-        tot = float(pu.sum())
-        if not tot > 0:
-            return None
-        Du = tot - float((pu * xu * xu).sum()) / (s * s)
-        Dv = tot - float((pv * xv * xv).sum()) / (s * s)
-        if not (Du > 0 and Dv > 0):
-            return None
-        du = float((pu * xu).sum()) / Du
-        dv = float((pv * xv).sum()) / Dv
-        if abs(du) > s or abs(dv) > s:
-            return None
-        cu += du
-        cv += dv
-        if abs(du) < NEWTON_TOL and abs(dv) < NEWTON_TOL:   # quadratic: error ~ step^2
-            return cu, cv
-    return cu, cv
 
 
 def locate(frame, *, background: Optional[float] = None, threshold: Optional[float] = None,
@@ -336,7 +203,7 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
         if x1 - x0 < 8 or y1 - y0 < 8:
             return _missing({"missing"})
         sub = frame[y0:y1, x0:x1]
-    level, noise = _background(sub)
+    level, noise = background_level(sub)
     if background is not None:
         level = float(background)
     flags: set = set()
@@ -371,7 +238,7 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
         hu, hv = (float(window), float(window)) if np.isscalar(window) else map(float, window)
     cu = bx + 0.5 * (bw - 1)
     cv = by + 0.5 * (bh - 1)
-    sat = _saturation_level(frame, saturation)
+    sat = saturation_level(frame, saturation)
     Hs, Ws = sub.shape
     # saturated or elongated (motion-blurred) blob: the blurred-spot model fit
     if refine in ("auto", "blur") and window is None:
@@ -390,7 +257,7 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
     hu0, hv0 = hu, hv
     tol = TOL if refine == "centroid" else COARSE_TOL   # re-done at TOL if (b) is not used
     for _grow in range(4):
-        c = _recentre(img, level, cu, cv, hu, hv, tol=tol)
+        c = recentre(img, level, cu, cv, hu, hv, tol=tol)
         if c is None:
             return _missing(flags | {"missing"}, level, noise, amp)
         cu, cv = c
@@ -410,7 +277,7 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
         near = cv2.dilate((labels == lab).astype(np.uint8),
                           cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * ARC_PAD + 1,) * 2))
         sel = near.astype(np.float64)
-        c = _recentre(img, level, cu, cv, hu, hv, sel)
+        c = recentre(img, level, cu, cv, hu, hv, sel)
         if c is None:
             return _missing(flags | {"missing"}, level, noise, amp)
         cu, cv = c
@@ -422,9 +289,9 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
         saturated = sat is not None and np.count_nonzero(blob >= sat) >= 2
         round_ = abs(int(bw) - int(bh)) <= max(2, 0.25 * max(bw, bh))
         if refine == "gaussian" or (round_ and not saturated):
-            s = _spot_sigma(img, level, cu, cv, min(hu, hv))
+            s = spot_sigma(img, level, cu, cv, min(hu, hv))
             if math.isfinite(s) and s >= 0.5:
-                c = _gauss_centroid(img, level, cu, cv, s)
+                c = gauss_centroid(img, level, cu, cv, s)
                 # a symmetric spot gives the same centre both ways (to the
                 # noise, ~0.02 px); a non-Gaussian blob (a ring-shaped trace,
                 # an uneven arc) does not: keep the exposure-averaged centroid
@@ -438,7 +305,7 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
                     else:
                         disagree = math.nan
     if gs is None and sel is None and tol > TOL:
-        c = _recentre(img, level, cu, cv, hu, hv)
+        c = recentre(img, level, cu, cv, hu, hv)
         if c is None:
             return _missing(flags | {"missing"}, level, noise, amp)
         cu, cv = c
@@ -454,9 +321,9 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
     xu = np.arange(j0, j1 + 1) - cu
     xv = np.arange(i0, i1 + 1) - cv
     if gs is None:
-        wu, wv = _soft(xu, hu), _soft(xv, hv)
+        wu, wv = soft(xu, hu), soft(xv, hv)
     else:
-        wu, wv = _gauss_weights(xu, gs, eh_u), _gauss_weights(xv, gs, eh_v)
+        wu, wv = gauss_weights(xu, gs, eh_u), gauss_weights(xv, gs, eh_v)
     w2 = wv[:, None] * wu[None, :]
     if sel is not None:
         w2 = w2 * sel[i0:i1 + 1, j0:j1 + 1]

@@ -47,7 +47,8 @@ import cv2
 import numpy as np
 
 from .io import frame_table
-from .spot import COARSE_SIGMA, _background, _saturation_level
+from .levels import background_level, saturation_level
+from .spot import COARSE_SIGMA
 
 __all__ = ["TraceFit", "fit_trace", "track_traces", "TRACE_COLUMNS"]
 
@@ -112,7 +113,7 @@ def fit_trace(frame, *, spot_sigma_px: Optional[float] = None, threshold: Option
     if spot_sigma_px is not None and not (math.isfinite(spot_sigma_px) and spot_sigma_px > 0):
         raise ValueError(f"spot_sigma_px = {spot_sigma_px!r}: must be a positive number of px")
     H, W = frame.shape
-    level, noise = _background(frame)
+    level, noise = background_level(frame)
     lo, hi, _, _ = cv2.minMaxLoc(frame if frame.dtype != np.float64 else frame.astype(np.float32))
     if lo == hi:
         return _nothing({"missing", "blank"}, level, noise)
@@ -178,7 +179,7 @@ def fit_trace(frame, *, spot_sigma_px: Optional[float] = None, threshold: Option
     var = np.full(I.shape, noise * noise + (1.0 / 12.0 if noise < 0.3 else 0.0))
     if gain is not None and gain > 0:
         var = var + np.maximum(I, 0.0) / gain
-    sat = _saturation_level(frame, saturation)
+    sat = saturation_level(frame, saturation)
     if sat is not None:
         hot = raw >= sat
         if np.count_nonzero(hot) >= 2:
