@@ -26,6 +26,8 @@ import numpy as np
 from stand.scene.dimensionless import (DIMENSIONLESS_KEYS, _dimensionless_params,  # noqa: F401
                             scene_from_dimensionless)
 from stand.io.validate import _Table, _fmt, _kind, _number, _suggest  # noqa: F401 (re-exported)
+from stand.scene.limits import (MAX_CYCLES, MAX_IMAGE_PIXELS, MAX_SAMPLES,  # noqa: F401 (re-exported)
+                                 MAX_STATE_BYTES, MAX_WEIGHTS)
 from stand.scene.model import (
     METHODS,
     Impulse,
@@ -46,11 +48,6 @@ __all__ = ["load", "load_scene", "parse", "parse_scene", "scene_from_dimensionle
 
 TWO_PI = 2.0 * math.pi
 DEG = math.pi / 180.0
-MAX_SAMPLES = 5e7  #: largest duration * sample_rate accepted (memory)
-MAX_WEIGHTS = 10_000  #: largest balancer.count accepted
-MAX_STATE_BYTES = 4e9  #: largest sample buffer (samples x state width x 8 bytes) accepted
-MAX_CYCLES = 1e8  #: largest number of rotor revolutions or natural periods in one run
-MAX_IMAGE_PIXELS = 16e6  #: largest instrument image (width x height) accepted
 
 TABLES = ("scene", "rotor", "supports", "balancer", "drive", "run", "initial", "dimensionless",
           "instruments", "perturbation", "weights")

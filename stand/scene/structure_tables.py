@@ -42,9 +42,9 @@ from typing import Mapping
 import numpy as np
 
 from stand.model.balancers.friction import ROLLING_BALL_J, Friction
-from stand.scene.model import RotorStructure, Scene, SceneError, SpeedDrive
+from stand.scene.model import PlaneWeights, RotorStructure, RotorTorqueDrive, Scene, SceneError, SpeedDrive
 from stand.scene.body_tables import BODY_TYPES, parse_body
-from stand.model.rotors.coupled_kernel import PlaneWeights
+from stand.scene.limits import MAX_CYCLES
 from stand.model.rotors.structure import LinearRotor
 
 __all__ = ["ROTOR_TYPES", "parse_family_scene", "build_rotor"]
@@ -141,8 +141,6 @@ def _check_cycles(rotor: LinearRotor, run, programme) -> None:
     """Bound the run as the planar scenes are (stand.scene.parse.MAX_CYCLES): periods of the
     fastest natural frequency and rotor revolutions, so that no scene asks for a run
     that never ends (e.g. an absurd stiffness)."""
-    from stand.scene.parse import MAX_CYCLES
-
     wn = rotor.natural_frequencies(0.0)
     fastest = float(np.max(wn)) if wn.size else 0.0
     for label, w in (("periods of the fastest natural frequency "
@@ -230,7 +228,6 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:
         # the planar scenes' torque models (section 5.1.1) plus the rotor's polar moment of
         # inertia about the shaft J_p (stand.model.rotors.coupled_kernel: phi and Omega are states)
         from stand.scene.parse import _drive
-        from stand.model.rotors.coupled import RotorTorqueDrive
 
         rest = {k: v for k, v in dt.data.items() if k != "inertia"}
         inertia = dt.number("inertia", "kg*m^2, the rotor's polar moment of inertia about the "
