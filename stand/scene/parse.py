@@ -3,7 +3,9 @@
 Three file forms build the same Scene: the planar tables (``[rotor]``,
 ``[supports]``, ``[balancer]``) or the book's ``[dimensionless]`` form (this
 module), ``[structure]`` + ``[[weights]]`` (:mod:`stand.scene.structure_tables`) and
-``[weight_model]`` (:mod:`stand.scene.book_tables`).
+``[weight_model]`` (:mod:`stand.scene.book_tables`).  Each table is read by one
+function of :mod:`stand.scene.tables` (instruments: :mod:`stand.scene.instrument_tables`)
+whatever the form it appears in; the forms only assemble them.
 
 The schema is documented field by field in ``docs/scene.md``.  Every problem
 raises :class:`stand.scene.model.SceneError` with one message that names the key as

@@ -41,7 +41,7 @@ from typing import Mapping
 
 import numpy as np
 
-from stand.io.validate import _Table, _fmt, _kind
+from stand.io.validate import _Table, _fmt, _kind, _number
 from stand.model.rotors.structure import LinearRotor
 from stand.scene.instrument_tables import instrument_tables
 from stand.scene.limits import MAX_CYCLES
@@ -75,6 +75,7 @@ def _builder(kind: str):
 def build_rotor(kind: str, params: Mapping) -> LinearRotor:
     """Build a LinearRotor of type ``kind`` from keyword parameters (SI)."""
     fn = _builder(kind)
+    unit = f"SI units, see the builder {fn.__module__}.{fn.__name__}"
     sig = inspect.signature(fn)
     names = [p for p, v in sig.parameters.items()
              if v.kind in (v.POSITIONAL_OR_KEYWORD, v.KEYWORD_ONLY)]
@@ -95,21 +96,10 @@ def build_rotor(kind: str, params: Mapping) -> LinearRotor:
         if (numeric or seq) and (isinstance(v, (bool, str, dict)) or v is None
                                  or (numeric and isinstance(v, list))):
             raise SceneError(f"structure.{k} = {_fmt(v)}: must be "
-                             f"{'a list of numbers' if seq else 'a number'} (SI units, see the "
-                             f"builder {fn.__module__}.{fn.__name__}), not {_kind(v)}")
-        vals = v if isinstance(v, list) else [v]
-        for x in vals:
-            if isinstance(x, bool) or isinstance(x, str):
-                continue
-            if isinstance(x, dict):
-                continue
-            try:
-                finite = isinstance(x, (int, float)) and math.isfinite(float(x))
-            except OverflowError:
-                finite = False
-            if not finite:
-                raise SceneError(f"structure.{k} = {_fmt(v)}: must be a finite number (SI units, see "
-                                 f"the builder {fn.__module__}.{fn.__name__})")
+                             f"{'a list of numbers' if seq else 'a number'} ({unit}), not {_kind(v)}")
+        for i, x in enumerate(v if isinstance(v, list) else [v]):   # switches pass as given
+            if not isinstance(x, (bool, str, dict)):
+                _number(f"structure.{k}" + (f"[{i}]" if isinstance(v, list) else ""), x, unit)
     missing = [p for p, v in sig.parameters.items()
                if v.default is inspect.Parameter.empty and p not in params
                and v.kind in (v.POSITIONAL_OR_KEYWORD, v.KEYWORD_ONLY)]
