@@ -49,7 +49,7 @@ from stand.scene.model import RotorStructure, Scene, SceneError
 from stand.scene.tables import (FRICTION_KEYS, check_tables, drive_table,  # noqa: F401 (re-exported)
                                 run_table, scene_header, weight_tables)
 
-__all__ = ["ROTOR_TYPES", "parse_family_scene", "build_rotor"]
+__all__ = ["ROTOR_TYPES", "parse_family_scene", "build_rotor", "check_cycles"]
 
 #: rotor type -> ("module:builder", book section) (stand.model.registry)
 ROTOR_TYPES = {
@@ -117,7 +117,7 @@ def build_rotor(kind: str, params: Mapping) -> LinearRotor:
     return rotor
 
 
-def _check_cycles(rotor: LinearRotor, run, programme) -> None:
+def check_cycles(rotor: LinearRotor, run, programme) -> None:
     """Bound the run as the planar scenes are (stand.scene.parse.MAX_CYCLES): periods of the
     fastest natural frequency and rotor revolutions, so that no scene asks for a run
     that never ends (e.g. an absurd stiffness)."""
@@ -153,7 +153,7 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:
     else:
         programme = drive.programme
     run = run_table(_Table(data["run"], "run"))
-    _check_cycles(rotor, run, programme)
+    check_cycles(rotor, run, programme)
     instruments = {}
     if "instruments" in data:   # the planar scenes' parser (plane / axial_position included)
         instruments = instrument_tables(_Table(data["instruments"], "instruments"),
