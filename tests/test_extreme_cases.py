@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 from stand.model.planar import build_planar_model, initial_state, rhs_planar, rhs_planar_numpy
-from stand.scene.model import (Balancer, Rotor, RunSettings, Scene, SpeedDrive, Supports,
-                         dimensionless)
+from stand.scene.dimensionless import dimensionless
+from stand.scene.model import Balancer, Rotor, RunSettings, Scene, SpeedDrive, Supports
 from stand.scene.parse import scene_from_dimensionless
 from stand.integrate.simulate import simulate
 

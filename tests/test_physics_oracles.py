@@ -21,8 +21,9 @@ from stand.theories.planar.qp import qp_roots
 
 from stand.integrate.accuracy import closed_form_no_balancer
 from stand.model.planar import build_planar_model, rhs_planar, rhs_planar_numpy
+from stand.scene.dimensionless import dimensionless
 from stand.scene.model import (Balancer, InitialState, Rotor, RunSettings, Scene, SpeedDrive,
-                         Supports, TorqueDrive, dimensionless)
+                               Supports, TorqueDrive)
 from stand.scene.parse import load_scene, scene_from_dimensionless
 from stand.integrate.simulate import simulate
 

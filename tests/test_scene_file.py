@@ -5,7 +5,8 @@ import re
 import numpy as np
 import pytest
 
-from stand.scene.model import RunSettings, SceneError, SpeedDrive, TorqueDrive, dimensionless
+from stand.scene.dimensionless import dimensionless
+from stand.scene.model import RunSettings, SceneError, SpeedDrive, TorqueDrive
 from stand.scene.parse import load_scene, parse_scene, scene_from_dimensionless
 
 from _helpers import toml_text

@@ -62,7 +62,7 @@ def _maximally_balanced_residual(scene, R: float, e0: float) -> float:
     from stand.theories.planar.side import maximally_balanced_motion
 
     try:
-        from stand.scene.model import dimensionless as _dimless
+        from stand.scene.dimensionless import dimensionless as _dimless
         p = _dimless(scene)
         m = maximally_balanced_motion(R, e0, p.H_x, p.n, p.e)
     except (ValueError, ArithmeticError):

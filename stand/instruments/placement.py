@@ -262,7 +262,7 @@ def check_instrument_budget(scene, width: int) -> None:
     """Every scene's instruments: image sizes, the memory of all screens' exposure
     sub-samples (simulated state rows of ``width`` numbers), each instrument against the
     run settings.  Errors name the table, the value and the limit."""
-    from stand.scene.parse import MAX_IMAGE_PIXELS, MAX_STATE_BYTES
+    from stand.scene.limits import MAX_IMAGE_PIXELS, MAX_STATE_BYTES
 
     for inst in scene.instruments.values():
         w, h = getattr(inst, "width", 0), getattr(inst, "height", 0)

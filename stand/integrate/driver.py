@@ -25,10 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
-from stand._jit import literally, njit
 from stand.integrate.dop853 import DIVERGED, NOT_FINITE, REACHED_END, STEP_BUDGET
 from stand.integrate.kernel_set import kernels
-from stand.model.kernels import rhs
 from stand.scene.model import SceneError
 
 __all__ = ["run_dop853", "run_scipy", "warm_up", "Checkpoint", "fingerprint", "segments",
@@ -45,24 +43,6 @@ def segments(model, tau_end: float) -> list:
     """Integration segments: the model's breakpoints before ``tau_end``, then ``tau_end``."""
     bp = [b for b in model.breakpoints() if b < tau_end]
     return bp + [tau_end]
-
-
-@njit(cache=True)
-def jac_fd(kind, t, y, f0, sp, wt, prog, J):
-    """Forward-difference Jacobian of model ``kind``'s right-hand side into ``J``."""
-    literally(kind)
-    n = y.shape[0]
-    yy = y.copy()
-    df = np.empty(n)
-    for i in range(n):
-        dh = 1.5e-8 * max(1.0, abs(y[i]))
-        yy[i] = y[i] + dh
-        rhs(kind, t, yy, df, sp, wt, prog)
-        for k in range(n):
-            J[k, i] = (df[k] - f0[k]) / dh
-        yy[i] = y[i]
-
-
 
 
 def fingerprint(scene, method, rtol, atol, ts, size) -> str:

@@ -145,7 +145,7 @@ def _checked(kind: int, source: str, loop, ev, jac) -> KernelSet:
 
     def jacobian(t, y, f0, sp, wt, prog, J):
         if not ok(J):
-            from stand.integrate.driver import jac_fd
+            from stand.integrate.jacobian import jac_fd
             return jac_fd(kind, t, y, f0, sp, wt, prog, J)
         jac()(float(t), c(y, float), c(f0, float), c(sp, float), c(wt, float), c(prog, float), J)
 
@@ -172,7 +172,7 @@ def _entry_points(kind: int, jacobian_only: bool = False):
 
     from stand.model.kernels import evaluate
     from stand.integrate.dop853 import dop853_loop
-    from stand.integrate.driver import jac_fd
+    from stand.integrate.jacobian import jac_fd
 
     lit = types.literal(kind)
     a1, a2 = typeof(np.zeros(1)), typeof(np.zeros((1, 1)))
@@ -204,7 +204,7 @@ def _jit_set(kind: int) -> KernelSet:
     if not _jit.HAVE_NUMBA:
         from stand.model.kernels import evaluate
         from stand.integrate.dop853 import dop853_loop
-        from stand.integrate.driver import jac_fd
+        from stand.integrate.jacobian import jac_fd
 
         return KernelSet(kind, "python", _with_workspace(dop853_loop, kind),
                          lambda *a: evaluate(kind, *a), lambda *a: jac_fd(kind, *a))

@@ -126,6 +126,10 @@ def weight_names(weights) -> tuple:
     return tuple(names), tuple(planes)
 
 
+#: recording format -> ("module:writer", source) (:mod:`stand.model.registry`): :meth:`Run.write`
+WRITERS = {"hdf5": ("stand.recording.hdf5:write_recording", "")}
+
+
 @dataclass(eq=False)
 class Run:
     """Sampled motion of the stand, SI units (module docstring).
@@ -328,9 +332,13 @@ class Run:
         return fig
 
     def write(self, path, *, writer=None, extra_attrs=None):
-        """Write the one HDF5 recording (atomically), :func:`stand.recording.hdf5.write_recording`."""
-        from stand.recording.hdf5 import write_recording
+        """Write the one HDF5 recording (atomically), :func:`stand.recording.hdf5.write_recording`.
 
+        The recording layer sits above this one (its :class:`~stand.recording.hdf5.Recording`
+        is a Run), so the writer is found by name through :mod:`stand.model.registry`."""
+        from stand.model.registry import resolve
+
+        write_recording = resolve(WRITERS, "hdf5", "recording format", "writer")
         return write_recording(self, path, writer=writer or self.instrument_writer,
                                extra_attrs=extra_attrs)
 

@@ -26,7 +26,7 @@ def _jit_extras(kind: int) -> None:
     numba = _jit.import_numba()
     from numba import typeof, types
 
-    from stand.integrate.driver import jac_fd
+    from stand.integrate.jacobian import jac_fd
     from stand.integrate.rk4 import rk4_loop
     from stand.model.kernels import evaluate
 

@@ -1,9 +1,8 @@
 """One validation module for every input table: typed getters whose messages name the key
 (as a dotted path), the value as the user wrote it, and the expected unit.
 
-Used by the scene files (:mod:`stand.scene.parse`, :mod:`stand.scene.structure_tables`,
-:mod:`stand.scene.book_tables`), the instruments' settings, the sweep and stress
-catalogues.  Every problem raises :class:`stand.scene.model.SceneError` (a
+Used by the scene files (every table through :mod:`stand.scene.tables`), the
+instruments' settings, the sweep and stress catalogues.  Every problem raises :class:`stand.scene.model.SceneError` (a
 ``ValueError``), e.g. ``balancer.mass = -0.045: must be > 0 (kg)``, with a
 "did you mean" suggestion for misspelt keys.
 """

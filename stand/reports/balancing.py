@@ -256,7 +256,7 @@ def _scene_warnings(rec, bq, dyn, w_service, final_speed, steady_len, warn, note
                  "balancer's capacity S; the weights cannot balance it (they gather on the light "
                  "side)")
     if scene.balancer.count and final_speed:
-        from stand.scene.model import dimensionless
+        from stand.scene.dimensionless import dimensionless
         from stand.theories.planar import qp
 
         try:

@@ -30,7 +30,10 @@ import math
 import numpy as np
 
 from stand.io.jsonable import to_jsonable
-from stand.scene.model import BookModel, RunSettings, Scene, SceneError, SpeedDrive
+from stand.io.validate import _Table, _fmt, _number
+from stand.scene.limits import MAX_CYCLES
+from stand.scene.model import BookModel, Scene, SceneError, SpeedDrive
+from stand.scene.tables import BOOK_RUN_KEYS, SI_MODELS, check_tables, run_table, scene_header
 
 __all__ = ["MODEL_TYPES", "parse_weight_model", "model_theory"]
 
@@ -41,11 +44,12 @@ MODEL_TYPES = {
     "liquid_float": ("stand.model.balancers.liquid_float:LiquidFloatParams", "paper 001"),
     "liquid_chamber": ("stand.model.balancers.liquid_chamber:LiquidChamberParams", "thesis 002"),
 }
-RUN_KEYS = ("duration", "samples", "initial", "rtol", "speed")
+RUN_KEYS = BOOK_RUN_KEYS
+TABLES = ("scene", "weight_model", "run")
 #: the models written in dimensionless ratios, and the largest |ratio| accepted
-DIMENSIONLESS_MODELS = ("two_axis", "gravity_pair", "damper")
+DIMENSIONLESS_MODELS = tuple(k for k in MODEL_TYPES if k not in SI_MODELS)
 MAX_RATIO = 1e6
-MAX_REVOLUTIONS = 1e8   #: as the planar scenes (stand.scene.parse.MAX_CYCLES)
+MAX_REVOLUTIONS = MAX_CYCLES   #: as the planar scenes
 
 
 def _module(kind):
@@ -58,69 +62,44 @@ def _module(kind):
     return importlib.import_module(cls.__module__), cls
 
 
-def _number(key, v, unit=""):
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(float(v)):
-        raise SceneError(f"{key} = {v!r}: must be a finite number{f' ({unit})' if unit else ''}")
-    return float(v)
-
-
 def parse_weight_model(data, text="", stem="") -> Scene:
     """Validate a ``[weight_model]`` document and build the :class:`Scene`."""
-    for k in data:
-        if k not in ("scene", "weight_model", "run"):
-            raise SceneError(f"unknown table [{k}] in a weight-model scene; valid: scene, weight_model, run")
-    if not isinstance(data.get("weight_model"), dict):
+    check_tables(data, TABLES, "weight-model")
+    if "weight_model" not in data:
         raise SceneError("missing table [weight_model]")
-    wm = dict(data["weight_model"])
+    wm = dict(_Table(data["weight_model"], "weight_model").data)
     kind = wm.pop("type", None)
     if kind not in MODEL_TYPES:
-        raise SceneError(f"weight_model.type = {kind!r}: valid: {', '.join(MODEL_TYPES)}")
+        raise SceneError(f"weight_model.type = {_fmt(kind)}: valid: {', '.join(MODEL_TYPES)}")
     _, cls = _module(kind)
     names = [f.name for f in dataclasses.fields(cls)]
+    unit = ("dimensionless" if kind in DIMENSIONLESS_MODELS
+            else f"SI units, see {cls.__module__}.{cls.__name__}")
     for k, v in wm.items():
         if k not in names:
             raise SceneError(f"weight_model.{k}: not a parameter of {kind}; valid: {', '.join(names)}")
-        _number(f"weight_model.{k}", v)
+        wm[k] = _number(f"weight_model.{k}", v, unit)
     try:
-        params = cls(**{k: float(v) for k, v in wm.items()})
+        params = cls(**wm)
     except (TypeError, ValueError) as exc:
         raise SceneError(f"[weight_model] ({kind}): {exc}") from None
     if kind in DIMENSIONLESS_MODELS:
         for k, v in wm.items():
-            if abs(float(v)) > MAX_RATIO:
-                raise SceneError(f"weight_model.{k} = {v!r}: out of the model's range (a dimensionless "
-                                 f"ratio, |value| <= {MAX_RATIO:g}: beyond it the model's time scales "
-                                 "differ too much for a run to end)")
-    run = data.get("run", {})
-    if not isinstance(run, dict):
-        raise SceneError("[run] must be a table")
-    run = dict(run)
-    for k in run:
-        if k not in RUN_KEYS:
-            raise SceneError(f"run.{k}: unknown; valid: {', '.join(RUN_KEYS)}")
-    si = kind in ("liquid_float", "liquid_chamber")
-    T = _number("run.duration", run.get("duration", 100.0 if not si else 10.0),
-                "s" if si else "tau = omega_0 t")
-    k = run.get("samples", 1001)
-    if isinstance(k, bool) or not isinstance(k, int) or not 2 <= k <= 10_000_000 or not T > 0:
-        raise SceneError(f"run.duration = {T!r} (> 0) and run.samples = {k!r} (an integer "
-                         "2..1e7) required")
-    rtol = _number("run.rtol", run.get("rtol", 1e-9))
-    if not 0 < rtol < 1:
-        raise SceneError(f"run.rtol = {rtol!r}: must be in (0, 1)")
-    if "speed" in run:
-        _number("run.speed", run["speed"], "rad/s")
+            if abs(v) > MAX_RATIO:
+                raise SceneError(f"weight_model.{k} = {_fmt(data['weight_model'][k])}: out of the "
+                                 f"model's range (a dimensionless ratio, |value| <= {MAX_RATIO:g}: "
+                                 "beyond it the model's time scales differ too much for a run to end)")
+    rt = _Table(data.get("run", {}), "run")
+    settings = run_table(rt, kind)
+    run = dict(rt.data)
+    T = settings.duration
     top = abs(_speed(kind, params, run)) + (2 * abs(params.epsilon) * T if kind == "liquid_float" else 0)
     if T * top / (2 * math.pi) > MAX_REVOLUTIONS:
         raise SceneError(f"run.duration = {T!r}: {T * top / (2 * math.pi):.3g} revolutions at the "
                          f"model's speed; at most {MAX_REVOLUTIONS:g}")
-    scene = data.get("scene", {})
-    name = scene.get("name", stem) if isinstance(scene, dict) else stem
-    desc = scene.get("description", "") if isinstance(scene, dict) else ""
-    settings = RunSettings(duration=T, sample_rate=(k - 1) / T, rtol=rtol, atol=1e-12,
-                           method="DOP853")
+    name, desc = scene_header(data, stem)
     return Scene(drive=SpeedDrive(np.array([[0.0, _speed(kind, params, run)]])), run=settings,
-                 name=str(name), text=text, description=str(desc),
+                 name=name, text=text, description=desc,
                  structure=BookModel(kind, params, MODEL_TYPES[kind][1], run))
 
 

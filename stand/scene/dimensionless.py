@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from stand.io.validate import _Table
+from stand.scene.limits import MAX_WEIGHTS
 from stand.scene.model import Balancer, InitialState, Rotor, Scene, SceneError, Supports, TorqueDrive
 
 __all__ = ["Dimensionless", "dimensionless", "scene_from_dimensionless"]
@@ -25,8 +26,6 @@ DIMENSIONLESS_KEYS = ("n", "Rt", "h", "H", "e0", "R_omega2", "unbalance_angle",
 
 def _dimensionless_params(t: _Table, angle_unit: str) -> dict:
     """Validated [dimensionless] values (angles still in ``angle_unit``)."""
-    from stand.scene.parse import MAX_WEIGHTS
-
     t.allow(DIMENSIONLESS_KEYS)
     n = t.integer("n", minimum=1, maximum=MAX_WEIGHTS)  # like balancer.count (memory)
     return dict(
@@ -140,7 +139,7 @@ def scene_from_dimensionless(n, Rt, h, H, e0, *, drive, run, R_omega2=1.0,
     """Build a ball-balancer scene from the book's dimensionless parameters.
 
     Identical point balls (j = 1) on one track, supports with equal damping;
-    the inverse of :func:`stand.scene.model.dimensionless` (5.12)-(5.14), (5.19)-(5.20).
+    the inverse of :func:`stand.scene.dimensionless.dimensionless` (5.12)-(5.14), (5.19)-(5.20).
 
     Parameters
     ----------

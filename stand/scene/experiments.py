@@ -230,7 +230,7 @@ def programme(scene: Scene, name: str, **options) -> Scene:
     sc = build(scene, **kw)
     if sc.kind == "planar":
         return check_derived(sc)
-    from stand.scene.structure_tables import _check_cycles
+    from stand.scene.structure_tables import check_cycles
 
-    _check_cycles(sc.linear_rotor(), sc.run, sc.drive.programme)
+    check_cycles(sc.linear_rotor(), sc.run, sc.drive.programme)
     return sc

@@ -7,7 +7,7 @@ rad/s, N/m, N*s/m, N*m*s.  Conversions from rev/s and degrees happen once, in
 the scene-file reader.
 
 The map to the book's dimensionless parameters (Filimonikhin 2004, (5.12)-(5.15);
-shared physics digest ch5 section 2.2) is :func:`dimensionless` and its inverse
+shared physics digest ch5 section 2.2) is :func:`stand.scene.dimensionless.dimensionless` and its inverse
 :func:`stand.scene.parse.scene_from_dimensionless`.
 """
 from __future__ import annotations
@@ -186,6 +186,15 @@ class TorqueDrive:
     kind: str = "torque"
 
 
+@dataclass(frozen=True)
+class RotorTorqueDrive(TorqueDrive):
+    """A torque drive (:class:`TorqueDrive`, the book's models 1-3) on a ``[structure]``
+    scene, with the rotor's polar moment of inertia about the shaft ``inertia`` [kg m^2]
+    (the planar scenes take it from ``rotor.inertia``)."""
+
+    inertia: float = None
+
+
 Drive = Union[SpeedDrive, TorqueDrive]
 
 
@@ -276,6 +285,25 @@ class InitialState:
     y: float = 0.0
     vx: float = 0.0
     vy: float = 0.0
+
+
+@dataclass(frozen=True)
+class PlaneWeights:
+    """Correction weights in one named plane of the rotor (a :class:`Balancer`).
+
+    Attributes
+    ----------
+    plane : str
+        A plane of the rotor (:attr:`Scene.planes`).
+    balancer : Balancer
+        The weights (balls or pendulums), SI.
+    friction : stand.model.balancers.friction.Friction or None
+        Dry friction of the weights on their track (None: viscous drag only).
+    """
+
+    plane: str
+    balancer: Balancer
+    friction: Optional["Friction"] = None    # noqa: F821 (stand.model.balancers.friction)
 
 
 @dataclass(frozen=True)
@@ -378,7 +406,7 @@ class Scene:
     description: str = ""
     #: None for the planar rotor; a RotorStructure or a BookModel otherwise
     structure: Union[RotorStructure, BookModel, None] = None
-    #: weights in named planes of ``structure`` (stand.model.rotors.coupled.PlaneWeights)
+    #: weights in named planes of ``structure`` (:class:`PlaneWeights`)
     plane_weights: tuple = ()
 
     def __post_init__(self):
@@ -411,12 +439,10 @@ class Scene:
     @property
     def weights(self) -> tuple:
         """The correction weights in their planes: a tuple of
-        :class:`stand.model.rotors.coupled.PlaneWeights` (empty without weights)."""
+        :class:`PlaneWeights` (empty without weights)."""
         if self.structure is None:
             if not self.balancer.count:
                 return ()
-            from stand.model.rotors.coupled import PlaneWeights
-
             return (PlaneWeights("balancer", self.balancer),)
         return tuple(w for w in self.plane_weights if hasattr(w, "balancer"))
 
@@ -514,10 +540,3 @@ class Scene:
             return self.rotor.unbalance / self.total_mass
         return 1e-3
 
-
-def __getattr__(name):  # the book's parameters live in stand.scene.dimensionless (re-exported lazily)
-    if name in ("Dimensionless", "dimensionless"):
-        from stand.scene import dimensionless as _d
-
-        return getattr(_d, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -41,13 +41,15 @@ from typing import Mapping
 
 import numpy as np
 
-from stand.model.balancers.friction import ROLLING_BALL_J, Friction
-from stand.scene.model import RotorStructure, Scene, SceneError, SpeedDrive
-from stand.scene.body_tables import BODY_TYPES, parse_body
-from stand.model.rotors.coupled_kernel import PlaneWeights
+from stand.io.validate import _Table, _fmt, _kind, _number
 from stand.model.rotors.structure import LinearRotor
+from stand.scene.instrument_tables import instrument_tables
+from stand.scene.limits import MAX_CYCLES
+from stand.scene.model import RotorStructure, Scene, SceneError
+from stand.scene.tables import (FRICTION_KEYS, check_tables, drive_table,  # noqa: F401 (re-exported)
+                                run_table, scene_header, weight_tables)
 
-__all__ = ["ROTOR_TYPES", "parse_family_scene", "build_rotor"]
+__all__ = ["ROTOR_TYPES", "parse_family_scene", "build_rotor", "check_cycles"]
 
 #: rotor type -> ("module:builder", book section) (stand.model.registry)
 ROTOR_TYPES = {
@@ -62,16 +64,6 @@ ROTOR_TYPES = {
     "platform": ("stand.model.rotors.platform:platform_rotor", "paper 004"),
 }
 TABLES = ("scene", "structure", "weights", "drive", "run", "instruments")
-#: dry-friction keys of a [[weights]] table (stand.model.balancers.friction)
-FRICTION_KEYS = ("friction", "static_friction", "slip_speed", "dwell_time", "release_time")
-
-
-def _body(item, where, plane, rotor, kind):
-    """A body weight (stand.scene.body_tables) in a plane of the rotor."""
-    if not isinstance(plane, str) or plane not in rotor.planes:
-        raise SceneError(f"{where}.plane = {plane!r}: not a plane of rotor type \"{kind}\"; "
-                         f"planes: {', '.join(rotor.planes)}")
-    return parse_body(item, where, plane, rotor)
 
 
 def _builder(kind: str):
@@ -82,9 +74,8 @@ def _builder(kind: str):
 
 def build_rotor(kind: str, params: Mapping) -> LinearRotor:
     """Build a LinearRotor of type ``kind`` from keyword parameters (SI)."""
-    from stand.scene.parse import _fmt, _kind
-
     fn = _builder(kind)
+    unit = f"SI units, see the builder {fn.__module__}.{fn.__name__}"
     sig = inspect.signature(fn)
     names = [p for p, v in sig.parameters.items()
              if v.kind in (v.POSITIONAL_OR_KEYWORD, v.KEYWORD_ONLY)]
@@ -105,21 +96,10 @@ def build_rotor(kind: str, params: Mapping) -> LinearRotor:
         if (numeric or seq) and (isinstance(v, (bool, str, dict)) or v is None
                                  or (numeric and isinstance(v, list))):
             raise SceneError(f"structure.{k} = {_fmt(v)}: must be "
-                             f"{'a list of numbers' if seq else 'a number'} (SI units, see the "
-                             f"builder {fn.__module__}.{fn.__name__}), not {_kind(v)}")
-        vals = v if isinstance(v, list) else [v]
-        for x in vals:
-            if isinstance(x, bool) or isinstance(x, str):
-                continue
-            if isinstance(x, dict):
-                continue
-            try:
-                finite = isinstance(x, (int, float)) and math.isfinite(float(x))
-            except OverflowError:
-                finite = False
-            if not finite:
-                raise SceneError(f"structure.{k} = {_fmt(v)}: must be a finite number (SI units, see "
-                                 f"the builder {fn.__module__}.{fn.__name__})")
+                             f"{'a list of numbers' if seq else 'a number'} ({unit}), not {_kind(v)}")
+        for i, x in enumerate(v if isinstance(v, list) else [v]):   # switches pass as given
+            if not isinstance(x, (bool, str, dict)):
+                _number(f"structure.{k}" + (f"[{i}]" if isinstance(v, list) else ""), x, unit)
     missing = [p for p, v in sig.parameters.items()
                if v.default is inspect.Parameter.empty and p not in params
                and v.kind in (v.POSITIONAL_OR_KEYWORD, v.KEYWORD_ONLY)]
@@ -137,12 +117,10 @@ def build_rotor(kind: str, params: Mapping) -> LinearRotor:
     return rotor
 
 
-def _check_cycles(rotor: LinearRotor, run, programme) -> None:
+def check_cycles(rotor: LinearRotor, run, programme) -> None:
     """Bound the run as the planar scenes are (stand.scene.parse.MAX_CYCLES): periods of the
     fastest natural frequency and rotor revolutions, so that no scene asks for a run
     that never ends (e.g. an absurd stiffness)."""
-    from stand.scene.parse import MAX_CYCLES
-
     wn = rotor.natural_frequencies(0.0)
     fastest = float(np.max(wn)) if wn.size else 0.0
     for label, w in (("periods of the fastest natural frequency "
@@ -158,108 +136,31 @@ def _check_cycles(rotor: LinearRotor, run, programme) -> None:
 
 def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:
     """Validate a ``[structure]`` document and build the :class:`Scene` (SI)."""
-    from stand.scene.parse import _Table, _balancer, _programme, _run
-
-    if not isinstance(data, Mapping):
-        raise SceneError(f"a rotor-family scene must be a table of tables, not {type(data).__name__}")
-    for key in data:
-        if key not in TABLES:
-            raise SceneError(f"unknown table [{key}] in a rotor-family scene; valid: {', '.join(TABLES)}")
+    check_tables(data, TABLES, "rotor-family")
     for key in ("structure", "drive", "run"):
         if key not in data:
             raise SceneError(f"missing table [{key}] (required)")
-    name, desc = stem, ""
-    if "scene" in data:
-        sc = _Table(data["scene"], "scene")
-        sc.allow(("name", "description"))
-        name = sc.string("name", default=stem)
-        desc = sc.string("description", default="")
+    name, desc = scene_header(data, stem)
     st = dict(_Table(data["structure"], "structure").data)
     kind = st.pop("type", None)
     if not isinstance(kind, str):
         raise SceneError(f"structure.type = {kind!r}: required, one of {', '.join(ROTOR_TYPES)}")
     rotor = build_rotor(kind, st)
-    weights = []
-    items = data.get("weights", [])
-    if not isinstance(items, list):
-        raise SceneError("[weights] must be an array of tables: write [[weights]]")
-    for i, item in enumerate(items):
-        if not isinstance(item, Mapping):
-            raise SceneError(f"weights[{i}]: must be a table")
-        item = dict(item)
-        plane = item.pop("plane", "balancer")
-        if item.get("type") in BODY_TYPES:
-            weights.append(_body(item, f"weights[{i}]", plane, rotor, kind))
-            continue
-        fkeys = {k: item.pop(k) for k in list(item) if k in FRICTION_KEYS}
-        rolling = item.pop("rolling", False)
-        if not isinstance(rolling, bool):
-            raise SceneError(f"weights[{i}].rolling = {rolling!r}: must be true or false (balls "
-                             "rolling without slip: inertia 7/5 m l^2, j = 5/7)")
-        if not isinstance(plane, str):
-            raise SceneError(f"weights[{i}].plane = {plane!r}: must be a string, one of "
-                             f"{', '.join(rotor.planes)}")
-        if plane not in rotor.planes:
-            raise SceneError(f'weights[{i}].plane = "{plane}": not a plane of rotor type "{kind}"; '
-                             f"planes: {', '.join(rotor.planes)}")
-        bal = _balancer(_Table(item, f"weights[{i}]"))
-        if rolling:
-            if bal.type != "balls":
-                raise SceneError(f"weights[{i}].rolling: only for balls")
-            import dataclasses
-
-            bal = dataclasses.replace(bal, inertia=bal.inertia / ROLLING_BALL_J)
-        fr = None
-        if fkeys:
-            from stand.scene.parse import _number
-
-            for k, v in fkeys.items():  # finite numbers (Friction checks the signs)
-                fkeys[k] = _number(f"weights[{i}].{k}", v, "see stand.model.balancers.friction")
-            try:
-                fr = Friction(kinetic=fkeys.get("friction", 0.0),
-                              static=fkeys.get("static_friction"),
-                              slip_speed=fkeys.get("slip_speed", 0.02),
-                              dwell_time=fkeys.get("dwell_time", 1.0),
-                              release_time=fkeys.get("release_time", 0.01))
-            except ValueError as exc:
-                raise SceneError(f"weights[{i}]: {exc}") from None
-        if bal.count:
-            weights.append(PlaneWeights(plane, bal, fr))
-    dt = _Table(data["drive"], "drive")
-    if dt.string("type", ("speed", "torque"), "speed") == "torque":
-        # the planar scenes' torque models (section 5.1.1) plus the rotor's polar moment of
-        # inertia about the shaft J_p (stand.model.rotors.coupled_kernel: phi and Omega are states)
-        from stand.scene.parse import _drive
-        from stand.model.rotors.coupled import RotorTorqueDrive
-
-        rest = {k: v for k, v in dt.data.items() if k != "inertia"}
-        inertia = dt.number("inertia", "kg*m^2, the rotor's polar moment of inertia about the "
-                            "shaft; required with a torque drive", gt=0)
-        td = _drive(_Table(rest, "drive"), 1.0)
-        drive = RotorTorqueDrive(**{f: getattr(td, f) for f in
-                                    ("model", "torque", "c1", "c2", "target_speed",
-                                     "rotor_drag", "initial_speed")}, inertia=inertia)
+    weights = weight_tables(data.get("weights", []), rotor, kind)
+    drive = drive_table(_Table(data["drive"], "drive"), 1.0, structure=True)
+    if drive.kind == "torque":
         programme = np.array([[0.0, max(drive.initial_speed, drive.target_speed)]])
     else:
-        dt.allow(("type", "programme"),
-                 lambda k: f'drive.{k}: only valid with drive.type = "torque"'
-                 if k in ("model", "torque", "c1", "c2", "target_speed", "rotor_drag",
-                          "initial_speed", "inertia") else None)
-        if "programme" not in dt:
-            raise SceneError("drive.programme: missing required key ([[t (s), speed (rev/s)], ...])")
-        programme = _programme(dt, "programme", 1.0)
-        drive = SpeedDrive(programme)
-    run = _run(_Table(data["run"], "run"))
-    _check_cycles(rotor, run, programme)
+        programme = drive.programme
+    run = run_table(_Table(data["run"], "run"))
+    check_cycles(rotor, run, programme)
     instruments = {}
     if "instruments" in data:   # the planar scenes' parser (plane / axial_position included)
-        from stand.scene.parse import _instruments
-
-        instruments = _instruments(_Table(data["instruments"], "instruments"),
-                                   tuple(rotor.planes), kind)
+        instruments = instrument_tables(_Table(data["instruments"], "instruments"),
+                                        tuple(rotor.planes), kind)
     scene = Scene(drive=drive, run=run, name=name, text=text, description=desc,
                   structure=RotorStructure(kind, st, rotor, ROTOR_TYPES[kind][1]),
-                  plane_weights=tuple(weights), instruments=instruments)
+                  plane_weights=weights, instruments=instruments)
     if instruments:
         from stand.instruments.placement import check_instruments
 

@@ -94,7 +94,7 @@ def point_parameters(scene) -> dict:
     """
     nan = math.nan
     if scene.kind == "planar":
-        from stand.scene.model import dimensionless
+        from stand.scene.dimensionless import dimensionless
 
         p = dimensionless(scene)
         H = p.H_x if p.H_x == p.H_y else 0.5 * (p.H_x + p.H_y)

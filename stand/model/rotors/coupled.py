@@ -15,7 +15,7 @@ from typing import Sequence
 import numpy as np
 
 from stand.model.programme import programme_kinematics, programme_kinematics_many
-from stand.scene.model import TorqueDrive
+from stand.scene.model import RotorTorqueDrive  # noqa: F401 (re-exported; it lives with the scene)
 from stand.model.rotors.bodies import body_channels, body_initial
 from stand.model.rotors.coupled_kernel import (H_W0, W_L, W_M, W_PLANE, CoupledModel, PlaneWeights, build_model,
                              rhs_generic, with_locked_weights)
@@ -24,15 +24,6 @@ from stand.model.rotors.structure import LinearRotor
 __all__ = ["PlaneWeights", "CoupledModel", "CoupledRun", "build_model", "simulate_coupled",
            "rhs_generic", "with_locked_weights", "initial_state", "samples_si",
            "RotorTorqueDrive"]
-
-
-@dataclass(frozen=True)
-class RotorTorqueDrive(TorqueDrive):
-    """A torque drive (:class:`stand.scene.model.TorqueDrive`, the book's models 1-3) on a
-    ``[structure]`` scene, with the rotor's polar moment of inertia about the shaft
-    ``inertia`` [kg m^2] (the planar scenes take it from ``rotor.inertia``)."""
-
-    inertia: float = None
 
 
 @dataclass

@@ -75,7 +75,7 @@ import numpy as np
 
 from stand._jit import njit
 from stand.model.programme import build_table, drive_torque_law, programme_kinematics
-from stand.scene.model import Balancer
+from stand.scene.model import PlaneWeights  # noqa: F401 (re-exported: the kernel's input)
 from stand.model.rotors.bodies import PlaneBody, body_rows
 from stand.model.rotors.bodies_kernel import (B_H1, B_H2, B_KIND, B_OFF, B_PLANE, N_BCOL, SPHERE, TILT,
                             body_derivatives, body_reaction)
@@ -97,15 +97,6 @@ DRIVE_MODELS = {"constant": 0, "speed_feedback": 1, "angle_feedback": 2}
 # static, slip speed, dwell, release), index of its adhesion state (-1: none)
 W_PLANE, W_M, W_L, W_J, W_H, W_MUK, W_MUS, W_VS, W_TD, W_TR, W_Z = range(11)
 N_WCOL = 11
-
-
-@dataclass(frozen=True)
-class PlaneWeights:
-    """Correction weights in one named plane of the rotor (a :class:`stand.scene.model.Balancer`)."""
-
-    plane: str
-    balancer: Balancer
-    friction: Optional["Friction"] = None    # stand.model.balancers.friction.Friction
 
 
 def with_locked_weights(rotor: LinearRotor, weights: Sequence[PlaneWeights],

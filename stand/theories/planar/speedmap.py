@@ -22,7 +22,8 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from stand.model.planar import build_planar_model
-from stand.scene.model import Scene, SpeedDrive, dimensionless
+from stand.scene.dimensionless import dimensionless
+from stand.scene.model import Scene, SpeedDrive
 from stand.theories.planar import main_motion as mm
 from stand.theories.planar import qp
 from stand.theories.planar import side

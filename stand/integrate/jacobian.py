@@ -1,0 +1,30 @@
+"""The finite-difference Jacobian of a compiled right-hand side (scipy's implicit methods).
+
+Used by :mod:`stand.integrate.kernel_set` (the implicit solvers' ``jac``) and compiled
+ahead by :mod:`stand.integrate.warmup`; a module of its own so that the integrator
+driver and the kernel set both import it and not each other.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from stand._jit import literally, njit
+from stand.model.kernels import rhs
+
+__all__ = ["jac_fd"]
+
+
+@njit(cache=True)
+def jac_fd(kind, t, y, f0, sp, wt, prog, J):
+    """Forward-difference Jacobian of model ``kind``'s right-hand side into ``J``."""
+    literally(kind)
+    n = y.shape[0]
+    yy = y.copy()
+    df = np.empty(n)
+    for i in range(n):
+        dh = 1.5e-8 * max(1.0, abs(y[i]))
+        yy[i] = y[i] + dh
+        rhs(kind, t, yy, df, sp, wt, prog)
+        for k in range(n):
+            J[k, i] = (df[k] - f0[k]) / dh
+        yy[i] = y[i]

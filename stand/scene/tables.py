@@ -1,0 +1,405 @@
+"""Every table of a scene file, each read by one function whatever the scene's form.
+
+The three forms (:mod:`stand.scene.parse`: the planar tables or ``[dimensionless]``;
+:mod:`stand.scene.structure_tables`: ``[structure]`` + ``[[weights]]``;
+:mod:`stand.scene.book_tables`: ``[weight_model]``) assemble their Scene from these
+readers: ``[scene]`` (:func:`scene_header`), ``[run]`` (:func:`run_table`), ``[drive]``
+(:func:`drive_table`), ``[[weights]]`` (:func:`weight_tables`), ``[balancer]``,
+``[rotor]``, ``[supports]``, ``[initial]``, ``[[perturbation]]``; the instruments are
+read by :mod:`stand.scene.instrument_tables`.  Every value goes through the getters of
+:mod:`stand.io.validate`, so every message names the key as a dotted path, the value
+and the unit.  Units in the file are SI except angles (degrees) and rotor and weight
+speeds (rev/s); they are converted here, once.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import Any, Mapping, Optional
+
+import numpy as np
+
+from stand.io.validate import _Table, _fmt, _kind, _number, _suggest
+from stand.model.balancers.friction import ROLLING_BALL_J, Friction
+from stand.scene.body_tables import BODY_TYPES, parse_body
+from stand.scene.limits import MAX_SAMPLES, MAX_WEIGHTS
+from stand.scene.model import (METHODS, Balancer, Impulse, InitialState, PlaneWeights, Rotor,
+                               RotorTorqueDrive, RunSettings, SceneError, SideForce, SpeedDrive,
+                               Supports, TorqueDrive, UnbalanceChange)
+
+__all__ = ["check_tables", "scene_header", "rotor_table", "supports_table", "balancer_table",
+           "programme_table", "drive_table", "run_table", "initial_table",
+           "perturbation_tables", "weight_tables"]
+
+TWO_PI = 2.0 * math.pi
+DEG = math.pi / 180.0
+
+#: tables of a planar (or ``[dimensionless]``) scene
+TABLES = ("scene", "rotor", "supports", "balancer", "drive", "run", "initial", "dimensionless",
+          "instruments", "perturbation", "weights")
+PERTURBATION_KEYS = {
+    "unbalance": ("type", "time", "duration", "eccentricity", "unbalance_angle"),
+    "impulse": ("type", "time", "velocity_x", "velocity_y"),
+    "side_force": ("type", "start", "end", "force_x", "force_y", "stiffness_x", "stiffness_y"),
+}
+SCENE_KEYS = ("name", "description")
+ROTOR_KEYS = ("mass", "eccentricity", "unbalance_angle", "inertia")
+SUPPORT_KEYS = ("stiffness", "stiffness_x", "stiffness_y", "damping", "damping_x", "damping_y")
+BALANCER_KEYS = ("type", "count", "mass", "radius", "drag", "inertia",
+                 "initial_angles", "initial_speeds")
+SPEED_KEYS = ("type", "programme", "programme_dimensionless", "coast_down", "rotor_drag")
+TORQUE_KEYS = ("type", "model", "rotor_drag", "initial_speed")
+TORQUE_MODEL_KEYS = {
+    "constant": ("torque",),
+    "speed_feedback": ("c1", "target_speed"),
+    "angle_feedback": ("c1", "c2", "target_speed"),
+}
+RUN_KEYS = ("duration", "sample_rate", "rtol", "atol", "method", "max_steps")
+INITIAL_KEYS = ("x", "y", "vx", "vy")
+#: ``[run]`` of a book weight model (:mod:`stand.scene.book_tables`)
+BOOK_RUN_KEYS = ("duration", "samples", "initial", "rtol", "speed")
+#: book weight models written in SI (time in s); the others in tau = omega_0 t
+SI_MODELS = ("liquid_float", "liquid_chamber")
+#: dry-friction keys of a ball/pendulum ``[[weights]]`` table (stand.model.balancers.friction)
+FRICTION_KEYS = ("friction", "static_friction", "slip_speed", "dwell_time", "release_time")
+#: the keys a ``[structure]`` scene's torque drive does not share with a speed drive
+_TORQUE_ONLY = ("model", "torque", "c1", "c2", "target_speed", "rotor_drag", "initial_speed",
+                "inertia")
+
+
+def check_tables(data: Any, valid, form: str = "") -> None:
+    """A scene document is a table of tables, each one of ``valid`` (``form`` names the
+    scene's form in the messages, e.g. ``"rotor-family"``)."""
+    a = f"a {form} scene" if form else "a scene"
+    if not isinstance(data, Mapping):
+        raise SceneError(f"{a} must be a table of tables, not {_kind(data)}")
+    for key in data:
+        if key not in valid:
+            raise SceneError(f"unknown table [{key}]{f' in {a}' if form else ''}: "
+                             f"{_suggest(key, valid)}valid tables: {', '.join(valid)}")
+
+
+def scene_header(data: Mapping, default_name: str = "") -> tuple:
+    """``(name, description)`` from the optional ``[scene]`` table (every form)."""
+    if "scene" not in data:
+        return default_name, ""
+    t = _Table(data["scene"], "scene")
+    t.allow(SCENE_KEYS)
+    return t.string("name", default=default_name), t.string("description", default="")
+
+
+def rotor_table(t: _Table) -> Rotor:
+    """``[rotor]`` of a planar scene (SI; the unbalance angle in degrees)."""
+    t.allow(ROTOR_KEYS)
+    return Rotor(
+        mass=t.number("mass", "kg", gt=0),
+        eccentricity=t.number("eccentricity", "m", 0.0, ge=0),
+        unbalance_angle=t.number("unbalance_angle", "deg", 0.0) * DEG,
+        inertia=t.number("inertia", "kg*m^2", None, gt=0),
+    )
+
+
+def supports_table(t: _Table) -> Supports:
+    """``[supports]``: stiffness and damping per axis, or one value for both."""
+    t.allow(SUPPORT_KEYS)
+    values = {}
+    for what, unit, bounds in (("stiffness", "N/m", {"gt": 0}), ("damping", "N*s/m", {"ge": 0})):
+        both = t.number(what, unit, None, **bounds)
+        for axis in ("x", "y"):
+            key = f"{what}_{axis}"
+            if both is not None and key in t:
+                raise SceneError(f"{t.name(what)} and {t.name(key)} are both given: use either "
+                                 f"{what} (both axes) or {what}_x and {what}_y")
+            if both is not None:
+                values[key] = both
+            elif what == "stiffness" and key not in t:
+                raise SceneError(f"{t.name(key)}: missing required key ({unit}); give "
+                                 f"stiffness_x and stiffness_y, or stiffness for both axes")
+            else:
+                values[key] = t.number(key, unit, 0.0, **bounds)
+    return Supports(**values)
+
+
+def balancer_table(t: _Table) -> Balancer:
+    """Balls or pendulums: the planar ``[balancer]`` and each ball/pendulum ``[[weights]]``."""
+    t.allow(BALANCER_KEYS)
+    kind = t.string("type", ("balls", "pendulums", "none"))
+    if kind == "none":
+        t.allow(("type",), lambda k: f"{t.name(k)} = {_fmt(t.data[k])}: not allowed with "
+                                     f'balancer.type = "none" (only type is allowed)')
+        return Balancer()
+    t.allow([k for k in BALANCER_KEYS if kind == "pendulums" or k != "inertia"],
+            lambda k: f"{t.name(k)} = {_fmt(t.data[k])}: not allowed for balls (point "
+                      f"masses: the inertia about the shaft is m l^2)")
+    n = t.integer("count", minimum=1, maximum=MAX_WEIGHTS)
+    count_key = t.name("count")
+    m = t.per_weight("mass", n, count_key, "kg", gt=0)
+    l = t.per_weight("radius", n, count_key, "m", gt=0)
+    drag_unit = "N*s/m" if kind == "balls" else "N*m*s"
+    drag = t.per_weight("drag", n, count_key, drag_unit, 0.0, ge=0)
+    with np.errstate(all="ignore"):  # overflow is reported by check_derived
+        point = m * l ** 2
+    J = point
+    if kind == "pendulums":
+        J = t.per_weight("inertia", n, count_key, "kg*m^2", None, gt=0)
+        if J is None:
+            J = point
+        for i in np.flatnonzero(J < point * (1.0 - 1e-12)):
+            name = t.name("inertia") + (f"[{i}]" if isinstance(t.data["inertia"], list) else "")
+            raise SceneError(f"{name} = {_fmt(float(J[i]))}: must be >= m l^2 = "
+                             f"{float(point[i]):.6g} (kg*m^2, inertia about the shaft axis; "
+                             f"parallel-axis theorem)")
+    angles = t.per_weight("initial_angles", n, count_key, "deg", None, scalar=False)
+    if angles is None:
+        angles = 360.0 * np.arange(n) / n
+    speeds = t.per_weight("initial_speeds", n, count_key, "rev/s", 0.0)
+    return Balancer(type=kind, mass=m, radius=l, drag=drag, inertia=np.asarray(J, float),
+                    initial_angles=angles * DEG, initial_speeds=speeds * TWO_PI)
+
+
+def programme_table(t: _Table, key: str, w1: float) -> np.ndarray:
+    """[[t, speed], ...] -> ndarray (k, 2) in s and rad/s."""
+    name, value = t.name(key), t.data[key]
+    dimless = key == "programme_dimensionless"
+    units = ("tau = omega_1 t", "R_omega = omega/omega_1") if dimless else ("s", "rev/s")
+    if not isinstance(value, (list, tuple)) or not value:
+        raise SceneError(f"{name} = {_fmt(value)}: must be a non-empty list of "
+                         f"[time ({units[0]}), speed ({units[1]})] pairs")
+    rows = []
+    for i, pair in enumerate(value):
+        if not isinstance(pair, (list, tuple)) or len(pair) != 2:
+            raise SceneError(f"{name}[{i}] = {_fmt(pair)}: must be a "
+                             f"[time ({units[0]}), speed ({units[1]})] pair")
+        time = _number(f"{name}[{i}][0]", pair[0], units[0], ge=0)
+        speed = _number(f"{name}[{i}][1]", pair[1], units[1], ge=0)
+        if rows and time <= rows[-1][0]:
+            raise SceneError(f"{name}[{i}][0] = {_fmt(pair[0])}: times must be strictly "
+                             f"increasing ({units[0]}); the previous time is {_fmt(rows[-1][0])}")
+        rows.append((time, speed))
+    prog = np.array(rows, dtype=float)
+    if dimless:
+        prog[:, 0] /= w1
+        prog[:, 1] *= w1
+    else:
+        prog[:, 1] *= TWO_PI
+    return prog
+
+
+def drive_table(t: _Table, w1: float, structure: bool = False):
+    """``[drive]``: a :class:`SpeedDrive` (programme in s and rev/s, or dimensionless with
+    ``w1`` = omega_1 [rad/s]) or a :class:`TorqueDrive` (the book's models 1-3).
+
+    With ``structure`` (a ``[structure]`` scene, no single omega_1): ``type`` defaults to
+    ``"speed"``, a speed drive is a plain ``programme``, and a torque drive also takes the
+    rotor's polar moment of inertia ``inertia`` (:class:`RotorTorqueDrive`).
+    """
+    if structure:
+        return _structure_drive(t)
+    t.allow(SPEED_KEYS + TORQUE_KEYS + ("torque", "c1", "c2", "target_speed"))
+    kind = t.string("type", ("speed", "torque"))
+    other = "torque" if kind == "speed" else "speed"
+    if kind == "speed":
+        t.allow(SPEED_KEYS, lambda k: f"{t.name(k)} = {_fmt(t.data[k])}: only valid with "
+                                      f'drive.type = "{other}"')
+        given = [k for k in ("programme", "programme_dimensionless") if k in t]
+        if len(given) != 1:
+            raise SceneError(f"{t.name('programme')}: give exactly one of drive.programme "
+                             f"[[t (s), speed (rev/s)], ...] and drive.programme_dimensionless "
+                             f"[[tau, R_omega], ...] (got {len(given)})")
+        start = T = None
+        if "coast_down" in t:
+            cd = _Table(t.data["coast_down"], t.name("coast_down"))
+            cd.allow(("start", "time_constant"))
+            start = cd.number("start", "s", gt=0)
+            T = cd.number("time_constant", "s", gt=0)
+        return SpeedDrive(programme=programme_table(t, given[0], w1), coast_down_start=start,
+                          coast_down_time_constant=T,
+                          rotor_drag=t.number("rotor_drag", "N*m*s", 0.0, ge=0))
+    model = t.string("model", tuple(TORQUE_MODEL_KEYS))
+    used = TORQUE_MODEL_KEYS[model]
+
+    def why(k):
+        if k in SPEED_KEYS:
+            return f'{t.name(k)} = {_fmt(t.data[k])}: only valid with drive.type = "speed"'
+        users = [m for m, keys in TORQUE_MODEL_KEYS.items() if k in keys]
+        return (f'{t.name(k)} = {_fmt(t.data[k])}: not used by drive.model = "{model}" '
+                f"(used by: {', '.join(users)})")
+
+    t.allow(TORQUE_KEYS + used, why)
+    get = {
+        "torque": lambda: t.number("torque", "N*m"),
+        "c1": lambda: t.number("c1", "N*m*s", ge=0),
+        "c2": lambda: t.number("c2", "N*m/rad", ge=0),
+        "target_speed": lambda: t.number("target_speed", "rev/s", ge=0) * TWO_PI,
+    }
+    return TorqueDrive(model=model, **{k: get[k]() for k in used},
+                       rotor_drag=t.number("rotor_drag", "N*m*s", 0.0, ge=0),
+                       initial_speed=t.number("initial_speed", "rev/s", 0.0, ge=0) * TWO_PI)
+
+
+def run_table(t: _Table, model: Optional[str] = None) -> RunSettings:
+    """``[run]``: duration, sample rate, tolerances, method.
+
+    For a book weight model (``model`` its type, :mod:`stand.scene.book_tables`) the
+    model's own form: ``duration`` in its time unit (s for the liquids, else
+    tau = omega_0 t), ``samples``, ``rtol``, ``speed`` [rad/s] and ``initial`` (checked
+    by the model's run); the model's integration is always DOP853 with atol 1e-12.
+    """
+    if model is not None:
+        return _book_run(t, model)
+    t.allow(RUN_KEYS)
+    run = RunSettings(
+        duration=t.number("duration", "s", gt=0),
+        sample_rate=t.number("sample_rate", "Hz", gt=0),
+        rtol=t.number("rtol", "relative tolerance", 1e-8, gt=0, lt=0.1),
+        atol=t.number("atol", "absolute tolerance, dimensionless state", 1e-10, gt=0, lt=1),
+        method=t.string("method", METHODS, "auto"),
+        max_steps=t.integer("max_steps", 1, 10_000_000),
+    )
+    samples = run.duration * run.sample_rate
+    if samples > MAX_SAMPLES:
+        raise SceneError(f"run.duration * run.sample_rate = {run.duration:g} s * "
+                         f"{run.sample_rate:g} Hz = {samples:.3g} samples: more than "
+                         f"{MAX_SAMPLES:.0e} (memory); shorten run.duration or lower "
+                         f"run.sample_rate")
+    return run
+
+
+def initial_table(t: _Table) -> InitialState:
+    """``[initial]``: the shaft's initial displacement [m] and velocity [m/s]."""
+    t.allow(INITIAL_KEYS)
+    units = {"x": "m", "y": "m", "vx": "m/s", "vy": "m/s"}
+    return InitialState(**{k: t.number(k, u, 0.0) for k, u in units.items()})
+
+
+def perturbation_tables(items: Any, rotor: Rotor, duration: float) -> tuple:
+    """Parse ``[[perturbation]]`` (tables 4.5-4.6): unbalance change, impulse, side force."""
+    if not isinstance(items, list):
+        raise SceneError("perturbation: must be an array of tables [[perturbation]], not "
+                         f"{_kind(items)}")
+    out = []
+    for i, item in enumerate(items):
+        t = _Table(item, f"perturbation[{i}]")
+        kind = t.string("type", tuple(PERTURBATION_KEYS))
+        t.allow(PERTURBATION_KEYS[kind], lambda k, kind=kind: (
+            f"{t.name(k)}: not a key of a perturbation of type \"{kind}\" (valid: "
+            f"{', '.join(PERTURBATION_KEYS[kind])})"))
+        if kind == "unbalance":
+            start = t.number("time", "s", ge=0)
+            out.append(UnbalanceChange(
+                start=start, duration=t.number("duration", "s", 0.0, ge=0),
+                eccentricity=t.number("eccentricity", "m", rotor.eccentricity, ge=0),
+                unbalance_angle=t.number("unbalance_angle", "deg", rotor.unbalance_angle / DEG) * DEG))
+        elif kind == "impulse":
+            out.append(Impulse(start=t.number("time", "s", gt=0),
+                               velocity_x=t.number("velocity_x", "m/s", 0.0),
+                               velocity_y=t.number("velocity_y", "m/s", 0.0)))
+        else:
+            start = t.number("start", "s", ge=0)
+            end = t.number("end", "s", math.inf, gt=start) if "end" in t else math.inf
+            out.append(SideForce(start=start, end=end, force_x=t.number("force_x", "N", 0.0),
+                                 force_y=t.number("force_y", "N", 0.0),
+                                 stiffness_x=t.number("stiffness_x", "N/m", 0.0, ge=0),
+                                 stiffness_y=t.number("stiffness_y", "N/m", 0.0, ge=0)))
+        if out[-1].start > duration:
+            raise SceneError(f"{t.name('time' if kind != 'side_force' else 'start')} = "
+                             f"{out[-1].start:g}: after the end of the run (run.duration = {duration:g} s)")
+    return tuple(out)
+
+
+def _book_run(t: _Table, model: str) -> RunSettings:
+    """``[run]`` of a book weight model (:func:`run_table`)."""
+    t.allow(BOOK_RUN_KEYS)
+    si = model in SI_MODELS
+    duration = t.number("duration", "s" if si else "tau = omega_0 t", 10.0 if si else 100.0,
+                        gt=0)
+    samples = t.integer("samples", minimum=2, default=1001, maximum=10_000_000)
+    rtol = t.number("rtol", "relative tolerance", 1e-9, gt=0, lt=1)
+    if "speed" in t:
+        t.number("speed", "rad/s")
+    return RunSettings(duration=float(duration), sample_rate=(samples - 1) / duration,
+                       rtol=float(rtol), atol=1e-12, method="DOP853")
+
+
+def _structure_drive(t: _Table):
+    """``[drive]`` of a ``[structure]`` scene (:func:`drive_table`)."""
+    if t.string("type", ("speed", "torque"), "speed") == "torque":
+        # the planar scenes' torque models (section 5.1.1) plus the rotor's polar moment of
+        # inertia about the shaft J_p (stand.model.rotors.coupled_kernel: phi and Omega are states)
+        rest = {k: v for k, v in t.data.items() if k != "inertia"}
+        inertia = t.number("inertia", "kg*m^2, the rotor's polar moment of inertia about the "
+                           "shaft; required with a torque drive", gt=0)
+        td = drive_table(_Table(rest, t.path), 1.0)
+        return RotorTorqueDrive(**{f: getattr(td, f) for f in _TORQUE_ONLY[:-1]}, inertia=inertia)
+    t.allow(("type", "programme"),
+            lambda k: f'{t.name(k)}: only valid with drive.type = "torque"'
+            if k in _TORQUE_ONLY else None)
+    if "programme" not in t:
+        raise SceneError(f"{t.name('programme')}: missing required key ([[t (s), speed (rev/s)], ...])")
+    return SpeedDrive(programme_table(t, "programme", 1.0))
+
+
+def weight_tables(items: Any, rotor, kind: str, planar: bool = False) -> tuple:
+    """``[[weights]]``: weights in named planes of ``rotor`` (a LinearRotor of type ``kind``).
+
+    Body kinds (:data:`stand.scene.body_tables.BODY_TYPES`) become
+    :class:`stand.model.rotors.bodies.PlaneBody`; balls and pendulums (the keys of
+    ``[balancer]``, plus dry friction :data:`FRICTION_KEYS` and ``rolling``) become
+    :class:`PlaneWeights`.  On a ``planar`` scene the one plane is ``"balancer"`` and balls
+    and pendulums belong in ``[balancer]``.
+    """
+    if not isinstance(items, list):
+        raise SceneError("[weights] must be an array of tables: write [[weights]]")
+    out = []
+    for i, item in enumerate(items):
+        where = f"weights[{i}]"
+        if not isinstance(item, Mapping):
+            raise SceneError(f"{where}: must be a table")
+        item = dict(item)
+        plane = item.pop("plane", "balancer")
+        if planar and plane != "balancer":
+            raise SceneError(f'{where}.plane = {_fmt(plane)}: the planar rotor has one plane, '
+                             '"balancer"')
+        if not isinstance(plane, str):
+            raise SceneError(f"{where}.plane = {_fmt(plane)}: must be a string, one of "
+                             f"{', '.join(rotor.planes)}")
+        if plane not in rotor.planes:
+            raise SceneError(f'{where}.plane = "{plane}": not a plane of rotor type "{kind}"; '
+                             f"planes: {', '.join(rotor.planes)}")
+        if item.get("type") in BODY_TYPES:
+            out.append(parse_body(item, where, plane, rotor))
+        elif planar:
+            raise SceneError(f"{where}.type = {_fmt(item.get('type'))}: one of "
+                             f"{', '.join(BODY_TYPES)} (balls and pendulums go in [balancer])")
+        else:
+            weights = _plane_weights(item, where, plane)
+            if weights.balancer.count:
+                out.append(weights)
+    return tuple(out)
+
+
+def _plane_weights(item: dict, where: str, plane: str) -> PlaneWeights:
+    """Balls or pendulums of one ``[[weights]]`` table, with their friction (SI)."""
+    fkeys = {k: item.pop(k) for k in list(item) if k in FRICTION_KEYS}
+    rolling = item.pop("rolling", False)
+    if not isinstance(rolling, bool):
+        raise SceneError(f"{where}.rolling = {_fmt(rolling)}: must be true or false (balls "
+                         "rolling without slip: inertia 7/5 m l^2, j = 5/7)")
+    bal = balancer_table(_Table(item, where))
+    if rolling:
+        if bal.type != "balls":
+            raise SceneError(f"{where}.rolling: only for balls")
+        bal = dataclasses.replace(bal, inertia=bal.inertia / ROLLING_BALL_J)
+    friction = None
+    if fkeys:
+        for k, v in fkeys.items():  # finite numbers (Friction checks the signs)
+            fkeys[k] = _number(f"{where}.{k}", v, "see stand.model.balancers.friction")
+        try:
+            friction = Friction(kinetic=fkeys.get("friction", 0.0),
+                                static=fkeys.get("static_friction"),
+                                slip_speed=fkeys.get("slip_speed", 0.02),
+                                dwell_time=fkeys.get("dwell_time", 1.0),
+                                release_time=fkeys.get("release_time", 0.01))
+        except ValueError as exc:
+            raise SceneError(f"{where}: {exc}") from None
+    return PlaneWeights(plane, bal, friction)
