@@ -7,8 +7,8 @@ each weight's coordinates by name, the solver statistics shaped like SciPy's
 ``OdeResult`` (``status``, ``message``, ``success``, ``nfev``, ``njev``,
 ``nlu``), and the scene.  :meth:`Run.to_frame` gives a pandas DataFrame with
 SI columns (units in the names), :meth:`Run.write` the one HDF5 recording
-(:mod:`stand.recording.hdf5`), which :func:`stand.read` turns back into a
-:class:`stand.recording.hdf5.Recording` with the same fields.
+(:mod:`stand.recording.write`), which :func:`stand.read` turns back into a
+:class:`stand.recording.read.Recording` with the same fields.
 
 Channel names (also the recording's dataset paths)::
 
@@ -159,7 +159,7 @@ class Run:
         Samples at extra times requested by the instruments.
     notes : tuple of str
         What a reader should know (e.g. a book model's units); a
-        :class:`stand.recording.hdf5.Recording` adds what the reader filled in.
+        :class:`stand.recording.read.Recording` adds what the reader filled in.
     """
 
     t: np.ndarray
@@ -328,8 +328,8 @@ class Run:
         return fig
 
     def write(self, path, *, writer=None, extra_attrs=None):
-        """Write the one HDF5 recording (atomically), :func:`stand.recording.hdf5.write_recording`."""
-        from stand.recording.hdf5 import write_recording
+        """Write the one HDF5 recording (atomically), :func:`stand.recording.write.write_recording`."""
+        from stand.recording.write import write_recording
 
         return write_recording(self, path, writer=writer or self.instrument_writer,
                                extra_attrs=extra_attrs)
