@@ -31,7 +31,7 @@ import numpy as np
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
 
-__all__ = ["Run", "SolverStats", "weight_names"]
+__all__ = ["Run", "SolverStats", "weight_names", "column_unit"]
 
 #: units of the weights' standard coordinates
 WEIGHT_UNITS = {"angle": "rad", "speed": "rad/s", "relative_angle": "rad", "tilt": "rad",
@@ -112,6 +112,12 @@ class SolverStats(_OdeResult):
         return dumps(dict(self))
 
 
+def column_unit(units: str) -> str:
+    """Units as the end of a table column's name: ``"rad/s"`` -> ``"rad_s"``, ``"kg*m"`` ->
+    ``"kgm"``, ``""`` -> ``"1"`` (:meth:`Run.to_frame`, the instruments' tables)."""
+    return units.replace("/", "_").replace("*", "").replace(" ", "").replace("^", "") or "1"
+
+
 def weight_names(weights) -> tuple:
     """``(names, planes)`` of the weights of a scene's ``weights`` (PlaneWeights), numbered
     across the scene: ``ball1, ball2, ...`` / ``pendulum1, ...``."""
@@ -160,6 +166,10 @@ class Run:
     notes : tuple of str
         What a reader should know (e.g. a book model's units); a
         :class:`stand.recording.read.Recording` adds what the reader filled in.
+    instruments : mapping of str -> instrument output
+        What the scene's instruments output, in memory: frames rendered on demand, readings,
+        truth (:class:`stand.instruments.outputs.InstrumentOutputs`); empty without
+        instruments.  :meth:`write` stores them (its ``writer``).
     """
 
     t: np.ndarray
@@ -176,8 +186,7 @@ class Run:
     state: Optional[np.ndarray] = field(repr=False, default=None)
     extra: Optional["Run"] = field(repr=False, default=None)
     notes: tuple = ()
-    #: writes the instruments' frames and truth into the open recording (stand.instruments)
-    instrument_writer: Optional[Any] = field(repr=False, default=None)
+    instruments: Any = field(repr=False, default_factory=dict)
 
     UNITS = {"t": "s", "x": "m", "y": "m", "rotor_angle": "rad", "rotor_speed": "rad/s",
              "weight_angle": "rad", "weight_speed": "rad/s"}
@@ -285,9 +294,7 @@ class Run:
         """
         import pandas as pd
 
-        def unit(u):
-            return u.replace("/", "_").replace("*", "").replace(" ", "").replace("^", "") or "1"
-
+        unit = column_unit
         cols = {"t_s": self.t, "x_m": self.x, "y_m": self.y}
         for p, xy in self.planes.items():
             if p != self.main_plane:
@@ -328,10 +335,11 @@ class Run:
         return fig
 
     def write(self, path, *, writer=None, extra_attrs=None):
-        """Write the one HDF5 recording (atomically), :func:`stand.recording.write.write_recording`."""
+        """Write the one HDF5 recording (atomically), :func:`stand.recording.write.write_recording`,
+        with the instruments' output (``writer``: default :attr:`instruments`' writer)."""
         from stand.recording.write import write_recording
 
-        return write_recording(self, path, writer=writer or self.instrument_writer,
+        return write_recording(self, path, writer=writer or getattr(self.instruments, "writer", None),
                                extra_attrs=extra_attrs)
 
     def __len__(self) -> int:
