@@ -107,7 +107,9 @@ def test_photogate_period_and_passes(nf_run, tmp_path):
 
 def test_stroboscope_frames_and_flashes(cameras_run, tmp_path):
     strobe = cameras_run.instruments["stroboscope"]
+    assert strobe.readings["flash_time"].shape[1] == strobe.settings.exposure_flashes
     n = strobe.n_frames
+    assert strobe.readings["flash_time"].shape[0] == n
     assert 0 < n <= 200
     out = cameras_run.write(tmp_path / "cams.h5")
     with h5py.File(out) as f:

@@ -316,8 +316,28 @@ class StroboscopeOutput(InstrumentOutput):
     def _all(self) -> list:
         if self._frames is None:
             self._frames = list(self.rendered())
-            self.readings, self.truth = flash_tables(self._frames)
+            self._readings, self._truth = flash_tables(self._frames)
         return self._frames
+
+    @property
+    def readings(self) -> dict:
+        """``flash_time`` [s] and ``flash_rotor_angle`` [rad] (frame, flash) (renders the frames)."""
+        self._all()
+        return self._readings
+
+    @readings.setter
+    def readings(self, value: dict) -> None:
+        self._readings = value
+
+    @property
+    def truth(self) -> dict:
+        """``relative_angle``, ``centre_px``, ``bodies`` (class docstring; renders the frames)."""
+        self._all()
+        return self._truth
+
+    @truth.setter
+    def truth(self, value: dict) -> None:
+        self._truth = value
 
     @property
     def n_frames(self) -> int:
