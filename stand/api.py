@@ -61,10 +61,9 @@ def run(scene, method: Optional[str] = None, rtol: Optional[float] = None,
     if scene.instruments:
         from stand.instruments.pipeline import run_with_instruments
 
-        res, writer = run_with_instruments(scene, method=method, progress=progress,
-                                           checkpoint=checkpoint, rtol=rtol, atol=atol)
-        res.instrument_writer = writer
-        return res
+        res, _ = run_with_instruments(scene, method=method, progress=progress,
+                                      checkpoint=checkpoint, rtol=rtol, atol=atol)
+        return res   # res.instruments: the output in memory; res.write stores it
     from stand.integrate.simulate import simulate
 
     return simulate(scene, method=method, rtol=rtol, atol=atol, progress=progress,

@@ -1,2 +1,6 @@
-"""The ``stand`` command line: :mod:`.parser` (commands and their arguments), :mod:`.main` (thin
-layer: parse, call the library, print)."""
+"""The ``stand`` command line, a thin layer (parse, call the library, print):
+:mod:`.main` (the entry point ``stand.cli.main:main``: guards, error lines, exit codes),
+:mod:`.parser` (commands and their arguments), the commands by group -- :mod:`.simulation`
+(run, accuracy, experiment, theory, sweep, stress, warmup), :mod:`.analysis` (analyze, report,
+influence, daq), :mod:`.images` (snapshot, video, track, strobe) -- and :mod:`.common` (what
+they share)."""

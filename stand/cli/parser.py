@@ -1,6 +1,7 @@
 """The ``stand`` command line's argument parser (the commands, their arguments and help).
 
-The handlers live in :mod:`stand.cli.main`, which passes them in.
+The handlers live in :mod:`stand.cli.simulation`, :mod:`.analysis` and :mod:`.images`;
+:mod:`stand.cli.main` passes them in.
 """
 from __future__ import annotations
 
@@ -32,7 +33,7 @@ def _table_options(sp) -> None:
 
 
 def build_parser(handlers: dict) -> argparse.ArgumentParser:
-    """The argument parser; ``handlers`` maps each command to its function (stand.cli.main)."""
+    """The argument parser; ``handlers`` maps each command to its function (stand.cli.main passes them)."""
     from stand.scene.model import METHODS
 
     p = argparse.ArgumentParser(prog="stand", description="Virtual autobalancer test stand")

@@ -7,8 +7,8 @@ each weight's coordinates by name, the solver statistics shaped like SciPy's
 ``OdeResult`` (``status``, ``message``, ``success``, ``nfev``, ``njev``,
 ``nlu``), and the scene.  :meth:`Run.to_frame` gives a pandas DataFrame with
 SI columns (units in the names), :meth:`Run.write` the one HDF5 recording
-(:mod:`stand.recording.hdf5`), which :func:`stand.read` turns back into a
-:class:`stand.recording.hdf5.Recording` with the same fields.
+(:mod:`stand.recording.write`), which :func:`stand.read` turns back into a
+:class:`stand.recording.read.Recording` with the same fields.
 
 Channel names (also the recording's dataset paths)::
 
@@ -31,7 +31,7 @@ import numpy as np
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
 
-__all__ = ["Run", "SolverStats", "weight_names"]
+__all__ = ["Run", "SolverStats", "weight_names", "column_unit"]
 
 #: units of the weights' standard coordinates
 WEIGHT_UNITS = {"angle": "rad", "speed": "rad/s", "relative_angle": "rad", "tilt": "rad",
@@ -112,6 +112,12 @@ class SolverStats(_OdeResult):
         return dumps(dict(self))
 
 
+def column_unit(units: str) -> str:
+    """Units as the end of a table column's name: ``"rad/s"`` -> ``"rad_s"``, ``"kg*m"`` ->
+    ``"kgm"``, ``""`` -> ``"1"`` (:meth:`Run.to_frame`, the instruments' tables)."""
+    return units.replace("/", "_").replace("*", "").replace(" ", "").replace("^", "") or "1"
+
+
 def weight_names(weights) -> tuple:
     """``(names, planes)`` of the weights of a scene's ``weights`` (PlaneWeights), numbered
     across the scene: ``ball1, ball2, ...`` / ``pendulum1, ...``."""
@@ -127,7 +133,7 @@ def weight_names(weights) -> tuple:
 
 
 #: recording format -> ("module:writer", source) (:mod:`stand.model.registry`): :meth:`Run.write`
-WRITERS = {"hdf5": ("stand.recording.hdf5:write_recording", "")}
+WRITERS = {"hdf5": ("stand.recording.write:write_recording", "")}
 
 
 @dataclass(eq=False)
@@ -163,7 +169,11 @@ class Run:
         Samples at extra times requested by the instruments.
     notes : tuple of str
         What a reader should know (e.g. a book model's units); a
-        :class:`stand.recording.hdf5.Recording` adds what the reader filled in.
+        :class:`stand.recording.read.Recording` adds what the reader filled in.
+    instruments : mapping of str -> instrument output
+        What the scene's instruments output, in memory: frames rendered on demand, readings,
+        truth (:class:`stand.instruments.outputs.InstrumentOutputs`); empty without
+        instruments.  :meth:`write` stores them (its ``writer``).
     """
 
     t: np.ndarray
@@ -180,8 +190,7 @@ class Run:
     state: Optional[np.ndarray] = field(repr=False, default=None)
     extra: Optional["Run"] = field(repr=False, default=None)
     notes: tuple = ()
-    #: writes the instruments' frames and truth into the open recording (stand.instruments)
-    instrument_writer: Optional[Any] = field(repr=False, default=None)
+    instruments: Any = field(repr=False, default_factory=dict)
 
     UNITS = {"t": "s", "x": "m", "y": "m", "rotor_angle": "rad", "rotor_speed": "rad/s",
              "weight_angle": "rad", "weight_speed": "rad/s"}
@@ -289,9 +298,7 @@ class Run:
         """
         import pandas as pd
 
-        def unit(u):
-            return u.replace("/", "_").replace("*", "").replace(" ", "").replace("^", "") or "1"
-
+        unit = column_unit
         cols = {"t_s": self.t, "x_m": self.x, "y_m": self.y}
         for p, xy in self.planes.items():
             if p != self.main_plane:
@@ -332,14 +339,15 @@ class Run:
         return fig
 
     def write(self, path, *, writer=None, extra_attrs=None):
-        """Write the one HDF5 recording (atomically), :func:`stand.recording.hdf5.write_recording`.
+        """Write the one HDF5 recording (atomically), :func:`stand.recording.write.write_recording`,
+        with the instruments' output (``writer``: default :attr:`instruments`' writer).
 
         The recording layer sits above this one (its :class:`~stand.recording.hdf5.Recording`
         is a Run), so the writer is found by name through :mod:`stand.model.registry`."""
         from stand.model.registry import resolve
 
         write_recording = resolve(WRITERS, "hdf5", "recording format", "writer")
-        return write_recording(self, path, writer=writer or self.instrument_writer,
+        return write_recording(self, path, writer=writer or getattr(self.instruments, "writer", None),
                                extra_attrs=extra_attrs)
 
     def __len__(self) -> int:

@@ -1,7 +1,7 @@
 """Recordings written before the one layout (rotor-family and weight-model files).
 
 :func:`legacy_layout` recognises them by their ``format`` attribute and maps
-their datasets to the fields of :class:`stand.recording.hdf5.Recording`, with a note.
+their datasets to the fields of :class:`stand.recording.read.Recording`, with a note.
 Format-version-1 files of the planar stand need no mapping (their
 ``shaft/x|y`` and ``weights/angle`` matrices are read directly).
 """

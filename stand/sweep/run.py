@@ -14,7 +14,8 @@ stops the sweep, and it counts as finished (a resume does not retry it).
 
 The per-point work is :mod:`.compute` (and :mod:`.theory_points`), the table's
 columns :mod:`.schema`, the files :mod:`.store`, the command :mod:`.command`;
-their public names are importable from here as before.
+their public names are importable from here as before, except the command's
+(``stand.sweep.sweep_main``, ``add_sweep_arguments``): :mod:`.command` calls this module.
 """
 from __future__ import annotations
 
@@ -29,7 +30,6 @@ import pandas as pd
 
 from stand.io.executor import Executor, progress_bar
 from stand.io.jsonable import dumps
-from stand.sweep.command import add_sweep_arguments, sweep_main
 from stand.sweep.compute import compute_chunk
 from stand.sweep.keys import SPECIAL_KEYS
 from stand.sweep.schema import (COMMON_COLUMNS, RESULT_SCHEMA, SIMULATE_COLUMNS,  # noqa: F401
@@ -39,8 +39,7 @@ from stand.sweep.store import (parts_dir, read_parts, read_results, remove_parts
                     write_table)
 
 __all__ = ["run_sweep", "compute_chunk", "read_results", "parts_dir", "RESULT_SCHEMA",
-           "TIMING_COLUMNS", "rows_to_frame", "auto_chunk_size", "sweep_main", "add_sweep_arguments",
-           "resume_message"]
+           "TIMING_COLUMNS", "rows_to_frame", "auto_chunk_size", "resume_message"]
 
 
 def auto_chunk_size(n_points: int, workers: int, compute) -> int:

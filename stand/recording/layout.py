@@ -1,0 +1,66 @@
+"""The one HDF5 layout of a recording: its dataset names, units and root attributes.
+
+Layout (format_version 2; all arrays float64, SI units, one row per sample)::
+
+    /time                          (N,)   s      sample times (an HDF5 dimension scale)
+    /planes/<plane>/x, .../y       (N,)   m      fixed-frame translation of each plane
+    /shaft/x, /shaft/y             (N,)   m      links to the main (instrumented or only) plane
+    /rotor/angle, /rotor/speed     (N,)   rad, rad/s
+    /weights/<weight>/<coord>      (N,)          each weight's coordinates (ball1/angle [rad], ...)
+    /coordinates/...               (N,)          structure coordinates, a book model's state
+    /truth/residual/<plane>        (N, 2) kg*m   total unbalance of a plane, rotor frame
+    /instruments/<name>/...                      what the instruments output (stand.instruments)
+    /truth/<name>/...                            their ground truth
+
+Every dataset carries ``units`` and ``description``; every (N, ...) dataset
+has ``time`` attached as its first dimension's scale, so h5py, h5netcdf and
+xarray users see the time axis.  Root attributes: ``format`` =
+:data:`FORMAT`, ``format_version``, ``version`` (``stand.__version__``),
+``created`` (ISO 8601, UTC), ``scene_name``, ``scene`` (the scene's TOML
+text), ``structure`` (:attr:`stand.scene.model.Scene.structure_type`),
+``main_plane``, ``weight_planes`` (JSON: weight -> plane), ``solver`` (JSON of
+:class:`stand.integrate.result.SolverStats`), plus any ``extra_attrs``.
+
+Written by :mod:`.write`, read by :mod:`.read`; :mod:`.hdf5` gathers the public names.
+"""
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+__all__ = ["FORMAT", "FORMAT_VERSION", "DATASETS", "REQUIRED", "RESERVED_ATTRS", "V1_WEIGHTS",
+           "RecordingError", "decode_attr"]
+
+FORMAT = "autobalancer-stand recording"
+FORMAT_VERSION = 2
+#: the fixed datasets: path -> (Recording field, units, description)
+DATASETS = {
+    "time": ("t", "s", "sample time"),
+    "shaft/x": ("x", "m", "main plane's translation along the fixed X axis"),
+    "shaft/y": ("y", "m", "main plane's translation along the fixed Y axis"),
+    "rotor/angle": ("rotor_angle", "rad", "angle of the rotor's reference mark (keyphasor)"),
+    "rotor/speed": ("rotor_speed", "rad/s", "rotor angular speed"),
+}
+REQUIRED = ("time", "shaft/x", "shaft/y")
+RESERVED_ATTRS = ("scene", "scene_name", "solver", "version", "format", "format_version",
+                  "created", "structure", "main_plane", "weight_planes", "run_notes")
+#: format_version 1 weight matrices (N, n): path -> coordinate
+V1_WEIGHTS = {"weights/angle": "angle", "weights/speed": "speed"}
+
+
+class RecordingError(ValueError):
+    """A file is not a readable recording.  The message names the file and the dataset."""
+
+
+def decode_attr(value: Any) -> Any:
+    """An HDF5 attribute value as a plain Python value."""
+    if isinstance(value, bytes):
+        return value.decode("utf-8", errors="replace")
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind in "OSU":
+            return [decode_attr(v) for v in value.tolist()]
+        return value
+    if isinstance(value, np.generic):
+        return value.item()
+    return value

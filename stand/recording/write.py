@@ -1,0 +1,176 @@
+"""Writing a recording: one run into the one HDF5 layout (:mod:`.layout`), atomically.
+
+Takes any object with the fields of :class:`stand.integrate.result.Run` (it does not import
+it: ``Run.write`` calls this module).
+"""
+from __future__ import annotations
+
+import datetime as _dt
+import io
+import json
+import os
+from pathlib import Path
+from typing import Any, Callable, Mapping, Optional, Union
+
+import h5py
+import numpy as np
+
+from stand.io.atomic import atomic_path, check_output_path
+from stand.io.jsonable import to_jsonable
+from stand.recording.layout import DATASETS, FORMAT, FORMAT_VERSION, RESERVED_ATTRS
+
+__all__ = ["write_recording", "check_output_path"]
+
+#: arrays with more samples than this are stored chunked and gzip-compressed
+COMPRESS_ABOVE = 1000
+GZIP_LEVEL = 4
+#: target size of one chunk [bytes]
+CHUNK_BYTES = 256 * 1024
+#: recordings up to this size are assembled in memory, then written in one piece [bytes]
+IN_MEMORY_BYTES = 256 * 1024 * 1024
+
+
+def _attr_value(key: str, value: Any) -> Any:
+    """An ``extra_attrs`` value as HDF5 can store it; mappings become JSON text."""
+    if value is None:
+        raise ValueError(f"extra_attrs[{key!r}] = None: HDF5 attributes cannot be None")
+    if isinstance(value, Mapping) or (isinstance(value, (list, tuple))
+                                      and any(isinstance(v, str) for v in value)):
+        return json.dumps(to_jsonable(value), default=str)
+    if isinstance(value, os.PathLike):
+        return str(value)
+    return value
+
+
+def _storage_options(a: np.ndarray) -> dict:
+    """Chunked gzip (level 4, shuffle) for long, non-empty arrays; contiguous otherwise."""
+    if a.shape[0] <= COMPRESS_ABOVE or a.size == 0:
+        return {}
+    cols = int(np.prod(a.shape[1:], dtype=np.int64)) if a.ndim > 1 else 1
+    rows = max(1, min(a.shape[0], CHUNK_BYTES // (8 * cols)))
+    return {"chunks": (rows,) + a.shape[1:], "compression": "gzip",
+            "compression_opts": GZIP_LEVEL, "shuffle": True}
+
+
+def _describe(key: str) -> str:
+    if key in DATASETS:
+        return DATASETS[key][2]
+    parts = key.split("/")
+    if parts[0] == "planes":
+        return f"plane {parts[1]}: translation along the fixed {parts[2].upper()} axis"
+    if parts[0] == "weights":
+        return f"weight {parts[1]}: {parts[2].replace('_', ' ')}"
+    if parts[0] == "truth" and parts[1] == "residual":
+        return f"total unbalance in plane {parts[2]} (rotor + weights), rotor frame x, y"
+    return key
+
+
+
+def _check_arrays(run: Any) -> dict:
+    """``{path: (float64 array, units)}`` for every channel and truth array, shapes checked."""
+    t = np.asarray(run.t, dtype=np.float64)
+    if t.ndim != 1:
+        raise ValueError(f"run.t: shape {t.shape}, expected (N,)")
+    N = t.shape[0]
+    data = {}
+    for key, (a, units) in {**run.channels(),
+                            **{f"truth/{k}": v for k, v in run.truth.items()}}.items():
+        a = np.asarray(a, dtype=np.float64)
+        if a.ndim == 0 or a.shape[0] != N:
+            raise ValueError(f"run channel {key!r}: shape {a.shape}, expected ({N}, ...) "
+                             f"(one row per sample of run.t)")
+        data[key] = (a, str(units))
+    if run.main_plane not in run.planes:
+        raise ValueError(f"run.main_plane = {run.main_plane!r}: not one of the planes "
+                         f"{', '.join(run.planes)}")
+    return data
+
+
+def write_recording(run: Any, path: Union[str, os.PathLike], *,
+                    extra_attrs: Optional[Mapping[str, Any]] = None,
+                    writer: Optional[Callable[["h5py.File"], None]] = None) -> Path:
+    """Write one run to an HDF5 file, atomically (:func:`stand.io.atomic.atomic_path`).
+
+    If anything fails, the temporary file is removed, the exception propagates,
+    and a file that already existed at ``path`` is left untouched.
+
+    Parameters
+    ----------
+    run : stand.integrate.result.Run
+        Any scene's run (or a :class:`Recording`).
+    path : str or os.PathLike
+        Target file (conventionally ``*.h5``).  Its directory must exist.
+    writer : callable, optional
+        ``writer(h5file)`` is called with the open temporary file after the
+        core datasets are written (the instruments stream their frames, truth
+        and settings through it); a failure there discards the whole file.
+    extra_attrs : mapping, optional
+        Additional root attributes (str, numbers, arrays; mappings are stored
+        as JSON text).  The reserved names (:data:`RESERVED_ATTRS`) cannot be
+        overridden.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    FileNotFoundError
+        The target's directory does not exist (the message names it).
+    ValueError
+        The run's arrays have inconsistent shapes, or ``extra_attrs`` uses a
+        reserved name or holds ``None``.
+    """
+    from stand import __version__
+
+    path = check_output_path(path, "recording")
+    extra = dict(extra_attrs or {})
+    clash = sorted(set(extra) & set(RESERVED_ATTRS))
+    if clash:
+        raise ValueError(f"extra_attrs: {', '.join(map(repr, clash))} reserved for the "
+                         f"recording's own metadata ({', '.join(RESERVED_ATTRS)})")
+    extra = {str(k): _attr_value(str(k), v) for k, v in extra.items()}
+    data = _check_arrays(run)
+    scene = run.scene
+    stats = run.stats
+    root = {
+        "format": FORMAT,
+        "format_version": np.int64(FORMAT_VERSION),
+        "version": __version__,
+        "created": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+        "scene_name": str(getattr(scene, "name", "") or ""),
+        "scene": str(getattr(scene, "text", "") or getattr(run, "scene_text", "") or ""),
+        "structure": str(getattr(scene, "structure_type", "") or ""),
+        "main_plane": run.main_plane,
+        "run_notes": json.dumps(list(run.notes)),
+        "weight_planes": json.dumps(run.weight_planes),
+        "solver": json.dumps(to_jsonable(dict(stats or {}))),
+    }
+    estimate = sum(a.nbytes for a, _ in data.values()) + getattr(writer, "estimated_bytes",
+                                                                 0 if writer is None else np.inf)
+    with atomic_path(path, suffix=".h5.tmp") as tmp:
+        # up to IN_MEMORY_BYTES the file is assembled in memory and then written with one plain
+        # write: a full disk or a file-size limit is then a clean OSError, not a failure inside
+        # the HDF5 library; larger files (long videos) are streamed to the temporary file
+        target = io.BytesIO() if estimate <= IN_MEMORY_BYTES else tmp
+        with h5py.File(target, "w") as f:
+            for key, value in {**root, **extra}.items():
+                f.attrs[key] = value
+            for key, (a, units) in data.items():
+                ds = f.create_dataset(key, data=a, dtype=np.float64, **_storage_options(a))
+                ds.attrs["units"] = units
+                ds.attrs["description"] = _describe(key)
+            for axis in ("x", "y"):
+                f[f"shaft/{axis}"] = h5py.SoftLink(f"/planes/{run.main_plane}/{axis}")
+            f.require_group("weights")
+            time = f["time"]
+            time.make_scale("time")
+            for key in data:
+                if key != "time":
+                    f[key].dims[0].attach_scale(time)
+            if writer is not None:
+                writer(f)  # instruments: frames streamed in, truth, settings
+        if target is not tmp:
+            with open(tmp, "wb") as fh:
+                fh.write(target.getbuffer())
+    return path
