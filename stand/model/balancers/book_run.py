@@ -24,7 +24,9 @@ import time as _time
 
 import numpy as np
 
+from stand.integrate.driver import run_scipy
 from stand.integrate.result import Run, SolverStats
+from stand.integrate.runs import generic_run, integrate_model, sample_times
 from stand.scene.model import SceneError
 
 __all__ = ["run_book", "STATE_COLUMNS", "initial_state"]
@@ -94,9 +96,6 @@ def run_book(scene, method: str = "DOP853", rtol=None, atol=None, compiled: bool
     weight, :mod:`stand.model.balancers.composition`) on the compiled kernel; ``False``: the
     book's own right-hand side (Python) on scipy's solver -- the oracle path.
     """
-    from stand.integrate.driver import run_scipy
-    from stand.integrate.simulate import sample_times
-
     bm = scene.structure
     kind, p, run = bm.type, bm.params, scene.run
     if kind == "liquid_chamber" and not compiled:
@@ -129,7 +128,6 @@ def _run_composed(scene, y0, method, rtol, atol) -> Run:
     """The book model as a generic composition on the compiled kernel (same samples,
     same ``state/<column>`` coordinates as the oracle path)."""
     from stand.model.rotors.coupled import build_model, initial_state as generic_initial
-    from stand.integrate.simulate import _generic_run, _integrate, sample_times
     from stand.model.balancers.composition import composition
 
     bm, run = scene.structure, scene.run
@@ -150,8 +148,8 @@ def _run_composed(scene, y0, method, rtol, atol) -> Run:
     stats = SolverStats(method=method, rtol=rtol, atol=atol,
                         method_reason="book model as its generic composition (planar rotor x "
                                       "body weight) on the compiled kernel")
-    k = _integrate(scene, model, y, run.duration * w, ts, out, stats, method, False, None, None)
-    res = _generic_run(scene, model, out[:k], ts[:k], stats)
+    k = integrate_model(scene, model, y, run.duration * w, ts, out, stats, method, False, None, None)
+    res = generic_run(scene, model, out[:k], ts[:k], stats)
     xy = res.planes["balancer"]
     v = out[:k, model.n:2 * model.n] * model.scale * w
     name = next(iter(res.weights)) if res.weights else None
