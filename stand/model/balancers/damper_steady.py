@@ -22,7 +22,7 @@ from stand.model.balancers._params import BOOK
 from stand.model.balancers.damper_motion import _EZ, rhs_rotating, state_from_angles
 
 if TYPE_CHECKING:
-    from stand.model.balancers.damper import DamperParams
+    from stand.model.balancers.damper_params import DamperParams
 
 __all__ = [
     "DamperSteady", "steady_quartic_roots", "steady_motions", "efficiency", "efficiency_approx",

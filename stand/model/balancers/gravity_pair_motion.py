@@ -24,7 +24,7 @@ import numpy as np
 from stand.model.balancers._ode import frame_rhs, integrate
 
 if TYPE_CHECKING:
-    from stand.model.balancers.gravity_pair import GravityPairParams
+    from stand.model.balancers.gravity_pair_params import GravityPairParams
 
 __all__ = ["rhs", "rhs_rotating", "make_rhs", "to_rotating", "to_fixed", "energy", "simulate"]
 

@@ -19,7 +19,7 @@ from stand.model.balancers._ode import central_jacobian
 from stand.model.balancers.gravity_pair_motion import rhs_rotating
 
 if TYPE_CHECKING:
-    from stand.model.balancers.gravity_pair import GravityPairParams
+    from stand.model.balancers.gravity_pair_params import GravityPairParams
 
 __all__ = ["SteadyMotion", "steady_motions", "side_band", "jacobian", "eigenvalues", "is_stable"]
 

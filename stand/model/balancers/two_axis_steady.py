@@ -19,7 +19,7 @@ from stand.model.balancers._ode import central_jacobian
 from stand.model.balancers.two_axis_motion import rhs_rotating
 
 if TYPE_CHECKING:
-    from stand.model.balancers.two_axis import TwoAxisParams
+    from stand.model.balancers.two_axis_params import TwoAxisParams
 
 __all__ = [
     "SteadyMotion", "jacobian", "eigenvalues", "max_real_part",
