@@ -18,7 +18,8 @@ from scipy.integrate import solve_ivp
 
 import stand
 from stand.model.balancers import damper, gravity_pair, liquid_chamber, liquid_float, two_axis
-from stand.model.balancers.book_run import STATE_COLUMNS, _rhs, initial_state
+from stand.model.balancers.book_run import STATE_COLUMNS, initial_state
+from oracles.book_run import book_rhs as _rhs
 from stand.model.balancers.composition import composition
 from stand.integrate.driver import run_dop853
 from stand.integrate.result import SolverStats
