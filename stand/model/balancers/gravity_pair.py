@@ -42,7 +42,7 @@ by a Lagrangian derivation with sympy)::
 
 The rotating-frame form is (7.2) with erratum E1: the braces of the two rotor
 equations contain ``phi''`` and ``psi''`` where the print (an OCR loss) has
-``phi'`` and ``psi'``.  :func:`rhs_rotating` implements the corrected form and,
+``phi'`` and ``psi'``.  The oracle's ``rhs_rotating`` (tests/oracles/gravity_pair.py) implements the corrected form and,
 with ``printed_e1=True``, the printed one (for the erratum test only).
 
 The second derivatives enter linearly; eliminating ``z''`` decouples the two
@@ -59,11 +59,11 @@ with ``F = -H z' - z + R_m[(2 alpha' phi' cos phi + i (phi'^2 + alpha'^2) sin ph
 
 State vectors
 -------------
-Fixed frame (:func:`rhs`)::
+Fixed frame (the oracle's ``rhs``)::
 
     y = [phi, alpha, x, y, phi', alpha', x', y']     (rad, rad, -, -, per tau ...)
 
-Rotating frame (:func:`rhs_rotating`)::
+Rotating frame (the oracle's ``rhs_rotating``)::
 
     y = [phi, psi, xi, eta, phi', psi', xi', eta']
 
@@ -72,8 +72,7 @@ with ``psi = alpha - R_omega tau`` and ``xi + i eta = z e^{-i R_omega tau}`` (7.
 Modules
 -------
 This module re-exports the parameters (:mod:`.gravity_pair_params`) and the model's functions from
-:mod:`.gravity_pair_motion` (equations of motion (7.2), (7.34), frames,
-energy, integration), :mod:`.gravity_pair_steady` (steady motions (7.6)-(7.9),
+:mod:`.gravity_pair_motion` (frames, energy), :mod:`.gravity_pair_steady` (steady motions (7.6)-(7.9),
 stability) and :mod:`.gravity_pair_qp` (quasi-periodic motions
 (7.38)-(7.46)), so ``stand.model.balancers.gravity_pair.<name>`` keeps working for
 all of them.
@@ -81,7 +80,7 @@ all of them.
 from __future__ import annotations
 
 from stand.model.balancers.gravity_pair_params import GravityPairParams
-from stand.model.balancers.gravity_pair_motion import energy, make_rhs, rhs, rhs_rotating, simulate, to_fixed, to_rotating
+from stand.model.balancers.gravity_pair_motion import energy, to_fixed, to_rotating
 from stand.model.balancers.gravity_pair_qp import (D, orbit_radius_range, qp_amplitudes, qp_amplitudes_printed,
                               qp_family_limit, qp_family_limit_exact, qp_frequency,
                               qp_frequency_approx, qp_frequency_approx_printed, qp_initial_state,
@@ -90,8 +89,7 @@ from stand.model.balancers.gravity_pair_steady import (SteadyMotion, eigenvalues
                                   steady_motions)
 
 __all__ = [
-    "GravityPairParams", "SteadyMotion", "rhs", "rhs_rotating", "make_rhs",
-    "to_rotating", "to_fixed", "energy", "simulate",
+    "GravityPairParams", "SteadyMotion", "to_rotating", "to_fixed", "energy",
     "steady_motions", "side_band", "jacobian", "eigenvalues", "is_stable",
     "D", "qp_polynomial", "qp_roots", "qp_frequency", "qp_frequency_approx",
     "qp_frequency_approx_printed", "qp_family_limit", "qp_family_limit_exact",
