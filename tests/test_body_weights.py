@@ -18,7 +18,8 @@ from scipy.integrate import solve_ivp
 
 import stand
 from stand.model.balancers import damper, gravity_pair, liquid_chamber, liquid_float, two_axis
-from stand.model.balancers.book_run import STATE_COLUMNS, _rhs, initial_state
+from stand.model.balancers.book_run import STATE_COLUMNS, initial_state
+from oracles.book_run import book_rhs as _rhs
 from stand.model.balancers.composition import composition
 from stand.integrate.driver import run_dop853
 from stand.integrate.result import SolverStats
@@ -357,9 +358,9 @@ def test_theory_of_a_body_scene_holds_the_book_model(tmp_path, capsys):
 def test_book_steady_motions_are_equilibria_of_the_derived_rotating_form(kind):
     """The books' steady motions ((6.12) steady states, (7.6), (7.51)) are equilibria of
     the rotating-frame form derived from the one fixed-frame composition
-    (stand.model.rotors.bodies_rotating) to 1e-10."""
+    (stand.model.rotating) to 1e-10."""
     from stand.model.balancers import damper_steady, gravity_pair_steady, two_axis_steady
-    from stand.model.rotors.bodies_rotating import rotating_rhs
+    from stand.model.rotating import rotating_rhs
 
     p = CASES[kind]
     comp = composition(kind, p, 1.0)

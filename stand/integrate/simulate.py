@@ -8,7 +8,7 @@ structure (and the planar rotor with ``kernel="generic"``) on the generic
 kernel (:mod:`stand.model.rotors.coupled_kernel`); both through the one integrator
 path :mod:`stand.integrate.driver`.  A book weight model (``[weight_model]``)
 runs its own right-hand side through scipy's solvers
-(:mod:`stand.model.balancers.book_run`).  Methods:
+(:mod:`stand.model.balancers.book_run`, reached through :data:`RUNNERS`).  Methods:
 
 * ``"DOP853"`` -- compiled explicit 8th-order Runge-Kutta (:mod:`stand.integrate.dop853`),
   the default for ordinary scenes;
@@ -21,16 +21,16 @@ runs its own right-hand side through scipy's solvers
 from __future__ import annotations
 
 import math
-import time as _time
 
 import numpy as np
 
-from stand.integrate.driver import (CHUNK_STEPS, Checkpoint, fingerprint, run_dop853, run_scipy,
-                               warm_up)
+from stand.integrate.driver import CHUNK_STEPS
+from stand.integrate.runs import generic_run, integrate_model, merge_times, sample_times
 from stand.model.planar import (D11, D22, H0, K22, N_PROG, WTARGET, PlanarModel, build_planar_model,
                      initial_state)
 from stand.integrate.result import Run, SolverStats, weight_names
 from stand.scene.model import METHODS, Scene, SceneError
+from stand.model.registry import resolve
 from stand.model.weights import EPS, H, MU
 
 __all__ = ["simulate", "Run", "Trajectory", "SolverStats", "sample_times", "METHODS"]
@@ -40,6 +40,8 @@ __all__ = ["simulate", "Run", "Trajectory", "SolverStats", "sample_times", "METH
 STIFFNESS_RATIO = 30.0
 #: the planar run's result type under its earlier name
 Trajectory = Run
+#: where the runs of scene kinds with their own run code live (imported when a scene uses them)
+RUNNERS = {"book": ("stand.model.balancers.book_run:run_book", "ch. 6, 7, paper 001, thesis 002")}
 
 
 def stiffness(model: PlanarModel) -> float:
@@ -133,8 +135,7 @@ def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
     rtol = run.rtol if rtol is None else rtol
     atol = run.atol if atol is None else atol
     if scene.kind == "book":
-        from stand.model.balancers.book_run import run_book
-
+        run_book = resolve(RUNNERS, "book", "scene.kind", "scene kind")
         return run_book(scene, method=method, rtol=rtol, atol=atol)
     if scene.kind == "rotor" or kernel == "generic" or scene.bodies:
         if kernel == "planar" and scene.bodies:
@@ -146,13 +147,13 @@ def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
     w1 = model.omega_1
     tau_end = run.duration * w1
     ts_rec = sample_times(run.duration, run.sample_rate) * w1
-    ts, rec_idx, ex_idx = _merge_times(ts_rec, extra_times, run.duration, w1)
+    ts, rec_idx, ex_idx = merge_times(ts_rec, extra_times, run.duration, w1)
     n_samples = ts.size
     y0 = initial_state(scene, model)
     out = np.full((n_samples, model.size), np.nan)
     out[0] = y0
     stats = SolverStats(method=method, rtol=rtol, atol=atol, stiffness_ratio=ratio, method_reason=reason)
-    k = _integrate(scene, model, y0, tau_end, ts, out, stats, method, progress, checkpoint,
+    k = integrate_model(scene, model, y0, tau_end, ts, out, stats, method, progress, checkpoint,
                    checkpoint_steps)
     if ex_idx is None:
         return _trajectory(scene, model, out[:k], ts[:k], stats)
@@ -177,31 +178,6 @@ def auto_method(scene: Scene) -> str:
         scene.linear_rotor(), scene.weights, d if torque else d.programme, bodies=scene.bodies,
         inertia=scene.rotor.inertia_about_shaft if torque and scene.kind == "planar" else None),
         "auto")[0]
-
-
-def _integrate(scene, model, y0, tau_end, ts, out, stats, method, progress, checkpoint,
-               checkpoint_steps) -> int:
-    """Run the driver (compiled DOP853, with checkpoints, or a scipy method); returns the
-    number of samples computed and sets ``stats.wall_time``."""
-    warm_up(model)  # compile / load the kernels outside the timed region
-    t0 = _time.perf_counter()
-    if method == "DOP853":
-        ck = None
-        if checkpoint is not None:
-            ck = Checkpoint(checkpoint, fingerprint(scene, method, stats.rtol, stats.atol, ts,
-                                                    model.size))
-        k = run_dop853(model, y0, tau_end, stats.rtol, stats.atol, ts, out, stats,
-                       scene.run.max_steps, progress, ck,
-                       int(checkpoint_steps) if ck is not None else CHUNK_STEPS)
-        if ck is not None and stats.success:
-            ck.remove()
-    elif checkpoint is not None:
-        raise SceneError(f"checkpoint: only with the compiled DOP853 method (this run uses {method})")
-    else:
-        k = run_scipy(model, y0, tau_end, stats.rtol, stats.atol, ts, out, stats, method,
-                      scene.run.max_steps)
-    stats.wall_time = _time.perf_counter() - t0
-    return k
 
 
 def _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoint,
@@ -238,7 +214,7 @@ def _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoi
                          "the planar rotor only; use DOP853, Radau, BDF or LSODA")
     w = model.omega_1
     ts_rec = sample_times(run.duration, run.sample_rate) * w
-    ts, rec_idx, ex_idx = _merge_times(ts_rec, extra_times, run.duration, w)
+    ts, rec_idx, ex_idx = merge_times(ts_rec, extra_times, run.duration, w)
     q0 = qd0 = None
     ini = scene.initial
     if scene.kind == "planar":
@@ -253,13 +229,13 @@ def _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoi
     out[0] = y0
     stats = SolverStats(method=method, rtol=rtol, atol=atol, stiffness_ratio=ratio,
                         method_reason=reason)
-    k = _integrate(scene, model, y0, run.duration * w, ts, out, stats, method, progress,
+    k = integrate_model(scene, model, y0, run.duration * w, ts, out, stats, method, progress,
                    checkpoint, checkpoint_steps)
     if ex_idx is None:
-        return _generic_run(scene, model, out[:k], ts[:k], stats)
+        return generic_run(scene, model, out[:k], ts[:k], stats)
     r, e = rec_idx[rec_idx < k], ex_idx[ex_idx < k]
-    res = _generic_run(scene, model, out[r], ts[r], stats)
-    res.extra = _generic_run(scene, model, out[e], ts[e], stats)
+    res = generic_run(scene, model, out[r], ts[r], stats)
+    res.extra = generic_run(scene, model, out[e], ts[e], stats)
     return res
 
 
@@ -281,59 +257,6 @@ def _with_blows(model, scene, blows):
     m = dataclasses.replace(model)
     object.__setattr__(m, "impulses", np.array(rows))
     return m
-
-
-def _generic_run(scene, model, out, tau, stats) -> Run:
-    from stand.model.rotors.coupled import samples_si
-
-    t, q, qd, phi, speed, alpha, planes, residual = samples_si(model, out, tau)
-    n, nw, w = model.n, model.nw, model.omega_1
-    dalpha = out[:, 2 * n + nw:2 * (n + nw)] * w
-    names, wplanes = weight_names(scene.weights)
-    weights = {nm: {"angle": phi + alpha[:, j], "speed": speed + dalpha[:, j]}
-               for j, nm in enumerate(names)}
-    notes = ()
-    if model.bodies:
-        from stand.model.rotors.bodies import body_channels, body_names, liquid_notes
-
-        bnames, bplanes = body_names(model.bodies)
-        bcoords, _ = body_channels(model.bt, model.bodies, out, w, phi, planes)
-        weights.update(zip(bnames, bcoords))
-        names, wplanes = names + bnames, wplanes + bplanes
-        notes = liquid_notes(model.bodies, planes)
-    coords = {}
-    for i, c in enumerate(model.rotor.coords):
-        name, _, unit = c.partition(" [")
-        coords[f"structure/{name}"] = (q[:, i], unit.rstrip("]") or "1")
-    truth = {f"residual/{p}": (U, "kg*m") for p, U in residual.items()}
-    return Run(t=t, planes=planes, main_plane=scene.main_plane, rotor_angle=phi,
-               rotor_speed=speed, weights=weights, weight_planes=dict(zip(names, wplanes)),
-               stats=stats, scene=scene, coordinates=coords, truth=truth, state=out, notes=notes)
-
-
-def _merge_times(ts_rec, extra_times, duration, w1):
-    """Merge the recording grid with extra sample times (both dimensionless)."""
-    if extra_times is None:
-        return ts_rec, None, None
-    ex = np.asarray(extra_times, dtype=float).ravel()
-    if ex.size == 0:
-        return ts_rec, np.arange(ts_rec.size), np.zeros(0, int)
-    if not np.all(np.isfinite(ex)) or ex[0] < 0 or ex[-1] > duration or np.any(np.diff(ex) < 0):
-        raise ValueError(f"extra_times: must be finite, non-decreasing and within [0, {duration:g}] s")
-    ex = ex * w1
-    ts = np.union1d(ts_rec, ex)
-    return ts, np.searchsorted(ts, ts_rec), np.searchsorted(ts, ex)
-
-
-def sample_times(duration: float, sample_rate: float) -> np.ndarray:
-    """Sample times [s]: k / sample_rate for k = 0, 1, ...; a last time within
-    1e-9 of a sample interval of ``duration`` is set to ``duration`` exactly, so
-    that rounding never drops the final sample."""
-    n = int(math.floor(duration * sample_rate + 1e-9)) + 1
-    t = np.arange(n) / sample_rate
-    if abs(t[-1] - duration) <= 1e-9 / sample_rate:
-        t[-1] = duration
-    return np.minimum(t, duration)
 
 
 def _trajectory(scene: Scene, model: PlanarModel, out: np.ndarray, tau: np.ndarray,

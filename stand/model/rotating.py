@@ -1,27 +1,43 @@
-"""Rotating-frame form of the planar model at constant speed, for steady states and Jacobians.
+"""Rotating-frame form of the running models at constant speed, derived from the fixed frame.
 
 At a constant dimensionless speed R on isotropic supports the equations in a
 frame turning with the rotor are autonomous (book (5.44)-(5.48), digest ch5
-section 2.4).  Rather than coding (5.47)-(5.48) a second time, the rotating-frame
-right-hand side is obtained from the fixed-frame one (:func:`stand.model.planar.rhs_planar`)
-at the instant tau = 0 where the two frames coincide (phi = 0):
+section 2.4; (6.12), (7.2), (7.51)).  Rather than coding them a second time,
+the rotating-frame right-hand side is obtained from the fixed-frame one that
+runs -- the planar kernel (:func:`stand.model.planar.rhs_planar`) or the
+generic kernel with its bodies (:func:`stand.model.rotors.coupled_kernel.rhs_generic`)
+-- at the instant tau = 0 where the two frames coincide (rotor angle 0).  With
+``Z = z e^{i R tau}`` for every planar vector (the shaft ``u + i v``)::
 
     xi = u,  eta = v,  xi' = u' - R v,  eta' = v' + R u,
     u'' = xi'' + 2 R v' + R^2 u,   v'' = eta'' - 2 R u' + R^2 v,
 
-and the weights' relative angles alpha_j are the same in both frames.  The
-state is ``[u, v, alpha_1..alpha_n, u', v', alpha_1'..alpha_n']`` in units of
-L (= r*).  Equilibria of this system are the book's steady motions (5.49); the
-eigenvalues of its Jacobian decide their stability (5.87)-(5.90).
+The rest of the state depends on the kernel:
+
+* planar kernel: the weights' relative angles alpha_j are the same in both frames.
+  State ``[u, v, alpha_1..alpha_n, u', v', alpha_1'..alpha_n']`` in units of L
+  (= r*).  Equilibria are the book's steady motions (5.49); the eigenvalues of the
+  Jacobian decide their stability (5.87)-(5.90).
+* generic kernel (planar rotor x weights x bodies): the point weights' and tilting
+  bodies' azimuths relative to the rotor (``alpha = psi``, ``alpha' = psi' + R``);
+  a damper's ``n``, ``W`` and a liquid's offset keep their components at tau = 0 and
+  turn back with ``- R e_z x``.  State: the model's layout (scaled as the model's
+  state) with these rotating components; the equilibria are the steady motions of
+  the books ((5.49), (6.12) steady states, (7.6), (7.51)) -- the tests check them
+  against it, which ties the books' rotating-frame equations to the one fixed frame.
 """
 from __future__ import annotations
 
 import numpy as np
 
 from stand.integrate.kernel_set import kernels
-from stand.model.kernels import PLANAR
+from stand.model.kernels import GENERIC, PLANAR
 from stand.model.planar import COAST_T0, FREE, N_FORCE, N_PROG, N_UB, PlanarModel
 from stand.model.programme import build_table
+from stand.model.rotors import bodies_kernel as bk
+
+__all__ = ["constant_speed_programme", "rotating_rhs", "rotating_to_fixed", "rotating_jacobian",
+           "main_motion_state"]
 
 
 def constant_speed_programme(R: float) -> np.ndarray:
@@ -29,35 +45,98 @@ def constant_speed_programme(R: float) -> np.ndarray:
     return build_table(np.array([0.0]), np.array([float(R)]))
 
 
-def rotating_rhs(model: PlanarModel, R: float, z: np.ndarray) -> np.ndarray:
-    """d/dtau of the rotating-frame state ``z`` at constant speed ``R``.
+def _shaft_to_fixed(z: np.ndarray, ns: int, R: float) -> np.ndarray:
+    """A copy of ``z`` with the shaft velocity (at ``ns``, ``ns + 1``) in fixed components."""
+    y = np.array(z, dtype=float, copy=True)
+    u, v, du, dv = z[0], z[1], z[ns], z[ns + 1]
+    y[ns], y[ns + 1] = du - R * v, dv + R * u
+    return y
 
-    Requires a prescribed-speed model; the support stiffness and damping should
-    be isotropic for the result to be autonomous (not checked here: an
-    anisotropic model gives the instantaneous value at phi = 0).
-    """
+
+def _shaft_to_rotating(dy: np.ndarray, z: np.ndarray, ns: int, R: float) -> np.ndarray:
+    """The fixed-frame derivative ``dy`` with the shaft rows in rotating components."""
+    dz = np.array(dy, dtype=float, copy=True)
+    u, v, du, dv = z[0], z[1], z[ns], z[ns + 1]
+    dz[0], dz[1] = du, dv
+    dz[ns] = dy[ns] + 2 * R * dv + R * R * u             # z'' = Z'' - 2 i R z' + R^2 z
+    dz[ns + 1] = dy[ns + 1] - 2 * R * du + R * R * v
+    return dz
+
+
+def _check_generic(model):
+    if model.n != 2 or model.rotor.name != "planar":
+        raise ValueError("rotating frame: defined for the planar rotor (two coordinates) here")
+    if model.n_adhesion:
+        raise ValueError("rotating frame: weights with adhesion states are not autonomous")
+
+
+def rotating_to_fixed(model, R: float, z: np.ndarray) -> np.ndarray:
+    """The generic model's fixed-frame state at tau = 0 of the rotating-frame state ``z``
+    (speed ``R``)."""
+    _check_generic(model)
+    n, nw = model.n, model.nw
+    ns = n + nw
+    y = _shaft_to_fixed(z, ns, R)
+    y[ns + n:ns + n + nw] = np.asarray(z[ns + n:ns + n + nw], float) + R
+    for row in model.bt:
+        o, kind = int(row[bk.B_OFF]), int(row[bk.B_KIND])
+        if kind == bk.TILT:
+            y[o + 3] = z[o + 3] + R
+    return y
+
+
+def _planar_rotating_rhs(model: PlanarModel, R: float, z: np.ndarray) -> np.ndarray:
     if model.sp[FREE] != 0.0:
         raise ValueError("rotating frame: the rotor speed must be prescribed (speed drive)")
-    n = model.n
-    nq = 2 + n
-    u, v, du, dv = z[0], z[1], z[nq], z[nq + 1]
-    y = np.array(z, dtype=float, copy=True)
-    y[nq] = du - R * v
-    y[nq + 1] = dv + R * u
+    nq = 2 + model.n
+    y = _shaft_to_fixed(z, nq, R)
     dy = np.empty_like(y)
-    prog = constant_speed_programme(R)
     sp = model.sp.copy()
     sp[COAST_T0] = np.inf  # no coast-down
     sp[N_PROG], sp[N_UB], sp[N_FORCE] = 1, 0, 0  # constant speed and unbalance, no side force
-    kernels(PLANAR).evaluate(0.0, y, dy, sp, model.wt, prog)
-    out = dy.copy()
-    out[0], out[1] = du, dv
-    out[nq] = dy[nq] + 2 * R * dv + R * R * u
-    out[nq + 1] = dy[nq + 1] - 2 * R * du + R * R * v
-    return out
+    kernels(PLANAR).evaluate(0.0, y, dy, sp, model.wt, constant_speed_programme(R))
+    return _shaft_to_rotating(dy, z, nq, R)
 
 
-def rotating_jacobian(model: PlanarModel, R: float, z: np.ndarray, step: float = 1e-7) -> np.ndarray:
+def _generic_rotating_rhs(model, R: float, z: np.ndarray) -> np.ndarray:
+    n, nw = model.n, model.nw
+    ns = n + nw
+    y = rotating_to_fixed(model, R, z)
+    dy = np.zeros_like(y)
+    kernels(GENERIC).evaluate(0.0, y, dy, model.sp, model.wt, model.prog)
+    dz = _shaft_to_rotating(dy, z, ns, R)
+    dz[n:ns] = z[ns + n:ns + n + nw]                 # psi' (relative)
+    for row in model.bt:
+        o, kind = int(row[bk.B_OFF]), int(row[bk.B_KIND])
+        if kind == bk.TILT:
+            dz[o + 1] = z[o + 3]                         # psi' = alpha' - R
+        elif kind == bk.SPHERE:
+            for a in (o, o + 3):                         # - R e_z x (a0, a1, a2)
+                dz[a] += R * y[a + 1]
+                dz[a + 1] -= R * y[a]
+        elif kind == bk.LAG:
+            dz[o] += R * y[o + 1]
+            dz[o + 1] -= R * y[o]
+    return dz
+
+
+def rotating_rhs(model, R: float, z: np.ndarray) -> np.ndarray:
+    """d/dtau of the rotating-frame state ``z`` at constant speed ``R`` (module docstring).
+
+    ``model`` is a :class:`~stand.model.planar.PlanarModel` with a prescribed speed
+    (the support stiffness and damping should be isotropic for the result to be
+    autonomous; not checked here: an anisotropic model gives the instantaneous
+    value at phi = 0), or a generic model
+    (:class:`~stand.model.rotors.coupled_kernel.CoupledModel`) of the planar rotor
+    built with the constant programme ``R * omega_ref`` rad/s.
+    """
+    if isinstance(model, PlanarModel):
+        return _planar_rotating_rhs(model, R, z)
+    _check_generic(model)
+    return _generic_rotating_rhs(model, R, z)
+
+
+def rotating_jacobian(model, R: float, z: np.ndarray, step: float = 1e-7) -> np.ndarray:
     """Jacobian of :func:`rotating_rhs` by central differences."""
     z = np.asarray(z, dtype=float)
     J = np.empty((z.size, z.size))

@@ -169,15 +169,15 @@ def book_params(scene, speed: float | None = None):
         kw = dict(R_m=m * l * l / (Ms * rho2), R_rho=math.sqrt(B / A), h1=b.tilt_drag / (A * w0),
                   h2=b.turn_drag / (B * w0), e0=r.unbalance / (m * l), **common)
         if b.kind == "coupled_pair":
-            from stand.model.balancers.gravity_pair import GravityPairParams
+            from stand.model.balancers.gravity_pair_params import GravityPairParams
 
             return "gravity_pair", GravityPairParams(gamma=r.unbalance_angle, **kw)
-        from stand.model.balancers.two_axis import TwoAxisParams
+        from stand.model.balancers.two_axis_params import TwoAxisParams
 
         return "two_axis", TwoAxisParams(R_g=math.sqrt(b.axial_gravity * l / (rho2 * w0 * w0)),
                                          **kw)
     if isinstance(b, SphericalWeight):
-        from stand.model.balancers.damper import DamperParams
+        from stand.model.balancers.damper_params import DamperParams
 
         m, l, A = b.mass, b.arm, b.inertia
         rho2 = A / m
@@ -186,7 +186,7 @@ def book_params(scene, speed: float | None = None):
                                       h=b.drag / (A * w0), e0=r.unbalance / (m * l),
                                       gamma=r.unbalance_angle, **common)
     if isinstance(b, LiquidWeight) and b.kind == "liquid_float":
-        from stand.model.balancers.liquid_float import LiquidFloatParams
+        from stand.model.balancers.liquid_float_params import LiquidFloatParams
 
         w_start = float(prog[0, 1]) if prog is not None else w
         eps = 0.0
@@ -196,7 +196,7 @@ def book_params(scene, speed: float | None = None):
             Omega_0=math.sqrt(c / M), psi=M / (M + b.mass * b.lever), n=chi / M,
             e=r.eccentricity, omega_0=w_start, epsilon=eps, m1=M)
     if isinstance(b, LiquidWeight):
-        from stand.model.balancers.liquid_chamber import LiquidChamberParams
+        from stand.model.balancers.liquid_chamber_params import LiquidChamberParams
 
         D0 = r.unbalance
         horizontal = any(abs(g) > 0 for g in scene.linear_rotor().gravity_plane)

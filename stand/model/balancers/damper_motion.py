@@ -24,7 +24,7 @@ import numpy as np
 from stand.model.balancers._ode import check_frame, frame_rhs, integrate
 
 if TYPE_CHECKING:
-    from stand.model.balancers.damper import DamperParams
+    from stand.model.balancers.damper_params import DamperParams
 
 __all__ = [
     "rhs", "rhs_rotating", "make_rhs", "state_from_angles", "angles_from_state", "to_rotating",

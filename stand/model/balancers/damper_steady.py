@@ -19,10 +19,11 @@ import numpy as np
 
 from stand.model.balancers._ode import central_jacobian
 from stand.model.balancers._params import BOOK
-from stand.model.balancers.damper_motion import _EZ, rhs_rotating, state_from_angles
+from stand.model.balancers.damper_motion import _EZ, state_from_angles
+from stand.model.balancers.one_model import rotating_form
 
 if TYPE_CHECKING:
-    from stand.model.balancers.damper import DamperParams
+    from stand.model.balancers.damper_params import DamperParams
 
 __all__ = [
     "DamperSteady", "steady_quartic_roots", "steady_motions", "efficiency", "efficiency_approx",
@@ -234,7 +235,8 @@ def _tangent(n):
 
 
 def jacobian(p: DamperParams, s, *, step: float = 1e-6) -> np.ndarray:
-    """9x9 Jacobian of :func:`rhs_rotating` at ``s`` in the chart
+    """9x9 Jacobian of the rotating-frame equations (evaluated on the one model,
+    :func:`stand.model.balancers.one_model.rotating_form`) at ``s`` in the chart
     ``(xi, eta, xi', eta', eps1, eps2, W1, W2, W3)``, ``n = normalise(n0 + eps1 t1 + eps2 t2)``
     -- the book's 9 first-order variables (``x, y, phi, psi, p`` and rates), without the
     constraint direction."""
@@ -250,8 +252,9 @@ def jacobian(p: DamperParams, s, *, step: float = 1e-6) -> np.ndarray:
     def red(ds):
         return np.concatenate([ds[:4], [ds[4:7] @ t1, ds[4:7] @ t2], ds[7:10]])
 
+    form = rotating_form("damper", p)
     v0 = np.concatenate([s[:4], [0.0, 0.0], s[7:10]])
-    return central_jacobian(lambda v: red(rhs_rotating(0.0, full(v), p)), v0, np.full(9, step))
+    return central_jacobian(lambda v: red(form(full(v))), v0, np.full(9, step))
 
 
 def eigenvalues(p: DamperParams, motion: DamperSteady) -> np.ndarray:

@@ -17,7 +17,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 if TYPE_CHECKING:
-    from stand.model.balancers.gravity_pair import GravityPairParams
+    from stand.model.balancers.gravity_pair_params import GravityPairParams
 
 __all__ = [
     "D", "qp_polynomial", "qp_roots", "qp_frequency", "qp_frequency_approx",

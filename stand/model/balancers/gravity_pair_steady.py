@@ -1,7 +1,8 @@
 """Gravity-insensitive coupled pair (book 7.1): steady motions and their stability.
 
 Part of :mod:`stand.model.balancers.gravity_pair`.  The steady (synchronous)
-motions are the equilibria of the rotating-frame system (7.6): main motions
+motions are the equilibria of the rotating-frame system (7.6) (evaluated on the one
+model, :mod:`stand.model.balancers.one_model`): main motions
 ``phi = arcsin e0`` (7.7), first-group side motions (CWs fully deflected)
 outside the band (7.8), second-group side motions (``sin phi = 0``), and for
 ``e0 > 1`` the set (7.9).  Stability by the numerical Jacobian (the
@@ -16,10 +17,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from stand.model.balancers._ode import central_jacobian
-from stand.model.balancers.gravity_pair_motion import rhs_rotating
+from stand.model.balancers.one_model import rotating_form
 
 if TYPE_CHECKING:
-    from stand.model.balancers.gravity_pair import GravityPairParams
+    from stand.model.balancers.gravity_pair_params import GravityPairParams
 
 __all__ = ["SteadyMotion", "steady_motions", "side_band", "jacobian", "eigenvalues", "is_stable"]
 
@@ -149,8 +150,9 @@ def side_band(p: GravityPairParams) -> tuple[float, float]:
 # ---------------------------------------------------------------------------
 
 def jacobian(p: GravityPairParams, y, *, step: float = 1e-6) -> np.ndarray:
-    """Central-difference Jacobian (8x8) of :func:`rhs_rotating` at the state ``y``."""
-    return central_jacobian(lambda v: rhs_rotating(0.0, v, p), y, np.full(8, step))
+    """Central-difference Jacobian (8x8) of the rotating-frame equations (7.2) at the state
+    ``y``, evaluated on the one model (:func:`stand.model.balancers.one_model.rotating_form`)."""
+    return central_jacobian(rotating_form("gravity_pair", p), y, np.full(8, step))
 
 
 def eigenvalues(p: GravityPairParams, motion: SteadyMotion) -> np.ndarray:

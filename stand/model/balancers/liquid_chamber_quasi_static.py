@@ -18,7 +18,7 @@ from stand.model.balancers._params import THESIS
 from stand.model.balancers.liquid_chamber_geometry import G_STANDARD, _result_flags, fill_geometry
 
 if TYPE_CHECKING:
-    from stand.model.balancers.liquid_chamber import LiquidChamberParams
+    from stand.model.balancers.liquid_chamber_params import LiquidChamberParams
 
 __all__ = [
     "EquilibriumAngle", "EfficiencyExtremum", "QuasiStaticResult", "phase_lag",

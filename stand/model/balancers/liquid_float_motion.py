@@ -3,9 +3,9 @@
 Part of :mod:`stand.model.balancers.liquid_float` (model and parameters are
 described there).
 
-* Speed laws: the paper's linear run-up (6) ``beta' = omega_0 + 2 epsilon t``
-  (:class:`LinearSpeed`), a speed step (:class:`StepSpeed`, paper [2]) and any
-  smooth law (:class:`GeneralSpeed`).
+* Speed laws (defined beside the parameters, :mod:`.liquid_float_params`): the paper's
+  linear run-up (6) ``beta' = omega_0 + 2 epsilon t`` (:class:`LinearSpeed`), a speed
+  step (:class:`StepSpeed`, paper [2]) and any smooth law (:class:`GeneralSpeed`).
 * Stationary orbit (5) and the initial conditions (7) (fixed frame) / (10)
   (rotating frame); the quasi-static amplitude laws (digest 1.5).
 * Right-hand sides: the corrected fixed-frame (4)
@@ -14,15 +14,15 @@ described there).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
 from stand.model.balancers._params import PAPER
+from stand.model.balancers.liquid_float_params import GeneralSpeed, LinearSpeed, StepSpeed
 
 if TYPE_CHECKING:
-    from stand.model.balancers.liquid_float import LiquidFloatParams
+    from stand.model.balancers.liquid_float_params import LiquidFloatParams
 
 __all__ = [
     "FRAMES", "LinearSpeed", "StepSpeed", "GeneralSpeed", "stationary_amplitude",
@@ -30,102 +30,6 @@ __all__ = [
 ]
 
 FRAMES = ("rotating", "fixed")
-
-
-# ---------------------------------------------------------------------------
-# speed laws
-# ---------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class LinearSpeed:
-    """Speed law (6): ``omega = omega_0 + 2 epsilon t``, ``beta = omega_0 t + epsilon t^2``.
-
-    Parameters
-    ----------
-    omega_0 : float
-        Speed at t = 0 [rad/s].
-    epsilon : float
-        Half the angular acceleration [rad/s^2] (note the factor 2 in (6)).
-    """
-
-    omega_0: float
-    epsilon: float
-    jumps: tuple = field(default=(), init=False)
-
-    def beta(self, t):
-        """Rotation angle [rad]."""
-        return self.omega_0 * t + self.epsilon * t * t
-
-    def omega(self, t):
-        """Angular speed [rad/s]."""
-        return self.omega_0 + 2.0 * self.epsilon * t
-
-    def alpha(self, t):
-        """Angular acceleration [rad/s^2]."""
-        return 2.0 * self.epsilon + 0.0 * t
-
-
-@dataclass(frozen=True)
-class StepSpeed:
-    """Step change of speed (paper [2], l. 94): ``omega_0`` before ``t_step``,
-    ``omega_1`` after.
-
-    The step is an impulsive angular acceleration.  The shaft force is finite,
-    so the velocity of the system COM, ``W' = Z' + i q omega e^{i beta}``, is
-    continuous; :func:`simulate` therefore applies the jump
-    ``Z'(+) = Z'(-) - i psi e (omega_1 - omega_0) e^{i beta}`` (rotating frame:
-    ``z'(+) = z'(-) - i (omega_1 - omega_0)(z + psi e)``) at ``t_step``.
-
-    Parameters
-    ----------
-    omega_0, omega_1 : float
-        Speeds before / after the step [rad/s].
-    t_step : float
-        Time of the step >= 0 [s].
-    """
-
-    omega_0: float
-    omega_1: float
-    t_step: float = 0.0
-
-    def __post_init__(self):
-        PAPER.each(("omega_0", self.omega_0, "rad/s", "finite"),
-                   ("omega_1", self.omega_1, "rad/s", "finite"), ("t_step", self.t_step, "s", ">= 0"))
-
-    @property
-    def jumps(self):
-        return ((float(self.t_step), float(self.omega_1 - self.omega_0)),)
-
-    def beta(self, t):
-        t = np.asarray(t, dtype=float)
-        out = np.where(t < self.t_step, self.omega_0 * t,
-                       self.omega_0 * self.t_step + self.omega_1 * (t - self.t_step))
-        return out if out.ndim else float(out)
-
-    def omega(self, t):
-        t = np.asarray(t, dtype=float)
-        out = np.where(t < self.t_step, self.omega_0, self.omega_1) + 0.0 * t
-        return out if out.ndim else float(out)
-
-    def alpha(self, t):
-        return 0.0 * np.asarray(t, dtype=float) if np.ndim(t) else 0.0
-
-
-@dataclass(frozen=True)
-class GeneralSpeed:
-    """Any smooth prescribed rotation ``beta(t)``.
-
-    Parameters
-    ----------
-    beta, omega, alpha : callable
-        ``beta(t)`` [rad], its first ``omega(t)`` [rad/s] and second
-        ``alpha(t)`` [rad/s^2] derivatives; numpy-vectorised in ``t`` [s].
-    """
-
-    beta: Callable
-    omega: Callable
-    alpha: Callable
-    jumps: tuple = field(default=(), init=False)
 
 
 def _speed_for(params: LiquidFloatParams, speed):

@@ -23,7 +23,7 @@ from stand.model.balancers.liquid_float_motion import (LinearSpeed, _check_frame
                                   jac_rotating, rhs_fixed, rhs_rotating)
 
 if TYPE_CHECKING:
-    from stand.model.balancers.liquid_float import LiquidFloatParams
+    from stand.model.balancers.liquid_float_params import LiquidFloatParams
 
 __all__ = [
     "SCIPY_METHODS", "rk4_fixed_step", "LiquidFloatRun", "outputs_from_fixed",

@@ -28,7 +28,7 @@ import numpy as np
 from stand.model.balancers._params import BOOK
 
 if TYPE_CHECKING:
-    from stand.model.balancers.two_axis import TwoAxisParams
+    from stand.model.balancers.two_axis_params import TwoAxisParams
 
 __all__ = [
     "residual_rotating", "residual_fixed", "rhs_rotating", "rhs_fixed",

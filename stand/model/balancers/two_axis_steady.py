@@ -16,10 +16,10 @@ from typing import TYPE_CHECKING, List, Optional
 import numpy as np
 
 from stand.model.balancers._ode import central_jacobian
-from stand.model.balancers.two_axis_motion import rhs_rotating
+from stand.model.balancers.one_model import rotating_form
 
 if TYPE_CHECKING:
-    from stand.model.balancers.two_axis import TwoAxisParams
+    from stand.model.balancers.two_axis_params import TwoAxisParams
 
 __all__ = [
     "SteadyMotion", "jacobian", "eigenvalues", "max_real_part",
@@ -39,8 +39,10 @@ def jacobian(fun, y0, *args, eps=1e-6):
 
 
 def eigenvalues(p: TwoAxisParams, y0) -> np.ndarray:
-    """Eigenvalues of the linearised (6.12) at the rotating-frame state ``y0``."""
-    return np.linalg.eigvals(jacobian(rhs_rotating, y0, p))
+    """Eigenvalues of the linearised (6.12) at the rotating-frame state ``y0`` (the rotating
+    frame evaluated on the one model, :func:`stand.model.balancers.one_model.rotating_form`)."""
+    form = rotating_form("two_axis", p)
+    return np.linalg.eigvals(jacobian(lambda tau, y: form(y), y0))
 
 
 def max_real_part(lam, drop_zero=False) -> float:

@@ -32,7 +32,7 @@ from numpy.polynomial import polynomial as P
 from scipy.optimize import brentq, minimize_scalar
 
 from stand.model.balancers._params import BOOK
-from stand.model.balancers.two_axis import TwoAxisParams
+from stand.model.balancers.two_axis_params import TwoAxisParams
 from stand.model.balancers.two_axis_motion import rhs_fixed
 from stand.model.balancers.two_axis_steady import _D, efficiency, eigenvalues, first_group, jacobian, max_real_part
 
