@@ -117,7 +117,6 @@ def test_circle_finder_finds_a_planted_circle():
     assert any(isinstance(n, ast.ImportFrom) for n in ast.walk(tree))   # ast.walk sees inside defs
 
 
-@pytest.mark.xfail(reason="issue 29 in progress: see the issue note", strict=False)
 def test_no_import_circles():
     found = circles(import_graph())
     assert not found, "import circles (imports inside functions count):\n" + "\n".join(
@@ -129,7 +128,6 @@ def test_stand_top_level_is_small():
     assert len(loose) <= TOP_LEVEL_LIMIT, loose
 
 
-@pytest.mark.xfail(reason="issue 29 in progress: see the issue note", strict=False)
 def test_no_module_over_the_line_limit():
     big = []
     for pkg in PACKAGES:

@@ -17,7 +17,7 @@ import numpy as np
 from stand.integrate.vendor import dop853_coefficients as _co
 
 from stand._jit import literally, njit
-from stand.model.kernels import rhs
+from stand.model.kernels import derivatives
 
 N_STAGES = _co.N_STAGES  # 12
 A = np.ascontiguousarray(_co.A, dtype=float)  # (16, 16)
@@ -81,7 +81,7 @@ def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_
     Parameters
     ----------
     kind : int
-        Model kind for :func:`stand.model.kernels.rhs`.
+        Model kind for :func:`stand.model.kernels.derivatives`.
     sp, wt, prog : ndarray
         Model parameters passed through to ``rhs``.
     t : float
@@ -156,13 +156,13 @@ def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_
                 K[0, i] = f[i]
             for s in range(1, N_STAGES):
                 _stage_state(y, K, s, h, yy)
-                rhs(kind, min(t + C[s] * h, t_left), yy, K[s], sp, wt, prog)
+                derivatives(kind, min(t + C[s] * h, t_left), yy, K[s], sp, wt, prog)
             for i in range(n):
                 acc = 0.0
                 for k in range(N_STAGES):
                     acc += B[k] * K[k, i]
                 y_new[i] = y[i] + h * acc
-            rhs(kind, t_left, y_new, K[N_STAGES], sp, wt, prog)
+            derivatives(kind, t_left, y_new, K[N_STAGES], sp, wt, prog)
             stats[N_FEV] += N_STAGES
             steps += 1
             # error estimate (scipy's DOP853._estimate_error_norm)
@@ -216,7 +216,7 @@ def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_
         if k_next < n_samples and ts[k_next] <= t_new:
             for s in range(N_STAGES + 1, 16):
                 _stage_state(y, K, s, h, yy)
-                rhs(kind, min(t + C[s] * h, t_left), yy, K[s], sp, wt, prog)
+                derivatives(kind, min(t + C[s] * h, t_left), yy, K[s], sp, wt, prog)
             stats[N_FEV] += 3
             for i in range(n):
                 dyi = y_new[i] - y[i]

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from stand._jit import literally, njit
-from stand.model.kernels import rhs
+from stand.model.kernels import derivatives
 
 __all__ = ["jac_fd"]
 
@@ -24,7 +24,7 @@ def jac_fd(kind, t, y, f0, sp, wt, prog, J):
     for i in range(n):
         dh = 1.5e-8 * max(1.0, abs(y[i]))
         yy[i] = y[i] + dh
-        rhs(kind, t, yy, df, sp, wt, prog)
+        derivatives(kind, t, yy, df, sp, wt, prog)
         for k in range(n):
             J[k, i] = (df[k] - f0[k]) / dh
         yy[i] = y[i]

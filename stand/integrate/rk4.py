@@ -13,7 +13,7 @@ from typing import Callable
 import numpy as np
 
 from stand._jit import literally, njit
-from stand.model.kernels import rhs
+from stand.model.kernels import derivatives
 
 __all__ = ["rk4_loop", "rk4_fixed_step"]
 
@@ -34,16 +34,16 @@ def rk4_loop(kind, sp, wt, prog, y, h, n_steps, every, out):
     row = 1
     t = 0.0
     for s in range(n_steps):
-        rhs(kind, t, y, k1, sp, wt, prog)
+        derivatives(kind, t, y, k1, sp, wt, prog)
         for i in range(n):
             tmp[i] = y[i] + 0.5 * h * k1[i]
-        rhs(kind, t + 0.5 * h, tmp, k2, sp, wt, prog)
+        derivatives(kind, t + 0.5 * h, tmp, k2, sp, wt, prog)
         for i in range(n):
             tmp[i] = y[i] + 0.5 * h * k2[i]
-        rhs(kind, t + 0.5 * h, tmp, k3, sp, wt, prog)
+        derivatives(kind, t + 0.5 * h, tmp, k3, sp, wt, prog)
         for i in range(n):
             tmp[i] = y[i] + h * k3[i]
-        rhs(kind, t + h, tmp, k4, sp, wt, prog)
+        derivatives(kind, t + h, tmp, k4, sp, wt, prog)
         for i in range(n):
             y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         t = (s + 1) * h

@@ -1,10 +1,10 @@
 """Compiled right-hand sides, selected by an integer model kind at compile time.
 
 The compiled integrators (:mod:`stand.integrate.dop853`, :mod:`stand.integrate.rk4`)
-call :func:`rhs` with a model kind instead of taking the right-hand side as a
+call :func:`derivatives` with a model kind instead of taking the right-hand side as a
 first-class function argument, so that numba can cache the compiled loops on
 disk (first-class function arguments defeat the cache).  The loops ask for the
-kind as a compile-time constant (``literally``), and :func:`rhs` resolves, while
+kind as a compile-time constant (``literally``), and :func:`derivatives` resolves, while
 compiling, to that kind's right-hand side only: a planar-rotor run compiles the
 planar right-hand side and never the generic one (about ten times larger), and
 each kind's loop is compiled and cached on its own.
@@ -26,7 +26,7 @@ RHS = {PLANAR: ("stand.model.planar", "rhs_planar"),
 KIND_NAMES = {PLANAR: "planar", GENERIC: "generic"}
 
 
-def rhs_of(kind: int):
+def kernel_of(kind: int):
     """The right-hand-side function of model ``kind``."""
     try:
         module, name = RHS[kind]
@@ -35,20 +35,20 @@ def rhs_of(kind: int):
     return getattr(importlib.import_module(module), name)
 
 
-def rhs(kind, t, y, dy, sp, wt, prog):
+def derivatives(kind, t, y, dy, sp, wt, prog):
     """Evaluate the right-hand side of model ``kind`` into ``dy`` (in compiled code: the
     kind's function itself, chosen while compiling)."""
-    rhs_of(kind)(t, y, dy, sp, wt, prog)
+    kernel_of(kind)(t, y, dy, sp, wt, prog)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def evaluate(kind, t, y, dy, sp, wt, prog):
-    """:func:`rhs` compiled for calls from Python (one specialisation per kind).
+    """:func:`derivatives` compiled for calls from Python (one specialisation per kind).
 
     Without reference counting, as the DOP853 loop: the planar right-hand side, inlined
     into both, is then compiled once."""
     literally(kind)
-    rhs(kind, t, y, dy, sp, wt, prog)
+    derivatives(kind, t, y, dy, sp, wt, prog)
 
 
 def _register(numba):
@@ -56,7 +56,7 @@ def _register(numba):
     from numba.extending import overload
 
     def function_of(kind):
-        f = rhs_of(kind)
+        f = kernel_of(kind)
         return getattr(f, "dispatcher", f)   # a stand-in made before numba was imported
 
     # The planar right-hand side is inlined into the calling loop by LLVM (forceinline: a
@@ -64,8 +64,8 @@ def _register(numba):
     # stage sums vectorise).  numba's own IR inlining would do the same at 5-10 times the
     # compile time.  It takes the reference-counting flag of the caller that compiles it
     # first; inlined into the DOP853 loop (none) the counts are dropped either way.
-    @overload(rhs, jit_options={"error_model": "numpy", "forceinline": True})
-    def _rhs_planar_inline(kind, t, y, dy, sp, wt, prog):
+    @overload(derivatives, jit_options={"error_model": "numpy", "forceinline": True})
+    def _planar_inline(kind, t, y, dy, sp, wt, prog):
         if isinstance(kind, types.IntegerLiteral) and kind.literal_value == PLANAR:
             f = function_of(PLANAR)
 
@@ -77,11 +77,11 @@ def _register(numba):
 
     # Any other kind: a call (the generic right-hand side is ten times larger), with
     # reference counting of its own (it allocates a scratch buffer).
-    @overload(rhs, jit_options={"error_model": "numpy", "_nrt": True})
-    def _rhs_of_literal_kind(kind, t, y, dy, sp, wt, prog):
+    @overload(derivatives, jit_options={"error_model": "numpy", "_nrt": True})
+    def _kernel_of_literal_kind(kind, t, y, dy, sp, wt, prog):
         if not isinstance(kind, types.IntegerLiteral):
             raise numba.core.errors.TypingError(
-                "stand.model.kernels.rhs: the model kind must be a compile-time constant "
+                "stand.model.kernels.derivatives: the model kind must be a compile-time constant "
                 "(numba.literally(kind) in the calling kernel)")
         if kind.literal_value == PLANAR:
             return None
