@@ -110,7 +110,7 @@ def _background_precompile() -> None:
 
 
 def main(argv=None) -> int:
-    from stand.scene.model import SceneError
+    from stand.errors import SceneError
 
     args = build_parser().parse_args(argv)
     try:

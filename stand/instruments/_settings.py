@@ -31,7 +31,7 @@ from typing import Callable, Iterable, Optional
 
 import numpy as np
 
-from stand.scene.model import SceneError
+from stand.errors import SceneError
 
 __all__ = ["REQUIRED", "number", "integer", "boolean", "choice", "numbers", "keys", "check",
            "read_table", "rebased", "check_number", "check_integer", "table_boolean",

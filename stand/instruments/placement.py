@@ -36,7 +36,7 @@ from typing import Optional
 
 import numpy as np
 
-from stand.scene.model import SceneError
+from stand.errors import SceneError
 
 __all__ = ["Placement", "PLACEMENT_KEYS", "AXIS_MAPS", "NO_TILT", "split_placement",
            "attach", "placement_of", "instrument_plane", "axis_plane_name", "axis_map",

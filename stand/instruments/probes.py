@@ -25,7 +25,7 @@ from typing import Optional
 
 import numpy as np
 
-from stand.scene.model import SceneError
+from stand.errors import SceneError
 from stand.instruments._settings import (check, integer, keys, number, numbers, read_table, rebased,
                         table_numbers)
 from stand.instruments.timing import crossing_times, hermite, sample_trajectory, shaft_velocity, time_window

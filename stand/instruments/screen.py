@@ -42,7 +42,7 @@ from typing import Optional
 
 import numpy as np
 
-from stand.scene.model import SceneError
+from stand.errors import SceneError
 from stand.instruments._settings import REQUIRED, boolean, check, integer, keys, number, read_table
 
 __all__ = ["ScreenCamera", "spot_on_screen", "screen_to_pixels", "pixels_to_screen",

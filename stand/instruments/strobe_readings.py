@@ -37,7 +37,7 @@ from typing import Optional
 
 import numpy as np
 
-from stand.scene.model import SceneError
+from stand.errors import SceneError
 from stand.instruments._settings import boolean, check, integer, keys, number, read_table, rebased
 from stand.instruments.timing import crossing_times, hermite, sample_trajectory, time_window, wrap
 

@@ -46,7 +46,7 @@ from typing import Iterator, Optional
 
 import numpy as np
 
-from stand.scene.model import SceneError
+from stand.errors import SceneError
 from stand.instruments.strobe_readings import (PATH, TWO_PI, Stroboscope, body_coordinates, body_looks,
                               default_ball_radius, flash_times, point_weights)
 from stand.instruments.timing import sample_trajectory, shaft_velocity, time_window, wrap

@@ -380,7 +380,7 @@ def time_window(traj, t_start: Optional[float], t_end: Optional[float],
         The window is empty; the message names ``what`` (e.g. "stroboscope")
         and the run's time span.
     """
-    from stand.scene.model import SceneError
+    from stand.errors import SceneError
 
     t0 = float(traj.t[0]) if t_start is None else max(float(t_start), float(traj.t[0]))
     t1 = float(traj.t[-1]) if t_end is None else min(float(t_end), float(traj.t[-1]))

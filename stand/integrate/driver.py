@@ -27,7 +27,7 @@ import numpy as np
 
 from stand.integrate.dop853 import DIVERGED, NOT_FINITE, REACHED_END, STEP_BUDGET
 from stand.integrate.kernel_set import kernels
-from stand.scene.model import SceneError
+from stand.errors import SceneError
 
 __all__ = ["run_dop853", "run_scipy", "warm_up", "Checkpoint", "fingerprint", "segments",
            "CHUNK_STEPS", "DIVERGENCE_LIMIT"]

@@ -15,7 +15,7 @@ import numpy as np
 
 from stand.integrate.driver import CHUNK_STEPS, Checkpoint, fingerprint, run_dop853, run_scipy, warm_up
 from stand.integrate.result import Run, weight_names
-from stand.scene.model import SceneError
+from stand.errors import SceneError
 
 __all__ = ["sample_times", "merge_times", "integrate_model", "generic_run"]
 

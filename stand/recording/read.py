@@ -327,7 +327,7 @@ def _scene(text: str, notes: list) -> "Optional[Scene]":
     if not text.strip():
         notes.append("root attribute 'scene' missing or empty: Recording.scene is None")
         return None
-    from stand.scene.model import SceneError
+    from stand.errors import SceneError
     from stand.scene.parse import load
 
     try:

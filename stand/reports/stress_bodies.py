@@ -55,7 +55,7 @@ def load_body_scene(case):
     CatalogueError
         The scene file is invalid, or it carries no body weight.
     """
-    from stand.scene.model import SceneError
+    from stand.errors import SceneError
     from stand.scene.parse import load_scene
 
     p = case["params"]

@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 
-from stand.scene.model import SceneError
+from stand.errors import SceneError
 from stand.scene.parse import Table, _fmt, _kind, _suggest
 
 __all__ = ["load_catalogue", "CatalogueError", "DEFAULT_CATALOGUE", "KINDS", "select_cases"]

@@ -340,7 +340,7 @@ def scene_path(case) -> Path:
 
 def kind_scene_file(case, res):
     from stand.integrate.accuracy import closed_form_no_balancer
-    from stand.scene.model import SceneError
+    from stand.errors import SceneError
     from stand.scene.parse import load_scene
 
     p, chk = case["params"], case["check"]

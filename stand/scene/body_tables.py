@@ -50,7 +50,7 @@ import math
 from typing import Mapping
 
 from stand.io.validate import _Table, _fmt
-from stand.scene.model import SceneError
+from stand.errors import SceneError
 from stand.model.rotors.bodies import G_STANDARD, LiquidWeight, PlaneBody, SphericalWeight, TiltingWeight
 
 __all__ = ["BODY_TYPES", "parse_body"]

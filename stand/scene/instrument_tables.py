@@ -8,7 +8,7 @@ checked against the scene's planes (:mod:`stand.instruments.placement`).
 from __future__ import annotations
 
 from stand.io.validate import _Table, _suggest
-from stand.scene.model import SceneError
+from stand.errors import SceneError
 
 __all__ = ["INSTRUMENTS", "NAMED_INSTRUMENTS", "instrument_tables"]
 

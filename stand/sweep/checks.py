@@ -15,7 +15,7 @@ from typing import Any, Iterator, Mapping
 
 import numpy as np
 
-from stand.scene.model import SceneError
+from stand.errors import SceneError
 from stand.io.validate import fmt as _fmt, kind as _kind, number
 
 __all__ = ["SweepSpecError", "MAX_POINTS", "spec_errors"]

@@ -32,7 +32,7 @@ from typing import Any, Optional
 import numpy as np
 
 from stand.scene import parse as sf
-from stand.scene.model import SceneError
+from stand.errors import SceneError
 from stand.sweep.checks import SweepSpecError, _fmt, _suggest
 
 __all__ = ["SPECIAL_KEYS", "RATIO_KEYS", "DIMENSIONLESS_NAMES", "SCENE_TABLE_KEYS", "BODY_TYPES",

@@ -22,7 +22,7 @@ import numpy as np
 
 from stand.integrate.result import Run, SolverStats
 from stand.integrate.runs import generic_run, integrate_model, sample_times
-from stand.scene.model import SceneError
+from stand.errors import SceneError
 
 __all__ = ["run_book", "STATE_COLUMNS", "initial_state"]
 
