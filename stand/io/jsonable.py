@@ -1,8 +1,10 @@
 """One JSON converter for every result the stand prints or stores.
 
 :func:`to_jsonable` turns dataclasses, mappings, sequences, numpy arrays and
-scalars, complex numbers and paths into plain JSON values; non-finite floats
-become ``null`` (JSON has no NaN), as in the reports' schemas.
+scalars, complex numbers, paths and any object with a ``to_dict()`` method (the
+result objects of :mod:`stand.io.result`; pandas objects aside) into plain JSON
+values; non-finite floats become ``null`` (JSON has no NaN), as in the reports'
+schemas.
 """
 from __future__ import annotations
 
@@ -23,6 +25,8 @@ def to_jsonable(obj: Any) -> Any:
         return {str(k): to_jsonable(v) for k, v in obj.items()}
     if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
         return {f.name: to_jsonable(getattr(obj, f.name)) for f in dataclasses.fields(obj)}
+    if callable(getattr(obj, "to_dict", None)) and not type(obj).__module__.startswith("pandas"):
+        return to_jsonable(obj.to_dict())
     if isinstance(obj, (list, tuple, set, frozenset)):
         return [to_jsonable(v) for v in obj]
     if isinstance(obj, np.ndarray):

@@ -1,0 +1,174 @@
+"""The answers of the analysis as result objects (:class:`stand.io.result.Result`).
+
+* :class:`Analysis`  -- ``stand.analyze``: the journal's numbers of one recording;
+* :class:`TwoPlane`  -- two-plane balancing from two screens;
+* :class:`Influence` -- influence-coefficient balancing from recordings;
+* :class:`Track`     -- a spot track of a screen's frames (``stand track``).
+
+Each holds the document ``--json`` prints (``to_dict()``), its tables
+(``to_frame(...)``) and draws its picture on a given Axes (``plot(ax=)``).
+"""
+from __future__ import annotations
+
+import math
+
+from stand.io.result import Result, axes_of
+
+__all__ = ["Analysis", "TwoPlane", "Influence", "Track"]
+
+
+class Analysis(Result):
+    """What ``stand.analyze`` identified in one recording (docs/results.md).
+
+    Attributes are the keys of ``stand analyze --json`` (units in the names):
+    ``speed_hz``, ``natural_frequency_hz`` (``_std``), ``damping_ratio``,
+    ``response_1x_m``, ``unbalance_gmm`` (``_std``), ``unbalance_angle_deg``,
+    ``iso_grade``, ``programme``, ``runup`` (``bode``, ``resonance``, ``model_fit``),
+    ``critical_speed_hz``, ``components`` (quasi-periodic lines), ``precession_hz``,
+    ``nutation_hz``, ``regime``, ``critical_speeds_hz``, ``notes``; and
+    ``regime_timeline`` (held, left out of the JSON as the CLI does).
+
+    Tables for :meth:`to_frame`: ``"components"``, ``"regime_timeline"``,
+    ``"critical_speeds_hz"``, ``"runup.bode"``, ``"programme.stretches"``.
+    The picture: the run-up's 1X amplitude against speed when there is one, else the
+    orbit's lines (amplitude against frequency).
+    """
+
+    kind = "analysis"
+    json_exclude = ("regime_timeline",)
+    summary_keys = ("recording", "speed_hz", "natural_frequency_hz", "damping_ratio",
+                    "unbalance_gmm", "regime")
+
+    def _draw(self, ax) -> None:
+        bode = (self.get("runup") or {}).get("bode")
+        if bode:
+            ax.plot(bode["speed_hz"], [a * 1e6 for a in bode["amplitude_m"]], lw=0.9, label="1X")
+            if self.get("critical_speed_hz") is not None:
+                ax.axvline(self["critical_speed_hz"], color="C3", ls="--", lw=0.8,
+                           label="critical speed")
+            ax.set_xlabel("speed [rev/s]")
+            ax.set_ylabel("1X amplitude [um]")
+            ax.legend(loc="upper right")
+        else:
+            comps = self.get("components") or []
+            f = [c["frequency_hz"] for c in comps]
+            a = [c["amplitude_m"] * 1e6 for c in comps]
+            if f:
+                ax.vlines(f, 0, a, lw=1.5)
+                ax.plot(f, a, "o")
+            for key, style in (("speed_hz", "C1"), ("natural_frequency_hz", "C2")):
+                if self.get(key) is not None:
+                    ax.axvline(self[key], color=style, ls=":", lw=0.8, label=key)
+            ax.set_xlabel("frequency [Hz]")
+            ax.set_ylabel("amplitude [um]")
+            if ax.get_legend_handles_labels()[0]:
+                ax.legend(loc="upper right")
+        ax.set_title(f"analysis of {self.get('recording', '')}", fontsize=9)
+
+
+class TwoPlane(Result):
+    """Two-plane balancing from two laser screens (:func:`stand.analysis.two_plane.two_plane`):
+    ``planes`` (one record per correction plane: ``unbalance_gmm``, ``angle_deg``, their
+    ``_std``, ``permissible_gmm``, ``passed``), ``screens``, ``speed_hz``, ``iso_21940_11``.
+    ``to_frame()`` without a table name: the planes."""
+
+    kind = "two-plane balancing"
+    summary_keys = ("recording", "speed_hz")
+
+    def to_frame(self, table="planes"):
+        return super().to_frame(table)
+
+    def _draw(self, ax) -> None:
+        _plane_bars(ax, [r["plane"] for r in self["planes"]],
+                    [r["unbalance_gmm"] for r in self["planes"]],
+                    [r["permissible_gmm"] for r in self["planes"]], "unbalance [g mm]")
+
+
+class Influence(Result):
+    """Influence-coefficient balancing (:func:`stand.analysis.influence.influence_from_recordings`).
+
+    The document is :meth:`dsp.influence.InfluenceBalance.to_dict` (``stand influence
+    --json``); :attr:`balance` is the :class:`~dsp.influence.InfluenceBalance` itself
+    (complex influence matrix, masses and angles as arrays); ``to_frame()`` one row per
+    correction plane (its ``to_pandas()``)."""
+
+    kind = "influence-coefficient balancing"
+
+    def __init__(self, balance):
+        super().__init__(balance.to_dict())
+        self._balance = balance
+
+    @property
+    def balance(self):
+        """The :class:`dsp.influence.InfluenceBalance`."""
+        return self._balance
+
+    def __getattr__(self, name):
+        if not name.startswith("_") and name not in self._doc:   # mass_g, angle_deg, ...
+            return getattr(self._balance, name)
+        return super().__getattr__(name)
+
+    def to_frame(self, table=None):
+        return self._balance.to_pandas() if table is None else super().to_frame(table)
+
+    def _summary(self) -> list:
+        b = self._balance
+        return [(p, f"{m:.4g} g at {a:.1f} deg") for p, m, a in zip(b.planes, b.mass_g, b.angle_deg)]
+
+    def _draw(self, ax) -> None:
+        b = self._balance
+        for p, m, a in zip(b.planes, b.mass_g, b.angle_deg):
+            th = math.radians(a)
+            ax.annotate("", (m * math.cos(th), m * math.sin(th)), (0, 0),
+                        arrowprops=dict(arrowstyle="->"))
+            ax.text(m * math.cos(th), m * math.sin(th), f" {p}", fontsize=8)
+        r = max([abs(m) for m in b.mass_g] + [1e-12]) * 1.2
+        ax.set_xlim(-r, r)
+        ax.set_ylim(-r, r)
+        ax.set_aspect("equal")
+        ax.set_xlabel("correction mass [g], 0 deg")
+        ax.set_ylabel("correction mass [g], 90 deg")
+        ax.set_title(self.kind)
+
+
+class Track(Result):
+    """A spot track (``stand track``, :func:`stand.analysis.tracking.track_frames`): one row
+    per frame in :attr:`frame` (the DataFrame the CSV holds); the document is the track's
+    summary (``frames``, ``found``, ``source``)."""
+
+    kind = "track"
+
+    def __init__(self, frame, source=""):
+        ok = int(frame["ok"].sum()) if "ok" in frame else len(frame)
+        super().__init__({"source": str(source), "frames": int(len(frame)), "found": ok})
+        self._frame = frame
+
+    @property
+    def frame(self):
+        """The track, one row per frame (pandas DataFrame)."""
+        return self._frame
+
+    def to_frame(self, table=None):
+        return self._frame if table is None else super().to_frame(table)
+
+    def _draw(self, ax) -> None:
+        df = self._frame
+        xs, ys = ("x_m", "y_m") if "x_m" in df else ("u_px", "v_px")
+        scale = 1e3 if xs == "x_m" else 1.0
+        ax.plot(df[xs] * scale, df[ys] * scale, ".", ms=2)
+        ax.set_aspect("equal", adjustable="datalim")
+        unit = "mm" if xs == "x_m" else "px"
+        ax.set_xlabel(f"x [{unit}]")
+        ax.set_ylabel(f"y [{unit}]")
+        ax.set_title(f"track of {self['source']}", fontsize=9)
+
+
+def _plane_bars(ax, names, values, limits, label) -> None:
+    """Bars of one value per plane with each plane's limit as a tick."""
+    ax = axes_of(ax)
+    pos = range(len(names))
+    ax.bar(pos, values, color="C0", label=label)
+    ax.scatter(pos, limits, marker="_", s=600, color="C3", label="permissible")
+    ax.set_xticks(list(pos), names)
+    ax.set_ylabel(label)
+    ax.legend(loc="upper right")
