@@ -34,9 +34,9 @@ class Analysis(Result):
     orbit's lines (amplitude against frequency).
     """
 
-    kind = "analysis"
-    json_exclude = ("regime_timeline",)
-    summary_keys = ("recording", "speed_hz", "natural_frequency_hz", "damping_ratio",
+    _title = "analysis"
+    _json_exclude = ("regime_timeline",)
+    _summary_keys = ("recording", "speed_hz", "natural_frequency_hz", "damping_ratio",
                     "unbalance_gmm", "regime")
 
     def _draw(self, ax) -> None:
@@ -72,8 +72,8 @@ class TwoPlane(Result):
     ``_std``, ``permissible_gmm``, ``passed``), ``screens``, ``speed_hz``, ``iso_21940_11``.
     ``to_frame()`` without a table name: the planes."""
 
-    kind = "two-plane balancing"
-    summary_keys = ("recording", "speed_hz")
+    _title = "two-plane balancing"
+    _summary_keys = ("recording", "speed_hz")
 
     def to_frame(self, table="planes"):
         return super().to_frame(table)
@@ -92,7 +92,7 @@ class Influence(Result):
     (complex influence matrix, masses and angles as arrays); ``to_frame()`` one row per
     correction plane (its ``to_pandas()``)."""
 
-    kind = "influence-coefficient balancing"
+    _title = "influence-coefficient balancing"
 
     def __init__(self, balance):
         super().__init__(balance.to_dict())
@@ -104,7 +104,7 @@ class Influence(Result):
         return self._balance
 
     def __getattr__(self, name):
-        if not name.startswith("_") and name not in self._doc:   # mass_g, angle_deg, ...
+        if not name.startswith("_") and name not in self:   # mass_g, angle_deg, ...
             return getattr(self._balance, name)
         return super().__getattr__(name)
 
@@ -128,7 +128,7 @@ class Influence(Result):
         ax.set_aspect("equal")
         ax.set_xlabel("correction mass [g], 0 deg")
         ax.set_ylabel("correction mass [g], 90 deg")
-        ax.set_title(self.kind)
+        ax.set_title(self._title)
 
 
 class Track(Result):
@@ -136,7 +136,7 @@ class Track(Result):
     per frame in :attr:`frame` (the DataFrame the CSV holds); the document is the track's
     summary (``frames``, ``found``, ``source``)."""
 
-    kind = "track"
+    _title = "track"
 
     def __init__(self, frame, source=""):
         ok = int(frame["ok"].sum()) if "ok" in frame else len(frame)

@@ -21,12 +21,12 @@ __all__ = ["to_jsonable", "dumps"]
 
 def to_jsonable(obj: Any) -> Any:
     """A plain JSON value (dict, list, str, int, float, bool, None) for ``obj``."""
+    if type(obj) is not dict and _has_to_dict(obj):
+        return to_jsonable(obj.to_dict())
     if isinstance(obj, dict):
         return {str(k): to_jsonable(v) for k, v in obj.items()}
     if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
         return {f.name: to_jsonable(getattr(obj, f.name)) for f in dataclasses.fields(obj)}
-    if callable(getattr(obj, "to_dict", None)) and not type(obj).__module__.startswith("pandas"):
-        return to_jsonable(obj.to_dict())
     if isinstance(obj, (list, tuple, set, frozenset)):
         return [to_jsonable(v) for v in obj]
     if isinstance(obj, np.ndarray):
@@ -43,6 +43,14 @@ def to_jsonable(obj: Any) -> Any:
     if isinstance(obj, PurePath):
         return str(obj)
     return obj
+
+
+def _has_to_dict(obj) -> bool:
+    """A result object (:class:`stand.io.result.Result` and kin); not a pandas object (whose
+    ``to_dict`` is a table's), not a dataclass (its fields are its JSON)."""
+    return (callable(getattr(type(obj), "to_dict", None))
+            and not type(obj).__module__.startswith("pandas")
+            and not dataclasses.is_dataclass(obj))
 
 
 def dumps(obj: Any, **kwargs) -> str:

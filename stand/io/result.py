@@ -6,7 +6,7 @@ response objects: a result holds the JSON document the command line prints
 and gives it four faces:
 
 * attribute access (``res.speed_hz``) and mapping access (``res["speed_hz"]``,
-  ``res.get(...)``, ``dict(res)``) to the same values;
+  ``res.get(...)``, ``json.dumps(res)``: a result is a ``dict``) to the same values;
 * :meth:`Result.to_dict` -- the JSON document, plain types, the CLI's schema;
 * :meth:`Result.to_frame` -- a pandas DataFrame: the document's numbers, one row
   per number (``to_frame()``), or one of its tables (``to_frame("components")``:
@@ -14,17 +14,17 @@ and gives it four faces:
 * :meth:`Result.plot` -- draws on a matplotlib Axes it is given (or on a new
   figure that belongs to no backend) and returns the Axes;
 
-and a short ``repr`` (and ``_repr_html_`` for notebooks).  Subclasses name the
-document's kind (:attr:`Result.kind`), the keys the JSON leaves out
-(:attr:`Result.json_exclude`) and draw their own picture (:meth:`Result._draw`).
+and a short ``repr`` (and ``_repr_html_`` for notebooks).  Subclasses name what the
+document is (``_title``), the keys the JSON leaves out (``_json_exclude``) and the keys
+``repr`` shows (``_summary_keys``) -- private names, so that they never hide a key of
+the document -- and draw their own picture (``_draw``).
 
 This module is a leaf: numpy, and pandas / matplotlib imported where used.
 """
 from __future__ import annotations
 
 import html
-from collections.abc import MutableMapping
-from typing import Any, Iterator, Optional
+from typing import Any, Optional
 
 __all__ = ["Result", "axes_of", "flatten_numbers", "renamed"]
 
@@ -78,65 +78,49 @@ def _is_table(v) -> bool:
     return False
 
 
-class Result(MutableMapping):
+class Result(dict):
     """An answer of the stand: a JSON document with attribute access (module docstring).
+
+    A ``dict`` (as SciPy's ``OptimizeResult``), so ``res["key"]``, ``json.dumps(res)`` and
+    every mapping idiom keep working; the keys are also attributes.
 
     Parameters
     ----------
     doc : mapping
-        The document (as the CLI prints it, plus any key of :attr:`json_exclude`).
+        The document (as the CLI prints it, plus any key of ``_json_exclude``).
     """
 
     #: what the document is (shown by ``repr``)
-    kind = "result"
+    _title = "result"
     #: keys held by the object but left out of :meth:`to_dict` (e.g. long timelines)
-    json_exclude: tuple = ()
+    _json_exclude: tuple = ()
     #: keys shown by ``repr`` (the first ones of the document when empty)
-    summary_keys: tuple = ()
+    _summary_keys: tuple = ()
 
-    def __init__(self, doc=None, **kwargs):
-        object.__setattr__(self, "_doc", dict(doc or {}, **kwargs))
-
-    # ---------------------------------------------------------- mapping and attributes
-    def __getitem__(self, key):
-        return self._doc[key]
-
-    def __setitem__(self, key, value) -> None:
-        self._doc[key] = value
-
-    def __delitem__(self, key) -> None:
-        del self._doc[key]
-
-    def __iter__(self) -> Iterator:
-        return iter(self._doc)
-
-    def __len__(self) -> int:
-        return len(self._doc)
-
+    # ---------------------------------------------------------- attributes
     def __getattr__(self, name):
         if name.startswith("_"):      # private state is set in __init__; never the document
             raise AttributeError(name)
         try:
-            return self._doc[name]
+            return self[name]
         except KeyError:
             raise AttributeError(f"{type(self).__name__} has no attribute {name!r}; its keys: "
-                                 f"{', '.join(self._doc)}") from None
+                                 f"{', '.join(map(str, self))}") from None
 
     def __setattr__(self, name, value) -> None:
         if name.startswith("_"):      # a subclass' own state, not part of the document
             object.__setattr__(self, name, value)
         else:
-            self._doc[name] = value
+            self[name] = value
+
+    def __delattr__(self, name) -> None:
+        if name.startswith("_"):
+            object.__delattr__(self, name)
+        else:
+            del self[name]
 
     def __dir__(self):
-        return sorted(set(super().__dir__()) | {k for k in self._doc if k.isidentifier()})
-
-    def __eq__(self, other):
-        if isinstance(other, Result):
-            return type(self) is type(other) and self._doc == other._doc
-        return self._doc == other if isinstance(other, dict) else NotImplemented
-
-    __hash__ = None
+        return sorted(set(super().__dir__()) | {k for k in self if str(k).isidentifier()})
 
     # ---------------------------------------------------------- the document
     def to_dict(self) -> dict:
@@ -144,7 +128,7 @@ class Result(MutableMapping):
         line prints with ``--json``."""
         from stand.io.jsonable import to_jsonable
 
-        return to_jsonable({k: v for k, v in self._doc.items() if k not in self.json_exclude})
+        return to_jsonable({k: v for k, v in self.items() if k not in self._json_exclude})
 
     def to_json(self, **kwargs) -> str:
         """:meth:`to_dict` as strict JSON text (``json.dumps`` keywords, e.g. ``indent=2``)."""
@@ -172,7 +156,7 @@ class Result(MutableMapping):
         """The whole document as plain types, the keys :meth:`to_dict` leaves out included."""
         from stand.io.jsonable import to_jsonable
 
-        return to_jsonable(self._doc)
+        return to_jsonable(dict(self))
 
     def to_frame(self, table: Optional[str] = None):
         """A pandas DataFrame of the result.
@@ -214,15 +198,15 @@ class Result(MutableMapping):
         """The picture of a subclass; the base draws the document's numbers as bars."""
         rows = flatten_numbers(self.to_dict())[:30]
         ax.barh([k for k, _ in rows], [v for _, v in rows])
-        ax.set_title(self.kind)
+        ax.set_title(self._title)
 
     # ---------------------------------------------------------- notebooks
     def _summary(self) -> list:
-        keys = self.summary_keys or tuple(self._doc)[:6]
+        keys = self._summary_keys or tuple(self)[:6]
         out = []
         for k in keys:
-            if k in self._doc:
-                v = self._doc[k]
+            if k in self:
+                v = self[k]
                 text = f"{v:.6g}" if isinstance(v, float) else repr(v)
                 out.append((k, text if len(text) <= 60 else text[:57] + "..."))
         return out
@@ -235,5 +219,5 @@ class Result(MutableMapping):
         rows = "".join(f"<tr><th style='text-align:left'>{html.escape(k)}</th>"
                        f"<td style='text-align:left'>{html.escape(v)}</td></tr>"
                        for k, v in self._summary())
-        return (f"<b>{html.escape(type(self).__name__)}</b> ({html.escape(self.kind)}; "
-                f"{len(self._doc)} keys)<table>{rows}</table>")
+        return (f"<b>{html.escape(type(self).__name__)}</b> ({html.escape(self._title)}; "
+                f"{len(self)} keys)<table>{rows}</table>")

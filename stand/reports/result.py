@@ -20,7 +20,7 @@ class Report(Result):
     The picture: initial and residual unbalance against the permissible residual.
     """
 
-    kind = "balancing-quality report"
+    _title = "balancing-quality report"
 
     @property
     def passed(self):

@@ -26,8 +26,8 @@ class Theory(Result):
     with the critical speeds (structures), the steady motions' deflections (book models).
     """
 
-    kind = "theory"
-    summary_keys = ("kind", "scene", "natural_frequency_hz", "natural_frequencies_hz_at_rest",
+    _title = "theory"
+    _summary_keys = ("kind", "scene", "natural_frequency_hz", "natural_frequencies_hz_at_rest",
                     "operating_speed_hz", "type")
 
     @property
