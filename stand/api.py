@@ -12,6 +12,7 @@ book weight model) and every recording::
     stand.analyze(rec)                     # identification (dsp): an Analysis
     stand.report(rec, html_path="r.html")  # balancing-quality report: a Report
     stand.theory(scene)                    # what the theory predicts: a Theory
+    stand.track("runup.h5")                # the screen's spot in each frame: a Track
 
 The answers are result objects (:mod:`stand.io.result`, docs/results.md): attribute
 and mapping access, ``to_dict()`` (the JSON the command line prints), ``to_frame()``
@@ -22,7 +23,7 @@ from __future__ import annotations
 import os
 from typing import Optional, Union
 
-__all__ = ["load", "run", "read", "theory", "analyze", "report"]
+__all__ = ["load", "run", "read", "theory", "analyze", "report", "track"]
 
 
 def load(source: Union[str, os.PathLike]):
@@ -140,3 +141,19 @@ def report(source, *, html_path=None, json_path=None, grade: float = 6.3,
     return balancing_report(source, grade=grade, service_speed_rpm=service_speed_rpm,
                             html_path=html_path, json_path=json_path, recording_map=rmap,
                             pdf_path=pdf_path, tracks=tracks)
+
+
+def track(source, *, strobe: bool = False, **options):
+    """The laser spot of a screen's frames (:func:`stand.analysis.tracking.track_frames`,
+    ``stand track``), or with ``strobe=True`` the weights' angles in stroboscope frames
+    (:func:`stand.analysis.tracking.strobe_angles`, ``stand strobe``).
+
+    ``source``: a recording (``RUN.h5[:dataset]``), a video or images; ``options`` are the
+    keywords of those functions (``screen=``, ``calibration=``, ``n_weights=``, ...).
+    Returns a :class:`stand.analysis.results.Track`: ``to_frame()`` one row per frame
+    (the CSV ``stand track`` writes), ``plot(ax=)`` the spot's path."""
+    from stand.analysis.results import Track
+    from stand.analysis.tracking import strobe_angles, track_frames
+
+    df = (strobe_angles if strobe else track_frames)(os.fspath(source), **options)
+    return Track(df, source=source, strobe=strobe)

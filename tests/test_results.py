@@ -188,3 +188,40 @@ def test_result_base():
         warnings.simplefilter("error")
         fig, ax = _agg_axes()
         assert r.plot(ax=ax) is ax
+
+
+def test_influence_result(capsys):
+    """Influence-coefficient balancing: the balance's attributes as before, the CLI's JSON,
+    a table of the planes and a picture of the corrections."""
+    from stand.analysis.influence import influence_from_recordings
+
+    recs = [SAMPLES / "recordings" / f"influence_{k}.h5" for k in ("ref", "trial1", "trial2")]
+    trials = ["balancer1:10:0:100", "balancer2:10:90:100"]
+    res = influence_from_recordings(recs[0], recs[1:], trials, ["probe1", "probe2"])
+    assert type(res).__name__ == "Influence"
+    assert res.planes == ("balancer1", "balancer2") and res.mass_g.shape == (2,)
+    argv = ["influence", *recs, "--trial", trials[0], "--trial", trials[1], "--sensors",
+            "probe1,probe2", "--json"]
+    assert res.to_dict() == _cli_json(capsys, *argv)
+    df = res.to_frame()
+    np.testing.assert_allclose(df["mass_g"], res.mass_g)
+    fig, ax = _agg_axes()
+    assert res.plot(ax=ax) is ax and _drawn(fig, ax)
+    assert "balancer1" in repr(res)
+
+
+@pytest.mark.parametrize("strobe", [False, True], ids=["screen", "strobe"])
+def test_track_result(strobe, tmp_path):
+    """stand.track: the frame-by-frame table the CLI writes, and its picture."""
+    from stand.analysis.tracking import strobe_angles, track_frames
+
+    rec = RECORDINGS[0]
+    res = stand.track(rec, strobe=strobe)
+    expected = strobe_angles(str(rec)) if strobe else track_frames(str(rec))
+    assert type(res).__name__ == "Track" and res.frames == len(expected) > 0
+    df = res.to_frame()
+    assert list(df.columns) == list(expected.columns)
+    assert df.select_dtypes("number").equals(expected.select_dtypes("number"))
+    assert res.found == int(expected["ok"].sum())
+    fig, ax = _agg_axes()
+    assert res.plot(ax=ax) is ax and _drawn(fig, ax)

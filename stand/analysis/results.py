@@ -3,7 +3,7 @@
 * :class:`Analysis`  -- ``stand.analyze``: the journal's numbers of one recording;
 * :class:`TwoPlane`  -- two-plane balancing from two screens;
 * :class:`Influence` -- influence-coefficient balancing from recordings;
-* :class:`Track`     -- a spot track of a screen's frames (``stand track``).
+* :class:`Track`     -- a spot track of a screen's frames (``stand track``, ``stand.track``).
 
 Each holds the document ``--json`` prints (``to_dict()``), its tables
 (``to_frame(...)``) and draws its picture on a given Axes (``plot(ax=)``).
@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 
-from stand.io.result import Result, axes_of
+from stand.io.result import Result
 
 __all__ = ["Analysis", "TwoPlane", "Influence", "Track"]
 
@@ -79,18 +79,26 @@ class TwoPlane(Result):
         return super().to_frame(table)
 
     def _draw(self, ax) -> None:
-        _plane_bars(ax, [r["plane"] for r in self["planes"]],
-                    [r["unbalance_gmm"] for r in self["planes"]],
-                    [r["permissible_gmm"] for r in self["planes"]], "unbalance [g mm]")
+        rows = self["planes"]
+        pos = list(range(len(rows)))
+        ax.bar(pos, [r["unbalance_gmm"] for r in rows], yerr=[r["unbalance_gmm_std"] for r in rows],
+               color="C0", label="unbalance")
+        ax.scatter(pos, [r["permissible_gmm"] for r in rows], marker="_", s=600, color="C3",
+                   label="permissible")
+        ax.set_xticks(pos, [r["plane"] for r in rows])
+        ax.set_ylabel("unbalance [g mm]")
+        ax.legend(loc="upper right")
+        ax.set_title(f"two-plane balancing at {self['speed_hz']:.4g} rev/s", fontsize=9)
 
 
 class Influence(Result):
     """Influence-coefficient balancing (:func:`stand.analysis.influence.influence_from_recordings`).
 
     The document is :meth:`dsp.influence.InfluenceBalance.to_dict` (``stand influence
-    --json``); :attr:`balance` is the :class:`~dsp.influence.InfluenceBalance` itself
-    (complex influence matrix, masses and angles as arrays); ``to_frame()`` one row per
-    correction plane (its ``to_pandas()``)."""
+    --json``); :attr:`balance` is the :class:`~dsp.influence.InfluenceBalance` itself, and
+    its attributes are the result's (``planes``, ``sensors``, ``mass_g``, ``angle_deg``,
+    ``correction_kg_m``, ... as tuples and arrays; the document's keys where it has none);
+    ``to_frame()`` one row per correction plane (its ``to_pandas()``)."""
 
     _title = "influence-coefficient balancing"
 
@@ -104,7 +112,9 @@ class Influence(Result):
         return self._balance
 
     def __getattr__(self, name):
-        if not name.startswith("_") and name not in self:   # mass_g, angle_deg, ...
+        # the balance's own attributes first (planes, sensors, mass_g, ... as arrays and
+        # tuples, as before), then the document's keys
+        if not name.startswith("_") and hasattr(self._balance, name):
             return getattr(self._balance, name)
         return super().__getattr__(name)
 
@@ -132,16 +142,19 @@ class Influence(Result):
 
 
 class Track(Result):
-    """A spot track (``stand track``, :func:`stand.analysis.tracking.track_frames`): one row
-    per frame in :attr:`frame` (the DataFrame the CSV holds); the document is the track's
-    summary (``frames``, ``found``, ``source``)."""
+    """A spot track (``stand track``, :func:`stand.analysis.tracking.track_frames`) or the
+    weights' angles in stroboscope frames (``stand strobe``): one row per frame in
+    :attr:`frame` (the DataFrame the CSV holds), which ``to_frame()`` returns; the document
+    is the summary (``source``, ``frames``, ``found``: frames read).  The picture: the spot's
+    path on the screen (or the weights' angles against the frame)."""
 
     _title = "track"
 
-    def __init__(self, frame, source=""):
+    def __init__(self, frame, source="", strobe: bool = False):
         ok = int(frame["ok"].sum()) if "ok" in frame else len(frame)
         super().__init__({"source": str(source), "frames": int(len(frame)), "found": ok})
         self._frame = frame
+        self._strobe = bool(strobe)
 
     @property
     def frame(self):
@@ -153,22 +166,19 @@ class Track(Result):
 
     def _draw(self, ax) -> None:
         df = self._frame
-        xs, ys = ("x_m", "y_m") if "x_m" in df else ("u_px", "v_px")
-        scale = 1e3 if xs == "x_m" else 1.0
-        ax.plot(df[xs] * scale, df[ys] * scale, ".", ms=2)
-        ax.set_aspect("equal", adjustable="datalim")
-        unit = "mm" if xs == "x_m" else "px"
-        ax.set_xlabel(f"x [{unit}]")
-        ax.set_ylabel(f"y [{unit}]")
-        ax.set_title(f"track of {self['source']}", fontsize=9)
-
-
-def _plane_bars(ax, names, values, limits, label) -> None:
-    """Bars of one value per plane with each plane's limit as a tick."""
-    ax = axes_of(ax)
-    pos = range(len(names))
-    ax.bar(pos, values, color="C0", label=label)
-    ax.scatter(pos, limits, marker="_", s=600, color="C3", label="permissible")
-    ax.set_xticks(list(pos), names)
-    ax.set_ylabel(label)
-    ax.legend(loc="upper right")
+        if self._strobe:
+            for c in (c for c in df.columns if c.endswith("_deg") and "std" not in c):
+                ax.plot(df["frame"], df[c], ".", ms=3, label=c)
+            ax.set_xlabel("frame")
+            ax.set_ylabel("angle from the mark [deg]")
+            ax.legend(loc="upper right", fontsize=7)
+        else:
+            xs, ys = ("x_m", "y_m") if "x_m" in df else ("u_px", "v_px")
+            scale = 1e3 if xs == "x_m" else 1.0
+            ax.plot(df[xs] * scale, df[ys] * scale, ".", ms=2)
+            ax.set_aspect("equal", adjustable="datalim")
+            unit = "mm" if xs == "x_m" else "px"
+            ax.set_xlabel(f"x [{unit}]")
+            ax.set_ylabel(f"y [{unit}]")
+        ax.set_title(f"{'strobe angles' if self._strobe else 'track'} of {self['source']}",
+                     fontsize=9)
