@@ -225,3 +225,18 @@ def test_track_result(strobe, tmp_path):
     assert res.found == int(expected["ok"].sum())
     fig, ax = _agg_axes()
     assert res.plot(ax=ax) is ax and _drawn(fig, ax)
+
+
+def test_docs_results_example_runs(monkeypatch, tmp_path):
+    """docs/results.md's example runs as written and writes no file."""
+    import re
+
+    text = (ROOT / "docs" / "results.md").read_text()
+    code = "\n".join(re.findall(r"```python\n(.*?)```", text, flags=re.S))
+    assert "stand.report(run" in code
+    code = code.replace('"data_samples/', f'"{SAMPLES}/')
+    monkeypatch.chdir(tmp_path)
+    ns: dict = {}
+    exec(compile(code, "docs/results.md", "exec"), ns)
+    assert list(tmp_path.iterdir()) == []
+    assert ns["doc"] == ns["a"].to_dict() and len(ns["numbers"]) > 0
