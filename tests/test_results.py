@@ -240,3 +240,14 @@ def test_docs_results_example_runs(monkeypatch, tmp_path):
     exec(compile(code, "docs/results.md", "exec"), ns)
     assert list(tmp_path.iterdir()) == []
     assert ns["doc"] == ns["a"].to_dict() and len(ns["numbers"]) > 0
+
+
+def test_report_of_a_run_with_instruments_reads_them_in_memory(tmp_path):
+    """The screen's rings and frames of a run in memory give the report the recording gives."""
+    run = stand.run(stand.load(SAMPLES / "scenes" / "stand_cameras.toml"))
+    rep = stand.report(run)
+    ring = rep.balancing_quality["ring_reading"]
+    assert ring is not None
+    written = stand.report(stand.read(run.write(tmp_path / "cams.h5")))
+    assert dict(flatten_numbers(ring)) == pytest.approx(
+        dict(flatten_numbers(written.balancing_quality["ring_reading"])), rel=1e-12)

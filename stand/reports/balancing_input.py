@@ -142,8 +142,10 @@ class _MemoryFile:
 
 def _instruments_in_memory(run) -> tuple:
     """:func:`_instruments` of a Run: its instruments' writer (the one that fills a recording,
-    :func:`stand.instruments.pipeline.write_instruments`) run into an HDF5 image in memory."""
-    writer = getattr(run, "instrument_writer", None)
+    :func:`stand.instruments.pipeline.write_instruments`; ``run.instruments.writer``) run into
+    an HDF5 image in memory."""
+    writer = getattr(getattr(run, "instruments", None), "writer", None) \
+        or getattr(run, "instrument_writer", None)
     if writer is None:
         return {}, {}
     import io
