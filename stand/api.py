@@ -9,18 +9,21 @@ book weight model) and every recording::
     run.to_frame()                         # pandas, SI units in the column names
     run.write("runup.h5")                  # the one recording layout
     rec = stand.read("runup.h5")           # stand.Recording: the same fields
-    stand.analyze(rec)                     # identification (dsp), a dict
-    stand.report(rec, html_path="r.html")  # balancing-quality report
-    stand.theory(scene)                    # what the theory predicts
+    stand.analyze(rec)                     # identification (dsp): an Analysis
+    stand.report(rec, html_path="r.html")  # balancing-quality report: a Report
+    stand.theory(scene)                    # what the theory predicts: a Theory
+    stand.track("runup.h5")                # the screen's spot in each frame: a Track
+
+The answers are result objects (:mod:`stand.io.result`, docs/results.md): attribute
+and mapping access, ``to_dict()`` (the JSON the command line prints), ``to_frame()``
+and ``plot(ax=)``.
 """
 from __future__ import annotations
 
 import os
-import tempfile
-from pathlib import Path
 from typing import Optional, Union
 
-__all__ = ["load", "run", "read", "theory", "analyze", "report"]
+__all__ = ["load", "run", "read", "theory", "analyze", "report", "track"]
 
 
 def load(source: Union[str, os.PathLike]):
@@ -77,8 +80,9 @@ def read(path: Union[str, os.PathLike]):
     return read_recording(path)
 
 
-def theory(scene, max_speed: Optional[float] = None, floquet: bool = True) -> dict:
-    """What the theory says of a scene (:func:`stand.theories.scene.theory`); a dict.
+def theory(scene, max_speed: Optional[float] = None, floquet: bool = True):
+    """What the theory says of a scene (:func:`stand.theories.scene.theory`): a
+    :class:`stand.theories.result.Theory`.
 
     ``max_speed`` [rev/s] is the upper end of the speed scans.
     """
@@ -100,39 +104,55 @@ def _recording_map(recording_map, columns):
     return map_from_options(columns, recording_map)
 
 
-def analyze(source, grade_mm_s: float = 6.3, service_speed_rpm: Optional[float] = None,
-            recording_map=None, columns: Optional[str] = None) -> dict:
+def analyze(source, grade: float = 6.3, service_speed_rpm: Optional[float] = None,
+            recording_map=None, columns: Optional[str] = None, *,
+            grade_mm_s: Optional[float] = None):
     """Identification from a recording (:func:`stand.analysis.identify.analyze`): a Run, a Recording,
     or a path (HDF5 recording, or a lab table: CSV, Parquet, pandas HDF5).
 
-    ``recording_map`` (a :class:`stand.lab.recording_map.RecordingMap` or the path of a
-    TOML map) and ``columns`` (``"time=time_ms[ms],x=..."``) say which column of a table
-    is what (docs/lab_recordings.md)."""
+    ``grade`` is the required ISO 21940-11 grade G [mm/s] (``grade_mm_s``: its old name,
+    deprecated).  ``recording_map`` (a :class:`stand.lab.recording_map.RecordingMap` or the
+    path of a TOML map) and ``columns`` (``"time=time_ms[ms],x=..."``) say which column of
+    a table is what (docs/lab_recordings.md).  Returns a
+    :class:`stand.analysis.results.Analysis`."""
     from stand.analysis.identify import analyze as _analyze
+    from stand.io.result import renamed
 
-    return _analyze(source, grade_mm_s=grade_mm_s, service_speed_rpm=service_speed_rpm,
+    grade = renamed(grade, grade_mm_s, "grade_mm_s", "grade", "stand.analyze")
+    return _analyze(source, grade=grade, service_speed_rpm=service_speed_rpm,
                     recording_map=_recording_map(recording_map, columns))
 
 
-def report(source, *, html_path=None, json_path=None, grade=6.3,
+def report(source, *, html_path=None, json_path=None, grade: float = 6.3,
            service_speed_rpm: Optional[float] = None, recording_map=None,
-           columns: Optional[str] = None) -> dict:
+           columns: Optional[str] = None, pdf_path=None, tracks=None):
     """Balancing-quality report (:func:`stand.reports.balancing.balancing_report`) of a Run,
     a Recording or a path (``recording_map`` / ``columns`` for lab tables, as
-    :func:`analyze`); writes ``html_path`` / ``json_path`` when given, returns the
-    report's JSON document."""
-    from stand.recording.hdf5 import Recording
-    from stand.reports.balancing import balancing_report
-    from stand.integrate.result import Run
+    :func:`analyze`).
 
-    if isinstance(source, Recording):
-        source = source.path
-    if isinstance(source, Run):   # a run in memory: its recording, in a temporary folder
-        with tempfile.TemporaryDirectory() as d:
-            path = Path(d) / f"{getattr(source.scene, 'name', '') or 'run'}.h5"
-            source.write(path)
-            return balancing_report(str(path), grade=grade, service_speed_rpm=service_speed_rpm,
-                                    html_path=html_path, json_path=json_path)
+    A Run or a Recording is read where it is (nothing is written but what is asked for);
+    ``html_path`` / ``json_path`` / ``pdf_path`` are written when given.  ``grade`` is the
+    required ISO 21940-11 grade G [mm/s].  Returns a :class:`stand.reports.result.Report`
+    (the report's JSON document)."""
+    from stand.reports.balancing import balancing_report
+
+    rmap = None if not isinstance(source, (str, os.PathLike)) else _recording_map(recording_map, columns)
     return balancing_report(source, grade=grade, service_speed_rpm=service_speed_rpm,
-                            html_path=html_path, json_path=json_path,
-                            recording_map=_recording_map(recording_map, columns))
+                            html_path=html_path, json_path=json_path, recording_map=rmap,
+                            pdf_path=pdf_path, tracks=tracks)
+
+
+def track(source, *, strobe: bool = False, **options):
+    """The laser spot of a screen's frames (:func:`stand.analysis.tracking.track_frames`,
+    ``stand track``), or with ``strobe=True`` the weights' angles in stroboscope frames
+    (:func:`stand.analysis.tracking.strobe_angles`, ``stand strobe``).
+
+    ``source``: a recording (``RUN.h5[:dataset]``), a video or images; ``options`` are the
+    keywords of those functions (``screen=``, ``calibration=``, ``n_weights=``, ...).
+    Returns a :class:`stand.analysis.results.Track`: ``to_frame()`` one row per frame
+    (the CSV ``stand track`` writes), ``plot(ax=)`` the spot's path."""
+    from stand.analysis.results import Track
+    from stand.analysis.tracking import strobe_angles, track_frames
+
+    df = (strobe_angles if strobe else track_frames)(os.fspath(source), **options)
+    return Track(df, source=source, strobe=strobe)

@@ -211,10 +211,10 @@ def test_read_table_is_the_one_reader():
     """stand analyze and stand report read tables through stand.lab.table (no second parser)."""
     import inspect
 
-    from stand.analysis import identify
+    from stand.analysis import identify, sources
     from stand.reports import balancing_input
 
-    for mod in (identify, balancing_input):
+    for mod in (identify, sources, balancing_input):
         assert "read_csv" not in inspect.getsource(mod)
     with pytest.raises(TableError):
         read_table(__file__)

@@ -65,16 +65,16 @@ def expand_sources(source: str) -> list:
     return files
 
 
-def analyze_row(path: str, grade_mm_s: float = 6.3, service_speed_rpm: Optional[float] = None,
-                recording_map=None) -> dict:
+def analyze_row(path: str, grade: float = 6.3, service_speed_rpm: Optional[float] = None,
+                recording_map=None, *, grade_mm_s: Optional[float] = None) -> dict:
     """One summary row of ``stand analyze`` for ``path`` (never raises).
 
     Parameters
     ----------
     path : str
         A recording.
-    grade_mm_s : float
-        Target ISO 21940-11 balance grade [mm/s].
+    grade : float
+        Target ISO 21940-11 balance grade G [mm/s] (``grade_mm_s``: its old name, deprecated).
     service_speed_rpm : float, optional
         Service speed [rpm].
     recording_map : stand.lab.recording_map.RecordingMap, optional
@@ -87,10 +87,12 @@ def analyze_row(path: str, grade_mm_s: float = 6.3, service_speed_rpm: Optional[
         :func:`stand.analysis.identify.analyze`.
     """
     from stand.analysis.identify import analyze
+    from stand.io.result import renamed
 
+    grade = renamed(grade, grade_mm_s, "grade_mm_s", "grade", "analyze_row")
     row = {"file": path, "status": "ok", "error": ""}
     try:
-        doc = analyze(path, grade_mm_s=grade_mm_s, service_speed_rpm=service_speed_rpm,
+        doc = analyze(path, grade=grade, service_speed_rpm=service_speed_rpm,
                       recording_map=recording_map)
     except Exception as exc:   # a bad file must not stop the batch: reported in its row
         row.update(status="error", error=error_text(exc))

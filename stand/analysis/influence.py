@@ -14,7 +14,7 @@ the correction unbalances and the correction masses and angles.
     ...     "ref.h5", ["trial1.h5", "trial2.h5"],
     ...     [TrialWeight("balancer1", 10.0, 0.0, 100.0), TrialWeight("balancer2", 10.0, 90.0, 100.0)],
     ...     sensors=["probe1", "probe2"])                                     # doctest: +SKIP
-    >>> res.to_pandas()                                                       # doctest: +SKIP
+    >>> res.to_frame()                                                        # doctest: +SKIP
 
 :func:`model_correction` gives the exact correction of a simulated rotor (the
 negated unbalance of each correction plane) to compare with.
@@ -28,7 +28,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from dsp.influence import InfluenceBalance, influence_balance
+from dsp.influence import influence_balance
 from dsp.unbalance import synchronous_component
 
 __all__ = ["TrialWeight", "parse_trial", "steady_window", "run_phasors",
@@ -118,7 +118,7 @@ def run_phasors(run, sensors: Sequence[str], *, t_start: Optional[float] = None,
 def influence_from_recordings(reference, trials: Sequence, trial_weights: Sequence,
                               sensors: Sequence[str], *, radii_mm=None,
                               t_start: Optional[float] = None,
-                              speed_rtol: float = 0.01) -> InfluenceBalance:
+                              speed_rtol: float = 0.01):
     """Correction masses and angles from a reference run and one trial run per plane.
 
     Parameters
@@ -140,10 +140,14 @@ def influence_from_recordings(reference, trials: Sequence, trial_weights: Sequen
 
     Returns
     -------
-    dsp.influence.InfluenceBalance
-        Masses in g (``mass_g``), angles in deg from the reference mark
-        (``angle_deg``), with uncertainties from the phasors' scatter.
+    stand.analysis.results.Influence
+        The :class:`dsp.influence.InfluenceBalance` as a result object: masses in g
+        (``mass_g``), angles in deg from the reference mark (``angle_deg``), with
+        uncertainties from the phasors' scatter; ``to_dict()`` (``stand influence --json``),
+        ``to_frame()``, ``plot(ax=)``.
     """
+    from stand.analysis.results import Influence
+
     tw = [w if isinstance(w, TrialWeight) else parse_trial(w) for w in trial_weights]
     trials = list(trials)
     if len(trials) != len(tw):
@@ -166,10 +170,10 @@ def influence_from_recordings(reference, trials: Sequence, trial_weights: Sequen
     sV = np.array([[c.vector_std_m for c in cs] for cs in comps[1:]])
     speeds = [float(np.mean([c.speed_rad_s for c in cs])) for cs in comps]
     r = [w.radius_mm for w in tw] if radii_mm is None else list(radii_mm)
-    return influence_balance(V0, V, [w.unbalance_kg_m for w in tw],
-                             np.asarray(r, dtype=float) * 1e-3, reference_std=s0, trials_std=sV,
-                             speeds=speeds, speed_rtol=speed_rtol, planes=planes,
-                             sensors=sensors, runs=names)
+    return Influence(influence_balance(V0, V, [w.unbalance_kg_m for w in tw],
+                                       np.asarray(r, dtype=float) * 1e-3, reference_std=s0,
+                                       trials_std=sV, speeds=speeds, speed_rtol=speed_rtol,
+                                       planes=planes, sensors=sensors, runs=names))
 
 
 def model_correction(scene, planes: Sequence[str]) -> np.ndarray:
@@ -204,7 +208,7 @@ def model_correction(scene, planes: Sequence[str]) -> np.ndarray:
     return out
 
 
-def format_result(res: InfluenceBalance) -> str:
+def format_result(res) -> str:
     """The text the CLI prints: one line per correction plane, then the sensors."""
     lines = [f"influence-coefficient balancing at {res.speed_rad_s / (2 * math.pi):.6g} rev/s "
              f"(condition number of A {res.condition:.3g})"]

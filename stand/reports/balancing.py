@@ -39,7 +39,7 @@ import numpy as np
 from stand.io.jsonable import to_jsonable
 from stand.reports.balancing_dynamics import dynamics
 from stand.reports.balancing_figures import figures
-from stand.reports.balancing_input import load_record
+from stand.reports.balancing_input import load_record, source_name
 from stand.reports.balancing_quality import balancing_quality
 from stand.reports.balancing_schema import FORMAT_VERSION, REGIME_NAMES, SCHEMA, SECTIONS
 from stand.reports.html import check_schema, write_report
@@ -50,14 +50,15 @@ TWO_PI = 2.0 * math.pi
 
 
 def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_path=None,
-                     json_path=None, tracks=None, recording_map=None, pdf_path=None) -> dict:
-    """Balancing-quality report of one recording; returns the JSON document (plain types).
+                     json_path=None, tracks=None, recording_map=None, pdf_path=None):
+    """Balancing-quality report of one recording; returns the report's JSON document.
 
     Parameters
     ----------
-    recording_path : str or Path
+    recording_path : str, Path, Recording or Run
         HDF5 recording (``stand run``) or CSV (``t_s, x_m, y_m`` [+ ``rotor_angle_rad`` or
-        ``keyphasor``]).
+        ``keyphasor``]); or a :class:`stand.Recording` already read, or a :class:`stand.Run`
+        in memory (read where it is: nothing is written but the outputs asked for).
     grade : float
         ISO 21940-11 balance quality grade G to check [mm/s] (default 6.3).
     service_speed_rpm : float, optional
@@ -80,9 +81,10 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
 
     Returns
     -------
-    dict
+    stand.reports.result.Report
         The report (plain JSON types), keys and types of :data:`SCHEMA`, units
-        in the key names (docs/reports.md).
+        in the key names (docs/reports.md), as a result object (mapping and attribute
+        access, ``to_dict()``, ``to_frame()``, ``plot()``).
 
     Raises
     ------
@@ -119,7 +121,7 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
     Ms = scene.total_mass if scene is not None else None
     name = d["attrs"].get("scene_name") or (scene.name if scene is not None else None)
     if not name:
-        name = Path(recording_path).stem
+        name = Path(source_name(recording_path)).stem
     final_speed = float(np.mean(speed[i_st:])) if rotating else None
     steady_len = float(t[-1] - t[i_st]) if rotating else 0.0
     if service_speed_rpm is not None:
@@ -185,7 +187,7 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
 
     doc = {
         "report": {"kind": "balancing-quality", "format_version": FORMAT_VERSION,
-                   "recording": Path(recording_path).name, "input_format": d["fmt"],
+                   "recording": source_name(recording_path), "input_format": d["fmt"],
                    "generator": f"stand {__version__}",
                    "generated": datetime.datetime.now(datetime.timezone.utc)
                    .strftime("%Y-%m-%d %H:%M UTC")},
@@ -206,7 +208,11 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
     if tracks:
         from stand.reports.balancing_two_plane import TWO_PLANE_SCHEMA, two_plane_section
 
-        doc["two_plane"] = two_plane_section(recording_path, tracks, grade, service_speed_rpm, warn)
+        path = getattr(recording_path, "path", recording_path)
+        if not isinstance(path, (str, Path)) or not path:
+            raise ValueError("tracks: two-plane balancing reads the screens' positions from a "
+                             "recording file; write the run first (run.write(path))")
+        doc["two_plane"] = two_plane_section(path, tracks, grade, service_speed_rpm, warn)
         sections = sections[:-2] + ("two_plane",) + sections[-2:]
         extra["two_plane"] = TWO_PLANE_SCHEMA
     plain = to_jsonable(doc)
@@ -229,7 +235,9 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
         from stand.reports.pdf import write_pdf
 
         write_pdf(pdf_path, title, banner, figures=figs, tables=pdf_tables(plain))
-    return out
+    from stand.reports.result import Report
+
+    return Report(out)
 
 
 def _scene_warnings(rec, bq, dyn, w_service, final_speed, steady_len, warn, notes):

@@ -18,19 +18,20 @@ from typing import Any, Optional
 import numpy as np
 
 from stand.analysis.signals import steady_start
+from stand.io.jsonable import to_jsonable
 
-__all__ = ["read_input", "load_record", "Record"]
+__all__ = ["read_input", "load_record", "Record", "source_name"]
 
 TWO_PI = 2.0 * math.pi
 
 
 def _read_table(p: Path, recording_map=None) -> dict:
-    """A lab table (:func:`stand.analysis.identify._from_table`: the one table reader and speed
+    """A lab table (:func:`stand.analysis.sources.from_table`: the one table reader and speed
     source).  A tachometer's speed or, with no speed channel, the whirl's own phase gives
     the rotor angle the report's order tracking needs (flagged: no phase reference)."""
-    from stand.analysis.identify import _from_table, _whirls
+    from stand.analysis.sources import from_table, whirls
 
-    d = _from_table(p, recording_map)
+    d = from_table(p, recording_map)
     angle = d["angle"]
     notes = list(d["notes"])
     phi, referenced = d["phi"], True
@@ -39,7 +40,7 @@ def _read_table(p: Path, recording_map=None) -> dict:
         phi, referenced = angle.angle_rad, False
         notes.append(f"rotor angle from the {angle.source} (no reference mark: 1X phases are "
                      "relative)")
-    elif phi is None and _whirls(t, x, y):
+    elif phi is None and whirls(t, x, y):
         from dsp.errors import SignalError
         from dsp.speed import angle_from_1x
 
@@ -63,9 +64,14 @@ def _read_h5(p: Path) -> dict:
     """The HDF5 form, through the one reader :func:`stand.recording.hdf5.read_recording`."""
     from stand.recording.hdf5 import read_recording
 
-    rec = read_recording(p)  # RecordingError (a ValueError) names file and dataset
+    return _read_run(read_recording(p))  # RecordingError (a ValueError) names file and dataset
+
+
+def _read_run(rec) -> dict:
+    """A :class:`stand.Recording`, or a :class:`stand.Run` in memory (``fmt`` ``"run"``: its
+    instruments' output taken from its writer into an HDF5 image in memory, no file)."""
     scene, scene_error = rec.scene, None
-    if scene is None and rec.scene_text.strip():
+    if scene is None and getattr(rec, "scene_text", "").strip():
         scene_error = next((n for n in rec.notes if "stored scene" in n), "scene not readable")
     elif scene is not None and scene.kind != "planar":
         scene_error = (f"the recorded scene's structure is {scene.structure_type}: the model-based "
@@ -75,6 +81,24 @@ def _read_h5(p: Path) -> dict:
     wa = np.asarray(rec.weight_angle)
     weights = wa if wa.size and np.all(np.isfinite(wa)) else None
     rel = np.asarray(rec.relative_angle) if weights is not None else None
+    in_memory = not hasattr(rec, "dataset")
+    if in_memory:
+        inst, truth = _instruments_in_memory(rec)
+        attrs = {"scene_name": str(getattr(rec.scene, "name", "") or "")}
+        solver = to_jsonable(dict(rec.stats or {}))
+    else:
+        inst, truth = _instruments(rec)
+        attrs, solver = rec.attrs, rec.solver
+    return dict(t=np.asarray(rec.t), x=np.asarray(rec.x), y=np.asarray(rec.y), phi=phi,
+                weights=weights, rel=rel, scene=scene, scene_error=scene_error,
+                attrs=attrs, notes=list(rec.notes), solver=solver, inst=inst,
+                truth=truth, fmt="run" if in_memory else "hdf5")
+
+
+def _instruments(rec) -> tuple:
+    """``(inst, truth)``: the screen's ring radii and settings, the last screen and strobe
+    frames, and the truth's residual unbalance of a recording (``rec.shape``,
+    ``rec.dataset``, ``rec.dataset_attrs`` as :class:`stand.Recording` has them)."""
     inst, truth = {}, {}
     if rec.shape("instruments/screen/ring_radius") is not None:
         inst["ring_radius"] = np.asarray(rec.dataset("instruments/screen/ring_radius"), float)
@@ -93,10 +117,44 @@ def _read_h5(p: Path) -> dict:
     shape = rec.shape("truth/residual_unbalance")
     if shape is not None and len(shape) == 2 and shape[0] == rec.t.size:
         truth["residual_unbalance"] = np.asarray(rec.dataset("truth/residual_unbalance"), float)
-    return dict(t=np.asarray(rec.t), x=np.asarray(rec.x), y=np.asarray(rec.y), phi=phi,
-                weights=weights, rel=rel, scene=scene, scene_error=scene_error,
-                attrs=rec.attrs, notes=list(rec.notes), solver=rec.solver, inst=inst,
-                truth=truth, fmt="hdf5")
+    return inst, truth
+
+
+class _MemoryFile:
+    """``shape`` / ``dataset`` / ``dataset_attrs`` of an open h5py file, as a Recording's."""
+
+    def __init__(self, f, t):
+        self.f, self.t = f, t
+
+    def shape(self, key):
+        obj = self.f.get(key)
+        return tuple(obj.shape) if hasattr(obj, "shape") else None
+
+    def dataset(self, key, index=()):
+        return self.f[key][index]
+
+    def dataset_attrs(self, key):
+        obj = self.f.get(key)
+        return {} if obj is None else {k: v.decode() if isinstance(v, bytes) else
+                                       v.item() if isinstance(v, np.generic) else v
+                                       for k, v in obj.attrs.items()}
+
+
+def _instruments_in_memory(run) -> tuple:
+    """:func:`_instruments` of a Run: its instruments' writer (the one that fills a recording,
+    :func:`stand.instruments.pipeline.write_instruments`; ``run.instruments.writer``) run into
+    an HDF5 image in memory."""
+    writer = getattr(getattr(run, "instruments", None), "writer", None) \
+        or getattr(run, "instrument_writer", None)
+    if writer is None:
+        return {}, {}
+    import io
+
+    import h5py
+
+    with h5py.File(io.BytesIO(), "w") as f:
+        writer(f)
+        return _instruments(_MemoryFile(f, np.asarray(run.t)))
 
 
 def read_input(path, recording_map=None) -> dict:
@@ -104,11 +162,11 @@ def read_input(path, recording_map=None) -> dict:
 
     Parameters
     ----------
-    path : str or Path
+    path : str, Path, Recording or Run
         HDF5 recording (any layout :func:`stand.recording.hdf5.read_recording`
         reads) or CSV (``t_s`` [s], ``x_m``, ``y_m`` [m], optionally
         ``rotor_angle_rad`` [rad] or ``keyphasor`` (1 on a once-per-revolution
-        pulse)).
+        pulse)); or a recording already read, or a run in memory (nothing written).
 
     Returns
     -------
@@ -119,7 +177,7 @@ def read_input(path, recording_map=None) -> dict:
         planar scene or None) and ``scene_error`` (why not), ``attrs``,
         ``notes``, ``solver``, ``inst`` (ring radii [m], screen settings, ring
         test speed [rad/s], last camera frames), ``truth`` (residual
-        unbalance [kg m] per sample), ``fmt`` ("hdf5" or "csv").
+        unbalance [kg m] per sample), ``fmt`` ("hdf5", "csv", ... or "run").
 
     Raises
     ------
@@ -129,17 +187,20 @@ def read_input(path, recording_map=None) -> dict:
         Unreadable input (not HDF5/CSV, missing dataset or column, NaN samples,
         time not increasing): the message names the file and the field.
     """
-    p = Path(path)
-    if not p.exists():
-        raise FileNotFoundError(2, "recording not found", str(p))
-    if p.is_dir():
-        raise ValueError(f"{p}: is a directory, not a recording")
-    from stand.lab.table import is_table
+    from stand.integrate.result import Run
 
-    if is_table(p):
-        d = _read_table(p, recording_map)
+    if isinstance(path, Run):        # a Recording already read, or a run in memory
+        d = _read_run(path)
+        p = source_name(path)
     else:
-        d = _read_h5(p)
+        p = Path(path)
+        if not p.exists():
+            raise FileNotFoundError(2, "recording not found", str(p))
+        if p.is_dir():
+            raise ValueError(f"{p}: is a directory, not a recording")
+        from stand.lab.table import is_table
+
+        d = _read_table(p, recording_map) if is_table(p) else _read_h5(p)
     t, x, y = d["t"], d["x"], d["y"]
     if t.size < 3:
         raise ValueError(f"{p}: 'time' has {t.size} samples; at least 3 are needed")
@@ -149,6 +210,15 @@ def read_input(path, recording_map=None) -> dict:
     if np.any(np.diff(t) <= 0):
         raise ValueError(f"{p}: dataset 'time' must be strictly increasing")
     return d
+
+
+def source_name(source) -> str:
+    """The name a report gives its input: a file's name, a Recording's file name, or
+    ``<run of SCENE>`` for a run in memory."""
+    path = getattr(source, "path", None) if not isinstance(source, (str, Path)) else source
+    if path:
+        return Path(path).name
+    return f"<run of {getattr(getattr(source, 'scene', None), 'name', '') or 'a scene'}>"
 
 
 @dataclasses.dataclass(frozen=True)

@@ -32,7 +32,7 @@ def lab_identification(path, recording_map, grade, service_speed_rpm, notes) -> 
     are added to ``notes``."""
     from stand.analysis.identify import analyze
 
-    a = analyze(path, grade_mm_s=grade, service_speed_rpm=service_speed_rpm,
+    a = analyze(path, grade=grade, service_speed_rpm=service_speed_rpm,
                 recording_map=recording_map)
     runup = a.get("runup") or {}
     for n in a.get("notes", []):

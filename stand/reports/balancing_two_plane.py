@@ -3,7 +3,7 @@
 Two laser screens at two axial positions (``[instruments.screen.<name>]``, tracked with
 ``stand track RUN.h5 --screen NAME``) give the shaft axis line (4.2), its points in the
 two correction planes (4.3) and, through the scene's receptance (weights locked), the
-residual unbalance in each plane (:func:`stand.analysis.identify.two_plane`).  Each plane's
+residual unbalance in each plane (:func:`stand.analysis.two_plane.two_plane`).  Each plane's
 residual is checked against its share of the ISO 21940-11 permissible residual
 (:func:`dsp.two_plane.iso_two_plane_allocation`: the lever rule about the centre of mass
 over the planes' distances, each share within 30-70 %).
@@ -31,10 +31,10 @@ PLANE_KEYS = ("plane", "axial_position_m", "unbalance_gmm", "unbalance_gmm_std",
 
 def two_plane_section(recording_path, tracks, grade, service_speed_rpm, warn) -> dict:
     """The ``two_plane`` section (plain types); ``warn(code, message)`` for a failed plane."""
-    from stand.analysis.identify import two_plane
+    from stand.analysis.two_plane import two_plane
 
-    doc = two_plane(recording_path, list(tracks), grade_mm_s=grade,
-                    service_speed_rpm=service_speed_rpm)
+    doc = two_plane(recording_path, list(tracks), grade=grade,
+                    service_speed_rpm=service_speed_rpm).to_dict()
     doc.pop("recording", None)
     for row in doc["planes"]:
         if not row["passed"]:

@@ -9,7 +9,8 @@
 * a book weight model: its steady motions with stability, quasi-periodic
   motions, efficiency or run-up extrema (:func:`stand.scene.book_tables.model_theory`).
 
-The result is one JSON-able dict with ``kind`` (``"chapter5"``, ``"structure"``,
+The result is a :class:`stand.theories.result.Theory` (the JSON document ``stand theory
+--json`` prints, with attribute access, tables and a picture) with ``kind`` (``"chapter5"``, ``"structure"``,
 ``"book_model"``) and ``not_applicable`` (what was left out and why);
 :func:`theory_lines` renders it as text.
 """
@@ -22,7 +23,7 @@ from stand.io.jsonable import to_jsonable
 __all__ = ["theory", "theory_lines"]
 
 
-def theory(scene, max_speed: float | None = None, floquet: bool = True) -> dict:
+def theory(scene, max_speed: float | None = None, floquet: bool = True):
     """The theory of ``scene`` (module docstring).
 
     Parameters
@@ -33,20 +34,27 @@ def theory(scene, max_speed: float | None = None, floquet: bool = True) -> dict:
     floquet : bool
         Rotor structures with weights: include the Floquet scan of the main
         motion (seconds).
+
+    Returns
+    -------
+    stand.theories.result.Theory
+        The document of ``stand theory --json``, with attribute access, ``to_frame()``
+        and ``plot()``.
     """
     from stand.theories.planar.speedmap import TheoryError, scene_theory
+    from stand.theories.result import Theory
 
     na = []
     if scene.kind == "book":
         from stand.scene.book_tables import model_theory
 
         doc = model_theory(scene)
-        return {"kind": "book_model", **doc, "not_applicable": na}
+        return Theory({"kind": "book_model", **doc, "not_applicable": na})
     if scene.kind == "planar" and scene.n_weights:
         try:
             th = scene_theory(scene, R_max=max_speed * 2 * math.pi / scene.natural_frequency
                               if max_speed else None)
-            return {"kind": "chapter5", **to_jsonable(th.to_dict()), "not_applicable": na}
+            return Theory({"kind": "chapter5", **to_jsonable(th.to_dict()), "not_applicable": na})
         except TheoryError as exc:
             na.append(f"chapter-5 theory (speed bands, stuck-ball law): {exc}")
     models = _body_models(scene, na)
@@ -58,8 +66,8 @@ def theory(scene, max_speed: float | None = None, floquet: bool = True) -> dict:
 
     doc = family_theory(scene, max_speed * 2 * math.pi if max_speed else None,
                         floquet=floquet and bool(scene.n_weights))
-    return {"kind": "structure", **to_jsonable(doc), "weight_models": models,
-            "not_applicable": na}
+    return Theory({"kind": "structure", **to_jsonable(doc), "weight_models": models,
+                   "not_applicable": na})
 
 
 def _body_models(scene, na: list) -> list:

@@ -1,0 +1,97 @@
+"""The first step of ``stand analyze``: a recording's channels as arrays.
+
+Whatever the source -- a :class:`stand.Run` in memory, a :class:`stand.Recording`, a
+stand recording file, or a lab table (CSV, Parquet, pandas HDF5, read by
+:func:`stand.lab.table.read_table` with its recording map) -- :func:`read_source`
+returns one dict: ``t`` [s], ``x``, ``y`` [m], ``phi`` (the rotor angle [rad] or None),
+``weights`` (weight angles [rad] or None), ``scene`` (the planar scene whose model
+turns a 1X response into an unbalance, or None), ``notes``, ``angle`` (a
+:class:`dsp.speed.RotorAngle` or None), ``speed_how`` (where the speed comes from),
+``table`` (the lab table or None).  :func:`whirls` tells whether a record without a
+speed channel comes from a spinning shaft.
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["read_source", "from_table", "from_run", "whirls"]
+
+TWO_PI = 2 * math.pi
+
+
+def read_source(path, recording_map=None):
+    """The arrays of a Run, a Recording, a stand recording file or a lab table."""
+    from stand.lab.table import is_table
+    from stand.recording.hdf5 import read_recording
+    from stand.integrate.result import Run
+
+    if isinstance(path, Run):
+        return from_run(path)
+    p = Path(path)
+    if is_table(p):
+        return from_table(p, recording_map)
+    d = from_run(read_recording(p))
+    if recording_map is not None and recording_map.columns:   # e.g. a folder of mixed files
+        d["notes"].append("the recording map applies to tables; this stand recording carries "
+                          "its own channels (map ignored)")
+    return d
+
+
+def from_table(p, recording_map):
+    """A lab table (:func:`stand.lab.table.read_table`) and its rotor angle."""
+    from stand.lab.speed_source import rotor_angle_of
+    from stand.lab.table import read_table
+
+    tab = read_table(p, recording_map)
+    notes = [f"excluded rows {e['rows']}: {e['reason']}" for e in tab.excluded]
+    angle, how = rotor_angle_of(tab, notes)
+    t, x, y = tab.t, tab.signals["x"], tab.signals["y"]
+    phi = None
+    if angle is not None and angle.referenced:
+        c = angle.covered
+        if not c.all():
+            notes.append(f"samples outside the first and last keyphasor pulse left out "
+                         f"({int((~c).sum())})")
+        t, x, y, phi = t[c], x[c], y[c], angle.angle_rad[c]
+        angle = type(angle)(angle.angle_rad[c], angle.speed_rad_s[c], angle.acceleration_rad_s2[c],
+                            np.ones(int(c.sum()), bool), angle.source, angle.referenced,
+                            angle.estimated, angle.pulses_s)
+    return dict(t=t, x=x, y=y, phi=phi, kp=None, weights=None, scene=None, notes=notes,
+                angle=angle, speed_how=how, table=tab)
+
+
+def from_run(rec):
+    """The arrays of a Run or Recording; the scene only where the model parts apply (the
+    planar rotor of chapter 5)."""
+    scene = rec.scene if getattr(rec.scene, "kind", None) == "planar" else None
+    phi = rec.rotor_angle if np.all(np.isfinite(rec.rotor_angle)) else None
+    w = rec.weight_angle if rec.weight_angle.size and np.all(np.isfinite(rec.weight_angle)) else None
+    angle = None
+    t = np.asarray(rec.t)
+    if phi is not None and t.size > 1:
+        from dsp.speed import RotorAngle
+
+        ph = np.unwrap(np.asarray(phi, float))
+        wr = np.gradient(ph, t)
+        angle = RotorAngle(ph, wr, np.gradient(wr, t), np.ones(t.size, bool), "rotor angle",
+                           referenced=True)
+    return dict(t=t, x=np.asarray(rec.x), y=np.asarray(rec.y), phi=phi, kp=None,
+                weights=w, scene=scene, notes=list(rec.notes), angle=angle,
+                speed_how="the recording's rotor angle" if phi is not None else "no rotor angle",
+                table=None, rec_scene=rec.scene)
+
+
+def whirls(t, x, y) -> bool:
+    """Without a speed channel: the shaft whirls when the phase of x + i y (mean removed)
+    advances steadily by ten turns or more."""
+    z = (x - np.mean(x)) + 1j * (y - np.mean(y))
+    if t.size < 16 or not np.any(np.abs(z) > 0):
+        return False
+    th = np.unwrap(np.angle(z))
+    turns = abs(th[-1] - th[0]) / TWO_PI
+    steps = np.diff(th)
+    return bool(turns >= 10 and np.mean(np.sign(steps) == np.sign(th[-1] - th[0])) > 0.9)
+

@@ -1,0 +1,140 @@
+"""The unbalance steps of ``stand analyze``: the 1X line without a phase reference, the
+unbalance from a model, the calibration rings' reading, and the ISO 21940-11 grade.
+
+Each step writes its keys into the analysis document ``out`` (the keys of
+``stand analyze --json``) and its reasons into ``notes``; units in the key names.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from dsp.errors import SignalError
+
+__all__ = ["line_1x", "unbalance", "iso_grade", "ring_reading"]
+
+TWO_PI = 2 * math.pi
+
+
+def line_1x(t, z, out, notes) -> None:
+    """No phase reference: the 1X line's frequency and amplitude from the spectrum
+    (:func:`dsp.frequency.refine_frequencies`, the strongest forward line)."""
+    from dsp.lines import refine_frequencies
+
+    try:
+        comp = refine_frequencies(t, z - np.mean(z), 1)
+        f = float(comp.frequency_hz[0])
+        out["speed_hz"] = abs(f)
+        out["response_1x_m"] = float(abs(comp.amplitude[0]))
+        out["speed_estimated"] = True
+        notes.append(f"no keyphasor or encoder: the speed {abs(f):.6g} rev/s is the strongest line "
+                     "of the orbit (estimated from the vibration)")
+    except SignalError as exc:
+        notes.append(f"1X line: {exc}")
+
+
+def unbalance(out, scene, sc1, d, rmap, mass, grade, service_speed_rpm, notes) -> None:
+    """The unbalance from the model (the scene's, the run-up fit's, or the map's f0 and
+    damping), the ring zones of a track, and the ISO 21940-11 grade."""
+    from dsp import unbalance as ub
+
+    e = se = ang = None       # specific unbalance [m] and its angle [deg]
+    how = None
+    fit = (out.get("runup") or {}).get("model_fit")
+    if scene is not None and sc1 is not None:
+        s = scene.supports
+        Ms = scene.total_mass
+        zeta = s.damping_x / (2 * math.sqrt(s.stiffness_x * Ms))
+        est = ub.unbalance_from_response(sc1, sc1.speed_rad_s, Ms, scene.natural_frequency / TWO_PI,
+                                         zeta)
+        out.update(unbalance_gmm=est.unbalance_gmm, unbalance_gmm_std=est.unbalance_std_gmm,
+                   unbalance_angle_deg=est.angle_deg)
+        iso_grade(out, est.unbalance_gmm, est.unbalance_std_gmm, scene.rotor.mass,
+                  sc1.speed_rad_s, grade, service_speed_rpm)
+        return
+    if fit is not None:
+        e, se, ang = fit["specific_unbalance_m"], fit["specific_unbalance_m_std"], \
+            fit["unbalance_angle_deg"]
+        how = "rigid-rotor model fitted to the run-up"
+    elif sc1 is not None and rmap is not None and rmap.natural_frequency_hz \
+            and rmap.damping_ratio is not None:
+        est = ub.unbalance_from_response(sc1, sc1.speed_rad_s, 1.0, rmap.natural_frequency_hz,
+                                         rmap.damping_ratio)
+        e, se, ang = est.unbalance_kg_m, est.unbalance_std_kg_m, est.angle_deg
+        how = f"steady 1X with the map's natural frequency and damping ({rmap.source})"
+    elif out.get("response_1x_m") and rmap is not None and rmap.natural_frequency_hz \
+            and rmap.damping_ratio is not None:
+        R = out["speed_hz"] / rmap.natural_frequency_hz
+        e = out["response_1x_m"] * abs(1 - R * R + 2j * rmap.damping_ratio * R) / (R * R)
+        how = f"1X line with the map's natural frequency and damping ({rmap.source})"
+    rings = ring_reading(out, d)
+    if e is None and rings is None:
+        if d.get("table") is not None:
+            notes.append("unbalance: a table has no scene (mass, f0, damping); it needs a run-up "
+                         "through the resonance (model fit), or the "
+                         "natural frequency and damping ratio in the map's [rotor], or a track "
+                         "with ring radii and the capacity")
+        else:
+            notes.append("no scene in the recording: the 1X response is not converted to an "
+                         "unbalance (needs mass, f0, damping)")
+        return
+    if e is not None:
+        out["specific_unbalance_gmm_per_kg"] = e * 1e6       # [m] = [kg m / kg] -> g mm / kg
+        out["specific_unbalance_gmm_per_kg_std"] = None if se is None else se * 1e6
+        out["unbalance_method"] = how
+        out["unbalance_angle_deg"] = ang
+        if mass:
+            out.update(unbalance_gmm=e * mass * 1e6,
+                       unbalance_gmm_std=None if se is None else se * mass * 1e6)
+        else:
+            notes.append("unbalance in g mm needs the vibrating mass: give [rotor] mass in the "
+                         "recording map (the specific unbalance per kg is given)")
+    w_meas = (out.get("speed_hz") or 0.0) * TWO_PI
+    if rmap is not None and rmap.service_speed_rad_s and not service_speed_rpm:
+        service_speed_rpm = rmap.service_speed_rad_s * 60 / TWO_PI
+    if e is not None and (w_meas > 0 or service_speed_rpm):
+        iso_grade(out, e * (mass or 1.0) * 1e6, None if se is None else se * (mass or 1.0) * 1e6,
+                  mass or 1.0, w_meas, grade, service_speed_rpm, per_kg=not mass)
+
+
+def iso_grade(out, U_gmm, sU_gmm, mass, w_meas, grade, service_speed_rpm, per_kg=False) -> None:
+    """``out["iso_grade"]``: the achieved ISO 21940-11 grade of the unbalance ``U_gmm`` [g mm]
+    (std ``sU_gmm``) of a rotor of ``mass`` [kg] at the service speed (``service_speed_rpm``
+    [rpm], else the measured ``w_meas`` [rad/s]) against the required ``grade`` G [mm/s]."""
+    from dsp import unbalance as ub
+
+    w_service = service_speed_rpm * TWO_PI / 60.0 if service_speed_rpm else w_meas
+    g = ub.iso_21940_grade(U_gmm, mass, w_service, target_grade_mm_s=grade,
+                           unbalance_std_gmm=sU_gmm)
+    out["iso_grade"] = {"grade_mm_s": g.grade_mm_s, "grade_mm_s_std": g.grade_std_mm_s,
+                        "class": g.label, "target_mm_s": grade, "passed": g.passed,
+                        "permissible_gmm": None if per_kg else getattr(g, "permissible_gmm", None),
+                        "service_speed_rpm": w_service * 60 / TWO_PI}
+
+
+def ring_reading(out, d):
+    """A ``stand track`` CSV with ring radii and the capacity in its header: the spot
+    circle's radius on the screen read against the rings (the lab's laser method, 4.3)."""
+    from dsp.unbalance import unbalance_from_rings
+
+    tab = d.get("table")
+    if tab is None or out.get("response_1x_m") is None:
+        return None
+    meta = tab.metadata
+    try:
+        radii = [float(v) for v in str(meta["ring_radii_m"]).split(",")]
+        S = float(meta["capacity_gmm"]) * 1e-6
+        gain = float(meta.get("optical_gain", 1.0))
+    except (KeyError, ValueError):
+        return None
+    r_screen = out["response_1x_m"] * gain
+    rd = unbalance_from_rings(r_screen, radii, S)
+    out["ring_reading"] = {"circle_radius_mm": r_screen * 1e3, "zone": rd.zone,
+                           "unbalance_gmm": rd.unbalance_gmm, "unbalance_gmm_std": rd.unbalance_std_gmm,
+                           "interpolated_gmm": rd.interpolated_kg_m * 1e6, "off_scale": rd.off_scale}
+    if out.get("unbalance_gmm") is None:
+        out.update(unbalance_gmm=rd.interpolated_kg_m * 1e6, unbalance_gmm_std=rd.unbalance_std_gmm,
+                   unbalance_method="spot circle against the calibration rings (zone i -> i S/16)")
+    return rd
+

@@ -1,0 +1,253 @@
+"""Result objects (issue 29 item 5): ``stand.analyze``, ``stand.theory``, ``stand.report`` and
+the balancing answers return :class:`stand.io.result.Result` objects whose ``to_dict()`` is the
+JSON the command line prints, whose ``to_frame()`` holds the same numbers, and whose
+``plot(ax=)`` draws on the axes it is given."""
+from __future__ import annotations
+
+import json
+import math
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import stand
+from stand.cli.main import main
+from stand.io.jsonable import dumps, to_jsonable
+from stand.io.result import Result, flatten_numbers
+
+ROOT = Path(__file__).resolve().parents[1]
+SAMPLES = ROOT / "data_samples"
+RECORDINGS = [SAMPLES / "recordings" / "stand_cameras.h5", SAMPLES / "recordings" / "influence_ref.h5"]
+SCENES = [SAMPLES / "scenes" / f"{n}.toml" for n in ("ball_runup", "family_two_mass", "weight_damper")]
+
+
+def _cli_json(capsys, *argv):
+    capsys.readouterr()
+    assert main([str(a) for a in argv]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def _agg_axes():
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure()
+    FigureCanvasAgg(fig)
+    return fig, fig.subplots()
+
+
+def _drawn(fig, ax) -> bool:
+    fig.canvas.draw()     # renders without a display: the plot is complete
+    return bool(ax.lines or ax.patches or ax.collections or ax.texts)
+
+
+def _assert_frame_holds(res):
+    df = res.to_frame()
+    assert list(df.columns) == ["key", "value"]
+    numbers = flatten_numbers(res.to_dict())
+    assert len(df) == len(numbers) > 0
+    assert dict(zip(df["key"], df["value"])) == pytest.approx(dict(numbers))
+
+
+@pytest.mark.parametrize("path", RECORDINGS, ids=lambda p: p.stem)
+def test_analyze_result_is_the_cli_json(path, capsys):
+    res = stand.analyze(stand.read(path))
+    assert isinstance(res, Result) and type(res).__name__ == "Analysis"
+    assert res.to_dict() == _cli_json(capsys, "analyze", path, "--json")
+    # attribute, mapping and JSON access agree
+    assert res.speed_hz == res["speed_hz"] == res.to_dict()["speed_hz"]
+    assert json.loads(dumps(res)) == res.to_dict() == json.loads(res.to_json())
+    _assert_frame_holds(res)
+    fig, ax = _agg_axes()
+    assert res.plot(ax=ax) is ax and _drawn(fig, ax)
+    assert len(repr(res)) < 400 and "Analysis(" in repr(res)
+    assert "<table>" in res._repr_html_()
+
+
+def test_analysis_tables_and_the_timeline_the_json_leaves_out():
+    res = stand.analyze(stand.read(RECORDINGS[0]))
+    assert "components" in res.tables()
+    comps = res.to_frame("components")
+    assert len(comps) == len(res.components)
+    np.testing.assert_allclose(comps["frequency_hz"], [c["frequency_hz"] for c in res.components])
+    if res.get("regime_timeline"):               # held on the object, not in the JSON
+        assert "regime_timeline" not in res.to_dict()
+        assert len(res.to_frame("regime_timeline")) == len(res.regime_timeline)
+    with pytest.raises(KeyError, match="no table"):
+        res.to_frame("no_such_table")
+
+
+def test_analysis_of_a_lab_table_with_a_run_up(capsys):
+    """A run-up table: the picture is the 1X amplitude against speed (Bode data)."""
+    csv, mp = SAMPLES / "daq" / "daq_runup.csv", SAMPLES / "daq" / "daq_runup.map.toml"
+    res = stand.analyze(csv, recording_map=str(mp))
+    assert res.to_dict() == _cli_json(capsys, "analyze", csv, "--map", mp, "--json")
+    bode = res.to_frame("runup.bode")
+    assert len(bode) == len(res.runup["bode"]["speed_hz"]) > 10
+    fig, ax = _agg_axes()
+    res.plot(ax=ax)
+    assert _drawn(fig, ax) and ax.get_xlabel() == "speed [rev/s]"
+    _assert_frame_holds(res)
+
+
+@pytest.mark.parametrize("scene", SCENES, ids=lambda p: p.stem)
+def test_theory_result_is_the_cli_json(scene, capsys):
+    th = stand.theory(stand.load(scene), floquet=False)
+    assert type(th).__name__ == "Theory" and th.kind in ("chapter5", "structure", "book_model")
+    assert th.to_dict() == _cli_json(capsys, "theory", scene, "--json", "--no-floquet")
+    _assert_frame_holds(th)
+    fig, ax = _agg_axes()
+    assert th.plot(ax=ax) is ax and _drawn(fig, ax)
+    if th.kind != "book_model":
+        assert th.natural_frequencies_hz and all(f > 0 for f in th.natural_frequencies_hz)
+    table = {"chapter5": "stable_bands", "structure": "campbell", "book_model": "steady_motions"}
+    assert len(th.to_frame(table[th.kind])) > 0
+
+
+def test_plot_without_axes_uses_no_backend():
+    import matplotlib
+
+    backend = matplotlib.get_backend()
+    ax = stand.theory(stand.load(SCENES[1]), floquet=False).plot()
+    assert type(ax.figure).__name__ == "Figure" and matplotlib.get_backend() == backend
+
+
+def test_report_of_a_run_writes_no_file(tmp_path, monkeypatch):
+    """stand.report(run) reads the run where it is: the same numbers as the report of its
+    recording, and no file is written (no temporary recording)."""
+    import stand.recording.hdf5 as h5
+
+    scene = stand.load(SAMPLES / "scenes" / "ball_runup.toml")
+    run = stand.run(scene)
+    path = run.write(tmp_path / "r.h5")
+    from_file = stand.report(stand.read(path))
+    from_path = stand.report(str(path))
+
+    def no_writing(*a, **k):
+        raise AssertionError("stand.report(run) wrote a recording")
+
+    monkeypatch.setattr(h5, "write_recording", no_writing)
+    monkeypatch.chdir(tmp_path)
+    before = set(tmp_path.iterdir())
+    rep = stand.report(run)
+    assert set(tmp_path.iterdir()) == before
+    assert type(rep).__name__ == "Report"
+    assert rep.report["input_format"] == "run" and from_file.report["input_format"] == "hdf5"
+    for key in ("header", "balancing_quality", "dynamics", "warnings"):
+        a, b = rep.to_dict()[key], from_file.to_dict()[key]
+        assert json.dumps(a, sort_keys=True).count(":") == json.dumps(b, sort_keys=True).count(":")
+        assert dict(flatten_numbers(a)) == pytest.approx(dict(flatten_numbers(b)), rel=1e-12), key
+    assert from_file.to_dict()["balancing_quality"] == from_path.to_dict()["balancing_quality"]
+    assert rep.passed in (True, False, None)
+    _assert_frame_holds(rep)
+    fig, ax = _agg_axes()
+    assert rep.plot(ax=ax) is ax and _drawn(fig, ax)
+
+
+def test_report_result_is_the_cli_json(tmp_path, capsys):
+    rec = RECORDINGS[0]
+    rep = stand.report(str(rec), grade=2.5)
+    doc = _cli_json(capsys, "report", rec, "--json", "--grade", "2.5")
+    mine = rep.to_dict()
+    for d in (doc, mine):
+        d["report"].pop("generated")      # the minute it was made
+    assert mine == doc
+
+
+def test_grade_is_the_one_name(recwarn):
+    """``grade`` names the ISO 21940-11 grade everywhere; the old ``grade_mm_s`` still works
+    and says so."""
+    rec = stand.read(RECORDINGS[0])
+    new = stand.analyze(rec, grade=2.5)
+    with pytest.warns(DeprecationWarning, match="grade_mm_s"):
+        old = stand.analyze(rec, grade_mm_s=2.5)
+    assert new.to_dict() == old.to_dict()
+    if new.iso_grade is not None:
+        assert new.iso_grade["target_mm_s"] == 2.5
+
+
+def test_result_base():
+    r = Result({"a_hz": 1.5, "nested": {"b_m": 2.0, "ok": True}, "rows": [{"x": 1}, {"x": 2}],
+                "nan": float("nan")})
+    assert r.a_hz == r["a_hz"] == 1.5 and r.get("zz") is None and "a_hz" in r
+    r.c = 3
+    r["d"] = 4
+    assert r.to_dict() == {"a_hz": 1.5, "nested": {"b_m": 2.0, "ok": True},
+                           "rows": [{"x": 1}, {"x": 2}], "nan": None, "c": 3, "d": 4}
+    assert to_jsonable({"r": r}) == {"r": r.to_dict()}
+    with pytest.raises(AttributeError, match="no attribute 'zz'"):
+        r.zz
+    assert r.tables() == ["rows"]
+    assert list(r.to_frame("rows")["x"]) == [1, 2]
+    assert dict(flatten_numbers(r.to_dict())) == {"a_hz": 1.5, "nested.b_m": 2.0, "rows.0.x": 1,
+                                                  "rows.1.x": 2, "c": 3, "d": 4}
+    assert math.isfinite(len(repr(r))) and repr(r).startswith("Result(")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        fig, ax = _agg_axes()
+        assert r.plot(ax=ax) is ax
+
+
+def test_influence_result(capsys):
+    """Influence-coefficient balancing: the balance's attributes as before, the CLI's JSON,
+    a table of the planes and a picture of the corrections."""
+    from stand.analysis.influence import influence_from_recordings
+
+    recs = [SAMPLES / "recordings" / f"influence_{k}.h5" for k in ("ref", "trial1", "trial2")]
+    trials = ["balancer1:10:0:100", "balancer2:10:90:100"]
+    res = influence_from_recordings(recs[0], recs[1:], trials, ["probe1", "probe2"])
+    assert type(res).__name__ == "Influence"
+    assert res.planes == ("balancer1", "balancer2") and res.mass_g.shape == (2,)
+    argv = ["influence", *recs, "--trial", trials[0], "--trial", trials[1], "--sensors",
+            "probe1,probe2", "--json"]
+    assert res.to_dict() == _cli_json(capsys, *argv)
+    df = res.to_frame()
+    np.testing.assert_allclose(df["mass_g"], res.mass_g)
+    fig, ax = _agg_axes()
+    assert res.plot(ax=ax) is ax and _drawn(fig, ax)
+    assert "balancer1" in repr(res)
+
+
+@pytest.mark.parametrize("strobe", [False, True], ids=["screen", "strobe"])
+def test_track_result(strobe, tmp_path):
+    """stand.track: the frame-by-frame table the CLI writes, and its picture."""
+    from stand.analysis.tracking import strobe_angles, track_frames
+
+    rec = RECORDINGS[0]
+    res = stand.track(rec, strobe=strobe)
+    expected = strobe_angles(str(rec)) if strobe else track_frames(str(rec))
+    assert type(res).__name__ == "Track" and res.frames == len(expected) > 0
+    df = res.to_frame()
+    assert list(df.columns) == list(expected.columns)
+    assert df.select_dtypes("number").equals(expected.select_dtypes("number"))
+    assert res.found == int(expected["ok"].sum())
+    fig, ax = _agg_axes()
+    assert res.plot(ax=ax) is ax and _drawn(fig, ax)
+
+
+def test_docs_results_example_runs(monkeypatch, tmp_path):
+    """docs/results.md's example runs as written and writes no file."""
+    import re
+
+    text = (ROOT / "docs" / "results.md").read_text()
+    code = "\n".join(re.findall(r"```python\n(.*?)```", text, flags=re.S))
+    assert "stand.report(run" in code
+    code = code.replace('"data_samples/', f'"{SAMPLES}/')
+    monkeypatch.chdir(tmp_path)
+    ns: dict = {}
+    exec(compile(code, "docs/results.md", "exec"), ns)
+    assert list(tmp_path.iterdir()) == []
+    assert ns["doc"] == ns["a"].to_dict() and len(ns["numbers"]) > 0
+
+
+def test_report_of_a_run_with_instruments_reads_them_in_memory(tmp_path):
+    """The screen's rings and frames of a run in memory give the report the recording gives."""
+    run = stand.run(stand.load(SAMPLES / "scenes" / "stand_cameras.toml"))
+    rep = stand.report(run)
+    ring = rep.balancing_quality["ring_reading"]
+    assert ring is not None
+    written = stand.report(stand.read(run.write(tmp_path / "cams.h5")))
+    assert dict(flatten_numbers(ring)) == pytest.approx(
+        dict(flatten_numbers(written.balancing_quality["ring_reading"])), rel=1e-12)
