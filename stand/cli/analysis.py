@@ -99,7 +99,7 @@ def cmd_analyze(args) -> int:
         if not Path(args.output).resolve().parent.is_dir():
             raise FileNotFoundError(f"output directory of {args.output!r} does not exist")
         df = run_batch(files, analyze_row, workers=args.workers, scheduler=args.scheduler,
-                       progress=sys.stderr.isatty(), grade_mm_s=args.grade,
+                       progress=sys.stderr.isatty(), grade=args.grade,
                        service_speed_rpm=args.service_speed, recording_map=rmap)
         write_table(df, args.output)
         bad = int((df["status"] != "ok").sum())
@@ -109,7 +109,7 @@ def cmd_analyze(args) -> int:
         raise FileNotFoundError(f"recording not found: {args.recording}")
     if args.tracks:
         from stand.analysis.identify import two_plane
-        doc = two_plane(args.recording, args.tracks, grade_mm_s=args.grade, service_speed_rpm=args.service_speed)
+        doc = two_plane(args.recording, args.tracks, grade=args.grade, service_speed_rpm=args.service_speed)
         if args.json:
             return print_json(doc) or 0
         for r in doc["planes"]:
@@ -117,7 +117,7 @@ def cmd_analyze(args) -> int:
                   f"at {r['angle_deg']:.4g} +- {r['angle_deg_std']:.2g} deg; permissible {r['permissible_gmm']:.4g}: {'pass' if r['passed'] else 'FAIL'}")
         return 0
     try:
-        doc = analyze(args.recording, grade_mm_s=args.grade, service_speed_rpm=args.service_speed,
+        doc = analyze(args.recording, grade=args.grade, service_speed_rpm=args.service_speed,
                       recording_map=rmap)
     except (RecordingError, SignalError) as exc:
         raise ValueError(str(exc)) from None
