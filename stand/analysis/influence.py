@@ -70,7 +70,7 @@ def parse_trial(text: str) -> TrialWeight:
 
 def _load(run, what):
     if isinstance(run, (str, os.PathLike)):
-        from stand.api import read
+        from stand.recording.hdf5 import read_recording as read
 
         name = f"{os.fspath(run)!r}"
         return read(run), what if name in what else f"{what} {name}"
@@ -186,11 +186,11 @@ def model_correction(scene, planes: Sequence[str]) -> np.ndarray:
     if isinstance(scene, (str, os.PathLike)):
         p = os.fspath(scene)
         if p.endswith((".h5", ".hdf5")):
-            from stand.api import read
+            from stand.recording.hdf5 import read_recording as read
 
             scene = read(p).scene
         else:
-            from stand.api import load
+            from stand.scene.parse import load_scene as load
 
             scene = load(p)
     elif not isinstance(scene, Scene):

@@ -77,7 +77,7 @@ def cmd_track(args) -> int:
 
 def cmd_video(args) -> int:
     from stand.io.guard import check_outputs
-    from stand.instruments.video import sidecar_paths, write_screen_video
+    from stand.reports.video import sidecar_paths, write_screen_video
 
     side = sidecar_paths(args.output)
     check_outputs([args.recording], [(side["video"], side["video"].suffix.lstrip(".").lower()),

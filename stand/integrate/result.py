@@ -318,7 +318,7 @@ class Run:
         ``kind="time"``: x and y [mm] against t [s]; ``"orbit"``: y against x [mm].
         ``ax``: draw into these axes (default: a new backend-free figure).
         """
-        from stand.reports.figures import figure_and_axes
+        from stand.io.figures import figure_and_axes
 
         if kind not in ("time", "orbit"):
             raise ValueError(f"kind = {kind!r}: one of time, orbit")

@@ -1,1 +1,9 @@
-"""Files in and out: atomic writes (:mod:`.atomic`), JSON (:mod:`.jsonable`)."""
+"""The base every layer uses: files in and out and the shapes of answers.
+
+* :mod:`.atomic`, :mod:`.lock`, :mod:`.guard` -- atomic writes, locks, resource guards;
+* :mod:`.jsonable`, :mod:`.tomlfile` -- JSON out, TOML in;
+* :mod:`.validate` -- the one checker of input numbers (messages name key, value, unit);
+* :mod:`.executor` -- the one process/thread pool;
+* :mod:`.figures` -- figures without a plotting backend, saved atomically;
+* :mod:`.result` -- the base of the result objects (``to_dict``, ``to_frame``, ``plot(ax=)``).
+"""

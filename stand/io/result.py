@@ -42,12 +42,10 @@ def renamed(value, old_value, old: str, new: str, where: str):
 
 def axes_of(ax=None, **figure_kw):
     """``ax``, or the one Axes of a new figure that belongs to no backend and no pyplot
-    state (``matplotlib.figure.Figure``): a library never calls ``matplotlib.use``."""
-    if ax is not None:
-        return ax
-    from matplotlib.figure import Figure
+    state (:func:`stand.io.figures.figure_and_axes`): a library never calls ``matplotlib.use``."""
+    from stand.io.figures import figure_and_axes
 
-    return Figure(**figure_kw).subplots()
+    return figure_and_axes(ax, **figure_kw)[1]
 
 
 def flatten_numbers(doc: Any, prefix: str = "") -> list:

@@ -409,7 +409,7 @@ def plot_speed_map(th: SceneTheory, path=None, ax=None):
     """
     from matplotlib import rcParams
 
-    from stand.reports.figures import figure_and_axes, save_figure
+    from stand.io.figures import figure_and_axes, save_figure
 
     labels = sorted({m for b in th.bands for m in b.motions},
                     key=lambda s: (s != "main", s != "main (maximally balanced)", s))
