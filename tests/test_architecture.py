@@ -188,7 +188,6 @@ def reachable(edges: set, a: str) -> set:
     return seen
 
 
-@pytest.mark.xfail(reason="issue 29 in progress: see the issue note", strict=False)
 def test_architecture_picture_shows_every_arrow():
     """docs/architecture.md's diagram (mermaid ids are the dotted names with ``_``: stand_model)
     draws only real package imports, and every real import follows its arrows (directly or

@@ -192,7 +192,7 @@ def cmd_stress(args) -> int:
 
 
 def cmd_warmup(args) -> int:
-    from stand.integrate.warmup import warmup
+    from stand.cli.warmup import warmup
 
     warmup(every_kind=args.all)
     return 0
