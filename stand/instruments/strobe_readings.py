@@ -38,6 +38,7 @@ from typing import Optional
 import numpy as np
 
 from stand.errors import SceneError
+from stand.integrate.result import Run, weight_names
 from stand.instruments._settings import boolean, check, integer, keys, number, read_table, rebased
 from stand.instruments.timing import crossing_times, hermite, sample_trajectory, time_window, wrap
 
@@ -291,30 +292,21 @@ class _PointWeights:
 
     A run's ``weight_angle`` stacks every weight with an ``angle`` coordinate,
     the tilting weights and the damper included; the stroboscope draws those
-    as bodies (:func:`body_coordinates`), so their columns are left out here.
+    as bodies (:func:`body_coordinates`), so their columns are left out here:
+    ``weights`` holds the named ones, stacked by the Run's own properties.
     Every other attribute is the trajectory's.
     """
 
+    _stack = Run._stack
+    weight_angle = Run.weight_angle
+    weight_speed = Run.weight_speed
+
     def __init__(self, traj, names):
         self._traj = traj
-        self._names = tuple(names)
+        self.weights = {nm: traj.weights[nm] for nm in names}
 
     def __getattr__(self, key):
         return getattr(self._traj, key)
-
-    def _stack(self, coord):
-        cols = [self._traj.weights[nm][coord] for nm in self._names]
-        return np.column_stack(cols) if cols else np.zeros((len(self._traj.t), 0))
-
-    @property
-    def weight_angle(self) -> np.ndarray:
-        """(N, n) absolute angles of the balls / pendulums [rad]."""
-        return self._stack("angle")
-
-    @property
-    def weight_speed(self) -> np.ndarray:
-        """(N, n) absolute speeds of the balls / pendulums [rad/s]."""
-        return self._stack("speed")
 
 
 def point_weights(traj):
@@ -324,8 +316,6 @@ def point_weights(traj):
     if scene is None or not getattr(scene, "bodies", ()) or not isinstance(
             getattr(traj, "weights", None), dict):
         return traj
-    from stand.integrate.result import weight_names
-
     names = [nm for nm in weight_names(scene.weights)[0] if nm in traj.weights]
     return _PointWeights(traj, names)
 

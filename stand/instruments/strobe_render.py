@@ -285,6 +285,28 @@ def _draw(img, sl, cov, level):
     img[sl] += (level - img[sl]) * cov
 
 
+def _draw_rod(img, canvas, cx, cy, px, py, n_sub):
+    """A pendulum's rod from the pivot (cx, cy) to the bob at each sub-instant (px, py) [px]."""
+    bx = canvas.box(np.append(px, cx), np.append(py, cy), 3.0)
+    if bx is not None:
+        sl, X, Y = bx
+        cov = np.zeros_like(X)
+        for a, b_ in zip(px, py):
+            cov += _cov_segment(X, Y, cx, cy, a, b_, 1.0)
+        _draw(img, sl, cov / n_sub, LEVEL_ROD)
+
+
+def _draw_bob(img, canvas, px, py, radius, n_sub):
+    """A ball or a pendulum's bob of ``radius`` [px] at each sub-instant (px, py) [px]."""
+    bx = canvas.box(px, py, radius + 2.0)
+    if bx is not None:
+        sl, X, Y = bx
+        cov = np.zeros_like(X)
+        for a, b_ in zip(px, py):
+            cov += _cov_disk(X, Y, a, b_, radius)
+        _draw(img, sl, cov / n_sub, LEVEL_BALL)
+
+
 def _draw_liquid(img, canvas, cx, cy, lk, sx, sy, pitch):
     """The chamber wall, the liquid's crescent and (liquid_float) the float, one flash."""
     R = lk.chamber_radius / pitch
@@ -311,21 +333,8 @@ def _draw_pendulum_body(img, canvas, cx, cy, lk, ox, oy, pitch, n_sub):
         _draw(img, sl, 0.6 * _cov_ring(X, Y, cx, cy, H, 0.5), LEVEL_HOUSING)
     px = cx + np.asarray(ox) / pitch
     py = cy - np.asarray(oy) / pitch
-    bob = lk.bob_radius / pitch
-    bx = canvas.box(np.append(px, cx), np.append(py, cy), 3.0)
-    if bx is not None:
-        sl, X, Y = bx
-        cov = np.zeros_like(X)
-        for a, b_ in zip(px, py):
-            cov += _cov_segment(X, Y, cx, cy, a, b_, 1.0)
-        _draw(img, sl, cov / n_sub, LEVEL_ROD)
-    bx = canvas.box(px, py, bob + 2.0)
-    if bx is not None:
-        sl, X, Y = bx
-        cov = np.zeros_like(X)
-        for a, b_ in zip(px, py):
-            cov += _cov_disk(X, Y, a, b_, bob)
-        _draw(img, sl, cov / n_sub, LEVEL_BALL)
+    _draw_rod(img, canvas, cx, cy, px, py, n_sub)
+    _draw_bob(img, canvas, px, py, lk.bob_radius / pitch, n_sub)
 
 
 def _frames(traj, view, strobe, tf, n_frames, track, ball, kind, looks, velocities):
@@ -401,20 +410,8 @@ def _frames(traj, view, strobe, tf, n_frames, track, ball, kind, looks, velociti
                 px = cx + track_px[j] * np.cos(th)
                 py = cy - track_px[j] * np.sin(th)
                 if kind == "pendulums":
-                    bx = canvas.box(np.append(px, cx), np.append(py, cy), 3.0)
-                    if bx is not None:
-                        sl, X, Y = bx
-                        cov = np.zeros_like(X)
-                        for a, b_ in zip(px, py):
-                            cov += _cov_segment(X, Y, cx, cy, a, b_, 1.0)
-                        img[sl] += (LEVEL_ROD - img[sl]) * (cov / n_sub)
-                bx = canvas.box(px, py, ball_px[j] + 2.0)
-                if bx is not None:
-                    sl, X, Y = bx
-                    cov = np.zeros_like(X)
-                    for a, b_ in zip(px, py):
-                        cov += _cov_disk(X, Y, a, b_, ball_px[j])
-                    img[sl] += (LEVEL_BALL - img[sl]) * (cov / n_sub)
+                    _draw_rod(img, canvas, cx, cy, px, py, n_sub)
+                _draw_bob(img, canvas, px, py, ball_px[j], n_sub)
             acc += img
         acc /= K
         if strobe.full_well > 0:
