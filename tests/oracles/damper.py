@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from stand.model.balancers._ode import frame_rhs, integrate
+from oracles.book_ode import frame_rhs, integrate
 from stand.model.balancers.damper_params import DamperParams
 
 __all__ = ["rhs", "rhs_rotating", "make_rhs", "simulate"]
