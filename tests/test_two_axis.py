@@ -7,8 +7,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from stand.model.balancers.two_axis import (
-    TwoAxisParams, residual_rotating, residual_fixed, rhs_rotating, rhs_fixed,
-    rhs_fixed_variable_speed, linear_ramp, rotating_to_fixed, fixed_to_rotating,
+    TwoAxisParams, rotating_to_fixed, fixed_to_rotating,
     steady_polynomial, first_group, second_group, steady_motions, no_gravity_no_damping,
     r0, eigenvalues, max_real_part)
 from stand.model.balancers.two_axis_theory import (
@@ -16,8 +15,11 @@ from stand.model.balancers.two_axis_theory import (
     fast_rotation_main_roots, fast_rotation_side_roots, R_star_omega1, fold_speeds,
     above_pivot_onset, fast_rotation_u, near_resonance_u, efficiency_approx,
     n_max_estimate, efficiency_curve, efficiency_extremum, qp_motions, qp_state,
-    rhs_omega_frame, qp_char_poly, qp_polynomial, qp_existence_limit, qp_gravity_allows,
+    qp_char_poly, qp_polynomial, qp_existence_limit, qp_gravity_allows,
     qp_amplitudes)
+from stand.model.balancers.one_model import rotating_form
+from oracles.two_axis import (residual_rotating, residual_fixed, rhs_rotating, rhs_fixed,
+                              rhs_fixed_variable_speed, linear_ramp, rhs_omega_frame)
 
 SQH = math.sqrt(0.5)
 
@@ -75,6 +77,22 @@ def test_rhs_solves_residuals():
         assert np.abs(residual_fixed(tau, y[:4], y[4:], a, p)).max() < 1e-12
     Y = rng.normal(size=(8, 6))          # vectorised call
     assert np.allclose(rhs_rotating(0, Y, p)[:, 2], rhs_rotating(0, Y[:, 2], p))
+
+
+def test_one_model_rotating_frames_are_the_books():
+    """The rotating frame of the one model equals the book's (6.12) (frame at the rotor's
+    speed) and the Omega-frame form of (6.15) (6.19)-(6.22) (frame at another speed, e0 = 0)
+    on random states, to rounding."""
+    rng = np.random.default_rng(11)
+    p = fig68(2.3).with_(e0=0.7)
+    q = p.with_(e0=0.0)
+    for _ in range(4):
+        y = rng.normal(size=8) * [1, 3, 0.1, 0.1, 0.5, 1, 0.2, 0.2]
+        assert np.allclose(rotating_form("two_axis", p)(y), rhs_rotating(0.0, y, p),
+                           rtol=0, atol=1e-13)
+        for Om in (0.7, 1.3):
+            assert np.allclose(rotating_form("two_axis", q, frame_speed=Om)(y),
+                               rhs_omega_frame(0.0, y, q, Om), rtol=0, atol=1e-13)
 
 
 def test_T1_rotating_vs_fixed_frame():
@@ -337,6 +355,8 @@ def test_T12_qp_no_gravity():
             assert np.abs(roots - np.sort_complex(m.eig)).max() < 1e-6
             assert np.abs(m.eig).min() < 1e-6
             assert np.abs(rhs_omega_frame(0.0, qp_state(q, m.Omega, m.phi), q, m.Omega)).max() < 1e-12
+            one = rotating_form("two_axis", q, frame_speed=m.Omega)
+            assert np.abs(one(qp_state(q, m.Omega, m.phi))).max() < 1e-12
     grid = np.arange(9.0, 13.01, 0.1)
     alive = [R for R in grid if any(m.Omega < 1 for m in qp_motions(p.with_(R_omega=R),
                                                                     stability=False))]

@@ -129,6 +129,12 @@ def rotating_rhs(model, R: float, z: np.ndarray) -> np.ndarray:
     value at phi = 0), or a generic model
     (:class:`~stand.model.rotors.coupled_kernel.CoupledModel`) of the planar rotor
     built with the constant programme ``R * omega_ref`` rad/s.
+
+    For the generic model ``R`` is the speed of the frame only: the rotor turns as
+    the model's programme says.  A frame speed other than the rotor's gives the frame
+    of a quasi-periodic motion (book (6.19)-(6.22); autonomous when nothing on the
+    rotor is unbalanced); the relative azimuths and rates of the state are then
+    measured in that frame.
     """
     if isinstance(model, PlanarModel):
         return _planar_rotating_rhs(model, R, z)

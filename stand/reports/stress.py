@@ -45,7 +45,8 @@ Fresnel/Faddeeva closed form and, undamped, drift of the free-whirl amplitude
 |c+|) or ``closed_form`` (weight-free, constant speed).
 
 ``liquid_runup`` (paper-001 liquid float balancer, model M1,
-:mod:`stand.model.balancers.liquid_float`): ``runup_closed_form``.
+:mod:`stand.model.balancers.liquid_float`, run as the one model's composition):
+``runup_closed_form``.
 
 ``platform`` (paper-004 suspended platform, :func:`platform_rotor`,
 :func:`simulate_coupled`): ``steady_response`` (no weights, started on the

@@ -23,6 +23,7 @@ from typing import Callable
 
 import numpy as np
 
+from stand.integrate.runs import sample_times
 from stand.reports.stress_bodies import kind_body_scene
 from stand.reports.stress_catalogue import CatalogueError
 from stand.reports.stress_planar import (PLANAR_KINDS, kind_dimensionless, kind_qp, kind_scene_file, rel_max,
@@ -56,8 +57,21 @@ def outcome(**kw) -> dict:
 
 
 # ------------------------------------------------------------------ kind: liquid_runup
+def _liquid_scene(case, prm):
+    """The case as a ``[weight_model]`` scene of the liquid float (paper 001): the one model
+    (planar rotor x liquid float body, :mod:`stand.model.balancers.composition`)."""
+    from stand.scene.model import BookModel, RunSettings, Scene, SpeedDrive
+
+    p = case["params"]
+    run = RunSettings(duration=float(p["t_end"]), sample_rate=float(p["sample_rate"]),
+                      rtol=float(p["rtol"]), atol=float(p["rtol"]) * prm.e, method=p["method"])
+    return Scene(drive=SpeedDrive(np.array([[0.0, prm.omega_0]])), run=run, name=case["name"],
+                 structure=BookModel("liquid_float", prm, "paper 001", {}))
+
+
 def _kind_liquid(case, res):
-    from stand.model.balancers.liquid_float import LiquidFloatParams, simulate as lf_simulate
+    from stand.model.balancers.book_run import run_book
+    from stand.model.balancers.liquid_float import LiquidFloatParams
     from stand.model.balancers.runup_closed_form import free_whirl_amplitudes, runup_closed_form_state
 
     p = case["params"]
@@ -66,34 +80,42 @@ def _kind_liquid(case, res):
                                 omega_0=p["omega_0"], epsilon=0.5 * p["acceleration"])
     except ValueError as exc:
         raise CatalogueError(f"case {case['name']!r}: params: {exc}") from None
-    t = np.arange(0.0, p["t_end"] + 0.5 / p["sample_rate"], 1.0 / p["sample_rate"])
-    t = t[t <= p["t_end"]]
-    tic = time.perf_counter()
-    run = lf_simulate(prm, t_eval=t, frame=p["frame"], method=p["method"], rtol=p["rtol"])
-    wall = time.perf_counter() - tic
-    res.update(method=f"scipy {p['method']} ({p['frame']} frame)",
-               method_reason=("liquid_float.simulate has no automatic choice: model M1 is linear and "
-                              "non-stiff (damping ratio "
-                              f"{prm.zeta:.3g}), the explicit 8th-order method is used"),
-               solver_success=bool(np.all(np.isfinite(run.Z)) and len(run.t) == len(t)),
-               solver_message="reached the end" if len(run.t) == len(t) else "stopped early",
-               nfev=int(run.nfev), wall_time_s=float(wall))
+    scene = _liquid_scene(case, prm)
+    n_samples = sample_times(p["t_end"], p["sample_rate"]).size
+    # the state is in m and m/s: atol relative to the eccentricity, as the book's run had it
+    # (atol = rtol e); the scenes' default 1e-12 m would be 1e-8 e and limit the error
+    run = run_book(scene, method=p["method"], rtol=p["rtol"], atol=p["rtol"] * prm.e)
+    Zs = run.planes["balancer"][:, 0] + 1j * run.planes["balancer"][:, 1]
+    Zdot = run.coordinates["state/xi'"][0] + 1j * run.coordinates["state/eta'"][0]
+    compiled = p["method"] == "DOP853"
+    res.update(method=(f"{'compiled' if compiled else 'scipy'} {p['method']} (fixed frame: the one "
+                       "model, planar rotor x liquid float body)"),
+               method_reason=("the liquid float's run has no automatic choice: model M1 is linear "
+                              f"and non-stiff (damping ratio {prm.zeta:.3g}), the explicit "
+                              "8th-order method is used"),
+               solver_success=bool(run.success and np.all(np.isfinite(Zs))
+                                   and len(run.t) == n_samples),
+               solver_message="reached the end" if len(run.t) == n_samples else "stopped early",
+               nfev=int(run.stats.nfev), wall_time_s=float(run.stats.wall_time))
+    res["details"]["frame"] = ("fixed (the one model runs in the fixed frame; the catalogue's "
+                               f"frame = {p['frame']!r} named the book's form)")
     Z, Zd = runup_closed_form_state(prm, run.t)
-    err = rel_max(run.Z, Z)
+    err = rel_max(Zs, Z)
     res.update(oracle=(f"closed-form run-up of model M1 (psi = {prm.psi:g}: Omega = Omega_0 sqrt(psi) = "
                        f"{prm.Omega:.4g} rad/s, {'Fresnel' if prm.n == 0 else 'Faddeeva'})"),
                error=err, error_measure="max |Z - Z_exact| / max |Z_exact| [-]", reference_error=0.0)
-    res["details"].update(critical_speed_rad_s=prm.Omega, final_speed_rad_s=float(run.omega[-1]),
-                          revolutions=float(run.beta[-1] / (2 * math.pi)))
+    res["details"].update(critical_speed_rad_s=prm.Omega,
+                          final_speed_rad_s=float(run.rotor_speed[-1]),
+                          revolutions=float(run.rotor_angle[-1] / (2 * math.pi)))
     if prm.n == 0:
-        c_num = free_whirl_amplitudes(prm, run.t[-1:], run.Z[-1:], run.Zdot[-1:])[0][0]
+        c_num = free_whirl_amplitudes(prm, run.t[-1:], Zs[-1:], Zdot[-1:])[0][0]
         c_ref = free_whirl_amplitudes(prm, run.t[-1:], Z[-1:], Zd[-1:])[0][0]
         res.update(conserved_quantity="free-whirl amplitude |c+| (undamped)",
                    drift=float((c_num - c_ref) / c_ref))
         res["_drift_checked"] = True
     invalid = []
-    if run.omega[-1] < 1.5 * prm.Omega:
-        invalid.append(f"the run ends at {run.omega[-1]:.4g} rad/s, before 1.5 x the critical speed "
+    if run.rotor_speed[-1] < 1.5 * prm.Omega:
+        invalid.append(f"the run ends at {run.rotor_speed[-1]:.4g} rad/s, before 1.5 x the critical speed "
                        f"{prm.Omega:.4g} rad/s: the passage is not completed")
     return invalid
 

@@ -13,4 +13,9 @@ book_run
     The books' right-hand sides behind one calling convention ``f(tau, y)`` and
     a ``[weight_model]`` scene run on them (scipy's solvers) into the common
     :class:`stand.integrate.result.Run`.
+book_ode
+    The books' ``solve_ivp`` convention (a frame's ``rhs(tau, y, p)``, ``simulate``).
+gravity_pair, damper, two_axis
+    The book's own equations of ch. 7.1, 7.2 and 6 (fixed and rotating frames; the
+    two-axis pendulum also in a QP motion's frame and with a run-up).
 """

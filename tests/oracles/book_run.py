@@ -31,7 +31,8 @@ __all__ = ["book_rhs", "run_book_oracle"]
 
 #: where each model's book right-hand side lives (moved here model by model; the rest are
 #: still in the package's modules, stand.model.balancers.book_run.MODULES)
-ORACLES = {**MODULES, "gravity_pair": "oracles.gravity_pair"}
+ORACLES = {**MODULES, "gravity_pair": "oracles.gravity_pair", "damper": "oracles.damper",
+           "two_axis": "oracles.two_axis", "liquid_float": "oracles.liquid_float"}
 
 
 class _PythonModel:

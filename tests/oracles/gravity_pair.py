@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-from stand.model.balancers._ode import frame_rhs, integrate
+from oracles.book_ode import frame_rhs, integrate
 from stand.model.balancers.gravity_pair_params import GravityPairParams
 
 __all__ = ["rhs", "rhs_rotating", "make_rhs", "simulate"]

@@ -45,7 +45,9 @@ the rotor equations of (7.47) with erratum E1 (``phi''``, ``psi''`` in the
 braces).  The steady-motion equations (7.51)-(7.53) follow from it by hand
 (torque balance ``n x (R_g^2 e_z - R_omega^2 Z) = 0`` gives (7.62), the rotor
 equation then (7.53)); the test suite checks that every root of (7.53) is an
-equilibrium of :func:`rhs_rotating` to 1e-12.
+equilibrium of the rotating frame to 1e-12 (the one model's,
+:func:`stand.model.balancers.one_model.rotating_form`, and the book's own, the test
+oracle ``tests/oracles/damper.py``).
 
 Dimensionless parameters (7.48)-(7.50)::
 
@@ -73,16 +75,15 @@ residual unbalance of (7.80) is recovered when ``eps`` is small.  In (7.80) the
 ratio ``R_m`` is ``m / M_Sigma`` -- equal to this module's ``R_m`` for
 ``kappa = 1``; :func:`residual_unbalance` takes it as an argument.
 
-State vector (:func:`rhs`, fixed frame; :func:`rhs_rotating`, the same
-quantities in rotating-frame components)::
+State vector (fixed frame; the rotating frame has the same quantities in
+rotating-frame components)::
 
     s = [x, y, x', y', n_x, n_y, n_z, W_x, W_y, W_z]
 
 Modules
 -------
 This module re-exports the parameters (:mod:`.damper_params`) and the model's functions from
-:mod:`.damper_motion` (equations of motion, frames, initial states,
-integration), :mod:`.damper_steady` (steady motions (7.51)-(7.62), efficiency
+:mod:`.damper_motion` (frames, initial states), :mod:`.damper_steady` (steady motions (7.51)-(7.62), efficiency
 (7.54), stability (7.63)-(7.74)) and :mod:`.damper_residual` (dry-friction
 residual unbalance (7.80)-(7.84)), so ``stand.model.balancers.damper.<name>`` keeps
 working for all of them.
@@ -90,8 +91,8 @@ working for all of them.
 from __future__ import annotations
 
 from stand.model.balancers.damper_params import DryFriction, DamperParams
-from stand.model.balancers.damper_motion import (angles_from_state, make_rhs, residual_unbalance_now, rhs, rhs_rotating,
-                            simulate, state_from_angles, to_fixed, to_rotating)
+from stand.model.balancers.damper_motion import (angles_from_state, residual_unbalance_now, state_from_angles,
+                                                 to_fixed, to_rotating)
 from stand.model.balancers.damper_residual import (R_f_ball_joint, R_f_cardan, residual_cubic, residual_parametric,
                               residual_unbalance)
 from stand.model.balancers.damper_steady import (DamperSteady, critical_speeds_undamped, efficiency, efficiency_approx,
@@ -99,8 +100,8 @@ from stand.model.balancers.damper_steady import (DamperSteady, critical_speeds_u
                             steady_motions, steady_quartic_roots)
 
 __all__ = [
-    "DryFriction", "DamperParams", "DamperSteady", "rhs", "rhs_rotating", "make_rhs",
-    "state_from_angles", "angles_from_state", "to_rotating", "to_fixed", "simulate",
+    "DryFriction", "DamperParams", "DamperSteady",
+    "state_from_angles", "angles_from_state", "to_rotating", "to_fixed",
     "steady_quartic_roots", "steady_motions", "efficiency", "efficiency_approx",
     "critical_speeds_undamped", "jacobian", "eigenvalues", "is_stable",
     "fast_rotor_roots", "stability_scan", "R_f_cardan", "R_f_ball_joint",

@@ -1,7 +1,7 @@
 """Autobalancer-damper (book 7.2): steady motions, efficiency and their stability.
 
 Part of :mod:`stand.model.balancers.damper`.  The steady motions are the equilibria
-of :func:`~stand.model.balancers.damper_motion.rhs_rotating`: the CW locked to the
+of the rotating frame (:func:`stand.model.balancers.one_model.rotating_form`): the CW locked to the
 rotor at ``u = cos(phi)``, a real root of (7.53)
 ``(1 - u^2) Delta(u) = R_m^2 R_omega^8 e0^2 u^2 / R_g^4`` with
 ``Delta(u) = (R_omega^2 - 1 + R_m R_omega^4 u / R_g^2)^2 + (H R_omega)^2``,
@@ -38,7 +38,7 @@ __all__ = [
 
 @dataclass(frozen=True)
 class DamperSteady:
-    """A steady motion of the ABD (equilibrium of :func:`rhs_rotating`).
+    """A steady motion of the ABD (an equilibrium of the rotating frame).
 
     Attributes
     ----------

@@ -1,13 +1,14 @@
-"""Parameters of the gravity pair model: GravityPairParams.
+"""GravityPairParams: the dimensionless parameters (7.4) of the coupled pair of book 7.1,
+with erratum E2 (the length scale ``l / rho1^2``) and their physical form (7.3)-(7.5).
 
-Part of :mod:`stand.model.balancers.gravity_pair` (the model, its equations and units are
-described there).  The modules that name the parameters import them from here and this
-module imports none of them, so there is no circle.
+The model itself is described in :mod:`stand.model.balancers.gravity_pair`.  This is the
+bottom module of the pair: its frames, steady motions and quasi-periodic motions import
+the parameters from here, never the other way round.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
+import math
 
 from stand.model.balancers._params import BOOK, group
 

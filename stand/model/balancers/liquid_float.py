@@ -49,35 +49,30 @@ Shorthands used throughout: ``Omega^2 = c/m = psi Omega_0^2`` (8),
 ``W'' + 2h W' + Omega^2 W = q (Omega^2 + 2 i h omega) e^{i beta}`` and has a
 continuous velocity even across a speed step.
 
-Integrators: :func:`simulate` wraps :func:`scipy.integrate.solve_ivp` (any of
-its methods) and a fixed-step classical Runge-Kutta 4 (``method="RK4"``, the
-paper's class of method, l. 77) that shows the numerical damping of the free
-whirl described in digest 1.6 / 5.2 item 4.
+Runs: the one model (``stand run`` of a ``[weight_model]`` scene,
+:mod:`.book_run`).  The paper's own integrators -- ``solve_ivp`` and the fixed-step
+Runge-Kutta 4 (the paper's class of method, l. 77) that shows the numerical damping of
+the free whirl (digest 1.6 / 5.2 item 4) -- are the test oracle's.
 
 Modules
 -------
 This module re-exports the parameters (:mod:`.liquid_float_params`) and the model's functions from
 :mod:`.liquid_float_motion` (speed laws (6), stationary orbit (5), initial
-conditions (7)/(10), right-hand sides (4)/(9)) and :mod:`.liquid_float_run`
-(RK4, :func:`simulate`, outputs (11)), so ``stand.model.balancers.liquid_float.<name>``
-keeps working for all of them.  The closed-form run-up is in
-:mod:`.runup_closed_form`.
+conditions (7)/(10)), so ``stand.model.balancers.liquid_float.<name>`` keeps working
+for them.  The closed-form run-up is in :mod:`.runup_closed_form`.  The model runs on
+the one model (planar rotor x liquid float body, :mod:`.composition`); the paper's own
+right-hand sides (4)/(9), their integrators (RK4, ``simulate``, outputs (11)) are the
+test oracle ``tests/oracles/liquid_float.py``.
 """
 from __future__ import annotations
 
 from stand.model.balancers.liquid_float_params import LiquidFloatParams
 from stand.model.balancers.liquid_float_motion import (FRAMES, GeneralSpeed, LinearSpeed, StepSpeed, initial_state,
-                                  jac_fixed, jac_rotating, rhs_fixed, rhs_rotating,
-                                  stationary_amplitude, steady_amplitudes)
-from stand.model.balancers.liquid_float_run import (SCIPY_METHODS, LiquidFloatRun, outputs_from_fixed,
-                               outputs_from_rotating, rk4_fixed_step, simulate)
+                                                       stationary_amplitude, steady_amplitudes)
 
 __all__ = [
     "LiquidFloatParams", "LinearSpeed", "StepSpeed", "GeneralSpeed",
-    "stationary_amplitude", "initial_state", "rhs_fixed", "rhs_rotating",
-    "jac_fixed", "jac_rotating", "rk4_fixed_step", "simulate", "LiquidFloatRun",
-    "steady_amplitudes", "outputs_from_fixed", "outputs_from_rotating",
-    "FRAMES", "SCIPY_METHODS",
+    "stationary_amplitude", "initial_state", "steady_amplitudes", "FRAMES",
 ]
 
 

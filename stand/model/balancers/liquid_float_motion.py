@@ -1,4 +1,4 @@
-"""Liquid float balancer, model M1 of paper 001: speed laws, stationary orbit, equations.
+"""Liquid float balancer, model M1 of paper 001: speed laws, stationary orbit, initial states.
 
 Part of :mod:`stand.model.balancers.liquid_float` (model and parameters are
 described there).
@@ -8,13 +8,15 @@ described there).
   step (:class:`StepSpeed`, paper [2]) and any smooth law (:class:`GeneralSpeed`).
 * Stationary orbit (5) and the initial conditions (7) (fixed frame) / (10)
   (rotating frame); the quasi-static amplitude laws (digest 1.5).
-* Right-hand sides: the corrected fixed-frame (4)
-  ``m Z'' + chi Z' + c Z = m1 e (beta'^2 - i beta'') e^{i beta}`` and the
-  rotating-frame (9) as printed, with their Jacobians for the implicit solvers.
+The model runs on the one model (the generic composition, planar rotor x liquid
+float body, :mod:`stand.model.balancers.composition`).  The paper's own right-hand
+sides -- the corrected fixed-frame (4)
+``m Z'' + chi Z' + c Z = m1 e (beta'^2 - i beta'') e^{i beta}`` and the rotating-frame
+(9) as printed -- and their integrators are the test oracle ``tests/oracles/liquid_float.py``.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -26,7 +28,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "FRAMES", "LinearSpeed", "StepSpeed", "GeneralSpeed", "stationary_amplitude",
-    "initial_state", "steady_amplitudes", "rhs_fixed", "rhs_rotating", "jac_fixed", "jac_rotating",
+    "initial_state", "steady_amplitudes",
 ]
 
 FRAMES = ("rotating", "fixed")
@@ -101,78 +103,7 @@ def steady_amplitudes(params: LiquidFloatParams, omega):
         return params.psi * w * w / den, np.sqrt(O2 * O2 + 4.0 * h * h * w * w) / den
 
 
-# ---------------------------------------------------------------------------
-# right-hand sides
-# ---------------------------------------------------------------------------
-
 def _check_frame(frame: str) -> str:
     if frame not in FRAMES:
         raise ValueError(f"frame = {frame!r}: must be one of {FRAMES}")
     return frame
-
-
-def rhs_fixed(params: LiquidFloatParams, speed=None) -> Callable:
-    """Right-hand side ``f(t, y)`` of the corrected fixed-frame equations (4).
-
-    ``y = [xi, eta, xi', eta']`` [m, m, m/s, m/s]; ``y`` may also be ``(4, k)``
-    (``vectorized=True`` in solve_ivp).  Digest correction of the printed (4):
-    the forcing is ``m1 e (beta'^2 cos beta + beta'' sin beta)`` and
-    ``m1 e (beta'^2 sin beta - beta'' cos beta)`` (re-derived from (2)-(3)).
-    """
-    sp = _speed_for(params, speed)
-    O2, h2, q = params.Omega ** 2, 2.0 * params.h, params.q
-    beta, omega, alpha = sp.beta, sp.omega, sp.alpha
-
-    def f(t, y):
-        xi, eta, vxi, veta = y[0], y[1], y[2], y[3]
-        b, w, a = beta(t), omega(t), alpha(t)
-        cb, sb = np.cos(b), np.sin(b)
-        w2 = w * w
-        return np.array([vxi, veta,
-                         -h2 * vxi - O2 * xi + q * (w2 * cb + a * sb),
-                         -h2 * veta - O2 * eta + q * (w2 * sb - a * cb)])
-    return f
-
-
-def rhs_rotating(params: LiquidFloatParams, speed=None) -> Callable:
-    """Right-hand side ``f(t, y)`` of the rotating-frame equations (9) (as printed).
-
-    ``y = [x, y, x', y']`` [m, m, m/s, m/s] in the frame ``O2xy`` turning with
-    the rotor (x along O1P); ``y`` may be ``(4, k)``.  Divided by ``m``:
-    ``x'' = 2 w y' + a y + w^2 x - Omega^2 x - 2h (x' - w y) + q w^2`` and
-    ``y'' = -2 w x' - a x + w^2 y - Omega^2 y - 2h (y' + w x) - q a``.
-    """
-    sp = _speed_for(params, speed)
-    O2, h2, q = params.Omega ** 2, 2.0 * params.h, params.q
-    omega, alpha = sp.omega, sp.alpha
-
-    def f(t, y):
-        x, yy, vx, vy = y[0], y[1], y[2], y[3]
-        w, a = omega(t), alpha(t)
-        w2 = w * w
-        return np.array([vx, vy,
-                         2.0 * w * vy + a * yy + (w2 - O2) * x - h2 * (vx - w * yy) + q * w2,
-                         -2.0 * w * vx - a * x + (w2 - O2) * yy - h2 * (vy + w * x) - q * a])
-    return f
-
-
-def jac_fixed(params: LiquidFloatParams, speed=None) -> Callable:
-    """Jacobian ``J(t, y)`` of :func:`rhs_fixed` (constant) for Radau/BDF/LSODA."""
-    O2, h2 = params.Omega ** 2, 2.0 * params.h
-    J = np.array([[0, 0, 1, 0], [0, 0, 0, 1], [-O2, 0, -h2, 0], [0, -O2, 0, -h2]], float)
-    return lambda t, y: J
-
-
-def jac_rotating(params: LiquidFloatParams, speed=None) -> Callable:
-    """Jacobian ``J(t, y)`` of :func:`rhs_rotating` for Radau/BDF/LSODA."""
-    sp = _speed_for(params, speed)
-    O2, h2 = params.Omega ** 2, 2.0 * params.h
-
-    def J(t, y):
-        w, a = float(sp.omega(t)), float(sp.alpha(t))
-        k = w * w - O2
-        return np.array([[0, 0, 1, 0], [0, 0, 0, 1],
-                         [k, a + h2 * w, -h2, 2 * w],
-                         [-a - h2 * w, k, -2 * w, -h2]], float)
-    return J
-

@@ -57,7 +57,7 @@ class StepSpeed:
 
     The step is an impulsive angular acceleration.  The shaft force is finite,
     so the velocity of the system COM, ``W' = Z' + i q omega e^{i beta}``, is
-    continuous; :func:`simulate` therefore applies the jump
+    continuous; a run (the oracle's ``simulate``) therefore applies the jump
     ``Z'(+) = Z'(-) - i psi e (omega_1 - omega_0) e^{i beta}`` (rotating frame:
     ``z'(+) = z'(-) - i (omega_1 - omega_0)(z + psi e)``) at ``t_step``.
 

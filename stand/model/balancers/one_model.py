@@ -29,12 +29,25 @@ from stand.model.rotors.coupled import build_model
 __all__ = ["rotating_form"]
 
 
-def rotating_form(kind: str, p) -> Callable[[np.ndarray], np.ndarray]:
-    """``f(y) -> dy/dtau`` of the book's rotating-frame state ``y`` (module docstring) at the
-    constant speed ``p.R_omega``, computed by the one model."""
+def rotating_form(kind: str, p, frame_speed: float | None = None) -> Callable[[np.ndarray], np.ndarray]:
+    """``f(y) -> dy/dtau`` of the book's rotating-frame state ``y`` (module docstring),
+    computed by the one model.
+
+    Parameters
+    ----------
+    kind : {"two_axis", "gravity_pair", "damper"}
+    p : parameters dataclass of the model
+        The rotor turns at the constant speed ``p.R_omega`` [-].
+    frame_speed : float, optional
+        Speed of the frame [-] (``omega0`` units); default ``p.R_omega``, the book's
+        rotating frame.  Another speed gives the frame of a quasi-periodic motion of
+        ch. 6.5, (6.19)-(6.22) (autonomous for ``e0 = 0``); the state's azimuth and shaft
+        are then measured in that frame.
+    """
     comp = composition(kind, p, 1.0)
     model = build_model(comp.rotor, (), comp.programme, 1.0, (comp.body,))
-    o, L, R = model.first_body_state, float(model.scale[0]), p.R_omega
+    o, L = model.first_body_state, float(model.scale[0])
+    R = p.R_omega if frame_speed is None else float(frame_speed)
     if kind == "damper":
         shaft, body = [0, 1, 2, 3], list(range(4, 10))
         slots = list(range(o, o + 6))

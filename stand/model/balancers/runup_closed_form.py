@@ -48,12 +48,11 @@ from scipy.optimize import minimize_scalar
 from scipy.special import fresnel, wofz
 
 from stand.model.balancers._params import PAPER
-from stand.model.balancers.liquid_float import SCIPY_METHODS, LiquidFloatParams, simulate
+from stand.model.balancers.liquid_float import LiquidFloatParams
 
 __all__ = [
     "runup_closed_form", "runup_closed_form_state", "runup_extrema", "RunupExtrema",
     "free_whirl_amplitudes", "undamped_asymptotics", "fresnel_overshoot",
-    "accuracy_against_closed_form", "AccuracyResult",
 ]
 
 _SQRT_PI = math.sqrt(math.pi)
@@ -354,145 +353,3 @@ def free_whirl_amplitudes(params: LiquidFloatParams, t, Z, Zdot):
         c = u * np.exp(-1j * np.mod(nu * t, 2 * math.pi)) + sgn * q * Om / 2j * tailJ
         out.append(np.abs(c))
     return out[0], out[1]
-
-
-# ---------------------------------------------------------------------------
-# accuracy against the closed form
-# ---------------------------------------------------------------------------
-
-@dataclass
-class AccuracyResult:
-    """Error of a numerical run against :func:`runup_closed_form`.
-
-    Attributes
-    ----------
-    method, frame : str
-    rtol : float or None;  step : float or None [s]
-    t_end : float [s];  z_end : float [-]
-    max_error_over_e : max over the evaluation grid of ``|Z_num - Z_exact|/e`` [-]
-    peak_rel_error : relative error of ``max delta`` on the grid [-]
-    end_error_over_e : ``|Z_num - Z_exact|/e`` at ``t_end`` [-]
-    wall_time_s : integration time [s] (excludes the closed form)
-    nfev : right-hand-side evaluations
-    """
-
-    method: str
-    frame: str
-    rtol: float | None
-    step: float | None
-    t_end: float
-    z_end: float
-    max_error_over_e: float
-    peak_rel_error: float
-    end_error_over_e: float
-    wall_time_s: float
-    nfev: int
-
-
-def accuracy_against_closed_form(params: LiquidFloatParams, method: str = "DOP853", *,
-                                 rtol: float | None = 1e-10, step: float | None = None,
-                                 t_end: float | None = None, z_end: float | None = None,
-                                 frame: str = "rotating", n_eval: int = 20001,
-                                 t_start: float = 0.0) -> AccuracyResult:
-    """Integrate M1 with ``method`` and compare with the exact run-up.
-
-    Parameters
-    ----------
-    params : LiquidFloatParams
-    method : str
-        ``"RK45"``, ``"DOP853"``, ``"Radau"``, ``"LSODA"`` (any solve_ivp
-        method) or ``"RK4"`` (fixed step ``step`` [s]).
-    rtol : float
-        Relative tolerance of the scipy methods (atol = rtol e [1, 1, Omega_0, Omega_0]).
-    step : float
-        RK4 step [s].
-    t_end, z_end : float
-        End of the run: a time [s] or a speed ratio ``omega/Omega_0`` [-].
-        E.g. the long benchmark 40 -> 5000 rad/s at 20 rad/s^2 is
-        ``z_end = 5`` (t_end = 248 s, about 1e5 revolutions).
-    frame : {"rotating", "fixed"}
-    n_eval : int
-        Number of comparison times (uniform; for RK4 the recorded steps are
-        decimated to about this many).
-    t_start : float
-        Start time [s]; the initial state is then the closed-form state at
-        ``t_start`` (short windows around the resonance).
-
-    Returns
-    -------
-    AccuracyResult
-
-    Notes
-    -----
-    The long benchmark (paper parameters, psi = 1, n = 0, rotating frame,
-    z 0.04 -> 5, t_end = 248 s, about 1e5 revolutions), measured on the
-    development machine (2 cores, one thread, numpy RHS), n_eval = 200001:
-
-    ========  =========  ==========  ============  ===========  ========
-    method    rtol/step  nfev        max err / e   peak rel     wall [s]
-    ========  =========  ==========  ============  ===========  ========
-    RK4       2.5e-4 s   3.97e6      407           2.0e-8       4
-    RK4       1e-4 s     9.92e6      436           4.4e-9       10
-    DOP853    1e-8       9.28e6      0.084         1.1e-8       215
-    ========  =========  ==========  ============  ===========  ========
-
-    RK4 gets the peak right but its numerical damping (plus phase error) removes the whole
-    residual free whirl (about 280 e) by z = 5: the rotating-frame free
-    mode runs at ``omega - Omega`` (up to 4000 rad/s), and RK4 damps
-    ``(theta^6)/144`` per step, ``theta = |omega - Omega| dt``.  DOP853 at
-    rtol 1e-10 costs about 2-3x the 1e-8 run (several minutes); the closed
-    form itself takes 0.3-0.4 s for the 200001 points.  Use short runs
-    (``t_start`` near the resonance, or a faster sweep) in tests.
-    """
-    if (t_end is None) == (z_end is None):
-        raise ValueError("give exactly one of t_end [s] and z_end [-]")
-    if t_end is None:
-        t_end = params.time_at_z(z_end)
-    t_end = PAPER.positive("t_end", t_end, "s")
-    t_start = PAPER.finite("t_start", t_start, "s")
-    if not 0.0 <= t_start < t_end:
-        raise ValueError(f"t_start = {t_start!r} [s]: must be in [0, t_end = {t_end} s)")
-    y0 = None
-    if t_start > 0.0:
-        Z0, Zd0 = runup_closed_form_state(params, np.array([t_start]))
-        y0 = _state_in_frame(params, frame, t_start, Z0[0], Zd0[0])
-    if method == "RK4":
-        if step is None:
-            raise ValueError("step [s] is required for method = 'RK4'")
-        step = PAPER.positive("step", step, "s")
-        n_steps = max(1, int(round((t_end - t_start) / step)))
-        every = max(1, n_steps // max(1, n_eval - 1))
-        run = simulate(params, t_end, method="RK4", step=step, frame=frame, t0=t_start,
-                       y0=y0, record_every=every)
-        rt = None
-    elif method in SCIPY_METHODS:
-        rt = PAPER.positive("rtol", rtol, "-")
-        t_eval = np.linspace(t_start, t_end, n_eval)
-        run = simulate(params, t_end, t_eval=t_eval, method=method, rtol=rt, frame=frame,
-                       t0=t_start, y0=y0)
-    else:
-        raise ValueError(f"method = {method!r}: must be 'RK4' or one of {SCIPY_METHODS}")
-    Zx = runup_closed_form(params, run.t)
-    err = np.abs(run.Z - Zx) / params.e
-    with np.errstate(invalid="ignore"):
-        pk_num = np.nanmax(run.delta) if np.all(np.isfinite(run.delta)) else np.inf
-    pk_ex = np.max(np.abs(Zx))
-    return AccuracyResult(method=method, frame=frame, rtol=rt, step=step, t_end=float(t_end),
-                          z_end=float((params.omega_0 + 2 * params.epsilon * t_end) / params.Omega_0),
-                          max_error_over_e=float(np.max(err)) if np.all(np.isfinite(err)) else np.inf,
-                          peak_rel_error=float(abs(pk_num - pk_ex) / pk_ex),
-                          end_error_over_e=float(err[-1]), wall_time_s=run.wall_time_s,
-                          nfev=run.nfev)
-
-
-def _state_in_frame(params, frame, t, Z, Zd):
-    """4-vector state in ``frame`` from the complex fixed-frame Z [m], Z' [m/s] at ``t`` [s]."""
-    if frame == "fixed":
-        return np.array([Z.real, Z.imag, Zd.real, Zd.imag])
-    if frame != "rotating":
-        raise ValueError(f"frame = {frame!r}: must be 'rotating' or 'fixed'")
-    b = params.omega_0 * t + params.epsilon * t * t
-    w = params.omega_0 + 2 * params.epsilon * t
-    r = complex(math.cos(b), -math.sin(b))
-    zr, zrd = Z * r, (Zd - 1j * w * Z) * r
-    return np.array([zr.real, zr.imag, zrd.real, zrd.imag])

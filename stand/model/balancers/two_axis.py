@@ -33,14 +33,18 @@ kappa       R_m H / (h2 R_rho^2)              = R_mH of (6.122), QP parameter
 
 Equations (book numbers; corrections per the digest)
 ----------------------------------------------------
+The package runs the pendulum on the one model (the generic composition,
+:mod:`.composition`; its rotating frame, :mod:`.one_model`).  The book's own forms
+are the test oracle ``tests/oracles/two_axis.py``:
+
 * (6.12) rotating frame, state ``y = [phi, psi, xi, eta, phi', psi', xi', eta']``
-  (' = d/dtau): :func:`rhs_rotating`, residual :func:`residual_rotating`.
+  (' = d/dtau): ``rhs_rotating``, residual ``residual_rotating``.
   OCR fix (digest 2.3): the brackets of l3, l4 contain the second derivatives
   phi'', psi'' (the print shows first derivatives).
 * (6.15) fixed frame, state ``y = [phi, alpha, x, y, phi', alpha', x', y']`` with
-  alpha = psi + R_omega tau the CW azimuth: :func:`rhs_fixed`,
-  :func:`residual_fixed`.  OCR fix: phi'' cos(alpha) in L4.
-* Run-up / run-down (digest 2.6, not in the book): :func:`rhs_fixed_variable_speed`.
+  alpha = psi + R_omega tau the CW azimuth: ``rhs_fixed``,
+  ``residual_fixed``.  OCR fix: phi'' cos(alpha) in L4.
+* Run-up / run-down (digest 2.6, not in the book): ``rhs_fixed_variable_speed``.
 
 All equations are linear in the accelerations; the mass matrix has the block form
 [[diag(1, R_rho^2), C], [R_m C^T, I]] with C C^T = diag(cos^2 phi, sin^2 phi), so
@@ -56,7 +60,7 @@ the rotating form (6.12) follows by (6.13) and is checked numerically in the tes
 Modules
 -------
 This module re-exports the parameters (:mod:`.two_axis_params`) and the model's functions from
-:mod:`.two_axis_motion` (equations (6.12), (6.15), run-up, frame changes) and
+:mod:`.two_axis_motion` (frame changes (6.13)) and
 :mod:`.two_axis_steady` (linearisation, steady motions of section 6.2), so
 ``stand.model.balancers.two_axis.<name>`` keeps working for all of them; the theory
 of sections 6.3-6.5 is in :mod:`.two_axis_theory`.
@@ -64,16 +68,13 @@ of sections 6.3-6.5 is in :mod:`.two_axis_theory`.
 from __future__ import annotations
 
 from stand.model.balancers.two_axis_params import TwoAxisParams
-from stand.model.balancers.two_axis_motion import (fixed_to_rotating, linear_ramp, residual_fixed, residual_rotating,
-                              rhs_fixed, rhs_fixed_variable_speed, rhs_rotating, rotating_to_fixed)
+from stand.model.balancers.two_axis_motion import fixed_to_rotating, rotating_to_fixed
 from stand.model.balancers.two_axis_steady import (SteadyMotion, efficiency, eigenvalues, first_group, jacobian,
                               max_real_part, no_gravity_no_damping, r0, second_group,
                               steady_motions, steady_polynomial)
 
 __all__ = [
     "TwoAxisParams", "SteadyMotion",
-    "residual_rotating", "residual_fixed", "rhs_rotating", "rhs_fixed",
-    "rhs_fixed_variable_speed", "linear_ramp",
     "rotating_to_fixed", "fixed_to_rotating",
     "jacobian", "eigenvalues", "max_real_part",
     "steady_polynomial", "first_group", "second_group", "steady_motions",

@@ -1,8 +1,9 @@
-"""Parameters of the two axis model: TwoAxisParams.
+"""TwoAxisParams: the dimensionless parameters (6.9)-(6.11) of the two-axis pendulum CW of
+monograph ch. 6, with the derived ratios R_gm and kappa of (6.122).
 
-Part of :mod:`stand.model.balancers.two_axis` (the model, its equations and units are
-described there).  The modules that name the parameters import them from here and this
-module imports none of them, so there is no circle.
+See :mod:`stand.model.balancers.two_axis` for the model and its units; the pendulum's
+frames, steady motions and theory take the parameters from this module, which
+depends on none of them.
 """
 from __future__ import annotations
 

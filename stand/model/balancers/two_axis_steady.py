@@ -142,7 +142,7 @@ class SteadyMotion:
 
     @property
     def state(self) -> np.ndarray:
-        """Rotating-frame state vector for :func:`rhs_rotating`."""
+        """Rotating-frame state vector ``[phi, psi, xi, eta, phi', psi', xi', eta']`` (6.12)."""
         return np.array([self.phi, self.psi, self.xi, self.eta, 0, 0, 0, 0], float)
 
     @property

@@ -33,7 +33,7 @@ from scipy.optimize import brentq, minimize_scalar
 
 from stand.model.balancers._params import BOOK
 from stand.model.balancers.two_axis_params import TwoAxisParams
-from stand.model.balancers.two_axis_motion import rhs_fixed
+from stand.model.balancers.one_model import rotating_form
 from stand.model.balancers.two_axis_steady import _D, efficiency, eigenvalues, first_group, jacobian, max_real_part
 
 __all__ = [
@@ -42,7 +42,7 @@ __all__ = [
     "fold_speeds", "above_pivot_onset", "fast_rotation_u", "near_resonance_u",
     "slow_rotation_phi", "efficiency_approx", "n_max_estimate", "track_branch",
     "efficiency_curve", "efficiency_extremum",
-    "QPMotion", "qp_frequency_function", "qp_motions", "qp_state", "rhs_omega_frame",
+    "QPMotion", "qp_frequency_function", "qp_motions", "qp_state",
     "qp_char_poly", "qp_polynomial", "qp_existence_limit", "qp_gravity_allows",
     "qp_amplitudes", "qp_omega1_fast", "qp_omega12_away",
 ]
@@ -395,30 +395,21 @@ def qp_frequency_function(p: TwoAxisParams, Omega):
 
 
 def qp_state(p: TwoAxisParams, Omega, phi, beta=0.0) -> np.ndarray:
-    """Omega-frame state [phi, beta, Re q, Im q, 0, 0, 0, 0] of a QP motion (e0 = 0),
+    """Omega-frame state [phi, beta, Re q, Im q, 0, 0, 0, 0] of a QP motion (e0 = 0) -- in axes
+    turning at Omega (6.19)-(6.22): alpha = Omega tau + beta, z = q e^{i Omega tau};
     q = i R_m Omega^2 sin(phi) e^{i beta} / (1 - Omega^2 + i H Omega) (6.124)/(6.169)."""
     q = 1j * p.R_m * Omega ** 2 * math.sin(phi) * np.exp(1j * beta) / (
         1 - Omega ** 2 + 1j * p.H * Omega)
     return np.array([phi, beta, q.real, q.imag, 0, 0, 0, 0])
 
 
-def rhs_omega_frame(tau, y, p: TwoAxisParams, Omega):
-    """(6.15) in axes turning at Omega (6.19)-(6.22): alpha = Omega tau + beta,
-    z = q e^{i Omega tau}.  State ``[phi, beta, Re q, Im q, phi', beta', Re q', Im q']``.
-    Autonomous when e0 = 0 (QP motions are then equilibria)."""
-    ph, be, qr, qi, dph, dbe, dqr, dqi = y
-    E = np.exp(1j * Omega * tau)
-    q, dq = qr + 1j * qi, dqr + 1j * dqi
-    z, dz = q * E, (dq + 1j * Omega * q) * E
-    f = rhs_fixed(tau, np.array([ph, Omega * tau + be, z.real, z.imag, dph, Omega + dbe,
-                                 dz.real, dz.imag]), p)
-    ddq = (f[6] + 1j * f[7]) / E - 2j * Omega * dq + Omega ** 2 * q
-    return np.array([dph, dbe, dqr, dqi, f[4], f[5], ddq.real, ddq.imag])
-
-
 def _qp_eig(p, Omega, phi):
+    """Eigenvalues of (6.15) linearised in axes turning at ``Omega`` (6.19)-(6.22), about the
+    QP motion's state (:func:`qp_state`): the one model's rotating frame at the frame speed
+    ``Omega`` (:func:`stand.model.balancers.one_model.rotating_form`), e0 = 0."""
     q = p.with_(e0=0.0)
-    return np.linalg.eigvals(jacobian(rhs_omega_frame, qp_state(q, Omega, phi), q, Omega))
+    form = rotating_form("two_axis", q, frame_speed=Omega)
+    return np.linalg.eigvals(jacobian(lambda tau, y: form(y), qp_state(q, Omega, phi)))
 
 
 def qp_motions(p: TwoAxisParams, *, stability=True, n_grid=20000) -> List[QPMotion]:

@@ -1,36 +1,114 @@
-"""Liquid float balancer, model M1 of paper 001: integrators, run outputs, :func:`simulate`.
+"""The paper's own equations of the liquid float balancer, model M1 of paper 001: test oracle.
 
-Part of :mod:`stand.model.balancers.liquid_float`.  :func:`simulate` wraps
-:func:`scipy.integrate.solve_ivp` (any of its methods) and a fixed-step
-classical Runge-Kutta 4 (``method="RK4"``, the paper's class of method, l. 77)
-that shows the numerical damping of the free whirl (digest 1.6 / 5.2 item 4).
-A speed step is crossed with the velocity jump that keeps the system COM
-velocity ``W' = Z' + i psi e omega e^{i beta}`` continuous.  Outputs are those
-of (11): ``delta = |Z|`` [m] and ``d = |z/(e psi) + 1|`` [-], in both frames.
+The model, its parameters and speed laws are described in
+:mod:`stand.model.balancers.liquid_float`; the package runs it on the one model (the
+generic composition, planar rotor x liquid float body).  Here, as the independent check:
+
+* right-hand sides: the corrected fixed-frame (4)
+  ``m Z'' + chi Z' + c Z = m1 e (beta'^2 - i beta'') e^{i beta}`` and the rotating-frame
+  (9) as printed, with their Jacobians for the implicit solvers;
+* :func:`simulate`: :func:`scipy.integrate.solve_ivp` (any of its methods) or a fixed-step
+  classical Runge-Kutta 4 (``method="RK4"``, the paper's class of method, l. 77) that shows
+  the numerical damping of the free whirl (digest 1.6 / 5.2 item 4).  A speed step is
+  crossed with the velocity jump that keeps the system COM velocity
+  ``W' = Z' + i psi e omega e^{i beta}`` continuous.  Outputs are those of (11):
+  ``delta = |Z|`` [m] and ``d = |z/(e psi) + 1|`` [-], in both frames;
+* :func:`accuracy_against_closed_form`: an integrator's error against the closed-form
+  run-up (:mod:`stand.model.balancers.runup_closed_form`, digest 5.2 item 1, oracle O3).
 """
 from __future__ import annotations
 
 import math
 import time
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Callable
+from typing import Callable
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from stand.integrate.rk4 import rk4_fixed_step
 from stand.model.balancers._params import PAPER
-from stand.model.balancers.liquid_float_motion import (LinearSpeed, _check_frame, _speed_for, initial_state, jac_fixed,
-                                  jac_rotating, rhs_fixed, rhs_rotating)
-
-if TYPE_CHECKING:
-    from stand.model.balancers.liquid_float_params import LiquidFloatParams
+from stand.model.balancers.liquid_float_motion import (LinearSpeed, _check_frame, _speed_for,
+                                                       initial_state)
+from stand.model.balancers.liquid_float_params import LiquidFloatParams
+from stand.model.balancers.runup_closed_form import runup_closed_form, runup_closed_form_state
 
 __all__ = [
-    "SCIPY_METHODS", "rk4_fixed_step", "LiquidFloatRun", "outputs_from_fixed",
-    "outputs_from_rotating", "simulate",
+    "rhs_fixed", "rhs_rotating", "jac_fixed", "jac_rotating", "SCIPY_METHODS", "LiquidFloatRun",
+    "outputs_from_fixed", "outputs_from_rotating", "simulate", "accuracy_against_closed_form",
+    "AccuracyResult",
 ]
 
-from stand.integrate.rk4 import rk4_fixed_step  # noqa: E402  (re-exported)
+
+# ---------------------------------------------------------------------------
+# right-hand sides
+# ---------------------------------------------------------------------------
+
+def rhs_fixed(params: LiquidFloatParams, speed=None) -> Callable:
+    """Right-hand side ``f(t, y)`` of the corrected fixed-frame equations (4).
+
+    ``y = [xi, eta, xi', eta']`` [m, m, m/s, m/s]; ``y`` may also be ``(4, k)``
+    (``vectorized=True`` in solve_ivp).  Digest correction of the printed (4):
+    the forcing is ``m1 e (beta'^2 cos beta + beta'' sin beta)`` and
+    ``m1 e (beta'^2 sin beta - beta'' cos beta)`` (re-derived from (2)-(3)).
+    """
+    sp = _speed_for(params, speed)
+    O2, h2, q = params.Omega ** 2, 2.0 * params.h, params.q
+    beta, omega, alpha = sp.beta, sp.omega, sp.alpha
+
+    def f(t, y):
+        xi, eta, vxi, veta = y[0], y[1], y[2], y[3]
+        b, w, a = beta(t), omega(t), alpha(t)
+        cb, sb = np.cos(b), np.sin(b)
+        w2 = w * w
+        return np.array([vxi, veta,
+                         -h2 * vxi - O2 * xi + q * (w2 * cb + a * sb),
+                         -h2 * veta - O2 * eta + q * (w2 * sb - a * cb)])
+    return f
+
+
+def rhs_rotating(params: LiquidFloatParams, speed=None) -> Callable:
+    """Right-hand side ``f(t, y)`` of the rotating-frame equations (9) (as printed).
+
+    ``y = [x, y, x', y']`` [m, m, m/s, m/s] in the frame ``O2xy`` turning with
+    the rotor (x along O1P); ``y`` may be ``(4, k)``.  Divided by ``m``:
+    ``x'' = 2 w y' + a y + w^2 x - Omega^2 x - 2h (x' - w y) + q w^2`` and
+    ``y'' = -2 w x' - a x + w^2 y - Omega^2 y - 2h (y' + w x) - q a``.
+    """
+    sp = _speed_for(params, speed)
+    O2, h2, q = params.Omega ** 2, 2.0 * params.h, params.q
+    omega, alpha = sp.omega, sp.alpha
+
+    def f(t, y):
+        x, yy, vx, vy = y[0], y[1], y[2], y[3]
+        w, a = omega(t), alpha(t)
+        w2 = w * w
+        return np.array([vx, vy,
+                         2.0 * w * vy + a * yy + (w2 - O2) * x - h2 * (vx - w * yy) + q * w2,
+                         -2.0 * w * vx - a * x + (w2 - O2) * yy - h2 * (vy + w * x) - q * a])
+    return f
+
+
+def jac_fixed(params: LiquidFloatParams, speed=None) -> Callable:
+    """Jacobian ``J(t, y)`` of :func:`rhs_fixed` (constant) for Radau/BDF/LSODA."""
+    O2, h2 = params.Omega ** 2, 2.0 * params.h
+    J = np.array([[0, 0, 1, 0], [0, 0, 0, 1], [-O2, 0, -h2, 0], [0, -O2, 0, -h2]], float)
+    return lambda t, y: J
+
+
+def jac_rotating(params: LiquidFloatParams, speed=None) -> Callable:
+    """Jacobian ``J(t, y)`` of :func:`rhs_rotating` for Radau/BDF/LSODA."""
+    sp = _speed_for(params, speed)
+    O2, h2 = params.Omega ** 2, 2.0 * params.h
+
+    def J(t, y):
+        w, a = float(sp.omega(t)), float(sp.alpha(t))
+        k = w * w - O2
+        return np.array([[0, 0, 1, 0], [0, 0, 0, 1],
+                         [k, a + h2 * w, -h2, 2 * w],
+                         [-a - h2 * w, k, -2 * w, -h2]], float)
+    return J
+
 
 SCIPY_METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
 
@@ -304,3 +382,145 @@ def simulate(params: LiquidFloatParams, t_end: float | None = None, *, t_eval=No
     Y = np.concatenate(ys, axis=1)
     out = outputs_from_rotating if frame == "rotating" else outputs_from_fixed
     return out(params, t, Y, sp, method=method, nfev=nfev, wall=wall)
+
+
+# ---------------------------------------------------------------------------
+# accuracy against the closed form
+# ---------------------------------------------------------------------------
+
+@dataclass
+class AccuracyResult:
+    """Error of a numerical run against :func:`runup_closed_form`.
+
+    Attributes
+    ----------
+    method, frame : str
+    rtol : float or None;  step : float or None [s]
+    t_end : float [s];  z_end : float [-]
+    max_error_over_e : max over the evaluation grid of ``|Z_num - Z_exact|/e`` [-]
+    peak_rel_error : relative error of ``max delta`` on the grid [-]
+    end_error_over_e : ``|Z_num - Z_exact|/e`` at ``t_end`` [-]
+    wall_time_s : integration time [s] (excludes the closed form)
+    nfev : right-hand-side evaluations
+    """
+
+    method: str
+    frame: str
+    rtol: float | None
+    step: float | None
+    t_end: float
+    z_end: float
+    max_error_over_e: float
+    peak_rel_error: float
+    end_error_over_e: float
+    wall_time_s: float
+    nfev: int
+
+
+def accuracy_against_closed_form(params: LiquidFloatParams, method: str = "DOP853", *,
+                                 rtol: float | None = 1e-10, step: float | None = None,
+                                 t_end: float | None = None, z_end: float | None = None,
+                                 frame: str = "rotating", n_eval: int = 20001,
+                                 t_start: float = 0.0) -> AccuracyResult:
+    """Integrate M1 with ``method`` and compare with the exact run-up.
+
+    Parameters
+    ----------
+    params : LiquidFloatParams
+    method : str
+        ``"RK45"``, ``"DOP853"``, ``"Radau"``, ``"LSODA"`` (any solve_ivp
+        method) or ``"RK4"`` (fixed step ``step`` [s]).
+    rtol : float
+        Relative tolerance of the scipy methods (atol = rtol e [1, 1, Omega_0, Omega_0]).
+    step : float
+        RK4 step [s].
+    t_end, z_end : float
+        End of the run: a time [s] or a speed ratio ``omega/Omega_0`` [-].
+        E.g. the long benchmark 40 -> 5000 rad/s at 20 rad/s^2 is
+        ``z_end = 5`` (t_end = 248 s, about 1e5 revolutions).
+    frame : {"rotating", "fixed"}
+    n_eval : int
+        Number of comparison times (uniform; for RK4 the recorded steps are
+        decimated to about this many).
+    t_start : float
+        Start time [s]; the initial state is then the closed-form state at
+        ``t_start`` (short windows around the resonance).
+
+    Returns
+    -------
+    AccuracyResult
+
+    Notes
+    -----
+    The long benchmark (paper parameters, psi = 1, n = 0, rotating frame,
+    z 0.04 -> 5, t_end = 248 s, about 1e5 revolutions), measured on the
+    development machine (2 cores, one thread, numpy RHS), n_eval = 200001:
+
+    ========  =========  ==========  ============  ===========  ========
+    method    rtol/step  nfev        max err / e   peak rel     wall [s]
+    ========  =========  ==========  ============  ===========  ========
+    RK4       2.5e-4 s   3.97e6      407           2.0e-8       4
+    RK4       1e-4 s     9.92e6      436           4.4e-9       10
+    DOP853    1e-8       9.28e6      0.084         1.1e-8       215
+    ========  =========  ==========  ============  ===========  ========
+
+    RK4 gets the peak right but its numerical damping (plus phase error) removes the whole
+    residual free whirl (about 280 e) by z = 5: the rotating-frame free
+    mode runs at ``omega - Omega`` (up to 4000 rad/s), and RK4 damps
+    ``(theta^6)/144`` per step, ``theta = |omega - Omega| dt``.  DOP853 at
+    rtol 1e-10 costs about 2-3x the 1e-8 run (several minutes); the closed
+    form itself takes 0.3-0.4 s for the 200001 points.  Use short runs
+    (``t_start`` near the resonance, or a faster sweep) in tests.
+    """
+    if (t_end is None) == (z_end is None):
+        raise ValueError("give exactly one of t_end [s] and z_end [-]")
+    if t_end is None:
+        t_end = params.time_at_z(z_end)
+    t_end = PAPER.positive("t_end", t_end, "s")
+    t_start = PAPER.finite("t_start", t_start, "s")
+    if not 0.0 <= t_start < t_end:
+        raise ValueError(f"t_start = {t_start!r} [s]: must be in [0, t_end = {t_end} s)")
+    y0 = None
+    if t_start > 0.0:
+        Z0, Zd0 = runup_closed_form_state(params, np.array([t_start]))
+        y0 = _state_in_frame(params, frame, t_start, Z0[0], Zd0[0])
+    if method == "RK4":
+        if step is None:
+            raise ValueError("step [s] is required for method = 'RK4'")
+        step = PAPER.positive("step", step, "s")
+        n_steps = max(1, int(round((t_end - t_start) / step)))
+        every = max(1, n_steps // max(1, n_eval - 1))
+        run = simulate(params, t_end, method="RK4", step=step, frame=frame, t0=t_start,
+                       y0=y0, record_every=every)
+        rt = None
+    elif method in SCIPY_METHODS:
+        rt = PAPER.positive("rtol", rtol, "-")
+        t_eval = np.linspace(t_start, t_end, n_eval)
+        run = simulate(params, t_end, t_eval=t_eval, method=method, rtol=rt, frame=frame,
+                       t0=t_start, y0=y0)
+    else:
+        raise ValueError(f"method = {method!r}: must be 'RK4' or one of {SCIPY_METHODS}")
+    Zx = runup_closed_form(params, run.t)
+    err = np.abs(run.Z - Zx) / params.e
+    with np.errstate(invalid="ignore"):
+        pk_num = np.nanmax(run.delta) if np.all(np.isfinite(run.delta)) else np.inf
+    pk_ex = np.max(np.abs(Zx))
+    return AccuracyResult(method=method, frame=frame, rtol=rt, step=step, t_end=float(t_end),
+                          z_end=float((params.omega_0 + 2 * params.epsilon * t_end) / params.Omega_0),
+                          max_error_over_e=float(np.max(err)) if np.all(np.isfinite(err)) else np.inf,
+                          peak_rel_error=float(abs(pk_num - pk_ex) / pk_ex),
+                          end_error_over_e=float(err[-1]), wall_time_s=run.wall_time_s,
+                          nfev=run.nfev)
+
+
+def _state_in_frame(params, frame, t, Z, Zd):
+    """4-vector state in ``frame`` from the complex fixed-frame Z [m], Z' [m/s] at ``t`` [s]."""
+    if frame == "fixed":
+        return np.array([Z.real, Z.imag, Zd.real, Zd.imag])
+    if frame != "rotating":
+        raise ValueError(f"frame = {frame!r}: must be 'rotating' or 'fixed'")
+    b = params.omega_0 * t + params.epsilon * t * t
+    w = params.omega_0 + 2 * params.epsilon * t
+    r = complex(math.cos(b), -math.sin(b))
+    zr, zrd = Z * r, (Zd - 1j * w * Z) * r
+    return np.array([zr.real, zr.imag, zrd.real, zrd.imag])
