@@ -85,3 +85,15 @@ def check_peer(name: str, error: float, tolerance: float) -> Peer:
         raise ValueError(f"check_peer({name!r}): tolerance = {tolerance!r}: must be > 0")
     error = float(error)
     return Peer(name, math.inf if math.isnan(error) else error, float(tolerance))
+
+
+def best_of(fn, repeats: int):
+    """Best wall time [s] of ``repeats`` calls of ``fn()`` and the last result."""
+    import time
+
+    best, res = math.inf, None
+    for _ in range(max(1, int(repeats))):
+        t0 = time.perf_counter()
+        res = fn()
+        best = min(best, time.perf_counter() - t0)
+    return best, res

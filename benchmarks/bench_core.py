@@ -55,7 +55,7 @@ except ImportError:  # pragma: no cover
 if os.path.dirname(os.path.abspath(__file__)) not in sys.path:   # imported by a test
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-from _peers import check_peer  # noqa: E402
+from _peers import best_of, check_peer  # noqa: E402
 
 from numba import njit
 from scipy.integrate import odeint, solve_ivp
@@ -114,16 +114,6 @@ def clumped_angles(n: int) -> np.ndarray:
 def sample_times(scene, model, count: int) -> np.ndarray:
     """Dimensionless sample times, exactly as ``simulate`` places them."""
     return np.arange(count) * (model.omega_1 / scene.run.sample_rate)
-
-
-def best_of(fn, repeats: int):
-    """Best wall time of ``repeats`` calls and the last result."""
-    best, res = math.inf, None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        res = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, res
 
 
 def peer_tolerance(ref: np.ndarray, rtol: float, atol: float) -> float:

@@ -5,9 +5,9 @@ Two measurements, every number from this one run on this machine:
 (a) **Liquid float sample** (data_samples/scenes/weight_liquid_float.toml, paper
     001 model M1, run-up over 45 s through the critical speed): the old path
     (the model's own right-hand side in Python stepped by ``solve_ivp``'s
-    DOP853, ``stand.model.balancers.book_run.run_book(compiled=False)``) against the
-    generic composition on the compiled kernel (``compiled=True``, what
-    ``stand run`` does), both at the scene's tolerances.  The error of each is
+    DOP853, the test oracle ``tests/oracles/book_run.run_book_oracle``) against the
+    generic composition on the compiled kernel (``run_book``, what ``stand run``
+    does), both at the scene's tolerances.  The error of each is
     measured against the exact closed-form run-up of paper 001
     (:func:`stand.model.balancers.runup_closed_form.runup_closed_form`), so the ratio
     is at equal (or better) accuracy; the script says which.  Each path's
@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _peers import check_peer  # noqa: E402
+from _peers import best_of, check_peer  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "data_samples" / "scenes" / "weight_liquid_float.toml"
@@ -41,24 +41,18 @@ SAMPLE = ROOT / "data_samples" / "scenes" / "weight_liquid_float.toml"
 TOL_RTOL = 1000.0
 
 
-def _best(fn, repeats):
-    best, out = np.inf, None
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
-
-
 def liquid_float(repeats: int) -> dict:
     import stand
     from stand.model.balancers.book_run import run_book
     from stand.model.balancers.runup_closed_form import runup_closed_form
 
+    sys.path.insert(0, str(ROOT / "tests"))           # the books' forms are test oracles
+    from oracles.book_run import run_book_oracle
+
     scene = stand.load(SAMPLE)
     run_book(scene)                                   # compile outside the timing
-    t_c, fast = _best(lambda: run_book(scene, compiled=True), repeats)
-    t_p, slow = _best(lambda: run_book(scene, compiled=False), max(1, repeats // 3))
+    t_c, fast = best_of(lambda: run_book(scene), repeats)
+    t_p, slow = best_of(lambda: run_book_oracle(scene), max(1, repeats // 3))
     p = scene.structure.params
     errs = {}
     for name, r in (("python", slow), ("compiled", fast)):
@@ -95,7 +89,7 @@ def per_weight_cost(counts=(1, 2, 4, 8, 16, 32), calls: int = 200_000) -> list:
         y = initial_state(m, ())
         dy = np.zeros_like(y)
         loop(10, y, dy, m.sp, m.wt, m.prog)
-        t, _ = _best(lambda: loop(calls, y, dy, m.sp, m.wt, m.prog), 3)
+        t, _ = best_of(lambda: loop(calls, y, dy, m.sp, m.wt, m.prog), 3)
         rows.append({"weights": k, "us_per_call": t / calls * 1e6,
                      "us_per_call_per_weight": t / calls * 1e6 / k})
     return rows
