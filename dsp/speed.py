@@ -101,6 +101,19 @@ def otsu_threshold(v) -> float:
     return float(edges[k + 1])
 
 
+def _state_level(v) -> float:
+    """The level a pulse channel rests at in one state: the median of the samples in the
+    densest part of its histogram (a ramp's samples, spread over the range, do not pull it
+    as they pull the state's plain median)."""
+    if np.ptp(v) == 0:
+        return float(v[0])
+    n, edges = np.histogram(v, bins=64)
+    k = int(np.argmax(n))
+    w = edges[1] - edges[0]
+    near = v[(v >= edges[k] - w) & (v <= edges[k + 1] + w)]
+    return float(np.median(near))
+
+
 def pulse_times(t, v, *, threshold: Optional[float] = None, name: str = "pulse channel",
                 mark: str = "leading"):
     """Times [s] of the leading edges of a once-per-revolution pulse channel.
@@ -124,8 +137,9 @@ def pulse_times(t, v, *, threshold: Optional[float] = None, name: str = "pulse c
     -------
     ndarray
         Pulse times [s]: the edge into the state the channel spends less time in
-        (the pulse), linearly interpolated at ``threshold`` (or the mean of that
-        and the next edge out); a Schmitt trigger of +-20 % of the two levels'
+        (the pulse), linearly interpolated at the 50 % level between the two
+        states' medians (at ``threshold`` when given), or the mean of that and the
+        next edge out; a Schmitt trigger of +-20 % of the two levels'
         distance rejects noise chatter.
 
     Raises
@@ -144,8 +158,12 @@ def pulse_times(t, v, *, threshold: Optional[float] = None, name: str = "pulse c
     high = v > level
     if high.all() or not high.any():
         raise SignalError(f"{name}: never crosses the threshold {level:.6g}; no pulses")
-    lo, hi = float(np.median(v[~high])), float(np.median(v[high]))
+    lo, hi = _state_level(v[~high]), _state_level(v[high])
     pulse_high = high.mean() < 0.5
+    # the edge is timed at its 50 % reference level between the two states (IEEE 181),
+    # not at the split of the histogram: a ramp's crossing then does not move with
+    # the histogram's bins
+    ref = 0.5 * (lo + hi) if threshold is None else level
     h = 0.2 * (hi - lo)
     # Schmitt states: +1 above level + h, -1 below level - h, else hold
     s = np.where(v > level + h, 1, np.where(v < level - h, -1, 0))
@@ -161,11 +179,11 @@ def pulse_times(t, v, *, threshold: Optional[float] = None, name: str = "pulse c
         res = []
         for j in idx[change[into == into_state] + 1]:     # first sample past the far band
             k = j
-            while k > 0 and (v[k - 1] > level) == (v[j] > level):   # back to the crossing
+            while k > 0 and (v[k - 1] > ref) == (v[j] > ref):   # back to the crossing
                 k -= 1
             if k == 0:
                 continue
-            a, b = v[k - 1] - level, v[k] - level
+            a, b = v[k - 1] - ref, v[k] - ref
             res.append(t[k - 1] + (t[k] - t[k - 1]) * a / (a - b))
         return np.asarray(res)
 

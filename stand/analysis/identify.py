@@ -164,14 +164,15 @@ def _sweep(d, out, rotating) -> None:
         if out["programme"] is None:
             out["programme"] = sw["programme"]
     fit, res = sw["model_fit"], sw["resonance"]
-    if res is not None:
+    if fit is not None:     # exact for the model; the resonance peak is a cross-check
+        out.update(critical_speed_hz=fit["critical_speed_hz"],
+                   critical_speed_hz_std=fit["critical_speed_hz_std"],
+                   critical_speed_method="rigid-rotor model fitted to the whole record "
+                   "(sweep-rate lag and transients in the model)")
+    elif res is not None:
         out.update(critical_speed_hz=res["critical_speed_hz"],
                    critical_speed_method=f"1X peak of the {res['stretch']}, sweep-rate lag "
                    "removed (papers 001/003/004 4.3, 5.4)")
-    elif fit is not None:
-        out.update(critical_speed_hz=fit["critical_speed_hz"],
-                   critical_speed_hz_std=fit["critical_speed_hz_std"],
-                   critical_speed_method="rigid-rotor model fitted to the whole record")
     if fit is not None:
         out.update(natural_frequency_hz=fit["natural_frequency_hz"],
                    natural_frequency_hz_std=fit["natural_frequency_hz_std"],
