@@ -252,33 +252,65 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         pp[j] += h
         pm[j] -= h
         J[:, j] = (full(pp) - full(pm)) / (2 * h)
-    s2 = float(np.sum(np.abs(r) ** 2)) / max(2 * n - p.size, 1)
-    live = np.any(J != 0, axis=0)
-    try:
-        cov = np.zeros((p.size, p.size))
-        cov[np.ix_(live, live)] = s2 * np.linalg.inv(J[:, live].T @ J[:, live])
-    except np.linalg.LinAlgError:
-        cov = np.full((p.size, p.size), np.nan)
-    sd = np.sqrt(np.abs(np.diag(cov)))
+    covs = _covariances(J, r, p.size)
     q = c[0]
     e = abs(q)
     # e along q, angle across it
     u = np.array([q.real, q.imag]) / e if e > 0 else np.array([1.0, 0.0])
-    Cq = cov[2:4, 2:4]
-    se = float(math.sqrt(max(u @ Cq @ u, 0.0)))
     v = np.array([-u[1], u[0]])
-    sb = float(math.sqrt(max(v @ Cq @ v, 0.0)) / e) if e > 0 else math.pi
     shift = 1.0 / math.sqrt(1.0 - 2.0 * zeta * zeta) if zeta < 1 / math.sqrt(2) else math.nan
     # d(f_c)/d(w0), d(f_c)/d(zeta)
-    g = np.array([shift, w0 * 2 * zeta * shift ** 3]) / TWO_PI
-    sfc = float(math.sqrt(max(g @ cov[:2, :2] @ g, 0.0)))
-    return ResponseFit(natural_frequency_hz=w0 / TWO_PI, natural_frequency_hz_std=float(sd[0]) / TWO_PI,
-                       damping_ratio=zeta, damping_ratio_std=float(sd[1]),
-                       critical_speed_hz=w0 * shift / TWO_PI, critical_speed_hz_std=sfc,
-                       specific_unbalance_m=float(e), specific_unbalance_m_std=se,
-                       angle_rad=float(math.atan2(q.imag, q.real)), angle_rad_std=sb,
+    gc = np.array([shift, w0 * 2 * zeta * shift ** 3]) / TWO_PI
+    grads = {"w0": (0, np.array([1.0])), "zeta": (1, np.array([1.0])), "e": (2, u),
+             "beta": (2, v / e if e > 0 else v), "fc": (0, gc)}
+    sd = {k: max(_std(C, i, g) for C in covs) for k, (i, g) in grads.items()}
+    if not e > 0:
+        sd["beta"] = math.pi
+    return ResponseFit(natural_frequency_hz=w0 / TWO_PI, natural_frequency_hz_std=sd["w0"] / TWO_PI,
+                       damping_ratio=zeta, damping_ratio_std=sd["zeta"],
+                       critical_speed_hz=w0 * shift / TWO_PI, critical_speed_hz_std=sd["fc"],
+                       specific_unbalance_m=float(e), specific_unbalance_m_std=sd["e"],
+                       angle_rad=float(math.atan2(q.imag, q.real)), angle_rad_std=sd["beta"],
                        offset_m=complex(c[3]), runout_m=complex(c[4]) if runout else 0j, residual_rms_m=float(np.sqrt(np.mean(np.abs(r) ** 2))),
                        samples=int(n))
+
+
+def _std(C, i, g) -> float:
+    """sqrt(g' C g) over the parameters i, i + 1, ... (len(g) of them)."""
+    k = slice(i, i + g.size)
+    return float(math.sqrt(max(g @ C[k, k] @ g, 0.0)))
+
+
+def _covariances(J, r, n_par, blocks: int = 40):
+    """Parameter covariances of the least-squares fit: (white, correlated).
+
+    White: s^2 (J'J)^-1, right when the residuals are independent.  Correlated: the
+    sandwich (J'J)^-1 S (J'J)^-1 with S the sum over ``blocks`` contiguous blocks of the
+    outer products of the block's score J'r (batch means: the residuals' correlation
+    within a block -- noise that is not white, model error that follows the speed --
+    is kept, not averaged away).  The std of a quantity is the larger of the two.
+    """
+    n = r.size
+    live = np.any(J != 0, axis=0)
+    A = J[:, live].T @ J[:, live]
+    try:
+        Ai = np.linalg.inv(A)
+    except np.linalg.LinAlgError:
+        nan = np.full((n_par, n_par), np.nan)
+        return nan, nan
+    s2 = float(np.sum(np.abs(r) ** 2)) / max(2 * n - n_par, 1)
+    white = np.zeros((n_par, n_par))
+    white[np.ix_(live, live)] = s2 * Ai
+    score = J[:n, live] * r.real[:, None] + J[n:, live] * r.imag[:, None]     # per sample
+    nb = int(min(blocks, max(n // 16, 2)))
+    edges = np.linspace(0, n, nb + 1).astype(int)
+    sums = np.add.reduceat(score, edges[:-1], axis=0)
+    S = sums.T @ sums * (2 * n / max(2 * n - n_par, 1))
+    corr = np.zeros((n_par, n_par))
+    corr[np.ix_(live, live)] = Ai @ S @ Ai
+    return white, corr
+
+
 
 
 def fit_response_without_speed(t, z, *, iterations: int = 6, natural_frequency_guess_hz=None,

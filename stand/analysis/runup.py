@@ -31,7 +31,27 @@ TWO_PI = 2.0 * math.pi
 SWEEPS = ("run-up", "run-down", "coast-down")
 
 
-def _fit_dict(fit, referenced: bool) -> dict:
+def _keyphasor_angle_std(t, angle) -> float:
+    """Std [rad] the keyphasor's pulse timing adds to every phase referenced to it.
+
+    The pulses scatter about the angle's spline by sigma (edge timing: the DAQ's
+    sampling of the edge, noise); the spline has a knot every 8 revolutions, so its
+    level is known to sigma sqrt(8 / N) over any stretch of 8 revolutions (N pulses
+    in all): a conservative bound on the shift of the mark that an unbalance angle
+    fitted over the resonance sees.
+    """
+    p = getattr(angle, "pulses_s", None)
+    if p is None or p.size < 16:
+        return 0.0
+    c = angle.covered
+    ph = np.interp(p, t[c], angle.angle_rad[c])
+    res = ph - ph[0] - TWO_PI * np.arange(p.size)
+    res = res[1:-1] - np.mean(res[1:-1])
+    return float(np.std(res) * math.sqrt(8.0 / p.size))
+
+
+def _fit_dict(fit, referenced: bool, mark_std_rad: float = 0.0) -> dict:
+    angle_std = math.hypot(fit.angle_rad_std, mark_std_rad)
     return {"natural_frequency_hz": fit.natural_frequency_hz,
             "natural_frequency_hz_std": fit.natural_frequency_hz_std,
             "damping_ratio": fit.damping_ratio, "damping_ratio_std": fit.damping_ratio_std,
@@ -40,7 +60,10 @@ def _fit_dict(fit, referenced: bool) -> dict:
             "specific_unbalance_m": fit.specific_unbalance_m,
             "specific_unbalance_m_std": fit.specific_unbalance_m_std,
             "unbalance_angle_deg": (math.degrees(fit.angle_rad) % 360.0 if referenced else None),
-            "unbalance_angle_deg_std": (math.degrees(fit.angle_rad_std) if referenced else None),
+            "unbalance_angle_deg_std": (math.degrees(angle_std) if referenced else None),
+            "unbalance_angle_deg_std_parts": ({"fit": math.degrees(fit.angle_rad_std),
+                                               "keyphasor_timing": math.degrees(mark_std_rad)}
+                                              if referenced else None),
             "offset_x_m": fit.offset_m.real, "offset_y_m": fit.offset_m.imag,
             "runout_m": abs(fit.runout_m), "residual_rms_m": fit.residual_rms_m,
             "samples": fit.samples}
@@ -111,7 +134,7 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
             return None
     out["programme"] = _programme_dict(prog)
     if fit is not None:
-        out["model_fit"] = _fit_dict(fit, ref)
+        out["model_fit"] = _fit_dict(fit, ref, _keyphasor_angle_std(t, angle) if ref else 0.0)
     # Bode: the 1X vector revolution by revolution, runout removed
     c = angle.covered
     try:

@@ -39,7 +39,7 @@ def unbalance(out, scene, sc1, d, rmap, mass, grade, service_speed_rpm, notes) -
     damping), the ring zones of a track, and the ISO 21940-11 grade."""
     from dsp import unbalance as ub
 
-    e = se = ang = None       # specific unbalance [m] and its angle [deg]
+    e = se = ang = sang = None       # specific unbalance [m] and its angle [deg], stds
     how = None
     fit = (out.get("runup") or {}).get("model_fit")
     if scene is not None and sc1 is not None:
@@ -49,19 +49,22 @@ def unbalance(out, scene, sc1, d, rmap, mass, grade, service_speed_rpm, notes) -
         est = ub.unbalance_from_response(sc1, sc1.speed_rad_s, Ms, scene.natural_frequency / TWO_PI,
                                          zeta)
         out.update(unbalance_gmm=est.unbalance_gmm, unbalance_gmm_std=est.unbalance_std_gmm,
-                   unbalance_angle_deg=est.angle_deg)
+                   unbalance_angle_deg=est.angle_deg,
+                   unbalance_angle_deg_std=math.degrees(est.angle_std_rad))
         iso_grade(out, est.unbalance_gmm, est.unbalance_std_gmm, scene.rotor.mass,
                   sc1.speed_rad_s, grade, service_speed_rpm)
         return
     if fit is not None:
         e, se, ang = fit["specific_unbalance_m"], fit["specific_unbalance_m_std"], \
             fit["unbalance_angle_deg"]
+        sang = fit.get("unbalance_angle_deg_std")
         how = "rigid-rotor model fitted to the run-up"
     elif sc1 is not None and rmap is not None and rmap.natural_frequency_hz \
             and rmap.damping_ratio is not None:
         est = ub.unbalance_from_response(sc1, sc1.speed_rad_s, 1.0, rmap.natural_frequency_hz,
                                          rmap.damping_ratio)
         e, se, ang = est.unbalance_kg_m, est.unbalance_std_kg_m, est.angle_deg
+        sang = math.degrees(est.angle_std_rad)
         how = f"steady 1X with the map's natural frequency and damping ({rmap.source})"
     elif out.get("response_1x_m") and rmap is not None and rmap.natural_frequency_hz \
             and rmap.damping_ratio is not None:
@@ -84,6 +87,7 @@ def unbalance(out, scene, sc1, d, rmap, mass, grade, service_speed_rpm, notes) -
         out["specific_unbalance_gmm_per_kg_std"] = None if se is None else se * 1e6
         out["unbalance_method"] = how
         out["unbalance_angle_deg"] = ang
+        out["unbalance_angle_deg_std"] = sang if ang is not None else None
         if mass:
             out.update(unbalance_gmm=e * mass * 1e6,
                        unbalance_gmm_std=None if se is None else se * mass * 1e6)
