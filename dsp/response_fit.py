@@ -166,7 +166,8 @@ def _linear(B, z):
 
 
 def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s2=None, *,
-                           natural_frequency_guess_hz=None, damping_guess=0.05, runout=True):
+                           natural_frequency_guess_hz=None, damping_guess=0.05, runout=True,
+                           covariance=True):
     """Fit omega_1, zeta, the specific unbalance and its angle to a swept record.
 
     Parameters
@@ -188,6 +189,8 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
     runout : bool
         Fit the probes' 1X runout r e^{i phi} (default).  Off when the angle is
         itself estimated from the whirl (the column would mimic the response).
+    covariance : bool
+        Compute the uncertainties (off: the stds are NaN; for inner iterations).
 
     Returns
     -------
@@ -237,6 +240,13 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
     B = _basis(w0, zeta, tt, forcing, rot)
     c, r = _linear(B, zc)
     n = t.size
+    if not covariance:
+        nan = math.nan
+        shift = 1.0 / math.sqrt(1.0 - 2.0 * zeta * zeta) if zeta < 1 / math.sqrt(2) else nan
+        return ResponseFit(w0 / TWO_PI, nan, zeta, nan, w0 * shift / TWO_PI, nan,
+                           float(abs(c[0])), nan, float(np.angle(c[0])), nan, complex(c[3]),
+                           complex(c[4]) if runout else 0j,
+                           float(np.sqrt(np.mean(np.abs(r) ** 2))), int(n))
     # covariance of all real parameters: (w0, zeta, Re/Im of the 5 complex coefficients)
     def full(p):
         Bp = _basis(p[0], p[1], tt, forcing, rot)
@@ -313,7 +323,7 @@ def _covariances(J, r, n_par, blocks: int = 40):
 
 
 
-def fit_response_without_speed(t, z, *, iterations: int = 6, natural_frequency_guess_hz=None,
+def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_guess_hz=None,
                                damping_guess=0.05):
     """The fit of :func:`fit_unbalance_response` when no speed channel was recorded.
 
@@ -321,9 +331,12 @@ def fit_response_without_speed(t, z, *, iterations: int = 6, natural_frequency_g
     (:func:`dsp.speed.angle_from_1x`): the forward whirl's phase is
     theta = phi + beta + arg H(phi'), with the receptance's angle arg H turning by
     about pi through the resonance.  Each iteration fits the model with the
-    current angle, predicts the lag psi = arg(q g e^{-i phi}) of the response
-    behind the rotor, and sets phi = theta - psi (smoothed: a cubic spline every
-    20 revolutions), until phi changes by less than 1e-3 rad.
+    current angle, and corrects the angle by the phase of the measured whirl
+    against the model's whole motion (forced response and transients),
+    phi += arg((z - z0) / z_model) (smoothed: a cubic spline every 20
+    revolutions), until phi changes by less than 1e-10 rad: at the fixed point
+    the model's phase is the whirl's, so noise-free data from the model give its
+    parameters back.
 
     Returns
     -------
@@ -340,30 +353,30 @@ def fit_response_without_speed(t, z, *, iterations: int = 6, natural_frequency_g
     z0 = complex(np.mean(z))
     ra = angle_from_1x(t, z - z0)
     c = ra.covered
-    theta = None
     fit = None
     for _ in range(max(1, iterations)):
         fit = fit_unbalance_response(t[c], z[c], ra.angle_rad[c], ra.speed_rad_s[c],
                                      ra.acceleration_rad_s2[c],
                                      natural_frequency_guess_hz=natural_frequency_guess_hz,
-                                     damping_guess=damping_guess, runout=False)
+                                     damping_guess=damping_guess, runout=False, covariance=False)
         natural_frequency_guess_hz = fit.natural_frequency_hz
         damping_guess = fit.damping_ratio
-        if fit.offset_m != z0:
-            z0 = fit.offset_m
-        theta = np.unwrap(np.angle(z[c] - z0))
-        if theta[-1] < theta[0]:
-            theta = -theta
         tt = t[c] - t[c][0]
         w0, zeta = TWO_PI * fit.natural_frequency_hz, fit.damping_ratio
         phi, w = ra.angle_rad[c], ra.speed_rad_s[c]
-        g = _Forcing(t[c], phi, w, ra.acceleration_rad_s2[c]).response(w0, zeta)
-        psi = np.unwrap(np.angle(g * np.exp(-1j * phi)))
-        new = smoothed_phase(t, theta - psi, c)
+        forcing = _Forcing(t[c], phi, w, ra.acceleration_rad_s2[c])
+        B = _basis(w0, zeta, tt, forcing, np.zeros(tt.size))
+        coef, _ = _linear(B, z[c])
+        zm = B[:, :3] @ coef[:3]            # the model's motion: forced response + transients
+        # the whirl's phase minus the model's: the rotor angle's error (zero at the fixed point)
+        ok = np.abs(zm) > 1e-9 * np.max(np.abs(zm))
+        corr = np.zeros(tt.size)
+        corr[ok] = np.unwrap(np.angle((z[c][ok] - coef[3]) / zm[ok]))
+        corr[~ok] = np.interp(np.flatnonzero(~ok), np.flatnonzero(ok), corr[ok])
+        new = smoothed_phase(t, phi + corr, c)
         step = float(np.max(np.abs((new.angle_rad[c] - phi) - np.mean(new.angle_rad[c] - phi))))
         ra = new
-        del tt
-        if step < 1e-3:
+        if step < 1e-10:
             break
     fit = fit_unbalance_response(t[c], z[c], ra.angle_rad[c], ra.speed_rad_s[c],
                                  ra.acceleration_rad_s2[c],

@@ -41,3 +41,18 @@ def test_noise_free_runup_is_exact(tmp_path, spr):
     assert d["unbalance_angle_deg"] == pytest.approx(run.beta_deg, rel=REL)
     assert d["critical_speed_hz"] == pytest.approx(run.critical_speed_hz, rel=REL)
     assert "model fitted" in d["critical_speed_method"]
+
+
+def test_noise_free_runup_without_a_speed_channel_is_exact(tmp_path):
+    """Time and the two probes only: the rotor angle is estimated from the whirl and
+    corrected until the model's phase is the whirl's (no angle without a mark)."""
+    run = exact_runup(samples_per_rev_max=20)
+    csv, rmap = write_csv(run, tmp_path / "runup.csv")
+    rmap.write_text(rmap.read_text().replace('keyphasor = "kp_V [V]"\n', ""))
+    d = _analyze(csv, rmap)
+    assert "estimated" in d["speed_source"]
+    assert d["natural_frequency_hz"] == pytest.approx(run.f0_hz, rel=REL)
+    assert d["damping_ratio"] == pytest.approx(run.zeta, rel=REL)
+    assert d["unbalance_gmm"] == pytest.approx(run.unbalance_gmm, rel=REL)
+    assert d["critical_speed_hz"] == pytest.approx(run.critical_speed_hz, rel=REL)
+    assert d["unbalance_angle_deg"] is None

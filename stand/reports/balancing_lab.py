@@ -16,11 +16,18 @@ import math
 __all__ = ["lab_identification", "fill_from_lab", "LAB_SCHEMA"]
 
 TWO_PI = 2.0 * math.pi
+
+#: What a ± of the run-up model fit contains (the report's one line on it).
+FIT_UNCERTAINTY = ("± is one standard uncertainty: the model fit's statistical part with "
+                   "correlated residuals (block-score sandwich covariance, never below the "
+                   "white-noise one) and, for angles, the keyphasor's pulse timing; the "
+                   "rigid-rotor model itself and the vibrating mass are taken as exact")
 N, S_, L, O = "number|null", "string|null", "list", "object|null"
 
 #: keys and types of the ``lab_identification`` section (docs/reports.md)
 LAB_SCHEMA = {"input": O, "speed_source": S_, "programme": O, "critical_speed_hz": N,
-              "critical_speed_method": S_, "natural_frequency_hz": N,
+              "critical_speed_hz_std": N, "unbalance_angle_deg_std": N,
+              "uncertainty_statement": S_, "critical_speed_method": S_, "natural_frequency_hz": N,
               "natural_frequency_hz_std": N, "damping_ratio": N, "damping_ratio_std": N,
               "unbalance_gmm": N, "unbalance_gmm_std": N, "unbalance_angle_deg": N,
               "specific_unbalance_gmm_per_kg": N, "unbalance_method": S_, "mass_kg": N,
@@ -42,6 +49,9 @@ def lab_identification(path, recording_map, grade, service_speed_rpm, notes) -> 
     return {"input": {k: v for k, v in inp.items() if k != "excluded"},
             "speed_source": a.get("speed_source"), "programme": a.get("programme"),
             "critical_speed_hz": a.get("critical_speed_hz"),
+            "critical_speed_hz_std": a.get("critical_speed_hz_std"),
+            "unbalance_angle_deg_std": a.get("unbalance_angle_deg_std"),
+            "uncertainty_statement": (FIT_UNCERTAINTY if runup.get("model_fit") else None),
             "critical_speed_method": a.get("critical_speed_method"),
             "natural_frequency_hz": a.get("natural_frequency_hz"),
             "natural_frequency_hz_std": a.get("natural_frequency_hz_std"),
@@ -71,6 +81,8 @@ def fill_from_lab(lab, header, bq, dyn, grade, w_service, warn) -> None:
         bq["residual_unbalance_gmm"] = lab["unbalance_gmm"]
         bq["residual_unbalance_gmm_std"] = lab["unbalance_gmm_std"]
         bq["residual_unbalance_angle_deg"] = lab["unbalance_angle_deg"]
+        bq["residual_unbalance_angle_deg_std"] = lab.get("unbalance_angle_deg_std")
+        bq["uncertainty_statement"] = lab.get("uncertainty_statement")
     if lab.get("specific_unbalance_gmm_per_kg") is not None and bq.get("specific_unbalance_um") is None:
         bq["specific_unbalance_um"] = lab["specific_unbalance_gmm_per_kg"]   # g mm / kg = um
     q = bq["iso_21940_11"]
@@ -93,6 +105,7 @@ def fill_from_lab(lab, header, bq, dyn, grade, w_service, warn) -> None:
                   method="rigid-rotor model fitted to the run-up (dsp.response_fit)")
     if lab.get("critical_speed_hz") is not None:
         dyn["critical_speeds"].append({"source": "recording (1X resonance of the run)",
-                                       "speed_hz": lab["critical_speed_hz"], "speed_hz_std": None,
+                                       "speed_hz": lab["critical_speed_hz"],
+                                       "speed_hz_std": lab.get("critical_speed_hz_std"),
                                        "event": lab.get("critical_speed_method"),
                                        "nearest_theory_hz": None, "difference_hz": None})

@@ -75,6 +75,8 @@ def verdict(doc: Mapping) -> dict:
                          f" at {plain(p.get('angle_deg'), '°', sig=3)}; permissible "
                          f"{plain(p.get('permissible_gmm'), 'g·mm', sig=3)}: "
                          f"{'pass' if p.get('passed') else 'FAIL'}")
+    if bq.get("uncertainty_statement"):
+        lines.append(bq["uncertainty_statement"])
     rotor = hd.get("scene_name") or "—"
     if hd.get("description"):
         rotor += f" — {hd['description']}"
@@ -87,6 +89,7 @@ def verdict(doc: Mapping) -> dict:
 
 
 QUALITY_KEYS = ("residual_unbalance_gmm", "residual_unbalance_angle_deg", "specific_unbalance_um",
+                "uncertainty_statement",
                 "residual_zone_label", "initial_unbalance_gmm", "initial_unbalance_source",
                 "residual_speed_hz", "response_1x_m", "truth_residual_unbalance_gmm")
 ISO_KEYS = ("grade_mm_s", "service_speed_rpm", "permissible_residual_gmm",
@@ -163,7 +166,7 @@ def page_body(doc: Mapping, figures: Mapping | None = None) -> str:
         parts.append("<h2 id='lab'>Identification from the lab record</h2>" + _table(_rows(lab, (
             "speed_source", "critical_speed_hz", "critical_speed_method", "natural_frequency_hz",
             "damping_ratio", "unbalance_gmm", "unbalance_angle_deg", "specific_unbalance_gmm_per_kg",
-            "unbalance_method", "mass_kg"))))
+            "unbalance_method", "mass_kg", "uncertainty_statement"))))
         if lab.get("excluded_rows"):
             parts.append("<h3>Rows left out of the analysis</h3>" + _list_table(lab["excluded_rows"]))
         parts.append(_details("Input table, programme, resonance and model fit", _nested(

@@ -19,6 +19,11 @@ __all__ = ["balancing_quality", "zone", "zone_label"]
 
 TWO_PI = 2.0 * math.pi
 
+#: What the ± of the unbalance from the steady 1X contains (the report's one line on it).
+SCATTER_UNCERTAINTY = ("± is one standard uncertainty: the revolution-to-revolution scatter of "
+                       "the 1X vector; the scene's mass, natural frequency and damping are "
+                       "taken as exact")
+
 
 def zone(U_kg_m, S):
     """Ring zone i of an unbalance: i S/16 <= U < (i + 1) S/16.
@@ -144,6 +149,8 @@ def balancing_quality(rec, w_service, grade, notes, warn):
     U, sU = est.unbalance_kg_m, est.unbalance_std_kg_m
     bq.update(residual_unbalance_gmm=U * 1e6, residual_unbalance_gmm_std=sU * 1e6,
               residual_unbalance_angle_deg=est.angle_deg,
+              residual_unbalance_angle_deg_std=math.degrees(est.angle_std_rad),
+              uncertainty_statement=SCATTER_UNCERTAINTY,
               residual_fraction_of_capacity=(U / S if S > 0 else None),
               specific_unbalance_um=U * 1e6 / m_iso, specific_unbalance_um_std=sU * 1e6 / m_iso)
     if S > 0:

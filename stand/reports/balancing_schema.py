@@ -28,7 +28,8 @@ SCHEMA = {
     "balancing_quality": {
         "initial_unbalance_gmm": N, "initial_unbalance_source": S_, "initial_zone": N,
         "residual_unbalance_gmm": N, "residual_unbalance_gmm_std": N,
-        "residual_unbalance_angle_deg": N, "residual_fraction_of_capacity": N,
+        "residual_unbalance_angle_deg": N, "residual_unbalance_angle_deg_std": N,
+        "uncertainty_statement": S_, "residual_fraction_of_capacity": N,
         "residual_zone": N, "residual_zone_label": S_, "residual_window_s": L,
         "residual_speed_hz": N, "response_1x_m": N, "response_1x_m_std": N,
         "specific_unbalance_um": N, "specific_unbalance_um_std": N,

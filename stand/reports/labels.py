@@ -49,6 +49,8 @@ LABELS = {
     "residual_unbalance_gmm": ("Residual unbalance", "g·mm", 1.0),
     "residual_unbalance_gmm_std": ("Residual unbalance: uncertainty", "g·mm", 1.0),
     "residual_unbalance_angle_deg": ("Residual unbalance angle (from the mark)", "°", 1.0),
+    "residual_unbalance_angle_deg_std": ("Residual unbalance angle: uncertainty", "°", 1.0),
+    "uncertainty_statement": ("What the ± contains", "", 1.0),
     "residual_fraction_of_capacity": ("Residual / capacity", "", 1.0),
     "residual_zone": ("Ring zone of the residual", "", 1.0),
     "residual_zone_label": ("Ring zone", "", 1.0),

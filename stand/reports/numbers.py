@@ -53,9 +53,11 @@ def plain(v, unit: str = "", sig: int = 4) -> str:
     return _join(f"{text} × {_pow10(e)}", unit)
 
 
-def with_uncertainty(v, u, unit: str = "") -> str:
+def with_uncertainty(v, u, unit: str = "", resolution: bool = True) -> str:
     """``v ± u`` rounded to the uncertainty (module docstring); ``plain(v)`` when ``u`` is
-    missing, zero, not finite, or below 1e-9 of ``v`` (floating-point noise)."""
+    missing, zero, not finite, or below 1e-9 of ``v`` (floating-point noise).
+    ``resolution=False``: a value whose size means nothing (an angle) is never "below
+    resolution"."""
     if v is None:
         return "—"
     if u is None or not math.isfinite(float(u)) or float(u) <= 0 \
@@ -67,7 +69,7 @@ def with_uncertainty(v, u, unit: str = "") -> str:
     if round(u / 10 ** place) >= 100:              # 99.5 -> 100: one more digit left
         place += 1
         u_r = round(u / 10 ** place) * 10 ** place
-    if abs(v) < u_r:
+    if resolution and abs(v) < u_r:
         return f"below resolution (< {plain(u_r, unit, sig=2)})"
     v_r = round(v / 10 ** place) * 10 ** place
     big = max(abs(v_r), u_r)
