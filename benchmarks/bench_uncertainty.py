@@ -15,7 +15,8 @@ The truth comes from a model written independently of the stand's simulator
 rotor angle, scipy DOP853 at rtol 1e-11), written as a DAQ CSV and read by
 ``stand analyze`` with a recording map, as a lab does:
 
-* ``keyphasor``: displacement x, y and a keyphasor channel (2 kHz, 2 µm probe noise);
+* ``keyphasor``: displacement x, y and a keyphasor channel (1 kHz, 2 µm probe noise,
+  150 µm specific unbalance, 6 -> 32 rev/s in 26 s through 18.5 Hz, zeta 0.04);
 * ``no-speed``: the same CSV read with time and the two probes only (the speed
   estimated from the 1X line; no unbalance angle).
 """
@@ -62,10 +63,11 @@ def _analyze(csv, rmap):
     return json.loads(out.getvalue())
 
 
-def run_path(path: str, seed: int, *, noise_m: float = 2e-6, fs_hz: float = 2000.0,
-             workdir: Path) -> dict:
-    """z of each quantity for one noise draw on one path ({name: z or None})."""
-    run = exact_runup(fs_hz=fs_hz, noise_m=noise_m, seed=seed)
+def run_path(path: str, seed: int, *, workdir: Path, noise_m: float = 2e-6,
+             fs_hz: float = 1000.0, **runup) -> dict:
+    """z of each quantity for one noise draw on one path ({name: z or None}); ``runup``:
+    keywords of :func:`oracles.runup_exact.exact_runup`."""
+    run = exact_runup(fs_hz=fs_hz, noise_m=noise_m, seed=seed, **runup)
     csv, rmap = write_csv(run, workdir / f"{path}_{seed}.csv")
     if path == "no-speed":
         rmap.write_text(rmap.read_text().replace('keyphasor = "kp_V [V]"\n', ""))
