@@ -15,8 +15,9 @@ The truth comes from a model written independently of the stand's simulator
 rotor angle, scipy DOP853 at rtol 1e-11), written as a DAQ CSV and read by
 ``stand analyze`` with a recording map, as a lab does:
 
-* ``keyphasor``: displacement x, y and a keyphasor channel (1 kHz, 2 µm probe noise,
-  150 µm specific unbalance, 6 -> 32 rev/s in 26 s through 18.5 Hz, zeta 0.04);
+* ``keyphasor``: displacement x, y and a keyphasor channel (:data:`RUNUP`: 500 samples/s,
+  10 -> 28 rev/s in 9 s through f0 = 18.5 Hz, zeta 0.04, 150 µm specific unbalance;
+  2 µm probe noise);
 * ``no-speed``: the same CSV read with time and the two probes only (the speed
   estimated from the 1X line; no unbalance angle).
 """
@@ -63,11 +64,14 @@ def _analyze(csv, rmap):
     return json.loads(out.getvalue())
 
 
-def run_path(path: str, seed: int, *, workdir: Path, noise_m: float = 2e-6,
-             fs_hz: float = 1000.0, **runup) -> dict:
+#: the default run-up: 10 -> 28 rev/s in 9 s through 18.5 Hz, 500 samples/s
+RUNUP = {"fs_hz": 500.0, "f_start_hz": 10.0, "f_end_hz": 28.0, "duration_s": 9.0}
+
+
+def run_path(path: str, seed: int, *, workdir: Path, noise_m: float = 2e-6, **runup) -> dict:
     """z of each quantity for one noise draw on one path ({name: z or None}); ``runup``:
     keywords of :func:`oracles.runup_exact.exact_runup`."""
-    run = exact_runup(fs_hz=fs_hz, noise_m=noise_m, seed=seed, **runup)
+    run = exact_runup(noise_m=noise_m, seed=seed, **{**RUNUP, **runup})
     csv, rmap = write_csv(run, workdir / f"{path}_{seed}.csv")
     if path == "no-speed":
         rmap.write_text(rmap.read_text().replace('keyphasor = "kp_V [V]"\n', ""))
@@ -112,8 +116,10 @@ def main(argv=None) -> int:
     ap.add_argument("--paths", default=",".join(PATHS))
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
-    table = calibration(args.paths.split(","), args.seeds)
-    print(markdown(table))
+    table = {}
+    for path in args.paths.split(","):
+        table.update(calibration([path], args.seeds))
+        print(markdown({path: table[path]}), flush=True)
     print(f"\n{args.seeds} seeds per path, {time.perf_counter() - t0:.0f} s")
     return 0 if all(r <= RMS_MAX and c2 >= COVER2_MIN
                     for q in table.values() for r, _, c2, _ in q.values()) else 1
