@@ -167,7 +167,7 @@ def _linear(B, z):
 
 def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s2=None, *,
                            natural_frequency_guess_hz=None, damping_guess=0.05, runout=True,
-                           covariance=True):
+                           covariance=True, angle_basis=None):
     """Fit omega_1, zeta, the specific unbalance and its angle to a swept record.
 
     Parameters
@@ -191,6 +191,11 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         itself estimated from the whirl (the column would mimic the response).
     covariance : bool
         Compute the uncertainties (off: the stds are NaN; for inner iterations).
+    angle_basis : ndarray (N, K), optional
+        When the rotor angle was itself estimated from ``z`` as a combination of these
+        functions of time (a spline's basis): its K coefficients enter the covariance
+        as nuisance parameters (a change a of them turns the model's motion by
+        i z_model a B), so the stds include what the angle's estimate leaves open.
 
     Returns
     -------
@@ -262,7 +267,11 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         pp[j] += h
         pm[j] -= h
         J[:, j] = (full(pp) - full(pm)) / (2 * h)
-    covs = _covariances(J, r, p.size)
+    if angle_basis is not None:
+        zm = B[:, :3] @ c[:3]
+        extra = -(1j * zm)[:, None] * np.asarray(angle_basis, float)
+        J = np.hstack((J, np.vstack((extra.real, extra.imag))))
+    covs = _covariances(J, r, J.shape[1])
     q = c[0]
     e = abs(q)
     # e along q, angle across it
@@ -304,7 +313,7 @@ def _covariances(J, r, n_par, blocks: int = 40):
     live = np.any(J != 0, axis=0)
     A = J[:, live].T @ J[:, live]
     try:
-        Ai = np.linalg.inv(A)
+        Ai = np.linalg.pinv(A, rcond=1e-13, hermitian=True)
     except np.linalg.LinAlgError:
         nan = np.full((n_par, n_par), np.nan)
         return nan, nan
@@ -321,6 +330,19 @@ def _covariances(J, r, n_par, blocks: int = 40):
     return white, corr
 
 
+
+
+def _phase_basis(t, phi, knot_revolutions: float = 20.0):
+    """The basis of :func:`dsp.speed.smoothed_phase`'s spline over ``t`` (the first
+    function left out: a constant turn is the unbalance's angle, which has no reference)."""
+    from scipy.interpolate import BSpline
+
+    turns = (phi[-1] - phi[0]) / TWO_PI
+    n_int = int(max(1, min(turns / knot_revolutions, t.size / 50)))
+    inner = np.linspace(t[0], t[-1], n_int + 1)[1:-1]
+    knots = np.concatenate(([t[0]] * 4, inner, [t[-1]] * 4))
+    D = BSpline.design_matrix(np.clip(t, t[0], t[-1]), knots, 3).toarray()
+    return D[:, 1:]
 
 
 def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_guess_hz=None,
@@ -381,5 +403,6 @@ def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_
     fit = fit_unbalance_response(t[c], z[c], ra.angle_rad[c], ra.speed_rad_s[c],
                                  ra.acceleration_rad_s2[c],
                                  natural_frequency_guess_hz=natural_frequency_guess_hz,
-                                 damping_guess=damping_guess, runout=False)
+                                 damping_guess=damping_guess, runout=False,
+                                 angle_basis=_phase_basis(t[c], ra.angle_rad[c]))
     return replace(fit, angle_rad=math.nan, angle_rad_std=math.nan), ra
