@@ -13,7 +13,8 @@
     stand warmup [--all]
 
 Exit codes: 0 success; 1 the simulation stopped early (what was computed is
-still written); 2 invalid input (scene, arguments, files).
+still written) or a computation ran out of its work budget (one line says which and
+the budget); 2 invalid input (scene, arguments, files).
 
 One BLAS thread per process: the command line's parallelism is processes (batch
 and sweep workers), and the identification's matrices are small: on a busy
@@ -110,7 +111,7 @@ def _background_precompile() -> None:
 
 
 def main(argv=None) -> int:
-    from stand.scene.model import SceneError
+    from stand.errors import BudgetExceeded, SceneError
 
     args = build_parser().parse_args(argv)
     try:
@@ -122,6 +123,10 @@ def main(argv=None) -> int:
         # TheoryError is a ValueError: out-of-scope scenes end here with their reason
         print(f"stand {args.command}: error: {_naming_the_input(args, exc)}", file=sys.stderr)
         return 2
+    except BudgetExceeded as exc:
+        # an iterative part ran out of its work budget (issue 34): one line, what and the budget
+        print(f"stand {args.command}: stopped: {_naming_the_input(args, exc)}", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         print(f"stand {args.command}: interrupted", file=sys.stderr)
         return 130

@@ -26,6 +26,7 @@ import numpy as np
 
 from stand.io.validate import _Table, _fmt, _kind, _number, _suggest  # noqa: F401 (re-exported)
 from stand.scene.book_tables import parse_weight_model
+from stand.scene.conditioning import check_conditioning
 from stand.scene.dimensionless import (DIMENSIONLESS_KEYS, _dimensionless_params,  # noqa: F401
                                        scene_from_dimensionless)
 from stand.scene.instrument_tables import INSTRUMENTS, NAMED_INSTRUMENTS, instrument_tables  # noqa: F401
@@ -127,13 +128,14 @@ def parse(data: Mapping, text: str = "", stem: str = "") -> Scene:
 
     A ``[structure]`` table selects :func:`stand.scene.structure_tables.parse_family_scene`,
     ``[weight_model]`` :func:`stand.scene.book_tables.parse_weight_model`, else the planar
-    tables or ``[dimensionless]`` (:func:`parse_scene`).
+    tables or ``[dimensionless]`` (:func:`parse_scene`).  Every form's linear structure is
+    held to the conditioning limits (:func:`stand.scene.conditioning.check_conditioning`).
     """
     if isinstance(data, Mapping) and "structure" in data:
-        return parse_family_scene(data, text, stem)
+        return check_conditioning(parse_family_scene(data, text, stem))
     if isinstance(data, Mapping) and "weight_model" in data:
         return parse_weight_model(data, text, stem)
-    scene = parse_scene(data, text=text)
+    scene = check_conditioning(parse_scene(data, text=text))
     return scene if scene.name else dataclasses.replace(scene, name=stem)
 
 
