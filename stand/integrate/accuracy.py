@@ -174,6 +174,22 @@ def _position(tr: Trajectory) -> np.ndarray:
     return tr.x + 1j * tr.y
 
 
+#: fixed RK4 steps one accuracy row may take (checked before the run: about 10 s of work)
+MAX_RK4_STEPS = 5e7
+
+
+def default_rk4_steps(scene: Scene) -> tuple:
+    """RK4 steps [s]: 1/20 and 1/40 of the period at the top speed (a torque drive: of
+    1 rad/s); a speed programme that stays at rest (e.g. one node ``[[0, 0]]``, a constant
+    speed of 0) has no revolution: the natural period of the planar rotor instead."""
+    import math
+
+    top = float(np.max(scene.drive.programme[:, 1])) if scene.drive.kind == "speed" else 1.0
+    if not top > 0:
+        top = scene.natural_frequency if scene.kind == "planar" else 1.0
+    return (2 * math.pi / top / 20, 2 * math.pi / top / 40)
+
+
 def _rk4_run(scene: Scene, step_s: float, t_samples: np.ndarray):
     """Fixed-step RK4 on the compiled planar RHS; samples at ``t_samples``."""
     import time
@@ -188,6 +204,10 @@ def _rk4_run(scene: Scene, step_s: float, t_samples: np.ndarray):
     every = max(1, int(round(dt / step_s)))
     h = dt / every
     n_steps = every * (t_samples.size - 1)
+    if n_steps > MAX_RK4_STEPS:
+        raise ValueError(f"RK4 step {step_s:.3g} s over run.duration = {scene.run.duration:g} s: "
+                         f"{n_steps:.3g} steps, more than the limit {MAX_RK4_STEPS:.0e}; take a "
+                         "larger step (--rk4-steps) or shorten run.duration")
     y = initial_state(scene, model).astype(float)
     out = np.full((t_samples.size, y.size), np.nan)
     rk4_loop(PLANAR, model.sp, model.wt, model.prog, y.copy(), 0.0, 0, 1, out[:1].copy())  # compile
@@ -315,8 +335,7 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None,
                                 free_whirl_drift=dr))
     if want_rk4:
         if rk4_steps is None:
-            top = float(np.max(scene.drive.programme[:, 1])) if scene.drive.kind == "speed" else 1.0
-            rk4_steps = (2 * math.pi / top / 20, 2 * math.pi / top / 40)
+            rk4_steps = default_rk4_steps(scene)
         for h in rk4_steps:
             Z, Zd, wall, nfev, nst, hh = _rk4_run(scene, float(h), t)
             err = float(np.nanmax(np.abs(Z - ref)))
