@@ -228,6 +228,41 @@ def _velocity(tr: Trajectory) -> np.ndarray:
     return (st[:, k] + 1j * st[:, k + 1]) * model.length * model.omega_1
 
 
+#: steps the whole ladder and its reference runs may take, in run budgets (run.max_steps)
+LADDER_BUDGET_RUNS = 4
+
+
+class _LadderBudget:
+    """The runs of one accuracy report share a step budget of :data:`LADDER_BUDGET_RUNS`
+    times the scene's ``run.max_steps``; each run gets what is left (at most one run's
+    budget).  A run that exhausts it stops the report (:class:`stand.errors.BudgetExceeded`):
+    its error would measure where it stopped, not the method."""
+
+    def __init__(self, scene: Scene):
+        self.scene, self.total = scene, LADDER_BUDGET_RUNS * int(scene.run.max_steps)
+        self.left = self.total
+
+    def simulate(self, **kw) -> Trajectory:
+        import dataclasses
+
+        from stand.errors import BudgetExceeded
+
+        cap = min(int(self.scene.run.max_steps), self.left)
+        sc = self.scene
+        if cap < sc.run.max_steps:
+            sc = dataclasses.replace(sc, run=dataclasses.replace(sc.run, max_steps=max(cap, 1)))
+        tr = simulate(sc, **kw)
+        st = tr.stats
+        self.left -= int(st.n_steps) + int(st.n_rejected)
+        if st.status == -3:
+            raise BudgetExceeded(
+                f"the accuracy runs ({kw.get('method')} at rtol {kw.get('rtol'):.0e}) ran out of "
+                f"their step budget: {cap} steps of {self.total} ({LADDER_BUDGET_RUNS} x "
+                f"run.max_steps = {self.scene.run.max_steps}) before the end of run.duration = "
+                f"{self.scene.run.duration:g} s")
+        return tr
+
+
 #: the fast ladder (``stand accuracy --fast``): tolerances and the reference's
 FAST_RTOLS = (1e-4, 1e-6)
 FAST_REFERENCE_RTOL = 1e-10
@@ -275,10 +310,11 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None,
     if scene.kind == "book" and "numpy-DOP853" in methods:
         methods.remove("numpy-DOP853")
     ref_method = "DOP853" if auto == "DOP853" else "Radau"
+    budget = _LadderBudget(scene)
     runs = {}
     for m in methods:
         for rt in rtols:
-            runs[(m, rt)] = simulate(scene, method=m, rtol=rt, atol=rt * 1e-2)
+            runs[(m, rt)] = budget.simulate(method=m, rtol=rt, atol=rt * 1e-2)
     if runs:
         t = next(iter(runs.values())).t
     else:
@@ -305,8 +341,8 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None,
     else:
         tight = reference_rtol or (1e-12 if scene.kind == "book"
                                    else 1e-13 if ref_method == "DOP853" else 1e-11)
-        r1 = simulate(scene, method=ref_method, rtol=tight, atol=tight * 1e-2)
-        r2 = simulate(scene, method=ref_method, rtol=tight * 10, atol=tight * 1e-1)
+        r1 = budget.simulate(method=ref_method, rtol=tight, atol=tight * 1e-2)
+        r2 = budget.simulate(method=ref_method, rtol=tight * 10, atol=tight * 1e-1)
         ref = _position(r1)
         ref_name = f"{ref_method} at rtol {tight:.0e}"
         k = min(len(r1.t), len(r2.t))

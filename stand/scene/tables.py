@@ -157,6 +157,12 @@ def balancer_table(t: _Table) -> Balancer:
                     initial_angles=angles * DEG, initial_speeds=speeds * TWO_PI)
 
 
+#: steepest speed change between two programme nodes accepted, in the programme's own units
+#: (rev/s per s, or R_omega per tau): a step of 1e4 rev/s in a millisecond; steeper ones
+#: overflow the rotor's angular acceleration (a programme of one node is a constant speed)
+MAX_PROGRAMME_SLOPE = 1e7
+
+
 def programme_table(t: _Table, key: str, w1: float) -> np.ndarray:
     """[[t, speed], ...] -> ndarray (k, 2) in s and rad/s."""
     name, value = t.name(key), t.data[key]
@@ -175,6 +181,11 @@ def programme_table(t: _Table, key: str, w1: float) -> np.ndarray:
         if rows and time <= rows[-1][0]:
             raise SceneError(f"{name}[{i}][0] = {_fmt(pair[0])}: times must be strictly "
                              f"increasing ({units[0]}); the previous time is {_fmt(rows[-1][0])}")
+        if rows and not abs(speed - rows[-1][1]) <= MAX_PROGRAMME_SLOPE * (time - rows[-1][0]):
+            raise SceneError(f"{name}[{i}] = {_fmt(pair)}: the speed changes from "
+                             f"{_fmt(rows[-1][1])} at {_fmt(rows[-1][0])} faster than "
+                             f"{MAX_PROGRAMME_SLOPE:.0e} ({units[1]}) per ({units[0]}); "
+                             "space the times further apart")
         rows.append((time, speed))
     prog = np.array(rows, dtype=float)
     if dimless:
