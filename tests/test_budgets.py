@@ -111,3 +111,13 @@ def test_accuracy_ladder_budget_stops_with_one_line(tmp_path):
     code, lines, wall = _cli("accuracy", p, "--fast")
     assert code == 1 and len(lines) == 1, (code, lines)
     assert "step budget" in lines[0] and "4 x run.max_steps = 20" in lines[0], lines
+
+
+def test_floquet_scan_is_bounded(monkeypatch):
+    """The Floquet scan's flows spend one budget; a tiny budget stops the theory (exit 1)."""
+    import stand.theories.rotors as th
+
+    scene = stand.load(ROOT / "data_samples" / "scenes" / "family_two_mass.toml")
+    monkeypatch.setattr(th, "FLOQUET_BUDGET", 1000)
+    with pytest.raises(BudgetExceeded, match="Floquet scan .* budget of 1000 state-steps"):
+        th.family_theory(scene)
