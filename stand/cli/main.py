@@ -110,10 +110,25 @@ def _background_precompile() -> None:
             pass
 
 
+def _one_line_errors(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    """Argument errors as one line (docs/guarantees.md), not argparse's usage block:
+    ``stand influence: error: the following arguments are required: --trial; see
+    stand influence --help`` (exit 2), on the parser and every subcommand's."""
+    def error(message, p=parser):
+        p.exit(2, f"{p.prog}: error: {' '.join(str(message).split())}; see {p.prog} --help\n")
+
+    parser.error = error
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                _one_line_errors(sub)
+    return parser
+
+
 def main(argv=None) -> int:
     from stand.errors import BudgetExceeded, SceneError
 
-    args = build_parser().parse_args(argv)
+    args = _one_line_errors(build_parser()).parse_args(argv)
     try:
         _guard(args)
         return args.func(args)
