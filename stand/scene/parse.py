@@ -36,8 +36,8 @@ from stand.scene.model import Balancer, InitialState, Scene, SceneError, TorqueD
 from stand.scene.structure_tables import parse_family_scene
 from stand.scene.tables import (BALANCER_KEYS, INITIAL_KEYS, PERTURBATION_KEYS,  # noqa: F401
                                 ROTOR_KEYS, RUN_KEYS, SCENE_KEYS, SPEED_KEYS, SUPPORT_KEYS, TABLES,
-                                TORQUE_KEYS, TORQUE_MODEL_KEYS, balancer_table, check_tables,
-                                drive_table, initial_table, perturbation_tables, rotor_table,
+                                TORQUE_KEYS, TORQUE_MODEL_KEYS, balancer_table, check_programme_slope,
+                                check_tables, drive_table, initial_table, perturbation_tables, rotor_table,
                                 run_table, scene_header, supports_table, weight_tables)
 
 __all__ = ["load", "load_scene", "parse", "parse_scene", "scene_from_dimensionless", "MAX_SAMPLES"]
@@ -183,6 +183,8 @@ def check_derived(scene: Scene) -> Scene:
             if not cycles <= MAX_CYCLES:
                 raise SceneError(f"run.duration = {run.duration:g} s: the run spans {cycles:.3g} "
                                  f"{label}, more than {MAX_CYCLES:.0e}; shorten run.duration")
+        if d.kind == "speed":
+            check_programme_slope(d.programme)
         width = 2 * (2 + b.count + (1 if d.kind == "torque" else 0))
         nbytes = (run.duration * run.sample_rate + 1) * width * 8 * 2  # samples + SI copies
         if nbytes > MAX_STATE_BYTES:
