@@ -42,4 +42,4 @@ class Budget:
         self.used += n
         if self.used > self.limit:
             raise BudgetExceeded(f"{self.what} ran out of its budget of {self.limit} {self.unit} "
-                                 "(the input is too ill-conditioned to resolve); stopped")
+                                 "(the input is too ill-conditioned to resolve)")
