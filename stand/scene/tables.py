@@ -158,9 +158,10 @@ def balancer_table(t: _Table) -> Balancer:
 
 
 #: steepest speed change between two programme nodes accepted [rev/s per s]: a step of
-#: 1e4 rev/s in a millisecond; steeper ones overflow the rotor's angular acceleration
+#: 1e6 rev/s in a nanosecond (a dimensionless ramp of R 1 in tau 0.03 on a stiff rotor is
+#: 1e7); steeper ones (a step in 1e-300 s) overflow the rotor's angular acceleration
 #: (a programme of one node is a constant speed)
-MAX_PROGRAMME_SLOPE = 1e7
+MAX_PROGRAMME_SLOPE = 1e15
 
 
 def check_programme_slope(programme: np.ndarray) -> None:
