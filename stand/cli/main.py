@@ -13,7 +13,8 @@
     stand warmup [--all]
 
 Exit codes: 0 success; 1 the simulation stopped early (what was computed is
-still written); 2 invalid input (scene, arguments, files).
+still written) or a computation ran out of its work budget (one line says which and
+the budget); 2 invalid input (scene, arguments, files).
 
 One BLAS thread per process: the command line's parallelism is processes (batch
 and sweep workers), and the identification's matrices are small: on a busy
@@ -109,10 +110,25 @@ def _background_precompile() -> None:
             pass
 
 
-def main(argv=None) -> int:
-    from stand.errors import SceneError
+def _one_line_errors(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    """Argument errors as one line (docs/guarantees.md), not argparse's usage block:
+    ``stand influence: error: the following arguments are required: --trial; see
+    stand influence --help`` (exit 2), on the parser and every subcommand's."""
+    def error(message, p=parser):
+        p.exit(2, f"{p.prog}: error: {' '.join(str(message).split())}; see {p.prog} --help\n")
 
-    args = build_parser().parse_args(argv)
+    parser.error = error
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                _one_line_errors(sub)
+    return parser
+
+
+def main(argv=None) -> int:
+    from stand.errors import BudgetExceeded, SceneError
+
+    args = _one_line_errors(build_parser()).parse_args(argv)
     try:
         _guard(args)
         return args.func(args)
@@ -122,6 +138,10 @@ def main(argv=None) -> int:
         # TheoryError is a ValueError: out-of-scope scenes end here with their reason
         print(f"stand {args.command}: error: {_naming_the_input(args, exc)}", file=sys.stderr)
         return 2
+    except BudgetExceeded as exc:
+        # an iterative part ran out of its work budget (issue 34): one line, what and the budget
+        print(f"stand {args.command}: stopped: {_naming_the_input(args, exc)}", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         print(f"stand {args.command}: interrupted", file=sys.stderr)
         return 130
