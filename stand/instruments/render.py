@@ -398,6 +398,14 @@ def background_table(background: float, read_noise: float, shot_noise: bool,
 
 
 # ---------------------------------------------------------------- wrappers
+def _render_kernel():
+    """:func:`render_frame` precompiled (no numba import: a ``stand run`` with a screen starts
+    as fast as one without), or on numba's JIT (stand.integrate.kernel_set.extra)."""
+    from stand.integrate.kernel_set import extra
+
+    return extra("render", render_frame)
+
+
 def _settings(cam):
     su, sv = cam.sigma_px
     return dict(sigma_u=su, sigma_v=sv, peak=float(cam.peak), background=float(cam.background),
@@ -427,7 +435,7 @@ class _Renderer:
     def render(self, u, v, weights, state, out):
         p = self.p
         with np.errstate(over="ignore"):  # uint64 wrap-around in the plain-Python path
-            return render_frame(u, v, weights, p["sigma_u"], p["sigma_v"], p["peak"],
+            return _render_kernel()(u, v, weights, p["sigma_u"], p["sigma_v"], p["peak"],
                                 p["background"], p["read_noise"], p["electrons_per_dn"],
                                 p["shot_noise"], p["max_dn"], self.noise, state, self.thr,
                                 self.guide, self.kmin, self.window, self.acc, out)
