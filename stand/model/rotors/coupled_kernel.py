@@ -92,11 +92,9 @@ H_N, H_NW, H_NPL, H_NUB, H_WREF, H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OG
 # 1 speed feedback, 2 angle feedback), torque [N m], c1 [N m s], c2 [N m], target speed
 # [rad/s], rotor drag H0 [N m s], initial speed [rad/s]
 H_FREE, H_JP, H_DMODEL, H_TQ, H_C1, H_C2, H_WT, H_H0, H_W0 = range(17, 26)
-# offset of the right-hand side's scratch block (the last block of sp, :func:`scratch_size`)
-H_OS = 26
-# offset of the locked mass matrix M + sum_j m_j F_p^T T_p (n x n, row-major): the part of
-# the Schur complement that does not depend on the weights' angles
-H_OML = 27
+# offsets of the RHS's scratch block (sp's last, :func:`scratch_size`) and of the locked mass
+# matrix M + sum_j m_j F_p^T T_p (n x n; the Schur complement's part free of the angles)
+H_OS, H_OML = 26, 27
 N_HEAD = 28
 DRIVE_MODELS = {"constant": 0, "speed_feedback": 1, "angle_feedback": 2}
 # weight table columns: plane, mass, radius, inertia, drag, friction (kinetic,
@@ -228,12 +226,10 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
     ns = n + nw
     nb = int(sp[H_NB])
     oB = int(sp[H_OB])
-    # one flat scratch block, indexed by offsets (views and allocations dominate at small n):
-    # the tail of sp (scratch_size; nothing is allocated per call): q, qd, A (row-major), f,
-    # q'', then per point weight cos, sin, moment, then the body reaction and each body's
-    # plane point state
-    buf = sp
-    oq = int(sp[H_OS])
+    # one flat scratch block, the tail of sp (scratch_size; views and allocations dominate at
+    # small n), indexed by offsets: q, qd, A (row-major), f, q'', per point weight cos, sin,
+    # moment, the body reaction, n_j^T T_p, each body's plane point state
+    buf, oq = sp, int(sp[H_OS])
     oqd, oA = oq + n, oq + 2 * n
     of = oA + ld * ld
     ox = of + ld
@@ -391,13 +387,10 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
 
 
 def scratch_size(n: int, nw: int, nb: int, free: bool) -> int:
-    """Length of :func:`rhs_generic`'s scratch block, the last block of ``sp``: q, q', the
-    (n + free)^2 matrix, its right-hand side and solution, cos, sin and resisting moment of
-    each point weight, a body reaction (6), a weight's n_j^T T_p (n) and each body's plane
-    point state (4).
-
-    The right-hand side writes there instead of allocating (a model's ``sp`` is therefore
-    evaluated by one thread at a time; copy it to evaluate one model concurrently)."""
+    """Length of :func:`rhs_generic`'s scratch block, the last of ``sp``: q, q', the (n + free)^2
+    matrix, its right-hand side and solution, cos, sin, moment of each point weight, a body
+    reaction (6), a weight's n_j^T T_p (n), each body's plane point state (4).  The RHS writes
+    there instead of allocating: one thread at a time per ``sp`` (copy it to share a model)."""
     ld = n + int(free)
     return 2 * n + ld * ld + 2 * ld + 3 * nw + 6 + n + 4 * nb
 
