@@ -33,11 +33,30 @@ def read_source(path, recording_map=None):
     p = Path(path)
     if is_table(p):
         return from_table(p, recording_map)
+    _refuse_unknown(p)
     d = from_run(read_recording(p))
     if recording_map is not None and recording_map.columns:   # e.g. a folder of mixed files
         d["notes"].append("the recording map applies to tables; this stand recording carries "
                           "its own channels (map ignored)")
     return d
+
+
+def _refuse_unknown(p: Path) -> None:
+    """A file that is neither a table by its name nor HDF5: one line listing what is read."""
+    import h5py
+
+    from stand.lab.formats import FORMATS_READ
+    from stand.lab.table import TableError
+
+    if not p.is_file():
+        return                                   # the recording reader says what is missing
+    try:
+        hdf5 = h5py.is_hdf5(str(p))
+    except OSError:
+        return
+    if not hdf5:
+        raise TableError(f"{p}: not a format that is read (suffix {p.suffix or 'none'!r}, no HDF5 "
+                         f"signature); stand analyze reads: {'; '.join(FORMATS_READ)}")
 
 
 def from_table(p, recording_map):

@@ -37,9 +37,10 @@ import numpy as np
 from stand.lab.recording_map import ROLES, ColumnSpec, MapError, RecordingMap, recognise
 from stand.lab.units import UnitError
 
-__all__ = ["LabTable", "TableError", "read_table", "is_table_file", "is_table", "read_frame"]
+__all__ = ["LabTable", "TableError", "read_table", "is_table_file", "is_table", "read_frame",
+           "check_shape", "decode_text"]
 
-TABLE_SUFFIXES = (".csv", ".tsv", ".txt", ".dat", ".parquet", ".pq")
+TABLE_SUFFIXES = (".csv", ".tsv", ".txt", ".dat", ".parquet", ".pq", ".xlsx", ".xlsm", ".mat", ".tdms")
 CLIP_RUN = 4          #: samples at the extreme value that make a channel clipped
 GAP_FACTOR = 1.5      #: a time step above this x the median step is a gap
 MIN_ROWS = 2          #: fewest rows of a usable stretch
@@ -142,7 +143,7 @@ def _memory_budget() -> float:
         return 2.0 ** 33 / 4
 
 
-def _check_shape(label: str, n_columns: int, n_rows: int) -> None:
+def check_shape(label: str, n_columns: int, n_rows: int) -> None:
     """Refuse a table wider than :data:`MAX_COLUMNS` or larger than the memory budget."""
     if n_columns > MAX_COLUMNS:
         raise TableError(f"{label}: {n_columns} columns, over the limit of {MAX_COLUMNS}; "
@@ -245,6 +246,13 @@ def read_frame(path, rmap: Optional[RecordingMap] = None):
         if isinstance(exc, TableError):
             raise
         raise TableError(f"{label}: not a readable table ({' '.join(str(exc).split())})") from None
+    if suffix in (".xlsx", ".xlsm", ".mat", ".tdms"):
+        from stand.lab.formats import read_other
+
+        df, text = read_other(p, label, rmap.key)
+        if df is not None:
+            return df, {}
+        return _frame_from_text(text, label, rmap)
     try:
         size = p.stat().st_size
         if 4.0 * size > _memory_budget():   # bytes, text, lines, cells: ~4 copies of the file
@@ -254,12 +262,37 @@ def read_frame(path, rmap: Optional[RecordingMap] = None):
         raw = p.read_bytes()
     except OSError as exc:
         raise TableError(f"{label}: cannot read ({exc.strerror or exc})") from None
-    for enc in ("utf-8-sig", "cp1252", "latin-1"):
+    return _frame_from_text(decode_text(raw, label), label, rmap)
+
+
+def decode_text(raw: bytes, label: str) -> str:
+    """The text of a table's bytes: UTF-16 (by its byte-order mark, or by the NUL bytes of
+    ASCII text in UTF-16 without one), UTF-8 (with or without BOM), else Windows-1252."""
+    if raw[:2] in (b"\xff\xfe", b"\xfe\xff"):
+        encs = ("utf-16",)
+    else:
+        head = raw[:4096]
+        even, odd = head[0::2].count(0), head[1::2].count(0)
+        encs = (("utf-16-le",) if odd > 0.3 * len(head) / 2 > even else
+                ("utf-16-be",) if even > 0.3 * len(head) / 2 > odd else ())
+        encs += ("utf-8-sig", "cp1252", "latin-1")
+    for enc in encs:
         try:
             text = raw.decode(enc)
-            break
         except UnicodeDecodeError:
             continue
+        if "\x00" in text:
+            raise TableError(f"{label}: binary data, not a text table (NUL characters in the "
+                             f"{enc} text); a table is read from CSV/TSV/TXT in UTF-8 or UTF-16, "
+                             f"Parquet, HDF5, Excel, MATLAB or TDMS")
+        return text.lstrip("\ufeff")
+    raise TableError(f"{label}: not a text table in UTF-8, UTF-16 or Windows-1252")
+
+
+def _frame_from_text(text: str, label: str, rmap: RecordingMap):
+    """The CSV layout rules (module docstring) on a table's text."""
+    import pandas as pd
+
     lines = text.splitlines()
     longest = max(range(len(lines)), key=lambda i: len(lines[i]), default=0)
     if lines and len(lines[longest]) > MAX_LINE_CHARS:
@@ -274,7 +307,7 @@ def read_frame(path, rmap: Optional[RecordingMap] = None):
         raise TableError(f"{label}: 0 data rows; at least {MIN_ROWS} are needed")
     width = max((len(_fields(ln, delim)) for ln in lines[header:header + 50] if ln.strip()),
                 default=0)
-    _check_shape(label, width, len(lines) - header - 1)
+    check_shape(label, width, len(lines) - header - 1)
     try:
         df = pd.read_csv(io.StringIO("\n".join(lines[header:])), sep=delim if delim else r"\s+",
                          decimal=decimal, skipinitialspace=True, engine="c" if delim else "python")
@@ -296,7 +329,7 @@ def _check_parquet_shape(p: Path, label: str) -> None:
     except Exception as exc:  # noqa: BLE001 -- any footer error: one clear line
         raise TableError(f"{label}: not a readable Parquet file ({' '.join(str(exc).split())})") \
             from None
-    _check_shape(label, meta.num_columns, meta.num_rows)
+    check_shape(label, meta.num_columns, meta.num_rows)
 
 
 # ------------------------------------------------------------------ checks
@@ -350,8 +383,13 @@ def read_table(path, recording_map: Optional[RecordingMap] = None,
     df, meta = read_frame(path, rmap)
     names = list(df.columns)
     cols = {}
+    from stand.lab.formats import resolve_column
+
     for role, spec in rmap.columns.items():
-        if spec.column not in df:
+        full = resolve_column(spec.column, names, grouped=bool(df.attrs.get("grouped")))
+        if full is not None and full != spec.column:
+            spec = ColumnSpec(role, full, spec.unit, spec.sensitivity_v_per_m, spec.threshold)
+        if full is None:
             from stand.io.validate import suggest
 
             raise TableError(f"{label}: {role} = column {spec.column!r} ({rmap.source}) is not in "
@@ -360,7 +398,12 @@ def read_table(path, recording_map: Optional[RecordingMap] = None,
         cols[role] = spec
     recognised = []
     if not cols:
-        found, recognised = recognise(names)
+        grouped = bool(df.attrs.get("grouped"))          # MATLAB / TDMS: group/channel
+        bare = [n.rsplit("/", 1)[-1] if grouped else n for n in names]
+        found, recognised = recognise(bare)
+        full = dict(zip(bare, names))
+        found = {r: ColumnSpec(r, full[c.column], c.unit, c.sensitivity_v_per_m, c.threshold)
+                 for r, c in found.items()}
         cols.update(found)
     for role, eg, unit in (("time", "t_s, time_ms", "s"), ("x", "x_m, disp_x_um", "um"),
                            ("y", "y_m, disp_y_um", "um")):
