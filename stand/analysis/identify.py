@@ -210,7 +210,9 @@ def _steady_1x(d, out, speed, rotating):
         except SignalError as exc:
             notes.append(f"1X / unbalance: {exc}")
     elif rotating:
-        line_1x(t[sl], x[sl] + 1j * y[sl], out, notes)
+        ang = d.get("angle")
+        line_1x(t[sl], x[sl] + 1j * y[sl], out, notes,
+                speed_how=d.get("speed_how") if ang is not None and not ang.estimated else None)
     return sl, sc1
 
 

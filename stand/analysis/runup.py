@@ -9,8 +9,9 @@ on recordings of rotors without weights:
   the angle is referenced to a mark (keyphasor, encoder).
 * **Model fit** over the whole record (:func:`dsp.response_fit.fit_unbalance_response`):
   natural frequency, damping ratio, specific unbalance and its angle, the
-  probes' DC offset and 1X runout; no quasi-steady assumption.  Without a
-  keyphasor or encoder (a tachometer or nothing) the angle is estimated from
+  probes' DC offset and 1X runout; no quasi-steady assumption.  A tachometer's
+  integrated speed is the angle up to a constant (the unbalance angle is then not
+  reported); with no speed channel at all the angle is estimated from
   the whirl (:func:`dsp.response_fit.fit_response_without_speed`) and the
   unbalance has a magnitude but no angle.
 * **Critical speed** from the resonance peak of the 1X amplitude with the
@@ -80,7 +81,9 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
     out = {"speed_source": None if angle is None else angle.source, "speed_estimated": False,
            "bode": None, "resonance": None, "model_fit": None, "programme": None}
     fit = None
-    if angle is not None and ref:
+    # a tachometer's integrated angle is the rotor angle up to a constant, which the fit's
+    # unbalance angle absorbs: f0, zeta and |U| as with a mark (issue 31, item 2)
+    if angle is not None and (ref or not angle.estimated):
         c = angle.covered
         prog = speed_programme(t[c], angle.speed_rad_s[c])
         if not any(s.kind in SWEEPS for s in prog.stretches):
