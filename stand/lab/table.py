@@ -28,7 +28,7 @@ import csv
 import io
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Optional
 
@@ -66,8 +66,9 @@ class LabTable:
     t : ndarray
         Times [s].
     signals : dict
-        Role -> ndarray in SI (``x``, ``y`` [m]; ``speed`` [rad/s]; ``angle``
-        [rad]; ``keyphasor``, ``photogate`` in the channel's volts).
+        Role -> ndarray in SI (``x``, ``y`` [m], [m/s] or [m/s²] by ``quantity``;
+        ``speed`` [rad/s]; ``angle`` [rad]; ``keyphasor``, ``photogate`` in the
+        channel's volts).
     columns : dict
         Role -> :class:`ColumnSpec` used.
     recognised : list of str
@@ -79,6 +80,9 @@ class LabTable:
     metadata : dict
         ``key = value`` header lines (strings).
     recording_map : RecordingMap
+    quantity : str
+        What ``x`` and ``y`` measure: ``length`` (displacement), ``velocity`` or
+        ``acceleration``.
     """
 
     path: str
@@ -90,6 +94,7 @@ class LabTable:
     excluded: list = field(default_factory=list)
     metadata: dict = field(default_factory=dict)
     recording_map: RecordingMap = field(default_factory=RecordingMap)
+    quantity: str = "length"
 
     def input_summary(self) -> dict:
         """What was read, JSON-able (``stand analyze``'s ``input``)."""
@@ -100,7 +105,8 @@ class LabTable:
                             for r, c in self.columns.items()},
                 "map": self.recording_map.source if self.recording_map.columns else None,
                 "recognised": list(self.recognised),
-                "rows_used": list(self.rows), "excluded": list(self.excluded)}
+                "rows_used": list(self.rows), "excluded": list(self.excluded),
+                "vibration_quantity": self.quantity}
 
 
 def is_table(path) -> bool:
@@ -388,7 +394,7 @@ def read_table(path, recording_map: Optional[RecordingMap] = None,
     for role, spec in rmap.columns.items():
         full = resolve_column(spec.column, names, grouped=bool(df.attrs.get("grouped")))
         if full is not None and full != spec.column:
-            spec = ColumnSpec(role, full, spec.unit, spec.sensitivity_v_per_m, spec.threshold)
+            spec = replace(spec, column=full)
         if full is None:
             from stand.io.validate import suggest
 
@@ -402,8 +408,7 @@ def read_table(path, recording_map: Optional[RecordingMap] = None,
         bare = [n.rsplit("/", 1)[-1] if grouped else n for n in names]
         found, recognised = recognise(bare)
         full = dict(zip(bare, names))
-        found = {r: ColumnSpec(r, full[c.column], c.unit, c.sensitivity_v_per_m, c.threshold)
-                 for r, c in found.items()}
+        found = {r: replace(c, column=full[c.column]) for r, c in found.items()}
         cols.update(found)
     for role, eg, unit in (("time", "t_s, time_ms", "s"), ("x", "x_m, disp_x_um", "um"),
                            ("y", "y_m, disp_y_um", "um")):
@@ -422,11 +427,12 @@ def read_table(path, recording_map: Optional[RecordingMap] = None,
             from stand.lab.units import unit_from_name, ROLE_QUANTITY
 
             unit = unit_from_name(spec.column, ROLE_QUANTITY[role])
+            for q in (("velocity", "acceleration") if role in ("x", "y") else ()):
+                unit = unit or unit_from_name(spec.column, q)
             if unit is None:
                 raise TableError(f"{label}: {role} = column {spec.column!r}: no unit; give it, e.g. "
                                  f"--columns {role}={spec.column}[{DEFAULT_UNIT[role]}]")
-            spec = cols[role] = ColumnSpec(role, spec.column, unit, spec.sensitivity_v_per_m,
-                                           spec.threshold)
+            spec = cols[role] = replace(spec, unit=unit)
         try:
             k = spec.si_factor(f"{role} = column {spec.column!r}")
         except (UnitError, MapError) as exc:
@@ -439,6 +445,7 @@ def read_table(path, recording_map: Optional[RecordingMap] = None,
             raise TableError(f"{label}: column {spec.column!r} ({spec.unit}), data row {i + 1}: "
                              f"{str(raw.iloc[i])[:40]!r} is not a number")
         sig[role] = num.to_numpy(float) * (1.0 if role in ("keyphasor", "photogate") else k)
+    quantity = _vibration_quantity(cols, label)
     t = sig.pop("time")
     tcol = cols["time"]
     n = t.size
@@ -503,7 +510,18 @@ def read_table(path, recording_map: Optional[RecordingMap] = None,
                              "t_end_s": _finite(t, n - 1), "reason": "after the longest clean stretch"})
     return LabTable(path=label, t=t[a:b], signals={r: v[a:b] for r, v in sig.items()},
                     columns=cols, recognised=recognised, rows=(a + 1, b), excluded=excluded,
-                    metadata=meta, recording_map=rmap)
+                    metadata=meta, recording_map=rmap, quantity=quantity)
+
+
+def _vibration_quantity(cols, label) -> str:
+    """What x and y measure (displacement ``length``, ``velocity``, ``acceleration``): one
+    quantity for both."""
+    qs = {r: cols[r].quantity() for r in ("x", "y") if r in cols}
+    if len(set(qs.values())) > 1:
+        raise TableError(f"{label}: x = column {cols['x'].column!r} [{cols['x'].unit}] is a "
+                         f"{qs['x']}, y = column {cols['y'].column!r} [{cols['y'].unit}] a "
+                         f"{qs['y']}; both probes must measure the same quantity")
+    return next(iter(qs.values()), "length")
 
 
 def _finite(t, i):
