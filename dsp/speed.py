@@ -305,7 +305,10 @@ def angle_from_speed(t, speed_rad_s, *, source: str = "tachometer") -> RotorAngl
         starts = np.concatenate(([0], change))
         stops = np.concatenate((change, [t.size]))
         dt = float(np.median(np.diff(t)))
-        tm = t[starts] - 0.5 * (t[stops - 1] - t[starts] + dt)
+        # the gate: the typical hold (a steady speed holds one reading over many updates,
+        # so a step's own length is not its gate)
+        gate = float(np.median(t[stops - 1] - t[starts] + dt))
+        tm = t[starts] - 0.5 * gate
         w = np.interp(t, tm, w[starts])
     ang = np.concatenate(([0.0], np.cumsum(0.5 * (w[1:] + w[:-1]) * np.diff(t))))
     acc = np.gradient(w, t)

@@ -39,6 +39,7 @@ from dsp.errors import SignalError
 from stand.analysis.sources import read_source, whirls
 from stand.analysis.two_plane import two_plane
 from stand.analysis.unbalance import line_1x, unbalance
+from stand.analysis.vibration import VIBRATION, vibration_in_users_quantity
 
 __all__ = ["analyze", "two_plane"]
 
@@ -90,6 +91,9 @@ def analyze(path, grade: float = 6.3, service_speed_rpm: float | None = None,
     _free_decay(d, out, rotating)
     _sweep(d, out, rotating)
     sl, sc1 = _steady_1x(d, out, speed, rotating)
+    vibration_in_users_quantity(d, out)
+    if d.get("quantity", "length") != "length":
+        sc1 = None          # its vector is a velocity / acceleration: the fit or the line's |1X|
     if rotating:
         unbalance(out, d["scene"], sc1, d, rmap, getattr(rmap, "mass_kg", None), grade,
                   service_speed_rpm, notes)
@@ -155,7 +159,8 @@ def _sweep(d, out, rotating) -> None:
     if not (rotating and (tab is not None or model_ok or scene is not None)):
         return
     sw = sweep_identification(d["t"], d["x"], d["y"], d.get("angle"), out["notes"],
-                              fit_model=model_ok or tab is not None)
+                              fit_model=model_ok or tab is not None,
+                              derivative=VIBRATION[d.get("quantity", "length")])
     if sw is None:
         return
     out["runup"] = sw

@@ -48,7 +48,7 @@ def _fit_dict(fit, referenced: bool) -> dict:
 
 
 def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bool] = None,
-                         fit_model: bool = True) -> Optional[dict]:
+                         fit_model: bool = True, derivative: int = 0) -> Optional[dict]:
     """Identify what a swept record gives (module docstring).
 
     Parameters
@@ -61,6 +61,9 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
         Receives what could not be done and why.
     fit_model : bool
         Fit the rigid-rotor model (off for rotors whose weights make it wrong).
+    derivative : int
+        x, y measure displacement (0), velocity (1, [m/s]) or acceleration (2, [m/s²]):
+        the model is fitted in that quantity; the Bode data are displacement (1X / (i w)^k).
 
     Returns
     -------
@@ -91,7 +94,7 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
         if fit_model:
             try:
                 fit = fit_unbalance_response(t[c], z[c], angle.angle_rad[c], angle.speed_rad_s[c],
-                                             angle.acceleration_rad_s2[c])
+                                             angle.acceleration_rad_s2[c], derivative=derivative)
             except SignalError as exc:
                 notes.append(f"run-up model fit: {exc}")
     else:
@@ -100,6 +103,10 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
             if not any(s.kind in SWEEPS for s in prog.stretches):
                 return None
         if not fit_model:
+            return None
+        if derivative:
+            notes.append("run-up model fit: a velocity or acceleration record needs a speed "
+                         "channel (keyphasor, encoder or tachometer)")
             return None
         try:
             fit, angle = fit_response_without_speed(t, z)
@@ -127,6 +134,7 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
     tm, w, v = pr
     if fit is not None:
         v = v - fit.runout_m
+    v = v / (1j * w) ** derivative            # the 1X of a velocity / acceleration -> displacement
     out["bode"] = {"t_s": tm.tolist(), "speed_hz": (w / TWO_PI).tolist(),
                    "amplitude_m": np.abs(v).tolist(),
                    "phase_deg": np.degrees(np.angle(v)).tolist() if ref else None}

@@ -7,7 +7,8 @@ returns one dict: ``t`` [s], ``x``, ``y`` [m], ``phi`` (the rotor angle [rad] or
 ``weights`` (weight angles [rad] or None), ``scene`` (the planar scene whose model
 turns a 1X response into an unbalance, or None), ``notes``, ``angle`` (a
 :class:`dsp.speed.RotorAngle` or None), ``speed_how`` (where the speed comes from),
-``table`` (the lab table or None).  :func:`whirls` tells whether a record without a
+``table`` (the lab table or None), ``quantity`` (what x and y measure: ``length``,
+``velocity`` [m/s] or ``acceleration`` [m/s²]; a Run's are ``length``).  :func:`whirls` tells whether a record without a
 speed channel comes from a spinning shaft.
 """
 from __future__ import annotations
@@ -78,8 +79,17 @@ def from_table(p, recording_map):
         angle = type(angle)(angle.angle_rad[c], angle.speed_rad_s[c], angle.acceleration_rad_s2[c],
                             np.ones(int(c.sum()), bool), angle.source, angle.referenced,
                             angle.estimated, angle.pulses_s)
+    if tab.quantity != "length":
+        notes.append(_SUPPORT_MODEL)
     return dict(t=t, x=x, y=y, phi=phi, kp=None, weights=None, scene=None, notes=notes,
-                angle=angle, speed_how=how, table=tab)
+                angle=angle, speed_how=how, table=tab, quantity=tab.quantity)
+
+
+_SUPPORT_MODEL = ("velocity / acceleration channels: taken as the motion of the rotor's centre "
+                  "(the rigid rotor on isotropic supports, the sensors on bearing housings that "
+                  "move with the journal: no relative motion between shaft and housing); the "
+                  "model's response is differentiated to the channel's quantity, nothing is "
+                  "integrated")
 
 
 def from_run(rec):
