@@ -76,6 +76,10 @@ def analyze(path, grade: float = 6.3, service_speed_rpm: float | None = None,
 
     grade = renamed(grade, grade_mm_s, "grade_mm_s", "grade", "analyze")
     d = read_source(path, recording_map)
+    if "bode" in d:                          # a Bode / polar table: the modal fit
+        from stand.analysis.bode import analyze_bode
+
+        return Analysis(analyze_bode(d["bode"], d["notes"]))
     t = d["t"]
     if t.size < 2:  # np.gradient of the rotor angle needs two samples
         raise ValueError(f"{path}: {t.size} sample(s) in time (s); stand analyze needs at least 2")

@@ -33,6 +33,10 @@ def read_source(path, recording_map=None):
         return from_run(path)
     p = Path(path)
     if is_table(p):
+        from stand.lab.bode_table import is_bode_map, read_bode_table
+
+        if is_bode_map(recording_map):
+            return dict(bode=read_bode_table(p, recording_map), notes=[])
         return from_table(p, recording_map)
     _refuse_unknown(p)
     d = from_run(read_recording(p))

@@ -27,7 +27,9 @@ Two spellings of one map:
 
 Roles: ``time`` (required), ``x``, ``y`` (shaft displacement), ``speed``
 (tachometer), ``angle`` (encoder), ``keyphasor`` (once-per-revolution pulses),
-``photogate`` (the book's photo-gate on the laser beam).  Without a map, the
+``photogate`` (the book's photo-gate on the laser beam).  A Bode / polar table
+(:mod:`stand.lab.bode_table`) has ``speed``, ``amplitude`` and ``phase`` instead
+(no time).  Without a map, the
 well-known names are recognised (:func:`recognise`) and the choice is reported.
 """
 from __future__ import annotations
@@ -43,7 +45,9 @@ from stand.lab.units import (QUANTITIES, ROLE_QUANTITY, UnitError, factor, is_se
 __all__ = ["ColumnSpec", "RecordingMap", "parse_columns", "read_map", "map_from_options", "recognise", "ROLES",
            "MapError"]
 
-ROLES = ("time", "x", "y", "speed", "angle", "keyphasor", "photogate")
+ROLES = ("time", "x", "y", "speed", "angle", "keyphasor", "photogate", "amplitude", "phase")
+#: roles whose unit says a vibration quantity (displacement, velocity, acceleration)
+VIBRATION_ROLES = ("x", "y", "amplitude")
 
 
 class MapError(ValueError):
@@ -82,7 +86,7 @@ class ColumnSpec:
         """What the channel measures: a vibration channel's ``length`` (displacement),
         ``velocity`` or ``acceleration`` (by its unit, or its sensitivity for volts); else the
         role's quantity."""
-        if self.role not in ("x", "y"):
+        if self.role not in VIBRATION_ROLES:
             return ROLE_QUANTITY[self.role]
         unit, _ = split_convention(self.unit or "m")
         if unit in QUANTITIES["voltage"]:
@@ -100,7 +104,7 @@ class ColumnSpec:
         """Multiply the column by this to get SI (m, m/s, m/s², s, rad/s, rad; volts stay volts)."""
         q = ROLE_QUANTITY[self.role]
         unit = self.unit
-        if self.role in ("x", "y"):
+        if self.role in VIBRATION_ROLES:
             unit, _ = split_convention(unit)
             if unit in QUANTITIES["voltage"]:
                 if not self.sensitivity_v_per_m:
@@ -294,7 +298,7 @@ _KNOWN = {
 }
 #: unit assumed when a recognised column's name carries none
 DEFAULT_UNIT = {"time": "s", "x": "m", "y": "m", "speed": "rad/s", "angle": "rad",
-                "keyphasor": "V", "photogate": "V"}
+                "keyphasor": "V", "photogate": "V", "amplitude": "um", "phase": "deg"}
 
 
 def _base(name: str) -> str:

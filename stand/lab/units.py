@@ -52,7 +52,8 @@ QUANTITIES = {
 }
 #: the quantity each signal role is measured in (a displacement may also be a voltage)
 ROLE_QUANTITY = {"time": "time", "x": "length", "y": "length", "speed": "speed",
-                 "angle": "angle", "keyphasor": "voltage", "photogate": "voltage"}
+                 "angle": "angle", "keyphasor": "voltage", "photogate": "voltage",
+                 "amplitude": "length", "phase": "angle"}
 
 
 def factor(quantity: str, unit: str, field: str) -> float:
