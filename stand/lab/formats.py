@@ -1,7 +1,7 @@
 """The files DAQ systems write, as one DataFrame of named columns: Excel, MATLAB, NI TDMS.
 
 Each reader goes through a well-kept library (no hand-written parser) and checks the
-table's shape (:func:`stand.lab.table.check_shape`: columns, memory budget) before the
+table's shape (:func:`stand.lab.limits.check_shape`: columns, memory budget) before the
 cells are read where the format tells the shape up front:
 
 * Excel ``.xlsx`` / ``.xlsm``: :func:`pandas.read_excel` with openpyxl (optional
@@ -35,7 +35,7 @@ FORMATS_READ = ("stand recording (.h5, HDF5)", "CSV/TSV/TXT/DAT (UTF-8, UTF-8 wi
 
 
 def _error(msg):
-    from stand.lab.table import TableError
+    from stand.lab.limits import TableError
 
     return TableError(msg)
 
@@ -72,7 +72,7 @@ def _frame(columns: dict, label: str):
     channels are padded with NaN (the table's checks then name them)."""
     import pandas as pd
 
-    from stand.lab.table import check_shape
+    from stand.lab.limits import check_shape
 
     cols = {k: np.asarray(v, float).ravel() for k, v in columns.items()}
     cols = {k: v for k, v in cols.items() if v.size > 1}
@@ -95,7 +95,7 @@ def excel_text(p: Path, label: str, sheet=None) -> str:
     """The sheet's cells as ``;``-separated text rows (for the CSV layout rules)."""
     import pandas as pd
 
-    from stand.lab.table import check_shape
+    from stand.lab.limits import check_shape
 
     openpyxl = _need("openpyxl", "openpyxl", label)
     try:
@@ -169,7 +169,7 @@ def read_mat(p: Path, label: str):
 
         try:
             info = scipy.io.whosmat(str(p))
-            from stand.lab.table import check_shape
+            from stand.lab.limits import check_shape
 
             check_shape(label, len(info), max((int(np.prod(s[1])) for s in info), default=0))
             data = scipy.io.loadmat(str(p), squeeze_me=False, struct_as_record=True)
@@ -190,7 +190,7 @@ def read_tdms(p: Path, label: str):
     try:
         with nptdms.TdmsFile.open(p) as f:
             chans = [(g.name, c) for g in f.groups() for c in g.channels()]
-            from stand.lab.table import check_shape
+            from stand.lab.limits import check_shape
 
             check_shape(label, len(chans), max((len(c) for _, c in chans), default=0))
             out, inc = {}, None

@@ -35,6 +35,7 @@ from typing import Optional
 import numpy as np
 
 from stand.lab.recording_map import ROLES, ColumnSpec, MapError, RecordingMap, recognise
+from stand.lab.limits import CELL_BYTES, MAX_COLUMNS, TableError, _memory_budget, check_shape  # noqa: F401
 from stand.lab.units import UnitError
 
 __all__ = ["LabTable", "TableError", "read_table", "is_table_file", "is_table", "read_frame",
@@ -46,14 +47,7 @@ GAP_FACTOR = 1.5      #: a time step above this x the median step is a gap
 MIN_ROWS = 2          #: fewest rows of a usable stretch
 #: the shape limits of a table, checked before it is parsed (issue 34: a reader's work is
 #: bounded by its input): a lab export has tens of channels, not thousands
-MAX_COLUMNS = 4096
 MAX_LINE_CHARS = 1 << 20        #: one line of a text table [characters]
-#: parsing a cell costs ~3 float64 copies; the table may use a quarter of the memory
-CELL_BYTES = 24
-
-
-class TableError(ValueError):
-    """A table that cannot be analysed; one line naming the file, column and rows."""
 
 
 @dataclass
@@ -136,30 +130,6 @@ def _fields(line: str, delim: Optional[str]) -> list:
         return next(csv.reader([line], delimiter=delim))
     except csv.Error as exc:   # e.g. a field over csv's field limit: one clear line upstream
         raise TableError(f"a line that is not a table row ({exc})") from None
-
-
-def _memory_budget() -> float:
-    """Bytes a table may take while it is read: a quarter of the physical memory (8 GiB
-    where the system does not say)."""
-    import os
-
-    try:
-        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 4
-    except (ValueError, OSError, AttributeError):
-        return 2.0 ** 33 / 4
-
-
-def check_shape(label: str, n_columns: int, n_rows: int) -> None:
-    """Refuse a table wider than :data:`MAX_COLUMNS` or larger than the memory budget."""
-    if n_columns > MAX_COLUMNS:
-        raise TableError(f"{label}: {n_columns} columns, over the limit of {MAX_COLUMNS}; "
-                         f"export only the channels to analyse")
-    need = float(n_columns) * n_rows * CELL_BYTES
-    if need > _memory_budget():
-        raise TableError(f"{label}: {n_rows} rows x {n_columns} columns would need "
-                         f"{need / 2 ** 30:.1f} GiB to read, over the limit of "
-                         f"{_memory_budget() / 2 ** 30:.1f} GiB (a quarter of the memory); "
-                         f"split the table or export fewer channels")
 
 
 def _numeric_share(row) -> float:
