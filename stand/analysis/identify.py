@@ -233,6 +233,10 @@ def _components(d, out, sl, rotating) -> None:
     out.update(components=[], precession_hz=None, nutation_hz=None, petals=None, shape=None)
     if not (rotating and out["speed_hz"] is not None):
         return
+    if d.get("quantity", "length") != "length":
+        notes.append("quasi-periodic decomposition: on displacement records only (this one is "
+                     f"{d['quantity']})")
+        return
     try:
         f_rot = out["speed_hz"]
         dec = qpd.decompose(t[sl], (x + 1j * y)[sl], rotor_speed_hz=f_rot, polish="rect")
