@@ -173,14 +173,20 @@ def _sweep(d, out, rotating) -> None:
         if out["programme"] is None:
             out["programme"] = sw["programme"]
     fit, res = sw["model_fit"], sw["resonance"]
-    if res is not None:
+    if fit is not None and (tab is not None or res is None):
+        # a lab table: the model fit has no quasi-steady assumption, the sweep-corrected peak
+        # is approximate on fast sweeps (issue 31); it stays as the cross-check
+        cross = (f"; the 1X peak of the {res['stretch']} with the sweep-rate lag removed gives "
+                 f"{res['critical_speed_hz']:.5g} rev/s (papers 001/003/004 4.3, 5.4)"
+                 if res is not None else "")
+        out.update(critical_speed_hz=fit["critical_speed_hz"],
+                   critical_speed_hz_std=fit["critical_speed_hz_std"],
+                   critical_speed_method="rigid-rotor model fitted to the whole record, "
+                   "f0 / sqrt(1 - 2 zeta^2)" + cross)
+    elif res is not None:
         out.update(critical_speed_hz=res["critical_speed_hz"],
                    critical_speed_method=f"1X peak of the {res['stretch']}, sweep-rate lag "
                    "removed (papers 001/003/004 4.3, 5.4)")
-    elif fit is not None:
-        out.update(critical_speed_hz=fit["critical_speed_hz"],
-                   critical_speed_hz_std=fit["critical_speed_hz_std"],
-                   critical_speed_method="rigid-rotor model fitted to the whole record")
     if fit is not None:
         out.update(natural_frequency_hz=fit["natural_frequency_hz"],
                    natural_frequency_hz_std=fit["natural_frequency_hz_std"],
