@@ -82,26 +82,35 @@ class ResponseFit:
     samples: int
 
 
-def _response(w0, zeta, dt, f):
-    """Response from rest of x'' + 2 zeta w0 x' + w0^2 x = f (first-order hold)."""
+def _response(w0, zeta, dt, f, order=0):
+    """Response from rest of x'' + 2 zeta w0 x' + w0^2 x = f (first-order hold): x, or its
+    velocity x' (``order`` 1) or acceleration x'' = f - 2 zeta w0 x' - w0^2 x (``order`` 2),
+    read from the same exact discretisation (nothing differentiated numerically)."""
     from scipy import signal
 
     A = np.array([[0.0, 1.0], [-w0 * w0, -2.0 * zeta * w0]])
     B = np.array([[0.0], [1.0]])
-    C = np.array([[1.0, 0.0]])
-    D = np.array([[0.0]])
+    C = np.array([[1.0, 0.0], [0.0, 1.0], [-w0 * w0, -2.0 * zeta * w0]])[order:order + 1]
+    D = np.array([[1.0 if order == 2 else 0.0]])
     Ad, Bd, Cd, Dd, _ = signal.cont2discrete((A, B, C, D), dt, method="foh")
     b, a = signal.ss2tf(Ad, Bd, Cd, Dd)
     return signal.lfilter(np.real(b[0]), np.real(a), f)
 
 
-def _basis(w0, zeta, tt, dt, f, rot):
-    """Columns (g, h1, h2, 1, e^{i phi}) of the linear part."""
-    g = _response(w0, zeta, dt, f)
+def _basis(w0, zeta, tt, dt, f, rot, order=0):
+    """Columns (g, h1, h2, 1, e^{i phi}) of the linear part, differentiated ``order`` times
+    (the constant stays: a sensor's DC offset; ``rot`` is given in the channel's quantity)."""
+    g = _response(w0, zeta, dt, f, order)
     sig = zeta * w0
     wd = w0 * math.sqrt(max(1.0 - zeta * zeta, 1e-12))
     env = np.exp(-sig * tt)
-    return np.column_stack([g, env * np.cos(wd * tt), env * np.sin(wd * tt), np.ones_like(tt), rot])
+    c, s = np.cos(wd * tt), np.sin(wd * tt)
+    # d/dt of env (a c + b s) = env ((-sig a + wd b) c + (-sig b - wd a) s)
+    h = [(1.0, 0.0), (0.0, 1.0)]
+    for _ in range(order):
+        h = [(-sig * a + wd * b, -sig * b - wd * a) for a, b in h]
+    h1, h2 = (env * (a * c + b * s) for a, b in h)
+    return np.column_stack([g, h1, h2, np.ones_like(tt), rot])
 
 
 def _linear(B, z):
@@ -112,7 +121,8 @@ def _linear(B, z):
 
 
 def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s2=None, *,
-                           natural_frequency_guess_hz=None, damping_guess=0.05, runout=True):
+                           natural_frequency_guess_hz=None, damping_guess=0.05, runout=True,
+                           derivative: int = 0):
     """Fit omega_1, zeta, the specific unbalance and its angle to a swept record.
 
     Parameters
@@ -134,6 +144,14 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
     runout : bool
         Fit the probes' 1X runout r e^{i phi} (default).  Off when the angle is
         itself estimated from the whirl (the column would mimic the response).
+    derivative : int
+        What ``z`` measures: 0 displacement [m], 1 velocity [m/s], 2 acceleration
+        [m/s²] (velocity pickups, accelerometers).  The model's response is
+        differentiated (its exact discretisation read at the velocity or the
+        acceleration), so the record is fitted in its own quantity and nothing is
+        integrated through noise or DC drift; e, f_1 and zeta are the same parameters.
+        ``offset_m``, ``runout_m`` and ``residual_rms_m`` are then in the channel's
+        SI unit, and the runout (a displacement probe's) is not fitted.
 
     Returns
     -------
@@ -153,13 +171,18 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         raise SignalError("angle_rad: needs a finite rotor angle at every sample")
     w = np.gradient(phi, t) if speed_rad_s is None else np.asarray(speed_rad_s, float)
     a = np.gradient(w, t) if acceleration_rad_s2 is None else np.asarray(acceleration_rad_s2, float)
-    rot = np.exp(1j * phi) if runout else np.zeros(t.size)
+    order = int(derivative)
+    if order not in (0, 1, 2):
+        raise SignalError(f"derivative = {derivative!r}: 0 (displacement), 1 (velocity) or 2 "
+                          "(acceleration)")
+    rot = np.exp(1j * phi) if runout and order == 0 else np.zeros(t.size)
     f = (w * w - 1j * a) * np.exp(1j * phi)
     tt = t - t[0]
     zc = z
     if natural_frequency_guess_hz is None:
         k = max(3, t.size // 200)
-        r = np.convolve(np.abs(z - z.mean()), np.ones(k) / k, mode="same")
+        ww = np.maximum(np.abs(w), 1e-9 + 1e-3 * np.max(np.abs(w))) ** order
+        r = np.convolve(np.abs(z - z.mean()) / ww, np.ones(k) / k, mode="same")
         natural_frequency_guess_hz = abs(w[int(np.argmax(r))]) / TWO_PI
     w_guess = TWO_PI * float(natural_frequency_guess_hz)
     wmax = float(np.max(np.abs(w)))
@@ -169,7 +192,7 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
 
     def resid(p):
         w0, zeta = p[0] * w_guess, p[1]
-        _, r = _linear(_basis(w0, zeta, tt, dt, f, rot), zc)
+        _, r = _linear(_basis(w0, zeta, tt, dt, f, rot, order), zc)
         return np.concatenate((r.real, r.imag)) / scale
 
     p0 = np.array([1.0, float(damping_guess)])
@@ -180,12 +203,12 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         raise SignalError(f"natural frequency: the fit gives {w0 / TWO_PI:.4g} Hz, outside the "
                           f"record's speeds ({np.min(np.abs(w)) / TWO_PI:.4g}-{wmax / TWO_PI:.4g} "
                           "rev/s); a record that does not pass the resonance does not determine it")
-    B = _basis(w0, zeta, tt, dt, f, rot)
+    B = _basis(w0, zeta, tt, dt, f, rot, order)
     c, r = _linear(B, zc)
     n = t.size
     # covariance of all real parameters: (w0, zeta, Re/Im of the 5 complex coefficients)
     def full(p):
-        Bp = _basis(p[0], p[1], tt, dt, f, rot)
+        Bp = _basis(p[0], p[1], tt, dt, f, rot, order)
         cc = p[2::2] + 1j * p[3::2]
         rr = zc - Bp @ cc
         return np.concatenate((rr.real, rr.imag))
@@ -223,7 +246,7 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
                        critical_speed_hz=w0 * shift / TWO_PI, critical_speed_hz_std=sfc,
                        specific_unbalance_m=float(e), specific_unbalance_m_std=se,
                        angle_rad=float(math.atan2(q.imag, q.real)), angle_rad_std=sb,
-                       offset_m=complex(c[3]), runout_m=complex(c[4]) if runout else 0j, residual_rms_m=float(np.sqrt(np.mean(np.abs(r) ** 2))),
+                       offset_m=complex(c[3]), runout_m=complex(c[4]) if runout and order == 0 else 0j, residual_rms_m=float(np.sqrt(np.mean(np.abs(r) ** 2))),
                        samples=int(n))
 
 

@@ -170,7 +170,13 @@ def cmd_daq(args) -> int:
     from stand.errors import NotApplicable
 
     try:
-        truth = daq_export(args.recording, args.output, truth_path=args.truth, offset_um=off)
+        if getattr(args, "bode", False):
+            from stand.lab.daq_export import daq_bode
+
+            truth = daq_bode(args.recording, args.output, truth_path=args.truth)
+        else:
+            truth = daq_export(args.recording, args.output, truth_path=args.truth, offset_um=off,
+                               quantity=getattr(args, "quantity", "displacement"))
     except NotApplicable as exc:
         return say_not_applicable("daq", str(exc))
     print(f"{args.recording} -> {args.output} (DAQ export); truth: unbalance "

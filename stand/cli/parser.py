@@ -149,6 +149,12 @@ def build_parser(handlers: dict) -> argparse.ArgumentParser:
     dq.add_argument("-o", "--output", required=True, help="CSV to write")
     dq.add_argument("--truth", default=None, help="truth JSON (default: <output stem>.truth.json)")
     dq.add_argument("--offset", default="35,-20", help="DC offsets of the x and y probes [um]")
+    dq.add_argument("--quantity", default="displacement",
+                    choices=("displacement", "velocity", "acceleration"),
+                    help="what the x, y channels measure: probes [um], velocity pickups [mm/s] "
+                    "or accelerometers [g] (no offsets)")
+    dq.add_argument("--bode", action="store_true",
+                    help="write the order-tracked steady 1X Bode table (rpm, um, deg) of a slow run-up")
     dq.set_defaults(func=handlers["daq"])
     tk = sub.add_parser("track", help="sub-pixel laser-spot track from frames (HDF5, video, images)")
     tk.add_argument("source", help="recording.h5[:dataset], video file (mp4, avi, mov, ...), image "
