@@ -164,7 +164,7 @@ def _slsqp(a, v, w, m, c, kind):
     R, P = a.shape
     x0 = -np.linalg.lstsq(a, v, rcond=None)[0]
     lim = np.where(np.isfinite(m), m, np.inf)
-    x0 = np.where(np.abs(x0) > lim, x0 / np.abs(x0) * lim * 0.99, x0)
+    x0 = x0 * np.minimum(1.0, 0.99 * lim / np.maximum(np.abs(x0), 1e-300))
 
     def res(x):
         return v + a @ (x[:P] + 1j * x[P:2 * P])
