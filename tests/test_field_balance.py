@@ -366,3 +366,25 @@ def test_saved_influence_toml_parses():
     res = balance_job(BK)
     doc = tomllib.loads(influence_toml(res))
     assert doc["job"]["mass_unit"] == "g" and len(doc["influence"]) == 1
+
+
+# ------------------------------------------------------------------ report
+def test_field_report_html_pdf_and_iso(tmp_path):
+    text = BK.read_text().replace("[planes.P1]", '[planes.P1]\nradius = "100 mm"\nholes = 12') \
+        .replace("[planes.P2]", '[planes.P2]\nradius = "100 mm"') \
+        .replace('method = "least_squares"', 'method = "least_squares"\nrotor_mass = "12 kg"\n'
+                 'service_speed = "1500 rpm"\ngrade = "G6.3"')
+    job = tmp_path / "job.toml"
+    job.write_text(text)
+    html, pdf = tmp_path / "r.html", tmp_path / "r.pdf"
+    assert main(["balance", str(job), "-o", str(html), "--pdf", str(pdf)]) == 0
+    page = html.read_text()
+    assert "Field balancing" in page and "hole 7" in page and "ISO 21940-11" in page
+    assert page.count("data:image/png;base64,") == 2           # one polar plot per sensor
+    assert pdf.read_bytes()[:4] == b"%PDF"
+    res = balance_job(job)
+    iso = res["iso"]
+    # U = sum m_j r_j; G = U Omega / (1000 M) with U in g mm, Omega in rad/s, M in kg
+    U = sum(res["corrections"][p]["mass"] * 100.0 for p in ("P1", "P2"))
+    assert iso["initial_unbalance_g_mm"] == pytest.approx(U, rel=1e-12)
+    assert iso["initial_grade_mm_s"] == pytest.approx(U * 1500 * 2 * np.pi / 60 / 12000, rel=1e-12)

@@ -286,7 +286,34 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
                                       "std": float(job.to_display(r.std[s]))}
                                   for s, v in r.readings.items()}}
                     for r in job.runs]}
+    doc["iso"] = _iso(job, chain, corrections)
     return FieldBalance(doc)
+
+
+def _iso(job: FieldJob, chain, corrections) -> dict | None:
+    """ISO 21940-11 grade of the initial unbalance (the corrections' sum of |U_j| r_j) and of
+    the correction's uncertainty (what may remain), when the rotor mass, a speed and every
+    plane's radius are known; None otherwise."""
+    from dsp.unbalance import iso_21940_grade
+
+    speeds = [g for g in chain.groups if not math.isnan(g)]
+    w = job.service_speed if not math.isnan(job.service_speed) else (max(speeds) if speeds
+                                                                      else math.nan)
+    if math.isnan(job.rotor_mass) or math.isnan(w) or any(p not in job.radius for p in job.planes):
+        return None
+    mf = job.mass_factor
+    U = sum(corrections[p]["mass"] * mf * job.radius[p] * 1e6 for p in job.planes)
+    sU = math.sqrt(sum((corrections[p]["mass_std"] * mf * job.radius[p] * 1e6) ** 2
+                       for p in job.planes))
+    target = None if math.isnan(job.grade) else job.grade
+    before = iso_21940_grade(U, job.rotor_mass, w, target)
+    after = iso_21940_grade(sU, job.rotor_mass, w, target)
+    return {"rotor_mass_kg": job.rotor_mass, "service_speed_rpm": w * _RPM,
+            "initial_unbalance_g_mm": U, "initial_grade_mm_s": before.grade_mm_s,
+            "initial_grade": before.label,
+            "correction_uncertainty_g_mm": sU, "after_grade_mm_s": after.grade_mm_s,
+            "after_grade": after.label, "target_grade_mm_s": target,
+            "permissible_g_mm": before.permissible_gmm, "passed": after.passed}
 
 
 def influence_toml(res: FieldBalance) -> str:

@@ -94,6 +94,9 @@ class FieldJob:
     runs: list = field(default_factory=list)
     influence: list = field(default_factory=list)    # [(speed, {sensor: {plane: SI/kg}})]
     source: str = ""
+    rotor_mass: float = math.nan                     # kg (ISO 21940-11 grade)
+    service_speed: float = math.nan                  # rad/s (default: the highest run speed)
+    grade: float = math.nan                          # target grade G [mm/s]
 
     def to_display(self, v) -> np.ndarray:
         """SI peak vibration -> the job's unit and amplitude convention."""
@@ -150,7 +153,8 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
     file whose ``[[influence]]`` replaces the job's; its own ``[job]`` units apply to it)."""
     _check_keys(doc, ("job", "planes", "sensors", "run", "influence"), "job file")
     j = doc.get("job", {})
-    _check_keys(j, ("vibration_unit", "amplitude", "mass_unit", "method", "speed_unit"), "[job]")
+    _check_keys(j, ("vibration_unit", "amplitude", "mass_unit", "method", "rotor_mass",
+                    "service_speed", "grade"), "[job]")
     vu = str(j.get("vibration_unit", "um"))
     quantity, vf = _vibration_quantity(vu, "job.vibration_unit")
     amp = str(j.get("amplitude", "pk"))
@@ -165,6 +169,24 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
     job = FieldJob(vibration_unit=vu, quantity=quantity, vib_factor=vf, amplitude=amp,
                    amp_factor=AMPLITUDES[amp], mass_unit=mu, mass_factor=MASS_UNITS[mu],
                    method=method, planes=[], sensors=[], source=source)
+    if "rotor_mass" in j:
+        job.rotor_mass = parse_quantity(j["rotor_mass"], "mass", "job.rotor_mass")
+        if not job.rotor_mass > 0:
+            raise ValueError(f"job.rotor_mass = {j['rotor_mass']!r}: must be > 0 kg")
+    if "service_speed" in j:
+        job.service_speed = parse_quantity(j["service_speed"], "speed", "job.service_speed",
+                                           default_unit="rpm")
+        if not job.service_speed > 0:
+            raise ValueError(f"job.service_speed = {j['service_speed']!r}: must be > 0 rpm")
+    if "grade" in j:
+        g = str(j["grade"]).strip().upper()
+        try:
+            job.grade = float(g[1:] if g.startswith("G") else g)
+        except ValueError:
+            raise ValueError(f"job.grade = {j['grade']!r}: an ISO 21940-11 grade such as "
+                             f"\"G6.3\" (mm/s)") from None
+        if not (math.isfinite(job.grade) and job.grade > 0):
+            raise ValueError(f"job.grade = {j['grade']!r}: must be > 0 mm/s")
 
     def unit_ok(unit, field_):
         q, _ = _vibration_quantity(unit, field_)

@@ -161,17 +161,15 @@ def cmd_influence(args) -> int:
 
 def cmd_balance(args) -> int:
     """``stand balance JOB.toml``: corrections from a field-balancing job file."""
-    from stand.analysis.field_balance import balance_job, influence_toml
+    from stand.analysis.field_balance import influence_toml
+    from stand.api import balance
 
-    res = balance_job(args.job, influence=args.influence, method=args.method)
+    res = balance(args.job, influence=args.influence, method=args.method, html_path=args.output,
+                  pdf_path=args.pdf)
     if args.save_influence:
         from stand.io.atomic import write_text
 
         write_text(args.save_influence, influence_toml(res))
-    if args.output:
-        from stand.reports.field_balancing import write_field_report
-
-        write_field_report(res, args.output, pdf=args.pdf)
     if args.json:
         print_json(res.to_dict())
         return 0
