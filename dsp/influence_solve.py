@@ -28,7 +28,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["least_squares", "min_max", "split_onto_holes", "conditioning", "Conditioning",
+__all__ = ["least_squares", "min_max", "split_onto_holes", "split_onto_weights", "conditioning",
+           "Conditioning",
            "ILL_CONDITION", "cvxpy_available"]
 
 #: condition number of the column-normalised influence matrix above which a job is warned
@@ -225,6 +226,64 @@ def split_onto_holes(U: complex, holes: int, offset_rad: float = 0.0):
     m2 = mag * math.sin(th - p1) / s
     return [(k, (offset_rad + p1) % (2 * math.pi), m1),
             ((k + 1) % n, (offset_rad + p2) % (2 * math.pi), m2)]
+
+
+def _multisets(available, max_pieces):
+    """``[(total, pieces)]``: every choice of up to ``max_pieces`` of the available masses
+    (each usable more than once), the empty choice first."""
+    from itertools import combinations_with_replacement
+
+    out = {0.0: ()}
+    for n in range(1, max_pieces + 1):
+        for c in combinations_with_replacement(sorted(available), n):
+            out.setdefault(round(float(sum(c)), 12), tuple(c))
+    return sorted(out.items())
+
+
+def split_onto_weights(U: complex, available, holes=None, offset_rad: float = 0.0,
+                       max_pieces: int = 3):
+    """Put a correction onto the weights at hand: the choice closest to ``U`` as a vector.
+
+    Parameters
+    ----------
+    U : complex
+        The correction [mass].
+    available : sequence of float > 0
+        The masses at hand [mass]; each may be used up to ``max_pieces`` times per position.
+    holes : int, optional
+        Equally spaced holes (hole k at ``offset_rad + 2 pi k / holes``): two holes (or one)
+        are chosen; without holes the weights go at the correction's own angle.
+    max_pieces : int
+        Most pieces stacked at one position.
+
+    Returns
+    -------
+    (placed, error)
+        ``placed``: ``[(hole or None, angle_rad, mass, pieces)]`` (positions with weights),
+        ``error``: ``|sum(mass e^{i angle}) - U|`` [mass].
+    """
+    av = [float(a) for a in available]
+    if not av or any(not (math.isfinite(a) and a > 0) for a in av):
+        raise ValueError(f"available weights: masses > 0 expected, got {list(available)!r}")
+    sets = _multisets(av, int(max_pieces))
+    tot = np.array([t for t, _ in sets])
+    if holes is None:
+        k = int(np.argmin(np.abs(tot - abs(U))))
+        ang = float(np.angle(U)) % (2 * math.pi)
+        placed = [(None, ang, tot[k], sets[k][1])] if tot[k] > 0 else []
+        return placed, float(abs(tot[k] * np.exp(1j * ang) - U))
+    n = int(holes)
+    if n < 1 or n != holes or n > 360:
+        raise ValueError(f"holes = {holes!r}: an integer 1 .. 360")
+    phi = (offset_rad + 2 * math.pi * np.arange(n) / n) % (2 * math.pi)
+    e = np.exp(1j * phi)
+    i1, i2 = np.triu_indices(n, k=1)
+    # every pair of distinct holes, every choice in each: |t1 e1 + t2 e2 - U|
+    v = (tot[None, :, None] * e[i1][:, None, None] + tot[None, None, :] * e[i2][:, None, None]) - U
+    p, a, b = np.unravel_index(int(np.argmin(np.abs(v))), v.shape)
+    placed = [(int(h), float(phi[h]), float(tot[c]), sets[c][1])
+              for h, c in ((i1[p], a), (i2[p], b)) if tot[c] > 0]
+    return placed, float(abs(v[p, a, b]))
 
 
 @dataclass(frozen=True)

@@ -388,3 +388,33 @@ def test_field_report_html_pdf_and_iso(tmp_path):
     U = sum(res["corrections"][p]["mass"] * 100.0 for p in ("P1", "P2"))
     assert iso["initial_unbalance_g_mm"] == pytest.approx(U, rel=1e-12)
     assert iso["initial_grade_mm_s"] == pytest.approx(U * 1500 * 2 * np.pi / 60 / 12000, rel=1e-12)
+
+
+def test_split_onto_available_weights_is_the_best_choice():
+    """Brute force over every placement of up to 2 pieces per hole: the chosen one is nearest."""
+    from itertools import combinations_with_replacement, product
+
+    from dsp.influence_solve import split_onto_weights
+
+    U = 1.979 * np.exp(1j * np.radians(236.2))
+    av, n = [0.25, 0.5, 1.0], 8
+    placed, err = split_onto_weights(U, av, n, max_pieces=2)
+    total = sum(m * np.exp(1j * a) for _, a, m, _ in placed)
+    assert abs(total - U) == pytest.approx(err, abs=1e-12)
+    sums = sorted({0.0} | {sum(c) for k in (1, 2) for c in combinations_with_replacement(av, k)})
+    best = min(abs(s1 * np.exp(2j * np.pi * h1 / n) + s2 * np.exp(2j * np.pi * h2 / n) - U)
+               for h1, h2 in product(range(n), range(n)) if h1 < h2
+               for s1 in sums for s2 in sums)
+    assert err == pytest.approx(best, abs=1e-12)
+    for _, _, m, pieces in placed:
+        assert sum(pieces) == pytest.approx(m) and len(pieces) <= 2
+
+
+def test_job_weights_at_hand():
+    text = BK.read_text().replace("[planes.P1]", '[planes.P1]\nholes = 12\nweights = ["0.25 g", "0.5 g", "1 g"]')
+    c = balance_job(_job(text))["corrections"]["P1"]
+    w = c["weights"]
+    tot = sum(x["mass"] * np.exp(1j * np.radians(x["angle_deg"])) for x in w["placed"])
+    U = c["mass"] * np.exp(1j * np.radians(c["angle_deg"]))
+    assert abs(tot - U) == pytest.approx(w["error"], abs=1e-9)
+    assert w["error"] < 0.25                                   # within the smallest piece

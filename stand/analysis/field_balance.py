@@ -19,7 +19,7 @@ import math
 import numpy as np
 
 from dsp.influence_solve import conditioning, cvxpy_available, least_squares, min_max, \
-    split_onto_holes
+    split_onto_holes, split_onto_weights
 from stand.io.result import Result
 
 from .field_job import FieldJob, read_job
@@ -244,6 +244,12 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
         if p in job.holes:
             c["split"] = [{"hole": k, "angle_deg": math.degrees(ang), "mass": m / mf}
                           for k, ang, m in split_onto_holes(u, job.holes[p])]
+        if p in job.weights:
+            placed, err = split_onto_weights(u / mf, [w / mf for w in job.weights[p]],
+                                             job.holes.get(p), max_pieces=job.max_pieces.get(p, 3))
+            c["weights"] = {"placed": [{"hole": h, "angle_deg": math.degrees(ang), "mass": m,
+                                        "pieces": list(pc)} for h, ang, m, pc in placed],
+                            "error": err}
         corrections[p] = c
     R = V0 + A @ U
     residuals = []

@@ -89,6 +89,8 @@ class FieldJob:
     radius: dict = field(default_factory=dict)       # plane -> m
     max_mass: dict = field(default_factory=dict)     # plane -> kg
     holes: dict = field(default_factory=dict)        # plane -> int
+    weights: dict = field(default_factory=dict)      # plane -> [kg] masses at hand
+    max_pieces: dict = field(default_factory=dict)   # plane -> int
     weight: dict = field(default_factory=dict)       # sensor -> float
     cap: dict = field(default_factory=dict)          # sensor -> SI peak
     runs: list = field(default_factory=list)
@@ -202,7 +204,7 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
             names.append(str(name))
 
     for name, t in (doc.get("planes") or {}).items():
-        _check_keys(t, ("radius", "max_mass", "holes"), f"planes.{name}")
+        _check_keys(t, ("radius", "max_mass", "holes", "weights", "max_pieces"), f"planes.{name}")
         add(job.planes, name)
         if "radius" in t:
             r = parse_quantity(t["radius"], "length", f"planes.{name}.radius")
@@ -217,6 +219,19 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
                 raise ValueError(f"planes.{name}.holes = {h!r}: an integer >= 3 (holes every "
                                  f"360/holes deg)")
             job.holes[name] = h
+        if "weights" in t:
+            ws = t["weights"]
+            if not isinstance(ws, list) or not ws:
+                raise ValueError(f"planes.{name}.weights = {ws!r}: a list of the masses at hand, "
+                                 f"e.g. [\"0.5 {mu}\", \"1 {mu}\"]")
+            job.weights[name] = [_mass(w, mu, f"planes.{name}.weights[{k}]")
+                                 for k, w in enumerate(ws)]
+        if "max_pieces" in t:
+            n = t["max_pieces"]
+            if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 6:
+                raise ValueError(f"planes.{name}.max_pieces = {n!r}: an integer 1 .. 6 (pieces "
+                                 f"stacked at one position)")
+            job.max_pieces[name] = n
     for name, t in (doc.get("sensors") or {}).items():
         _check_keys(t, ("weight", "max_vibration"), f"sensors.{name}")
         add(job.sensors, name)

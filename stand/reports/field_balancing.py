@@ -88,6 +88,12 @@ def field_report(res) -> dict:
         if "split" in c:
             row["holes"] = " + ".join(f"{h['mass']:.4g} {mu} @ hole {h['hole']} "
                                       f"({h['angle_deg']:.1f}°)" for h in c["split"])
+        if "weights" in c:
+            row["weights_at_hand"] = " + ".join(
+                f"{'+'.join(f'{x:g}' for x in w['pieces'])} {mu} @ "
+                + (f"hole {w['hole']} " if w["hole"] is not None else "")
+                + f"({w['angle_deg']:.1f}°)" for w in c["weights"]["placed"]) \
+                + f"; off by {c['weights']['error']:.3g} {mu}"
         corrections.append(row)
     runs = []
     for r in res["runs"]:
