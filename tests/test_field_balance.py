@@ -418,3 +418,22 @@ def test_job_weights_at_hand():
     U = c["mass"] * np.exp(1j * np.radians(c["angle_deg"]))
     assert abs(tot - U) == pytest.approx(w["error"], abs=1e-9)
     assert w["error"] < 0.25                                   # within the smallest piece
+
+
+def test_phase_lag_readings():
+    """Readings given as phase lags (angles against the weights' sense): the same rotor."""
+    import re
+
+    text = BK.read_text()
+    lag = re.sub(r'"(\d+) @ (\d+)"', lambda m: f'"{m.group(1)} @ {(-int(m.group(2))) % 360}"',
+                 text.split("[[run]]", 1)[1])
+    lag = text.split("[[run]]", 1)[0].replace('method = "least_squares"',
+                                              'method = "least_squares"\nphase = "lag"') \
+        + "[[run]]" + lag.replace('"0 @ 0"', '"0 @ 0"')
+    # the trial masses' angles (0 deg) are unchanged by the substitution
+    assert 'P1 = "1.15 @ 0"' in lag
+    a, b = balance_job(_job(text)), balance_job(_job(lag))
+    for p in ("P1", "P2"):
+        assert b["corrections"][p]["mass"] == pytest.approx(a["corrections"][p]["mass"], rel=1e-12)
+        assert b["corrections"][p]["angle_deg"] == pytest.approx(a["corrections"][p]["angle_deg"], abs=1e-9)
+    assert b["residuals"][0]["before_deg"] == pytest.approx(360 - 112)

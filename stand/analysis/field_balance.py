@@ -252,11 +252,15 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
                             "error": err}
         corrections[p] = c
     R = V0 + A @ U
+
+    def rdeg(z):                      # a vibration's angle in the readings' own convention
+        return _deg(z if job.phase == "lead" else np.conj(z))
+
     residuals = []
     for i, (s, speed) in enumerate(chain.rows):
         r = {"sensor": s, "speed_rpm": None if math.isnan(speed) else speed * _RPM,
-             "before": float(job.to_display(abs(V0[i]))), "before_deg": _deg(V0[i]),
-             "after": float(job.to_display(abs(R[i]))), "after_deg": _deg(R[i])}
+             "before": float(job.to_display(abs(V0[i]))), "before_deg": rdeg(V0[i]),
+             "after": float(job.to_display(abs(R[i]))), "after_deg": rdeg(R[i])}
         if s in job.cap:
             r["max_vibration"] = float(job.to_display(job.cap[s]))
         residuals.append(r)
@@ -274,7 +278,7 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
     if method == "min_max" or any(corrections[p]["mass"] >= corrections[p].get("max_mass", math.inf)
                                   * (1 - 1e-9) for p in job.planes):
         solver = "cvxpy CLARABEL" if cvxpy_available() else "scipy SLSQP"
-    doc = {"job": job.source, "method": method, "solver": solver,
+    doc = {"job": job.source, "method": method, "solver": solver, "phase": job.phase,
            "vibration_unit": job.vibration_unit, "amplitude": job.amplitude,
            "mass_unit": job.mass_unit,
            "corrections": corrections, "residuals": residuals,
@@ -288,7 +292,7 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
                      "trial": {p: {"mass": abs(t) / mf, "angle_deg": _deg(t)}
                                for p, t in r.trial.items()}, "removed": r.removed,
                      "readings": {s: {"amplitude": float(job.to_display(abs(v))),
-                                      "angle_deg": _deg(v),
+                                      "angle_deg": _deg(v if job.phase == "lead" else v.conjugate()),
                                       "std": float(job.to_display(r.std[s]))}
                                   for s, v in r.readings.items()}}
                     for r in job.runs]}

@@ -9,7 +9,9 @@ A reading is ``"amplitude @ angle"`` (the job's vibration unit and amplitude con
 degrees), or a list of them (repeated readings: their mean, and the scatter of the mean as
 the reading's standard uncertainty).  Everything is converted here, once: vibration to SI
 peak (m, m/s or m/s^2), masses to kg, speeds to rad/s, angles to radians.  The angular sense
-is the readings' own; trial angles must be read in the same sense.
+is the weights' (trial masses, corrections, ``[[influence]]``); the readings' angles are in the
+same sense (``phase = "lead"``, the default) or against it (``phase = "lag"``: a phase lag, as
+proximity-probe systems show it).
 """
 from __future__ import annotations
 
@@ -96,6 +98,7 @@ class FieldJob:
     runs: list = field(default_factory=list)
     influence: list = field(default_factory=list)    # [(speed, {sensor: {plane: SI/kg}})]
     source: str = ""
+    phase: str = "lead"
     rotor_mass: float = math.nan                     # kg (ISO 21940-11 grade)
     service_speed: float = math.nan                  # rad/s (default: the highest run speed)
     grade: float = math.nan                          # target grade G [mm/s]
@@ -156,7 +159,7 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
     _check_keys(doc, ("job", "planes", "sensors", "run", "influence"), "job file")
     j = doc.get("job", {})
     _check_keys(j, ("vibration_unit", "amplitude", "mass_unit", "method", "rotor_mass",
-                    "service_speed", "grade"), "[job]")
+                    "service_speed", "grade", "phase"), "[job]")
     vu = str(j.get("vibration_unit", "um"))
     quantity, vf = _vibration_quantity(vu, "job.vibration_unit")
     amp = str(j.get("amplitude", "pk"))
@@ -165,12 +168,18 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
     mu = str(j.get("mass_unit", "g"))
     if mu not in MASS_UNITS:
         raise UnitError(f"job.mass_unit = {mu!r}: one of {', '.join(MASS_UNITS)}")
+    phase = str(j.get("phase", "lead"))
+    if phase not in ("lead", "lag"):
+        raise ValueError(f"job.phase = {phase!r}: \"lead\" (readings' angles in the sense of the "
+                         f"weights' angles, default) or \"lag\" (readings' angles against it)")
+    sense = -1.0 if phase == "lag" else 1.0
     method = str(j.get("method", "least_squares"))
     if method not in METHODS:
         raise ValueError(f"job.method = {method!r}: one of {', '.join(METHODS)}")
     job = FieldJob(vibration_unit=vu, quantity=quantity, vib_factor=vf, amplitude=amp,
                    amp_factor=AMPLITUDES[amp], mass_unit=mu, mass_factor=MASS_UNITS[mu],
                    method=method, planes=[], sensors=[], source=source)
+    job.phase = phase
     if "rotor_mass" in j:
         job.rotor_mass = parse_quantity(j["rotor_mass"], "mass", "job.rotor_mass")
         if not job.rotor_mass > 0:
@@ -272,7 +281,7 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
         z = []
         for k, x in enumerate(vals):
             a, ph = _polar(x, where if len(vals) == 1 else f"{where}[{k}]", unit_ok)
-            z.append(complex(job.from_display(a)) * complex(math.cos(ph), math.sin(ph)))
+            z.append(complex(job.from_display(a)) * complex(math.cos(ph), sense * math.sin(ph)))
         z = np.array(z)
         n = z.size
         if n == 1:
