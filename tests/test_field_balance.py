@@ -437,3 +437,33 @@ def test_phase_lag_readings():
         assert b["corrections"][p]["mass"] == pytest.approx(a["corrections"][p]["mass"], rel=1e-12)
         assert b["corrections"][p]["angle_deg"] == pytest.approx(a["corrections"][p]["angle_deg"], abs=1e-9)
     assert b["residuals"][0]["before_deg"] == pytest.approx(360 - 112)
+
+
+# ------------------------------------------------------------------ runs from recordings
+def test_runs_from_recordings_meet_stand_influence():
+    """Issue 32, item 3: the job takes its runs from recordings; the same answer as
+    `stand influence` on the same files, and the model's exact correction."""
+    from stand.analysis.influence import influence_from_recordings
+
+    res = balance_job(ROOT / "data_samples" / "balance" / "from_recordings.toml")
+    rec = ROOT / "data_samples" / "recordings"
+    ref = influence_from_recordings(rec / "influence_ref.h5",
+                                    [rec / "influence_trial1.h5", rec / "influence_trial2.h5"],
+                                    ["balancer1:10:0:100", "balancer2:10:90:100"],
+                                    ["probe1", "probe2"])
+    for j, (p, m, a) in enumerate((("balancer1", 20.0, 210.0), ("balancer2", 15.0, 20.0))):
+        c = res["corrections"][p]
+        _close_polar(c["mass"], c["angle_deg"], m, a, rtol=1e-4, atol_deg=1e-3)
+        assert c["mass"] == pytest.approx(ref.mass_g[j], rel=1e-9)
+        assert c["angle_deg"] == pytest.approx(ref.angle_deg[j], abs=1e-7)
+        assert c["mass_std"] == pytest.approx(ref.mass_std_g[j], rel=0.05)
+    assert res["residuals"][0]["speed_rpm"] == pytest.approx(2400.0, rel=1e-3)
+
+
+def test_recording_needs_displacement_unit(tmp_path):
+    text = (ROOT / "data_samples" / "balance" / "from_recordings.toml").read_text() \
+        .replace('vibration_unit = "um"', 'vibration_unit = "mm/s"')
+    job = tmp_path / "job.toml"
+    job.write_text(text)
+    with pytest.raises(ValueError, match="displacement"):
+        balance_job(job)

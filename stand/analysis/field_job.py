@@ -295,7 +295,8 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
         raise ValueError("run: use [[run]] tables (an array of tables)")
     for i, t in enumerate(runs):
         where = f"run[{i}]"
-        _check_keys(t, ("kind", "speed", "trial", "removed", "readings", "name"), where)
+        _check_keys(t, ("kind", "speed", "trial", "removed", "readings", "name", "recording",
+                        "sensors", "t_start"), where)
         kind = str(t.get("kind", ""))
         if kind not in _KINDS:
             raise ValueError(f"{where}.kind = {t.get('kind')!r}: one of {', '.join(_KINDS)}")
@@ -316,6 +317,19 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
         removed = t.get("removed", True)
         if not isinstance(removed, bool):
             raise ValueError(f"{where}.removed = {removed!r}: true or false")
+        if "recording" in t:
+            if "readings" in t:
+                raise ValueError(f"{where}: give readings or a recording, not both")
+            if quantity != "displacement":
+                raise ValueError(f"{where}.recording: a recording's 1X phasors are "
+                                 f"displacements; job.vibration_unit = {vu!r} is a {quantity}")
+            vals, stds, w_rec = _recorded(t, where, source, job.sensors)
+            for s in vals:
+                add(job.sensors, s)
+            speed = speed_of(t, where)
+            job.runs.append(FieldRun(i, kind, w_rec if math.isnan(speed) else speed, trial,
+                                     removed, vals, stds))
+            continue
         rd = t.get("readings")
         if not isinstance(rd, dict) or not rd:
             raise ValueError(f"{where}.readings: e.g. readings = {{ S1 = \"170 @ 112\" }} "
@@ -359,6 +373,32 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
                 m[s][p] = a * scale * complex(math.cos(ph), math.sin(ph))
         job.influence.append((speed_of(t, where), m))
     return job
+
+
+def _recorded(t, where, source, declared):
+    """Readings of a run taken from a recording (``stand influence``'s path): the 1X phasor
+    of each sensor plane over the steady part (or from ``t_start`` [s]) -> (readings [m],
+    their standard uncertainties [m], the run's mean speed [rad/s])."""
+    from pathlib import Path
+
+    from .influence import run_phasors
+
+    path = Path(str(t["recording"]))
+    if not path.is_absolute() and source:
+        path = Path(source).parent / path
+    sens = t.get("sensors", declared)
+    if isinstance(sens, list):
+        sens = {str(s): str(s) for s in sens}
+    if not isinstance(sens, dict) or not sens:
+        raise ValueError(f"{where}.sensors: name the recording's planes to read, e.g. "
+                         f"sensors = [\"probe1\", \"probe2\"] or {{ S1 = \"probe1\" }}")
+    t0 = t.get("t_start")
+    if t0 is not None:
+        t0 = parse_quantity(t0, "time", f"{where}.t_start", default_unit="s")
+    comps = run_phasors(str(path), list(sens.values()), t_start=t0, name=f"{where} ({path})")
+    vals = {s: complex(c.vector_m) for s, c in zip(sens, comps)}
+    stds = {s: float(c.vector_std_m) for s, c in zip(sens, comps)}
+    return vals, stds, float(np.mean([c.speed_rad_s for c in comps]))
 
 
 def read_job(path, influence: Optional[str] = None) -> FieldJob:
