@@ -170,8 +170,13 @@ def _lp_min_max(A, V0, w, caps, lim, n=720):
     return out.x[-1]
 
 
+@pytest.mark.parametrize("solver", ["default", "scipy"])
 @pytest.mark.parametrize("case", ["free", "limits", "caps_weights"])
-def test_min_max_vs_linear_programme(case):
+def test_min_max_vs_linear_programme(case, solver, monkeypatch):
+    import dsp.influence_solve as m
+
+    if solver == "scipy":             # the fallback when cvxpy is not installed
+        monkeypatch.setattr(m, "cvxpy_available", lambda: False)
     A, V0 = _random_case(3, S=6)
     S, P = A.shape
     w, caps, lim = np.ones(S), np.full(S, np.inf), np.full(P, np.inf)
@@ -206,7 +211,12 @@ def test_min_max_scipy_fallback_matches(monkeypatch):
     assert np.all(np.abs(U) <= lim * (1 + 1e-6))
 
 
-def test_least_squares_with_mass_limit_binds():
+@pytest.mark.parametrize("solver", ["default", "scipy"])
+def test_least_squares_with_mass_limit_binds(solver, monkeypatch):
+    import dsp.influence_solve as m
+
+    if solver == "scipy":
+        monkeypatch.setattr(m, "cvxpy_available", lambda: False)
     A, V0 = _random_case(11)
     U0 = least_squares(A, V0)
     lim = np.array([0.5 * abs(U0[0]), np.inf])

@@ -5,8 +5,8 @@ Every run ``k`` at one speed is modelled as ``V_k = V0 + A W_k`` (S sensors, P p
 by earlier runs with ``removed = false``) and the slow-roll vector subtracted from ``V_k``.
 ``[V0, A] = D M^+`` with ``D`` the readings and ``M = [1; W_k]``: exact for one reference and
 one trial run per plane, least squares with more runs.  A known influence matrix
-(``[[influence]]``, ``--influence``) replaces ``A``; ``V0`` is then the runs' mean of
-``V_k - A W_k``.  The speeds are solved together (their rows stacked), and the corrections
+(``[[influence]]``, ``--influence``) replaces ``A`` (trial runs at that speed are then not
+used); ``V0`` is the reference run's ``V - A W``.  The speeds are solved together (their rows stacked), and the corrections
 (for the rotor with every trial removed) come from :mod:`dsp.influence_solve`.
 
 Uncertainties are propagated to first order from the repeated readings' scatter (central
@@ -101,6 +101,7 @@ class _Chain:
             if r.kind == "trial" and not r.removed:
                 on = w.copy()
         self.plan = []
+        self.notes = []
         for g, speed in enumerate(self.groups):
             runs = [r for r in job.runs if r.kind != "slow_roll"
                     and _group_of(r.speed, self.groups, r.label) == g]
@@ -127,6 +128,11 @@ class _Chain:
             if len(known) > 1:
                 raise ValueError(f"influence: {len(known)} tables{at}; give one per speed")
             if known:
+                ignored = [r for r in runs if r.kind == "trial"]
+                if ignored:
+                    self.notes.append(f"trial runs{at} ({', '.join(r.label for r in ignored)}) "
+                                      f"not used: the influence matrix{at} is given")
+                runs = refs
                 m = known[0]
                 for s in sensors:
                     for p in job.planes:
@@ -161,7 +167,7 @@ class _Chain:
                 V0, A = X[:, 0], X[:, 1:]
             else:
                 A = Ak
-                V0 = np.mean(D - A @ W.T, axis=1)
+                V0 = (D - A @ W.T)[:, 0]          # the reference run alone
             A_all.append(A)
             V_all.append(V0)
         return np.vstack(A_all), np.concatenate(V_all)
@@ -271,7 +277,7 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
     multi = len(chain.plan) > 1
     names = [f"{s}@{speed * _RPM:.6g}rpm" if multi else s for s, speed in chain.rows]
     cond = conditioning(A, job.planes, names)
-    warnings = [cond.message()] if cond.ill else []
+    warnings = ([cond.message()] if cond.ill else []) + chain.notes
     if job.cap and method != "min_max":
         warnings.append("sensors' max_vibration caps are used by method = \"min_max\" only")
     solver = "numpy lstsq"

@@ -178,7 +178,7 @@ def cmd_balance(args) -> int:
     for p, c in res["corrections"].items():
         pm = f" +- {c['mass_std']:.3g}" if c["mass_std"] > 0 else ""
         pa = f" +- {c['angle_std_deg']:.2g}" if c["angle_std_deg"] > 0 else ""
-        line = f"  {p}: {c['mass']:.4g}{pm} {mu} @ {c['angle_deg']:.1f}{pa} deg"
+        line = f"  {p}: {c['mass']:.5g}{pm} {mu} @ {c['angle_deg']:.2f}{pa} deg"
         if "split" in c:
             line += "  = " + " + ".join(f"{h['mass']:.4g} {mu} in hole {h['hole']} "
                                          f"({h['angle_deg']:.1f} deg)" for h in c["split"])
