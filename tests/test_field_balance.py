@@ -477,3 +477,22 @@ def test_recording_needs_displacement_unit(tmp_path):
     job.write_text(text)
     with pytest.raises(ValueError, match="displacement"):
         balance_job(job)
+
+
+def test_ill_conditioned_trial_runs_warn_on_the_command_line(tmp_path, capsys):
+    """Two planes whose trial runs move the sensors almost alike: exit 0, one warning line
+    naming both planes (and the JSON's ill_conditioned)."""
+    job = tmp_path / "ill.toml"
+    job.write_text('[job]\nvibration_unit = "um"\nmass_unit = "g"\n'
+                   '[[run]]\nkind = "reference"\nreadings = { S1 = "100 @ 0", S2 = "80 @ 30" }\n'
+                   '[[run]]\nkind = "trial"\ntrial = { P1 = "10 @ 0" }\n'
+                   'readings = { S1 = "150 @ 10", S2 = "120 @ 35" }\n'
+                   '[[run]]\nkind = "trial"\ntrial = { P2 = "10 @ 0" }\n'
+                   'readings = { S1 = "151 @ 10.2", S2 = "121 @ 35.1" }\n')
+    assert main(["balance", str(job), "--json"]) == 0
+    cap = capsys.readouterr()
+    doc = json.loads(cap.out)
+    assert doc["condition"] > 100
+    assert doc["ill_conditioned"]["planes"] == ["P1", "P2"]
+    warn = [ln for ln in cap.err.splitlines() if "ill-conditioned" in ln]
+    assert len(warn) == 1 and "P1" in warn[0] and "P2" in warn[0]

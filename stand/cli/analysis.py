@@ -170,6 +170,8 @@ def cmd_balance(args) -> int:
         from stand.io.atomic import write_text
 
         write_text(args.save_influence, influence_toml(res))
+    for w in res["warnings"]:
+        print(f"stand balance: warning: {w}", file=sys.stderr)
     if args.json:
         print_json(res.to_dict())
         return 0
@@ -187,8 +189,6 @@ def cmd_balance(args) -> int:
         at = f" at {r['speed_rpm']:.6g} rpm" if r["speed_rpm"] is not None else ""
         print(f"  {r['sensor']}{at}: {r['before']:.4g} -> {r['after']:.4g} {vu} {res['amplitude']}"
               f" (predicted)")
-    for w in res["warnings"]:
-        print(f"stand balance: warning: {w}", file=sys.stderr)
     return 0
 
 
