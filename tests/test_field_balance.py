@@ -7,7 +7,6 @@ of the complex moduli (scipy.optimize.linprog) for min-max.
 from __future__ import annotations
 
 import json
-import math
 from pathlib import Path
 
 import numpy as np
