@@ -130,8 +130,12 @@ class _Forcing:
         self.dt = float(np.median(np.diff(t)))
         p, pw, pa = _angle_at_nodes(t, phi, w, a)
         self.nodes = (pw * pw - 1j * pa) * np.exp(1j * p)         # (N - 1, M)
+        self.samples = (w * w - 1j * a) * np.exp(1j * phi)       # F at the samples
 
-    def response(self, w0, zeta):
+    def response(self, w0, zeta, order=0):
+        """g, or its velocity g' (``order`` 1) or acceleration g'' (``order`` 2), from the
+        same modal states: g' = (l1 G1 - l2 G2) / (l1 - l2), g'' = (l1^2 G1 - l2^2 G2) /
+        (l1 - l2) + F (nothing differentiated numerically)."""
         from scipy import signal
 
         dt = self.dt
@@ -146,16 +150,24 @@ class _Forcing:
             out[0] = 0.0
             out[1:] = signal.lfilter([1.0], [1.0, -np.exp(lam * dt)], step)
             G.append(out)
-        return (G[0] - G[1]) / (r[0] - r[1])
+        out = (r[0] ** order * G[0] - r[1] ** order * G[1]) / (r[0] - r[1])
+        return out + self.samples if order == 2 else out
 
 
-def _basis(w0, zeta, tt, forcing, rot):
-    """Columns (g, h1, h2, 1, e^{i phi}) of the linear part."""
-    g = forcing.response(w0, zeta)
+def _basis(w0, zeta, tt, forcing, rot, order=0):
+    """Columns (g, h1, h2, 1, e^{i phi}) of the linear part, differentiated ``order`` times
+    (the constant stays: a sensor's DC offset; ``rot`` is given in the channel's quantity)."""
+    g = forcing.response(w0, zeta, order)
     sig = zeta * w0
     wd = w0 * math.sqrt(max(1.0 - zeta * zeta, 1e-12))
     env = np.exp(-sig * tt)
-    return np.column_stack([g, env * np.cos(wd * tt), env * np.sin(wd * tt), np.ones_like(tt), rot])
+    c, s = np.cos(wd * tt), np.sin(wd * tt)
+    # d/dt of env (a c + b s) = env ((-sig a + wd b) c + (-sig b - wd a) s)
+    h = [(1.0, 0.0), (0.0, 1.0)]
+    for _ in range(order):
+        h = [(-sig * a + wd * b, -sig * b - wd * a) for a, b in h]
+    h1, h2 = (env * (a * c + b * s) for a, b in h)
+    return np.column_stack([g, h1, h2, np.ones_like(tt), rot])
 
 
 def _linear(B, z):
@@ -167,7 +179,7 @@ def _linear(B, z):
 
 def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s2=None, *,
                            natural_frequency_guess_hz=None, damping_guess=0.05, runout=True,
-                           covariance=True, angle_basis=None):
+                           covariance=True, angle_basis=None, derivative: int = 0):
     """Fit omega_1, zeta, the specific unbalance and its angle to a swept record.
 
     Parameters
@@ -196,6 +208,14 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         functions of time (a spline's basis): its K coefficients enter the covariance
         as nuisance parameters (a change a of them turns the model's motion by
         i z_model a B), so the stds include what the angle's estimate leaves open.
+    derivative : int
+        What ``z`` measures: 0 displacement [m], 1 velocity [m/s], 2 acceleration
+        [m/s²] (velocity pickups, accelerometers).  The model's response is
+        differentiated (its exact discretisation read at the velocity or the
+        acceleration), so the record is fitted in its own quantity and nothing is
+        integrated through noise or DC drift; e, f_1 and zeta are the same parameters.
+        ``offset_m``, ``runout_m`` and ``residual_rms_m`` are then in the channel's
+        SI unit, and the runout (a displacement probe's) is not fitted.
 
     Returns
     -------
@@ -215,13 +235,18 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         raise SignalError("angle_rad: needs a finite rotor angle at every sample")
     w = np.gradient(phi, t) if speed_rad_s is None else np.asarray(speed_rad_s, float)
     a = np.gradient(w, t) if acceleration_rad_s2 is None else np.asarray(acceleration_rad_s2, float)
-    rot = np.exp(1j * phi) if runout else np.zeros(t.size)
+    order = int(derivative)
+    if order not in (0, 1, 2):
+        raise SignalError(f"derivative = {derivative!r}: 0 (displacement), 1 (velocity) or 2 "
+                          "(acceleration)")
+    rot = np.exp(1j * phi) if runout and order == 0 else np.zeros(t.size)
     forcing = _Forcing(t, phi, w, a)
     tt = t - t[0]
     zc = z
     if natural_frequency_guess_hz is None:
         k = max(3, t.size // 200)
-        r = np.convolve(np.abs(z - z.mean()), np.ones(k) / k, mode="same")
+        ww = np.maximum(np.abs(w), 1e-9 + 1e-3 * np.max(np.abs(w))) ** order
+        r = np.convolve(np.abs(z - z.mean()) / ww, np.ones(k) / k, mode="same")
         natural_frequency_guess_hz = abs(w[int(np.argmax(r))]) / TWO_PI
     w_guess = TWO_PI * float(natural_frequency_guess_hz)
     wmax = float(np.max(np.abs(w)))
@@ -231,7 +256,7 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
 
     def resid(p):
         w0, zeta = p[0] * w_guess, p[1]
-        _, r = _linear(_basis(w0, zeta, tt, forcing, rot), zc)
+        _, r = _linear(_basis(w0, zeta, tt, forcing, rot, order), zc)
         return np.concatenate((r.real, r.imag)) / scale
 
     p0 = np.array([1.0, float(damping_guess)])
@@ -242,7 +267,7 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         raise SignalError(f"natural frequency: the fit gives {w0 / TWO_PI:.4g} Hz, outside the "
                           f"record's speeds ({np.min(np.abs(w)) / TWO_PI:.4g}-{wmax / TWO_PI:.4g} "
                           "rev/s); a record that does not pass the resonance does not determine it")
-    B = _basis(w0, zeta, tt, forcing, rot)
+    B = _basis(w0, zeta, tt, forcing, rot, order)
     c, r = _linear(B, zc)
     n = t.size
     if not covariance:
@@ -254,7 +279,7 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
                            float(np.sqrt(np.mean(np.abs(r) ** 2))), int(n))
     # covariance of all real parameters: (w0, zeta, Re/Im of the 5 complex coefficients)
     def full(p):
-        Bp = _basis(p[0], p[1], tt, forcing, rot)
+        Bp = _basis(p[0], p[1], tt, forcing, rot, order)
         cc = p[2::2] + 1j * p[3::2]
         rr = zc - Bp @ cc
         return np.concatenate((rr.real, rr.imag))
@@ -290,7 +315,7 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
                        critical_speed_hz=w0 * shift / TWO_PI, critical_speed_hz_std=sd["fc"],
                        specific_unbalance_m=float(e), specific_unbalance_m_std=sd["e"],
                        angle_rad=float(math.atan2(q.imag, q.real)), angle_rad_std=sd["beta"],
-                       offset_m=complex(c[3]), runout_m=complex(c[4]) if runout else 0j, residual_rms_m=float(np.sqrt(np.mean(np.abs(r) ** 2))),
+                       offset_m=complex(c[3]), runout_m=complex(c[4]) if runout and order == 0 else 0j, residual_rms_m=float(np.sqrt(np.mean(np.abs(r) ** 2))),
                        samples=int(n))
 
 

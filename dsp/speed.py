@@ -312,7 +312,9 @@ def angle_from_speed(t, speed_rad_s, *, source: str = "tachometer") -> RotorAngl
     A tachometer display holds its reading between updates: each reading is the
     mean speed over the gate that preceded it, so it belongs to half a gate
     before the update; the held steps are replaced by a line through those
-    points (the update interval taken as the gate) before integration.
+    points (the typical hold taken as the gate) before integration.  A reading held
+    over several gates is a steady speed: it holds until 1.5 gates before the next
+    change.
     """
     t = check_times(t, "t", 2)
     w = np.asarray(speed_rad_s, float)
@@ -323,8 +325,17 @@ def angle_from_speed(t, speed_rad_s, *, source: str = "tachometer") -> RotorAngl
         starts = np.concatenate(([0], change))
         stops = np.concatenate((change, [t.size]))
         dt = float(np.median(np.diff(t)))
-        tm = t[starts] - 0.5 * (t[stops - 1] - t[starts] + dt)
-        w = np.interp(t, tm, w[starts])
+        # the gate: the typical hold (a steady speed holds one reading over many updates,
+        # so a step's own length is not its gate)
+        gate = float(np.median(t[stops - 1] - t[starts] + dt))
+        tm, wm = t[starts] - 0.5 * gate, w[starts]
+        end = t[stops - 1] + dt - 1.5 * gate          # a reading repeated: a steady speed
+        long = end > tm + 0.5 * gate
+        tm = np.concatenate((tm, end[long]))
+        wm = np.concatenate((wm, wm[long]))
+        o = np.argsort(tm, kind="stable")
+        tm, wm = tm[o], wm[o]
+        w = np.interp(t, tm, wm)
     ang = np.concatenate(([0.0], np.cumsum(0.5 * (w[1:] + w[:-1]) * np.diff(t))))
     acc = np.gradient(w, t)
     return RotorAngle(ang, w, acc, np.ones(t.size, bool), source, referenced=False)

@@ -12,11 +12,11 @@ The answers are result objects (docs/results.md): attributes, ``to_dict()``,
 """
 __version__ = "0.1.0"
 
-__all__ = ["load", "run", "read", "theory", "analyze", "report", "track", "Scene", "Run", "Recording",
+__all__ = ["load", "run", "read", "theory", "analyze", "report", "track", "balance", "Scene", "Run", "Recording",
            "SceneError", "RecordingError", "__version__"]
 
 _LAZY = {"load": "api", "run": "api", "read": "api", "theory": "api", "analyze": "api",
-         "report": "api", "track": "api", "Scene": "scene.model", "SceneError": "scene.model", "Run": "integrate.result",
+         "report": "api", "track": "api", "balance": "api", "Scene": "scene.model", "SceneError": "scene.model", "Run": "integrate.result",
          "Recording": "recording.hdf5", "RecordingError": "recording.hdf5"}
 
 

@@ -13,6 +13,7 @@ book weight model) and every recording::
     stand.report(rec, html_path="r.html")  # balancing-quality report: a Report
     stand.theory(scene)                    # what the theory predicts: a Theory
     stand.track("runup.h5")                # the screen's spot in each frame: a Track
+    stand.balance("job.toml")              # field balancing from readings: a FieldBalance
 
 The answers are result objects (:mod:`stand.io.result`, docs/results.md): attribute
 and mapping access, ``to_dict()`` (the JSON the command line prints), ``to_frame()``
@@ -23,7 +24,7 @@ from __future__ import annotations
 import os
 from typing import Optional, Union
 
-__all__ = ["load", "run", "read", "theory", "analyze", "report", "track"]
+__all__ = ["load", "run", "read", "theory", "analyze", "report", "track", "balance"]
 
 
 def load(source: Union[str, os.PathLike]):
@@ -156,3 +157,22 @@ def track(source, *, strobe: bool = False, **options):
 
     df = (strobe_angles if strobe else track_frames)(os.fspath(source), **options)
     return Track(df, source=source, strobe=strobe)
+
+
+def balance(job, *, influence=None, method: Optional[str] = None, html_path=None, pdf_path=None,
+            json_path=None):
+    """Field balancing from a job file of readings
+    (:func:`stand.analysis.field_balance.balance_job`; the contract is in the README).
+
+    ``influence``: a saved influence file (``--save-influence``) instead of the job's trial
+    runs; ``method`` overrides the job's.  ``html_path`` / ``pdf_path`` / ``json_path``: the
+    field-balancing report (:mod:`stand.reports.field_balancing`), written when given.
+    Returns a :class:`stand.analysis.field_balance.FieldBalance`."""
+    from stand.analysis.field_balance import balance_job
+
+    res = balance_job(job, influence=influence, method=method)
+    if html_path or pdf_path or json_path:
+        from stand.reports.field_balancing import write_field_report
+
+        write_field_report(res, html_path, pdf=pdf_path, json_path=json_path)
+    return res

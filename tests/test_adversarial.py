@@ -6,9 +6,12 @@ expected), recording mutations (truncations, flipped bytes, deleted datasets, Na
 stretches, non-monotonic or zero-length time, wrong units), table mutations
 (missing columns, text in numbers, one row, semicolons, a BOM) and image mutations
 (blank, saturated, two spots, zero-size, a PNG declaring 50 000 x 50 000 pixels) --
-is crossed with every command that reads that kind of input.  Each cell must end in
+is crossed with every command that reads that kind of input; so are scenes valid key by
+key whose structure no computation resolves (conditioning extremes) and degenerate
+speed programmes (issue 34).  Each cell must end in
 exit 2 with one line naming the input and the problem, or in a result (exit 0/1)
-with the problem stated; never a traceback, a hang (per-cell time limit), memory
+with the problem stated (exit 1: exactly one stderr line saying what stopped and its
+budget); never a traceback, a hang (per-cell time limit), memory
 beyond the bound, or a changed input (hash before and after).  Seeds are fixed.
 
 ``python tests/test_adversarial.py`` prints the table; under pytest the table is
@@ -20,6 +23,7 @@ import hashlib
 import io
 import json
 import random
+import re
 import resource
 import signal
 import struct
@@ -113,6 +117,56 @@ def scene_mutations(base: str, rng: random.Random):
     d["run"]["duration"] = 1e12
     out.append(("10^12 s", _scene_text(d).encode()))
     return out
+
+
+def _edited(name: str, edits: dict, duration: float = 1.0) -> bytes:
+    """A sample scene with ``key = value`` lines replaced (the first of each key) and a short run."""
+    text = (SCENES / f"{name}.toml").read_text()
+    for key, value in {**edits, "duration": repr(duration)}.items():
+        text, n = re.subn(rf"(?m)^{re.escape(key)} = .*$", f"{key} = {value}", text, count=1)
+        assert n == 1, (name, key)
+    return text.encode()
+
+
+def conditioning_mutations():
+    """(label, bytes) of scenes valid key by key whose structure no computation resolves
+    (issue 34): refused at load by every command (stand.scene.conditioning)."""
+    def two(**edits):      # (its screens film from 2.5 s on: the run keeps its 5 s)
+        return _edited("paper003_two_screens", edits, duration=5.0)
+
+    return [
+        ("rigid rotor mass 1e30 kg, A 1e-30 kg m^2", two(mass="1e30", A="1e-30")),
+        ("rigid rotor mass 1e20 kg", two(mass="1e20")),
+        ("rigid rotor A 1e-30 kg m^2", two(A="1e-30")),
+        ("rigid rotor supports 1e30 N/m", two(c1="1e30", c2="1e30")),
+        ("planar rotor stiffness 1e30 N/m", _edited("ball_runup", {"stiffness": "1e30"})),
+        ("two-mass rotor shaft 1e30 N/m", _edited("family_two_mass", {"rotor_stiffness": "1e30"})),
+    ]
+
+
+def programme_mutations():
+    """(label, bytes) of degenerate speed programmes (issue 34): a programme of one node is
+    a constant speed in every command; equal times, negative speeds and steps of infinite
+    acceleration are refused by every command."""
+    out = []
+    for base in ("body_damper", "family_two_mass", "ball_runup"):
+        for label, prog in (("one node at rest [[0, 0]]", "[[0.0, 0.0]]"),
+                            ("one node [[0, 5]]", "[[0.0, 5.0]]"),
+                            ("one node late [[3, 5]]", "[[3.0, 5.0]]"),
+                            ("at rest throughout", "[[0.0, 0.0], [5.0, 0.0]]"),
+                            ("starts after the run", "[[50.0, 5.0], [60.0, 6.0]]"),
+                            ("equal times", "[[0.0, 0.0], [0.0, 5.0]]"),
+                            ("negative speed", "[[0.0, -5.0]]"),
+                            ("a step in 1e-300 s", "[[0.0, 0.0], [1e-300, 5.0]]")):
+            out.append((f"{base}: {label}", _edited(base, {"programme": prog})))
+    return out
+
+
+def _sweep_spec(tmp: Path, scene: Path, i: int) -> Path:
+    spec = tmp / f"sweep_{i}.toml"
+    spec.write_text(f'[sweep]\ncompute = ["theory"]\n[base]\nscene = "{scene.name}"\n'
+                    '[[axis]]\nkey = "speed"\nvalues = [5.0, 20.0]\n')
+    return spec
 
 
 def recording_mutations(good: Path, rng: random.Random):
@@ -221,6 +275,10 @@ def _digest(paths) -> dict:
     return {str(p): hashlib.sha256(p.read_bytes()).hexdigest() for p in paths if p.is_file()}
 
 
+#: a progress bar's line on stderr (tqdm: "name:  50%|#####     | 1/2 [...]")
+_PROGRESS = re.compile(r"\d+%\|")
+
+
 def run_cell(argv, inputs) -> dict:
     """Run ``stand <argv>`` in this process; classify the outcome."""
     from stand.cli.main import main
@@ -257,7 +315,10 @@ def run_cell(argv, inputs) -> dict:
         verdict = "clear error" if len(lines) == 1 and named else f"unclear error: {e.strip()[:200]!r}"
         if verdict == "clear error" and wall > REFUSAL_TIME_LIMIT_S:
             verdict = f"slow refusal ({wall:.1f} s > {REFUSAL_TIME_LIMIT_S} s)"
-    elif code in (0, 1):
+    elif code == 1:      # stopped early (a run's step budget, a computation's work budget)
+        lines = [ln for ln in e.splitlines() if ln.strip() and not _PROGRESS.search(ln)]
+        verdict = "partial result" if len(lines) == 1 else f"unclear stop: {e.strip()[:200]!r}"
+    elif code == 0:
         verdict = "partial result"
     else:
         verdict = f"exit {code}"
@@ -277,6 +338,20 @@ def cells(tmp: Path):
                                ("accuracy", ["--fast"]),
                                ("experiment", ["constant", "-o", tmp / "out_e.h5", "--duration", "1"])):
                 yield cmd, f"{base}: {label}", [cmd, p, *extra], [p]
+    scene_cmds = (("run", ["-o", tmp / "out_c.h5"]), ("theory", []), ("accuracy", ["--fast"]),
+                  ("experiment", ["constant", "-o", tmp / "out_ce.h5", "--duration", "1"]))
+    for kind, catalogue in (("conditioning", conditioning_mutations()),
+                            ("programme", programme_mutations())):
+        for i, (label, blob) in enumerate(catalogue):
+            p = tmp / f"{kind}_{i}.toml"
+            p.write_bytes(blob)
+            extra_cmds = (("accuracy", ["--methods", "RK4"]),) if kind == "programme" else ()
+            for cmd, extra in scene_cmds + extra_cmds:
+                yield (f"{cmd}{' RK4' if 'RK4' in extra else ''}", f"{kind}: {label}",
+                       [cmd, p, *extra], [p])
+            spec = _sweep_spec(tmp, p, i + (100 if kind == "programme" else 0))
+            yield ("sweep", f"{kind}: {label}",
+                   ["sweep", spec, "-o", tmp / f"{spec.stem}.parquet"], [spec, p])
     good = tmp / "good.h5"
     scene = tmp / "good_scene.toml"
     scene.write_text(_scene_text(BASES["ball_runup"]))

@@ -264,8 +264,11 @@ def test_shape_limits_refuse_before_parsing(tmp_path, monkeypatch):
     p = tmp_path / "big.csv"
     p.write_text(good)
     n_rows = len(body.strip().splitlines())
-    monkeypatch.setattr(table, "_memory_budget", lambda: 4.0 * p.stat().st_size + 1)
-    monkeypatch.setattr(table, "CELL_BYTES", 4.0 * p.stat().st_size)
+    from stand.lab import limits      # the limits every reader shares
+
+    for mod in (table, limits):
+        monkeypatch.setattr(mod, "_memory_budget", lambda: 4.0 * p.stat().st_size + 1)
+    monkeypatch.setattr(limits, "CELL_BYTES", 4.0 * p.stat().st_size)
     with pytest.raises(TableError, match=rf"{n_rows} rows x {len(head.split(','))} columns would need"):
         read_table(p)
     monkeypatch.undo()

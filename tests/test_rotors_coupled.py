@@ -74,3 +74,55 @@ def test_two_mass_rotor_balances_inside_its_working_range_only():
         U = np.hypot(*run.residual["balancer"][-1])
         balanced = U < 0.05 * 2e-3
         assert balanced == expect, (w, U)
+
+
+def test_generic_kernel_allocation_free_matches_a_numpy_solve():
+    """The generic right-hand side with its scratch block in sp (issue 33) and its own
+    elimination for n > 12: q'' of the flexible shaft with 10 modes (n = 20) against the same
+    Schur system assembled and solved by numpy (round-off: 1e-10 of the largest term)."""
+    from stand.scene.parse import load_scene
+    from stand.model.rotors.coupled import build_model, initial_state
+    from stand.model.rotors.coupled_kernel import (H_OS, rhs_generic, scratch_size, W_J, W_L,
+                                                   W_M, W_PLANE)
+    from stand.model.programme import programme_kinematics_many
+
+    from pathlib import Path
+
+    sc = load_scene(Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
+                    / "stress_flexible_10modes.toml")
+    rotor = sc.linear_rotor()
+    m = build_model(rotor, sc.weights, sc.drive.programme)
+    n, nw = m.n, m.nw
+    assert m.sp.size - int(m.sp[H_OS]) == scratch_size(n, nw, 0, False)
+    y = initial_state(m, sc.weights) + 1e-3 * np.sin(np.arange(m.size))
+    tau = 2.0
+    dy = np.empty_like(y)
+    params = m.sp[:int(m.sp[H_OS])].copy()
+    rhs_generic(tau, y, dy, m.sp, m.wt, m.prog)
+    assert np.array_equal(m.sp[:int(m.sp[H_OS])], params)       # parameters untouched
+    w = m.omega_ref
+    phi, R, dR = programme_kinematics_many(tau, m.prog)[0]
+    Om, dOm = R * w, dR * w * w
+    q, qd = m.scale * y[:n], w * m.scale * y[n + nw:2 * n + nw]
+    A = rotor.M.copy()
+    f = -rotor.K @ q - (rotor.D + Om * rotor.G) @ qd + rotor.gravity
+    names = m.plane_names
+    for u in rotor.unbalances:
+        th = phi + u.angle
+        F = rotor.force_map(u.plane)
+        f += F.T @ (u.s * np.array([Om ** 2 * np.cos(th) + dOm * np.sin(th),
+                                    Om ** 2 * np.sin(th) - dOm * np.cos(th)]))
+    for j, row in enumerate(m.wt):
+        p = names[int(row[W_PLANE])]
+        T, F = rotor.planes[p], rotor.force_map(p)
+        mj, l, J = row[W_M], row[W_L], row[W_J]
+        psi, psid = phi + y[n + j], Om + w * y[2 * n + nw + j]
+        e, nv = np.array([np.cos(psi), np.sin(psi)]), np.array([np.sin(psi), -np.cos(psi)])
+        k2 = mj * mj * l * l / J
+        H = sc.weights[0].balancer.moment_drag[0]
+        Mr = H * w * y[2 * n + nw + j]
+        A += mj * F.T @ T - k2 * np.outer(F.T @ nv, T.T @ nv)
+        f += F.T @ (mj * l * psid ** 2 * e - mj * l * Mr / J * nv)
+    qdd = np.linalg.solve(A, f)
+    got = dy[n + nw:2 * n + nw] * w * w * m.scale
+    assert np.max(np.abs(got - qdd)) <= 1e-10 * np.max(np.abs(qdd))

@@ -300,7 +300,8 @@ def test_a_jit_run_starts_one_background_build(monkeypatch):
 
 def test_background_build_entry_point_refuses_unknown_kinds(capsys):
     assert precompiled.main(["spherical"]) == 2
-    assert "usage: python -m stand.integrate.precompiled {planar,generic}" in capsys.readouterr().err
+    assert "usage: python -m stand.integrate.precompiled {planar,generic,render}" in \
+        capsys.readouterr().err
 
 
 @pytest.mark.parametrize("mode", ["jit", "precompiled"])
@@ -363,3 +364,60 @@ def test_kernel_set_dop853_takes_lists_and_checks_its_workspace():
         dop853_loop(0, m.sp, m.wt, m.prog, 0.0, y, f.copy(), 1e-3, 1.0, 1e-8, 1e-10,
                     np.full(y.size, np.inf), np.inf, np.array(ts), 1, out, st, 10**6, 1e9,
                     np.empty((WORK_ROWS - 1, y.size)))
+
+
+@pytest.mark.parametrize("name", ["family_spatial", "body_liquid_float"])
+def test_warm_run_of_every_kind_imports_no_numba(name, tmp_path):
+    """A generic-kernel scene with a screen camera (frames rendered) and bodies: with the
+    precompiled generic kernel and renderer, the whole `stand run` imports neither numba nor
+    scipy.special (issue 33)."""
+    if precompiled.available() is not None:
+        pytest.skip(f"precompiling unavailable: {precompiled.available()}")
+    _python("from stand.integrate.kernel_set import kernels\nfrom stand.integrate import "
+            "precompiled\nkernels(1, build=True)\nprecompiled.build('render')")
+    code = ("import sys\nfrom stand.cli.main import main\n"
+            f"rc = main(['run', {str(SCENES / (name + '.toml'))!r}, '-o', "
+            f"{str(tmp_path / 'r.h5')!r}, '--force'])\n"
+            "print('@@', rc, 'numba' in sys.modules, 'scipy.special' in sys.modules)")
+    out = _python(code, env={"STAND_KERNELS": "auto"})
+    assert out.split("@@")[-1].split() == ["0", "False", "False"]
+
+
+def test_precompiled_renderer_equals_the_jit_one():
+    """The precompiled screen renderer (precompiled.EXTRAS) draws the same frame bit for bit."""
+    if precompiled.available() is not None:
+        pytest.skip(f"precompiling unavailable: {precompiled.available()}")
+    from stand.instruments import render
+
+    mod = precompiled.build("render")
+    r = render._Renderer.__new__(render._Renderer)
+    thr, guide, kmin = render.background_table(8.0, 2.0, True, 10.0, 255)
+    u = np.array([30.2, 31.0, 31.7])
+    v = np.array([20.1, 20.4, 20.9])
+    w = np.full(3, 1.0 / 3.0)
+    frames = []
+    for f in (mod.render_frame, render.render_frame):
+        acc = np.zeros((48, 64))
+        out = np.zeros((48, 64), np.uint16)
+        touched = f(u, v, w, 2.5, 2.0, 200.0, 8.0, 2.0, 10.0, True, 255, True,
+                    np.uint64(12345), thr, guide, kmin, 4.0, acc, out)
+        frames.append((touched, out))
+    assert frames[0][0] == frames[1][0] > 0
+    assert np.array_equal(frames[0][1], frames[1][1])
+    del r
+
+
+def test_background_table_without_scipy_equals_scipy():
+    """The small-table path (math.lgamma / math.erf) gives scipy's tables exactly."""
+    from stand.instruments import render
+
+    table = render.background_table.__wrapped__
+    for args in [(8.0, 2.0, True, 10.0, 255), (100.0, 3.0, True, 2.0, 4095),
+                 (500.0, 5.0, True, 1.0, 65535)]:
+        a = table(*args)
+        old, render._SMALL_TABLE = render._SMALL_TABLE, -1
+        try:
+            b = table(*args)
+        finally:
+            render._SMALL_TABLE = old
+        assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1]) and a[2] == b[2]

@@ -109,3 +109,20 @@ def test_named_instances_only_for_screens(tmp_path):
     p.write_text(text.replace("[instruments.keyphasor]\nmark_angle = 0.0\n", ""))
     with pytest.raises(SceneError, match="no named sub-tables"):
         stand.load(str(p))
+
+
+def test_report_tracks_the_screens_itself(two_plane_run):
+    """Issue 32, item 5: `stand report` on the recording alone gives the two-plane verdict
+    (the report tracks both screens) and leaves the single-plane table of dashes out."""
+    d, rec, tracks = two_plane_run
+    js, html = d / "auto.json", d / "auto.html"
+    assert main(["report", rec, "-o", str(html), "--json-file", str(js)]) == 0
+    doc = json.loads(js.read_text())
+    tp = doc["two_plane"]
+    for row, U in zip(tp["planes"], _truth()):
+        assert row["unbalance_gmm"] == pytest.approx(abs(U) * 1e6, rel=0.03)
+    assert tp["iso_21940_11"]["passed"] is False
+    page = html.read_text()
+    assert "No verdict" not in page and "FAIL" in page
+    assert "id='two_plane'" in page and "id='quality'" not in page
+    assert any("tracked by the report" in n for n in doc["notes"])

@@ -39,6 +39,7 @@ from dsp.errors import SignalError
 from stand.analysis.sources import read_source, whirls
 from stand.analysis.two_plane import two_plane
 from stand.analysis.unbalance import line_1x, unbalance
+from stand.analysis.vibration import VIBRATION, vibration_in_users_quantity
 
 __all__ = ["analyze", "two_plane"]
 
@@ -75,6 +76,10 @@ def analyze(path, grade: float = 6.3, service_speed_rpm: float | None = None,
 
     grade = renamed(grade, grade_mm_s, "grade_mm_s", "grade", "analyze")
     d = read_source(path, recording_map)
+    if "bode" in d:                          # a Bode / polar table: the modal fit
+        from stand.analysis.bode import analyze_bode
+
+        return Analysis(analyze_bode(d["bode"], d["notes"]))
     t = d["t"]
     if t.size < 2:  # np.gradient of the rotor angle needs two samples
         raise ValueError(f"{path}: {t.size} sample(s) in time (s); stand analyze needs at least 2")
@@ -90,6 +95,9 @@ def analyze(path, grade: float = 6.3, service_speed_rpm: float | None = None,
     _free_decay(d, out, rotating)
     _sweep(d, out, rotating)
     sl, sc1 = _steady_1x(d, out, speed, rotating)
+    vibration_in_users_quantity(d, out)
+    if d.get("quantity", "length") != "length":
+        sc1 = None          # its vector is a velocity / acceleration: the fit or the line's |1X|
     if rotating:
         unbalance(out, d["scene"], sc1, d, rmap, getattr(rmap, "mass_kg", None), grade,
                   service_speed_rpm, notes)
@@ -155,7 +163,8 @@ def _sweep(d, out, rotating) -> None:
     if not (rotating and (tab is not None or model_ok or scene is not None)):
         return
     sw = sweep_identification(d["t"], d["x"], d["y"], d.get("angle"), out["notes"],
-                              fit_model=model_ok or tab is not None)
+                              fit_model=model_ok or tab is not None,
+                              derivative=VIBRATION[d.get("quantity", "length")])
     if sw is None:
         return
     out["runup"] = sw
@@ -164,11 +173,14 @@ def _sweep(d, out, rotating) -> None:
         if out["programme"] is None:
             out["programme"] = sw["programme"]
     fit, res = sw["model_fit"], sw["resonance"]
-    if fit is not None:     # exact for the model; the resonance peak is a cross-check
+    if fit is not None:     # exact for the model; the sweep-corrected 1X peak is a cross-check
+        cross = (f"; the 1X peak of the {res['stretch']} with the sweep-rate lag removed gives "
+                 f"{res['critical_speed_hz']:.5g} rev/s (papers 001/003/004 4.3, 5.4)"
+                 if res is not None else "")
         out.update(critical_speed_hz=fit["critical_speed_hz"],
                    critical_speed_hz_std=fit["critical_speed_hz_std"],
                    critical_speed_method="rigid-rotor model fitted to the whole record "
-                   "(sweep-rate lag and transients in the model)")
+                   "(sweep-rate lag and transients in the model), f0 / sqrt(1 - 2 zeta^2)" + cross)
     elif res is not None:
         out.update(critical_speed_hz=res["critical_speed_hz"],
                    critical_speed_method=f"1X peak of the {res['stretch']}, sweep-rate lag "
@@ -211,7 +223,9 @@ def _steady_1x(d, out, speed, rotating):
         except SignalError as exc:
             notes.append(f"1X / unbalance: {exc}")
     elif rotating:
-        line_1x(t[sl], x[sl] + 1j * y[sl], out, notes)
+        ang = d.get("angle")
+        line_1x(t[sl], x[sl] + 1j * y[sl], out, notes,
+                speed_how=d.get("speed_how") if ang is not None and not ang.estimated else None)
     return sl, sc1
 
 
@@ -222,6 +236,10 @@ def _components(d, out, sl, rotating) -> None:
     t, x, y, notes = d["t"], d["x"], d["y"], out["notes"]
     out.update(components=[], precession_hz=None, nutation_hz=None, petals=None, shape=None)
     if not (rotating and out["speed_hz"] is not None):
+        return
+    if d.get("quantity", "length") != "length":
+        notes.append("quasi-periodic decomposition: on displacement records only (this one is "
+                     f"{d['quantity']})")
         return
     try:
         f_rot = out["speed_hz"]

@@ -9,8 +9,9 @@ on recordings of rotors without weights:
   the angle is referenced to a mark (keyphasor, encoder).
 * **Model fit** over the whole record (:func:`dsp.response_fit.fit_unbalance_response`):
   natural frequency, damping ratio, specific unbalance and its angle, the
-  probes' DC offset and 1X runout; no quasi-steady assumption.  Without a
-  keyphasor or encoder (a tachometer or nothing) the angle is estimated from
+  probes' DC offset and 1X runout; no quasi-steady assumption.  A tachometer's
+  integrated speed is the angle up to a constant (the unbalance angle is then not
+  reported); with no speed channel at all the angle is estimated from
   the whirl (:func:`dsp.response_fit.fit_response_without_speed`) and the
   unbalance has a magnitude but no angle.
 * **Critical speed** from the resonance peak of the 1X amplitude with the
@@ -70,7 +71,7 @@ def _fit_dict(fit, referenced: bool, mark_std_rad: float = 0.0) -> dict:
 
 
 def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bool] = None,
-                         fit_model: bool = True) -> Optional[dict]:
+                         fit_model: bool = True, derivative: int = 0) -> Optional[dict]:
     """Identify what a swept record gives (module docstring).
 
     Parameters
@@ -83,6 +84,9 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
         Receives what could not be done and why.
     fit_model : bool
         Fit the rigid-rotor model (off for rotors whose weights make it wrong).
+    derivative : int
+        x, y measure displacement (0), velocity (1, [m/s]) or acceleration (2, [m/s²]):
+        the model is fitted in that quantity; the Bode data are displacement (1X / (i w)^k).
 
     Returns
     -------
@@ -103,7 +107,9 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
     out = {"speed_source": None if angle is None else angle.source, "speed_estimated": False,
            "bode": None, "resonance": None, "model_fit": None, "programme": None}
     fit = None
-    if angle is not None and ref:
+    # a tachometer's integrated angle is the rotor angle up to a constant, which the fit's
+    # unbalance angle absorbs: f0, zeta and |U| as with a mark (issue 31, item 2)
+    if angle is not None and (ref or not angle.estimated):
         c = angle.covered
         prog = speed_programme(t[c], angle.speed_rad_s[c])
         if not any(s.kind in SWEEPS for s in prog.stretches):
@@ -111,7 +117,7 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
         if fit_model:
             try:
                 fit = fit_unbalance_response(t[c], z[c], angle.angle_rad[c], angle.speed_rad_s[c],
-                                             angle.acceleration_rad_s2[c])
+                                             angle.acceleration_rad_s2[c], derivative=derivative)
             except SignalError as exc:
                 notes.append(f"run-up model fit: {exc}")
     else:
@@ -120,6 +126,10 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
             if not any(s.kind in SWEEPS for s in prog.stretches):
                 return None
         if not fit_model:
+            return None
+        if derivative:
+            notes.append("run-up model fit: a velocity or acceleration record needs a speed "
+                         "channel (keyphasor, encoder or tachometer)")
             return None
         try:
             fit, angle = fit_response_without_speed(t, z)
@@ -147,6 +157,7 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
     tm, w, v = pr
     if fit is not None:
         v = v - fit.runout_m
+    v = v / (1j * w) ** derivative            # the 1X of a velocity / acceleration -> displacement
     out["bode"] = {"t_s": tm.tolist(), "speed_hz": (w / TWO_PI).tolist(),
                    "amplitude_m": np.abs(v).tolist(),
                    "phase_deg": np.degrees(np.angle(v)).tolist() if ref else None}

@@ -7,7 +7,8 @@ returns one dict: ``t`` [s], ``x``, ``y`` [m], ``phi`` (the rotor angle [rad] or
 ``weights`` (weight angles [rad] or None), ``scene`` (the planar scene whose model
 turns a 1X response into an unbalance, or None), ``notes``, ``angle`` (a
 :class:`dsp.speed.RotorAngle` or None), ``speed_how`` (where the speed comes from),
-``table`` (the lab table or None).  :func:`whirls` tells whether a record without a
+``table`` (the lab table or None), ``quantity`` (what x and y measure: ``length``,
+``velocity`` [m/s] or ``acceleration`` [m/s²]; a Run's are ``length``).  :func:`whirls` tells whether a record without a
 speed channel comes from a spinning shaft.
 """
 from __future__ import annotations
@@ -32,12 +33,35 @@ def read_source(path, recording_map=None):
         return from_run(path)
     p = Path(path)
     if is_table(p):
+        from stand.lab.bode_table import is_bode_map, read_bode_table
+
+        if is_bode_map(recording_map):
+            return dict(bode=read_bode_table(p, recording_map), notes=[])
         return from_table(p, recording_map)
+    _refuse_unknown(p)
     d = from_run(read_recording(p))
     if recording_map is not None and recording_map.columns:   # e.g. a folder of mixed files
         d["notes"].append("the recording map applies to tables; this stand recording carries "
                           "its own channels (map ignored)")
     return d
+
+
+def _refuse_unknown(p: Path) -> None:
+    """A file that is neither a table by its name nor HDF5: one line listing what is read."""
+    import h5py
+
+    from stand.lab.formats import FORMATS_READ
+    from stand.lab.table import TableError
+
+    if not p.is_file():
+        return                                   # the recording reader says what is missing
+    try:
+        hdf5 = h5py.is_hdf5(str(p))
+    except OSError:
+        return
+    if not hdf5:
+        raise TableError(f"{p}: not a format that is read (suffix {p.suffix or 'none'!r}, no HDF5 "
+                         f"signature); stand analyze reads: {'; '.join(FORMATS_READ)}")
 
 
 def from_table(p, recording_map):
@@ -59,8 +83,17 @@ def from_table(p, recording_map):
         angle = type(angle)(angle.angle_rad[c], angle.speed_rad_s[c], angle.acceleration_rad_s2[c],
                             np.ones(int(c.sum()), bool), angle.source, angle.referenced,
                             angle.estimated, angle.pulses_s)
+    if tab.quantity != "length":
+        notes.append(_SUPPORT_MODEL)
     return dict(t=t, x=x, y=y, phi=phi, kp=None, weights=None, scene=None, notes=notes,
-                angle=angle, speed_how=how, table=tab)
+                angle=angle, speed_how=how, table=tab, quantity=tab.quantity)
+
+
+_SUPPORT_MODEL = ("velocity / acceleration channels: taken as the motion of the rotor's centre "
+                  "(the rigid rotor on isotropic supports, the sensors on bearing housings that "
+                  "move with the journal: no relative motion between shaft and housing); the "
+                  "model's response is differentiated to the channel's quantity, nothing is "
+                  "integrated")
 
 
 def from_run(rec):

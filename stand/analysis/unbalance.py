@@ -17,7 +17,7 @@ __all__ = ["line_1x", "unbalance", "iso_grade", "ring_reading"]
 TWO_PI = 2 * math.pi
 
 
-def line_1x(t, z, out, notes) -> None:
+def line_1x(t, z, out, notes, speed_how=None) -> None:
     """No phase reference: the 1X line's frequency and amplitude from the spectrum
     (:func:`dsp.frequency.refine_frequencies`, the strongest forward line)."""
     from dsp.lines import refine_frequencies
@@ -27,6 +27,10 @@ def line_1x(t, z, out, notes) -> None:
         f = float(comp.frequency_hz[0])
         out["speed_hz"] = abs(f)
         out["response_1x_m"] = float(abs(comp.amplitude[0]))
+        if speed_how:          # a tachometer: the speed is measured, the 1X phase has no mark
+            notes.append(f"1X over the steady stretch: the strongest line of the orbit at "
+                         f"{abs(f):.6g} rev/s (speed from the {speed_how}; no mark for the angle)")
+            return
         out["speed_estimated"] = True
         notes.append(f"no keyphasor or encoder: the speed {abs(f):.6g} rev/s is the strongest line "
                      "of the orbit (estimated from the vibration)")

@@ -1,4 +1,5 @@
-"""Commands that read recordings and answer: ``stand analyze``, ``report``, ``influence``, ``daq``.
+"""Commands that read recordings and answer: ``stand analyze``, ``report``, ``influence``,
+``balance``, ``daq``.
 Each calls the library and prints."""
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ from pathlib import Path
 
 from stand.cli.common import print_json, print_recognised, say_not_applicable
 
-__all__ = ["report_row", "cmd_report", "cmd_analyze", "cmd_influence", "cmd_daq"]
+__all__ = ["report_row", "cmd_report", "cmd_analyze", "cmd_influence", "cmd_balance", "cmd_daq"]
 
 
 def report_row(path, grade, service_speed_rpm, html_dir, recording_map=None):
@@ -158,6 +159,39 @@ def cmd_influence(args) -> int:
     return cli_influence(args.recordings, args.trial, args.sensors, as_json=args.json)
 
 
+def cmd_balance(args) -> int:
+    """``stand balance JOB.toml``: corrections from a field-balancing job file."""
+    from stand.analysis.field_balance import influence_toml
+    from stand.api import balance
+
+    res = balance(args.job, influence=args.influence, method=args.method, html_path=args.output,
+                  pdf_path=args.pdf)
+    if args.save_influence:
+        from stand.io.atomic import write_text
+
+        write_text(args.save_influence, influence_toml(res))
+    for w in res["warnings"]:
+        print(f"stand balance: warning: {w}", file=sys.stderr)
+    if args.json:
+        print_json(res.to_dict())
+        return 0
+    mu, vu = res["mass_unit"], res["vibration_unit"]
+    print(f"field balancing ({res['method']}, {res['solver']}): condition {res['condition']:.3g}")
+    for p, c in res["corrections"].items():
+        pm = f" +- {c['mass_std']:.3g}" if c["mass_std"] > 0 else ""
+        pa = f" +- {c['angle_std_deg']:.2g}" if c["angle_std_deg"] > 0 else ""
+        line = f"  {p}: {c['mass']:.5g}{pm} {mu} @ {c['angle_deg']:.2f}{pa} deg"
+        if "split" in c:
+            line += "  = " + " + ".join(f"{h['mass']:.4g} {mu} in hole {h['hole']} "
+                                         f"({h['angle_deg']:.1f} deg)" for h in c["split"])
+        print(line)
+    for r in res["residuals"]:
+        at = f" at {r['speed_rpm']:.6g} rpm" if r["speed_rpm"] is not None else ""
+        print(f"  {r['sensor']}{at}: {r['before']:.4g} -> {r['after']:.4g} {vu} {res['amplitude']}"
+              f" (predicted)")
+    return 0
+
+
 def cmd_daq(args) -> int:
     from stand.lab.daq_export import daq_export
 
@@ -170,7 +204,13 @@ def cmd_daq(args) -> int:
     from stand.errors import NotApplicable
 
     try:
-        truth = daq_export(args.recording, args.output, truth_path=args.truth, offset_um=off)
+        if getattr(args, "bode", False):
+            from stand.lab.daq_export import daq_bode
+
+            truth = daq_bode(args.recording, args.output, truth_path=args.truth)
+        else:
+            truth = daq_export(args.recording, args.output, truth_path=args.truth, offset_um=off,
+                               quantity=getattr(args, "quantity", "displacement"))
     except NotApplicable as exc:
         return say_not_applicable("daq", str(exc))
     print(f"{args.recording} -> {args.output} (DAQ export); truth: unbalance "

@@ -6,6 +6,8 @@
     stand snapshot RUN.h5 [--instrument screen|strobe|rings] [--frame N] -o FRAME.png
     stand experiment SCENE.toml PROGRAMME [options] -o RUN.h5
     stand analyze RUN.h5|RUN.csv [--json] [--grade G] [--service-speed RPM]
+    stand balance JOB.toml [--json] [--method M] [--influence FILE] [--save-influence FILE]
+                  [-o REPORT.html] [--pdf REPORT.pdf]
     stand track FRAMES -o track.csv [--calibration RINGS.png] [--ring-radii R1,R2,...|RINGS.txt]
                 [--roi X,Y,W,H] [--background median|DARK.png] [--exposure S]
     stand video RUN.h5 -o screen.mp4 [--screen NAME] [--qp 10]
@@ -13,7 +15,8 @@
     stand warmup [--all]
 
 Exit codes: 0 success; 1 the simulation stopped early (what was computed is
-still written); 2 invalid input (scene, arguments, files).
+still written) or a computation ran out of its work budget (one line says which and
+the budget); 2 invalid input (scene, arguments, files).
 
 One BLAS thread per process: the command line's parallelism is processes (batch
 and sweep workers), and the identification's matrices are small: on a busy
@@ -40,6 +43,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     return build({"accuracy": simulation.cmd_accuracy,
                   "analyze": analysis.cmd_analyze,
+                  "balance": analysis.cmd_balance,
                   "daq": analysis.cmd_daq,
                   "experiment": simulation.cmd_experiment,
                   "influence": analysis.cmd_influence,
@@ -65,17 +69,20 @@ def _guard(args) -> None:
 
     g = lambda name: getattr(args, name, None)  # noqa: E731
     cmd = args.command
-    inputs = [g("scene"), g("recording"), g("source"), g("calibration"), g("catalogue"), g("spec")]
+    inputs = [g("scene"), g("recording"), g("source"), g("calibration"), g("catalogue"), g("spec"),
+              g("job"), g("influence")]
     out = g("output")
     outputs = [(g("json_file"), "json"), (g("plot"), "png"), (g("summary"), _table_kind(g("summary"))),
                (g("regime_map"), "png"), (g("critical_map"), "png"), (g("pdf"), "pdf")]
     kind = {"run": "hdf5", "experiment": "hdf5", "accuracy": "html", "report": "html",
             "stress": "html", "snapshot": "png", "track": "csv", "strobe": "csv", "daq": "csv",
-            "sweep": "parquet", "analyze": _table_kind(out)}.get(cmd)
+            "sweep": "parquet", "analyze": _table_kind(out), "balance": "html"}.get(cmd)
     if out is not None and kind and not Path(out).is_dir():
         outputs.append((out, kind))
     if cmd == "run":
         outputs.append((g("checkpoint"), "npz"))
+    if cmd == "balance":
+        outputs.append((g("save_influence"), "toml"))
     check_outputs(inputs, outputs, force=bool(g("force")))
 
 
@@ -91,7 +98,7 @@ def _naming_the_input(args, exc) -> str:
         return (f"cannot write {out}: {why}; nothing was written under that name (an existing "
                 f"file is unchanged)")
     msg = " ".join(str(exc).split())
-    src = next((getattr(args, k) for k in ("scene", "recording", "source", "spec", "catalogue")
+    src = next((getattr(args, k) for k in ("scene", "recording", "source", "spec", "catalogue", "job")
                 if getattr(args, k, None)), None)
     if src is not None and Path(str(src)).name not in msg:
         msg = f"{src}: {msg}"
@@ -109,10 +116,25 @@ def _background_precompile() -> None:
             pass
 
 
-def main(argv=None) -> int:
-    from stand.errors import SceneError
+def _one_line_errors(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    """Argument errors as one line (docs/guarantees.md), not argparse's usage block:
+    ``stand influence: error: the following arguments are required: --trial; see
+    stand influence --help`` (exit 2), on the parser and every subcommand's."""
+    def error(message, p=parser):
+        p.exit(2, f"{p.prog}: error: {' '.join(str(message).split())}; see {p.prog} --help\n")
 
-    args = build_parser().parse_args(argv)
+    parser.error = error
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                _one_line_errors(sub)
+    return parser
+
+
+def main(argv=None) -> int:
+    from stand.errors import BudgetExceeded, SceneError
+
+    args = _one_line_errors(build_parser()).parse_args(argv)
     try:
         _guard(args)
         return args.func(args)
@@ -122,6 +144,10 @@ def main(argv=None) -> int:
         # TheoryError is a ValueError: out-of-scope scenes end here with their reason
         print(f"stand {args.command}: error: {_naming_the_input(args, exc)}", file=sys.stderr)
         return 2
+    except BudgetExceeded as exc:
+        # an iterative part ran out of its work budget (issue 34): one line, what and the budget
+        print(f"stand {args.command}: stopped: {_naming_the_input(args, exc)}", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         print(f"stand {args.command}: interrupted", file=sys.stderr)
         return 130

@@ -149,6 +149,12 @@ def build_parser(handlers: dict) -> argparse.ArgumentParser:
     dq.add_argument("-o", "--output", required=True, help="CSV to write")
     dq.add_argument("--truth", default=None, help="truth JSON (default: <output stem>.truth.json)")
     dq.add_argument("--offset", default="35,-20", help="DC offsets of the x and y probes [um]")
+    dq.add_argument("--quantity", default="displacement",
+                    choices=("displacement", "velocity", "acceleration"),
+                    help="what the x, y channels measure: probes [um], velocity pickups [mm/s] "
+                    "or accelerometers [g] (no offsets)")
+    dq.add_argument("--bode", action="store_true",
+                    help="write the order-tracked steady 1X Bode table (rpm, um, deg) of a slow run-up")
     dq.set_defaults(func=handlers["daq"])
     tk = sub.add_parser("track", help="sub-pixel laser-spot track from frames (HDF5, video, images)")
     tk.add_argument("source", help="recording.h5[:dataset], video file (mp4, avi, mov, ...), image "
@@ -205,6 +211,19 @@ def build_parser(handlers: dict) -> argparse.ArgumentParser:
     fi.add_argument("--sensors", required=True, help="measurement planes, comma-separated (e.g. probe1,probe2)")
     fi.add_argument("--json", action="store_true", help="print the result as JSON")
     fi.set_defaults(func=handlers["influence"])
+    ba = sub.add_parser("balance", help="field balancing from a job file of readings (trial runs, "
+                                        "several speeds, least squares / weighted / min-max)")
+    ba.add_argument("job", help="job file (TOML: [job], [planes.*], [sensors.*], [[run]], [[influence]])")
+    ba.add_argument("--method", default=None, choices=("least_squares", "weighted", "min_max"),
+                    help="override the job's method")
+    ba.add_argument("--influence", default=None, metavar="FILE",
+                    help="a saved influence file (--save-influence) instead of the job's trial runs")
+    ba.add_argument("--save-influence", default=None, metavar="FILE",
+                    help="write the influence matrix for the next machine of the type (TOML)")
+    ba.add_argument("-o", "--output", default=None, metavar="REPORT.html", help="field-balancing report (HTML)")
+    ba.add_argument("--pdf", default=None, metavar="REPORT.pdf", help="field-balancing report (PDF)")
+    ba.add_argument("--json", action="store_true", help="print the result as JSON")
+    ba.set_defaults(func=handlers["balance"])
     for sp in sub.choices.values():
         if not any("--force" in a.option_strings for a in sp._actions):
             sp.add_argument("--force", action="store_true",

@@ -132,7 +132,10 @@ def cmd_experiment(args) -> int:
         "programme": p, **{k: v for k, v in vars(args).items() if k != "func" and v is not None}}})
     st = res.stats
     print(f"{sc.name} / {p}: {st.message} [{st.method}, {st.wall_time:.2f} s] -> {out}")
-    return 0 if st.success else 1
+    if not st.success:   # exit 1: one line on stderr says why (as stand run)
+        print(f"stand experiment: {st.message}", file=sys.stderr)
+        return 1
+    return 0
 
 
 def cmd_theory(args) -> int:

@@ -6,6 +6,7 @@
 * with ``--all`` also numba's cache of the other compiled functions, for every
   kind: the fixed-step RK4 loop (``stand accuracy``), the finite-difference
   Jacobian (Radau/BDF/LSODA runs) and the right-hand side evaluation;
+* the screen renderer (``stand run`` of a scene with a screen camera) is precompiled too;
 * the blurred-spot fit of ``stand track`` (:mod:`vision.blur`, about 10 s the first time);
 * the line fit of :func:`dsp.lines.refine_frequencies` (:mod:`dsp._line_kernel`, about 15 s
   the first time), which batch work in one process switches to.
@@ -67,6 +68,18 @@ def warmup(every_kind: bool = False, say=print, precompile: bool = True, kinds=N
                    "source": "jit", "seconds": time.perf_counter() - t0}
             done.append(row)
             say(f"{row['what']}: {row['source']} ({row['seconds']:.1f} s)")
+    if _jit.HAVE_NUMBA and not chosen and precompile:
+        from stand.integrate import precompiled
+
+        t0 = time.perf_counter()
+        try:
+            source = "precompiled" if precompiled.build("render") is not None else "jit"
+        except Exception:  # noqa: BLE001 - no compiler: numba's JIT on first use
+            source = "jit"
+        row = {"what": "screen renderer (stand run with a screen)", "source": source,
+               "seconds": time.perf_counter() - t0}
+        done.append(row)
+        say(f"{row['what']}: {row['source']} ({row['seconds']:.1f} s)")
     if _jit.HAVE_NUMBA and not chosen:
         from dsp._line_kernel import warm as warm_lines
         from vision.blur import warm as warm_blur

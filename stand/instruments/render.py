@@ -355,8 +355,6 @@ def background_table(background: float, read_noise: float, shot_noise: bool,
     kmin : int
         Smallest value with non-negligible probability.
     """
-    from scipy.special import gammaln, ndtr
-
     lam = background * electrons_per_dn if shot_noise else 0.0
     read = read_noise
     if shot_noise and lam > 1e5:  # normal approximation of a huge Poisson count
@@ -365,7 +363,7 @@ def background_table(background: float, read_noise: float, shot_noise: bool,
     elif shot_noise and lam > 0:
         half = 12.0 * math.sqrt(lam) + 12.0
         n = np.arange(max(0, math.floor(lam - half)), math.ceil(lam + half) + 1)
-        p = np.exp(n * math.log(lam) - lam - gammaln(n + 1.0))
+        p = np.exp(n * math.log(lam) - lam - _gammaln(n + 1.0))
         p /= p.sum()
         dn = n / electrons_per_dn
     else:
@@ -377,7 +375,7 @@ def background_table(background: float, read_noise: float, shot_noise: bool,
         cdf = np.empty(k.size)
         for a in range(0, k.size, 256):  # bounded memory
             kk = k[a:a + 256, None]
-            cdf[a:a + 256] = ndtr((kk + 0.5 - dn[None, :]) / read) @ p
+            cdf[a:a + 256] = _ndtr((kk + 0.5 - dn[None, :]) / read) @ p
         cdf[-1] = 1.0
     else:
         vals = np.clip(np.floor(dn + 0.5), 0, max_dn).astype(np.int64)
@@ -397,7 +395,41 @@ def background_table(background: float, read_noise: float, shot_noise: bool,
     return thresholds, guide, int(lo)
 
 
+#: tables up to this many values are computed with the math module: importing scipy.special
+#: (gammaln, ndtr) costs about 0.2 s of a ``stand run`` that renders a screen
+_SMALL_TABLE = 65536
+
+
+def _gammaln(x: np.ndarray) -> np.ndarray:
+    """log Gamma(x) elementwise (x > 0)."""
+    if x.size > _SMALL_TABLE:
+        from scipy.special import gammaln
+
+        return gammaln(x)
+    return np.array([math.lgamma(v) for v in x.ravel()]).reshape(x.shape)
+
+
+def _ndtr(x: np.ndarray) -> np.ndarray:
+    """Standard normal CDF elementwise (scipy.special.ndtr's erf/erfc split)."""
+    if x.size > _SMALL_TABLE:
+        from scipy.special import ndtr
+
+        return ndtr(x)
+    r = 1.0 / math.sqrt(2.0)
+    return np.array([0.5 + 0.5 * math.erf(v * r) if abs(v) < r
+                     else (0.5 * math.erfc(-v * r) if v < 0 else 1.0 - 0.5 * math.erfc(v * r))
+                     for v in x.ravel()]).reshape(x.shape)
+
+
 # ---------------------------------------------------------------- wrappers
+def _render_kernel():
+    """:func:`render_frame` precompiled (no numba import: a ``stand run`` with a screen starts
+    as fast as one without), or on numba's JIT (stand.integrate.kernel_set.extra)."""
+    from stand.integrate.kernel_set import extra
+
+    return extra("render", render_frame)
+
+
 def _settings(cam):
     su, sv = cam.sigma_px
     return dict(sigma_u=su, sigma_v=sv, peak=float(cam.peak), background=float(cam.background),
@@ -427,7 +459,7 @@ class _Renderer:
     def render(self, u, v, weights, state, out):
         p = self.p
         with np.errstate(over="ignore"):  # uint64 wrap-around in the plain-Python path
-            return render_frame(u, v, weights, p["sigma_u"], p["sigma_v"], p["peak"],
+            return _render_kernel()(u, v, weights, p["sigma_u"], p["sigma_v"], p["peak"],
                                 p["background"], p["read_noise"], p["electrons_per_dn"],
                                 p["shot_noise"], p["max_dn"], self.noise, state, self.thr,
                                 self.guide, self.kmin, self.window, self.acc, out)

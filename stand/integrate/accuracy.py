@@ -174,6 +174,22 @@ def _position(tr: Trajectory) -> np.ndarray:
     return tr.x + 1j * tr.y
 
 
+#: fixed RK4 steps one accuracy row may take (checked before the run: about 10 s of work)
+MAX_RK4_STEPS = 5e7
+
+
+def default_rk4_steps(scene: Scene) -> tuple:
+    """RK4 steps [s]: 1/20 and 1/40 of the period at the top speed (a torque drive: of
+    1 rad/s); a speed programme that stays at rest (e.g. one node ``[[0, 0]]``, a constant
+    speed of 0) has no revolution: the natural period of the planar rotor instead."""
+    import math
+
+    top = float(np.max(scene.drive.programme[:, 1])) if scene.drive.kind == "speed" else 1.0
+    if not top > 0:
+        top = scene.natural_frequency if scene.kind == "planar" else 1.0
+    return (2 * math.pi / top / 20, 2 * math.pi / top / 40)
+
+
 def _rk4_run(scene: Scene, step_s: float, t_samples: np.ndarray):
     """Fixed-step RK4 on the compiled planar RHS; samples at ``t_samples``."""
     import time
@@ -188,6 +204,10 @@ def _rk4_run(scene: Scene, step_s: float, t_samples: np.ndarray):
     every = max(1, int(round(dt / step_s)))
     h = dt / every
     n_steps = every * (t_samples.size - 1)
+    if n_steps > MAX_RK4_STEPS:
+        raise ValueError(f"RK4 step {step_s:.3g} s over run.duration = {scene.run.duration:g} s: "
+                         f"{n_steps:.3g} steps, more than the limit {MAX_RK4_STEPS:.0e}; take a "
+                         "larger step (--rk4-steps) or shorten run.duration")
     y = initial_state(scene, model).astype(float)
     out = np.full((t_samples.size, y.size), np.nan)
     rk4_loop(PLANAR, model.sp, model.wt, model.prog, y.copy(), 0.0, 0, 1, out[:1].copy())  # compile
@@ -206,6 +226,41 @@ def _velocity(tr: Trajectory) -> np.ndarray:
     n = tr.scene.balancer.count
     k = 2 + n + (1 if model.free else 0)
     return (st[:, k] + 1j * st[:, k + 1]) * model.length * model.omega_1
+
+
+#: steps the whole ladder and its reference runs may take, in run budgets (run.max_steps)
+LADDER_BUDGET_RUNS = 4
+
+
+class _LadderBudget:
+    """The runs of one accuracy report share a step budget of :data:`LADDER_BUDGET_RUNS`
+    times the scene's ``run.max_steps``; each run gets what is left (at most one run's
+    budget).  A run that exhausts it stops the report (:class:`stand.errors.BudgetExceeded`):
+    its error would measure where it stopped, not the method."""
+
+    def __init__(self, scene: Scene):
+        self.scene, self.total = scene, LADDER_BUDGET_RUNS * int(scene.run.max_steps)
+        self.left = self.total
+
+    def simulate(self, **kw) -> Trajectory:
+        import dataclasses
+
+        from stand.errors import BudgetExceeded
+
+        cap = min(int(self.scene.run.max_steps), self.left)
+        sc = self.scene
+        if cap < sc.run.max_steps:
+            sc = dataclasses.replace(sc, run=dataclasses.replace(sc.run, max_steps=max(cap, 1)))
+        tr = simulate(sc, **kw)
+        st = tr.stats
+        self.left -= int(st.n_steps) + int(st.n_rejected)
+        if st.status == -3:
+            raise BudgetExceeded(
+                f"the accuracy runs ({kw.get('method')} at rtol {kw.get('rtol'):.0e}) ran out of "
+                f"their step budget: {cap} steps of {self.total} ({LADDER_BUDGET_RUNS} x "
+                f"run.max_steps = {self.scene.run.max_steps}) before the end of run.duration = "
+                f"{self.scene.run.duration:g} s")
+        return tr
 
 
 #: the fast ladder (``stand accuracy --fast``): tolerances and the reference's
@@ -255,10 +310,11 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None,
     if scene.kind == "book" and "numpy-DOP853" in methods:
         methods.remove("numpy-DOP853")
     ref_method = "DOP853" if auto == "DOP853" else "Radau"
+    budget = _LadderBudget(scene)
     runs = {}
     for m in methods:
         for rt in rtols:
-            runs[(m, rt)] = simulate(scene, method=m, rtol=rt, atol=rt * 1e-2)
+            runs[(m, rt)] = budget.simulate(method=m, rtol=rt, atol=rt * 1e-2)
     if runs:
         t = next(iter(runs.values())).t
     else:
@@ -285,8 +341,8 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None,
     else:
         tight = reference_rtol or (1e-12 if scene.kind == "book"
                                    else 1e-13 if ref_method == "DOP853" else 1e-11)
-        r1 = simulate(scene, method=ref_method, rtol=tight, atol=tight * 1e-2)
-        r2 = simulate(scene, method=ref_method, rtol=tight * 10, atol=tight * 1e-1)
+        r1 = budget.simulate(method=ref_method, rtol=tight, atol=tight * 1e-2)
+        r2 = budget.simulate(method=ref_method, rtol=tight * 10, atol=tight * 1e-1)
         ref = _position(r1)
         ref_name = f"{ref_method} at rtol {tight:.0e}"
         k = min(len(r1.t), len(r2.t))
@@ -315,8 +371,7 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None,
                                 free_whirl_drift=dr))
     if want_rk4:
         if rk4_steps is None:
-            top = float(np.max(scene.drive.programme[:, 1])) if scene.drive.kind == "speed" else 1.0
-            rk4_steps = (2 * math.pi / top / 20, 2 * math.pi / top / 40)
+            rk4_steps = default_rk4_steps(scene)
         for h in rk4_steps:
             Z, Zd, wall, nfev, nst, hh = _rk4_run(scene, float(h), t)
             err = float(np.nanmax(np.abs(Z - ref)))

@@ -262,6 +262,31 @@ def kernels(kind: int, build: bool = False) -> KernelSet:
 
 
 _JIT_USED: set = set()
+_EXTRAS: dict = {}
+
+
+def extra(name: str, jit_function: Callable) -> Callable:
+    """The compiled function ``name`` of :data:`stand.integrate.precompiled.EXTRAS` (e.g. the
+    screen renderer), from the fastest source as :func:`kernels`: its precompiled module
+    (no numba import), else ``jit_function`` (numba's JIT; the command line then builds the
+    module in the background).  ``STAND_KERNELS=precompiled`` builds it now if missing."""
+    if name in _EXTRAS:
+        return _EXTRAS[name]
+    mode = _mode()
+    f = jit_function
+    if _jit.HAVE_NUMBA and mode != "jit":
+        from stand.integrate import precompiled
+
+        mod = precompiled.load(name)
+        if mod is None and mode == "precompiled":
+            with _Announce(f"{name} kernel", 10):
+                mod = precompiled.build(name)
+        if mod is not None:
+            f = getattr(mod, precompiled.EXTRAS[name][1])
+        elif mode == "auto":
+            _JIT_USED.add(name)
+    _EXTRAS[name] = f
+    return f
 
 
 def precompile_in_background(say: bool = True) -> list:
@@ -275,14 +300,15 @@ def precompile_in_background(say: bool = True) -> list:
     from stand.integrate import precompiled
 
     started = []
-    for kind in sorted(_JIT_USED):
+    for kind in sorted(_JIT_USED, key=str):
         if (precompiled.load(kind) is not None or precompiled.available() is not None
                 or precompiled.building(kind)):
             continue
-        subprocess.Popen([sys.executable, "-m", "stand.integrate.precompiled", KIND_NAMES[kind]],
+        subprocess.Popen([sys.executable, "-m", "stand.integrate.precompiled",
+                          precompiled._label(kind)],
                          stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
                          stderr=subprocess.DEVNULL, start_new_session=True, close_fds=True)
-        started.append(KIND_NAMES[kind])
+        started.append(precompiled._label(kind))
     _JIT_USED.clear()
     if started and say:
         print(f"stand: precompiling the {', '.join(started)} kernel in the background (later "

@@ -44,6 +44,28 @@ EXPORTS = {
     "evaluate": f"void(f8, {_ARR1}, {_ARR1}, {_ARR1}, {_ARR2}, {_ARR2})",
 }
 
+#: compiled functions outside the integrator, precompiled on their own (one module each):
+#: name -> (module, function, signature text; the types are made in :func:`_extra_signature`)
+EXTRAS = {
+    "render": ("stand.instruments.render", "render_frame",
+               "i8(f8[::1], f8[::1], f8[::1], f8, f8, f8, f8, f8, f8, b1, i8, b1, u8, "
+               "readonly i8[::1], readonly i4[::1], i8, f8, f8[:,::1], u2[:,::1])"),
+}
+
+
+def _extra_signature(name: str):
+    """numba's signature of extra ``name`` (EXTRAS; readonly arrays need the type objects)."""
+    from numba import types
+
+    if name != "render":  # pragma: no cover - one extra so far
+        raise KeyError(name)
+    a1 = types.Array(types.float64, 1, "C")
+    ro = lambda t: types.Array(t, 1, "C", readonly=True)  # noqa: E731
+    f8, i8, b1 = types.float64, types.int64, types.boolean
+    return types.int64(a1, a1, a1, f8, f8, f8, f8, f8, f8, b1, i8, b1, types.uint64,
+                       ro(types.int64), ro(types.int32), i8, f8, types.Array(f8, 2, "C"),
+                       types.Array(types.uint16, 2, "C"))
+
 
 def cache_dir() -> Path:
     """Folder of the precompiled modules (module docstring)."""
@@ -77,17 +99,26 @@ def _numba_version() -> str:
         return "unknown"
 
 
-def module_name(kind: int) -> str:
-    """Name of the precompiled module of model ``kind`` for the current sources."""
+def _label(kind) -> str:
+    """A model kind's name, or an extra's name (:data:`EXTRAS`)."""
+    return kind if kind in EXTRAS else KIND_NAMES[kind]
+
+
+def module_name(kind) -> str:
+    """Name of the precompiled module of model ``kind`` (or of extra ``kind``, a name in
+    :data:`EXTRAS`) for the current sources."""
     h = hashlib.sha1()
     h.update(_jit.sources_hash(kernel_modules(kind)).encode())
-    for part in (_numba_version(), sys.version, _cpu(), repr(sorted(EXPORTS.items()))):
+    exports = EXTRAS[kind] if kind in EXTRAS else sorted(EXPORTS.items())
+    for part in (_numba_version(), sys.version, _cpu(), repr(exports)):
         h.update(part.encode())
-    return f"_stand_{KIND_NAMES[kind]}_{h.hexdigest()[:16]}"
+    return f"_stand_{_label(kind)}_{h.hexdigest()[:16]}"
 
 
-def kernel_modules(kind: int) -> list:
+def kernel_modules(kind) -> list:
     """The package modules whose sources make up kind ``kind``'s compiled kernels."""
+    if kind in EXTRAS:
+        return _jit.closure(EXTRAS[kind][0], dynamic=False)
     return _jit.closure("stand.integrate.dop853", "stand.model.kernels", RHS[kind][0], dynamic=False)
 
 
@@ -199,8 +230,8 @@ def build(kind: int):
         return mod if mod is not None else _build(kind, numba, out)
 
 
-def _lock_path(kind: int) -> Path:
-    return cache_dir() / f".{KIND_NAMES[kind]}.lock"
+def _lock_path(kind) -> Path:
+    return cache_dir() / f".{_label(kind)}.lock"
 
 
 def building(kind: int) -> bool:
@@ -216,7 +247,7 @@ def main(argv=None) -> int:
     import traceback
 
     args = sys.argv[1:] if argv is None else argv
-    names = {v: k for k, v in KIND_NAMES.items()}
+    names = {**{v: k for k, v in KIND_NAMES.items()}, **{e: e for e in EXTRAS}}
     if len(args) != 1 or args[0] not in names:
         print(f"usage: python -m stand.integrate.precompiled {{{','.join(names)}}}", file=sys.stderr)
         return 2
@@ -240,11 +271,14 @@ def _build(kind, numba, out):
     name = module_name(kind)
     import numpy as np
 
-    from stand.integrate.dop853 import WORK_ROWS, dop853_loop
-    from stand.model.kernels import evaluate
+    if kind in EXTRAS:
+        import importlib
 
-    loop = dop853_loop.dispatcher if hasattr(dop853_loop, "dispatcher") else dop853_loop
-    ev = evaluate.dispatcher if hasattr(evaluate, "dispatcher") else evaluate
+        module, func, _ = EXTRAS[kind]
+        f = getattr(importlib.import_module(module), func)
+        exports = {func: (_extra_signature(kind), getattr(f, "dispatcher", f))}
+    else:
+        exports = _kernel_exports(kind, np)
     with tempfile.TemporaryDirectory(dir=out, prefix=".build-") as tmp:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", category=numba.NumbaPendingDeprecationWarning)
@@ -252,26 +286,15 @@ def _build(kind, numba, out):
         cc.output_dir = tmp
         cc.target_cpu = "host"
         cc.verbose = False
-
-        # the kind is a constant of these wrappers: numba compiles its kernels only
-        def _dop853(sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_step, ts, k_next,
-                    out_, stats, max_steps, limit):
-            work = np.empty((WORK_ROWS, y.shape[0]))
-            return loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_step, ts,
-                        k_next, out_, stats, max_steps, limit, work)
-
-        def _evaluate(t, y, dy, sp, wt, prog):
-            ev(kind, t, y, dy, sp, wt, prog)
-
-        cc.export("dop853", EXPORTS["dop853"])(_dop853)
-        cc.export("evaluate", EXPORTS["evaluate"])(_evaluate)
+        for export, (sig, f) in exports.items():
+            cc.export(export, sig)(f)
         cc.start_mixins()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             cc.compile()
         built = Path(tmp) / _path(name).name
         os.replace(built, _path(name))
-    for old in out.glob(f"_stand_{KIND_NAMES[kind]}_*"):
+    for old in out.glob(f"_stand_{_label(kind)}_*"):
         if old.name != _path(name).name:
             try:
                 old.unlink()
@@ -281,6 +304,27 @@ def _build(kind, numba, out):
     if mod is None:  # pragma: no cover
         raise RuntimeError(f"built {_path(name)} but could not import it")
     return mod
+
+
+def _kernel_exports(kind, np):
+    """The DOP853 loop and the right-hand side of model ``kind``: name -> (signature, function)."""
+    from stand.integrate.dop853 import WORK_ROWS, dop853_loop
+    from stand.model.kernels import evaluate
+
+    loop = dop853_loop.dispatcher if hasattr(dop853_loop, "dispatcher") else dop853_loop
+    ev = evaluate.dispatcher if hasattr(evaluate, "dispatcher") else evaluate
+
+    # the kind is a constant of these wrappers: numba compiles its kernels only
+    def _dop853(sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_step, ts, k_next,
+                out_, stats, max_steps, limit):
+        work = np.empty((WORK_ROWS, y.shape[0]))
+        return loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_step, ts,
+                    k_next, out_, stats, max_steps, limit, work)
+
+    def _evaluate(t, y, dy, sp, wt, prog):
+        ev(kind, t, y, dy, sp, wt, prog)
+
+    return {"dop853": (EXPORTS["dop853"], _dop853), "evaluate": (EXPORTS["evaluate"], _evaluate)}
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -64,9 +64,23 @@ def _keyphasor_volts(angle, high=5.0, width_deg=10.0, edge_deg=6.0, noise_v=0.01
     return v
 
 
+def _sensor_columns(rec, t, quantity, rng) -> dict:
+    """Velocity [mm/s] or acceleration [g] columns of the rotor centre's recorded motion."""
+    from scipy.interpolate import CubicSpline
+
+    k, scale, names = {"velocity": (1, 1e3, ("vel_x_mm_s", "vel_y_mm_s")),
+                       "acceleration": (2, 1.0 / 9.80665, ("acc_x_g", "acc_y_g"))}[quantity]
+    out = {}
+    for v, name in zip((rec.x, rec.y), names):
+        d = CubicSpline(np.asarray(rec.t, float), np.asarray(v, float))(t, k) * scale
+        d = d + rng.normal(0.0, 0.01 * float(np.std(d)), d.shape)
+        out[name] = [f"{x:.6g}".replace(".", ",") for x in d]
+    return out
+
+
 def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
                offset_um=(35.0, -20.0), keyphasor: bool = True, tachometer: bool = True,
-               seed: int = 11) -> dict:
+               seed: int = 11, quantity: str = "displacement") -> dict:
     """Write a recording's probes, keyphasor and tachometer as a DAQ-style CSV, and its truth.
 
     Parameters
@@ -83,6 +97,12 @@ def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
         Write those channels (the tachometer needs ``instruments/tachometer``).
     seed : int
         Seed of the keyphasor's noise.
+    quantity : str
+        ``displacement`` (the probes, um, with DC offsets), ``velocity`` (velocity
+        pickups, mm/s) or ``acceleration`` (accelerometers, g): the rotor centre's
+        motion differentiated through a cubic spline of the recorded state (clean, at
+        the integrator's output rate), plus the sensors' white noise of 1 % of the
+        channel's RMS; no offsets.
 
     Returns
     -------
@@ -107,9 +127,13 @@ def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
     t = np.asarray(rec.dataset("instruments/probes/time"), float)
     sig = np.asarray(rec.dataset("instruments/probes/signal"), float)
     cols = {"time_ms": [f"{v:.1f}".replace(".", ",") for v in t * 1e3]}
-    for k, name in enumerate(("disp_x_um", "disp_y_um")):
-        cols[name] = [f"{v:.2f}".replace(".", ",") for v in sig[:, k] * 1e6 + offset_um[k]]
     rng = np.random.default_rng(seed)
+    if quantity == "displacement":
+        for k, name in enumerate(("disp_x_um", "disp_y_um")):
+            cols[name] = [f"{v:.2f}".replace(".", ",") for v in sig[:, k] * 1e6 + offset_um[k]]
+    else:
+        cols.update(_sensor_columns(rec, t, quantity, rng))
+        offset_um = (0.0, 0.0)
     if keyphasor:
         phi = np.interp(t, np.asarray(rec.t), np.unwrap(np.asarray(rec.rotor_angle)))
         cols["kp_V"] = [f"{v:.3f}".replace(".", ",") for v in _keyphasor_volts(phi, rng=rng)]
@@ -124,7 +148,10 @@ def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
     lines = [f"DAQ export: {rec.scene.name if rec.scene is not None else Path(str(rec.path)).stem}",
              f"Sample rate: {rate:.0f} Hz",
              f"Channels: {len(names) - 1}",
-             "Units: time ms; displacement um (probe gap offset not removed); keyphasor V; tacho rpm",
+             "Units: time ms; " + {"displacement": "displacement um (probe gap offset not removed)",
+                                   "velocity": "velocity mm/s (pk)",
+                                   "acceleration": "acceleration g (pk)"}[quantity]
+             + "; keyphasor V; tacho rpm",
              ";".join(names)]
     lines += [";".join(row) for row in zip(*(cols[n] for n in names))]
     write_text(csv_path, "\n".join(lines) + "\n")
@@ -139,3 +166,50 @@ def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
         truth_path = str(Path(csv_path).with_suffix("")) + ".truth.json"
     write_text(truth_path, json.dumps(truth, indent=2) + "\n")
     return truth
+
+
+def daq_bode(recording, csv_path, *, truth_path: Optional[str] = None, bin_hz: float = 0.2) -> dict:
+    """Write a slow run-up's steady 1X Bode table (``rpm;amp_1x_um;phase_1x_deg``, peak, phase
+    lagging the keyphasor mark) as a portable analyser exports it, and its truth.
+
+    Order tracking: the x + i y probes' 1X vector of each revolution (the mean of
+    z e^{-i phi} over it, phi the recorded rotor angle), averaged over speed bins of
+    ``bin_hz`` [rev/s].  A run-up slow enough that the sweep lag is negligible makes it
+    the steady response.
+    """
+    from stand.io.atomic import write_text
+    from stand.recording.hdf5 import Recording, read_recording
+
+    rec = recording if isinstance(recording, Recording) else read_recording(recording)
+    t = np.asarray(rec.dataset("instruments/probes/time"), float)
+    sig = np.asarray(rec.dataset("instruments/probes/signal"), float)
+    phi = np.interp(t, np.asarray(rec.t), np.unwrap(np.asarray(rec.rotor_angle)))
+    z = sig[:, 0] + 1j * sig[:, 1]
+    rev = np.floor((phi - phi[0]) / TWO_PI).astype(int)
+    n = np.bincount(rev)
+    keep = n > 0
+    v = (np.bincount(rev, (z * np.exp(-1j * phi)).real) + 1j * np.bincount(rev, (z * np.exp(-1j * phi)).imag))
+    w = np.bincount(rev, np.gradient(phi, t))
+    v, f = v[keep] / n[keep], w[keep] / n[keep] / TWO_PI
+    v, f = v[1:-1], f[1:-1]                  # whole revolutions only
+    b = np.floor(f / bin_hz).astype(int)
+    b -= b.min()
+    m = np.bincount(b)
+    ok = m > 0
+    fb = np.bincount(b, f)[ok] / m[ok]
+    vb = (np.bincount(b, v.real)[ok] + 1j * np.bincount(b, v.imag)[ok]) / m[ok]
+    lines = [f"Bode table (order-tracked 1X, peak; phase lags the keyphasor mark): "
+             f"{rec.scene.name if rec.scene is not None else Path(str(rec.path)).stem}",
+             "rpm;amp_1x_um;phase_1x_deg"]
+    lines += [f"{fi * 60:.2f};{abs(vi) * 1e6:.4f};{(-math.degrees(np.angle(vi))) % 360.0:.3f}"
+              for fi, vi in zip(fb, vb)]
+    write_text(csv_path, "\n".join(lines) + "\n")
+    sc = rec.scene
+    truth = daq_truth(sc) if sc is not None and getattr(sc, "kind", None) == "planar" else {}
+    truth.update(source_recording=Path(str(rec.path)).name, csv=Path(csv_path).name,
+                 bin_hz=bin_hz)
+    if truth_path is None:
+        truth_path = str(Path(csv_path).with_suffix("")) + ".truth.json"
+    write_text(truth_path, json.dumps(truth, indent=2) + "\n")
+    return truth
+

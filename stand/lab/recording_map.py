@@ -27,7 +27,9 @@ Two spellings of one map:
 
 Roles: ``time`` (required), ``x``, ``y`` (shaft displacement), ``speed``
 (tachometer), ``angle`` (encoder), ``keyphasor`` (once-per-revolution pulses),
-``photogate`` (the book's photo-gate on the laser beam).  Without a map, the
+``photogate`` (the book's photo-gate on the laser beam).  A Bode / polar table
+(:mod:`stand.lab.bode_table`) has ``speed``, ``amplitude`` and ``phase`` instead
+(no time).  Without a map, the
 well-known names are recognised (:func:`recognise`) and the choice is reported.
 """
 from __future__ import annotations
@@ -37,12 +39,15 @@ import re
 from dataclasses import dataclass, field, replace
 from typing import Optional
 
-from stand.lab.units import QUANTITIES, ROLE_QUANTITY, UnitError, factor, parse_quantity, unit_from_name
+from stand.lab.units import (QUANTITIES, ROLE_QUANTITY, UnitError, factor, is_sensitivity, parse_quantity,
+                             sensitivity_of, split_convention, unit_from_name, vibration_quantity)
 
 __all__ = ["ColumnSpec", "RecordingMap", "parse_columns", "read_map", "map_from_options", "recognise", "ROLES",
            "MapError"]
 
-ROLES = ("time", "x", "y", "speed", "angle", "keyphasor", "photogate")
+ROLES = ("time", "x", "y", "speed", "angle", "keyphasor", "photogate", "amplitude", "phase")
+#: roles whose unit says a vibration quantity (displacement, velocity, acceleration)
+VIBRATION_ROLES = ("x", "y", "amplitude")
 
 
 class MapError(ValueError):
@@ -62,9 +67,12 @@ class ColumnSpec:
     unit : str or None
         Its unit (None: to be taken from the column's name, or the default).
     sensitivity_v_per_m : float or None
-        A probe read in volts: volts per metre of displacement.
+        A sensor read in volts: volts per SI unit of what it measures (V/m of
+        displacement, V/(m/s) of velocity, V/(m/s²) of acceleration).
     threshold : float or None
         A pulse channel's level between its two states (in its own unit).
+    sensitivity_quantity : str or None
+        What the sensitivity is per: ``length``, ``velocity`` or ``acceleration``.
     """
 
     role: str
@@ -72,22 +80,48 @@ class ColumnSpec:
     unit: Optional[str] = None
     sensitivity_v_per_m: Optional[float] = None
     threshold: Optional[float] = None
+    sensitivity_quantity: Optional[str] = None
+
+    def quantity(self, field: str = "") -> str:
+        """What the channel measures: a vibration channel's ``length`` (displacement),
+        ``velocity`` or ``acceleration`` (by its unit, or its sensitivity for volts); else the
+        role's quantity."""
+        if self.role not in VIBRATION_ROLES:
+            return ROLE_QUANTITY[self.role]
+        unit, _ = split_convention(self.unit or "m")
+        if unit in QUANTITIES["voltage"]:
+            return self.sensitivity_quantity or "length"
+        try:
+            return vibration_quantity(unit, field or f"{self.role} = column {self.column!r}")
+        except UnitError as exc:
+            raise MapError(str(exc)) from None
+
+    def convention(self) -> Optional[str]:
+        """The amplitude convention the unit carries (``pk``, ``pk-pk``, ``rms``) or None."""
+        return split_convention(self.unit or "")[1]
 
     def si_factor(self, field: str) -> float:
-        """Multiply the column by this to get SI (m, s, rad/s, rad; volts stay volts)."""
+        """Multiply the column by this to get SI (m, m/s, m/s², s, rad/s, rad; volts stay volts)."""
         q = ROLE_QUANTITY[self.role]
         unit = self.unit
-        if self.role in ("x", "y") and unit in QUANTITIES["voltage"]:
-            if not self.sensitivity_v_per_m:
-                raise MapError(f"{field}: a probe in {unit} needs its sensitivity, e.g. "
-                               f"[{unit}, 7.87 V/mm]")
-            return factor("voltage", unit, field) / self.sensitivity_v_per_m
+        if self.role in VIBRATION_ROLES:
+            unit, _ = split_convention(unit)
+            if unit in QUANTITIES["voltage"]:
+                if not self.sensitivity_v_per_m:
+                    raise MapError(f"{field}: a sensor in {unit} needs its sensitivity, e.g. "
+                                   f"[{unit}, 7.87 V/mm], [{unit}, 100 mV/g] or "
+                                   f"[{unit}, 4 mV/(mm/s)]")
+                return factor("voltage", unit, field) / self.sensitivity_v_per_m
+            return factor(self.quantity(field), unit, field)
         return factor(q, unit, field)
 
     def describe(self) -> str:
         s = f"{self.role}={self.column}[{self.unit}]"
         if self.sensitivity_v_per_m:
-            s += f" at {self.sensitivity_v_per_m * 1e-3:g} V/mm"
+            if (self.sensitivity_quantity or "length") == "length":
+                s += f" at {self.sensitivity_v_per_m * 1e-3:g} V/mm"
+            else:
+                s += f" at {self.sensitivity_v_per_m:g} V per SI {self.sensitivity_quantity} unit"
         return s
 
 
@@ -122,7 +156,7 @@ def _spec(role: str, text: str, where: str) -> ColumnSpec:
     if role not in ROLES:
         raise MapError(f"{where}: unknown role {role!r} (one of {', '.join(ROLES)})")
     m = _BRACKET.match(text)
-    name, unit, sens, thr = text.strip(), None, None, None
+    name, unit, sens, thr, sq = text.strip(), None, None, None, None
     if m:
         name = m.group(1).strip()
         parts = [p.strip() for p in re.split(r"[,;]", m.group(2)) if p.strip()]
@@ -132,8 +166,11 @@ def _spec(role: str, text: str, where: str) -> ColumnSpec:
                     thr = float(p.split("=", 1)[1])
                 except (IndexError, ValueError):
                     raise MapError(f"{where}: {p!r}: expected threshold=NUMBER") from None
-            elif "/" in p and p.split()[-1] in QUANTITIES["sensitivity"]:
-                sens = parse_quantity(p, "sensitivity", f"{where} sensitivity")
+            elif is_sensitivity(p):
+                try:
+                    sens, sq = sensitivity_of(p, f"{where} sensitivity")
+                except UnitError as exc:
+                    raise MapError(str(exc)) from None
             elif unit is None:
                 unit = p
             else:
@@ -141,7 +178,7 @@ def _spec(role: str, text: str, where: str) -> ColumnSpec:
                                "'7.87 V/mm', or threshold=LEVEL)")
     if not name:
         raise MapError(f"{where}: no column name")
-    return ColumnSpec(role, name, unit, sens, thr)
+    return ColumnSpec(role, name, unit, sens, thr, sq)
 
 
 def parse_columns(text: str) -> RecordingMap:
@@ -204,11 +241,15 @@ def read_map(path) -> RecordingMap:
                                f"\"7.87 V/mm\", threshold = LEVEL]}}, got keys {sorted(v)}")
             if role not in ROLES:
                 raise MapError(f"{where}: unknown role {role!r} (one of {', '.join(ROLES)})")
-            sens = v.get("sensitivity")
-            cols[role] = ColumnSpec(role, str(v["column"]), v.get("unit"),
-                                    None if sens is None else
-                                    parse_quantity(sens, "sensitivity", f"{where}.sensitivity"),
-                                    None if v.get("threshold") is None else float(v["threshold"]))
+            sens, sq = v.get("sensitivity"), None
+            if sens is not None:
+                try:
+                    sens, sq = sensitivity_of(sens, f"{where}.sensitivity")
+                except UnitError as exc:
+                    raise MapError(str(exc)) from None
+            cols[role] = ColumnSpec(role, str(v["column"]), v.get("unit"), sens,
+                                    None if v.get("threshold") is None else float(v["threshold"]),
+                                    sq)
         else:
             raise MapError(f"{where} = {v!r}: a column name (\"NAME [unit]\") or a table")
     tab = data.get("table") or {}
@@ -257,7 +298,7 @@ _KNOWN = {
 }
 #: unit assumed when a recognised column's name carries none
 DEFAULT_UNIT = {"time": "s", "x": "m", "y": "m", "speed": "rad/s", "angle": "rad",
-                "keyphasor": "V", "photogate": "V"}
+                "keyphasor": "V", "photogate": "V", "amplitude": "um", "phase": "deg"}
 
 
 def _base(name: str) -> str:

@@ -28,31 +28,26 @@ import csv
 import io
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Optional
 
 import numpy as np
 
 from stand.lab.recording_map import ROLES, ColumnSpec, MapError, RecordingMap, recognise
+from stand.lab.limits import CELL_BYTES, MAX_COLUMNS, TableError, _memory_budget, check_shape  # noqa: F401
 from stand.lab.units import UnitError
 
-__all__ = ["LabTable", "TableError", "read_table", "is_table_file", "is_table", "read_frame"]
+__all__ = ["LabTable", "TableError", "read_table", "is_table_file", "is_table", "read_frame",
+           "check_shape", "decode_text"]
 
-TABLE_SUFFIXES = (".csv", ".tsv", ".txt", ".dat", ".parquet", ".pq")
+TABLE_SUFFIXES = (".csv", ".tsv", ".txt", ".dat", ".parquet", ".pq", ".xlsx", ".xlsm", ".mat", ".tdms")
 CLIP_RUN = 4          #: samples at the extreme value that make a channel clipped
 GAP_FACTOR = 1.5      #: a time step above this x the median step is a gap
 MIN_ROWS = 2          #: fewest rows of a usable stretch
 #: the shape limits of a table, checked before it is parsed (issue 34: a reader's work is
 #: bounded by its input): a lab export has tens of channels, not thousands
-MAX_COLUMNS = 4096
 MAX_LINE_CHARS = 1 << 20        #: one line of a text table [characters]
-#: parsing a cell costs ~3 float64 copies; the table may use a quarter of the memory
-CELL_BYTES = 24
-
-
-class TableError(ValueError):
-    """A table that cannot be analysed; one line naming the file, column and rows."""
 
 
 @dataclass
@@ -65,8 +60,9 @@ class LabTable:
     t : ndarray
         Times [s].
     signals : dict
-        Role -> ndarray in SI (``x``, ``y`` [m]; ``speed`` [rad/s]; ``angle``
-        [rad]; ``keyphasor``, ``photogate`` in the channel's volts).
+        Role -> ndarray in SI (``x``, ``y`` [m], [m/s] or [m/s²] by ``quantity``;
+        ``speed`` [rad/s]; ``angle`` [rad]; ``keyphasor``, ``photogate`` in the
+        channel's volts).
     columns : dict
         Role -> :class:`ColumnSpec` used.
     recognised : list of str
@@ -78,6 +74,9 @@ class LabTable:
     metadata : dict
         ``key = value`` header lines (strings).
     recording_map : RecordingMap
+    quantity : str
+        What ``x`` and ``y`` measure: ``length`` (displacement), ``velocity`` or
+        ``acceleration``.
     """
 
     path: str
@@ -89,6 +88,7 @@ class LabTable:
     excluded: list = field(default_factory=list)
     metadata: dict = field(default_factory=dict)
     recording_map: RecordingMap = field(default_factory=RecordingMap)
+    quantity: str = "length"
 
     def input_summary(self) -> dict:
         """What was read, JSON-able (``stand analyze``'s ``input``)."""
@@ -99,7 +99,8 @@ class LabTable:
                             for r, c in self.columns.items()},
                 "map": self.recording_map.source if self.recording_map.columns else None,
                 "recognised": list(self.recognised),
-                "rows_used": list(self.rows), "excluded": list(self.excluded)}
+                "rows_used": list(self.rows), "excluded": list(self.excluded),
+                "vibration_quantity": self.quantity}
 
 
 def is_table(path) -> bool:
@@ -129,30 +130,6 @@ def _fields(line: str, delim: Optional[str]) -> list:
         return next(csv.reader([line], delimiter=delim))
     except csv.Error as exc:   # e.g. a field over csv's field limit: one clear line upstream
         raise TableError(f"a line that is not a table row ({exc})") from None
-
-
-def _memory_budget() -> float:
-    """Bytes a table may take while it is read: a quarter of the physical memory (8 GiB
-    where the system does not say)."""
-    import os
-
-    try:
-        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 4
-    except (ValueError, OSError, AttributeError):
-        return 2.0 ** 33 / 4
-
-
-def _check_shape(label: str, n_columns: int, n_rows: int) -> None:
-    """Refuse a table wider than :data:`MAX_COLUMNS` or larger than the memory budget."""
-    if n_columns > MAX_COLUMNS:
-        raise TableError(f"{label}: {n_columns} columns, over the limit of {MAX_COLUMNS}; "
-                         f"export only the channels to analyse")
-    need = float(n_columns) * n_rows * CELL_BYTES
-    if need > _memory_budget():
-        raise TableError(f"{label}: {n_rows} rows x {n_columns} columns would need "
-                         f"{need / 2 ** 30:.1f} GiB to read, over the limit of "
-                         f"{_memory_budget() / 2 ** 30:.1f} GiB (a quarter of the memory); "
-                         f"split the table or export fewer channels")
 
 
 def _numeric_share(row) -> float:
@@ -245,6 +222,13 @@ def read_frame(path, rmap: Optional[RecordingMap] = None):
         if isinstance(exc, TableError):
             raise
         raise TableError(f"{label}: not a readable table ({' '.join(str(exc).split())})") from None
+    if suffix in (".xlsx", ".xlsm", ".mat", ".tdms"):
+        from stand.lab.formats import read_other
+
+        df, text = read_other(p, label, rmap.key)
+        if df is not None:
+            return df, {}
+        return _frame_from_text(text, label, rmap)
     try:
         size = p.stat().st_size
         if 4.0 * size > _memory_budget():   # bytes, text, lines, cells: ~4 copies of the file
@@ -254,12 +238,37 @@ def read_frame(path, rmap: Optional[RecordingMap] = None):
         raw = p.read_bytes()
     except OSError as exc:
         raise TableError(f"{label}: cannot read ({exc.strerror or exc})") from None
-    for enc in ("utf-8-sig", "cp1252", "latin-1"):
+    return _frame_from_text(decode_text(raw, label), label, rmap)
+
+
+def decode_text(raw: bytes, label: str) -> str:
+    """The text of a table's bytes: UTF-16 (by its byte-order mark, or by the NUL bytes of
+    ASCII text in UTF-16 without one), UTF-8 (with or without BOM), else Windows-1252."""
+    if raw[:2] in (b"\xff\xfe", b"\xfe\xff"):
+        encs = ("utf-16",)
+    else:
+        head = raw[:4096]
+        even, odd = head[0::2].count(0), head[1::2].count(0)
+        encs = (("utf-16-le",) if odd > 0.3 * len(head) / 2 > even else
+                ("utf-16-be",) if even > 0.3 * len(head) / 2 > odd else ())
+        encs += ("utf-8-sig", "cp1252", "latin-1")
+    for enc in encs:
         try:
             text = raw.decode(enc)
-            break
         except UnicodeDecodeError:
             continue
+        if "\x00" in text:
+            raise TableError(f"{label}: binary data, not a text table (NUL characters in the "
+                             f"{enc} text); a table is read from CSV/TSV/TXT in UTF-8 or UTF-16, "
+                             f"Parquet, HDF5, Excel, MATLAB or TDMS")
+        return text.lstrip("\ufeff")
+    raise TableError(f"{label}: not a text table in UTF-8, UTF-16 or Windows-1252")
+
+
+def _frame_from_text(text: str, label: str, rmap: RecordingMap):
+    """The CSV layout rules (module docstring) on a table's text."""
+    import pandas as pd
+
     lines = text.splitlines()
     longest = max(range(len(lines)), key=lambda i: len(lines[i]), default=0)
     if lines and len(lines[longest]) > MAX_LINE_CHARS:
@@ -274,7 +283,7 @@ def read_frame(path, rmap: Optional[RecordingMap] = None):
         raise TableError(f"{label}: 0 data rows; at least {MIN_ROWS} are needed")
     width = max((len(_fields(ln, delim)) for ln in lines[header:header + 50] if ln.strip()),
                 default=0)
-    _check_shape(label, width, len(lines) - header - 1)
+    check_shape(label, width, len(lines) - header - 1)
     try:
         df = pd.read_csv(io.StringIO("\n".join(lines[header:])), sep=delim if delim else r"\s+",
                          decimal=decimal, skipinitialspace=True, engine="c" if delim else "python")
@@ -296,7 +305,7 @@ def _check_parquet_shape(p: Path, label: str) -> None:
     except Exception as exc:  # noqa: BLE001 -- any footer error: one clear line
         raise TableError(f"{label}: not a readable Parquet file ({' '.join(str(exc).split())})") \
             from None
-    _check_shape(label, meta.num_columns, meta.num_rows)
+    check_shape(label, meta.num_columns, meta.num_rows)
 
 
 # ------------------------------------------------------------------ checks
@@ -350,8 +359,13 @@ def read_table(path, recording_map: Optional[RecordingMap] = None,
     df, meta = read_frame(path, rmap)
     names = list(df.columns)
     cols = {}
+    from stand.lab.formats import resolve_column
+
     for role, spec in rmap.columns.items():
-        if spec.column not in df:
+        full = resolve_column(spec.column, names, grouped=bool(df.attrs.get("grouped")))
+        if full is not None and full != spec.column:
+            spec = replace(spec, column=full)
+        if full is None:
             from stand.io.validate import suggest
 
             raise TableError(f"{label}: {role} = column {spec.column!r} ({rmap.source}) is not in "
@@ -360,7 +374,11 @@ def read_table(path, recording_map: Optional[RecordingMap] = None,
         cols[role] = spec
     recognised = []
     if not cols:
-        found, recognised = recognise(names)
+        grouped = bool(df.attrs.get("grouped"))          # MATLAB / TDMS: group/channel
+        bare = [n.rsplit("/", 1)[-1] if grouped else n for n in names]
+        found, recognised = recognise(bare)
+        full = dict(zip(bare, names))
+        found = {r: replace(c, column=full[c.column]) for r, c in found.items()}
         cols.update(found)
     for role, eg, unit in (("time", "t_s, time_ms", "s"), ("x", "x_m, disp_x_um", "um"),
                            ("y", "y_m, disp_y_um", "um")):
@@ -379,11 +397,12 @@ def read_table(path, recording_map: Optional[RecordingMap] = None,
             from stand.lab.units import unit_from_name, ROLE_QUANTITY
 
             unit = unit_from_name(spec.column, ROLE_QUANTITY[role])
+            for q in (("velocity", "acceleration") if role in ("x", "y") else ()):
+                unit = unit or unit_from_name(spec.column, q)
             if unit is None:
                 raise TableError(f"{label}: {role} = column {spec.column!r}: no unit; give it, e.g. "
                                  f"--columns {role}={spec.column}[{DEFAULT_UNIT[role]}]")
-            spec = cols[role] = ColumnSpec(role, spec.column, unit, spec.sensitivity_v_per_m,
-                                           spec.threshold)
+            spec = cols[role] = replace(spec, unit=unit)
         try:
             k = spec.si_factor(f"{role} = column {spec.column!r}")
         except (UnitError, MapError) as exc:
@@ -396,6 +415,7 @@ def read_table(path, recording_map: Optional[RecordingMap] = None,
             raise TableError(f"{label}: column {spec.column!r} ({spec.unit}), data row {i + 1}: "
                              f"{str(raw.iloc[i])[:40]!r} is not a number")
         sig[role] = num.to_numpy(float) * (1.0 if role in ("keyphasor", "photogate") else k)
+    quantity = _vibration_quantity(cols, label)
     t = sig.pop("time")
     tcol = cols["time"]
     n = t.size
@@ -460,7 +480,18 @@ def read_table(path, recording_map: Optional[RecordingMap] = None,
                              "t_end_s": _finite(t, n - 1), "reason": "after the longest clean stretch"})
     return LabTable(path=label, t=t[a:b], signals={r: v[a:b] for r, v in sig.items()},
                     columns=cols, recognised=recognised, rows=(a + 1, b), excluded=excluded,
-                    metadata=meta, recording_map=rmap)
+                    metadata=meta, recording_map=rmap, quantity=quantity)
+
+
+def _vibration_quantity(cols, label) -> str:
+    """What x and y measure (displacement ``length``, ``velocity``, ``acceleration``): one
+    quantity for both."""
+    qs = {r: cols[r].quantity() for r in ("x", "y") if r in cols}
+    if len(set(qs.values())) > 1:
+        raise TableError(f"{label}: x = column {cols['x'].column!r} [{cols['x'].unit}] is a "
+                         f"{qs['x']}, y = column {cols['y'].column!r} [{cols['y'].unit}] a "
+                         f"{qs['y']}; both probes must measure the same quantity")
+    return next(iter(qs.values()), "length")
 
 
 def _finite(t, i):

@@ -75,8 +75,8 @@ def _register(numba):
             return impl
         return None
 
-    # Any other kind: a call (the generic right-hand side is ten times larger), with
-    # reference counting of its own (it allocates a scratch buffer).
+    # Any other kind: a call (the generic right-hand side is ten times larger; it allocates
+    # nothing: its scratch block is the tail of sp).
     @overload(derivatives, jit_options={"error_model": "numpy", "_nrt": True})
     def _kernel_of_literal_kind(kind, t, y, dy, sp, wt, prog):
         if not isinstance(kind, types.IntegerLiteral):

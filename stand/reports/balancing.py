@@ -205,6 +205,27 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
         doc["lab_identification"] = lab
         sections = SECTIONS[:-2] + ("lab_identification",) + SECTIONS[-2:]
         extra["lab_identification"] = LAB_SCHEMA
+    auto_screens = []
+    if not tracks:
+        from stand.reports.balancing_two_plane import named_screens
+
+        path = getattr(recording_path, "path", recording_path)
+        if isinstance(path, (str, Path)) and path and Path(path).is_file():
+            auto_screens = named_screens(path)
+        if len(auto_screens) > 2:
+            notes.append(f"the recording has {len(auto_screens)} screens "
+                         f"({', '.join(auto_screens)}); two-plane balancing takes two: give "
+                         f"--tracks")
+            auto_screens = []
+        elif len(auto_screens) == 2:
+            from stand.reports.balancing_two_plane import TWO_PLANE_SCHEMA, auto_two_plane_section
+
+            doc["two_plane"] = auto_two_plane_section(path, auto_screens, grade,
+                                                      service_speed_rpm, warn)
+            notes.append(f"screens {' and '.join(auto_screens)} tracked by the report "
+                         f"(as `stand track --screen`) for the two-plane section")
+            sections = sections[:-2] + ("two_plane",) + sections[-2:]
+            extra["two_plane"] = TWO_PLANE_SCHEMA
     if tracks:
         from stand.reports.balancing_two_plane import TWO_PLANE_SCHEMA, two_plane_section
 

@@ -124,11 +124,21 @@ def _critical_speeds(rows: list) -> str:
     return "".join(parts)
 
 
+def single_plane_applies(doc: Mapping) -> bool:
+    """False for two-plane work where the single-plane quality was not identified (its table
+    would be dashes): the report leaves that section out."""
+    bq = doc.get("balancing_quality") or {}
+    return not (doc.get("two_plane") and bq.get("residual_unbalance_gmm") is None)
+
+
 def page_body(doc: Mapping, figures: Mapping | None = None) -> str:
     """The HTML after the banner (module docstring); ``figures`` = ``{caption: PNG data URI}``."""
     figures = dict(figures or {})
     parts = ["<nav class='meta'>" + " · ".join(
-        f"<a href='#{a}'>{t}</a>" for a, t in (("figures", "Figures"), ("quality", "Balancing quality"),
+        f"<a href='#{a}'>{t}</a>" for a, t in (("figures", "Figures"),
+                                              ("quality", "Balancing quality")
+                                              if single_plane_applies(doc) else
+                                              ("two_plane", "Two-plane balancing"),
                                               ("dynamics", "Dynamics"), ("warnings", "Warnings and notes"),
                                               ("details", "All fields"))) + "</nav>"]
     main = [(c, u) for c, u in figures.items() if any(c.startswith(m) for m in _MAIN_FIGS)]
@@ -137,9 +147,10 @@ def page_body(doc: Mapping, figures: Mapping | None = None) -> str:
                      + "".join(_figure(c, u) for c, u in main) + "</div>")
     bq = doc.get("balancing_quality") or {}
     iso = bq.get("iso_21940_11") or {}
-    parts.append("<h2 id='quality'>Balancing quality</h2>")
-    parts.append(_table(_rows(bq, QUALITY_KEYS)))
-    parts.append("<h3>ISO 21940-11</h3>" + _table(_rows(iso, ISO_KEYS)))
+    if single_plane_applies(doc):
+        parts.append("<h2 id='quality'>Balancing quality</h2>")
+        parts.append(_table(_rows(bq, QUALITY_KEYS)))
+        parts.append("<h3>ISO 21940-11</h3>" + _table(_rows(iso, ISO_KEYS)))
     red = bq.get("reduction") or {}
     if red.get("applicable"):
         f, lb = red.get("factor"), red.get("factor_lower_bound")
@@ -202,8 +213,14 @@ def pdf_tables(doc: Mapping) -> list:
     """``[(section title, [(label, text), ...]), ...]`` for :func:`stand.reports.pdf.write_pdf`."""
     bq = doc.get("balancing_quality") or {}
     out = [("Balancing quality", _rows(bq, QUALITY_KEYS)),
-           ("ISO 21940-11", _rows(bq.get("iso_21940_11") or {}, ISO_KEYS)),
-           ("Machine and run", _rows(doc.get("header") or {})),
+           ("ISO 21940-11", _rows(bq.get("iso_21940_11") or {}, ISO_KEYS))] \
+        if single_plane_applies(doc) else []
+    for row in (doc.get("two_plane") or {}).get("planes", []):
+        out.append((f"Two-plane: {row.get('plane')}",
+                    [(k, show(k, row.get(k))) for k in ("unbalance_gmm", "angle_deg",
+                                                        "correction_angle_deg", "permissible_gmm",
+                                                        "passed")]))
+    out += [("Machine and run", _rows(doc.get("header") or {})),
            ("Natural frequency and damping", _rows((doc.get("dynamics") or {}).get("natural_frequency") or {}))]
     crit = (doc.get("dynamics") or {}).get("critical_speeds") or []
     if crit:

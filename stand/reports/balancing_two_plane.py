@@ -10,7 +10,7 @@ over the planes' distances, each share within 30-70 %).
 """
 from __future__ import annotations
 
-__all__ = ["two_plane_section", "TWO_PLANE_SCHEMA"]
+__all__ = ["two_plane_section", "TWO_PLANE_SCHEMA", "named_screens", "auto_two_plane_section"]
 
 N, B, L = "number|null", "bool|null", "list"
 
@@ -42,4 +42,40 @@ def two_plane_section(recording_path, tracks, grade, service_speed_rpm, warn) ->
                  f"{row['plane']}: residual {row['unbalance_gmm']:.4g} g mm exceeds its share "
                  f"{row['permissible_gmm']:.4g} g mm of the ISO 21940-11 G{grade:g} permissible "
                  "residual")
+    return doc
+
+
+def named_screens(path) -> list:
+    """Names of a recording's named laser screens (``instruments/screen.<name>`` with an
+    ``axial_position_m``), in the file's order; ``[]`` for anything else."""
+    import h5py
+
+    try:
+        with h5py.File(path, "r") as f:
+            g = f.get("instruments")
+            if g is None:
+                return []
+            return [k.split(".", 1)[1] for k in g if k.startswith("screen.")
+                    and "axial_position_m" in g[k].attrs]
+    except (OSError, ValueError):
+        return []
+
+
+def auto_two_plane_section(recording_path, screens, grade, service_speed_rpm, warn) -> dict:
+    """The ``two_plane`` section of a recording with two named screens, tracking each screen
+    itself (``stand track RUN.h5 --screen NAME``, into a temporary folder)."""
+    import tempfile
+    from pathlib import Path
+
+    from stand.analysis.tracking import track_frames, write_track_csv
+
+    with tempfile.TemporaryDirectory(prefix="stand-report-tracks-") as tmp:
+        tracks = []
+        for name in screens:
+            out = Path(tmp) / f"{name}.csv"
+            write_track_csv(track_frames(str(recording_path), screen=name), out)
+            tracks.append(str(out))
+        doc = two_plane_section(recording_path, tracks, grade, service_speed_rpm, warn)
+    for s, name in zip(doc.get("screens", []), screens):
+        s["track"] = f"tracked by the report (screen {name})"
     return doc

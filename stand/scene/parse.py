@@ -26,6 +26,7 @@ import numpy as np
 
 from stand.io.validate import _Table, _fmt, _kind, _number, _suggest  # noqa: F401 (re-exported)
 from stand.scene.book_tables import parse_weight_model
+from stand.scene.conditioning import check_conditioning
 from stand.scene.dimensionless import (DIMENSIONLESS_KEYS, _dimensionless_params,  # noqa: F401
                                        scene_from_dimensionless)
 from stand.scene.instrument_tables import INSTRUMENTS, NAMED_INSTRUMENTS, instrument_tables  # noqa: F401
@@ -35,8 +36,8 @@ from stand.scene.model import Balancer, InitialState, Scene, SceneError, TorqueD
 from stand.scene.structure_tables import parse_family_scene
 from stand.scene.tables import (BALANCER_KEYS, INITIAL_KEYS, PERTURBATION_KEYS,  # noqa: F401
                                 ROTOR_KEYS, RUN_KEYS, SCENE_KEYS, SPEED_KEYS, SUPPORT_KEYS, TABLES,
-                                TORQUE_KEYS, TORQUE_MODEL_KEYS, balancer_table, check_tables,
-                                drive_table, initial_table, perturbation_tables, rotor_table,
+                                TORQUE_KEYS, TORQUE_MODEL_KEYS, balancer_table, check_programme_slope,
+                                check_tables, drive_table, initial_table, perturbation_tables, rotor_table,
                                 run_table, scene_header, supports_table, weight_tables)
 
 __all__ = ["load", "load_scene", "parse", "parse_scene", "scene_from_dimensionless", "MAX_SAMPLES"]
@@ -127,13 +128,14 @@ def parse(data: Mapping, text: str = "", stem: str = "") -> Scene:
 
     A ``[structure]`` table selects :func:`stand.scene.structure_tables.parse_family_scene`,
     ``[weight_model]`` :func:`stand.scene.book_tables.parse_weight_model`, else the planar
-    tables or ``[dimensionless]`` (:func:`parse_scene`).
+    tables or ``[dimensionless]`` (:func:`parse_scene`).  Every form's linear structure is
+    held to the conditioning limits (:func:`stand.scene.conditioning.check_conditioning`).
     """
     if isinstance(data, Mapping) and "structure" in data:
-        return parse_family_scene(data, text, stem)
+        return check_conditioning(parse_family_scene(data, text, stem))
     if isinstance(data, Mapping) and "weight_model" in data:
         return parse_weight_model(data, text, stem)
-    scene = parse_scene(data, text=text)
+    scene = check_conditioning(parse_scene(data, text=text))
     return scene if scene.name else dataclasses.replace(scene, name=stem)
 
 
@@ -181,6 +183,8 @@ def check_derived(scene: Scene) -> Scene:
             if not cycles <= MAX_CYCLES:
                 raise SceneError(f"run.duration = {run.duration:g} s: the run spans {cycles:.3g} "
                                  f"{label}, more than {MAX_CYCLES:.0e}; shorten run.duration")
+        if d.kind == "speed":
+            check_programme_slope(d.programme)
         width = 2 * (2 + b.count + (1 if d.kind == "torque" else 0))
         nbytes = (run.duration * run.sample_rate + 1) * width * 8 * 2  # samples + SI copies
         if nbytes > MAX_STATE_BYTES:

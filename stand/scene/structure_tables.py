@@ -46,7 +46,8 @@ from stand.model.rotors.structure import LinearRotor
 from stand.scene.instrument_tables import instrument_tables
 from stand.scene.limits import MAX_CYCLES
 from stand.scene.model import RotorStructure, Scene, SceneError
-from stand.scene.tables import (FRICTION_KEYS, check_tables, drive_table,  # noqa: F401 (re-exported)
+from stand.scene.tables import (FRICTION_KEYS, check_programme_slope,  # noqa: F401 (re-exported)
+                                check_tables, drive_table,
                                 run_table, scene_header, weight_tables)
 
 __all__ = ["ROTOR_TYPES", "parse_family_scene", "build_rotor", "check_cycles"]
@@ -132,6 +133,7 @@ def check_cycles(rotor: LinearRotor, run, programme) -> None:
             raise SceneError(f"run.duration = {run.duration:g} s: the run spans {cycles:.3g} "
                              f"{label}, more than {MAX_CYCLES:.0e}; shorten run.duration or "
                              "check the structure's stiffnesses and masses (SI units)")
+    check_programme_slope(programme)
 
 
 def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:

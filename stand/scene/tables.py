@@ -157,6 +157,28 @@ def balancer_table(t: _Table) -> Balancer:
                     initial_angles=angles * DEG, initial_speeds=speeds * TWO_PI)
 
 
+#: steepest speed change between two programme nodes accepted [rev/s per s]: a step of
+#: 1e6 rev/s in a nanosecond (a dimensionless ramp of R 1 in tau 0.03 on a stiff rotor is
+#: 1e7); steeper ones (a step in 1e-300 s) overflow the rotor's angular acceleration
+#: (a programme of one node is a constant speed)
+MAX_PROGRAMME_SLOPE = 1e15
+
+
+def check_programme_slope(programme: np.ndarray) -> None:
+    """Refuse a speed programme (k, 2) [s, rad/s] whose speed changes faster than
+    :data:`MAX_PROGRAMME_SLOPE` between two nodes (checked after the run's length, so that
+    an absurd speed is named by the run's bounds first)."""
+    t, w = programme[:, 0], programme[:, 1] / TWO_PI
+    with np.errstate(all="ignore"):
+        slope = np.abs(np.diff(w)) / np.diff(t)
+    bad = np.nonzero(~(slope <= MAX_PROGRAMME_SLOPE))[0]
+    if bad.size:
+        i = int(bad[0]) + 1
+        raise SceneError(f"drive.programme[{i}] = [{t[i]:g} s, {w[i]:g} rev/s]: the speed changes "
+                         f"from {w[i - 1]:g} rev/s at {t[i - 1]:g} s faster than "
+                         f"{MAX_PROGRAMME_SLOPE:.0e} rev/s per s; space the times further apart")
+
+
 def programme_table(t: _Table, key: str, w1: float) -> np.ndarray:
     """[[t, speed], ...] -> ndarray (k, 2) in s and rad/s."""
     name, value = t.name(key), t.data[key]

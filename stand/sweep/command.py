@@ -95,7 +95,8 @@ def sweep_main(args) -> int:
         print(dumps(summary))
     else:
         print(f"{spec.name}: {len(table)} points ({n_err} failed) in {wall:.1f} s -> {args.output}")
-        if n_err:
-            first = table.loc[table["status"] != "ok", "error"].iloc[0]
-            print(f"first failure: {first}")
+    if n_err:      # exit 1: one line on stderr says why (as every command that stops early)
+        first = " ".join(str(table.loc[table["status"] != "ok", "error"].iloc[0]).split())
+        print(f"stand sweep: {n_err} of {len(table)} points failed (kept in {args.output} with "
+              f"their error); first failure: {first}", file=sys.stderr)
     return 1 if n_err else 0

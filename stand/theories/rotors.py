@@ -33,8 +33,25 @@ def _steady(scene, rot) -> dict:
     return out
 
 
+#: work the Floquet scan may spend, in state-steps (integration steps x state size) of its
+#: one-revolution flows: the sample scenes need 1e4-5e7 (a ten-mode flexible shaft, ~1 min);
+#: an input that would need more stops with BudgetExceeded (exit 1)
+FLOQUET_BUDGET = 100_000_000
+
+
 def _floquet_scan(scene, ranges: dict, lo: float, hi: float, n: int = 14) -> dict:
-    """Main-motion critical speeds by Floquet continuation from the operating speed."""
+    """Main-motion critical speeds by Floquet continuation from the operating speed, under
+    the work budget :data:`FLOQUET_BUDGET`."""
+    from stand.errors import Budget
+    from stand.model.rotors.stability import step_budget
+
+    with step_budget(Budget("the Floquet scan (one-revolution flows of the main motion)",
+                            FLOQUET_BUDGET, "state-steps")):
+        return _floquet_scan_within(scene, ranges, lo, hi, n)
+
+
+def _floquet_scan_within(scene, ranges: dict, lo: float, hi: float, n: int) -> dict:
+    from stand.errors import BudgetExceeded
     from stand.model.rotors.stability import _state_guess, main_motion_critical_speeds, main_motion_stability
 
     w0 = scene.operating_speed
@@ -44,6 +61,8 @@ def _floquet_scan(scene, ranges: dict, lo: float, hi: float, n: int = 14) -> dic
     s = sum(abs(u.s) for u in rotor.unbalances) or 1.0
     try:
         r0 = main_motion_stability(rotor, scene.weights, w0)
+    except BudgetExceeded:
+        raise
     except (RuntimeError, np.linalg.LinAlgError) as exc:
         return {"note": f"Floquet analysis failed at the operating speed: {exc}"}
     if r0.residual_unbalance > 0.05 * s:
@@ -60,6 +79,8 @@ def _floquet_scan(scene, ranges: dict, lo: float, hi: float, n: int = 14) -> dic
         try:
             _, c = main_motion_critical_speeds(rotor, scene.weights, grid, y_guess=g,
                                                xtol=1e-5)
+        except BudgetExceeded:
+            raise
         except (RuntimeError, np.linalg.LinAlgError):
             continue
         found += list(c)

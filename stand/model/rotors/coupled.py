@@ -14,7 +14,7 @@ from typing import Sequence
 
 import numpy as np
 
-from stand.model.programme import programme_kinematics, programme_kinematics_many
+from stand.model.programme import programme_kinematics_many
 from stand.scene.model import RotorTorqueDrive  # noqa: F401 (re-exported; it lives with the scene)
 from stand.model.rotors.bodies import body_channels, body_initial
 from stand.model.rotors.coupled_kernel import (H_W0, W_L, W_M, W_PLANE, CoupledModel, PlaneWeights, build_model,
@@ -130,7 +130,7 @@ def initial_state(model: CoupledModel, weights, q0=None, qd0=None) -> np.ndarray
         q = y[:n] * model.scale
         planes = {p: model.rotor.planes[p] @ q for p in model.plane_names}
         omega0 = (y[model.i_phi + 1] * w if model.free
-                  else programme_kinematics(0.0, model.prog, model.prog.shape[0])[1] * w)
+                  else programme_kinematics_many(0.0, model.prog)[0, 1] * w)
         body_initial(model.bt, model.bodies, y, w, omega0, planes)
     return y
 

@@ -81,7 +81,8 @@ from stand.model.rotors.bodies_kernel import (B_H1, B_H2, B_KIND, B_OFF, B_PLANE
                             body_derivatives, body_reaction)
 from stand.model.rotors.structure import LinearRotor
 
-__all__ = ["PlaneWeights", "CoupledModel", "build_model", "rhs_generic", "with_locked_weights"]
+__all__ = ["PlaneWeights", "CoupledModel", "build_model", "rhs_generic", "scratch_size",
+           "with_locked_weights"]
 
 # header of the scalar parameter vector sp
 H_N, H_NW, H_NPL, H_NUB, H_WREF, H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OGR, H_OGP, \
@@ -91,7 +92,10 @@ H_N, H_NW, H_NPL, H_NUB, H_WREF, H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OG
 # 1 speed feedback, 2 angle feedback), torque [N m], c1 [N m s], c2 [N m], target speed
 # [rad/s], rotor drag H0 [N m s], initial speed [rad/s]
 H_FREE, H_JP, H_DMODEL, H_TQ, H_C1, H_C2, H_WT, H_H0, H_W0 = range(17, 26)
-N_HEAD = 26
+# offsets of the RHS's scratch block (sp's last, :func:`scratch_size`) and of the locked mass
+# matrix M + sum_j m_j F_p^T T_p (n x n; the Schur complement's part free of the angles)
+H_OS, H_OML = 26, 27
+N_HEAD = 28
 DRIVE_MODELS = {"constant": 0, "speed_feedback": 1, "angle_feedback": 2}
 # weight table columns: plane, mass, radius, inertia, drag, friction (kinetic,
 # static, slip speed, dwell, release), index of its adhesion state (-1: none)
@@ -135,20 +139,16 @@ def _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy):
 @njit(cache=True, inline="always", error_model="numpy")
 def solve_small(buf, oA, of, ox, n):
     """Solve ``A x = f`` held in the flat buffer (A row-major at ``oA``, f at ``of``, x
-    written at ``ox``; A and f overwritten): Gaussian elimination with partial pivoting
-    for n <= 12 -- at these sizes LAPACK's call and copy overhead (np.linalg.solve)
-    costs more than the arithmetic, inside a right-hand side called millions of times --
-    and np.linalg.solve above.  A singular A gives non-finite x (the integrator stops)."""
+    written at ``ox``; A and f overwritten): Gaussian elimination with partial pivoting,
+    in place, allocating nothing.  At the stand's sizes (n <= 2 x 10 modes + 1) LAPACK's
+    call and copy overhead (np.linalg.solve) costs more than the arithmetic, inside a
+    right-hand side called millions of times.  A singular A gives non-finite x (the
+    integrator stops)."""
     if n == 2:      # Cramer's rule (the planar rotor, the liquid's paper-001 stand)
         a, b, c, d = buf[oA], buf[oA + 1], buf[oA + 2], buf[oA + 3]
         det = a * d - b * c
         buf[ox] = (d * buf[of] - b * buf[of + 1]) / det
         buf[ox + 1] = (a * buf[of + 1] - c * buf[of]) / det
-        return
-    if n > 12:
-        x = np.linalg.solve(buf[oA:oA + n * n].copy().reshape((n, n)), buf[of:of + n].copy())
-        for i in range(n):
-            buf[ox + i] = x[i]
         return
     for k in range(n):
         p = k
@@ -209,6 +209,7 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
     oM, oG, oD, oK = int(sp[H_OM]), int(sp[H_OG]), int(sp[H_OD]), int(sp[H_OK])
     oT, oUB, oL, oGR, oGP = int(sp[H_OT]), int(sp[H_OUB]), int(sp[H_OL]), int(sp[H_OGR]), int(sp[H_OGP])
     oF = int(sp[H_OF])
+    oML = int(sp[H_OML])
     ifree = int(sp[H_FREE])
     if ifree == 0:      # speed programme
         phi, R, dR = programme_kinematics(tau, prog, prog.shape[0])
@@ -225,18 +226,19 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
     ns = n + nw
     nb = int(sp[H_NB])
     oB = int(sp[H_OB])
-    # one flat scratch buffer, indexed by offsets (views and allocations dominate at small n):
-    # q, qd, A (row-major), f, q'', then per point weight cos, sin, moment, then the body
-    # reaction and each body's plane point state
-    oq, oqd, oA = 0, n, 2 * n
+    # one flat scratch block, the tail of sp (scratch_size; views and allocations dominate at
+    # small n), indexed by offsets: q, qd, A (row-major), f, q'', per point weight cos, sin,
+    # moment, the body reaction, n_j^T T_p, each body's plane point state
+    buf, oq = sp, int(sp[H_OS])
+    oqd, oA = oq + n, oq + 2 * n
     of = oA + ld * ld
     ox = of + ld
     oc = ox + ld
     os_ = oc + nw
     om = os_ + nw
     oR = om + nw
-    oz = oR + 6
-    buf = np.empty(oz + 4 * nb)
+    ont = oR + 6
+    oz = ont + n
     for i in range(n):
         L = sp[oL + i]
         buf[oq + i] = L * y[i]
@@ -246,8 +248,9 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         for k in range(n):
             acc -= sp[oK + i * n + k] * buf[oq + k]
             acc -= (sp[oD + i * n + k] + Om * sp[oG + i * n + k]) * buf[oqd + k]
-            buf[oA + i * ld + k] = sp[oM + i * n + k]
         buf[of + i] = acc
+        for k in range(n):
+            buf[oA + i * ld + k] = sp[oML + i * n + k]
     if ifree != 0:      # the phi'' column and the spin row
         for i in range(ld):
             buf[oA + i * ld + n] = 0.0
@@ -291,16 +294,16 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         gyw = m * gy + m * l * psid * psid * si + k2 * ng * c + m * l * Mr / J * c
         base = oT + p * 2 * n
         fbase = oF + p * 2 * n
+        for k in range(n):          # n_j^T T_p
+            buf[ont + k] = sp[base + k] * si - sp[base + n + k] * c
         for i in range(n):
             tx = sp[fbase + i]      # forces act through the force map F_p
             ty = sp[fbase + n + i]
             buf[of + i] += tx * gxw + ty * gyw
-            nti = tx * si - ty * c
+            knti = k2 * (tx * si - ty * c)
+            # m_j F_p^T T_p is in the locked mass matrix; the angle's rank-one part here
             for k in range(n):
-                txk = sp[base + k]
-                tyk = sp[base + n + k]
-                ntk = txk * si - tyk * c
-                buf[oA + i * ld + k] += m * (tx * txk + ty * tyk) - k2 * nti * ntk
+                buf[oA + i * ld + k] -= knti * buf[ont + k]
     # body weights (stand.model.rotors.bodies_kernel): reaction F = R a + r on their plane point
     for b in range(nb):
         rb = oB + b * N_BCOL
@@ -381,6 +384,15 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
             z = y[iz]
             sl = math.exp(-(wref * y[ns + n + j] / wt[j, W_VS]) ** 2)
             dy[iz] = (sl * (1.0 - z) / wt[j, W_TD] - (1.0 - sl) * z / wt[j, W_TR]) / wref
+
+
+def scratch_size(n: int, nw: int, nb: int, free: bool) -> int:
+    """Length of :func:`rhs_generic`'s scratch block, the last of ``sp``: q, q', the (n + free)^2
+    matrix, its right-hand side and solution, cos, sin, moment of each point weight, a body
+    reaction (6), a weight's n_j^T T_p (n), each body's plane point state (4).  The RHS writes
+    there instead of allocating: one thread at a time per ``sp`` (copy it to share a model)."""
+    ld = n + int(free)
+    return 2 * n + ld * ld + 2 * ld + 3 * nw + 6 + n + 4 * nb
 
 
 @dataclass(frozen=True)
@@ -549,6 +561,10 @@ def build_model(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,
     scale = np.maximum(resp, 1e-3 * resp.max()) if resp.max() > 0 else np.ones(n)
     ub = np.array([[names.index(u.plane), u.s, u.angle] for u in rotor.unbalances],
                   dtype=float).reshape(-1, 3)
+    m_lock = rotor.M.astype(float)
+    for row in wt:
+        p = names[int(row[W_PLANE])]
+        m_lock = m_lock + row[W_M] * (rotor.force_map(p).T @ rotor.planes[p])
     parts = [rotor.M.ravel(), rotor.G.ravel(), rotor.D.ravel(), rotor.K.ravel(),
              np.concatenate([rotor.planes[p].ravel() for p in names]), ub.ravel(), scale,
              rotor.gravity, rotor.gravity_plane,
@@ -568,9 +584,13 @@ def build_model(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,
         head[H_TQ], head[H_C1], head[H_C2] = drive.torque, drive.c1, drive.c2
         head[H_WT], head[H_H0] = drive.target_speed, drive.rotor_drag
         head[H_W0] = drive.initial_speed
-    for slot, a in zip((H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OGR, H_OGP, H_OF, H_OB), parts):
+    parts.append(m_lock.ravel())
+    for slot, a in zip((H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OGR, H_OGP, H_OF, H_OB,
+                        H_OML), parts):
         head[slot] = off
         off += a.size
+    head[H_OS] = off
+    parts.append(np.zeros(scratch_size(n, wt.shape[0], bt.shape[0], drive is not None)))
     sp = np.concatenate([head] + parts)
     prog = build_table(prog_si[:, 0] * omega_ref, prog_si[:, 1] / omega_ref)
     return CoupledModel(rotor, tuple(weights), names, sp, wt, prog, omega_ref, scale,

@@ -25,6 +25,7 @@ rotor coordinates + weights), about a millisecond each once compiled.
 from __future__ import annotations
 
 import math
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Sequence
 
@@ -34,10 +35,27 @@ from stand.model.rotors.coupled import CoupledModel, PlaneWeights, build_model, 
 from stand.model.rotors.structure import LinearRotor
 
 __all__ = ["settle", "periodic_orbit", "floquet", "MainMotionStability",
-           "main_motion_stability", "main_motion_critical_speeds"]
+           "main_motion_stability", "main_motion_critical_speeds", "step_budget"]
 
 RTOL = 1e-11
 ATOL = 1e-13
+#: the budget (:class:`stand.errors.Budget`, in state-steps: integration steps x state size)
+#: the one-revolution flows spend while a scan runs under :func:`step_budget`; None:
+#: unbounded (each flow alone is capped at 1e6 steps)
+_BUDGET = None
+
+
+@contextmanager
+def step_budget(budget):
+    """Count every one-revolution flow's state-steps against ``budget`` (a
+    :class:`stand.errors.Budget`) inside the ``with`` block: a Floquet scan stops with
+    :class:`stand.errors.BudgetExceeded` when it is used up."""
+    global _BUDGET
+    old, _BUDGET = _BUDGET, budget
+    try:
+        yield budget
+    finally:
+        _BUDGET = old
 
 
 def _flow(model: CoupledModel, y0: np.ndarray, T: float) -> np.ndarray:
@@ -56,6 +74,8 @@ def _flow(model: CoupledModel, y0: np.ndarray, T: float) -> np.ndarray:
     st = np.zeros(3, np.int64)
     status, t, _, _ = ks.dop853(model.sp, model.wt, model.prog, 0.0, y, f, T / 50.0, T, RTOL, ATOL,
                                 cap, np.inf, ts, 1, out, st, 1_000_000, 1e12)
+    if _BUDGET is not None:
+        _BUDGET.spend(int(st[0] + st[1]) * y.size)
     if status != REACHED_END or t < T:
         raise RuntimeError("one-revolution flow did not reach its end (diverged or stiff)")
     return out[1]

@@ -44,6 +44,8 @@ from typing import Optional, Sequence
 
 import numpy as np
 
+from stand.errors import Budget, BudgetExceeded
+
 __all__ = ["LinearRotor", "Unbalance", "working_ranges", "sign_changes", "synchronous_poles",
            "criterion_matrices", "generalised_working_ranges"]
 
@@ -215,12 +217,22 @@ class LinearRotor:
         return np.linalg.eigvals(A)
 
     def campbell(self, speeds) -> np.ndarray:
-        """Natural frequencies [rad/s] (rows: speeds, columns: modes) vs spin."""
-        return np.array([self.natural_frequencies(w) for w in np.atleast_1d(speeds)])
+        """Natural frequencies [rad/s] (rows: speeds, columns: modes) vs spin.
+
+        A mode that is overdamped at some speeds (a real eigenvalue pair) gives two
+        entries there and none where it oscillates: rows are padded with nan to the
+        widest."""
+        rows = [self.natural_frequencies(w) for w in np.atleast_1d(speeds)]
+        width = max((r.size for r in rows), default=0)
+        return np.array([np.concatenate([r, np.full(width - r.size, np.nan)]) for r in rows])
 
 
 #: relative offset of the samples taken on either side of a pole (a synchronous critical speed)
 POLE_OFFSET = 1e-10
+#: evaluations of the criterion (or of the count of its non-negative eigenvalues) that the
+#: root refinement of one scan may spend beyond its grid: a root needs 10-50, a real rotor
+#: has tens of them; round-off noise (an ill-conditioned structure) would need millions
+MAX_REFINE_EVALUATIONS = 20_000
 
 
 def synchronous_poles(rotor: LinearRotor, lo: float = 0.0, hi: float = math.inf) -> np.ndarray:
@@ -276,19 +288,27 @@ def sign_changes(f, lo: float, hi: float, n: int = 20000, xtol: float = 1e-13, p
     fx = np.asarray(f(x), dtype=float)
     v = np.sign(fx)
     out = []
+    budget = Budget("the criterion's sign-change refinement", MAX_REFINE_EVALUATIONS)
+
+    def f1(w):
+        budget.spend()
+        return float(np.asarray(f(np.array([w])), float)[0])
+
     for k in np.nonzero(v[:-1] * v[1:] < 0)[0]:
         a, b = x[k], x[k + 1]
         if straddle[k] >= 0:
             out.append(float(P[straddle[k]]))
             continue
         try:
-            out.append(brentq(lambda w: float(np.asarray(f(np.array([w])), float)[0]), a, b,
-                              xtol=1e-300, rtol=max(xtol, 4 * np.finfo(float).eps), maxiter=500))
+            out.append(brentq(f1, a, b, xtol=1e-300, rtol=max(xtol, 4 * np.finfo(float).eps),
+                              maxiter=500))
+        except BudgetExceeded:
+            raise
         except (ValueError, RuntimeError):      # f not finite inside: bisection on the sign
             sa = v[k]
             while b - a > xtol * b:
                 m = 0.5 * (a + b)
-                sm = np.sign(f(np.array([m]))[0])
+                sm = np.sign(f1(m))
                 if sm == 0 or not np.isfinite(sm):
                     break
                 if sm == sa:
@@ -377,7 +397,11 @@ def generalised_working_ranges(rotor: LinearRotor, planes: Sequence[str], lo: fl
     planes = list(planes)
     x, P, straddle = _samples(lo, hi, n, synchronous_poles(rotor, lo, hi))
     cnt = _positive_count(rotor, planes, x)
-    count = lambda w: int(_positive_count(rotor, planes, np.array([w]))[0])   # noqa: E731
+    budget = Budget("the generalised criterion's bisection", MAX_REFINE_EVALUATIONS)
+
+    def count(w):
+        budget.spend()
+        return int(_positive_count(rotor, planes, np.array([w]))[0])
 
     def jumps(a, ca, b, cb):
         if ca == cb:

@@ -1,0 +1,357 @@
+"""Field balancing from a job file of readings (``stand balance``; :func:`balance_job`).
+
+Every run ``k`` at one speed is modelled as ``V_k = V0 + A W_k`` (S sensors, P planes), with
+``W_k`` the trial masses on the rotor during that run (its own trial, plus the trials left on
+by earlier runs with ``removed = false``) and the slow-roll vector subtracted from ``V_k``.
+``[V0, A] = D M^+`` with ``D`` the readings and ``M = [1; W_k]``: exact for one reference and
+one trial run per plane, least squares with more runs.  A known influence matrix
+(``[[influence]]``, ``--influence``) replaces ``A`` (trial runs at that speed are then not
+used); ``V0`` is the reference run's ``V - A W``.  The speeds are solved together (their rows stacked), and the corrections
+(for the rotor with every trial removed) come from :mod:`dsp.influence_solve`.
+
+Uncertainties are propagated to first order from the repeated readings' scatter (central
+differences of the whole chain, readings to corrections).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from dsp.influence_solve import conditioning, cvxpy_available, least_squares, min_max, \
+    split_onto_holes, split_onto_weights
+from stand.io.result import Result
+
+from .field_job import FieldJob, read_job
+
+__all__ = ["FieldBalance", "balance_job", "influence_toml"]
+
+_RPM = 60.0 / (2.0 * math.pi)
+SPEED_RTOL = 0.01
+
+
+class FieldBalance(Result):
+    """A field-balancing job's answer (``stand balance --json``): ``corrections`` keyed by
+    plane (mass in the job's mass unit, angle_deg, their uncertainties, hole split),
+    ``residuals`` per sensor and speed (before / predicted after, the job's vibration unit),
+    the ``influence`` matrix, its ``condition`` and ``warnings``."""
+
+    _title = "field balancing"
+    _summary_keys = ("method", "corrections", "condition", "warnings")
+
+    def _draw(self, ax) -> None:
+        for r in self["residuals"]:
+            for key, mk in (("before", "o"), ("after", "x")):
+                th = math.radians(r[f"{key}_deg"])
+                ax.plot([0, r[key] * math.cos(th)], [0, r[key] * math.sin(th)], marker=mk,
+                        label=f"{r['sensor']} {key}")
+        ax.set_aspect("equal")
+        ax.set_xlabel(f"Re [{self['vibration_unit']}]")
+        ax.set_ylabel(f"Im [{self['vibration_unit']}]")
+        ax.legend(fontsize="small")
+        ax.set_title(self._title)
+
+
+def _speed_groups(job: FieldJob) -> list:
+    """Distinct speeds [rad/s] (within SPEED_RTOL), NaN alone when no run gives one."""
+    ws = sorted({r.speed for r in job.runs if r.kind != "slow_roll" and not math.isnan(r.speed)}
+                | {w for w, _ in job.influence if not math.isnan(w)})
+    groups = []
+    for w in ws:
+        if groups and abs(w - groups[-1]) <= SPEED_RTOL * groups[-1]:
+            continue
+        groups.append(w)
+    return groups or [math.nan]
+
+
+def _group_of(w, groups, what):
+    if math.isnan(w):
+        if len(groups) == 1:
+            return 0
+        raise ValueError(f"{what}: give its speed (the job has runs at "
+                         f"{', '.join(f'{g * _RPM:.6g} rpm' for g in groups)})")
+    for k, g in enumerate(groups):
+        if not math.isnan(g) and abs(w - g) <= SPEED_RTOL * g:
+            return k
+    return None
+
+
+class _Chain:
+    """Readings (a flat complex vector) -> stacked V0, A -> corrections; built once per job."""
+
+    def __init__(self, job: FieldJob):
+        self.job = job
+        P = len(job.planes)
+        self.groups = _speed_groups(job)
+        self.x, self.sig, self.pos = [], [], {}
+        for r in job.runs:
+            for s, v in r.readings.items():
+                self.pos[(r.index, s)] = len(self.x)
+                self.x.append(v)
+                self.sig.append(r.std[s])
+        self.x = np.array(self.x, dtype=complex)
+        self.sig = np.array(self.sig, dtype=float)
+        on = np.zeros(P, dtype=complex)
+        self.added = {}
+        for r in job.runs:
+            w = on.copy()
+            for p, t in r.trial.items():
+                w[job.planes.index(p)] += t
+            self.added[r.index] = w
+            if r.kind == "trial" and not r.removed:
+                on = w.copy()
+        self.plan = []
+        self.notes = []
+        for g, speed in enumerate(self.groups):
+            runs = [r for r in job.runs if r.kind != "slow_roll"
+                    and _group_of(r.speed, self.groups, r.label) == g]
+            refs = [r for r in runs if r.kind == "reference"]
+            at = "" if math.isnan(speed) else f" at {speed * _RPM:.6g} rpm"
+            if len(refs) != 1:
+                raise ValueError(f"run: {len(refs)} reference run(s){at}; give exactly one "
+                                 f"kind = \"reference\" per speed")
+            sensors = [s for s in job.sensors if s in refs[0].readings]
+            for r in runs:
+                miss = [s for s in sensors if s not in r.readings]
+                if miss:
+                    raise ValueError(f"{r.label}.readings: no reading of {', '.join(miss)} "
+                                     f"(the reference run{at} has them)")
+            slow = [r for r in job.runs if r.kind == "slow_roll"
+                    and (math.isnan(r.speed) or _group_of(r.speed, self.groups, r.label) == g)]
+            own = [r for r in slow if not math.isnan(r.speed)]
+            slow = own or slow
+            if len(slow) > 1:
+                raise ValueError(f"run: {len(slow)} slow-roll runs apply{at} "
+                                 f"({', '.join(r.label for r in slow)}); give one per speed")
+            known = [m for w, m in self.job.influence
+                     if _group_of(w, self.groups, "influence") == g]
+            if len(known) > 1:
+                raise ValueError(f"influence: {len(known)} tables{at}; give one per speed")
+            if known:
+                ignored = [r for r in runs if r.kind == "trial"]
+                if ignored:
+                    self.notes.append(f"trial runs{at} ({', '.join(r.label for r in ignored)}) "
+                                      f"not used: the influence matrix{at} is given")
+                runs = refs
+                m = known[0]
+                for s in sensors:
+                    for p in job.planes:
+                        if p not in m.get(s, {}):
+                            raise ValueError(f"influence{at}: no coefficient of sensor {s} for "
+                                             f"plane {p}")
+                Ak = np.array([[m[s][p] for p in job.planes] for s in sensors], dtype=complex)
+            else:
+                Ak = None
+                M = np.array([[1.0] + list(self.added[r.index]) for r in runs], dtype=complex).T
+                if len(runs) < P + 1 or np.linalg.matrix_rank(M) < P + 1:
+                    moved = [p for j, p in enumerate(job.planes)
+                             if any(self.added[r.index][j] != 0 for r in runs)]
+                    lack = [p for p in job.planes if p not in moved] or job.planes
+                    raise ValueError(f"run{at}: the trial runs do not separate plane(s) "
+                                     f"{', '.join(lack)}: give one trial run per plane (or an "
+                                     f"[[influence]] table / --influence FILE)")
+            self.plan.append((speed, runs, sensors, slow[0] if slow else None, Ak))
+        self.rows = [(s, speed) for speed, _, sensors, _, _ in self.plan for s in sensors]
+
+    def matrices(self, x):
+        """Stacked (A, V0) from the readings ``x``."""
+        A_all, V_all = [], []
+        for speed, runs, sensors, slow, Ak in self.plan:
+            sr = np.array([x[self.pos[(slow.index, s)]] if slow is not None
+                           and (slow.index, s) in self.pos else 0.0 for s in sensors])
+            D = np.array([[x[self.pos[(r.index, s)]] for r in runs] for s in sensors]) - sr[:, None]
+            W = np.array([self.added[r.index] for r in runs], dtype=complex)     # K x P
+            if Ak is None:
+                M = np.vstack([np.ones(len(runs)), W.T])
+                X = D @ np.linalg.pinv(M)
+                V0, A = X[:, 0], X[:, 1:]
+            else:
+                A = Ak
+                V0 = (D - A @ W.T)[:, 0]          # the reference run alone
+            A_all.append(A)
+            V_all.append(V0)
+        return np.vstack(A_all), np.concatenate(V_all)
+
+    def solve(self, x, method):
+        A, V0 = self.matrices(x)
+        job = self.job
+        lim = np.array([job.max_mass.get(p, math.inf) for p in job.planes])
+        w = np.array([job.weight.get(s, 1.0) for s, _ in self.rows])
+        caps = np.array([job.cap.get(s, math.inf) for s, _ in self.rows])
+        if method == "min_max":
+            U = min_max(A, V0, weights=w, caps=caps, max_mass=lim)
+        else:
+            U = least_squares(A, V0, weights=w if method == "weighted" else None, max_mass=lim)
+        return A, V0, U
+
+
+def _deg(z):
+    return float(np.degrees(np.angle(z)) % 360.0)
+
+
+def balance_job(job, influence=None, method=None) -> FieldBalance:
+    """Corrections of a field-balancing job.
+
+    Parameters
+    ----------
+    job : str, path or FieldJob
+        The job file (or a parsed :class:`~stand.analysis.field_job.FieldJob`).
+    influence : str or path, optional
+        A saved influence file (``--save-influence``) that replaces the job's influence.
+    method : str, optional
+        Overrides ``job.method`` ("least_squares", "weighted", "min_max").
+
+    Returns
+    -------
+    FieldBalance
+    """
+    if not isinstance(job, FieldJob):
+        job = read_job(job, influence)
+    method = method or job.method
+    if not job.planes:
+        raise ValueError("job: no correction plane (add [planes.P1] and a trial run per plane)")
+    chain = _Chain(job)
+    A, V0, U = chain.solve(chain.x, method)
+    P = len(job.planes)
+    cov = np.zeros((P, 2, 2))
+    if np.any(chain.sig > 0):
+        J = []
+        for k in np.flatnonzero(chain.sig > 0):
+            for unit in (1.0, 1j):
+                h = 1e-6 * max(abs(chain.x[k]), chain.sig[k])
+                xp, xm = chain.x.copy(), chain.x.copy()
+                xp[k] += unit * h
+                xm[k] -= unit * h
+                dU = (chain.solve(xp, method)[2] - chain.solve(xm, method)[2]) / (2 * h)
+                J.append(dU * chain.sig[k])
+        J = np.array(J)                                   # n x P (scaled by sigma)
+        for j in range(P):
+            g = np.vstack([J[:, j].real, J[:, j].imag])   # 2 x n
+            cov[j] = g @ g.T
+    mf = job.mass_factor
+    corrections = {}
+    for j, p in enumerate(job.planes):
+        u = U[j]
+        a = abs(u)
+        if a > 0:
+            gr = np.array([u.real, u.imag]) / a
+            gn = np.array([-u.imag, u.real]) / (a * a)
+            m_std = math.sqrt(max(float(gr @ cov[j] @ gr), 0.0))
+            a_std = math.degrees(math.sqrt(max(float(gn @ cov[j] @ gn), 0.0)))
+        else:
+            m_std, a_std = math.sqrt(max(np.trace(cov[j]) / 2, 0.0)), 180.0
+        c = {"mass": float(a / mf), "angle_deg": _deg(u), "mass_std": m_std / mf,
+             "angle_std_deg": a_std}
+        if p in job.radius:
+            c["radius_mm"] = job.radius[p] * 1e3
+            c["unbalance_g_mm"] = a * job.radius[p] * 1e6
+        if p in job.max_mass:
+            c["max_mass"] = job.max_mass[p] / mf
+        if p in job.holes:
+            c["split"] = [{"hole": k, "angle_deg": math.degrees(ang), "mass": m / mf}
+                          for k, ang, m in split_onto_holes(u, job.holes[p])]
+        if p in job.weights:
+            placed, err = split_onto_weights(u / mf, [w / mf for w in job.weights[p]],
+                                             job.holes.get(p), max_pieces=job.max_pieces.get(p, 3))
+            c["weights"] = {"placed": [{"hole": h, "angle_deg": math.degrees(ang), "mass": m,
+                                        "pieces": list(pc)} for h, ang, m, pc in placed],
+                            "error": err}
+        corrections[p] = c
+    R = V0 + A @ U
+
+    def rdeg(z):                      # a vibration's angle in the readings' own convention
+        return _deg(z if job.phase == "lead" else np.conj(z))
+
+    residuals = []
+    for i, (s, speed) in enumerate(chain.rows):
+        r = {"sensor": s, "speed_rpm": None if math.isnan(speed) else speed * _RPM,
+             "before": float(job.to_display(abs(V0[i]))), "before_deg": rdeg(V0[i]),
+             "after": float(job.to_display(abs(R[i]))), "after_deg": rdeg(R[i])}
+        if s in job.cap:
+            r["max_vibration"] = float(job.to_display(job.cap[s]))
+        residuals.append(r)
+    scale = job.vib_factor * job.amp_factor / mf
+    infl = [{"speed_rpm": None if math.isnan(speed) else speed * _RPM, "sensor": s, "plane": p,
+             "amplitude": float(abs(A[i, j]) / scale), "angle_deg": _deg(A[i, j])}
+            for i, (s, speed) in enumerate(chain.rows) for j, p in enumerate(job.planes)]
+    multi = len(chain.plan) > 1
+    names = [f"{s}@{speed * _RPM:.6g}rpm" if multi else s for s, speed in chain.rows]
+    cond = conditioning(A, job.planes, names)
+    warnings = ([cond.message()] if cond.ill else []) + chain.notes
+    if job.cap and method != "min_max":
+        warnings.append("sensors' max_vibration caps are used by method = \"min_max\" only")
+    solver = "numpy lstsq"
+    if method == "min_max" or any(corrections[p]["mass"] >= corrections[p].get("max_mass", math.inf)
+                                  * (1 - 1e-9) for p in job.planes):
+        solver = "cvxpy CLARABEL" if cvxpy_available() else "scipy SLSQP"
+    doc = {"job": job.source, "method": method, "solver": solver, "phase": job.phase,
+           "vibration_unit": job.vibration_unit, "amplitude": job.amplitude,
+           "mass_unit": job.mass_unit,
+           "corrections": corrections, "residuals": residuals,
+           "worst_before": max(r["before"] for r in residuals),
+           "worst_after": max(r["after"] for r in residuals),
+           "influence": infl, "condition": cond.condition,
+           "ill_conditioned": {"planes": list(cond.planes), "sensors": list(cond.sensors)},
+           "warnings": warnings,
+           "runs": [{"run": r.index, "kind": r.kind,
+                     "speed_rpm": None if math.isnan(r.speed) else r.speed * _RPM,
+                     "trial": {p: {"mass": abs(t) / mf, "angle_deg": _deg(t)}
+                               for p, t in r.trial.items()}, "removed": r.removed,
+                     "readings": {s: {"amplitude": float(job.to_display(abs(v))),
+                                      "angle_deg": _deg(v if job.phase == "lead" else v.conjugate()),
+                                      "std": float(job.to_display(r.std[s]))}
+                                  for s, v in r.readings.items()}}
+                    for r in job.runs]}
+    doc["iso"] = _iso(job, chain, corrections)
+    return FieldBalance(doc)
+
+
+def _iso(job: FieldJob, chain, corrections) -> dict | None:
+    """ISO 21940-11 grade of the initial unbalance (the corrections' sum of |U_j| r_j) and of
+    the correction's uncertainty (what may remain), when the rotor mass, a speed and every
+    plane's radius are known; None otherwise."""
+    from dsp.unbalance import iso_21940_grade
+
+    speeds = [g for g in chain.groups if not math.isnan(g)]
+    w = job.service_speed if not math.isnan(job.service_speed) else (max(speeds) if speeds
+                                                                      else math.nan)
+    if math.isnan(job.rotor_mass) or math.isnan(w) or any(p not in job.radius for p in job.planes):
+        return None
+    mf = job.mass_factor
+    U = sum(corrections[p]["mass"] * mf * job.radius[p] * 1e6 for p in job.planes)
+    sU = math.sqrt(sum((corrections[p]["mass_std"] * mf * job.radius[p] * 1e6) ** 2
+                       for p in job.planes))
+    target = None if math.isnan(job.grade) else job.grade
+    before = iso_21940_grade(U, job.rotor_mass, w, target)
+    after = iso_21940_grade(sU, job.rotor_mass, w, target)
+    return {"rotor_mass_kg": job.rotor_mass, "service_speed_rpm": w * _RPM,
+            "initial_unbalance_g_mm": U, "initial_grade_mm_s": before.grade_mm_s,
+            "initial_grade": before.label,
+            "correction_uncertainty_g_mm": sU, "after_grade_mm_s": after.grade_mm_s,
+            "after_grade": after.label, "target_grade_mm_s": target,
+            "permissible_g_mm": before.permissible_gmm, "passed": after.passed}
+
+
+def influence_toml(res: FieldBalance) -> str:
+    """The result's influence matrix as a job file's ``[[influence]]`` tables (with its
+    ``[job]`` units), for ``--influence FILE`` on the next machine of the type."""
+    lines = ["# influence coefficients saved by stand balance --save-influence",
+             "[job]", f'vibration_unit = "{res["vibration_unit"]}"',
+             f'amplitude = "{res["amplitude"]}"', f'mass_unit = "{res["mass_unit"]}"', ""]
+    speeds = []
+    for e in res["influence"]:
+        if e["speed_rpm"] not in speeds:
+            speeds.append(e["speed_rpm"])
+    for sp in speeds:
+        lines.append("[[influence]]")
+        if sp is not None:
+            lines.append(f'speed = "{sp:.10g} rpm"')
+        rows = {}
+        for e in res["influence"]:
+            if e["speed_rpm"] == sp:
+                rows.setdefault(e["sensor"], []).append(
+                    f'"{e["plane"]}" = "{e["amplitude"]:.10g} @ {e["angle_deg"]:.10g}"')
+        for s, cells in rows.items():
+            lines.append(f'"{s}" = {{ {", ".join(cells)} }}')
+        lines.append("")
+    return "\n".join(lines)

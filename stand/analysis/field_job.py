@@ -1,0 +1,412 @@
+"""A field-balancing job file (``stand balance JOB.toml``): readings as a balancer shows them.
+
+The contract (README, "Field balancing"): ``[job]`` units and method, ``[planes.NAME]``
+(radius, max_mass, holes), ``[sensors.NAME]`` (weight, max_vibration), ``[[run]]`` tables
+(``kind = "slow_roll" | "reference" | "trial"``, ``speed``, ``trial``, ``removed``,
+``readings``) and ``[[influence]]`` tables (a known influence matrix per speed).
+
+A reading is ``"amplitude @ angle"`` (the job's vibration unit and amplitude convention,
+degrees), or a list of them (repeated readings: their mean, and the scatter of the mean as
+the reading's standard uncertainty).  Everything is converted here, once: vibration to SI
+peak (m, m/s or m/s^2), masses to kg, speeds to rad/s, angles to radians.  The angular sense
+is the weights' (trial masses, corrections, ``[[influence]]``); the readings' angles are in the
+same sense (``phase = "lead"``, the default) or against it (``phase = "lag"``: a phase lag, as
+proximity-probe systems show it).
+"""
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+from stand.lab.units import UnitError, parse_quantity
+
+__all__ = ["FieldJob", "FieldRun", "read_job", "parse_job", "VIBRATION_UNITS", "MASS_UNITS",
+           "AMPLITUDES", "METHODS"]
+
+# TODO(lab/units): move these two tables into stand/lab/units.py once it has the velocity
+# and acceleration quantities (another change extends it); until then they live here.
+_G0 = 9.80665
+VIBRATION_UNITS = {
+    "displacement": {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "μm": 1e-6, "nm": 1e-9,
+                     "mil": 25.4e-6, "mils": 25.4e-6, "in": 25.4e-3},
+    "velocity": {"m/s": 1.0, "mm/s": 1e-3, "um/s": 1e-6, "µm/s": 1e-6, "in/s": 25.4e-3,
+                 "ips": 25.4e-3},
+    "acceleration": {"m/s^2": 1.0, "m/s2": 1.0, "m/s²": 1.0, "mm/s^2": 1e-3, "mm/s²": 1e-3,
+                     "g": _G0},
+}
+MASS_UNITS = {"kg": 1.0, "g": 1e-3, "mg": 1e-6, "oz": 0.028349523125, "lb": 0.45359237}
+#: amplitude conventions -> factor to peak
+AMPLITUDES = {"pk": 1.0, "pk-pk": 0.5, "rms": math.sqrt(2.0)}
+METHODS = ("least_squares", "weighted", "min_max")
+_KINDS = ("slow_roll", "reference", "trial")
+_NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+_POLAR = re.compile(rf"^\s*({_NUM})\s*([^@\s]*)\s*@\s*({_NUM})\s*(?:deg|°)?\s*$")
+
+
+def _vibration_quantity(unit: str, field_: str) -> tuple:
+    for q, t in VIBRATION_UNITS.items():
+        if unit in t:
+            return q, t[unit]
+    known = ", ".join(u for t in VIBRATION_UNITS.values() for u in t)
+    raise UnitError(f"{field_} = {unit!r}: unknown vibration unit (one of {known})")
+
+
+@dataclass
+class FieldRun:
+    """One run of the job: kind, speed [rad/s] (NaN: not given), trial masses [kg, complex],
+    ``removed``, readings (sensor -> SI peak complex) and their standard uncertainties
+    (sensor -> std of each of Re and Im, SI)."""
+
+    index: int
+    kind: str
+    speed: float
+    trial: dict
+    removed: bool
+    readings: dict
+    std: dict
+
+    @property
+    def label(self) -> str:
+        return f"run[{self.index}] ({self.kind})"
+
+
+@dataclass
+class FieldJob:
+    """A parsed job: SI values and the display units to answer in (see the module docstring)."""
+
+    vibration_unit: str
+    quantity: str
+    vib_factor: float            # SI per display unit
+    amplitude: str
+    amp_factor: float            # peak per display amplitude
+    mass_unit: str
+    mass_factor: float           # kg per display mass unit
+    method: str
+    planes: list
+    sensors: list
+    radius: dict = field(default_factory=dict)       # plane -> m
+    max_mass: dict = field(default_factory=dict)     # plane -> kg
+    holes: dict = field(default_factory=dict)        # plane -> int
+    weights: dict = field(default_factory=dict)      # plane -> [kg] masses at hand
+    max_pieces: dict = field(default_factory=dict)   # plane -> int
+    weight: dict = field(default_factory=dict)       # sensor -> float
+    cap: dict = field(default_factory=dict)          # sensor -> SI peak
+    runs: list = field(default_factory=list)
+    influence: list = field(default_factory=list)    # [(speed, {sensor: {plane: SI/kg}})]
+    source: str = ""
+    phase: str = "lead"
+    rotor_mass: float = math.nan                     # kg (ISO 21940-11 grade)
+    service_speed: float = math.nan                  # rad/s (default: the highest run speed)
+    grade: float = math.nan                          # target grade G [mm/s]
+
+    def to_display(self, v) -> np.ndarray:
+        """SI peak vibration -> the job's unit and amplitude convention."""
+        return np.asarray(v) / (self.vib_factor * self.amp_factor)
+
+    def from_display(self, v) -> np.ndarray:
+        return np.asarray(v) * self.vib_factor * self.amp_factor
+
+
+def _polar(text, field_: str, unit_ok) -> tuple:
+    """``"170 @ 112"`` -> (amplitude in the given unit, angle [rad]); a unit after the amplitude
+    must be ``unit_ok``'s."""
+    if isinstance(text, (int, float)) and not isinstance(text, bool):
+        raise ValueError(f"{field_} = {text!r}: give 'amplitude @ angle_deg', e.g. \"170 @ 112\"")
+    m = _POLAR.match(str(text))
+    if not m:
+        raise ValueError(f"{field_} = {text!r}: expected 'amplitude @ angle_deg', e.g. \"170 @ 112\"")
+    amp, unit, ang = float(m.group(1)), m.group(2), float(m.group(3))
+    if not (math.isfinite(amp) and math.isfinite(ang)) or amp < 0:
+        raise ValueError(f"{field_} = {text!r}: the amplitude must be finite and >= 0, the angle "
+                         f"finite (deg)")
+    if unit:
+        unit_ok(unit, field_)
+    return amp, math.radians(ang)
+
+
+def _check_keys(table, allowed, where):
+    if not isinstance(table, dict):
+        raise ValueError(f"{where}: expected a table, got {table!r}")
+    for k in table:
+        if k not in allowed:
+            raise ValueError(f"{where}.{k}: unknown key (known: {', '.join(allowed)})")
+
+
+def _mass(value, job_unit: str, field_: str) -> float:
+    """``"5 g"`` or a bare number (in the job's mass unit) -> kg."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        x, unit = float(value), job_unit
+    else:
+        m = re.match(rf"^\s*({_NUM})\s*(\S*)\s*$", str(value))
+        if not m:
+            raise ValueError(f"{field_} = {value!r}: expected a mass, e.g. \"5 {job_unit}\"")
+        x, unit = float(m.group(1)), m.group(2) or job_unit
+    if unit not in MASS_UNITS:
+        raise UnitError(f"{field_} = {value!r}: unknown mass unit {unit!r} (one of "
+                        f"{', '.join(MASS_UNITS)})")
+    if not (math.isfinite(x) and x > 0):
+        raise ValueError(f"{field_} = {value!r}: must be > 0 {unit}")
+    return x * MASS_UNITS[unit]
+
+
+def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None) -> FieldJob:
+    """A :class:`FieldJob` from a parsed TOML document (``influence_doc``: a saved influence
+    file whose ``[[influence]]`` replaces the job's; its own ``[job]`` units apply to it)."""
+    _check_keys(doc, ("job", "planes", "sensors", "run", "influence"), "job file")
+    j = doc.get("job", {})
+    _check_keys(j, ("vibration_unit", "amplitude", "mass_unit", "method", "rotor_mass",
+                    "service_speed", "grade", "phase"), "[job]")
+    vu = str(j.get("vibration_unit", "um"))
+    quantity, vf = _vibration_quantity(vu, "job.vibration_unit")
+    amp = str(j.get("amplitude", "pk"))
+    if amp not in AMPLITUDES:
+        raise ValueError(f"job.amplitude = {amp!r}: one of {', '.join(AMPLITUDES)}")
+    mu = str(j.get("mass_unit", "g"))
+    if mu not in MASS_UNITS:
+        raise UnitError(f"job.mass_unit = {mu!r}: one of {', '.join(MASS_UNITS)}")
+    phase = str(j.get("phase", "lead"))
+    if phase not in ("lead", "lag"):
+        raise ValueError(f"job.phase = {phase!r}: \"lead\" (readings' angles in the sense of the "
+                         f"weights' angles, default) or \"lag\" (readings' angles against it)")
+    sense = -1.0 if phase == "lag" else 1.0
+    method = str(j.get("method", "least_squares"))
+    if method not in METHODS:
+        raise ValueError(f"job.method = {method!r}: one of {', '.join(METHODS)}")
+    job = FieldJob(vibration_unit=vu, quantity=quantity, vib_factor=vf, amplitude=amp,
+                   amp_factor=AMPLITUDES[amp], mass_unit=mu, mass_factor=MASS_UNITS[mu],
+                   method=method, planes=[], sensors=[], source=source)
+    job.phase = phase
+    if "rotor_mass" in j:
+        job.rotor_mass = parse_quantity(j["rotor_mass"], "mass", "job.rotor_mass")
+        if not job.rotor_mass > 0:
+            raise ValueError(f"job.rotor_mass = {j['rotor_mass']!r}: must be > 0 kg")
+    if "service_speed" in j:
+        job.service_speed = parse_quantity(j["service_speed"], "speed", "job.service_speed",
+                                           default_unit="rpm")
+        if not job.service_speed > 0:
+            raise ValueError(f"job.service_speed = {j['service_speed']!r}: must be > 0 rpm")
+    if "grade" in j:
+        g = str(j["grade"]).strip().upper()
+        try:
+            job.grade = float(g[1:] if g.startswith("G") else g)
+        except ValueError:
+            raise ValueError(f"job.grade = {j['grade']!r}: an ISO 21940-11 grade such as "
+                             f"\"G6.3\" (mm/s)") from None
+        if not (math.isfinite(job.grade) and job.grade > 0):
+            raise ValueError(f"job.grade = {j['grade']!r}: must be > 0 mm/s")
+
+    def unit_ok(unit, field_):
+        q, _ = _vibration_quantity(unit, field_)
+        if unit != vu:
+            raise UnitError(f"{field_}: unit {unit!r}; readings are in job.vibration_unit = {vu!r}")
+
+    def mass_unit_ok(unit, field_):
+        if unit != mu:
+            raise UnitError(f"{field_}: unit {unit!r}; trial masses are in job.mass_unit = {mu!r}")
+
+    def add(names, name):
+        if name not in names:
+            names.append(str(name))
+
+    for name, t in (doc.get("planes") or {}).items():
+        _check_keys(t, ("radius", "max_mass", "holes", "weights", "max_pieces"), f"planes.{name}")
+        add(job.planes, name)
+        if "radius" in t:
+            r = parse_quantity(t["radius"], "length", f"planes.{name}.radius")
+            if not r > 0:
+                raise ValueError(f"planes.{name}.radius = {t['radius']!r}: must be > 0 m")
+            job.radius[name] = r
+        if "max_mass" in t:
+            job.max_mass[name] = _mass(t["max_mass"], mu, f"planes.{name}.max_mass")
+        if "holes" in t:
+            h = t["holes"]
+            if isinstance(h, bool) or not isinstance(h, int) or h < 3:
+                raise ValueError(f"planes.{name}.holes = {h!r}: an integer >= 3 (holes every "
+                                 f"360/holes deg)")
+            job.holes[name] = h
+        if "weights" in t:
+            ws = t["weights"]
+            if not isinstance(ws, list) or not ws:
+                raise ValueError(f"planes.{name}.weights = {ws!r}: a list of the masses at hand, "
+                                 f"e.g. [\"0.5 {mu}\", \"1 {mu}\"]")
+            job.weights[name] = [_mass(w, mu, f"planes.{name}.weights[{k}]")
+                                 for k, w in enumerate(ws)]
+        if "max_pieces" in t:
+            n = t["max_pieces"]
+            if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 6:
+                raise ValueError(f"planes.{name}.max_pieces = {n!r}: an integer 1 .. 6 (pieces "
+                                 f"stacked at one position)")
+            job.max_pieces[name] = n
+    for name, t in (doc.get("sensors") or {}).items():
+        _check_keys(t, ("weight", "max_vibration"), f"sensors.{name}")
+        add(job.sensors, name)
+        if "weight" in t:
+            w = t["weight"]
+            if isinstance(w, bool) or not isinstance(w, (int, float)) or not (math.isfinite(w)
+                                                                              and w >= 0):
+                raise ValueError(f"sensors.{name}.weight = {w!r}: a number >= 0 (dimensionless)")
+            job.weight[name] = float(w)
+        if "max_vibration" in t:
+            c = t["max_vibration"]
+            f_ = f"sensors.{name}.max_vibration"
+            if isinstance(c, (int, float)) and not isinstance(c, bool):
+                x = float(c)
+            else:
+                m = re.match(rf"^\s*({_NUM})\s*(\S*)\s*$", str(c))
+                if not m:
+                    raise ValueError(f"{f_} = {c!r}: expected e.g. \"76 {vu}\"")
+                x = float(m.group(1))
+                if m.group(2):
+                    unit_ok(m.group(2), f"{f_} = {c!r}")
+            if not (math.isfinite(x) and x > 0):
+                raise ValueError(f"{f_} = {c!r}: must be > 0 {vu}")
+            job.cap[name] = job.from_display(x)
+
+    def speed_of(t, where):
+        if "speed" not in t:
+            return math.nan
+        w = parse_quantity(t["speed"], "speed", f"{where}.speed", default_unit="rpm")
+        if not w > 0:
+            raise ValueError(f"{where}.speed = {t['speed']!r}: must be > 0 rpm")
+        return w
+
+    def reading(v, where):
+        vals = v if isinstance(v, list) else [v]
+        if not vals:
+            raise ValueError(f"{where}: an empty list of readings")
+        z = []
+        for k, x in enumerate(vals):
+            a, ph = _polar(x, where if len(vals) == 1 else f"{where}[{k}]", unit_ok)
+            z.append(complex(job.from_display(a)) * complex(math.cos(ph), sense * math.sin(ph)))
+        z = np.array(z)
+        n = z.size
+        if n == 1:
+            return z[0], 0.0
+        # scatter of the mean, pooled over Re and Im (one standard uncertainty per component)
+        s = math.sqrt((np.var(z.real, ddof=1) + np.var(z.imag, ddof=1)) / 2.0 / n)
+        return complex(z.mean()), s
+
+    runs = doc.get("run") or []
+    if not isinstance(runs, list):
+        raise ValueError("run: use [[run]] tables (an array of tables)")
+    for i, t in enumerate(runs):
+        where = f"run[{i}]"
+        _check_keys(t, ("kind", "speed", "trial", "removed", "readings", "name", "recording",
+                        "sensors", "t_start"), where)
+        kind = str(t.get("kind", ""))
+        if kind not in _KINDS:
+            raise ValueError(f"{where}.kind = {t.get('kind')!r}: one of {', '.join(_KINDS)}")
+        trial = {}
+        if kind == "trial":
+            tt = t.get("trial")
+            if not isinstance(tt, dict) or not tt:
+                raise ValueError(f"{where}.trial: a trial run needs e.g. trial = {{ P1 = \"1.15 @ 0\" }} "
+                                 f"(mass in {mu} @ angle deg)")
+            for p, x in tt.items():
+                a, ph = _polar(x, f"{where}.trial.{p}", mass_unit_ok)
+                if not a > 0:
+                    raise ValueError(f"{where}.trial.{p} = {x!r}: the trial mass must be > 0 {mu}")
+                add(job.planes, p)
+                trial[p] = a * job.mass_factor * complex(math.cos(ph), math.sin(ph))
+        elif "trial" in t:
+            raise ValueError(f"{where}.trial: only a run of kind = \"trial\" carries trial weights")
+        removed = t.get("removed", True)
+        if not isinstance(removed, bool):
+            raise ValueError(f"{where}.removed = {removed!r}: true or false")
+        if "recording" in t:
+            if "readings" in t:
+                raise ValueError(f"{where}: give readings or a recording, not both")
+            if quantity != "displacement":
+                raise ValueError(f"{where}.recording: a recording's 1X phasors are "
+                                 f"displacements; job.vibration_unit = {vu!r} is a {quantity}")
+            vals, stds, w_rec = _recorded(t, where, source, job.sensors)
+            for s in vals:
+                add(job.sensors, s)
+            speed = speed_of(t, where)
+            job.runs.append(FieldRun(i, kind, w_rec if math.isnan(speed) else speed, trial,
+                                     removed, vals, stds))
+            continue
+        rd = t.get("readings")
+        if not isinstance(rd, dict) or not rd:
+            raise ValueError(f"{where}.readings: e.g. readings = {{ S1 = \"170 @ 112\" }} "
+                             f"({vu} {amp} @ deg)")
+        vals, stds = {}, {}
+        for s, v in rd.items():
+            add(job.sensors, s)
+            vals[s], stds[s] = reading(v, f"{where}.readings.{s}")
+        job.runs.append(FieldRun(i, kind, speed_of(t, where), trial, removed, vals, stds))
+
+    if influence_doc is not None:
+        if not influence_doc.get("influence"):
+            raise ValueError("influence file: no [[influence]] table")
+        src = parse_job({"job": influence_doc.get("job", {}),
+                         "influence": influence_doc.get("influence")}, source)
+        for s in src.sensors:
+            add(job.sensors, s)
+        for p in src.planes:
+            add(job.planes, p)
+        job.influence = src.influence
+        return job
+    scale = vf * AMPLITUDES[amp] / job.mass_factor
+    tables = doc.get("influence") or []
+    if not isinstance(tables, list):
+        raise ValueError("influence: use [[influence]] tables (an array of tables)")
+    for i, t in enumerate(tables):
+        where = f"influence[{i}]"
+        if not isinstance(t, dict):
+            raise ValueError(f"{where}: expected a table")
+        m = {}
+        for s, row in t.items():
+            if s == "speed":
+                continue
+            if not isinstance(row, dict):
+                raise ValueError(f"{where}.{s}: e.g. {s} = {{ P1 = \"78.4 @ 58.4\" }}")
+            add(job.sensors, s)
+            m[s] = {}
+            for p, x in row.items():
+                a, ph = _polar(x, f"{where}.{s}.{p}", lambda u, f_: None)
+                add(job.planes, p)
+                m[s][p] = a * scale * complex(math.cos(ph), math.sin(ph))
+        job.influence.append((speed_of(t, where), m))
+    return job
+
+
+def _recorded(t, where, source, declared):
+    """Readings of a run taken from a recording (``stand influence``'s path): the 1X phasor
+    of each sensor plane over the steady part (or from ``t_start`` [s]) -> (readings [m],
+    their standard uncertainties [m], the run's mean speed [rad/s])."""
+    from pathlib import Path
+
+    from .influence import run_phasors
+
+    path = Path(str(t["recording"]))
+    if not path.is_absolute() and source:
+        path = Path(source).parent / path
+    sens = t.get("sensors", declared)
+    if isinstance(sens, list):
+        sens = {str(s): str(s) for s in sens}
+    if not isinstance(sens, dict) or not sens:
+        raise ValueError(f"{where}.sensors: name the recording's planes to read, e.g. "
+                         f"sensors = [\"probe1\", \"probe2\"] or {{ S1 = \"probe1\" }}")
+    t0 = t.get("t_start")
+    if t0 is not None:
+        t0 = parse_quantity(t0, "time", f"{where}.t_start", default_unit="s")
+    comps = run_phasors(str(path), list(sens.values()), t_start=t0, name=f"{where} ({path})")
+    vals = {s: complex(c.vector_m) for s, c in zip(sens, comps)}
+    stds = {s: float(c.vector_std_m) for s, c in zip(sens, comps)}
+    return vals, stds, float(np.mean([c.speed_rad_s for c in comps]))
+
+
+def read_job(path, influence: Optional[str] = None) -> FieldJob:
+    """Read a job file (and, with ``influence``, a saved influence file) -> :class:`FieldJob`."""
+    from stand.io.tomlfile import read_toml
+
+    doc, _, label = read_toml(path, what="job file", error=ValueError)
+    inf = None
+    if influence is not None:
+        inf, _, _ = read_toml(influence, what="influence file", error=ValueError)
+    return parse_job(doc, str(path), inf)

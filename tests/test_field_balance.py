@@ -1,0 +1,497 @@
+"""``stand balance``: field balancing from a job file (issue 32).
+
+Oracles are independent of the solver: the published B&K 17-227 answer, numpy normal
+equations for (weighted) least squares, and a linear programme on a polygon approximation
+of the complex moduli (scipy.optimize.linprog) for min-max.
+"""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from dsp.influence_solve import least_squares, min_max, split_onto_holes, conditioning
+from stand.analysis.field_balance import balance_job, influence_toml
+from stand.analysis.field_job import parse_job
+from stand.cli.main import main
+from stand.io.tomlfile import tomllib
+
+ROOT = Path(__file__).resolve().parents[1]
+BK = ROOT / "data_samples" / "balance" / "bk_17_227.toml"
+
+
+def _p(a, d):
+    return a * np.exp(1j * np.radians(d))
+
+
+def _job(text):
+    return parse_job(tomllib.loads(text))
+
+
+def _close_polar(mass, ang, mass_ref, ang_ref, rtol=1e-3, atol_deg=0.1):
+    assert mass == pytest.approx(mass_ref, rel=rtol)
+    assert abs((ang - ang_ref + 180) % 360 - 180) <= atol_deg
+
+
+# ------------------------------------------------------------------ B&K 17-227
+def test_bk_17_227_published_corrections():
+    res = balance_job(BK)
+    c = res["corrections"]
+    # the note rounds to 4 digits; 0.1 % / 0.1 deg is the acceptance
+    _close_polar(c["P1"]["mass"], c["P1"]["angle_deg"], 1.979, 236.2)
+    _close_polar(c["P2"]["mass"], c["P2"]["angle_deg"], 1.071, 121.8)
+    assert res["warnings"] == []
+    assert res["worst_after"] < 1e-9 * res["worst_before"]     # S = P: the residual is zero
+
+
+def test_bk_cli_json_and_influence_roundtrip(tmp_path, capsys):
+    inf = tmp_path / "machine.toml"
+    assert main(["balance", str(BK), "--json", "--save-influence", str(inf)]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["corrections"]["P1"]["mass"] == pytest.approx(1.979, rel=1e-3)
+    # the note's influence coefficients (mm/s per g): 78.43 @ 58.4 ... 32.56 @ 142.4
+    a = {(e["sensor"], e["plane"]): e for e in doc["influence"]}
+    assert a[("S1", "P1")]["amplitude"] == pytest.approx(78.43, rel=1e-3)
+    assert a[("S2", "P2")]["angle_deg"] == pytest.approx(142.4, abs=0.1)
+    # one-shot balancing with the saved coefficients and the reference run alone
+    job = tmp_path / "one_shot.toml"
+    job.write_text('[job]\nvibration_unit = "mm/s"\nmass_unit = "g"\n[[run]]\nkind = "reference"\n'
+                   'readings = { S1 = "170 @ 112", S2 = "53 @ 78" }\n')
+    assert main(["balance", str(job), "--json", "--influence", str(inf)]) == 0
+    doc2 = json.loads(capsys.readouterr().out)
+    for p in ("P1", "P2"):
+        assert doc2["corrections"][p]["mass"] == pytest.approx(doc["corrections"][p]["mass"], rel=1e-8)
+
+
+def test_known_influence_in_job_and_units():
+    """The issue's [[influence]] table, in µm pk-pk and oz: the answer scales with the units."""
+    text = """
+[job]
+vibration_unit = "mm/s"
+amplitude = "rms"
+mass_unit = "oz"
+[[run]]
+kind = "reference"
+speed = "1500 rpm"
+readings = { S1 = "170 @ 112", S2 = "53 @ 78" }
+[[influence]]
+speed = "1500 rpm"
+S1 = { P1 = "78.43 @ 58.4", P2 = "15.34 @ 145.3" }
+S2 = { P1 = "9.462 @ 10.2", P2 = "32.56 @ 142.4" }
+"""
+    res = balance_job(_job(text))
+    c = res["corrections"]
+    # readings and coefficients in the same units: the masses are those of the note, in oz
+    _close_polar(c["P1"]["mass"], c["P1"]["angle_deg"], 1.979, 236.2)
+    assert res["residuals"][0]["speed_rpm"] == pytest.approx(1500.0)
+
+
+# ------------------------------------------------------------------ least squares vs numpy
+def _random_case(seed, S=5, P=2):
+    rng = np.random.default_rng(seed)
+    A = rng.normal(size=(S, P)) + 1j * rng.normal(size=(S, P))
+    V0 = 10 * (rng.normal(size=S) + 1j * rng.normal(size=S))
+    return A, V0
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_least_squares_and_weighted_vs_normal_equations(seed):
+    A, V0 = _random_case(seed)
+    w = np.array([1.0, 4.0, 0.5, 2.0, 1.0])
+    U = least_squares(A, V0)
+    U_ne = np.linalg.solve(A.conj().T @ A, -A.conj().T @ V0)
+    np.testing.assert_allclose(U, U_ne, rtol=1e-9)
+    Uw = least_squares(A, V0, weights=w)
+    W = np.diag(w)
+    Uw_ne = np.linalg.solve(A.conj().T @ W @ A, -A.conj().T @ W @ V0)
+    np.testing.assert_allclose(Uw, Uw_ne, rtol=1e-9)
+
+
+def _job_from(A, V0, planes, sensors, extra=""):
+    """A job text with a reference run and an [[influence]] table (display units)."""
+    fmt = lambda z: f'"{abs(z):.15g} @ {np.degrees(np.angle(z)):.15g}"'  # noqa: E731
+    rd = ", ".join(f"{s} = {fmt(V0[i])}" for i, s in enumerate(sensors))
+    rows = "\n".join(f"{s} = {{ " + ", ".join(f"{p} = {fmt(A[i, j])}" for j, p in enumerate(planes))
+                     + " }" for i, s in enumerate(sensors))
+    return (f'[job]\nvibration_unit = "um"\nmass_unit = "g"\n{extra}\n[[run]]\nkind = "reference"\n'
+            f"readings = {{ {rd} }}\n[[influence]]\n{rows}\n")
+
+
+def test_weighted_job_vs_normal_equations():
+    A, V0 = _random_case(7, S=4)
+    sensors = ["S1", "S2", "S3", "S4"]
+    w = [1.0, 3.0, 0.25, 2.0]
+    extra = 'method = "weighted"\n' + "".join(f"[sensors.{s}]\nweight = {w[i]}\n"
+                                              for i, s in enumerate(sensors))
+    res = balance_job(_job(_job_from(A, V0, ["P1", "P2"], sensors, extra)))
+    W = np.diag(w)
+    U = np.linalg.solve(A.conj().T @ W @ A, -A.conj().T @ W @ V0)
+    for j, p in enumerate(["P1", "P2"]):
+        _close_polar(res["corrections"][p]["mass"], res["corrections"][p]["angle_deg"],
+                     abs(U[j]), np.degrees(np.angle(U[j])) % 360, rtol=1e-6, atol_deg=1e-4)
+
+
+# ------------------------------------------------------------------ min-max vs an LP
+def _lp_min_max(A, V0, w, caps, lim, n=720):
+    """min t s.t. w_i |r_i| <= t, |r_i| <= caps_i, |U_j| <= lim_j, each |z| <= b replaced by
+    n half-planes Re(z e^{-i phi_k}) <= b (a circumscribing polygon: a lower bound within
+    1 - cos(pi/n))."""
+    from scipy.optimize import linprog
+
+    S, P = A.shape
+    phi = 2 * np.pi * np.arange(n) / n
+    e = np.exp(-1j * phi)
+    rows, rhs = [], []
+
+    def add(coef_c, const_c, tcoef, bound):
+        # Re(e_k (const + coef . x)) <= bound + tcoef t, with x = [Re U, Im U, t]
+        for ek in e:
+            a = ek * coef_c
+            rows.append(np.concatenate([a.real, -a.imag, [-tcoef]]))
+            rhs.append(bound - (ek * const_c).real)
+    for i in range(S):
+        if w[i] > 0:
+            add(w[i] * A[i], w[i] * V0[i], 1.0, 0.0)
+        if np.isfinite(caps[i]):
+            add(A[i], V0[i], 0.0, caps[i])
+    for j in range(P):
+        if np.isfinite(lim[j]):
+            c = np.zeros(P, complex)
+            c[j] = 1
+            add(c, 0.0, 0.0, lim[j])
+    cost = np.zeros(2 * P + 1)
+    cost[-1] = 1
+    out = linprog(cost, A_ub=np.array(rows), b_ub=np.array(rhs),
+                  bounds=[(None, None)] * (2 * P) + [(0, None)], method="highs")
+    assert out.status == 0
+    return out.x[-1]
+
+
+@pytest.mark.parametrize("solver", ["default", "scipy"])
+@pytest.mark.parametrize("case", ["free", "limits", "caps_weights"])
+def test_min_max_vs_linear_programme(case, solver, monkeypatch):
+    import dsp.influence_solve as m
+
+    if solver == "scipy":             # the fallback when cvxpy is not installed
+        monkeypatch.setattr(m, "cvxpy_available", lambda: False)
+    A, V0 = _random_case(3, S=6)
+    S, P = A.shape
+    w, caps, lim = np.ones(S), np.full(S, np.inf), np.full(P, np.inf)
+    U0 = min_max(A, V0)
+    if case == "limits":
+        lim = 0.7 * np.abs(U0)
+    if case == "caps_weights":
+        w = np.array([1.0, 2.0, 0.0, 1.0, 0.5, 1.0])
+        r0 = np.abs(V0 + A @ U0)
+        caps[2] = 0.8 * r0[2]             # a sensor out of the objective but capped
+        lim[0] = 0.9 * abs(U0[0])
+    U = min_max(A, V0, weights=w, caps=caps, max_mass=lim)
+    r = np.abs(V0 + A @ U)
+    t = float(np.max((w * r)[w > 0]))
+    t_lp = _lp_min_max(A, V0, w, caps, lim)
+    # the LP's polygon circumscribes the circles: t_lp <= t* <= t_lp / cos(pi/n)
+    assert t >= t_lp * (1 - 1e-6)
+    assert t <= t_lp * (1 + 1e-3)
+    assert np.all(np.abs(U) <= lim * (1 + 1e-6))
+    assert np.all(r <= caps * (1 + 1e-6))
+
+
+def test_min_max_scipy_fallback_matches(monkeypatch):
+    import dsp.influence_solve as m
+
+    A, V0 = _random_case(5, S=6)
+    lim = np.array([2.0, 1.0])
+    ref = float(np.max(np.abs(V0 + A @ min_max(A, V0, max_mass=lim))))
+    monkeypatch.setattr(m, "cvxpy_available", lambda: False)
+    U = min_max(A, V0, max_mass=lim)
+    assert float(np.max(np.abs(V0 + A @ U))) == pytest.approx(ref, rel=1e-3)
+    assert np.all(np.abs(U) <= lim * (1 + 1e-6))
+
+
+@pytest.mark.parametrize("solver", ["default", "scipy"])
+def test_least_squares_with_mass_limit_binds(solver, monkeypatch):
+    import dsp.influence_solve as m
+
+    if solver == "scipy":
+        monkeypatch.setattr(m, "cvxpy_available", lambda: False)
+    A, V0 = _random_case(11)
+    U0 = least_squares(A, V0)
+    lim = np.array([0.5 * abs(U0[0]), np.inf])
+    U = least_squares(A, V0, max_mass=lim)
+    assert abs(U[0]) <= lim[0] * (1 + 1e-6)
+    assert abs(U[0]) == pytest.approx(lim[0], rel=1e-4)     # the limit is active
+    # optimal on the limit: no point of the circle |U1| = lim does better (a scan)
+    f = lambda u: np.sum(np.abs(V0 + A @ u) ** 2)  # noqa: E731
+    best = min(f(np.array([lim[0] * np.exp(1j * a), x]))
+               for a in np.linspace(0, 2 * np.pi, 721)
+               for x in [np.linalg.lstsq(A[:, 1:], -(V0 + A[:, 0] * lim[0] * np.exp(1j * a)),
+                                         rcond=None)[0][0]])
+    assert f(U) <= best * (1 + 1e-6)
+
+
+# ------------------------------------------------------------------ holes
+@pytest.mark.parametrize("holes", [3, 8, 12, 36])
+def test_hole_split_is_an_exact_vector_sum(holes):
+    rng = np.random.default_rng(holes)
+    for _ in range(50):
+        U = rng.normal() + 1j * rng.normal()
+        parts = split_onto_holes(U, holes)
+        total = sum(m * np.exp(1j * a) for _, a, m in parts)
+        assert abs(total - U) <= 1e-9 * abs(U)
+        assert all(m >= -1e-12 for _, _, m in parts)
+        k0, k1 = parts[0][0], parts[1][0]
+        assert (k1 - k0) % holes == 1
+        assert parts[0][1] == pytest.approx(2 * np.pi * k0 / holes)
+
+
+def test_job_split_and_mass_limit(tmp_path):
+    text = BK.read_text().replace("[planes.P1]", '[planes.P1]\nholes = 12\nmax_mass = "1.5 g"')
+    res = balance_job(_job(text))
+    c = res["corrections"]["P1"]
+    assert c["mass"] <= 1.5 * (1 + 1e-6)
+    tot = sum(h["mass"] * np.exp(1j * np.radians(h["angle_deg"])) for h in c["split"])
+    assert abs(tot - c["mass"] * np.exp(1j * np.radians(c["angle_deg"]))) <= 1e-9 * c["mass"]
+    assert {h["hole"] for h in c["split"]} == {7, 8}         # 236 deg lies between 210 and 240
+
+
+# ------------------------------------------------------------------ conditioning
+def test_ill_conditioned_planes_are_named(capsys):
+    # plane P2's column nearly parallel to P1's (two planes close together)
+    A = np.array([[_p(78.43, 58.4), _p(78.0, 58.9)], [_p(9.462, 10.2), _p(9.5, 11.0)],
+                  [_p(20.0, 100.0), _p(20.3, 100.5)]])
+    V0 = np.array([_p(170, 112), _p(53, 78), _p(40, 30)])
+    res = balance_job(_job(_job_from(A, V0, ["P1", "P2"], ["S1", "S2", "S3"])))
+    assert res["condition"] > 10
+    assert set(res["ill_conditioned"]["planes"]) == {"P1", "P2"}
+    assert "P1" in res["warnings"][0] and "P2" in res["warnings"][0]
+    good = conditioning(np.eye(2), ["a", "b"], ["x", "y"])
+    assert not good.ill and good.condition == pytest.approx(1.0)
+
+
+# ------------------------------------------------------------------ runs: slow roll, left on, speeds
+def _simulate(A, V0, runs, slow=0j):
+    """Readings of runs with the given added masses (model V = V0 + A W + slow roll)."""
+    return [V0 + A @ W + slow for W in runs]
+
+
+def _fmt(z):
+    return f'"{abs(z):.15g} @ {np.degrees(np.angle(z)):.15g}"'
+
+
+def test_slow_roll_and_left_on_exact():
+    rng = np.random.default_rng(22)
+    A = rng.normal(size=(2, 2)) + 1j * rng.normal(size=(2, 2))
+    U_true = np.array([_p(1.3, 40.0), _p(0.7, 250.0)])
+    V0 = -A @ U_true
+    sr = np.array([_p(0.8, 10.0), _p(0.4, 200.0)])
+    T1, T2 = _p(1.0, 0.0), _p(1.5, 90.0)
+    ref, t1, t12 = _simulate(A, V0, [np.zeros(2), np.array([T1, 0]), np.array([T1, T2])], sr)
+    text = "\n".join([
+        '[job]\nvibration_unit = "um"\nmass_unit = "g"',
+        f'[[run]]\nkind = "slow_roll"\nreadings = {{ S1 = {_fmt(sr[0])}, S2 = {_fmt(sr[1])} }}',
+        f'[[run]]\nkind = "reference"\nreadings = {{ S1 = {_fmt(ref[0])}, S2 = {_fmt(ref[1])} }}',
+        f'[[run]]\nkind = "trial"\ntrial = {{ P1 = "1 @ 0" }}\nremoved = false\n'
+        f'readings = {{ S1 = {_fmt(t1[0])}, S2 = {_fmt(t1[1])} }}',
+        f'[[run]]\nkind = "trial"\ntrial = {{ P2 = "1.5 @ 90" }}\n'
+        f'readings = {{ S1 = {_fmt(t12[0])}, S2 = {_fmt(t12[1])} }}'])
+    res = balance_job(_job(text))
+    for j, p in enumerate(["P1", "P2"]):
+        _close_polar(res["corrections"][p]["mass"], res["corrections"][p]["angle_deg"],
+                     abs(U_true[j]), np.degrees(np.angle(U_true[j])) % 360, rtol=1e-9, atol_deg=1e-7)
+
+
+def test_two_speeds_stacked_vs_numpy():
+    rng = np.random.default_rng(23)
+    A1 = rng.normal(size=(2, 2)) + 1j * rng.normal(size=(2, 2))
+    A2 = rng.normal(size=(2, 2)) + 1j * rng.normal(size=(2, 2))
+    V01 = rng.normal(size=2) + 1j * rng.normal(size=2)
+    V02 = rng.normal(size=2) + 1j * rng.normal(size=2)
+    lines = ['[job]\nvibration_unit = "mil"\namplitude = "pk-pk"\nmass_unit = "g"']
+    for speed, A, V0 in (("1500 rpm", A1, V01), ("50 Hz", A2, V02)):
+        ref, t1, t2 = _simulate(A, V0, [np.zeros(2), np.array([1.0, 0]), np.array([0, 1.0])])
+        for kind, trial, v in (("reference", "", ref), ("trial", 'trial = { P1 = "1 @ 0" }', t1),
+                               ("trial", 'trial = { P2 = "1 @ 0" }', t2)):
+            lines.append(f'[[run]]\nkind = "{kind}"\nspeed = "{speed}"\n{trial}\n'
+                         f'readings = {{ S1 = {_fmt(v[0])}, S2 = {_fmt(v[1])} }}')
+    res = balance_job(_job("\n".join(lines)))
+    A = np.vstack([A1, A2])
+    V0 = np.concatenate([V01, V02])
+    U = np.linalg.solve(A.conj().T @ A, -A.conj().T @ V0)
+    for j, p in enumerate(["P1", "P2"]):
+        _close_polar(res["corrections"][p]["mass"], res["corrections"][p]["angle_deg"],
+                     abs(U[j]), np.degrees(np.angle(U[j])) % 360, rtol=1e-8, atol_deg=1e-6)
+    assert sorted({round(r["speed_rpm"], 6) for r in res["residuals"]}) == [1500.0, 3000.0]
+
+
+# ------------------------------------------------------------------ uncertainty
+def test_repeated_readings_give_uncertainty_matching_monte_carlo():
+    text = BK.read_text().replace('readings = { S1 = "170 @ 112", S2 = "53 @ 78" }',
+                                  'readings = { S1 = ["170 @ 112", "172 @ 111", "168 @ 113"], '
+                                  'S2 = ["53 @ 78", "54 @ 77", "52 @ 79"] }')
+    res = balance_job(_job(text))
+    c = res["corrections"]["P1"]
+    assert c["mass_std"] > 0 and c["angle_std_deg"] > 0
+    # Monte Carlo on the reference mean with the same per-component sigma (first order)
+    job = _job(text)
+    sig = {s: job.runs[0].std[s] for s in ("S1", "S2")}
+    rng = np.random.default_rng(0)
+    A = np.array([[_p(235, 94) - 0, _p(185, 115)], [_p(58, 68), _p(77, 104)]])
+    V0 = np.array([job.runs[0].readings["S1"], job.runs[0].readings["S2"]]) * 1e3
+    s = np.array([sig["S1"], sig["S2"]]) * 1e3
+    masses = []
+    for _ in range(4000):
+        v = V0 + s * (rng.normal(size=2) + 1j * rng.normal(size=2))
+        Aa = (A - v[:, None]) / 1.15
+        masses.append(abs(np.linalg.solve(Aa, -v)[0]))
+    assert c["mass_std"] == pytest.approx(np.std(masses), rel=0.1)
+
+
+# ------------------------------------------------------------------ bad input: one line, exit 2
+@pytest.mark.parametrize("body, words", [
+    ('[job]\nvibration_unit = "furlong"\n', ["job.vibration_unit", "furlong"]),
+    ('[job]\namplitude = "peak"\n', ["job.amplitude", "peak"]),
+    ('[[run]]\nkind = "reference"\nreadings = { S1 = "170 112" }\n', ["run[0].readings.S1", "170 112"]),
+    ('[planes.P1]\nmax_mass = "-1 g"\n', ["planes.P1.max_mass", "-1 g"]),
+    ('[planes.P2]\n[[run]]\nkind = "reference"\nreadings = { S1 = "1 @ 0", S2 = "1 @ 9" }\n'
+     '[[run]]\nkind = "trial"\ntrial = { P1 = "1 @ 0" }\nreadings = { S1 = "3 @ 0", S2 = "2 @ 0" }\n'
+     '[[run]]\nkind = "trial"\ntrial = { P1 = "2 @ 0" }\nreadings = { S1 = "2 @ 0", S2 = "2 @ 5" }\n',
+     ["plane(s) P2"]),
+    ('[[run]]\nkind = "reference"\nreadings = { S1 = "1 @ 0" }\n[[run]]\nkind = "trial"\n'
+     'trial = { P1 = "1 @ 0" }\nreadings = { S2 = "2 @ 0" }\n', ["run[1]", "readings", "S1"]),
+])
+def test_bad_job_one_line_exit_2(tmp_path, capsys, body, words):
+    f = tmp_path / "job.toml"
+    f.write_text(body)
+    assert main(["balance", str(f)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "error" in err
+    for w in words:
+        assert w in err
+
+
+def test_saved_influence_toml_parses():
+    res = balance_job(BK)
+    doc = tomllib.loads(influence_toml(res))
+    assert doc["job"]["mass_unit"] == "g" and len(doc["influence"]) == 1
+
+
+# ------------------------------------------------------------------ report
+def test_field_report_html_pdf_and_iso(tmp_path):
+    text = BK.read_text().replace("[planes.P1]", '[planes.P1]\nradius = "100 mm"\nholes = 12') \
+        .replace("[planes.P2]", '[planes.P2]\nradius = "100 mm"') \
+        .replace('method = "least_squares"', 'method = "least_squares"\nrotor_mass = "12 kg"\n'
+                 'service_speed = "1500 rpm"\ngrade = "G6.3"')
+    job = tmp_path / "job.toml"
+    job.write_text(text)
+    html, pdf = tmp_path / "r.html", tmp_path / "r.pdf"
+    assert main(["balance", str(job), "-o", str(html), "--pdf", str(pdf)]) == 0
+    page = html.read_text()
+    assert "Field balancing" in page and "hole 7" in page and "ISO 21940-11" in page
+    assert page.count("data:image/png;base64,") == 2           # one polar plot per sensor
+    assert pdf.read_bytes()[:4] == b"%PDF"
+    res = balance_job(job)
+    iso = res["iso"]
+    # U = sum m_j r_j; G = U Omega / (1000 M) with U in g mm, Omega in rad/s, M in kg
+    U = sum(res["corrections"][p]["mass"] * 100.0 for p in ("P1", "P2"))
+    assert iso["initial_unbalance_g_mm"] == pytest.approx(U, rel=1e-12)
+    assert iso["initial_grade_mm_s"] == pytest.approx(U * 1500 * 2 * np.pi / 60 / 12000, rel=1e-12)
+
+
+def test_split_onto_available_weights_is_the_best_choice():
+    """Brute force over every placement of up to 2 pieces per hole: the chosen one is nearest."""
+    from itertools import combinations_with_replacement, product
+
+    from dsp.influence_solve import split_onto_weights
+
+    U = 1.979 * np.exp(1j * np.radians(236.2))
+    av, n = [0.25, 0.5, 1.0], 8
+    placed, err = split_onto_weights(U, av, n, max_pieces=2)
+    total = sum(m * np.exp(1j * a) for _, a, m, _ in placed)
+    assert abs(total - U) == pytest.approx(err, abs=1e-12)
+    sums = sorted({0.0} | {sum(c) for k in (1, 2) for c in combinations_with_replacement(av, k)})
+    best = min(abs(s1 * np.exp(2j * np.pi * h1 / n) + s2 * np.exp(2j * np.pi * h2 / n) - U)
+               for h1, h2 in product(range(n), range(n)) if h1 < h2
+               for s1 in sums for s2 in sums)
+    assert err == pytest.approx(best, abs=1e-12)
+    for _, _, m, pieces in placed:
+        assert sum(pieces) == pytest.approx(m) and len(pieces) <= 2
+
+
+def test_job_weights_at_hand():
+    text = BK.read_text().replace("[planes.P1]", '[planes.P1]\nholes = 12\nweights = ["0.25 g", "0.5 g", "1 g"]')
+    c = balance_job(_job(text))["corrections"]["P1"]
+    w = c["weights"]
+    tot = sum(x["mass"] * np.exp(1j * np.radians(x["angle_deg"])) for x in w["placed"])
+    U = c["mass"] * np.exp(1j * np.radians(c["angle_deg"]))
+    assert abs(tot - U) == pytest.approx(w["error"], abs=1e-9)
+    assert w["error"] < 0.25                                   # within the smallest piece
+
+
+def test_phase_lag_readings():
+    """Readings given as phase lags (angles against the weights' sense): the same rotor."""
+    import re
+
+    text = BK.read_text()
+    lag = re.sub(r'"(\d+) @ (\d+)"', lambda m: f'"{m.group(1)} @ {(-int(m.group(2))) % 360}"',
+                 text.split("[[run]]", 1)[1])
+    lag = text.split("[[run]]", 1)[0].replace('method = "least_squares"',
+                                              'method = "least_squares"\nphase = "lag"') \
+        + "[[run]]" + lag.replace('"0 @ 0"', '"0 @ 0"')
+    # the trial masses' angles (0 deg) are unchanged by the substitution
+    assert 'P1 = "1.15 @ 0"' in lag
+    a, b = balance_job(_job(text)), balance_job(_job(lag))
+    for p in ("P1", "P2"):
+        assert b["corrections"][p]["mass"] == pytest.approx(a["corrections"][p]["mass"], rel=1e-12)
+        assert b["corrections"][p]["angle_deg"] == pytest.approx(a["corrections"][p]["angle_deg"], abs=1e-9)
+    assert b["residuals"][0]["before_deg"] == pytest.approx(360 - 112)
+
+
+# ------------------------------------------------------------------ runs from recordings
+def test_runs_from_recordings_meet_stand_influence():
+    """Issue 32, item 3: the job takes its runs from recordings; the same answer as
+    `stand influence` on the same files, and the model's exact correction."""
+    from stand.analysis.influence import influence_from_recordings
+
+    res = balance_job(ROOT / "data_samples" / "balance" / "from_recordings.toml")
+    rec = ROOT / "data_samples" / "recordings"
+    ref = influence_from_recordings(rec / "influence_ref.h5",
+                                    [rec / "influence_trial1.h5", rec / "influence_trial2.h5"],
+                                    ["balancer1:10:0:100", "balancer2:10:90:100"],
+                                    ["probe1", "probe2"])
+    for j, (p, m, a) in enumerate((("balancer1", 20.0, 210.0), ("balancer2", 15.0, 20.0))):
+        c = res["corrections"][p]
+        _close_polar(c["mass"], c["angle_deg"], m, a, rtol=1e-4, atol_deg=1e-3)
+        assert c["mass"] == pytest.approx(ref.mass_g[j], rel=1e-9)
+        assert c["angle_deg"] == pytest.approx(ref.angle_deg[j], abs=1e-7)
+        assert c["mass_std"] == pytest.approx(ref.mass_std_g[j], rel=0.05)
+    assert res["residuals"][0]["speed_rpm"] == pytest.approx(2400.0, rel=1e-3)
+
+
+def test_recording_needs_displacement_unit(tmp_path):
+    text = (ROOT / "data_samples" / "balance" / "from_recordings.toml").read_text() \
+        .replace('vibration_unit = "um"', 'vibration_unit = "mm/s"')
+    job = tmp_path / "job.toml"
+    job.write_text(text)
+    with pytest.raises(ValueError, match="displacement"):
+        balance_job(job)
+
+
+def test_ill_conditioned_trial_runs_warn_on_the_command_line(tmp_path, capsys):
+    """Two planes whose trial runs move the sensors almost alike: exit 0, one warning line
+    naming both planes (and the JSON's ill_conditioned)."""
+    job = tmp_path / "ill.toml"
+    job.write_text('[job]\nvibration_unit = "um"\nmass_unit = "g"\n'
+                   '[[run]]\nkind = "reference"\nreadings = { S1 = "100 @ 0", S2 = "80 @ 30" }\n'
+                   '[[run]]\nkind = "trial"\ntrial = { P1 = "10 @ 0" }\n'
+                   'readings = { S1 = "150 @ 10", S2 = "120 @ 35" }\n'
+                   '[[run]]\nkind = "trial"\ntrial = { P2 = "10 @ 0" }\n'
+                   'readings = { S1 = "151 @ 10.2", S2 = "121 @ 35.1" }\n')
+    assert main(["balance", str(job), "--json"]) == 0
+    cap = capsys.readouterr()
+    doc = json.loads(cap.out)
+    assert doc["condition"] > 100
+    assert doc["ill_conditioned"]["planes"] == ["P1", "P2"]
+    warn = [ln for ln in cap.err.splitlines() if "ill-conditioned" in ln]
+    assert len(warn) == 1 and "P1" in warn[0] and "P2" in warn[0]
