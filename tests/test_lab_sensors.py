@@ -174,32 +174,19 @@ def _refused(*argv):
     return lines[0]
 
 
-def test_unit_of_the_wrong_quantity_is_refused(tmp_path, reference):
+@pytest.mark.parametrize("columns, says", [
+    ("time=time_s[s],x=acc_x_g[rpm],y=acc_y_g[g]", ["'rpm' is a speed unit", "acc_x_g"]),
+    ("time=time_s[s],x=acc_x_g[g],y=acc_y_g[um]", ["acceleration", "same quantity"]),
+    ("time=time_s[s],x=acc_x_g[mV],y=acc_y_g[mV]", ["sensitivity", "mV/g"]),
+    ("time=time_s[s],x=acc_x_g[g]", ["no y displacement column"]),
+], ids=["wrong quantity", "mixed quantities", "volts without sensitivity", "missing role"])
+def test_bad_sensor_columns_are_refused(tmp_path, reference, columns, says):
+    """A unit of the wrong quantity, x and y of different quantities, volts without a
+    sensitivity, a missing role: one line naming what is wrong, exit 2."""
     p = tmp_path / "acc.csv"
     _accelerometer_frame(reference).iloc[:2000].to_csv(p, index=False)
-    line = _refused("analyze", p, "--columns", "time=time_s[s],x=acc_x_g[rpm],y=acc_y_g[g]")
-    assert "'rpm' is a speed unit" in line and "acc_x_g" in line
-
-
-def test_mixed_quantities_are_refused(tmp_path, reference):
-    p = tmp_path / "acc.csv"
-    _accelerometer_frame(reference).iloc[:2000].to_csv(p, index=False)
-    line = _refused("analyze", p, "--columns", "time=time_s[s],x=acc_x_g[g],y=acc_y_g[um]")
-    assert "acceleration" in line and "same quantity" in line
-
-
-def test_volts_without_sensitivity_are_refused(tmp_path, reference):
-    p = tmp_path / "acc.csv"
-    _accelerometer_frame(reference).iloc[:2000].to_csv(p, index=False)
-    line = _refused("analyze", p, "--columns", "time=time_s[s],x=acc_x_g[mV],y=acc_y_g[mV]")
-    assert "sensitivity" in line and "mV/g" in line
-
-
-def test_missing_role_is_refused(tmp_path, reference):
-    p = tmp_path / "acc.csv"
-    _accelerometer_frame(reference).iloc[:2000].to_csv(p, index=False)
-    line = _refused("analyze", p, "--columns", "time=time_s[s],x=acc_x_g[g]")
-    assert "no y displacement column" in line or "y" in line
+    line = _refused("analyze", p, "--columns", columns)
+    assert all(w in line for w in says), line
 
 
 def test_bad_sensitivity_is_a_map_error():

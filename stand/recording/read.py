@@ -25,7 +25,7 @@ from stand.recording.legacy import legacy_layout
 if TYPE_CHECKING:  # pragma: no cover
     from stand.scene.model import Scene
 
-__all__ = ["Recording", "read_recording"]
+__all__ = ["Recording", "read_recording", "named_screens"]
 
 
 def _freeze(a: np.ndarray) -> np.ndarray:
@@ -162,6 +162,21 @@ def _units(f: "h5py.File", key: str, default: str, notes: list) -> str:
         notes.append(f"{key}: units {u!r} differ from the expected {default!r}; "
                      f"values are not converted")
     return u
+
+
+def named_screens(path: Union[str, os.PathLike]) -> list:
+    """Names of a recording's named laser screens (``instruments/screen.<name>`` with an
+    ``axial_position_m``), in the file's order, without reading the recording; ``[]`` for
+    a file that is not a readable HDF5 file."""
+    try:
+        with h5py.File(path, "r") as f:
+            g = f.get("instruments")
+            if g is None:
+                return []
+            return [k.split(".", 1)[1] for k in g if k.startswith("screen.")
+                    and "axial_position_m" in g[k].attrs]
+    except (OSError, ValueError):
+        return []
 
 
 def read_recording(path: Union[str, os.PathLike]) -> Recording:

@@ -207,7 +207,7 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
         extra["lab_identification"] = LAB_SCHEMA
     auto_screens = []
     if not tracks:
-        from stand.reports.balancing_two_plane import named_screens
+        from stand.recording.read import named_screens
 
         path = getattr(recording_path, "path", recording_path)
         if isinstance(path, (str, Path)) and path and Path(path).is_file():

@@ -10,7 +10,7 @@ over the planes' distances, each share within 30-70 %).
 """
 from __future__ import annotations
 
-__all__ = ["two_plane_section", "TWO_PLANE_SCHEMA", "named_screens", "auto_two_plane_section"]
+__all__ = ["two_plane_section", "TWO_PLANE_SCHEMA", "auto_two_plane_section"]
 
 N, B, L = "number|null", "bool|null", "list"
 
@@ -43,22 +43,6 @@ def two_plane_section(recording_path, tracks, grade, service_speed_rpm, warn) ->
                  f"{row['permissible_gmm']:.4g} g mm of the ISO 21940-11 G{grade:g} permissible "
                  "residual")
     return doc
-
-
-def named_screens(path) -> list:
-    """Names of a recording's named laser screens (``instruments/screen.<name>`` with an
-    ``axial_position_m``), in the file's order; ``[]`` for anything else."""
-    import h5py
-
-    try:
-        with h5py.File(path, "r") as f:
-            g = f.get("instruments")
-            if g is None:
-                return []
-            return [k.split(".", 1)[1] for k in g if k.startswith("screen.")
-                    and "axial_position_m" in g[k].attrs]
-    except (OSError, ValueError):
-        return []
 
 
 def auto_two_plane_section(recording_path, screens, grade, service_speed_rpm, warn) -> dict:
