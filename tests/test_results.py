@@ -251,3 +251,13 @@ def test_report_of_a_run_with_instruments_reads_them_in_memory(tmp_path):
     written = stand.report(stand.read(run.write(tmp_path / "cams.h5")))
     assert dict(flatten_numbers(ring)) == pytest.approx(
         dict(flatten_numbers(written.balancing_quality["ring_reading"])), rel=1e-12)
+    # the report's input read from run.instruments equals the one read back from the file
+    from stand.reports.balancing_input import read_input
+
+    mem, disk = read_input(run), read_input(tmp_path / "cams.h5")
+    assert sorted(mem["inst"]) == sorted(disk["inst"]) == [
+        "ring_radius", "ring_test_speed_rad_s", "screen_frame", "screen_settings", "strobe_frame"]
+    for key, value in disk["inst"].items():
+        assert np.array_equal(mem["inst"][key], value) if isinstance(value, np.ndarray) \
+            else mem["inst"][key] == value, key
+    assert np.array_equal(mem["truth"]["residual_unbalance"], disk["truth"]["residual_unbalance"])

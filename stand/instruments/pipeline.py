@@ -43,7 +43,9 @@ from stand.instruments.rings import scene_capacity
 FRAME_COMPRESSION = {"compression": "gzip", "compression_opts": 1, "shuffle": True}
 
 
-def _settings_json(settings) -> str:
+def settings_dict(settings) -> dict:
+    """An instrument's settings (a dataclass or a mapping) as plain JSON values, as the
+    recording stores them (non-finite floats as strings)."""
     def plain(v):
         if isinstance(v, np.ndarray):
             return v.tolist()
@@ -53,7 +55,11 @@ def _settings_json(settings) -> str:
             return str(v)
         return v
     d = dataclasses.asdict(settings) if dataclasses.is_dataclass(settings) else dict(settings)
-    return json.dumps({k: plain(v) for k, v in d.items()}, default=str)
+    return json.loads(json.dumps({k: plain(v) for k, v in d.items()}, default=str))
+
+
+def _settings_json(settings) -> str:
+    return json.dumps(settings_dict(settings))
 
 
 def _place_attrs(g, plane: str, settings, names=None) -> None:

@@ -69,7 +69,7 @@ def _read_h5(p: Path) -> dict:
 
 def _read_run(rec) -> dict:
     """A :class:`stand.Recording`, or a :class:`stand.Run` in memory (``fmt`` ``"run"``: its
-    instruments' output taken from its writer into an HDF5 image in memory, no file)."""
+    instruments' output read from ``run.instruments``, no file)."""
     scene, scene_error = rec.scene, None
     if scene is None and getattr(rec, "scene_text", "").strip():
         scene_error = next((n for n in rec.notes if "stored scene" in n), "scene not readable")
@@ -120,41 +120,33 @@ def _instruments(rec) -> tuple:
     return inst, truth
 
 
-class _MemoryFile:
-    """``shape`` / ``dataset`` / ``dataset_attrs`` of an open h5py file, as a Recording's."""
-
-    def __init__(self, f, t):
-        self.f, self.t = f, t
-
-    def shape(self, key):
-        obj = self.f.get(key)
-        return tuple(obj.shape) if hasattr(obj, "shape") else None
-
-    def dataset(self, key, index=()):
-        return self.f[key][index]
-
-    def dataset_attrs(self, key):
-        obj = self.f.get(key)
-        return {} if obj is None else {k: v.decode() if isinstance(v, bytes) else
-                                       v.item() if isinstance(v, np.generic) else v
-                                       for k, v in obj.attrs.items()}
-
-
 def _instruments_in_memory(run) -> tuple:
-    """:func:`_instruments` of a Run: its instruments' writer (the one that fills a recording,
-    :func:`stand.instruments.pipeline.write_instruments`; ``run.instruments.writer``) run into
-    an HDF5 image in memory."""
-    writer = getattr(getattr(run, "instruments", None), "writer", None) \
-        or getattr(run, "instrument_writer", None)
-    if writer is None:
+    """:func:`_instruments` of a Run in memory, read from ``run.instruments``
+    (:class:`stand.instruments.outputs.InstrumentOutputs`: the outputs a recording stores,
+    nothing written): the same keys, the same values."""
+    from stand.instruments.pipeline import settings_dict
+
+    outputs = getattr(run, "instruments", None)
+    if not outputs:               # no instruments: a recording of this run has no truth group
         return {}, {}
-    import io
-
-    import h5py
-
-    with h5py.File(io.BytesIO(), "w") as f:
-        writer(f)
-        return _instruments(_MemoryFile(f, np.asarray(run.t)))
+    inst, truth = {}, {}
+    if "screen" in outputs:
+        screen = outputs["screen"]
+        rings = screen.rings
+        if rings is not None:
+            cam = screen.settings
+            inst["ring_radius"] = np.asarray(rings["radius"], float)
+            inst["screen_settings"] = settings_dict(cam.to_attrs() if hasattr(cam, "to_attrs")
+                                                    else cam)
+            inst["ring_test_speed_rad_s"] = float(rings["test_speed"])
+    for name, key in (("screen", "screen_frame"), ("stroboscope", "strobe_frame")):
+        if name in outputs and outputs[name].n_frames > 0:
+            out = outputs[name]
+            inst[key] = np.asarray(out.frame(out.n_frames - 1))
+    psi = np.asarray(outputs.traj.residual_unbalance())
+    if psi.shape == np.shape(run.t):
+        truth["residual_unbalance"] = np.column_stack([psi.real, psi.imag])
+    return inst, truth
 
 
 def read_input(path, recording_map=None) -> dict:
