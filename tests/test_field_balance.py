@@ -351,7 +351,7 @@ def test_repeated_readings_give_uncertainty_matching_monte_carlo():
 # ------------------------------------------------------------------ bad input: one line, exit 2
 @pytest.mark.parametrize("body, words", [
     ('[job]\nvibration_unit = "furlong"\n', ["job.vibration_unit", "furlong"]),
-    ('[job]\namplitude = "peak"\n', ["job.amplitude", "peak"]),
+    ('[job]\namplitude = "average"\n', ["job.amplitude", "average"]),
     ('[[run]]\nkind = "reference"\nreadings = { S1 = "170 112" }\n', ["run[0].readings.S1", "170 112"]),
     ('[planes.P1]\nmax_mass = "-1 g"\n', ["planes.P1.max_mass", "-1 g"]),
     ('[planes.P2]\n[[run]]\nkind = "reference"\nreadings = { S1 = "1 @ 0", S2 = "1 @ 9" }\n'

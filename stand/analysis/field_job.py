@@ -22,25 +22,17 @@ from typing import Optional
 
 import numpy as np
 
-from stand.lab.units import UnitError, parse_quantity
+from stand.lab.units import AMPLITUDE, QUANTITIES, UnitError, parse_quantity
 
 __all__ = ["FieldJob", "FieldRun", "read_job", "parse_job", "VIBRATION_UNITS", "MASS_UNITS",
            "AMPLITUDES", "METHODS"]
 
-# TODO(lab/units): move these two tables into stand/lab/units.py once it has the velocity
-# and acceleration quantities (another change extends it); until then they live here.
-_G0 = 9.80665
-VIBRATION_UNITS = {
-    "displacement": {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "μm": 1e-6, "nm": 1e-9,
-                     "mil": 25.4e-6, "mils": 25.4e-6, "in": 25.4e-3},
-    "velocity": {"m/s": 1.0, "mm/s": 1e-3, "um/s": 1e-6, "µm/s": 1e-6, "in/s": 25.4e-3,
-                 "ips": 25.4e-3},
-    "acceleration": {"m/s^2": 1.0, "m/s2": 1.0, "m/s²": 1.0, "mm/s^2": 1e-3, "mm/s²": 1e-3,
-                     "g": _G0},
-}
-MASS_UNITS = {"kg": 1.0, "g": 1e-3, "mg": 1e-6, "oz": 0.028349523125, "lb": 0.45359237}
+#: vibration units of the readings by quantity (the lab's one unit table, stand.lab.units)
+VIBRATION_UNITS = {"displacement": QUANTITIES["length"], "velocity": QUANTITIES["velocity"],
+                   "acceleration": QUANTITIES["acceleration"]}
+MASS_UNITS = QUANTITIES["mass"]
 #: amplitude conventions -> factor to peak
-AMPLITUDES = {"pk": 1.0, "pk-pk": 0.5, "rms": math.sqrt(2.0)}
+AMPLITUDES = AMPLITUDE
 METHODS = ("least_squares", "weighted", "min_max")
 _KINDS = ("slow_roll", "reference", "trial")
 _NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"

@@ -38,7 +38,7 @@ QUANTITIES = {
     "acceleration": {"m/s²": 1.0, "m/s^2": 1.0, "m/s2": 1.0, "mm/s²": 1e-3, "mm/s^2": 1e-3,
                      "mm/s2": 1e-3, "g": G_N, "gn": G_N},
     "voltage": {"V": 1.0, "mV": 1e-3},
-    "mass": {"kg": 1.0, "g": 1e-3},
+    "mass": {"kg": 1.0, "g": 1e-3, "mg": 1e-6, "oz": 0.028349523125, "lb": 0.45359237},
     "sensitivity": {"V/m": 1.0, "V/mm": 1e3, "mV/mm": 1.0, "mV/um": 1e3, "mV/µm": 1e3,
                     "mV/mil": 1e-3 / 25.4e-6, "V/mil": 1.0 / 25.4e-6},
     # volts per unit of velocity / acceleration, to V per SI unit (V/(m/s), V/(m/s²))
