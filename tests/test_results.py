@@ -261,3 +261,16 @@ def test_report_of_a_run_with_instruments_reads_them_in_memory(tmp_path):
         assert np.array_equal(mem["inst"][key], value) if isinstance(value, np.ndarray) \
             else mem["inst"][key] == value, key
     assert np.array_equal(mem["truth"]["residual_unbalance"], disk["truth"]["residual_unbalance"])
+
+
+@pytest.mark.parametrize("kind", ["time", "orbit"])
+def test_run_plot_returns_the_axes_as_every_result(kind):
+    """``Run.plot`` follows the results' convention: it draws on the Axes given and returns
+    them; without one it draws on a backend-free figure and returns its Axes."""
+    run = stand.read(RECORDINGS[0])
+    fig, ax = _agg_axes()
+    assert run.plot(ax=ax, kind=kind) is ax and _drawn(fig, ax)
+    own = run.plot(kind=kind)
+    assert own.figure is not fig and _drawn(own.figure, own)
+    with pytest.raises(ValueError, match="kind = 'bode'"):
+        run.plot(kind="bode")

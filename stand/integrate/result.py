@@ -313,7 +313,8 @@ class Run:
         return pd.DataFrame({k: np.array(v, dtype=np.float64) for k, v in cols.items()})
 
     def plot(self, ax=None, kind: str = "time"):
-        """Draw the main plane's motion; returns the matplotlib Figure.
+        """Draw the main plane's motion; returns the matplotlib Axes (as every result's
+        ``plot``; the figure is ``ax.figure``).
 
         ``kind="time"``: x and y [mm] against t [s]; ``"orbit"``: y against x [mm].
         ``ax``: draw into these axes (default: a new backend-free figure).
@@ -322,7 +323,7 @@ class Run:
 
         if kind not in ("time", "orbit"):
             raise ValueError(f"kind = {kind!r}: one of time, orbit")
-        fig, ax = figure_and_axes(ax, figsize=(7, 4) if kind == "time" else (5, 5))
+        _, ax = figure_and_axes(ax, figsize=(7, 4) if kind == "time" else (5, 5))
         name = getattr(self.scene, "name", "") or "run"
         if kind == "time":
             ax.plot(self.t, self.x * 1e3, lw=0.8, label="x")
@@ -336,7 +337,7 @@ class Run:
             ax.set_xlabel("x [mm]")
             ax.set_ylabel("y [mm]")
         ax.set_title(f"{name}: plane {self.main_plane}")
-        return fig
+        return ax
 
     def write(self, path, *, writer=None, extra_attrs=None):
         """Write the one HDF5 recording (atomically), :func:`stand.recording.write.write_recording`,
