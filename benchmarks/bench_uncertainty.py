@@ -21,7 +21,8 @@ rotor angle, scipy DOP853 at rtol 1e-11), written as a DAQ CSV and read by
 * ``no-speed``: the same CSV read with time and the two probes only (the speed
   estimated from the 1X line; no unbalance angle).
 
-The image, track and line paths (``--paths lines,lines-close,precession,track-rings,two-plane``)
+The image, track and line paths
+(``--paths lines,lines-close,sinusoids,precession,track-rings,two-plane``)
 are in :mod:`_uncertainty_images`.
 """
 from __future__ import annotations
