@@ -20,6 +20,10 @@ rotor angle, scipy DOP853 at rtol 1e-11), written as a DAQ CSV and read by
   2 µm probe noise);
 * ``no-speed``: the same CSV read with time and the two probes only (the speed
   estimated from the 1X line; no unbalance angle).
+
+The image, track and line paths
+(``--paths lines,lines-close,sinusoids,precession,track-rings,two-plane``)
+are in :mod:`_uncertainty_images`.
 """
 from __future__ import annotations
 
@@ -40,6 +44,7 @@ sys.path.insert(0, str(ROOT / "tests"))
 sys.path.insert(0, str(ROOT))
 
 from oracles.runup_exact import exact_runup, write_csv  # noqa: E402
+from _uncertainty_images import PATHS as IMAGE_PATHS  # noqa: E402  (tracks, rings, lines)
 
 #: (key of ``stand analyze --json``, key of its std, truth attribute of the reference)
 QUANTITIES = {
@@ -71,6 +76,8 @@ RUNUP = {"fs_hz": 500.0, "f_start_hz": 10.0, "f_end_hz": 28.0, "duration_s": 9.0
 def run_path(path: str, seed: int, *, workdir: Path, noise_m: float = 2e-6, **runup) -> dict:
     """z of each quantity for one noise draw on one path ({name: z or None}); ``runup``:
     keywords of :func:`oracles.runup_exact.exact_runup`."""
+    if path in IMAGE_PATHS:
+        return IMAGE_PATHS[path](seed, workdir)
     run = exact_runup(noise_m=noise_m, seed=seed, **{**RUNUP, **runup})
     csv, rmap = write_csv(run, workdir / f"{path}_{seed}.csv")
     if path == "no-speed":
@@ -88,11 +95,11 @@ def calibration(paths=PATHS, seeds: int = 24, **kw) -> dict:
     table = {}
     with tempfile.TemporaryDirectory() as tmp:
         for path in paths:
-            zs = {name: [] for name in QUANTITIES}
+            zs = {}
             for seed in range(seeds):
                 for name, z in run_path(path, seed, workdir=Path(tmp), **kw).items():
                     if z is not None:
-                        zs[name].append(z)
+                        zs.setdefault(name, []).append(z)
             table[path] = {name: (float(np.sqrt(np.mean(np.square(z)))),
                                   float(np.mean(np.abs(z) < 1)), float(np.mean(np.abs(z) < 2)),
                                   len(z)) for name, z in zs.items() if z}

@@ -102,8 +102,10 @@ def rotor_frame_phasor(x, y, rotor_angle, blur_angle=0.0):
     ``sinc``, which is divided out.
 
     Returns ``(phasor, standard error)``: complex [m], and the standard error of the
-    mean of the scatter [m] (per complex component sqrt(var/2), i.e. the radius
-    of a circular 1-sigma error), from at least 3 frames.
+    mean [m] per complex component, sqrt(sum |w - mean w|^2 / (2 n (n - 1))) over the
+    n >= 3 frames' rotor-frame positions w: the std of the phasor's length and of its
+    length times its angle, the sigma of :func:`propagate`.  (Before issue 30 it was the
+    complex spread, sqrt 2 larger: RMS(z) 0.72 over 48 draws of a closed form.)
     """
     z = np.asarray(x, float) + 1j * np.asarray(y, float)
     phi = np.asarray(rotor_angle, float)
@@ -114,7 +116,7 @@ def rotor_frame_phasor(x, y, rotor_angle, blur_angle=0.0):
     h = 0.5 * float(blur_angle)
     shrink = math.sin(h) / h if h else 1.0
     Z = w.mean() / shrink
-    se = float(np.sqrt(np.mean(np.abs(w - w.mean()) ** 2) / (w.size - 1))) / shrink
+    se = float(np.sqrt(np.mean(np.abs(w - w.mean()) ** 2) / (2 * (w.size - 1)))) / shrink
     return complex(Z), se
 
 

@@ -351,6 +351,9 @@ class RingReading(_InGramMillimetres):
         scale) [kg m]: what a measured radius gives when the rotor's response
         is linear in the unbalance (the rings are then equally spaced), finer
         than the zone a person reads.
+    interpolated_std_kg_m : float
+        Standard uncertainty of ``interpolated_kg_m`` from the radius's
+        (``radius_std_m`` times the slope S / 16 per ring spacing) [kg m].
     """
 
     zone: int
@@ -358,15 +361,19 @@ class RingReading(_InGramMillimetres):
     unbalance_std_kg_m: float
     off_scale: bool
     interpolated_kg_m: float = math.nan
+    interpolated_std_kg_m: float = math.nan
 
 
-def unbalance_from_rings(radius_m, ring_radii_m, capacity_kg_m):
+def unbalance_from_rings(radius_m, ring_radii_m, capacity_kg_m, radius_std_m=0.0):
     """Unbalance from the spot's circle and the calibration rings (zone i -> i S / 16).
 
     Parameters
     ----------
     radius_m : float
         Radius of the spot's circle on the screen [m].
+    radius_std_m : float
+        Its standard uncertainty [m] (the spot's scatter and the ring scale's
+        calibration), propagated to the interpolated unbalance.
     ring_radii_m : array_like
         Ring radii [m] of zones 0, 1, 2, ... (ring i drawn for unbalance
         i S / 16; ring 0 is normally radius 0), strictly increasing.
@@ -388,9 +395,11 @@ def unbalance_from_rings(radius_m, ring_radii_m, capacity_kg_m):
     S = _positive("capacity_kg_m", capacity_kg_m)
     i = int(np.clip(np.searchsorted(radii, r, side="right") - 1, 0, radii.size - 1))
     j = min(i, radii.size - 2)
+    sr = _positive("radius_std_m", radius_std_m, allow_zero=True)
     frac = j + (r - radii[j]) / (radii[j + 1] - radii[j])
     return RingReading(zone=i, unbalance_kg_m=i * S / 16.0, unbalance_std_kg_m=S / 32.0,
-                       off_scale=bool(r >= radii[-1]), interpolated_kg_m=frac * S / 16.0)
+                       off_scale=bool(r >= radii[-1]), interpolated_kg_m=frac * S / 16.0,
+                       interpolated_std_kg_m=sr / (radii[j + 1] - radii[j]) * S / 16.0)
 
 
 # ------------------------------------------------------------------------- ISO

@@ -209,6 +209,10 @@ class Calibration:
         screen recedes (the scale in px/m shrinks); NaN without perspective
     ring_radii_m : the ring radii used (zones 0, 1, ...), or None
     rms_px : rms residual of the fit [px] (screen residual / scale)
+    scale_std : standard uncertainty of ``scale`` [m/px] (:func:`fit_homography`: the
+        larger of the pixel-noise covariance and the ring-clustered one, which counts
+        a ring drawn too large or too small once, not once per pixel; 0 when not
+        estimated).  A systematic error, common to every point mapped.
     """
     homography: np.ndarray
     scale: float
@@ -217,6 +221,7 @@ class Calibration:
     tilt_direction: float = float("nan")
     ring_radii_m: Optional[np.ndarray] = None
     rms_px: float = 0.0
+    scale_std: float = 0.0
 
     @property
     def homography_inverse(self) -> np.ndarray:
@@ -365,7 +370,39 @@ def fit_homography(ellipses: Sequence[Ellipse], ring_radii_m, *, perspective: bo
     H = np.linalg.inv(Ginv_full)
     rms_m = float(np.sqrt(np.mean((sol.fun / np.maximum(Wt, 1e-12)) ** 2
                                   * (Wt > 0)))) * p0 * L
-    return _finish(H, radii=np.asarray(ring_radii_m, float), rms_m=rms_m)
+    cal = _finish(H, radii=np.asarray(ring_radii_m, float), rms_m=rms_m)
+
+    def scale_of(q):
+        return _finish(np.linalg.inv(S @ G_of(q) @ T)).scale
+
+    ring_of = np.concatenate([np.full(e.points.shape[0], k) for k, e in enumerate(ell)])
+    std = _scale_std(scale_of, sol.x, sol.jac, sol.fun, ring_of)
+    return Calibration(**{**cal.__dict__, "scale_std": std})
+
+
+def _scale_std(scale_of, q, J, f, cluster) -> float:
+    """Standard uncertainty of ``scale_of(q)`` at the least-squares solution ``q``
+    (Jacobian ``J``, residuals ``f``): the larger of the white-noise covariance
+    s^2 (J^T J)^-1 and the cluster-robust sandwich over the ``cluster`` labels (the
+    rings: a ring's residuals share its printing and detection error), propagated by a
+    central difference of ``scale_of``."""
+    J = np.asarray(J, float)
+    n, p = J.shape
+    try:
+        A = np.linalg.inv(J.T @ J)
+    except np.linalg.LinAlgError:
+        return float("nan")
+    h = 1e-6 * np.maximum(np.abs(q), 1e-3)
+    g = np.array([(scale_of(q + hk * e) - scale_of(q - hk * e)) / (2 * hk)
+                  for hk, e in zip(h, np.eye(p))])
+    white = float(f @ f) / max(n - p, 1) * float(g @ A @ g)
+    B = np.zeros((p, p))
+    for c in np.unique(cluster):
+        s = J[cluster == c].T @ f[cluster == c]
+        B += np.outer(s, s)
+    k = np.unique(cluster).size
+    robust = k / max(k - 1, 1) * float(g @ A @ B @ A @ g)
+    return math.sqrt(max(white, robust, 0.0))
 
 
 def scale_from_fiducials(points_px, points_m, *, mirror: bool = True) -> Calibration:

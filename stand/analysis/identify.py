@@ -204,7 +204,7 @@ def _steady_1x(d, out, speed, rotating):
     t, x, y, phi, tab = d["t"], d["x"], d["y"], d["phi"], d.get("table")
     notes = out["notes"]
     out.update(unbalance_gmm=None, unbalance_gmm_std=None, unbalance_angle_deg=None,
-               iso_grade=None, response_1x_m=None, speed_hz=None)
+               iso_grade=None, response_1x_m=None, response_1x_m_std=None, speed_hz=None)
     i0 = steady_start(t, speed) if speed is not None else 0
     if tab is not None and out["programme"] and out["programme"]["stretches"] \
             and getattr(d.get("angle"), "source", None) != "angle":
@@ -219,6 +219,7 @@ def _steady_1x(d, out, speed, rotating):
                                            rotor_angle=None if phi is None else phi[sl],
                                            keyphasor_times=d["kp"])
             out["response_1x_m"] = sc1.amplitude_m
+            out["response_1x_m_std"] = sc1.amplitude_std_m
             out["speed_hz"] = sc1.speed_rad_s / TWO_PI
         except SignalError as exc:
             notes.append(f"1X / unbalance: {exc}")
@@ -245,7 +246,9 @@ def _components(d, out, sl, rotating) -> None:
         f_rot = out["speed_hz"]
         dec = qpd.decompose(t[sl], (x + 1j * y)[sl], rotor_speed_hz=f_rot, polish="rect")
         out["components"] = [{"frequency_hz": c.frequency_hz, "frequency_hz_std": c.frequency_std_hz,
-                              "amplitude_m": c.amplitude_m, "phase_deg": math.degrees(c.phase_rad),
+                              "amplitude_m": c.amplitude_m, "amplitude_m_std": c.amplitude_std_m,
+                              "phase_deg": math.degrees(c.phase_rad),
+                              "phase_deg_std": math.degrees(c.phase_std_rad),
                               "direction": c.direction} for c in dec.components]
         qp = dec.precession is not None
         out.update(precession_hz=dec.precession_hz if qp else None,
@@ -253,8 +256,11 @@ def _components(d, out, sl, rotating) -> None:
                    nutation_hz=dec.nutation_hz if dec.nutation is not None else None,
                    nutation_hz_std=dec.nutation_std_hz if dec.nutation is not None else None,
                    precession_amplitude_m=dec.precession_amplitude_m if qp else None,
+                   precession_amplitude_m_std=dec.precession_amplitude_std_m if qp else None,
                    nutation_amplitude_m=(dec.nutation_amplitude_m if dec.nutation is not None
                                          else None),
+                   nutation_amplitude_m_std=(dec.nutation_amplitude_std_m
+                                             if dec.nutation is not None else None),
                    petals=dec.petals if dec.precession is not None else None,
                    shape=dec.shape if dec.precession is not None else None)
         if dec.precession is not None:

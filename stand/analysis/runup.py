@@ -131,6 +131,8 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
             notes.append("run-up model fit: a velocity or acceleration record needs a speed "
                          "channel (keyphasor, encoder or tachometer)")
             return None
+        if angle is None and _steady_line(t, z):
+            return None     # not swept: a constant-speed fit would take the speed for f0
         try:
             fit, angle = fit_response_without_speed(t, z)
         except SignalError as exc:
@@ -180,6 +182,33 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
     except SignalError as exc:
         notes.append(f"resonance from the {s.kind}: {exc}")
     return out
+
+
+def _steady_line(t, z, parts: int = 4, k: float = 5.0, rtol: float = 2e-3) -> bool:
+    """Without a speed channel: is the whirl one steady line?  The strongest line's
+    frequency in each of ``parts`` equal pieces of the record (:func:`dsp.lines.
+    refine_frequencies`) agrees with the others within ``k`` of their combined std or
+    within ``rtol`` (the speed programme's constant tolerance): then the record is not
+    swept (a lab's constant-speed record, a track of the spot's circle)."""
+    from dsp.errors import SignalError
+    from dsp.lines import refine_frequencies
+
+    n = t.size // parts
+    if n < 64:
+        return False
+    f, s = [], []
+    try:
+        for i in range(parts):
+            sl = slice(i * n, (i + 1) * n)
+            c = refine_frequencies(t[sl], z[sl] - np.mean(z[sl]), 1)
+            f.append(float(c.frequency_hz[0]))
+            s.append(float(c.frequency_hz_std[0]))
+    except SignalError:
+        return False
+    f, s = np.array(f), np.array(s)
+    spread = np.abs(f[:, None] - f[None, :])
+    return bool(np.all((spread <= k * np.hypot(s[:, None], s[None, :]))
+                       | (spread <= rtol * np.abs(f).max())))
 
 
 def _programme_dict(prog) -> dict:

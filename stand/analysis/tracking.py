@@ -444,6 +444,10 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
     X, Y = (np.asarray(a) for a in px_to_m(df["u_px"].to_numpy(), df["v_px"].to_numpy(), cal))
     df["x_mm"], df["y_mm"] = X * 1e3, Y * 1e3
     df["scale_mm_per_px"] = cal.scale * 1e3
+    # the ring scale and its uncertainty: systematic, common to every frame (stand analyze
+    # adds it to the circle radius's std)
+    pre["scale_mm_per_px"] = repr(float(cal.scale) * 1e3)
+    pre["scale_std_mm_per_px"] = repr(float(cal.scale_std) * 1e3)
     if not trace:
         _shaft_columns(df, X, Y, og, expo, phi)
         if rec is not None:
@@ -451,7 +455,8 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
         return df
     # the circle's radius on the screen: the mean scale around the circle
     df["radius_mm"] = df["radius_px"] * cal.scale * 1e3
-    df["radius_std_mm"] = df["radius_std_px"] * cal.scale * 1e3
+    df["radius_std_mm"] = np.hypot(df["radius_std_px"] * cal.scale,
+                                   df["radius_px"] * cal.scale_std) * 1e3   # + the ring scale's
     if capacity_gmm is not None:
         S = capacity_gmm * 1e-6
         zone, U = [], []

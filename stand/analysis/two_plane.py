@@ -152,6 +152,7 @@ def two_plane(path, tracks, grade: float = 6.3, service_speed_rpm: float | None 
                "angle_deg": math.degrees(math.atan2(u.imag, u.real)) % 360.0,
                "angle_deg_std": math.degrees(float(su) / abs(u)) if abs(u) > 0 else None,
                "correction_angle_deg": (math.degrees(math.atan2(u.imag, u.real)) + 180.0) % 360.0,
+               "correction_angle_deg_std": math.degrees(float(su) / abs(u)) if abs(u) > 0 else None,
                "permissible_gmm": up, "passed": bool(abs(u) * 1e6 <= up),
                "passed_with_uncertainty": bool((abs(u) + 2 * su) * 1e6 <= up)}
         if truth is not None:

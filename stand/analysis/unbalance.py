@@ -27,6 +27,7 @@ def line_1x(t, z, out, notes, speed_how=None) -> None:
         f = float(comp.frequency_hz[0])
         out["speed_hz"] = abs(f)
         out["response_1x_m"] = float(abs(comp.amplitude[0]))
+        out["response_1x_m_std"] = float(comp.amplitude_std[0])
         if speed_how:          # a tachometer: the speed is measured, the 1X phase has no mark
             notes.append(f"1X over the steady stretch: the strongest line of the orbit at "
                          f"{abs(f):.6g} rev/s (speed from the {speed_how}; no mark for the angle)")
@@ -101,6 +102,9 @@ def unbalance(out, scene, sc1, d, rmap, mass, grade, service_speed_rpm, notes) -
     w_meas = (out.get("speed_hz") or 0.0) * TWO_PI
     if rmap is not None and rmap.service_speed_rad_s and not service_speed_rpm:
         service_speed_rpm = rmap.service_speed_rad_s * 60 / TWO_PI
+    if e is None and mass and service_speed_rpm:   # the rings' unbalance (a camera's frame
+        iso_grade(out, out["unbalance_gmm"], out["unbalance_gmm_std"], mass, 0.0, grade,
+                  service_speed_rpm)                 # rate may alias the spot's speed: given)
     if e is not None and (w_meas > 0 or service_speed_rpm):
         iso_grade(out, e * (mass or 1.0) * 1e6, None if se is None else se * (mass or 1.0) * 1e6,
                   mass or 1.0, w_meas, grade, service_speed_rpm, per_kg=not mass)
@@ -137,12 +141,30 @@ def ring_reading(out, d):
     except (KeyError, ValueError):
         return None
     r_screen = out["response_1x_m"] * gain
-    rd = unbalance_from_rings(r_screen, radii, S)
-    out["ring_reading"] = {"circle_radius_mm": r_screen * 1e3, "zone": rd.zone,
+    # the circle radius's std: the spot's scatter (the 1X line's) and the ring scale's
+    # calibration (systematic: common to every frame, it does not average out)
+    s_resp = out.get("response_1x_m_std")
+    try:
+        rel_scale = float(meta["scale_std_mm_per_px"]) / float(meta["scale_mm_per_px"])
+    except (KeyError, ValueError, ZeroDivisionError):
+        rel_scale = None
+        out["notes"].append("ring reading: the track does not state the ring scale's "
+                            "uncertainty (scale_std_mm_per_px); the circle radius's std is the "
+                            "spot's scatter only")
+    sr = (math.hypot(gain * s_resp, r_screen * (rel_scale or 0.0))
+          if s_resp is not None and math.isfinite(s_resp) else None)
+    rd = unbalance_from_rings(r_screen, radii, S, radius_std_m=sr or 0.0)
+    s_int = rd.interpolated_std_kg_m * 1e6 if sr is not None else None
+    out["ring_reading"] = {"circle_radius_mm": r_screen * 1e3,
+                           "circle_radius_mm_std": None if sr is None else sr * 1e3,
+                           "zone": rd.zone,
                            "unbalance_gmm": rd.unbalance_gmm, "unbalance_gmm_std": rd.unbalance_std_gmm,
-                           "interpolated_gmm": rd.interpolated_kg_m * 1e6, "off_scale": rd.off_scale}
+                           "interpolated_gmm": rd.interpolated_kg_m * 1e6,
+                           "interpolated_gmm_std": s_int, "off_scale": rd.off_scale}
     if out.get("unbalance_gmm") is None:
-        out.update(unbalance_gmm=rd.interpolated_kg_m * 1e6, unbalance_gmm_std=rd.unbalance_std_gmm,
-                   unbalance_method="spot circle against the calibration rings (zone i -> i S/16)")
+        out.update(unbalance_gmm=rd.interpolated_kg_m * 1e6,
+                   unbalance_gmm_std=rd.unbalance_std_gmm if s_int is None else s_int,
+                   unbalance_method="spot circle against the calibration rings (zone i -> i S/16, "
+                                    "interpolated between the rings)")
     return rd
 

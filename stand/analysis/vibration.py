@@ -33,6 +33,8 @@ def vibration_in_users_quantity(d, out) -> None:
     w = TWO_PI * f
     disp = a / w ** k
     out["response_1x_m"] = disp
+    if out.get("response_1x_m_std") is not None:
+        out["response_1x_m_std"] = out["response_1x_m_std"] / w ** k
     tab = d.get("table")
     doc = {"quantity": {"length": "displacement"}.get(q, q), "displacement_peak_m": disp,
            "velocity_rms_mm_s": w * disp / math.sqrt(2.0) * 1e3,

@@ -113,9 +113,13 @@ def cmd_analyze(args) -> int:
         doc = two_plane(args.recording, args.tracks, grade=args.grade, service_speed_rpm=args.service_speed)
         if args.json:
             return print_json(doc) or 0
-        for r in doc["planes"]:
-            print(f"  {r['plane']} ({r['axial_position_m']:g} m): {r['unbalance_gmm']:.6g} +- {r['unbalance_gmm_std']:.2g} g*mm "
-                  f"at {r['angle_deg']:.4g} +- {r['angle_deg_std']:.2g} deg; permissible {r['permissible_gmm']:.4g}: {'pass' if r['passed'] else 'FAIL'}")
+        from stand.reports.numbers import with_uncertainty as wu
+        for r in doc["planes"]:     # values rounded to their uncertainty (GUM 7.2.6)
+            print(f"  {r['plane']} ({r['axial_position_m']:g} m): "
+                  f"{wu(r['unbalance_gmm'], r['unbalance_gmm_std'], 'g*mm')} at "
+                  f"{wu(r['angle_deg'], r['angle_deg_std'], 'deg', resolution=False)} (correction at "
+                  f"{wu(r['correction_angle_deg'], r['correction_angle_deg_std'], 'deg', resolution=False)}); "
+                  f"permissible {r['permissible_gmm']:.4g}: {'pass' if r['passed'] else 'FAIL'}")
         return 0
     try:
         doc = analyze(args.recording, grade=args.grade, service_speed_rpm=args.service_speed,
@@ -126,26 +130,29 @@ def cmd_analyze(args) -> int:
     if args.json:
         print_json({k: v for k, v in doc.items() if k != "regime_timeline"})
         return 0
-    def fmt(v, sd=None, unit=""):
-        if v is None:
-            return "n/a"
-        return f"{v:.6g}{' +- %.2g' % sd if sd else ''} {unit}".strip()
+    from stand.reports.numbers import with_uncertainty
+
+    def fmt(v, sd=None, unit="", angle=False):
+        """``v ± sd`` rounded to the uncertainty (the report's rounding)."""
+        return "n/a" if v is None else with_uncertainty(v, sd, unit, resolution=not angle)
     print(f"{args.recording}:")
     print(f"  natural frequency {fmt(doc['natural_frequency_hz'], doc['natural_frequency_hz_std'], 'Hz')}, "
           f"damping ratio {fmt(doc['damping_ratio'], doc['damping_ratio_std'])}")
-    print(f"  speed {fmt(doc['speed_hz'], None, 'rev/s')}, 1X {fmt(doc['response_1x_m'], None, 'm')}, "
+    print(f"  speed {fmt(doc['speed_hz'], None, 'rev/s')}, 1X {fmt(doc['response_1x_m'], doc.get('response_1x_m_std'), 'm')}, "
           f"unbalance {fmt(doc['unbalance_gmm'], doc['unbalance_gmm_std'], 'g*mm')} at "
-          f"{fmt(doc['unbalance_angle_deg'], None, 'deg')}")
+          f"{fmt(doc['unbalance_angle_deg'], doc.get('unbalance_angle_deg_std'), 'deg', angle=True)}")
     if doc["iso_grade"]:
         g = doc["iso_grade"]
-        print(f"  ISO 21940-11: G {g['grade_mm_s']:.3g} mm/s ({g['class']}), target G {g['target_mm_s']}: "
+        print(f"  ISO 21940-11: G {fmt(g['grade_mm_s'], g.get('grade_mm_s_std'), 'mm/s')} "
+              f"({g['class']}), target G {g['target_mm_s']}: "
               + ("pass" if g["passed"] else "FAIL"))
     if doc.get("programme"):
         print(f"  programme {doc['programme']['kind']}; speed from {doc.get('speed_source')}")
     if doc.get("critical_speed_hz") is not None:
         print(f"  critical speed {fmt(doc['critical_speed_hz'], doc.get('critical_speed_hz_std'), 'rev/s')} "
               f"({doc['critical_speed_method']})")
-    print(f"  precession {fmt(doc['precession_hz'], None, 'Hz')}, nutation {fmt(doc['nutation_hz'], None, 'Hz')}, "
+    print(f"  precession {fmt(doc['precession_hz'], doc.get('precession_hz_std'), 'Hz')}, "
+          f"nutation {fmt(doc['nutation_hz'], doc.get('nutation_hz_std'), 'Hz')}, "
           f"petals {doc['petals']}, shape {doc['shape']}; regime {doc['regime']}")
     for c in doc["critical_speeds_hz"]:
         print(f"  regime change {c['before']} -> {c['after']} at {c['speed_hz']:.4g} +- {c['speed_hz_std']:.2g} rev/s")

@@ -72,7 +72,7 @@ def verdict(doc: Mapping) -> dict:
     if two:
         for p in two.get("planes", []):
             lines.append(f"Plane {p.get('plane')}: {show('unbalance_gmm', p.get('unbalance_gmm'), p.get('unbalance_gmm_std'))}"
-                         f" at {plain(p.get('angle_deg'), '°', sig=3)}; permissible "
+                         f" at {show('angle_deg', p.get('angle_deg'), p.get('angle_deg_std'))}; permissible "
                          f"{plain(p.get('permissible_gmm'), 'g·mm', sig=3)}: "
                          f"{'pass' if p.get('passed') else 'FAIL'}")
     if bq.get("uncertainty_statement"):
@@ -157,7 +157,8 @@ def page_body(doc: Mapping, figures: Mapping | None = None) -> str:
         pct = red.get("percent")
         pct_text = "> 99.99 %" if pct is not None and pct > 99.99 else plain(pct, "%", sig=4)
         parts.append("<h3>Unbalance reduction by the balancer</h3>" + _table([
-            ("Reduction factor", plain(f, sig=2) + (f" (at least {plain(lb, sig=2)})" if lb else "")),
+            ("Reduction factor", show("factor", f, red.get("factor_std"))
+             + (f" (at least {plain(lb, sig=2)})" if lb else "")),
             ("Reduction", pct_text + " · " + plain(red.get("decibel"), "dB", sig=3)),
             ("Basis", str(red.get("basis", "")))]))
     if bq.get("seed_criteria"):
@@ -217,7 +218,7 @@ def pdf_tables(doc: Mapping) -> list:
         if single_plane_applies(doc) else []
     for row in (doc.get("two_plane") or {}).get("planes", []):
         out.append((f"Two-plane: {row.get('plane')}",
-                    [(k, show(k, row.get(k))) for k in ("unbalance_gmm", "angle_deg",
+                    [(k, show(k, row.get(k), row.get(k + "_std"))) for k in ("unbalance_gmm", "angle_deg",
                                                         "correction_angle_deg", "permissible_gmm",
                                                         "passed")]))
     out += [("Machine and run", _rows(doc.get("header") or {})),

@@ -91,7 +91,8 @@ def balancing_quality(rec, w_service, grade, notes, warn):
         iso["permissible_residual_gmm"] = ub.iso_21940_permissible(grade, m_iso, w_service)
         iso["permissible_specific_unbalance_um"] = iso["permissible_residual_gmm"] / m_iso
     bq["iso_21940_11"] = iso
-    red = {"applicable": False, "basis": "not evaluated: no residual unbalance identified", "factor": None, "factor_lower_bound": None,
+    red = {"applicable": False, "basis": "not evaluated: no residual unbalance identified", "factor": None,
+           "factor_std": None, "factor_lower_bound": None,
            "percent": None, "decibel": None}
     bq["reduction"] = red
 
@@ -189,7 +190,12 @@ def balancing_quality(rec, w_service, grade, notes, warn):
                         "own unbalance M e (scene), balancer on = the identified residual")
         U0 = bq["initial_unbalance_gmm"] * 1e-6
         r = ub.reduction_factor(U0, U, 0.0, sU)
-        red.update(factor=r.factor if math.isfinite(r.factor) else None, percent=r.percent,
+        red.update(factor=r.factor if math.isfinite(r.factor) else None,
+                   # first order holds while the residual is well above its std; below
+                   # 3 sigma the factor is unbounded above: its lower bound says it
+                   factor_std=(r.factor_std if math.isfinite(r.factor_std) and 3 * sU <= U
+                               else None),
+                   percent=r.percent,
                    decibel=r.decibel if math.isfinite(r.decibel) else None,
                    factor_lower_bound=U0 / (U + 2 * sU) if (U + 2 * sU) > 0 else None)
         if not math.isfinite(r.factor):
@@ -203,10 +209,14 @@ def balancing_quality(rec, w_service, grade, notes, warn):
     if "ring_radius" in inst and S > 0:
         gain = float(inst.get("screen_settings", {}).get("gain", 1.0))
         try:
-            rr = ub.unbalance_from_rings(gain * sc.amplitude_m, inst["ring_radius"], S)
+            s_r = gain * sc.amplitude_std_m if math.isfinite(sc.amplitude_std_m) else None
+            rr = ub.unbalance_from_rings(gain * sc.amplitude_m, inst["ring_radius"], S,
+                                         radius_std_m=s_r or 0.0)
             bq["ring_reading"] = {
-                "spot_radius_m": gain * sc.amplitude_m, "zone": rr.zone,
+                "spot_radius_m": gain * sc.amplitude_m, "spot_radius_m_std": s_r,
+                "zone": rr.zone,
                 "unbalance_gmm": rr.unbalance_gmm, "interpolated_gmm": rr.interpolated_kg_m * 1e6,
+                "interpolated_gmm_std": None if s_r is None else rr.interpolated_std_kg_m * 1e6,
                 "off_scale": rr.off_scale,
                 "ring_test_speed_hz": (inst["ring_test_speed_rad_s"] / TWO_PI
                                        if inst.get("ring_test_speed_rad_s") else None)}

@@ -37,7 +37,7 @@ SCHEMA = {
                          "permissible_residual_gmm": N, "permissible_specific_unbalance_um": N,
                          "achieved_grade_mm_s": N, "achieved_grade_mm_s_std": N,
                          "achieved_class": S_, "passed": B},
-        "reduction": {"applicable": "bool", "basis": "string", "factor": N,
+        "reduction": {"applicable": "bool", "basis": "string", "factor": N, "factor_std": N,
                       "factor_lower_bound": N, "percent": N, "decibel": N},
         "seed_criteria": L,
         "ring_reading": O,

@@ -25,7 +25,8 @@ TWO_PLANE_SCHEMA = {
 #: keys of each row of ``planes`` (units in the names; ``truth_*`` only when the scene
 #: holds the unbalances)
 PLANE_KEYS = ("plane", "axial_position_m", "unbalance_gmm", "unbalance_gmm_std", "angle_deg",
-              "angle_deg_std", "correction_angle_deg", "permissible_gmm", "passed",
+              "angle_deg_std", "correction_angle_deg", "correction_angle_deg_std",
+              "permissible_gmm", "passed",
               "passed_with_uncertainty")
 
 

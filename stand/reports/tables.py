@@ -29,9 +29,10 @@ def show(key, value, std=None) -> str:
     if isinstance(value, (int, float)):
         v = value * f if isinstance(value, float) or f != 1.0 else value
         if std is not None:
-            if key.endswith("_angle_deg") and std * f >= 90.0:
+            angle = key == "angle_deg" or key.endswith("_angle_deg")
+            if angle and std * f >= 90.0:
                 return "undefined (its uncertainty is above a quarter turn)"
-            return with_uncertainty(v, std * f, u, resolution=not key.endswith("_angle_deg"))
+            return with_uncertainty(v, std * f, u, resolution=not angle)
         return plain(v, u)
     return str(value)
 
