@@ -129,12 +129,14 @@ def test_generic_kernel_allocation_free_matches_a_numpy_solve():
 
 
 @pytest.mark.parametrize("torque", [False, True])
-def test_plane_space_solve_equals_the_general_elimination(torque):
+@pytest.mark.parametrize("one_plane", [False, True])
+def test_plane_space_solve_equals_the_general_elimination(torque, one_plane):
     """The Woodbury solve in the planes' space (stand.model.rotors.coupled_solve, the flexible
     shaft's fast path) against the assembled n x n elimination, on a flexible shaft with 5 modes
-    per direction (n = 10), three planes (2P = 6), gravity, three balls and two pendulums in two
-    planes, a two-axis pendulum and a lagging liquid (its phi''-column under a torque drive):
-    every derivative equal to round-off, for random states, compiled and in plain Python."""
+    per direction (n = 10), three planes (2P = 6: the small system eliminated) or one (2 x 2:
+    Cramer), gravity, three balls and two pendulums, a two-axis pendulum and a lagging liquid
+    (its phi''-column under a torque drive): every derivative equal to round-off, for random
+    states, compiled and in plain Python."""
     from stand.model.rotors.bodies import LiquidWeight, PlaneBody, TiltingWeight
     from stand.model.rotors.coupled import build_model, initial_state
     from stand.model.rotors.coupled_kernel import H_FAST, rhs_generic
@@ -142,23 +144,25 @@ def test_plane_space_solve_equals_the_general_elimination(torque):
     from stand.scene.model import RotorTorqueDrive
 
     rng = np.random.default_rng(33)
-    rotor = flexible_shaft(1.0, 10.0, 2000.0, n_modes=5, damping_ratio=0.02,
-                           planes={"a": 0.3, "b": 0.7, "u": 0.55},
-                           unbalances={"u": [2e-3, 0.4], "a": [1e-3, 2.0]}, g=(0.0, -9.81))
+    planes = {"a": 0.3} if one_plane else {"a": 0.3, "b": 0.7, "u": 0.55}
+    rotor = flexible_shaft(1.0, 10.0, 2000.0, n_modes=5, damping_ratio=0.02, planes=planes,
+                           unbalances={p: [2e-3 / (k + 1), 0.4 + k] for k, p in enumerate(planes)},
+                           g=(0.0, -9.81))
+    other = "a" if one_plane else "b"
     balls = Balancer(type="balls", mass=np.array([0.01, 0.012, 0.009]), radius=np.full(3, 0.2),
                      drag=np.full(3, 2.0), inertia=0.2 ** 2 * np.array([0.01, 0.012, 0.009]),
                      initial_angles=np.array([0.3, 2.0, 4.0]), initial_speeds=np.zeros(3))
     pend = Balancer(type="pendulums", mass=np.array([0.02, 0.015]), radius=np.array([0.1, 0.12]),
                     drag=np.array([0.01, 0.02]), inertia=np.array([4e-4, 3e-4]),
                     initial_angles=np.array([1.0, 5.0]), initial_speeds=np.zeros(2))
-    bodies = (PlaneBody("b", TiltingWeight("two_axis_pendulum", 0.05, 0.03, 1e-4, 6e-5, 1e-4,
+    bodies = (PlaneBody(other, TiltingWeight("two_axis_pendulum", 0.05, 0.03, 1e-4, 6e-5, 1e-4,
                                            1e-4, 9.81, initial_tilt=0.1, initial_angle=0.7)),
               PlaneBody("a", LiquidWeight("liquid_chamber", 0.4, 0.1, 0.08, height=0.03,
                                           relaxation_time=0.05, volume=4e-4)))
     drive = (RotorTorqueDrive(model="speed_feedback", c1=0.05, target_speed=300.0,
                               rotor_drag=0.004, initial_speed=50.0, inertia=0.02)
              if torque else [[0.0, 0.0], [2.0, 300.0]])
-    weights = [PlaneWeights("a", balls), PlaneWeights("b", pend)]
+    weights = [PlaneWeights("a", balls), PlaneWeights(other, pend)]
     m = build_model(rotor, weights, drive, bodies=bodies)
     assert m.sp[H_FAST] == 1.0 and m.n == 10
     general = m.sp.copy()

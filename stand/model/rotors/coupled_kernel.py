@@ -84,8 +84,8 @@ from stand.scene.model import PlaneWeights  # noqa: F401 (re-exported: the kerne
 from stand.model.rotors.bodies import PlaneBody, body_rows
 from stand.model.rotors.bodies_kernel import (B_H1, B_H2, B_KIND, B_OFF, B_PLANE, N_BCOL, SPHERE, TILT,
                             body_derivatives, body_reaction)
-from stand.model.rotors.coupled_solve import (matrix_kind, matvec_sub, plane_parts, solve_general,
-                                             solve_planes)
+from stand.model.rotors.coupled_solve import (matrix_kind, plane_parts, rotor_forces, row_ranges,
+                                             solve_general, solve_planes, t_dot)
 from stand.model.rotors.structure import LinearRotor
 
 __all__ = ["PlaneWeights", "CoupledModel", "build_model", "rhs_generic", "scratch_size",
@@ -103,7 +103,9 @@ H_FREE, H_JP, H_DMODEL, H_TQ, H_C1, H_C2, H_WT, H_H0, H_W0 = range(17, 26)
 # (stand.model.rotors.coupled_solve): offsets of M^-1, W = M^-1 F^T, S = T M^-1 F^T, the kinds
 # (zero, diagonal, dense) of K, D, G and M^-1, and whether to solve in the planes' space
 H_OS, H_OMI, H_OW, H_OSS, H_KK, H_KD, H_KG, H_KMI, H_FAST = range(26, 35)
-N_HEAD = 35
+# offset of the plane maps' rows' nonzero column ranges (coupled_solve.row_ranges)
+H_OTR = 35
+N_HEAD = 36
 DRIVE_MODELS = {"constant": 0, "speed_feedback": 1, "angle_feedback": 2}
 # weight table columns: plane, mass, radius, inertia, drag, friction (kinetic,
 # static, slip speed, dwell, release), index of its adhesion state (-1: none)
@@ -211,22 +213,20 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
     otx = og + m2
     oE = otx + m2
     ou = oE + m2 * (m2 + 2)
+    # views indexed from 0 in the loops over the coordinates (coupled_solve.dot)
+    Ls, yq, yqd = sp[oL:oL + n], y[:n], y[ns:ns + n]
+    q, qd = buf[oq:oq + n], buf[oqd:oqd + n]
     for i in range(n):
-        L = sp[oL + i]
-        buf[oq + i] = L * y[i]
-        buf[oqd + i] = wref * L * y[ns + i]
-        buf[of + i] = sp[oGR + i]
+        q[i] = Ls[i] * yq[i]
+        qd[i] = wref * Ls[i] * yqd[i]
     # the rotor's own forces f_s = g - K q - (D + Omega G) q' (each matrix by its kind)
-    matvec_sub(buf, oq, sp, int(sp[H_OK]), int(sp[H_KK]), 1.0, of, n)
-    matvec_sub(buf, oqd, sp, int(sp[H_OD]), int(sp[H_KD]), 1.0, of, n)
-    matvec_sub(buf, oqd, sp, int(sp[H_OG]), int(sp[H_KG]), Om, of, n)
+    rotor_forces(sp, buf, n, oGR, int(sp[H_OK]), int(sp[H_KK]), int(sp[H_OD]), int(sp[H_KD]),
+                 int(sp[H_OG]), int(sp[H_KG]), Om, oq, oqd, of)
+    oTr = int(sp[H_OTR])
     for r in range(m2):
-        zx = 0.0
-        zdx = 0.0
-        for k in range(n):
-            zx += sp[oT + r * n + k] * buf[oq + k]
-            zdx += sp[oT + r * n + k] * buf[oqd + k]
-        buf[otq + r], buf[otqd + r] = zx, zdx
+        if nb > 0:      # the plane points' motion: the bodies' reactions need it
+            buf[otq + r] = t_dot(sp, oT, oTr, r, n, buf, oq)
+            buf[otqd + r] = t_dot(sp, oT, oTr, r, n, buf, oqd)
         buf[ofp + r], buf[ob + r], buf[og + r] = 0.0, 0.0, 0.0
         buf[oC + 2 * r], buf[oC + 2 * r + 1] = 0.0, 0.0
     fn = 0.0
@@ -296,19 +296,21 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
             fn += buf[om + j]       # the weights' drag and friction act back on the rotor
         fn += drive_moment(tau / wref, phi, Om, sp) - sp[H_H0] * Om
     if sp[H_FAST] != 0.0:
-        dOm_free = solve_planes(sp, buf, n, npl, int(sp[H_OMI]), int(sp[H_KMI]), oT, int(sp[H_OW]),
-                                int(sp[H_OSS]), of, ofp, oC, oA, ou, ox, otx, free, ob, og, fn, jp)
+        dOm_free = solve_planes(sp, buf, n, npl, int(sp[H_OMI]), int(sp[H_KMI]), oT, oTr,
+                                int(sp[H_OW]), int(sp[H_OSS]), of, ofp, oC, oA, ou, ox, otx, free,
+                                ob, og, fn, jp)
     else:
-        dOm_free = solve_general(sp, buf, n, npl, int(sp[H_OM]), oT, int(sp[H_OF]), of, ofp, oC,
+        dOm_free = solve_general(sp, buf, n, npl, int(sp[H_OM]), oT, oTr, int(sp[H_OF]), of, ofp, oC,
                                  oA, ox, otx, free, ob, og, fn, jp)
     if free:
         dOm = dOm_free
         dy[ifree] = y[ifree + 1]
         dy[ifree + 1] = dOm / (wref * wref)
+    x, dq, dqd = buf[ox:ox + n], dy[:n], dy[ns:ns + n]
+    w2 = wref * wref
     for i in range(n):
-        L = sp[oL + i]
-        dy[i] = y[ns + i]
-        dy[ns + i] = buf[ox + i] / (wref * wref * L)
+        dq[i] = yqd[i]
+        dqd[i] = x[i] / (w2 * Ls[i])
     for bi in range(nb):
         rb = oB + bi * N_BCOL
         pl = int(sp[rb + B_PLANE])
@@ -529,13 +531,13 @@ def build_model(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,
     T_all = np.concatenate([rotor.planes[p] for p in names], axis=0)
     F_all = np.concatenate([rotor.force_map(p) for p in names], axis=0)
     Minv_p, head[H_KMI], W, S = plane_parts(np.asarray(rotor.M, float), T_all, F_all)
-    parts += [Minv_p.ravel(), W.ravel(), S.ravel()]
+    parts += [Minv_p.ravel(), W.ravel(), S.ravel(), row_ranges(T_all)]
     head[H_KK], head[H_KD], head[H_KG] = (matrix_kind(np.asarray(a, float))
                                           for a in (rotor.K, rotor.D, rotor.G))
     # the planes' space pays when it is smaller than the rotor's (coupled_solve)
     head[H_FAST] = float(2 * len(names) < n)
     for slot, a in zip((H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OGR, H_OGP, H_OF, H_OB,
-                        H_OMI, H_OW, H_OSS), parts):
+                        H_OMI, H_OW, H_OSS, H_OTR), parts):
         head[slot] = off
         off += a.size
     head[H_OS] = off

@@ -32,7 +32,7 @@ Two ways to solve it, equal to round-off (tests/test_rotors_coupled.py):
   equations need come out in the plane space too.  phi'' by block elimination: a second
   right-hand side ``C S b`` of the same 2P system.
 
-The rotor's matrices are applied by :func:`matvec_sub` according to their packed kind
+The rotor's matrices are applied by :func:`rotor_forces` according to their packed kind
 (:func:`matrix_kind`: zero, diagonal or dense), so the modal models' diagonal K and D cost
 O(n).  Everything works in a flat buffer at given offsets and allocates nothing (inlined into
 the right-hand side, called millions of times).
@@ -43,7 +43,8 @@ import numpy as np
 
 from stand._jit import njit
 
-__all__ = ["ZERO", "DIAGONAL", "DENSE", "matrix_kind", "plane_parts", "matvec_sub", "solve_small",
+__all__ = ["ZERO", "DIAGONAL", "DENSE", "matrix_kind", "row_ranges", "plane_parts", "rotor_forces",
+           "solve_small",
            "solve_general", "solve_planes"]
 
 ZERO, DIAGONAL, DENSE = 0, 1, 2
@@ -56,6 +57,17 @@ def matrix_kind(a: np.ndarray) -> int:
     return DIAGONAL if not np.any(a - np.diag(np.diag(a))) else DENSE
 
 
+def row_ranges(T: np.ndarray) -> np.ndarray:
+    """Per row of T, the first and one past the last nonzero column (0, 0 for a zero row),
+    flattened: the ranges :func:`t_dot` sums over."""
+    out = np.zeros((T.shape[0], 2))
+    for r, row in enumerate(T):
+        nz = np.flatnonzero(row)
+        if nz.size:
+            out[r] = nz[0], nz[-1] + 1
+    return out.ravel()
+
+
 def plane_parts(M: np.ndarray, T: np.ndarray, F: np.ndarray) -> tuple:
     """``(M^-1, kind of M^-1, W = M^-1 F^T, S = T W)`` for :func:`solve_planes` (T, F: the
     stacked 2P x n plane and force maps)."""
@@ -66,18 +78,64 @@ def plane_parts(M: np.ndarray, T: np.ndarray, F: np.ndarray) -> tuple:
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def matvec_sub(buf, ov, sp, oa, kind, c, of, n):
-    """``f -= c * (A v)`` (A: n x n row-major at ``sp[oa:]`` of the given kind; v at
-    ``buf[ov:]``, f at ``buf[of:]``)."""
+def dot(sp, oa, buf, ov, lo, hi):
+    """``sum_k sp[oa + k] buf[ov + k]`` over lo <= k < hi, in four partial sums: without
+    fast-math the compiler keeps a sum's order, so one accumulator is a chain of dependent
+    multiply-adds; four run in parallel.  Through views indexed from 0: an index the
+    compiler cannot prove non-negative costs five instructions of negative-index handling
+    per access (here and in the other hot loops of the generic kernel)."""
+    a = sp[oa + lo:oa + hi]
+    b = buf[ov + lo:ov + hi]
+    a0 = a1 = a2 = a3 = 0.0
+    m = hi - lo
+    k = 0
+    for k in range(0, m - 3, 4):
+        a0 += a[k] * b[k]
+        a1 += a[k + 1] * b[k + 1]
+        a2 += a[k + 2] * b[k + 2]
+        a3 += a[k + 3] * b[k + 3]
+    for k in range(m - m % 4, m):
+        a0 += a[k] * b[k]
+    return (a0 + a1) + (a2 + a3)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def t_dot(sp, oT, oTr, r, n, buf, ov):
+    """Row r of the stacked plane maps times the vector at ``buf[ov:]``, over the row's
+    nonzero columns (``sp[oTr + 2 r]`` to ``sp[oTr + 2 r + 1]``, :func:`row_ranges`: a
+    modal model's x rows touch the x modes only)."""
+    lo, hi = int(sp[oTr + 2 * r]), int(sp[oTr + 2 * r + 1])
+    return dot(sp, oT + r * n, buf, ov, lo, hi)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def mat_row(sp, oa, kind, i, n, buf, ov):
+    """Row i of the n x n matrix at ``sp[oa:]`` (of the given kind) times the vector at
+    ``buf[ov:]``."""
     if kind == DIAGONAL:
-        for i in range(n):
-            buf[of + i] -= c * sp[oa + i * n + i] * buf[ov + i]
-    elif kind == DENSE:
-        for i in range(n):
-            acc = 0.0
-            for k in range(n):
-                acc += sp[oa + i * n + k] * buf[ov + k]
-            buf[of + i] -= c * acc
+        return sp[oa + i * (n + 1)] * buf[ov + i]
+    if kind == DENSE:
+        return dot(sp, oa + i * n, buf, ov, 0, n)
+    return 0.0
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def rotor_forces(sp, buf, n, oGR, oK, kK, oD, kD, oG, kG, Om, oq, oqd, of):
+    """The rotor's own forces ``f_s = g - K q - (D + Omega G) q'`` [N] at ``buf[of:]`` (K, D, G
+    applied by their kinds; q, q' at ``buf[oq:]``, ``buf[oqd:]``)."""
+    f = buf[of:of + n]
+    grav = sp[oGR:oGR + n]
+    for i in range(n):
+        f[i] = grav[i] - mat_row(sp, oK, kK, i, n, buf, oq) - mat_row(sp, oD, kD, i, n, buf, oqd) \
+            - Om * mat_row(sp, oG, kG, i, n, buf, oqd)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def minv_apply(sp, oa, kind, n, buf, of, ou):
+    """``u = M^-1 f`` (M^-1 at ``sp[oa:]``, diagonal or dense) into ``buf[ou:]``."""
+    u = buf[ou:ou + n]
+    for i in range(n):
+        u[i] = mat_row(sp, oa, kind, i, n, buf, of)
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -123,134 +181,150 @@ def solve_small(buf, oA, of, ox, n):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def solve_general(sp, buf, n, npl, oM, oT, oF, of, ofp, oC, oA, ox, otx, free, ob, og, fn, jp):
+def solve_general(sp, buf, n, npl, oM, oT, oTr, oF, of, ofp, oC, oA, ox, otx, free, ob, og, fn, jp):
     """Assemble ``A = M + F^T C T`` (and the phi'' row and column when ``free``) and
     eliminate; f_s at ``buf[of:]`` (overwritten), f_p, C (P blocks of 4, row-major), b,
     gamma at the given offsets.  Writes x at ``ox`` (phi'' at ``ox + n`` when free) and the
-    plane accelerations T x (2P) at ``otx``; returns phi'' (0 without a torque drive)."""
+    plane accelerations T x (2P) at ``otx`` of the planes with weights (C_p != 0; the others'
+    are not needed); returns phi'' (0 without a torque drive)."""
     ld = n + 1 if free else n
+    A = buf[oA:oA + ld * ld]
+    f = buf[of:of + ld]
+    Mv = sp[oM:oM + n * n]
     for i in range(n):
         for k in range(n):
-            buf[oA + i * ld + k] = sp[oM + i * n + k]
+            A[i * ld + k] = Mv[i * n + k]
     if free:
         for i in range(ld):
-            buf[oA + i * ld + n] = 0.0
-            buf[oA + n * ld + i] = 0.0
-        buf[oA + n * ld + n] = jp
-        buf[of + n] = fn
+            A[i * ld + n] = 0.0
+            A[n * ld + i] = 0.0
+        A[n * ld + n] = jp
+        f[n] = fn
     for p in range(npl):
         c0, c1, c2, c3 = buf[oC + 4 * p], buf[oC + 4 * p + 1], buf[oC + 4 * p + 2], buf[oC + 4 * p + 3]
         fx, fy = buf[ofp + 2 * p], buf[ofp + 2 * p + 1]
-        tb = oT + p * 2 * n
-        fb = oF + p * 2 * n
+        bx, by = buf[ob + 2 * p], buf[ob + 2 * p + 1]
+        gx, gy = buf[og + 2 * p], buf[og + 2 * p + 1]
+        Tx, Ty = sp[oT + 2 * p * n:oT + 2 * p * n + n], sp[oT + 2 * p * n + n:oT + 2 * p * n + 2 * n]
+        Fx, Fy = sp[oF + 2 * p * n:oF + 2 * p * n + n], sp[oF + 2 * p * n + n:oF + 2 * p * n + 2 * n]
+        active = c0 != 0.0 or c1 != 0.0 or c2 != 0.0 or c3 != 0.0
         for i in range(n):
-            Fx, Fy = sp[fb + i], sp[fb + n + i]
-            buf[of + i] += Fx * fx + Fy * fy
-            ax = Fx * c0 + Fy * c2
-            ay = Fx * c1 + Fy * c3
-            if ax != 0.0 or ay != 0.0:
+            f[i] += Fx[i] * fx + Fy[i] * fy
+            if active:
+                ax = Fx[i] * c0 + Fy[i] * c2
+                ay = Fx[i] * c1 + Fy[i] * c3
                 for k in range(n):
-                    buf[oA + i * ld + k] += ax * sp[tb + k] + ay * sp[tb + n + k]
+                    A[i * ld + k] += ax * Tx[k] + ay * Ty[k]
             if free:
-                buf[oA + i * ld + n] += Fx * buf[ob + 2 * p] + Fy * buf[ob + 2 * p + 1]
-                buf[oA + n * ld + i] += sp[tb + i] * buf[og + 2 * p] + sp[tb + n + i] * buf[og + 2 * p + 1]
+                A[i * ld + n] += Fx[i] * bx + Fy[i] * by
+                A[n * ld + i] += Tx[i] * gx + Ty[i] * gy
     solve_small(buf, oA, of, ox, ld)
-    for r in range(2 * npl):
-        acc = 0.0
-        for k in range(n):
-            acc += sp[oT + r * n + k] * buf[ox + k]
-        buf[otx + r] = acc
+    for p in range(npl):
+        if buf[oC + 4 * p] != 0.0 or buf[oC + 4 * p + 1] != 0.0 or buf[oC + 4 * p + 2] != 0.0 \
+                or buf[oC + 4 * p + 3] != 0.0:
+            buf[otx + 2 * p] = t_dot(sp, oT, oTr, 2 * p, n, buf, ox)
+            buf[otx + 2 * p + 1] = t_dot(sp, oT, oTr, 2 * p + 1, n, buf, ox)
     return buf[ox + n] if free else 0.0
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def solve_planes(sp, buf, n, npl, oMi, kMi, oT, oW, oS, of, ofp, oC, oE, ou, ox, otx, free, ob, og,
+def solve_planes(sp, buf, n, npl, oMi, kMi, oT, oTr, oW, oS, of, ofp, oC, oE, ou, ox, otx, free, ob, og,
                  fn, jp):
     """The same solution by the Woodbury identity (module docstring): M^-1 (kind ``kMi``),
     W, S packed at ``oMi``, ``oW``, ``oS``; scratch: the 2P x (2P + 2) system at ``oE``, u
-    (n) at ``ou``.  Other arguments and results as :func:`solve_general`'s (f_s is kept)."""
+    (n) at ``ou``.  Other arguments and results as :func:`solve_general`'s (f_s is kept;
+    f_p is overwritten)."""
     m = 2 * npl
     w = m + 2                       # columns of the small system: I + C S | r0 | r1
     nr = 2 if free else 1
-    for i in range(n):              # u = M^-1 f_s
-        buf[ou + i] = 0.0
-    matvec_sub(buf, of, sp, oMi, kMi, -1.0, ou, n)
-    for r in range(m):              # T u (kept at otx); T u + S f_p and S b: columns m, m + 1
-        acc = 0.0
-        for k in range(n):
-            acc += sp[oT + r * n + k] * buf[ou + k]
-        buf[otx + r] = acc
+    E = buf[oE:oE + m * w]
+    S = sp[oS:oS + m * m]
+    fp, b, g, tx = buf[ofp:ofp + m], buf[ob:ob + m], buf[og:og + m], buf[otx:otx + m]
+    minv_apply(sp, oMi, kMi, n, buf, of, ou)       # u = M^-1 f_s
+    u = buf[ou:ou + n]
+    for r in range(m):              # T u (kept in tx); T u + S f_p and S b: columns m, m + 1
+        acc = t_dot(sp, oT, oTr, r, n, buf, ou)
+        tx[r] = acc
         sb = 0.0
         for c in range(m):
-            acc += sp[oS + r * m + c] * buf[ofp + c]
-            sb += sp[oS + r * m + c] * buf[ob + c]
-        buf[oE + r * w + m] = acc
-        buf[oE + r * w + m + 1] = sb
+            acc += S[r * m + c] * fp[c]
+            sb += S[r * m + c] * b[c]
+        E[r * w + m] = acc
+        E[r * w + m + 1] = sb
     for p in range(npl):            # rows of plane p: E = I + C_p S, right-hand sides C_p (.)
         c0, c1, c2, c3 = buf[oC + 4 * p], buf[oC + 4 * p + 1], buf[oC + 4 * p + 2], buf[oC + 4 * p + 3]
-        rx, ry = oE + 2 * p * w, oE + (2 * p + 1) * w
+        rx, ry = 2 * p * w, (2 * p + 1) * w
         for c in range(m + nr):
             if c < m:
-                sx, sy = sp[oS + 2 * p * m + c], sp[oS + (2 * p + 1) * m + c]
+                sx, sy = S[2 * p * m + c], S[(2 * p + 1) * m + c]
             else:
-                sx, sy = buf[rx + c], buf[ry + c]
-            buf[rx + c] = c0 * sx + c1 * sy
-            buf[ry + c] = c2 * sx + c3 * sy
-        buf[rx + 2 * p] += 1.0
-        buf[ry + 2 * p + 1] += 1.0
-    # Gaussian elimination with partial pivoting, one or two right-hand sides
-    for k in range(m):
-        piv_row = k
-        big = abs(buf[oE + k * w + k])
-        for i in range(k + 1, m):
-            if abs(buf[oE + i * w + k]) > big:
-                big = abs(buf[oE + i * w + k])
-                piv_row = i
-        if piv_row != k:
-            for j in range(k, m + nr):
-                tmp = buf[oE + k * w + j]
-                buf[oE + k * w + j] = buf[oE + piv_row * w + j]
-                buf[oE + piv_row * w + j] = tmp
-        piv = buf[oE + k * w + k]
-        for i in range(k + 1, m):
-            r = buf[oE + i * w + k] / piv
-            if r != 0.0:
-                for j in range(k + 1, m + nr):
-                    buf[oE + i * w + j] -= r * buf[oE + k * w + j]
-    for c in range(m, m + nr):
-        for k in range(m - 1, -1, -1):
-            acc = buf[oE + k * w + c]
-            for j in range(k + 1, m):
-                acc -= buf[oE + k * w + j] * buf[oE + j * w + c]
-            buf[oE + k * w + c] = acc / buf[oE + k * w + k]
-    # d0 = f_p - z0, d1 = b - z1 (columns m, m + 1); phi''; d = d0 - phi'' d1
+                sx, sy = E[rx + c], E[ry + c]
+            E[rx + c] = c0 * sx + c1 * sy
+            E[ry + c] = c2 * sx + c3 * sy
+        E[rx + 2 * p] += 1.0
+        E[ry + 2 * p + 1] += 1.0
+    if m == 2:      # one plane: Cramer's rule (E is the identity plus the weights' small part)
+        det = E[0] * E[w + 1] - E[1] * E[w]
+        for c in range(m, m + nr):
+            r0, r1 = E[c], E[w + c]
+            E[c] = (E[w + 1] * r0 - E[1] * r1) / det
+            E[w + c] = (E[0] * r1 - E[w] * r0) / det
+    else:           # Gaussian elimination with partial pivoting, one or two right-hand sides
+        for k in range(m):
+            piv_row = k
+            big = abs(E[k * w + k])
+            for i in range(k + 1, m):
+                if abs(E[i * w + k]) > big:
+                    big = abs(E[i * w + k])
+                    piv_row = i
+            if piv_row != k:
+                for j in range(k, m + nr):
+                    tmp = E[k * w + j]
+                    E[k * w + j] = E[piv_row * w + j]
+                    E[piv_row * w + j] = tmp
+            piv = E[k * w + k]
+            for i in range(k + 1, m):
+                r = E[i * w + k] / piv
+                if r != 0.0:
+                    for j in range(k + 1, m + nr):
+                        E[i * w + j] -= r * E[k * w + j]
+        for c in range(m, m + nr):
+            for k in range(m - 1, -1, -1):
+                acc = E[k * w + c]
+                for j in range(k + 1, m):
+                    acc -= E[k * w + j] * E[j * w + c]
+                E[k * w + c] = acc / E[k * w + k]
+    # d = f_p - z0 (in f_p's place; it is spent), d1 = b - z1 (column m + 1); phi'';
+    # d -= phi'' d1
     for c in range(m):
-        buf[oE + c * w + m] = buf[ofp + c] - buf[oE + c * w + m]
-        buf[oE + c * w + m + 1] = buf[ob + c] - buf[oE + c * w + m + 1]
+        fp[c] -= E[c * w + m]
+        E[c * w + m + 1] = b[c] - E[c * w + m + 1]
     phid = 0.0
     if free:
         num = fn
         den = jp
         for r in range(m):
-            t0 = buf[otx + r]
+            t0 = tx[r]
             t1 = 0.0
             for c in range(m):
-                t0 += sp[oS + r * m + c] * buf[oE + c * w + m]
-                t1 += sp[oS + r * m + c] * buf[oE + c * w + m + 1]
-            num -= buf[og + r] * t0
-            den -= buf[og + r] * t1
+                t0 += S[r * m + c] * fp[c]
+                t1 += S[r * m + c] * E[c * w + m + 1]
+            num -= g[r] * t0
+            den -= g[r] * t1
         phid = num / den
         for c in range(m):
-            buf[oE + c * w + m] -= phid * buf[oE + c * w + m + 1]
+            fp[c] -= phid * E[c * w + m + 1]
         buf[ox + n] = phid
+    x = buf[ox:ox + n]
+    Wm = sp[oW:oW + n * m]
     for i in range(n):      # x = u + W d
-        acc = buf[ou + i]
+        acc = u[i]
         for c in range(m):
-            acc += sp[oW + i * m + c] * buf[oE + c * w + m]
-        buf[ox + i] = acc
+            acc += Wm[i * m + c] * fp[c]
+        x[i] = acc
     for r in range(m):      # T x = T u + S d
-        acc = buf[otx + r]
+        acc = tx[r]
         for c in range(m):
-            acc += sp[oS + r * m + c] * buf[oE + c * w + m]
-        buf[otx + r] = acc
+            acc += S[r * m + c] * fp[c]
+        tx[r] = acc
     return phid
