@@ -28,14 +28,16 @@ Two ways to solve it, equal to round-off (tests/test_rotors_coupled.py):
   never inverted, so a plane without weights, C_p = 0, or a single point ball, rank one,
   is no special case).  ``det A = det M det(I + C S)``: the small system is singular exactly
   when A is.  Cost O(P n) with a diagonal M (modal models: the flexible shaft) plus a 2P x 2P
-  elimination, instead of O(n^3); the plane accelerations ``T x`` that the weights' own
+  elimination (Cramer's rule for one plane), instead of O(n^3); the plane accelerations ``T x`` that the weights' own
   equations need come out in the plane space too.  phi'' by block elimination: a second
   right-hand side ``C S b`` of the same 2P system.
 
 The rotor's matrices are applied by :func:`rotor_forces` according to their packed kind
 (:func:`matrix_kind`: zero, diagonal or dense), so the modal models' diagonal K and D cost
 O(n).  Everything works in a flat buffer at given offsets and allocates nothing (inlined into
-the right-hand side, called millions of times).
+the right-hand side, called millions of times); the loops run over views of it, so the callers
+compile it without numba's reference counting (``_nrt=False``, as :mod:`stand.model.kernels`
+does), which would count every view.
 """
 from __future__ import annotations
 
@@ -44,8 +46,7 @@ import numpy as np
 from stand._jit import njit
 
 __all__ = ["ZERO", "DIAGONAL", "DENSE", "matrix_kind", "row_ranges", "plane_parts", "rotor_forces",
-           "solve_small",
-           "solve_general", "solve_planes"]
+           "solve_small", "solve_general", "solve_planes"]
 
 ZERO, DIAGONAL, DENSE = 0, 1, 2
 
@@ -88,7 +89,6 @@ def dot(sp, oa, buf, ov, lo, hi):
     b = buf[ov + lo:ov + hi]
     a0 = a1 = a2 = a3 = 0.0
     m = hi - lo
-    k = 0
     for k in range(0, m - 3, 4):
         a0 += a[k] * b[k]
         a1 += a[k + 1] * b[k + 1]
