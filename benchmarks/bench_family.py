@@ -218,7 +218,8 @@ def compare(name, scene, repeats, np_repeats):
     print(f"\n(a) {name}: rtol {RTOL:g}, error = max|q - q_ref| / max|q_ref| (ref: stand at "
           f"rtol 1e-12), tolerance {tol:g}")
     for p, t, nfev in rows:
-        print("  " + p.line(f"{t * 1e3:9.1f} ms  error {p.error:.2e}  {nfev} RHS evals"))
+        print("  " + p.line(f"{t * 1e3:9.1f} ms  error {p.error:.2e}  {nfev} RHS evals  "
+                            f"{t / max(nfev, 1) * 1e6:.2f} µs/eval"))
     ratio = t_np / t_ours if p_ours.valid and p_np.valid else None
     print(f"  naive SciPy / stand: {f'{ratio:.0f}x' if ratio else 'not evaluated'}")
     return name, rows, ratio

@@ -71,7 +71,7 @@ def per_weight_cost(counts=(1, 2, 4, 8, 16, 32), calls: int = 200_000) -> list:
     from stand.model.rotors.coupled_kernel import rhs_generic
     from stand.model.rotors.planar_supports import planar_rotor
 
-    @njit
+    @njit(_nrt=False)   # as the DOP853 loop calls it: no reference counts on the views
     def loop(n, y, dy, sp, wt, prog):
         s = 0.0
         for i in range(n):

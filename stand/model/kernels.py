@@ -75,9 +75,11 @@ def _register(numba):
             return impl
         return None
 
-    # Any other kind: a call (the generic right-hand side is ten times larger; it allocates
-    # nothing: its scratch block is the tail of sp).
-    @overload(derivatives, jit_options={"error_model": "numpy", "_nrt": True})
+    # Any other kind: a call (the generic right-hand side is ten times larger).  It allocates
+    # nothing (its scratch block is the tail of sp), so without reference counting: the atomic
+    # counts of its array arguments, passed on to every inlined helper, cost a fifth of a
+    # 20-coordinate call (issue 33).
+    @overload(derivatives, jit_options={"error_model": "numpy", "_nrt": False})
     def _kernel_of_literal_kind(kind, t, y, dy, sp, wt, prog):
         if not isinstance(kind, types.IntegerLiteral):
             raise numba.core.errors.TypingError(

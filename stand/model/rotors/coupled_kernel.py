@@ -21,8 +21,13 @@ n x n system for q'' (n = rotor coordinates)::
                             - (m_j^2 l_j^2 / J_j)(n_j . g_p) n_j - (m_j l_j H_j alpha_j' / J_j) n_j ]
 
 (forces through the plane's force map F_p^T when it has one, see
-:mod:`stand.model.rotors.structure`), so one right-hand side costs O(N_weights n^2 + n^3): linear in the number of
-weights.  For point balls (J = m l^2) the bracket is M + sum m T^T e e^T T.
+:mod:`stand.model.rotors.structure`).  For point balls (J = m l^2) the bracket is
+M + sum m T^T e e^T T.  The weights enter only through their planes: the kernel gathers
+the plane forces and each plane's 2 x 2 inertia (m_j I - (m_j^2 l_j^2 / J_j) n_j n_j^T,
+summed) and :mod:`stand.model.rotors.coupled_solve` solves M + F^T C T either assembled
+(O(n^3)) or, when the planes' space is the smaller (2 x planes < n: the flexible shaft), by
+the Woodbury identity on the constant M (O(planes x n) with a diagonal M); K, D and G are
+applied by their kind (zero, diagonal, dense).  The cost is linear in the number of weights.
 The weights are point masses in their plane (their own transverse moments of
 inertia are neglected, as in the book's linear models).
 
@@ -79,6 +84,8 @@ from stand.scene.model import PlaneWeights  # noqa: F401 (re-exported: the kerne
 from stand.model.rotors.bodies import PlaneBody, body_rows
 from stand.model.rotors.bodies_kernel import (B_H1, B_H2, B_KIND, B_OFF, B_PLANE, N_BCOL, SPHERE, TILT,
                             body_derivatives, body_reaction)
+from stand.model.rotors.coupled_solve import (matrix_kind, plane_parts, rotor_forces, row_ranges,
+                                             solve_general, solve_planes, t_dot)
 from stand.model.rotors.structure import LinearRotor
 
 __all__ = ["PlaneWeights", "CoupledModel", "build_model", "rhs_generic", "scratch_size",
@@ -92,10 +99,13 @@ H_N, H_NW, H_NPL, H_NUB, H_WREF, H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OG
 # 1 speed feedback, 2 angle feedback), torque [N m], c1 [N m s], c2 [N m], target speed
 # [rad/s], rotor drag H0 [N m s], initial speed [rad/s]
 H_FREE, H_JP, H_DMODEL, H_TQ, H_C1, H_C2, H_WT, H_H0, H_W0 = range(17, 26)
-# offsets of the RHS's scratch block (sp's last, :func:`scratch_size`) and of the locked mass
-# matrix M + sum_j m_j F_p^T T_p (n x n; the Schur complement's part free of the angles)
-H_OS, H_OML = 26, 27
-N_HEAD = 28
+# offset of the RHS's scratch block (sp's last, :func:`scratch_size`); the plane-space solve
+# (stand.model.rotors.coupled_solve): offsets of M^-1, W = M^-1 F^T, S = T M^-1 F^T, the kinds
+# (zero, diagonal, dense) of K, D, G and M^-1, and whether to solve in the planes' space
+H_OS, H_OMI, H_OW, H_OSS, H_KK, H_KD, H_KG, H_KMI, H_FAST = range(26, 35)
+# offset of the plane maps' rows' nonzero column ranges (coupled_solve.row_ranges)
+H_OTR = 35
+N_HEAD = 36
 DRIVE_MODELS = {"constant": 0, "speed_feedback": 1, "angle_feedback": 2}
 # weight table columns: plane, mass, radius, inertia, drag, friction (kinetic,
 # static, slip speed, dwell, release), index of its adhesion state (-1: none)
@@ -137,49 +147,6 @@ def _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def solve_small(buf, oA, of, ox, n):
-    """Solve ``A x = f`` held in the flat buffer (A row-major at ``oA``, f at ``of``, x
-    written at ``ox``; A and f overwritten): Gaussian elimination with partial pivoting,
-    in place, allocating nothing.  At the stand's sizes (n <= 2 x 10 modes + 1) LAPACK's
-    call and copy overhead (np.linalg.solve) costs more than the arithmetic, inside a
-    right-hand side called millions of times.  A singular A gives non-finite x (the
-    integrator stops)."""
-    if n == 2:      # Cramer's rule (the planar rotor, the liquid's paper-001 stand)
-        a, b, c, d = buf[oA], buf[oA + 1], buf[oA + 2], buf[oA + 3]
-        det = a * d - b * c
-        buf[ox] = (d * buf[of] - b * buf[of + 1]) / det
-        buf[ox + 1] = (a * buf[of + 1] - c * buf[of]) / det
-        return
-    for k in range(n):
-        p = k
-        big = abs(buf[oA + k * n + k])
-        for i in range(k + 1, n):
-            if abs(buf[oA + i * n + k]) > big:
-                big = abs(buf[oA + i * n + k])
-                p = i
-        if p != k:
-            for j in range(k, n):
-                tmp = buf[oA + k * n + j]
-                buf[oA + k * n + j] = buf[oA + p * n + j]
-                buf[oA + p * n + j] = tmp
-            tmp = buf[of + k]
-            buf[of + k] = buf[of + p]
-            buf[of + p] = tmp
-        piv = buf[oA + k * n + k]
-        for i in range(k + 1, n):
-            r = buf[oA + i * n + k] / piv
-            if r != 0.0:
-                for j in range(k + 1, n):
-                    buf[oA + i * n + j] -= r * buf[oA + k * n + j]
-                buf[of + i] -= r * buf[of + k]
-    for k in range(n - 1, -1, -1):
-        acc = buf[of + k]
-        for j in range(k + 1, n):
-            acc -= buf[oA + k * n + j] * buf[ox + j]
-        buf[ox + k] = acc / buf[oA + k * n + k]
-
-
-@njit(cache=True, inline="always", error_model="numpy")
 def drive_moment(t, phi, Om, sp):
     """Drive torque M_drive [N m] of the book's models 1-3 (section 5.1.1) at time t [s]."""
     return drive_torque_law(sp[H_DMODEL], sp[H_TQ], sp[H_C1], sp[H_C2], sp[H_WT], t, phi, Om)
@@ -204,77 +171,82 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
     """Right-hand side of a LinearRotor with weights (module docstring), scaled time."""
     n = int(sp[H_N])
     nw = int(sp[H_NW])
+    npl = int(sp[H_NPL])
     nub = int(sp[H_NUB])
     wref = sp[H_WREF]
-    oM, oG, oD, oK = int(sp[H_OM]), int(sp[H_OG]), int(sp[H_OD]), int(sp[H_OK])
     oT, oUB, oL, oGR, oGP = int(sp[H_OT]), int(sp[H_OUB]), int(sp[H_OL]), int(sp[H_OGR]), int(sp[H_OGP])
-    oF = int(sp[H_OF])
-    oML = int(sp[H_OML])
     ifree = int(sp[H_FREE])
-    if ifree == 0:      # speed programme
+    free = ifree != 0
+    if not free:        # speed programme
         phi, R, dR = programme_kinematics(tau, prog, prog.shape[0])
         Om = R * wref
         dOm = dR * wref * wref
-        ld = n
-    else:               # torque drive: phi, Omega states, phi'' the (n+1)-th unknown
+    else:               # torque drive: phi, Omega states, phi'' one more unknown
         phi = y[ifree]
         Om = wref * y[ifree + 1]
         dOm = 0.0
-        ld = n + 1
+    ld = n + 1 if free else n
     gx = sp[oGP]
     gy = sp[oGP + 1]
     ns = n + nw
     nb = int(sp[H_NB])
     oB = int(sp[H_OB])
+    m2 = 2 * npl
     # one flat scratch block, the tail of sp (scratch_size; views and allocations dominate at
-    # small n), indexed by offsets: q, qd, A (row-major), f, q'', per point weight cos, sin,
-    # moment, the body reaction, n_j^T T_p, each body's plane point state
+    # small n), indexed by offsets: q, q', f, x, A, per point weight cos, sin, moment, a body
+    # reaction, and the planes' space (stand.model.rotors.coupled_solve): T q, T q', f_p,
+    # C (4 per plane), b, gamma, T x, the small system, u
     buf, oq = sp, int(sp[H_OS])
-    oqd, oA = oq + n, oq + 2 * n
-    of = oA + ld * ld
+    oqd, of = oq + n, oq + 2 * n
     ox = of + ld
-    oc = ox + ld
+    oA = ox + ld
+    oc = oA + ld * ld
     os_ = oc + nw
     om = os_ + nw
     oR = om + nw
-    ont = oR + 6
-    oz = ont + n
+    otq = oR + 6
+    otqd = otq + m2
+    ofp = otqd + m2
+    oC = ofp + m2
+    ob = oC + 2 * m2
+    og = ob + m2
+    otx = og + m2
+    oE = otx + m2
+    ou = oE + m2 * (m2 + 2)
+    # views indexed from 0 in the loops over the coordinates (coupled_solve.dot)
+    Ls, yq, yqd = sp[oL:oL + n], y[:n], y[ns:ns + n]
+    q, qd = buf[oq:oq + n], buf[oqd:oqd + n]
     for i in range(n):
-        L = sp[oL + i]
-        buf[oq + i] = L * y[i]
-        buf[oqd + i] = wref * L * y[ns + i]
-    for i in range(n):
-        acc = sp[oGR + i]
-        for k in range(n):
-            acc -= sp[oK + i * n + k] * buf[oq + k]
-            acc -= (sp[oD + i * n + k] + Om * sp[oG + i * n + k]) * buf[oqd + k]
-        buf[of + i] = acc
-        for k in range(n):
-            buf[oA + i * ld + k] = sp[oML + i * n + k]
-    if ifree != 0:      # the phi'' column and the spin row
-        for i in range(ld):
-            buf[oA + i * ld + n] = 0.0
-            buf[oA + n * ld + i] = 0.0
-        buf[of + n] = 0.0
-    # unbalances
+        q[i] = Ls[i] * yq[i]
+        qd[i] = wref * Ls[i] * yqd[i]
+    # the rotor's own forces f_s = g - K q - (D + Omega G) q' (each matrix by its kind)
+    rotor_forces(sp, buf, n, oGR, int(sp[H_OK]), int(sp[H_KK]), int(sp[H_OD]), int(sp[H_KD]),
+                 int(sp[H_OG]), int(sp[H_KG]), Om, oq, oqd, of)
+    oTr = int(sp[H_OTR])
+    for r in range(m2):
+        if nb > 0:      # the plane points' motion: the bodies' reactions need it
+            buf[otq + r] = t_dot(sp, oT, oTr, r, n, buf, oq)
+            buf[otqd + r] = t_dot(sp, oT, oTr, r, n, buf, oqd)
+        buf[ofp + r], buf[ob + r], buf[og + r] = 0.0, 0.0, 0.0
+        buf[oC + 2 * r], buf[oC + 2 * r + 1] = 0.0, 0.0
+    fn = 0.0
+    # unbalances: plane forces; under a torque drive s phi'' (sin, -cos) = s phi'' n_u moves to
+    # the left (b) and into the spin row (gamma)
     for u in range(nub):
         p = int(sp[oUB + 3 * u])
         s = sp[oUB + 3 * u + 1]
         th = phi + sp[oUB + 3 * u + 2]
         c, si = math.cos(th), math.sin(th)
-        fx = s * (Om * Om * c + dOm * si)
-        fy = s * (Om * Om * si - dOm * c)
-        base = oF + p * 2 * n
-        for i in range(n):
-            buf[of + i] += sp[base + i] * fx + sp[base + n + i] * fy
-        if ifree != 0:  # s phi'' (sin, -cos) = s phi'' n_u: moved to the left; the spin row
-            tb = oT + p * 2 * n
-            for i in range(n):
-                buf[oA + i * ld + n] -= s * (sp[base + i] * si - sp[base + n + i] * c)
-                buf[oA + n * ld + i] -= s * (sp[tb + i] * si - sp[tb + n + i] * c)
-            buf[of + n] -= s * (si * gx - c * gy)
-    # weights: assemble the Schur complement (the angle's cosine, sine and the resisting
-    # moment are kept for the weights' own accelerations below)
+        buf[ofp + 2 * p] += s * (Om * Om * c + dOm * si)
+        buf[ofp + 2 * p + 1] += s * (Om * Om * si - dOm * c)
+        if free:
+            buf[ob + 2 * p] -= s * si
+            buf[ob + 2 * p + 1] += s * c
+            buf[og + 2 * p] -= s * si
+            buf[og + 2 * p + 1] += s * c
+            fn -= s * (si * gx - c * gy)
+    # weights: plane inertia C_p += m I - k2 n n^T and plane forces (the angle's cosine, sine
+    # and the resisting moment are kept for the weights' own accelerations below)
     for j in range(nw):
         p = int(wt[j, W_PLANE])
         m = wt[j, W_M]
@@ -290,90 +262,64 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         ng = si * gx - c * gy
         Mr = H * ad + _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy)
         buf[oc + j], buf[os_ + j], buf[om + j] = c, si, Mr
-        gxw = m * gx + m * l * psid * psid * c - k2 * ng * si - m * l * Mr / J * si
-        gyw = m * gy + m * l * psid * psid * si + k2 * ng * c + m * l * Mr / J * c
-        base = oT + p * 2 * n
-        fbase = oF + p * 2 * n
-        for k in range(n):          # n_j^T T_p
-            buf[ont + k] = sp[base + k] * si - sp[base + n + k] * c
-        for i in range(n):
-            tx = sp[fbase + i]      # forces act through the force map F_p
-            ty = sp[fbase + n + i]
-            buf[of + i] += tx * gxw + ty * gyw
-            knti = k2 * (tx * si - ty * c)
-            # m_j F_p^T T_p is in the locked mass matrix; the angle's rank-one part here
-            for k in range(n):
-                buf[oA + i * ld + k] -= knti * buf[ont + k]
+        buf[ofp + 2 * p] += m * gx + m * l * psid * psid * c - k2 * ng * si - m * l * Mr / J * si
+        buf[ofp + 2 * p + 1] += m * gy + m * l * psid * psid * si + k2 * ng * c + m * l * Mr / J * c
+        oc4 = oC + 4 * p
+        buf[oc4] += m - k2 * si * si
+        buf[oc4 + 1] += k2 * si * c
+        buf[oc4 + 2] += k2 * si * c
+        buf[oc4 + 3] += m - k2 * c * c
     # body weights (stand.model.rotors.bodies_kernel): reaction F = R a + r on their plane point
-    for b in range(nb):
-        rb = oB + b * N_BCOL
+    for bi in range(nb):
+        rb = oB + bi * N_BCOL
         pl = int(sp[rb + B_PLANE])
-        base = oT + pl * 2 * n
-        fbase = oF + pl * 2 * n
-        zx = zy = zdx = zdy = 0.0
-        for k in range(n):
-            zx += sp[base + k] * buf[oq + k]
-            zy += sp[base + n + k] * buf[oq + k]
-            zdx += sp[base + k] * buf[oqd + k]
-            zdy += sp[base + n + k] * buf[oqd + k]
-        zo = oz + 4 * b
-        buf[zo], buf[zo + 1], buf[zo + 2], buf[zo + 3] = zx, zy, zdx, zdy
-        if ifree != 0:
+        zx, zy = buf[otq + 2 * pl], buf[otq + 2 * pl + 1]
+        zdx, zdy = buf[otqd + 2 * pl], buf[otqd + 2 * pl + 1]
+        if free:
             # the reaction's part proportional to phi'' (LAG), and the drag moments about
             # the shaft that act back on the rotor
             body_reaction(sp, rb, y, wref, Om, 1.0, gx, gy, zx, zy, zdx, zdy, buf, oR)
             d4, d5 = buf[oR + 4], buf[oR + 5]
             body_reaction(sp, rb, y, wref, Om, 0.0, gx, gy, zx, zy, zdx, zdy, buf, oR)
-            d4 -= buf[oR + 4]
-            d5 -= buf[oR + 5]
-            for i in range(n):
-                buf[oA + i * ld + n] -= sp[fbase + i] * d4 + sp[fbase + n + i] * d5
-            buf[of + n] += body_spin_moment(sp, rb, y, wref, Om)
+            buf[ob + 2 * pl] -= d4 - buf[oR + 4]
+            buf[ob + 2 * pl + 1] -= d5 - buf[oR + 5]
+            fn += body_spin_moment(sp, rb, y, wref, Om)
         else:
             body_reaction(sp, rb, y, wref, Om, dOm, gx, gy, zx, zy, zdx, zdy, buf, oR)
-        R0, R1, R2, R3 = buf[oR], buf[oR + 1], buf[oR + 2], buf[oR + 3]
-        for i in range(n):
-            tx = sp[fbase + i]
-            ty = sp[fbase + n + i]
-            buf[of + i] += tx * buf[oR + 4] + ty * buf[oR + 5]
-            for k in range(n):
-                txk = sp[base + k]
-                tyk = sp[base + n + k]
-                buf[oA + i * ld + k] -= tx * (R0 * txk + R1 * tyk) + ty * (R2 * txk + R3 * tyk)
-    if ifree != 0:
-        mw = 0.0
+        for k in range(4):
+            buf[oC + 4 * pl + k] -= buf[oR + k]
+        buf[ofp + 2 * pl] += buf[oR + 4]
+        buf[ofp + 2 * pl + 1] += buf[oR + 5]
+    jp = sp[H_JP]
+    if free:
         for j in range(nw):
-            mw += buf[om + j]       # the weights' drag and friction act back on the rotor
-        buf[oA + n * ld + n] = sp[H_JP]
-        buf[of + n] += drive_moment(tau / wref, phi, Om, sp) - sp[H_H0] * Om + mw
-        solve_small(buf, oA, of, ox, ld)
-        dOm = buf[ox + n]
+            fn += buf[om + j]       # the weights' drag and friction act back on the rotor
+        fn += drive_moment(tau / wref, phi, Om, sp) - sp[H_H0] * Om
+    if sp[H_FAST] != 0.0:
+        dOm_free = solve_planes(sp, buf, n, npl, int(sp[H_OMI]), int(sp[H_KMI]), oT, oTr,
+                                int(sp[H_OW]), int(sp[H_OSS]), of, ofp, oC, oA, ou, ox, otx, free,
+                                ob, og, fn, jp)
+    else:
+        dOm_free = solve_general(sp, buf, n, npl, int(sp[H_OM]), oT, oTr, int(sp[H_OF]), of, ofp, oC,
+                                 oA, ox, otx, free, ob, og, fn, jp)
+    if free:
+        dOm = dOm_free
         dy[ifree] = y[ifree + 1]
         dy[ifree + 1] = dOm / (wref * wref)
-    else:
-        solve_small(buf, oA, of, ox, n)
+    x, dq, dqd = buf[ox:ox + n], dy[:n], dy[ns:ns + n]
+    w2 = wref * wref
     for i in range(n):
-        L = sp[oL + i]
-        dy[i] = y[ns + i]
-        dy[ns + i] = buf[ox + i] / (wref * wref * L)
-    for b in range(nb):
-        rb = oB + b * N_BCOL
-        base = oT + int(sp[rb + B_PLANE]) * 2 * n
-        apx = 0.0
-        apy = 0.0
-        for k in range(n):
-            apx += sp[base + k] * buf[ox + k]
-            apy += sp[base + n + k] * buf[ox + k]
-        zo = oz + 4 * b
-        body_derivatives(sp, rb, y, dy, wref, Om, dOm, gx, gy, buf[zo], buf[zo + 1],
-                         buf[zo + 2], buf[zo + 3], apx, apy)
+        dq[i] = yqd[i]
+        dqd[i] = x[i] / (w2 * Ls[i])
+    for bi in range(nb):
+        rb = oB + bi * N_BCOL
+        pl = int(sp[rb + B_PLANE])
+        body_derivatives(sp, rb, y, dy, wref, Om, dOm, gx, gy, buf[otq + 2 * pl],
+                         buf[otq + 2 * pl + 1], buf[otqd + 2 * pl], buf[otqd + 2 * pl + 1],
+                         buf[otx + 2 * pl], buf[otx + 2 * pl + 1])
     for j in range(nw):
-        base = oT + int(wt[j, W_PLANE]) * 2 * n
-        apx = 0.0
-        apy = 0.0
-        for k in range(n):
-            apx += sp[base + k] * buf[ox + k]
-            apy += sp[base + n + k] * buf[ox + k]
+        p = int(wt[j, W_PLANE])
+        apx, apy = buf[otx + 2 * p], buf[otx + 2 * p + 1]
         ml = wt[j, W_M] * wt[j, W_L]
         psidd = (ml * (buf[os_ + j] * (apx - gx) - buf[oc + j] * (apy - gy)) - buf[om + j]) \
             / wt[j, W_J]
@@ -386,13 +332,15 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
             dy[iz] = (sl * (1.0 - z) / wt[j, W_TD] - (1.0 - sl) * z / wt[j, W_TR]) / wref
 
 
-def scratch_size(n: int, nw: int, nb: int, free: bool) -> int:
-    """Length of :func:`rhs_generic`'s scratch block, the last of ``sp``: q, q', the (n + free)^2
-    matrix, its right-hand side and solution, cos, sin, moment of each point weight, a body
-    reaction (6), a weight's n_j^T T_p (n), each body's plane point state (4).  The RHS writes
-    there instead of allocating: one thread at a time per ``sp`` (copy it to share a model)."""
+def scratch_size(n: int, nw: int, npl: int, free: bool) -> int:
+    """Length of :func:`rhs_generic`'s scratch block, the last of ``sp``: q, q', the right-hand
+    side and solution (n + free each), the (n + free)^2 matrix, cos, sin, moment of each point
+    weight, a body reaction (6); in the planes' space (2P = 2 x npl): T q, T q', f_p, C (2 x 2P),
+    b, gamma, T x, the 2P x (2P + 2) system; u (n).  The RHS writes there instead of
+    allocating: one thread at a time per ``sp`` (copy it to share a model)."""
     ld = n + int(free)
-    return 2 * n + ld * ld + 2 * ld + 3 * nw + 6 + n + 4 * nb
+    m2 = 2 * npl
+    return 3 * n + 2 * ld + ld * ld + 3 * nw + 6 + 8 * m2 + m2 * (m2 + 2)
 
 
 @dataclass(frozen=True)
@@ -561,10 +509,6 @@ def build_model(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,
     scale = np.maximum(resp, 1e-3 * resp.max()) if resp.max() > 0 else np.ones(n)
     ub = np.array([[names.index(u.plane), u.s, u.angle] for u in rotor.unbalances],
                   dtype=float).reshape(-1, 3)
-    m_lock = rotor.M.astype(float)
-    for row in wt:
-        p = names[int(row[W_PLANE])]
-        m_lock = m_lock + row[W_M] * (rotor.force_map(p).T @ rotor.planes[p])
     parts = [rotor.M.ravel(), rotor.G.ravel(), rotor.D.ravel(), rotor.K.ravel(),
              np.concatenate([rotor.planes[p].ravel() for p in names]), ub.ravel(), scale,
              rotor.gravity, rotor.gravity_plane,
@@ -584,13 +528,20 @@ def build_model(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,
         head[H_TQ], head[H_C1], head[H_C2] = drive.torque, drive.c1, drive.c2
         head[H_WT], head[H_H0] = drive.target_speed, drive.rotor_drag
         head[H_W0] = drive.initial_speed
-    parts.append(m_lock.ravel())
+    T_all = np.concatenate([rotor.planes[p] for p in names], axis=0)
+    F_all = np.concatenate([rotor.force_map(p) for p in names], axis=0)
+    Minv_p, head[H_KMI], W, S = plane_parts(np.asarray(rotor.M, float), T_all, F_all)
+    parts += [Minv_p.ravel(), W.ravel(), S.ravel(), row_ranges(T_all)]
+    head[H_KK], head[H_KD], head[H_KG] = (matrix_kind(np.asarray(a, float))
+                                          for a in (rotor.K, rotor.D, rotor.G))
+    # the planes' space pays when it is smaller than the rotor's (coupled_solve)
+    head[H_FAST] = float(2 * len(names) < n)
     for slot, a in zip((H_OM, H_OG, H_OD, H_OK, H_OT, H_OUB, H_OL, H_OGR, H_OGP, H_OF, H_OB,
-                        H_OML), parts):
+                        H_OMI, H_OW, H_OSS, H_OTR), parts):
         head[slot] = off
         off += a.size
     head[H_OS] = off
-    parts.append(np.zeros(scratch_size(n, wt.shape[0], bt.shape[0], drive is not None)))
+    parts.append(np.zeros(scratch_size(n, wt.shape[0], len(names), drive is not None)))
     sp = np.concatenate([head] + parts)
     prog = build_table(prog_si[:, 0] * omega_ref, prog_si[:, 1] / omega_ref)
     return CoupledModel(rotor, tuple(weights), names, sp, wt, prog, omega_ref, scale,
