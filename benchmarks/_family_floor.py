@@ -231,9 +231,12 @@ def floor(name, scene, ref, ours, error, tol, rtol, atol, rounds=3):
                             run_numbalsoda(solver, addr, data, y0, tau, rtol, atol))
     best, _ = interleaved(fns, rounds)
     t_stand = best["stand"]
+    from stand.integrate.kernel_set import kernels
+
     print(f"\n(b) {name}: compiled floor, rtol {rtol:g}, atol {atol:g} (scaled state), error = "
           f"max|q - q_ref| / max|q_ref| (ref: stand at rtol 1e-12), tolerance {tol:g}, "
-          f"best of {rounds} interleaved rounds")
+          f"best of {rounds} interleaved rounds; the stand's kernels: {kernels(model.kind).source} "
+          f"(STAND_KERNELS=jit / precompiled chooses)")
     print(f"  {'contender':<40} {'wall [ms]':>10} {'RHS evals':>10} {'error':>9} "
           f"{'time / stand':>13}")
     rows = []
