@@ -10,19 +10,20 @@
     Reference: the stand at rtol 1e-12.  Both answers are checked (``_peers.check_peer``)
     before their times are printed; the numpy peer agreeing with the stand's tight run is
     also the check of the stand's kernel against an independent formulation.
-(b) the compiled floor: numbalsoda's LSODA on a numba ``cfunc`` of the same kernel when
-    numbalsoda is installed (no wheel for Python 3.11), else said so.
-(c) ROSS (``ross-rotordynamics``): its time response on a Jeffcott rotor when installed,
-    else said so.
+(b) the compiled floor (``_family_floor.py``): numbalsoda's LSODA (and its Fortran DOP853,
+    an extra row) on a numba ``cfunc`` of the same kernel's RHS, same problems, same
+    tolerances; the stand timed as a whole call and by phases; else said why not.
+(c) ROSS (``_family_ross.py``): a Jeffcott run-up through the critical speed in ROSS (Newmark,
+    run in ROSS's own interpreter: ``$ROSS_PYTHON``, /opt/rossenv/bin/python, or this one)
+    and in the stand, each against an exact answer of its own model; else said so.
 (d) cost growth: µs per right-hand-side evaluation (a run's wall time / its evaluations)
     of the flexible shaft with n_modes x number of balls.
 
-Usage: ``python benchmarks/bench_family.py [--repeats 3] [--numpy-repeats 1]``
+Usage: ``python benchmarks/bench_family.py [--repeats 3] [--numpy-repeats 1] [--parts abcd]``
 """
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import sys
 import time
 from pathlib import Path
@@ -225,6 +226,31 @@ def compare(name, scene, repeats, np_repeats):
     return name, rows, ratio
 
 
+# --------------------------------------------------------------------------------- (b)
+def floor_part(problems, rounds):
+    """Part (b) on each problem (benchmarks/_family_floor.py); a markdown table at the end."""
+    from _family_floor import floor
+
+    tables = []
+    for name, sc in problems:
+        ref = ours(sc, 1e-12, 1e-15).q
+        tables.append((name, floor(name, sc, ref, ours, error, TOL_FACTOR * RTOL, RTOL, ATOL,
+                                   max(3, rounds))))
+    print("\n| problem | contender | wall [ms] | RHS evals | error | time / stand |")
+    print("|---|---|---|---|---|---|")
+    for name, rows in tables:
+        t_stand = rows[0][2]
+        for label, p, t, nfev, note in rows:
+            if p is None:
+                print(f"| {name} | {label} | {note} | | | |")
+            elif p.valid:
+                print(f"| {name} | {label} | {t * 1e3:.2f} | {nfev} | {p.error:.1e} | "
+                      f"{t / t_stand:.2f} |")
+            else:
+                print(f"| {name} | {label} | {p.verdict} | {nfev} | | - |")
+    return tables
+
+
 # --------------------------------------------------------------------------------- (d)
 def growth(modes=(2, 4, 6, 8, 10), balls=(2, 4, 8)):
     print("\n(d) µs per RHS evaluation inside the compiled loop (run wall time / evaluations), "
@@ -247,20 +273,22 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--numpy-repeats", type=int, default=1)
+    ap.add_argument("--parts", default="abcd", help="which parts to run (default abcd)")
     a = ap.parse_args(argv)
     ours(load(flexible(2, 2, 0.05)))     # load / compile the kernel before timing
-    results = [compare("spatial rotor, two supports, two two-ball balancers",
-                       load(SPATIAL_TWO), a.repeats, a.numpy_repeats),
-               compare("flexible shaft, 10 modes per direction, two balls",
-                       load(ROOT / "data_samples" / "scenes" / "stress_flexible_10modes.toml"),
-                       a.repeats, a.numpy_repeats)]
-    print("\n(b) compiled floor: " + ("numbalsoda installed (not wired in this script yet)"
-                                      if importlib.util.find_spec("numbalsoda") else
-                                      "numbalsoda not installed (no wheel for this Python): "
-                                      "not evaluated"))
-    print("(c) ROSS: " + ("installed (not wired in this script yet)"
-                          if importlib.util.find_spec("ross") else
-                          "ross-rotordynamics not installed: not evaluated"))
+    problems = [("spatial rotor, two supports, two two-ball balancers", load(SPATIAL_TWO)),
+                ("flexible shaft, 10 modes per direction, two balls",
+                 load(ROOT / "data_samples" / "scenes" / "stress_flexible_10modes.toml"))]
+    results = ([compare(name, sc, a.repeats, a.numpy_repeats) for name, sc in problems]
+               if "a" in a.parts else [])
+    if "b" in a.parts:
+        floor_part(problems, a.repeats)
+    if "c" in a.parts:
+        from _family_ross import compare_ross
+
+        compare_ross(load, ours, repeats=a.repeats)
+    if "d" not in a.parts:
+        return 0
     table = growth()
     print("\n| problem | stand [ms] | error | naive SciPy [ms] | error | ratio |")
     print("|---|---|---|---|---|---|")

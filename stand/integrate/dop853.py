@@ -63,6 +63,22 @@ def _stage_state(y, K, s, h, out):
         out[i] = y[i] + h * out[i]
 
 
+@njit(cache=True, inline="always", error_model="numpy")
+def _combine(w, K, m, out):
+    """``out = sum_{k < m} w[k] K[k]``, the terms added in the order of k, all of them (zero
+    weights too: a non-finite stage must still reach the step's sums).  The loop over k is
+    outside, so the loop over the state runs along K's contiguous rows and vectorises;
+    bit for bit the sums of the per-component loop over k it replaces (same order, no
+    contraction), about 40 % of the stepper's own time at a state of 16 (issue 33 (b))."""
+    n = out.shape[0]
+    for i in range(n):
+        out[i] = 0.0
+    for k in range(m):
+        a = w[k]
+        for i in range(n):
+            out[i] += a * K[k, i]
+
+
 #: rows of the scratch array of :func:`dop853_loop`: the 16 stages, the stage state, the
 #: new state and the 7 dense-output coefficients
 WORK_ROWS = 25
@@ -157,15 +173,16 @@ def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_
             for s in range(1, N_STAGES):
                 _stage_state(y, K, s, h, yy)
                 derivatives(kind, min(t + C[s] * h, t_left), yy, K[s], sp, wt, prog)
+            _combine(B, K, N_STAGES, y_new)
             for i in range(n):
-                acc = 0.0
-                for k in range(N_STAGES):
-                    acc += B[k] * K[k, i]
-                y_new[i] = y[i] + h * acc
+                y_new[i] = y[i] + h * y_new[i]
             derivatives(kind, t_left, y_new, K[N_STAGES], sp, wt, prog)
             stats[N_FEV] += N_STAGES
             steps += 1
-            # error estimate (scipy's DOP853._estimate_error_norm)
+            # error estimate (scipy's DOP853._estimate_error_norm); F's first two rows are
+            # free until the dense output
+            _combine(E5, K, N_STAGES + 1, F[0])
+            _combine(E3, K, N_STAGES + 1, F[1])
             e5 = 0.0
             e3 = 0.0
             finite = True
@@ -174,13 +191,8 @@ def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_
                 if mag > cap[i]:
                     mag = cap[i]
                 sc = atol + rtol * mag
-                a5 = 0.0
-                a3 = 0.0
-                for k in range(N_STAGES + 1):
-                    a5 += E5[k] * K[k, i]
-                    a3 += E3[k] * K[k, i]
-                a5 /= sc
-                a3 /= sc
+                a5 = F[0, i] / sc
+                a3 = F[1, i] / sc
                 e5 += a5 * a5
                 e3 += a3 * a3
                 if not np.isfinite(y_new[i]):
@@ -218,16 +230,15 @@ def dop853_loop(kind, sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_
                 _stage_state(y, K, s, h, yy)
                 derivatives(kind, min(t + C[s] * h, t_left), yy, K[s], sp, wt, prog)
             stats[N_FEV] += 3
+            for r in range(4):
+                _combine(D[r], K, 16, F[3 + r])
             for i in range(n):
                 dyi = y_new[i] - y[i]
                 F[0, i] = dyi
                 F[1, i] = h * K[0, i] - dyi
                 F[2, i] = 2.0 * dyi - h * (K[N_STAGES, i] + K[0, i])
-                for r in range(4):
-                    acc = 0.0
-                    for k in range(16):
-                        acc += D[r, k] * K[k, i]
-                    F[3 + r, i] = h * acc
+                for r in range(3, 7):
+                    F[r, i] = h * F[r, i]
             while k_next < n_samples and ts[k_next] <= t_new:
                 tk = ts[k_next]
                 if tk == t_new:
