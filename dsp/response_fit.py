@@ -381,9 +381,15 @@ def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_
     current angle, and corrects the angle by the phase of the measured whirl
     against the model's whole motion (forced response and transients),
     phi += arg((z - z0) / z_model) (smoothed: a cubic spline every 20
-    revolutions), until phi changes by less than 1e-10 rad: at the fixed point
-    the model's phase is the whirl's, so noise-free data from the model give its
-    parameters back.
+    revolutions, each sample weighted by |z_model|), until phi changes by less
+    than 1e-10 rad: at the fixed point the model's phase is the whirl's, so
+    noise-free data from the model give its parameters back.  The weights make
+    each correction the Gauss-Newton step of the joint least-squares fit in the
+    spline's coefficients (a phase read off a radius A scatters by sigma / A), so
+    the fixed point is the joint fit whose covariance is stated (the spline's
+    coefficients as nuisance parameters); unweighted, the slow, small whirl's
+    phase noise entered the angle at full weight and zeta, U scattered by
+    ~1.5 times their std.
 
     Returns
     -------
@@ -420,7 +426,8 @@ def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_
         corr = np.zeros(tt.size)
         corr[ok] = np.unwrap(np.angle((z[c][ok] - coef[3]) / zm[ok]))
         corr[~ok] = np.interp(np.flatnonzero(~ok), np.flatnonzero(ok), corr[ok])
-        new = smoothed_phase(t, phi + corr, c)
+        new = smoothed_phase(t, phi + corr, c,
+                             weights=np.maximum(np.abs(zm), 1e-9 * np.max(np.abs(zm))))
         step = float(np.max(np.abs((new.angle_rad[c] - phi) - np.mean(new.angle_rad[c] - phi))))
         ra = new
         if step < 1e-10:

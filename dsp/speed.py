@@ -248,13 +248,13 @@ def _on_samples(spline, t, inside):
     return out[0], out[1], out[2]
 
 
-def _lsq_cubic(x, y, n_int, knots_at=None):
+def _lsq_cubic(x, y, n_int, knots_at=None, w=None):
     """Least-squares cubic spline of y(x) with ``n_int`` intervals (inner knots evenly spaced
-    in x, or at ``knots_at``)."""
+    in x, or at ``knots_at``), residuals weighted by ``w``."""
     from scipy.interpolate import make_lsq_spline
 
     inner = np.linspace(x[0], x[-1], n_int + 1)[1:-1] if knots_at is None else knots_at
-    return make_lsq_spline(x, y, np.concatenate(([x[0]] * 4, inner, [x[-1]] * 4)), k=3)
+    return make_lsq_spline(x, y, np.concatenate(([x[0]] * 4, inner, [x[-1]] * 4)), k=3, w=w)
 
 
 def angle_from_pulses(t, pulses, *, source: str = "keyphasor",
@@ -419,7 +419,8 @@ def angle_from_1x(t, z, *, min_amplitude_fraction: float = 0.05,
     return smoothed_phase(t, th, cov, knot_revolutions=knot_revolutions)
 
 
-def smoothed_phase(t, phase_rad, covered, *, knot_revolutions: float = 20.0) -> RotorAngle:
+def smoothed_phase(t, phase_rad, covered, *, knot_revolutions: float = 20.0,
+                   weights=None) -> RotorAngle:
     """A rotor angle from a noisy phase track: a least-squares cubic spline with a knot
     every ``knot_revolutions`` revolutions (``estimated`` True, ``referenced`` False).
 
@@ -431,13 +432,16 @@ def smoothed_phase(t, phase_rad, covered, *, knot_revolutions: float = 20.0) -> 
         The unwrapped phase [rad] on the ``covered`` samples (one contiguous stretch).
     covered : ndarray of bool
         Which samples of ``t`` it covers.
+    weights : ndarray, optional
+        Weight of each covered sample's phase residual (e.g. the whirl's radius: a
+        phase read off a vector of radius A with noise sigma scatters by sigma / A).
     """
     idx = np.flatnonzero(covered)
     i0, i1 = int(idx[0]), int(idx[-1]) + 1
     tt, th = t[i0:i1], np.asarray(phase_rad, float)
     turns = (th[-1] - th[0]) / TWO_PI
     n_int = int(max(1, min(turns / knot_revolutions, (i1 - i0) / 50)))
-    ang, spd, acc = _on_samples(_lsq_cubic(tt, th, n_int), t, covered)
+    ang, spd, acc = _on_samples(_lsq_cubic(tt, th, n_int, w=weights), t, covered)
     if not np.all(spd[i0:i1] > 0):
         raise SignalError("1X line: the whirl's phase does not advance steadily; the speed "
                           "cannot be estimated from the vibration")
