@@ -49,7 +49,7 @@ QUANTITIES = {
     "angle": ("unbalance_angle_deg", "unbalance_angle_deg_std", "beta_deg"),
     "critical": ("critical_speed_hz", "critical_speed_hz_std", "critical_speed_hz"),
 }
-PATHS = ("keyphasor", "no-speed")
+PATHS = ("keyphasor", "no-speed", "tachometer")
 RMS_MAX, COVER2_MIN = 1.5, 0.85
 
 
@@ -73,6 +73,8 @@ def run_path(path: str, seed: int, *, workdir: Path, noise_m: float = 2e-6, **ru
     keywords of :func:`oracles.runup_exact.exact_runup`."""
     run = exact_runup(noise_m=noise_m, seed=seed, **{**RUNUP, **runup})
     csv, rmap = write_csv(run, workdir / f"{path}_{seed}.csv")
+    if path == "tachometer":
+        csv, rmap = tachometer_csv(run, csv, seed)
     if path == "no-speed":
         rmap.write_text(rmap.read_text().replace('keyphasor = "kp_V [V]"\n', ""))
     d = _analyze(csv, rmap)
@@ -81,6 +83,50 @@ def run_path(path: str, seed: int, *, workdir: Path, noise_m: float = 2e-6, **ru
         v, s = d.get(key), d.get(skey)
         out[name] = None if v is None or not s else (v - getattr(run, truth)) / s
     return out
+
+
+#: the held tachometer display: 60 pulses per revolution counted over back-to-back 0.5 s
+#: gates, shown in rpm to 1 rpm (the stand's [instruments.tachometer] of the DAQ sample)
+TACHOMETER = {"pulses_per_rev": 60, "gate_s": 0.5, "resolution_rpm": 1.0}
+
+
+def tachometer_display(run, rng, *, pulses_per_rev=60, gate_s=0.5, resolution_rpm=1.0):
+    """The rpm a held tachometer display shows at each sample of ``run``.
+
+    The disc's ``pulses_per_rev`` marks (at a random angle of the disc) are counted over
+    back-to-back gates of ``gate_s`` (their timing random against the record's start);
+    each update shows count / (pulses_per_rev gate_s) rounded to ``resolution_rpm`` and
+    holds until the next.  The display was already counting when the record began (the
+    angle before t = 0 is the oracle's constant-acceleration programme, extrapolated).
+    """
+    from scipy.interpolate import CubicSpline
+
+    phi = CubicSpline(run.t, run.phi)                 # exact: the oracle's angle is quadratic
+    tau, disc = gate_s * rng.uniform(), rng.uniform()
+    k = np.floor((run.t - tau) / gate_s)
+    upd = tau + k * gate_s                             # the last update at or before each sample
+
+    def pulses(ti):
+        return np.floor(pulses_per_rev * phi(ti) / (2 * math.pi) - disc)
+
+    counts = pulses(upd) - pulses(upd - gate_s)
+    rpm = counts / (pulses_per_rev * gate_s) * 60.0
+    return np.rint(rpm / resolution_rpm) * resolution_rpm
+
+
+def tachometer_csv(run, csv: Path, seed: int):
+    """The record with a held tachometer display (:func:`tachometer_display`, its draw
+    from ``seed``) instead of the keyphasor; returns (csv, map)."""
+    rng = np.random.default_rng(10_000 + seed)
+    rpm = tachometer_display(run, rng, **TACHOMETER)
+    data = np.column_stack((run.t, run.x * 1e6, run.y * 1e6, rpm))
+    np.savetxt(csv, data, delimiter=",", fmt="%.15g", header="time_s,x_um,y_um,tacho_rpm",
+               comments="")
+    m = csv.with_suffix(".map.toml")
+    m.write_text('[columns]\ntime = "time_s [s]"\nx = "x_um [um]"\ny = "y_um [um]"\n'
+                 'speed = "tacho_rpm [rpm]"\n\n[rotor]\n'
+                 f'mass = "{run.mass_kg} kg"\nservice_speed = "1500 rpm"\n')
+    return csv, m
 
 
 def calibration(paths=PATHS, seeds: int = 24, **kw) -> dict:

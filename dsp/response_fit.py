@@ -179,7 +179,8 @@ def _linear(B, z):
 
 def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s2=None, *,
                            natural_frequency_guess_hz=None, damping_guess=0.05, runout=True,
-                           covariance=True, angle_basis=None, derivative: int = 0):
+                           covariance=True, angle_basis=None, angle_error=None,
+                           derivative: int = 0):
     """Fit omega_1, zeta, the specific unbalance and its angle to a swept record.
 
     Parameters
@@ -208,6 +209,11 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         functions of time (a spline's basis): its K coefficients enter the covariance
         as nuisance parameters (a change a of them turns the model's motion by
         i z_model a B), so the stds include what the angle's estimate leaves open.
+    angle_error : dsp.held_display.AngleError, optional
+        When the rotor angle was measured with an uncertainty of its own (a held
+        tachometer display): its error modes are propagated into the covariance
+        (the fit's sensitivity to each, through the rotation i z a of what turns
+        with the angle: the forced response and the runout).
     derivative : int
         What ``z`` measures: 0 displacement [m], 1 velocity [m/s], 2 acceleration
         [m/s²] (velocity pickups, accelerometers).  The model's response is
@@ -297,6 +303,9 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         extra = -(1j * zm)[:, None] * np.asarray(angle_basis, float)
         J = np.hstack((J, np.vstack((extra.real, extra.imag))))
     covs = _covariances(J, r, J.shape[1])
+    if angle_error is not None:
+        covs = tuple(C + _propagated(J, -1j * (B[:, 0] * c[0] + B[:, 4] * c[4]), w,
+                                     t, angle_error) for C in covs)
     q = c[0]
     e = abs(q)
     # e along q, angle across it
@@ -323,6 +332,19 @@ def _std(C, i, g) -> float:
     """sqrt(g' C g) over the parameters i, i + 1, ... (len(g) of them)."""
     k = slice(i, i + g.size)
     return float(math.sqrt(max(g @ C[k, k] @ g, 0.0)))
+
+
+def _propagated(J, dr_dphi, w, t, angle_error):
+    """Covariance [parameters^2] the angle's own error adds: with ``delta phi = A xi``,
+    ``xi ~ N(0, C)``, the estimate moves by ``-(J'J)^-1 J' (dr/dphi) A xi``."""
+    A, C = angle_error.modes(t, w)
+    n = dr_dphi.size
+    live = np.any(J != 0, axis=0)
+    G = J[:n, live].T * dr_dphi.real + J[n:, live].T * dr_dphi.imag        # (P, N)
+    S = np.linalg.pinv(J[:, live].T @ J[:, live], rcond=1e-13, hermitian=True) @ (A.T @ G.T).T
+    out = np.zeros((J.shape[1], J.shape[1]))
+    out[np.ix_(live, live)] = S @ C @ S.T
+    return out
 
 
 def _covariances(J, r, n_par, blocks: int = 40):

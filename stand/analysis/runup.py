@@ -117,7 +117,8 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
         if fit_model:
             try:
                 fit = fit_unbalance_response(t[c], z[c], angle.angle_rad[c], angle.speed_rad_s[c],
-                                             angle.acceleration_rad_s2[c], derivative=derivative)
+                                             angle.acceleration_rad_s2[c], derivative=derivative,
+                                             angle_error=angle.angle_error)
             except SignalError as exc:
                 notes.append(f"run-up model fit: {exc}")
     else:
