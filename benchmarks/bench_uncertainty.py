@@ -49,7 +49,7 @@ QUANTITIES = {
     "angle": ("unbalance_angle_deg", "unbalance_angle_deg_std", "beta_deg"),
     "critical": ("critical_speed_hz", "critical_speed_hz_std", "critical_speed_hz"),
 }
-PATHS = ("keyphasor", "no-speed", "tachometer")
+PATHS = ("keyphasor", "no-speed", "tachometer", "recording")
 RMS_MAX, COVER2_MIN = 1.5, 0.85
 
 
@@ -71,6 +71,8 @@ RUNUP = {"fs_hz": 500.0, "f_start_hz": 10.0, "f_end_hz": 28.0, "duration_s": 9.0
 def run_path(path: str, seed: int, *, workdir: Path, noise_m: float = 2e-6, **runup) -> dict:
     """z of each quantity for one noise draw on one path ({name: z or None}); ``runup``:
     keywords of :func:`oracles.runup_exact.exact_runup`."""
+    if path == "recording":
+        return run_recording(seed, workdir=workdir)
     run = exact_runup(noise_m=noise_m, seed=seed, **{**RUNUP, **runup})
     csv, rmap = write_csv(run, workdir / f"{path}_{seed}.csv")
     if path == "tachometer":
@@ -127,6 +129,68 @@ def tachometer_csv(run, csv: Path, seed: int):
                  'speed = "tacho_rpm [rpm]"\n\n[rotor]\n'
                  f'mass = "{run.mass_kg} kg"\nservice_speed = "1500 rpm"\n')
     return csv, m
+
+
+#: the stand's own recording (``stand run`` -> ``stand analyze REC.h5``): a rigid rotor of
+#: 6 kg on isotropic supports, f0 = 12 Hz, zeta = 0.04, run up 8 -> 16 rev/s in 4 s, then
+#: 2 s at 16 rev/s; x, y probes with 2 um noise; per draw the unbalance's size and angle
+#: and the probes' seed
+RECORDING_SCENE = """[scene]
+name = "unc_recording"
+[rotor]
+mass = 6.0
+eccentricity = {e:.6e}
+unbalance_angle = {beta:.4f}
+[supports]
+stiffness = 34108.64
+damping = 36.1911
+[balancer]
+type = "none"
+[drive]
+type = "speed"
+programme = [[0.0, 8.0], [4.0, 16.0], [6.0, 16.0]]
+[run]
+duration = 6.0
+sample_rate = 500.0
+rtol = 1e-9
+atol = 1e-12
+[instruments.probes]
+sample_rate = 500.0
+noise_rms = 2.0e-6
+angles = [0.0, 90.0]
+seed = {seed}
+"""
+
+
+def run_recording(seed: int, *, workdir: Path) -> dict:
+    """z of each quantity for one draw of the ``recording`` path; the truth in closed form
+    from the scene's parameters (f0 = sqrt(k / M) / 2 pi, zeta = c / 2 sqrt(k M), U = M e,
+    critical speed f0 / sqrt(1 - 2 zeta^2)), not from the stand's output."""
+    import stand
+    from stand.cli.main import main
+
+    rng = np.random.default_rng(20_000 + seed)
+    e, beta = rng.uniform(20e-6, 60e-6), rng.uniform(0.0, 360.0)
+    scene = stand.load(RECORDING_SCENE.format(e=e, beta=beta, seed=seed))
+    h5 = workdir / f"recording_{seed}.h5"
+    stand.run(scene).write(h5)
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        if main(["analyze", str(h5), "--json"]) != 0:
+            raise RuntimeError(err.getvalue())
+    d = json.loads(out.getvalue())
+    m, k, c = 6.0, 34108.64, 36.1911
+    f0, zeta = math.sqrt(k / m) / (2 * math.pi), c / (2 * math.sqrt(k * m))
+    truth = {"f0": f0, "zeta": zeta, "U": m * e * 1e6, "angle": beta,
+             "critical": f0 / math.sqrt(1 - 2 * zeta * zeta)}
+    res = {}
+    for name, (key, skey, _) in QUANTITIES.items():
+        v, s = d.get(key), d.get(skey)
+        dv = None if v is None else v - truth[name]
+        if name == "angle" and dv is not None:
+            dv = (dv + 180.0) % 360.0 - 180.0
+        res[name] = None if v is None or not s else dv / s
+    return res
 
 
 def calibration(paths=PATHS, seeds: int = 24, **kw) -> dict:

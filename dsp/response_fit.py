@@ -180,7 +180,7 @@ def _linear(B, z):
 def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s2=None, *,
                            natural_frequency_guess_hz=None, damping_guess=0.05, runout=True,
                            covariance=True, angle_basis=None, angle_error=None,
-                           derivative: int = 0):
+                           derivative: int = 0, tolerance: float = 1e-12):
     """Fit omega_1, zeta, the specific unbalance and its angle to a swept record.
 
     Parameters
@@ -222,6 +222,8 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         integrated through noise or DC drift; e, f_1 and zeta are the same parameters.
         ``offset_m``, ``runout_m`` and ``residual_rms_m`` are then in the channel's
         SI unit, and the runout (a displacement probe's) is not fitted.
+    tolerance : float
+        Relative tolerance of the search over (omega_1, zeta) (scipy's xtol, ftol, gtol).
 
     Returns
     -------
@@ -267,7 +269,7 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
 
     p0 = np.array([1.0, float(damping_guess)])
     sol = least_squares(resid, p0, bounds=([0.2, 1e-5], [5.0, 0.7]), x_scale=[0.01, 0.01],
-                        xtol=1e-12, ftol=1e-12, gtol=1e-12)
+                        xtol=tolerance, ftol=tolerance, gtol=tolerance)
     w0, zeta = sol.x[0] * w_guess, float(sol.x[1])
     if not (0.95 * float(np.min(np.abs(w))) <= w0 <= 1.05 * wmax):
         raise SignalError(f"natural frequency: the fit gives {w0 / TWO_PI:.4g} Hz, outside the "
@@ -392,6 +394,18 @@ def _phase_basis(t, phi, knot_revolutions: float = 20.0):
     return D[:, 1:]
 
 
+def _extrapolated(new, old, c, gain):
+    """``old + gain (new - old)`` on the covered samples (angle, speed and acceleration)."""
+    from dataclasses import replace
+
+    out = {}
+    for key in ("angle_rad", "speed_rad_s", "acceleration_rad_s2"):
+        a, b = getattr(old, key), getattr(new, key).copy()
+        b[c] = a[c] + gain * (b[c] - a[c])
+        out[key] = b
+    return replace(new, **out)
+
+
 def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_guess_hz=None,
                                damping_guess=0.05):
     """The fit of :func:`fit_unbalance_response` when no speed channel was recorded.
@@ -428,12 +442,13 @@ def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_
     z0 = complex(np.mean(z))
     ra = angle_from_1x(t, z - z0)
     c = ra.covered
-    fit = None
+    fit, prev, jump, step = None, None, False, 1.0
     for _ in range(max(1, iterations)):
         fit = fit_unbalance_response(t[c], z[c], ra.angle_rad[c], ra.speed_rad_s[c],
                                      ra.acceleration_rad_s2[c],
                                      natural_frequency_guess_hz=natural_frequency_guess_hz,
-                                     damping_guess=damping_guess, runout=False, covariance=False)
+                                     damping_guess=damping_guess, runout=False, covariance=False,
+                                     tolerance=float(np.clip(1e-3 * step, 1e-12, 1e-6)))
         natural_frequency_guess_hz = fit.natural_frequency_hz
         damping_guess = fit.damping_ratio
         tt = t[c] - t[c][0]
@@ -450,9 +465,17 @@ def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_
         corr[~ok] = np.interp(np.flatnonzero(~ok), np.flatnonzero(ok), corr[ok])
         new = smoothed_phase(t, phi + corr, c,
                              weights=np.maximum(np.abs(zm), 1e-9 * np.max(np.abs(zm))))
-        step = float(np.max(np.abs((new.angle_rad[c] - phi) - np.mean(new.angle_rad[c] - phi))))
-        ra = new
-        if step < 1e-10:
+        d = new.angle_rad[c] - phi
+        d -= np.mean(d)
+        step = float(np.max(np.abs(d)))
+        # the corrections shrink geometrically (by ~0.5 per step): every other step jumps
+        # to the sequence's limit along the last correction (Aitken), and the iteration
+        # stops at a ten-thousandth of the phase's noise (sigma / |z_model|) or 1e-10 rad
+        r = float(d @ prev / (prev @ prev)) if prev is not None and jump else 0.0
+        ra = _extrapolated(new, ra, c, 1.0 / (1.0 - r)) if 0.1 < r < 0.9 else new
+        prev, jump = d, not jump
+        noise = float(np.sqrt(np.mean(np.abs(z[c] - coef[3] - zm) ** 2) / np.mean(np.abs(zm) ** 2)))
+        if step < max(1e-10, 1e-4 * noise):
             break
     fit = fit_unbalance_response(t[c], z[c], ra.angle_rad[c], ra.speed_rad_s[c],
                                  ra.acceleration_rad_s2[c],
