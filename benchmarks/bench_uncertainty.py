@@ -2,7 +2,8 @@
 
 A script, not a test::
 
-    python benchmarks/bench_uncertainty.py [--seeds 24] [--paths keyphasor,no-speed]
+    python benchmarks/bench_uncertainty.py [--seeds 24]
+        [--paths keyphasor,no-speed,tachometer,recording]
 
 For each path a lab takes, the same run-up is analysed under ``--seeds`` draws of
 probe noise and, for every reported quantity with a ±, the table gives the RMS of
@@ -19,7 +20,15 @@ rotor angle, scipy DOP853 at rtol 1e-11), written as a DAQ CSV and read by
   10 -> 28 rev/s in 9 s through f0 = 18.5 Hz, zeta 0.04, 150 µm specific unbalance;
   2 µm probe noise);
 * ``no-speed``: the same CSV read with time and the two probes only (the speed
-  estimated from the 1X line; no unbalance angle).
+  estimated from the 1X line; no unbalance angle);
+* ``tachometer``: x, y and a held tachometer display in rpm instead of the keyphasor
+  (:func:`tachometer_display`: 60 pulses per revolution counted over back-to-back 0.5 s
+  gates at a random phase, shown to 1 rpm; no unbalance angle);
+* ``recording``: the stand's own HDF5 recording (``stand run`` of
+  :data:`RECORDING_SCENE`, then ``stand analyze REC.h5``), the truth in closed form from
+  the scene's parameters.  That path reads the simulator's shaft state, not the probes,
+  and takes f0 and zeta from the recording's scene: its ± quantities are the steady 1X's
+  unbalance and angle.
 """
 from __future__ import annotations
 

@@ -102,12 +102,12 @@ def held_angle(t, w, change):
     -------
     (angle, speed, acceleration, AngleError or None, covered)
         At the samples [rad], [rad/s], [rad/s^2]; the angle from 0 at ``t[0]``; covered:
-        up to the end of the last gate (after it the angle is extrapolated, not measured).  An update
-        at ``u_k`` shows the mean over ``[u_k - g, u_k]`` and a reading repeated over
-        several gates is the same mean over each, so
-        ``Phi(u_{k+1} - g) - Phi(u_k - g) = r_k (u_{k+1} - u_k)``: the C2 spline through
-        those angles (least squares on the knots of a smoothing spline at the quantum's
-        residual) gives the angle, speed and acceleration.  (Interpolating the speeds
+        up to the end of the last gate (after it the angle is extrapolated, not measured).
+        An update at ``u_k`` shows the mean over ``[u_k - g, u_k]`` and a reading repeated
+        over several gates is the same mean over each, so
+        ``Phi(u_{k+1} - g) - Phi(u_k - g) = r_k (u_{k+1} - u_k)``: a smoothing cubic
+        spline through those angles at the quantum's residual gives the angle, speed and
+        acceleration.  (Interpolating the speeds
         instead loses ``g^2 a / 8`` of angle at every change of the acceleration.)
     """
     from scipy.interpolate import BSpline, CubicSpline, UnivariateSpline

@@ -418,8 +418,9 @@ def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_
     against the model's whole motion (forced response and transients),
     phi += arg((z - z0) / z_model) (smoothed: a cubic spline every 20
     revolutions, each sample weighted by |z_model|), until phi changes by less
-    than 1e-10 rad: at the fixed point the model's phase is the whirl's, so
-    noise-free data from the model give its parameters back.  The weights make
+    than 1e-10 rad or 1e-4 of the phase's noise: at the fixed point the model's
+    phase is the whirl's, so noise-free data from the model give its parameters
+    back.  The weights make
     each correction the Gauss-Newton step of the joint least-squares fit in the
     spline's coefficients (a phase read off a radius A scatters by sigma / A), so
     the fixed point is the joint fit whose covariance is stated (the spline's
@@ -474,7 +475,8 @@ def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_
         r = float(d @ prev / (prev @ prev)) if prev is not None and jump else 0.0
         ra = _extrapolated(new, ra, c, 1.0 / (1.0 - r)) if 0.1 < r < 0.9 else new
         prev, jump = d, not jump
-        noise = float(np.sqrt(np.mean(np.abs(z[c] - coef[3] - zm) ** 2) / np.mean(np.abs(zm) ** 2)))
+        noise = float(np.sqrt(np.mean(np.abs(z[c] - coef[3] - zm) ** 2)
+                              / np.mean(np.abs(zm) ** 2)))
         if step < max(1e-10, 1e-4 * noise):
             break
     fit = fit_unbalance_response(t[c], z[c], ra.angle_rad[c], ra.speed_rad_s[c],
