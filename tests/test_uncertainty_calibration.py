@@ -66,3 +66,30 @@ def test_stated_std_covers_the_truth_on_a_stand_recording():
     """`stand analyze REC.h5` on the stand's own recording: the steady 1X's unbalance and
     its angle (f0 and damping come from the recording's scene, without a ±)."""
     _check(calibration(["recording"], seeds=6), "recording", {"U", "angle"})
+
+
+def test_stand_recording_critical_speed_uses_the_scenes_damping(tmp_path):
+    """On that path no model is fitted: the critical speed is the run-up's 1X peak with
+    the sweep lag removed, with the recording's own zeta = 0.04 (with zeta = 0 it removed
+    the sweep-limited lag, 11.58 rev/s for 12.02: -3.6 %).  The lag correction's own
+    error at 2 rev/s^2 is ~0.1 %: within 0.5 % of f0 / sqrt(1 - 2 zeta^2)."""
+    import io
+    import json
+    import math
+    from contextlib import redirect_stdout
+
+    import stand
+    from bench_uncertainty import RECORDING_SCENE
+    from stand.cli.main import main
+
+    h5 = tmp_path / "rec.h5"
+    stand.run(stand.load(RECORDING_SCENE.format(e=40e-6, beta=30.0, seed=1))).write(h5)
+    out = io.StringIO()
+    with redirect_stdout(out):
+        assert main(["analyze", str(h5), "--json"]) == 0
+    d = json.loads(out.getvalue())
+    k, c, m = 34108.64, 36.1911, 6.0
+    zeta = c / (2 * math.sqrt(k * m))
+    truth = math.sqrt(k / m) / (2 * math.pi) / math.sqrt(1 - 2 * zeta * zeta)
+    assert abs(d["critical_speed_hz"] / truth - 1) < 0.005, d["critical_speed_hz"]
+    assert "from the recording's scene" in d["critical_speed_method"]
