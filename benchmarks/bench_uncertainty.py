@@ -2,7 +2,8 @@
 
 A script, not a test::
 
-    python benchmarks/bench_uncertainty.py [--seeds 24] [--paths keyphasor,no-speed]
+    python benchmarks/bench_uncertainty.py [--seeds 24]
+        [--paths keyphasor,no-speed,tachometer,recording]
 
 For each path a lab takes, the same run-up is analysed under ``--seeds`` draws of
 probe noise and, for every reported quantity with a ±, the table gives the RMS of
@@ -19,7 +20,15 @@ rotor angle, scipy DOP853 at rtol 1e-11), written as a DAQ CSV and read by
   10 -> 28 rev/s in 9 s through f0 = 18.5 Hz, zeta 0.04, 150 µm specific unbalance;
   2 µm probe noise);
 * ``no-speed``: the same CSV read with time and the two probes only (the speed
-  estimated from the 1X line; no unbalance angle).
+  estimated from the 1X line; no unbalance angle);
+* ``tachometer``: x, y and a held tachometer display in rpm instead of the keyphasor
+  (:func:`tachometer_display`: 60 pulses per revolution counted over back-to-back 0.5 s
+  gates at a random phase, shown to 1 rpm; no unbalance angle);
+* ``recording``: the stand's own HDF5 recording (``stand run`` of
+  :data:`RECORDING_SCENE`, then ``stand analyze REC.h5``), the truth in closed form from
+  the scene's parameters.  That path reads the simulator's shaft state, not the probes,
+  and takes f0 and zeta from the recording's scene: its ± quantities are the steady 1X's
+  unbalance and angle.
 
 The image, track and line paths
 (``--paths lines,lines-close,sinusoids,precession,track-rings,two-plane``)
@@ -54,7 +63,7 @@ QUANTITIES = {
     "angle": ("unbalance_angle_deg", "unbalance_angle_deg_std", "beta_deg"),
     "critical": ("critical_speed_hz", "critical_speed_hz_std", "critical_speed_hz"),
 }
-PATHS = ("keyphasor", "no-speed")
+PATHS = ("keyphasor", "no-speed", "tachometer", "recording")
 RMS_MAX, COVER2_MIN = 1.5, 0.85
 
 
@@ -78,8 +87,12 @@ def run_path(path: str, seed: int, *, workdir: Path, noise_m: float = 2e-6, **ru
     keywords of :func:`oracles.runup_exact.exact_runup`."""
     if path in IMAGE_PATHS:
         return IMAGE_PATHS[path](seed, workdir)
+    if path == "recording":
+        return run_recording(seed, workdir=workdir)
     run = exact_runup(noise_m=noise_m, seed=seed, **{**RUNUP, **runup})
     csv, rmap = write_csv(run, workdir / f"{path}_{seed}.csv")
+    if path == "tachometer":
+        csv, rmap = tachometer_csv(run, csv, seed)
     if path == "no-speed":
         rmap.write_text(rmap.read_text().replace('keyphasor = "kp_V [V]"\n', ""))
     d = _analyze(csv, rmap)
@@ -88,6 +101,112 @@ def run_path(path: str, seed: int, *, workdir: Path, noise_m: float = 2e-6, **ru
         v, s = d.get(key), d.get(skey)
         out[name] = None if v is None or not s else (v - getattr(run, truth)) / s
     return out
+
+
+#: the held tachometer display: 60 pulses per revolution counted over back-to-back 0.5 s
+#: gates, shown in rpm to 1 rpm (the stand's [instruments.tachometer] of the DAQ sample)
+TACHOMETER = {"pulses_per_rev": 60, "gate_s": 0.5, "resolution_rpm": 1.0}
+
+
+def tachometer_display(run, rng, *, pulses_per_rev=60, gate_s=0.5, resolution_rpm=1.0):
+    """The rpm a held tachometer display shows at each sample of ``run``.
+
+    The disc's ``pulses_per_rev`` marks (at a random angle of the disc) are counted over
+    back-to-back gates of ``gate_s`` (their timing random against the record's start);
+    each update shows count / (pulses_per_rev gate_s) rounded to ``resolution_rpm`` and
+    holds until the next.  The display was already counting when the record began (the
+    angle before t = 0 is the oracle's constant-acceleration programme, extrapolated).
+    """
+    from scipy.interpolate import CubicSpline
+
+    phi = CubicSpline(run.t, run.phi)                 # exact: the oracle's angle is quadratic
+    tau, disc = gate_s * rng.uniform(), rng.uniform()
+    k = np.floor((run.t - tau) / gate_s)
+    upd = tau + k * gate_s                             # the last update at or before each sample
+
+    def pulses(ti):
+        return np.floor(pulses_per_rev * phi(ti) / (2 * math.pi) - disc)
+
+    counts = pulses(upd) - pulses(upd - gate_s)
+    rpm = counts / (pulses_per_rev * gate_s) * 60.0
+    return np.rint(rpm / resolution_rpm) * resolution_rpm
+
+
+def tachometer_csv(run, csv: Path, seed: int):
+    """The record with a held tachometer display (:func:`tachometer_display`, its draw
+    from ``seed``) instead of the keyphasor; returns (csv, map)."""
+    rng = np.random.default_rng(10_000 + seed)
+    rpm = tachometer_display(run, rng, **TACHOMETER)
+    data = np.column_stack((run.t, run.x * 1e6, run.y * 1e6, rpm))
+    np.savetxt(csv, data, delimiter=",", fmt="%.15g", header="time_s,x_um,y_um,tacho_rpm",
+               comments="")
+    m = csv.with_suffix(".map.toml")
+    m.write_text('[columns]\ntime = "time_s [s]"\nx = "x_um [um]"\ny = "y_um [um]"\n'
+                 'speed = "tacho_rpm [rpm]"\n\n[rotor]\n'
+                 f'mass = "{run.mass_kg} kg"\nservice_speed = "1500 rpm"\n')
+    return csv, m
+
+
+#: the stand's own recording (``stand run`` -> ``stand analyze REC.h5``): a rigid rotor of
+#: 6 kg on isotropic supports, f0 = 12 Hz, zeta = 0.04, run up 8 -> 16 rev/s in 4 s, then
+#: 2 s at 16 rev/s; x, y probes with 2 um noise; per draw the unbalance's size and angle
+#: and the probes' seed
+RECORDING_SCENE = """[scene]
+name = "unc_recording"
+[rotor]
+mass = 6.0
+eccentricity = {e:.6e}
+unbalance_angle = {beta:.4f}
+[supports]
+stiffness = 34108.64
+damping = 36.1911
+[balancer]
+type = "none"
+[drive]
+type = "speed"
+programme = [[0.0, 8.0], [4.0, 16.0], [6.0, 16.0]]
+[run]
+duration = 6.0
+sample_rate = 500.0
+rtol = 1e-9
+atol = 1e-12
+[instruments.probes]
+sample_rate = 500.0
+noise_rms = 2.0e-6
+angles = [0.0, 90.0]
+seed = {seed}
+"""
+
+
+def run_recording(seed: int, *, workdir: Path) -> dict:
+    """z of each quantity for one draw of the ``recording`` path; the truth in closed form
+    from the scene's parameters (f0 = sqrt(k / M) / 2 pi, zeta = c / 2 sqrt(k M), U = M e,
+    critical speed f0 / sqrt(1 - 2 zeta^2)), not from the stand's output."""
+    import stand
+    from stand.cli.main import main
+
+    rng = np.random.default_rng(20_000 + seed)
+    e, beta = rng.uniform(20e-6, 60e-6), rng.uniform(0.0, 360.0)
+    scene = stand.load(RECORDING_SCENE.format(e=e, beta=beta, seed=seed))
+    h5 = workdir / f"recording_{seed}.h5"
+    stand.run(scene).write(h5)
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        if main(["analyze", str(h5), "--json"]) != 0:
+            raise RuntimeError(err.getvalue())
+    d = json.loads(out.getvalue())
+    m, k, c = 6.0, 34108.64, 36.1911
+    f0, zeta = math.sqrt(k / m) / (2 * math.pi), c / (2 * math.sqrt(k * m))
+    truth = {"f0": f0, "zeta": zeta, "U": m * e * 1e6, "angle": beta,
+             "critical": f0 / math.sqrt(1 - 2 * zeta * zeta)}
+    res = {}
+    for name, (key, skey, _) in QUANTITIES.items():
+        v, s = d.get(key), d.get(skey)
+        dv = None if v is None else v - truth[name]
+        if name == "angle" and dv is not None:
+            dv = (dv + 180.0) % 360.0 - 180.0
+        res[name] = None if v is None or not s else dv / s
+    return res
 
 
 def calibration(paths=PATHS, seeds: int = 24, **kw) -> dict:

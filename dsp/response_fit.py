@@ -179,7 +179,8 @@ def _linear(B, z):
 
 def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s2=None, *,
                            natural_frequency_guess_hz=None, damping_guess=0.05, runout=True,
-                           covariance=True, angle_basis=None, derivative: int = 0):
+                           covariance=True, angle_basis=None, angle_error=None,
+                           derivative: int = 0, tolerance: float = 1e-12):
     """Fit omega_1, zeta, the specific unbalance and its angle to a swept record.
 
     Parameters
@@ -208,6 +209,11 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         functions of time (a spline's basis): its K coefficients enter the covariance
         as nuisance parameters (a change a of them turns the model's motion by
         i z_model a B), so the stds include what the angle's estimate leaves open.
+    angle_error : dsp.held_display.AngleError, optional
+        When the rotor angle was measured with an uncertainty of its own (a held
+        tachometer display): its error modes are propagated into the covariance
+        (the fit's sensitivity to each, through the rotation i z a of what turns
+        with the angle: the forced response and the runout).
     derivative : int
         What ``z`` measures: 0 displacement [m], 1 velocity [m/s], 2 acceleration
         [m/s²] (velocity pickups, accelerometers).  The model's response is
@@ -216,6 +222,8 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         integrated through noise or DC drift; e, f_1 and zeta are the same parameters.
         ``offset_m``, ``runout_m`` and ``residual_rms_m`` are then in the channel's
         SI unit, and the runout (a displacement probe's) is not fitted.
+    tolerance : float
+        Relative tolerance of the search over (omega_1, zeta) (scipy's xtol, ftol, gtol).
 
     Returns
     -------
@@ -261,7 +269,7 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
 
     p0 = np.array([1.0, float(damping_guess)])
     sol = least_squares(resid, p0, bounds=([0.2, 1e-5], [5.0, 0.7]), x_scale=[0.01, 0.01],
-                        xtol=1e-12, ftol=1e-12, gtol=1e-12)
+                        xtol=tolerance, ftol=tolerance, gtol=tolerance)
     w0, zeta = sol.x[0] * w_guess, float(sol.x[1])
     if not (0.95 * float(np.min(np.abs(w))) <= w0 <= 1.05 * wmax):
         raise SignalError(f"natural frequency: the fit gives {w0 / TWO_PI:.4g} Hz, outside the "
@@ -297,6 +305,9 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         extra = -(1j * zm)[:, None] * np.asarray(angle_basis, float)
         J = np.hstack((J, np.vstack((extra.real, extra.imag))))
     covs = _covariances(J, r, J.shape[1])
+    if angle_error is not None:
+        covs = tuple(C + _propagated(J, -1j * (B[:, 0] * c[0] + B[:, 4] * c[4]), w,
+                                     t, angle_error) for C in covs)
     q = c[0]
     e = abs(q)
     # e along q, angle across it
@@ -323,6 +334,19 @@ def _std(C, i, g) -> float:
     """sqrt(g' C g) over the parameters i, i + 1, ... (len(g) of them)."""
     k = slice(i, i + g.size)
     return float(math.sqrt(max(g @ C[k, k] @ g, 0.0)))
+
+
+def _propagated(J, dr_dphi, w, t, angle_error):
+    """Covariance [parameters^2] the angle's own error adds: with ``delta phi = A xi``,
+    ``xi ~ N(0, C)``, the estimate moves by ``-(J'J)^-1 J' (dr/dphi) A xi``."""
+    A, C = angle_error.modes(t, w)
+    n = dr_dphi.size
+    live = np.any(J != 0, axis=0)
+    G = J[:n, live].T * dr_dphi.real + J[n:, live].T * dr_dphi.imag        # (P, N)
+    S = np.linalg.pinv(J[:, live].T @ J[:, live], rcond=1e-13, hermitian=True) @ (A.T @ G.T).T
+    out = np.zeros((J.shape[1], J.shape[1]))
+    out[np.ix_(live, live)] = S @ C @ S.T
+    return out
 
 
 def _covariances(J, r, n_par, blocks: int = 40):
@@ -370,6 +394,18 @@ def _phase_basis(t, phi, knot_revolutions: float = 20.0):
     return D[:, 1:]
 
 
+def _extrapolated(new, old, c, gain):
+    """``old + gain (new - old)`` on the covered samples (angle, speed and acceleration)."""
+    from dataclasses import replace
+
+    out = {}
+    for key in ("angle_rad", "speed_rad_s", "acceleration_rad_s2"):
+        a, b = getattr(old, key), getattr(new, key).copy()
+        b[c] = a[c] + gain * (b[c] - a[c])
+        out[key] = b
+    return replace(new, **out)
+
+
 def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_guess_hz=None,
                                damping_guess=0.05):
     """The fit of :func:`fit_unbalance_response` when no speed channel was recorded.
@@ -381,9 +417,16 @@ def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_
     current angle, and corrects the angle by the phase of the measured whirl
     against the model's whole motion (forced response and transients),
     phi += arg((z - z0) / z_model) (smoothed: a cubic spline every 20
-    revolutions), until phi changes by less than 1e-10 rad: at the fixed point
-    the model's phase is the whirl's, so noise-free data from the model give its
-    parameters back.
+    revolutions, each sample weighted by |z_model|), until phi changes by less
+    than 1e-10 rad or 1e-4 of the phase's noise: at the fixed point the model's
+    phase is the whirl's, so noise-free data from the model give its parameters
+    back.  The weights make
+    each correction the Gauss-Newton step of the joint least-squares fit in the
+    spline's coefficients (a phase read off a radius A scatters by sigma / A), so
+    the fixed point is the joint fit whose covariance is stated (the spline's
+    coefficients as nuisance parameters); unweighted, the slow, small whirl's
+    phase noise entered the angle at full weight and zeta, U scattered by
+    ~1.5 times their std.
 
     Returns
     -------
@@ -400,12 +443,13 @@ def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_
     z0 = complex(np.mean(z))
     ra = angle_from_1x(t, z - z0)
     c = ra.covered
-    fit = None
+    fit, prev, jump, step = None, None, False, 1.0
     for _ in range(max(1, iterations)):
         fit = fit_unbalance_response(t[c], z[c], ra.angle_rad[c], ra.speed_rad_s[c],
                                      ra.acceleration_rad_s2[c],
                                      natural_frequency_guess_hz=natural_frequency_guess_hz,
-                                     damping_guess=damping_guess, runout=False, covariance=False)
+                                     damping_guess=damping_guess, runout=False, covariance=False,
+                                     tolerance=float(np.clip(1e-3 * step, 1e-12, 1e-6)))
         natural_frequency_guess_hz = fit.natural_frequency_hz
         damping_guess = fit.damping_ratio
         tt = t[c] - t[c][0]
@@ -420,10 +464,20 @@ def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_
         corr = np.zeros(tt.size)
         corr[ok] = np.unwrap(np.angle((z[c][ok] - coef[3]) / zm[ok]))
         corr[~ok] = np.interp(np.flatnonzero(~ok), np.flatnonzero(ok), corr[ok])
-        new = smoothed_phase(t, phi + corr, c)
-        step = float(np.max(np.abs((new.angle_rad[c] - phi) - np.mean(new.angle_rad[c] - phi))))
-        ra = new
-        if step < 1e-10:
+        new = smoothed_phase(t, phi + corr, c,
+                             weights=np.maximum(np.abs(zm), 1e-9 * np.max(np.abs(zm))))
+        d = new.angle_rad[c] - phi
+        d -= np.mean(d)
+        step = float(np.max(np.abs(d)))
+        # the corrections shrink geometrically (by ~0.5 per step): every other step jumps
+        # to the sequence's limit along the last correction (Aitken), and the iteration
+        # stops at a ten-thousandth of the phase's noise (sigma / |z_model|) or 1e-10 rad
+        r = float(d @ prev / (prev @ prev)) if prev is not None and jump else 0.0
+        ra = _extrapolated(new, ra, c, 1.0 / (1.0 - r)) if 0.1 < r < 0.9 else new
+        prev, jump = d, not jump
+        noise = float(np.sqrt(np.mean(np.abs(z[c] - coef[3] - zm) ** 2)
+                              / np.mean(np.abs(zm) ** 2)))
+        if step < max(1e-10, 1e-4 * noise):
             break
     fit = fit_unbalance_response(t[c], z[c], ra.angle_rad[c], ra.speed_rad_s[c],
                                  ra.acceleration_rad_s2[c],

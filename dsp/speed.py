@@ -65,6 +65,9 @@ class RotorAngle:
         The speed is estimated from the vibration (no speed channel).
     pulses_s : ndarray or None
         The pulse times [s] it was made from.
+    angle_error : dsp.held_display.AngleError or None
+        What the source leaves open of the angle (a held tachometer display's quantum
+        and timing), for the fits that use it.
     """
 
     angle_rad: np.ndarray
@@ -75,6 +78,7 @@ class RotorAngle:
     referenced: bool
     estimated: bool = False
     pulses_s: Optional[np.ndarray] = None
+    angle_error: Optional[object] = None
 
 
 def otsu_threshold(v) -> float:
@@ -248,13 +252,13 @@ def _on_samples(spline, t, inside):
     return out[0], out[1], out[2]
 
 
-def _lsq_cubic(x, y, n_int, knots_at=None):
+def _lsq_cubic(x, y, n_int, knots_at=None, w=None):
     """Least-squares cubic spline of y(x) with ``n_int`` intervals (inner knots evenly spaced
-    in x, or at ``knots_at``)."""
+    in x, or at ``knots_at``), residuals weighted by ``w``."""
     from scipy.interpolate import make_lsq_spline
 
     inner = np.linspace(x[0], x[-1], n_int + 1)[1:-1] if knots_at is None else knots_at
-    return make_lsq_spline(x, y, np.concatenate(([x[0]] * 4, inner, [x[-1]] * 4)), k=3)
+    return make_lsq_spline(x, y, np.concatenate(([x[0]] * 4, inner, [x[-1]] * 4)), k=3, w=w)
 
 
 def angle_from_pulses(t, pulses, *, source: str = "keyphasor",
@@ -312,8 +316,9 @@ def angle_from_speed(t, speed_rad_s, *, source: str = "tachometer") -> RotorAngl
     A tachometer display holds its reading between updates: each reading is the
     mean speed over the gate that preceded it (the typical hold taken as the gate),
     so the angle turned between the gates' starts is known exactly; the angle is
-    the C2 spline through those (:func:`_angle_from_held`).  A reading held over
-    several gates is a steady speed.
+    the C2 spline through those (:func:`dsp.held_display.held_angle`, which also says
+    what the readings leave open: ``angle_error``).  A reading held over several gates
+    is a steady speed.
     """
     t = check_times(t, "t", 2)
     w = np.asarray(speed_rad_s, float)
@@ -321,57 +326,13 @@ def angle_from_speed(t, speed_rad_s, *, source: str = "tachometer") -> RotorAngl
         raise SignalError(f"{source}: needs a finite speed at every sample")
     change = np.flatnonzero(np.diff(w) != 0) + 1
     if 2 <= change.size < t.size // 4:           # a held display: steps
-        return _angle_from_held(t, w, change, source)
+        from .held_display import held_angle
+
+        ang, spd, acc, err, covered = held_angle(t, w, change)
+        return RotorAngle(ang, spd, acc, covered, source, referenced=False, angle_error=err)
     ang = np.concatenate(([0.0], np.cumsum(0.5 * (w[1:] + w[:-1]) * np.diff(t))))
     acc = np.gradient(w, t)
     return RotorAngle(ang, w, acc, np.ones(t.size, bool), source, referenced=False)
-
-
-def _angle_from_held(t, w, change, source) -> RotorAngle:
-    """The angle of a held tachometer display, exact at the gates' starts.
-
-    An update at ``u_k`` shows the mean speed over the gate ``[u_k - g, u_k]``; a
-    reading repeated over several gates is the same mean over each of them.  So the
-    angle turned between two gate starts is known exactly (to the display's resolution),
-    ``Phi(u_{k+1} - g) - Phi(u_k - g) = r_k (u_{k+1} - u_k)``, whatever the speed does
-    inside: a C2 cubic spline through those angles gives the angle, speed and
-    acceleration.  (Interpolating the speeds instead loses ``g^2 a / 8`` of angle at
-    every change of the acceleration -- a phase step that biases the unbalance.)
-    """
-    from scipy.interpolate import CubicSpline, UnivariateSpline
-
-    u = np.concatenate(([t[0]], t[change]))            # updates (the first: the record's start)
-    r = w[np.concatenate(([0], change))]               # their readings
-    dt = float(np.median(np.diff(t)))
-    holds = np.diff(np.concatenate((u, [t[-1] + dt])))
-    gate = float(np.median(holds))                     # the typical hold: one gate
-    # the angle at every gate's start: a reading held over m gates is that mean speed over
-    # each of them (the last one holds to the end of the record)
-    ends = np.concatenate((u[1:], [max(t[-1] + gate, u[-1] + gate)]))
-    p, phi, at = [], [], 0.0
-    for uk, rk, nxt in zip(u, r, ends):
-        m = max(int(round((nxt - uk) / gate)), 1)
-        step = (nxt - uk) / m
-        p.append(uk - gate + step * np.arange(m))
-        phi.append(at + rk * step * np.arange(m))
-        at += rk * (nxt - uk)
-    p = np.concatenate(p + [[ends[-1] - gate]])
-    phi = np.concatenate(phi + [[at]])
-    # each angle is exact to the display's quantum over a gate (uniform rounding of the
-    # reading: sigma = q g / sqrt 12): a smoothing spline with that residual, so the
-    # counting's alternation (e.g. 1558 / 1562 rpm at 1560) does not ripple the speed
-    steps = np.abs(np.diff(r))
-    q = float(np.min(steps[steps > 0])) if np.any(steps > 0) else 0.0
-    sigma = q * gate / math.sqrt(12.0)
-    if sigma > 0 and p.size > 4:
-        spline = UnivariateSpline(p, phi, k=3, s=p.size * sigma * sigma)
-        d1, d2 = spline.derivative(1), spline.derivative(2)
-        return RotorAngle(spline(t) - spline(t[0]), d1(t), d2(t), np.ones(t.size, bool), source,
-                          referenced=False)
-    spline = CubicSpline(p, phi, bc_type="natural")
-    ang = spline(t) - spline(t[0])
-    return RotorAngle(ang, spline(t, 1), spline(t, 2), np.ones(t.size, bool), source,
-                      referenced=False)
 
 
 def angle_from_1x(t, z, *, min_amplitude_fraction: float = 0.05,
@@ -419,7 +380,8 @@ def angle_from_1x(t, z, *, min_amplitude_fraction: float = 0.05,
     return smoothed_phase(t, th, cov, knot_revolutions=knot_revolutions)
 
 
-def smoothed_phase(t, phase_rad, covered, *, knot_revolutions: float = 20.0) -> RotorAngle:
+def smoothed_phase(t, phase_rad, covered, *, knot_revolutions: float = 20.0,
+                   weights=None) -> RotorAngle:
     """A rotor angle from a noisy phase track: a least-squares cubic spline with a knot
     every ``knot_revolutions`` revolutions (``estimated`` True, ``referenced`` False).
 
@@ -431,13 +393,16 @@ def smoothed_phase(t, phase_rad, covered, *, knot_revolutions: float = 20.0) -> 
         The unwrapped phase [rad] on the ``covered`` samples (one contiguous stretch).
     covered : ndarray of bool
         Which samples of ``t`` it covers.
+    weights : ndarray, optional
+        Weight of each covered sample's phase residual (e.g. the whirl's radius: a
+        phase read off a vector of radius A with noise sigma scatters by sigma / A).
     """
     idx = np.flatnonzero(covered)
     i0, i1 = int(idx[0]), int(idx[-1]) + 1
     tt, th = t[i0:i1], np.asarray(phase_rad, float)
     turns = (th[-1] - th[0]) / TWO_PI
     n_int = int(max(1, min(turns / knot_revolutions, (i1 - i0) / 50)))
-    ang, spd, acc = _on_samples(_lsq_cubic(tt, th, n_int), t, covered)
+    ang, spd, acc = _on_samples(_lsq_cubic(tt, th, n_int, w=weights), t, covered)
     if not np.all(spd[i0:i1] > 0):
         raise SignalError("1X line: the whirl's phase does not advance steadily; the speed "
                           "cannot be estimated from the vibration")

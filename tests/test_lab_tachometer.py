@@ -56,10 +56,10 @@ def test_held_display_angle_does_not_drift_at_a_kink():
     shown = np.concatenate(([0.0], reading))[np.searchsorted(updates, t, side="right")]
     ra = angle_from_speed(t, shown)
     err = ra.angle_rad - phi
-    late = t > 1.0
+    late = (t > 1.0) & ra.covered          # (after the last gate the angle is not measured)
     drift = err[late] - np.median(err[late])
     assert np.max(np.abs(drift)) < 2 * (2 * np.pi / ppr)           # within two pulses, no drift
-    steady = t > t_end + 3 * gate
+    steady = (t > t_end + 3 * gate) & ra.covered
     quantum = 2 * np.pi / (ppr * gate)                             # one pulse over a gate [rad/s]
     assert np.max(np.abs(ra.speed_rad_s[steady] - acc * t_end)) < 2 * quantum
 
@@ -67,7 +67,9 @@ def test_held_display_angle_does_not_drift_at_a_kink():
 def test_held_tachometer_only_runup_of_the_no_balancer_scene(tmp_path):
     """The issue's case: the no_balancer run-up (probes 2 um, tachometer 0.5 s gate, 1 rpm,
     60 pulses/rev) exported by `stand daq`, analysed with the tachometer as the only speed
-    source: f0 and critical speed within 1 %, |U| within 2 % of the truth."""
+    source: f0 and critical speed within 1 %, |U| within 2 % of the truth, and every stated
+    ± covering the truth (issue 30: before the tachometer's own quantum and timing entered
+    the ±, |U| was -0.6 % with a ± of 0.1 %, 5 std off)."""
     import stand
 
     scene = (Path(__file__).resolve().parents[1] / "data_samples" / "scenes" / "no_balancer.toml").read_text()
@@ -88,4 +90,7 @@ def test_held_tachometer_only_runup_of_the_no_balancer_scene(tmp_path):
     assert doc["speed_source"].startswith("tachometer column 'tacho_rpm'")
     assert doc["natural_frequency_hz"] == pytest.approx(truth["natural_frequency_hz"], rel=0.01)
     assert doc["critical_speed_hz"] == pytest.approx(truth["critical_speed_hz"], rel=0.01)
+    for key in ("natural_frequency_hz", "damping_ratio", "unbalance_gmm", "critical_speed_hz"):
+        assert abs(doc[key] - truth[key]) < 3 * doc[f"{key}_std"], key
     assert doc["unbalance_gmm"] == pytest.approx(truth["unbalance_gmm"], rel=0.02)
+    assert doc["unbalance_gmm_std"] < 0.05 * truth["unbalance_gmm"]     # 3.7 %: the 5 ms timing

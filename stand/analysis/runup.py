@@ -71,7 +71,8 @@ def _fit_dict(fit, referenced: bool, mark_std_rad: float = 0.0) -> dict:
 
 
 def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bool] = None,
-                         fit_model: bool = True, derivative: int = 0) -> Optional[dict]:
+                         fit_model: bool = True, derivative: int = 0,
+                         damping_ratio: Optional[float] = None) -> Optional[dict]:
     """Identify what a swept record gives (module docstring).
 
     Parameters
@@ -87,6 +88,9 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
     derivative : int
         x, y measure displacement (0), velocity (1, [m/s]) or acceleration (2, [m/s²]):
         the model is fitted in that quantity; the Bode data are displacement (1X / (i w)^k).
+    damping_ratio : float, optional
+        zeta [-] for the resonance's sweep-lag correction when the model is not fitted
+        (e.g. from a recording's scene); default 0 (the sweep-limited lag).
 
     Returns
     -------
@@ -117,7 +121,8 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
         if fit_model:
             try:
                 fit = fit_unbalance_response(t[c], z[c], angle.angle_rad[c], angle.speed_rad_s[c],
-                                             angle.acceleration_rad_s2[c], derivative=derivative)
+                                             angle.acceleration_rad_s2[c], derivative=derivative,
+                                             angle_error=angle.angle_error)
             except SignalError as exc:
                 notes.append(f"run-up model fit: {exc}")
     else:
@@ -167,7 +172,7 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
     sweeps = [s for s in prog.stretches if s.kind in SWEEPS]
     s = max(sweeps, key=lambda s: s.duration_s)
     inside = (tm >= s.t_start_s) & (tm <= s.t_end_s)
-    zeta = fit.damping_ratio if fit is not None else 0.0
+    zeta = fit.damping_ratio if fit is not None else float(damping_ratio or 0.0)
     try:
         if inside.sum() < 16:
             raise SignalError(f"{int(inside.sum())} revolutions in the {s.kind}; need 16")

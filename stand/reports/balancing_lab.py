@@ -20,8 +20,11 @@ TWO_PI = 2.0 * math.pi
 #: What a ± of the run-up model fit contains (the report's one line on it).
 FIT_UNCERTAINTY = ("± is one standard uncertainty: the model fit's statistical part with "
                    "correlated residuals (block-score sandwich covariance, never below the "
-                   "white-noise one) and, for angles, the keyphasor's pulse timing; the "
-                   "rigid-rotor model itself and the vibrating mass are taken as exact")
+                   "white-noise one); for angles, the keyphasor's pulse timing; a rotor angle "
+                   "estimated from the whirl, fitted with the model (its spline's coefficients "
+                   "as nuisance parameters); a rotor angle from a held tachometer display, "
+                   "that display's count quantum and its update timing (to one DAQ sample); "
+                   "the rigid-rotor model itself and the vibrating mass are taken as exact")
 N, S_, L, O = "number|null", "string|null", "list", "object|null"
 
 #: keys and types of the ``lab_identification`` section (docs/reports.md)
