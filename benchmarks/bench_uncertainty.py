@@ -136,15 +136,7 @@ def tachometer_csv(run, csv: Path, seed: int):
     """The record with a held tachometer display (:func:`tachometer_display`, its draw
     from ``seed``) instead of the keyphasor; returns (csv, map)."""
     rng = np.random.default_rng(10_000 + seed)
-    rpm = tachometer_display(run, rng, **TACHOMETER)
-    data = np.column_stack((run.t, run.x * 1e6, run.y * 1e6, rpm))
-    np.savetxt(csv, data, delimiter=",", fmt="%.15g", header="time_s,x_um,y_um,tacho_rpm",
-               comments="")
-    m = csv.with_suffix(".map.toml")
-    m.write_text('[columns]\ntime = "time_s [s]"\nx = "x_um [um]"\ny = "y_um [um]"\n'
-                 'speed = "tacho_rpm [rpm]"\n\n[rotor]\n'
-                 f'mass = "{run.mass_kg} kg"\nservice_speed = "1500 rpm"\n')
-    return csv, m
+    return write_csv(run, csv, tacho_rpm=tachometer_display(run, rng, **TACHOMETER))
 
 
 #: the stand's own recording (``stand run`` -> ``stand analyze REC.h5``): a rigid rotor of

@@ -82,16 +82,19 @@ def exact_runup(*, f0_hz=18.5, zeta=0.04, e_m=150e-6, beta_deg=70.0, mass_kg=2.0
     return ExactRunup(t, x, y, kp, ph, f0_hz, zeta, e_m, beta_deg, mass_kg)
 
 
-def write_csv(run: ExactRunup, path) -> tuple:
-    """A DAQ-like CSV (time s, x/y um, keyphasor V) and its map; returns (csv, map) paths."""
+def write_csv(run: ExactRunup, path, tacho_rpm=None) -> tuple:
+    """A DAQ-like CSV (time s, x/y um, keyphasor V) and its map; returns (csv, map) paths.
+    ``tacho_rpm``: a tachometer display [rpm] per sample written instead of the keyphasor."""
     from pathlib import Path
 
     path = Path(path)
-    data = np.column_stack((run.t, run.x * 1e6, run.y * 1e6, run.kp))
-    np.savetxt(path, data, delimiter=",", fmt="%.15g", header="time_s,x_um,y_um,kp_V",
+    name, col, role, unit = (("kp_V", run.kp, "keyphasor", "V") if tacho_rpm is None else
+                             ("tacho_rpm", tacho_rpm, "speed", "rpm"))
+    data = np.column_stack((run.t, run.x * 1e6, run.y * 1e6, col))
+    np.savetxt(path, data, delimiter=",", fmt="%.15g", header=f"time_s,x_um,y_um,{name}",
                comments="")
     m = path.with_suffix(".map.toml")
     m.write_text('[columns]\ntime = "time_s [s]"\nx = "x_um [um]"\ny = "y_um [um]"\n'
-                 'keyphasor = "kp_V [V]"\n\n[rotor]\n'
+                 f'{role} = "{name} [{unit}]"\n\n[rotor]\n'
                  f'mass = "{run.mass_kg} kg"\nservice_speed = "1500 rpm"\n')
     return path, m
