@@ -36,7 +36,7 @@ import numpy as np
 
 from .errors import SignalError, check_times
 
-__all__ = ["RotorAngle", "pulse_times", "retime_pulses", "angle_from_pulses", "angle_from_speed",
+__all__ = ["RotorAngle", "pulse_times", "retime_pulses", "pulse_timing_std", "angle_from_pulses", "angle_from_speed",
            "angle_from_1x", "smoothed_phase", "repair_pulses", "Stretch", "Programme", "speed_programme", "otsu_threshold"]
 
 TWO_PI = 2.0 * math.pi
@@ -349,7 +349,7 @@ def retime_pulses(t, v, pulses, *, threshold: Optional[float] = None,
 
 
 def angle_from_pulses(t, pulses, *, source: str = "keyphasor",
-                      knot_revolutions: float = 8.0) -> RotorAngle:
+                      knot_revolutions: float = 8.0, timing_std_s=None) -> RotorAngle:
     """Rotor angle from once-per-revolution pulse times (2 pi per pulse).
 
     The angle through the points (pulse k, 2 pi k) is a least-squares cubic
@@ -371,6 +371,10 @@ def angle_from_pulses(t, pulses, *, source: str = "keyphasor",
         Stored in the result.
     knot_revolutions : float
         Revolutions per spline interval (>= 4 pulses each).
+    timing_std_s : float or array_like, optional
+        Std [s] of each pulse's time (:func:`pulse_timing_std`).  Given, the
+        result's ``angle_error`` carries what it leaves open of the angle, for
+        the fits that use it (:func:`_pulse_angle_error`).
 
     Returns
     -------
@@ -382,7 +386,103 @@ def angle_from_pulses(t, pulses, *, source: str = "keyphasor",
     sp = _pulse_spline(p, knot_revolutions, source)
     inside = (t >= p[0]) & (t <= p[-1])
     ang, spd, acc = _on_samples(sp, t, inside)
-    return RotorAngle(ang, spd, acc, inside, source, referenced=True, pulses_s=p)
+    err = (None if timing_std_s is None else
+           _pulse_angle_error(p, sp, np.broadcast_to(np.asarray(timing_std_s, float), p.shape),
+                              float(np.median(np.diff(t)))))
+    return RotorAngle(ang, spd, acc, inside, source, referenced=True, pulses_s=p,
+                      angle_error=err)
+
+
+def _pulse_angle_error(p, sp, sigma_t, dt):
+    """The angle's uncertainty from the pulses' timing (a :class:`dsp.held_display.AngleError`
+    in the B-spline basis of the angle's least-squares spline, or None when it is nil).
+
+    A pulse late by ``delta t`` puts the angle ``phi' delta t`` off at it; the spline's
+    coefficients are linear in those angles (``c = S phi``, ``S`` the least-squares
+    solution operator): white errors give ``S diag(sigma_phi^2) S'``.  A sampled edge's
+    error is a function of where in its sample interval the edge falls (for a step,
+    ``(1/2 - u) dt`` with ``u`` that fraction), and ``u`` follows the rotation against
+    the sampling: alternating from pulse to pulse the errors cancel within a spline
+    interval, near a speed commensurate with the sample rate they repeat for many
+    revolutions and do not.  ``u`` is predicted from the spline (the times at which it
+    reaches 2 pi k, to well under a sample), and the white covariance is scaled by how
+    much the sawtooth ``1/2 - u`` keeps over a spline interval: ``m`` pulses per
+    coefficient, ``m (local mean)^2 / mean(sawtooth^2)`` at each pulse (the mean over the
+    ``m`` pulses around it), between 1 (white) and ``m`` (no averaging at all).
+    """
+    from scipy.interpolate import BSpline
+
+    from .held_display import AngleError
+
+    w = np.abs(sp(p, 1))
+    sig_phi = w * sigma_t
+    if not np.any(sig_phi > 0):
+        return None
+    tk = getattr(sp, "t", None)
+    if tk is None:          # the interpolating spline of a short record: one cubic for the error
+        tk = np.r_[[p[0]] * 4, [p[-1]] * 4]
+    D = BSpline.design_matrix(p, tk, 3).toarray()
+    S = np.linalg.pinv(D)
+    m = max(int(round(p.size / (tk.size - 4))), 1)
+    # when the smooth angle reaches each mark, and where that falls in its sample interval
+    tau = p - (sp(p) - TWO_PI * np.arange(p.size)) / np.where(w > 0, w, 1.0)
+    u = np.mod((tau - p[0]) / dt, 1.0) if dt > 0 else np.zeros(p.size)
+    g = 0.5 - u
+    local = np.convolve(g, np.ones(m) / m, mode="same")      # centred on each pulse
+    factor = np.clip(m * local ** 2 / max(np.mean(g ** 2), 1e-300), 1.0, m)
+    return AngleError(tk, (S * (factor * sig_phi ** 2)) @ S.T, 0.0)
+
+
+def pulse_timing_std(t, v, pulses, *, threshold: Optional[float] = None):
+    """Std [s] of each pulse time of :func:`pulse_times` / :func:`retime_pulses`.
+
+    An edge with both samples around its crossing on the edge itself (off both
+    states by more than four times the channel's noise) is interpolated between
+    them: its time is as good as the samples' noise over the edge's slope,
+    ``sqrt 2 sigma_v dt / |v_k - v_(k-1)|`` (the edge taken as linear in the angle
+    between them, :func:`retime_pulses`).  An edge faster than that (a TTL
+    step, a proximity probe over a sharp notch) lies anywhere in the sample
+    interval: the crossing put at the fraction ``f`` of it is off by
+    ``dt sqrt(f^2 - f + 1/3)`` RMS (``dt / sqrt 12`` at the middle).  A pulse
+    without a crossing between its samples (one :func:`repair_pulses` filled in)
+    gets ``dt / sqrt 3``.
+
+    Parameters
+    ----------
+    t, v : array_like
+        Sample times [s] and the pulse channel.
+    pulses : array_like
+        Pulse times [s].
+    threshold : float, optional
+        As given to :func:`pulse_times`.
+
+    Returns
+    -------
+    ndarray
+        One std [s] per pulse.
+    """
+    t = check_times(t, "t", 4)
+    v = np.asarray(v, float)
+    p = np.asarray(pulses, float)
+    level = otsu_threshold(v) if threshold is None else float(threshold)
+    high = v > level
+    lo, hi = _state_level(v[~high]), _state_level(v[high])
+    ref = 0.5 * (lo + hi) if threshold is None else level
+    band = 0.1 * abs(hi - lo)
+    near = np.r_[v[np.abs(v - lo) < band] - lo, v[np.abs(v - hi) < band] - hi]
+    sigma_v = 1.4826 * float(np.median(np.abs(near - np.median(near)))) if near.size else 0.0
+    margin = max(4.0 * sigma_v, 0.02 * abs(hi - lo))
+    k = np.clip(np.searchsorted(t, p), 1, t.size - 1)
+    a, b = v[k - 1] - ref, v[k] - ref
+    dt = t[k] - t[k - 1]
+    crossing = (a * b < 0) | (b == 0)
+    on_edge = ((np.minimum(v[k - 1], v[k]) > min(lo, hi) + margin)
+               & (np.maximum(v[k - 1], v[k]) < max(lo, hi) - margin))
+    f = np.clip((p - t[k - 1]) / dt, 0.0, 1.0)
+    step = dt * np.sqrt(f * f - f + 1.0 / 3.0)
+    slope = np.abs(v[k] - v[k - 1])
+    noise = math.sqrt(2.0) * sigma_v * dt / np.where(slope > 0, slope, np.inf)
+    return np.where(crossing, np.where(on_edge, noise, step), dt / math.sqrt(3.0))
 
 
 def angle_from_speed(t, speed_rad_s, *, source: str = "tachometer") -> RotorAngle:
