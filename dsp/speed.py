@@ -500,14 +500,66 @@ def angle_from_speed(t, speed_rad_s, *, source: str = "tachometer") -> RotorAngl
     if w.shape != t.shape or not np.all(np.isfinite(w)):
         raise SignalError(f"{source}: needs a finite speed at every sample")
     change = np.flatnonzero(np.diff(w) != 0) + 1
-    if 2 <= change.size < t.size // 4:           # a held display: steps
-        from .held_display import held_angle
+    if 2 <= change.size < t.size // 4 and not _rounded_continuous(w, change):
+        from .held_display import held_angle          # a held display: steps
 
         ang, spd, acc, err, covered = held_angle(t, w, change)
         return RotorAngle(ang, spd, acc, covered, source, referenced=False, angle_error=err)
+    if t.size >= 64 and change.size >= 8:
+        return _speed_spline_angle(t, w, source)
     ang = np.concatenate(([0.0], np.cumsum(0.5 * (w[1:] + w[:-1]) * np.diff(t))))
     acc = np.gradient(w, t)
     return RotorAngle(ang, w, acc, np.ones(t.size, bool), source, referenced=False)
+
+
+def _rounded_continuous(w, change) -> bool:
+    """A speed channel that follows the speed, rounded to its resolution (an analog
+    tachometer's output, or a speed column written to 1 rpm), not a held display: every
+    step is one quantum (a display's reading on a sweep jumps by the sweep over a gate)."""
+    from .held_display import _quantum
+
+    steps = np.abs(np.diff(w[np.r_[change - 1, change[-1]]]))
+    q = _quantum(steps)
+    return bool(change.size >= 20 and q > 0
+                and np.mean(np.abs(steps - q) <= 1e-6 * q) >= 0.9)
+
+
+def _speed_spline_angle(t, w, source, knot_revolutions: float = 8.0):
+    """A continuous speed channel (each sample the speed, with noise or rounding): a
+    least-squares cubic spline of the speed (a knot every ``knot_revolutions``
+    revolutions), its integral the angle (a quartic spline) and its derivative the
+    acceleration; ``angle_error`` carries the coefficients' covariance through the
+    integral.  The channel's errors are white with the residuals' variance, scaled by
+    how much they keep over a quarter of a knot interval (as for the keyphasor's timing,
+    :func:`_pulse_angle_error`: filtered noise or a rounding that repeats does not
+    average out; never below white)."""
+    from scipy.interpolate import BSpline
+
+    from .held_display import AngleError
+
+    trap = np.concatenate(([0.0], np.cumsum(0.5 * (w[1:] + w[:-1]) * np.diff(t))))
+    revs = abs(trap[-1] - trap[0]) / TWO_PI
+    n_int = int(min(max(revs / knot_revolutions, 1), t.size / 16))
+    inner = np.interp(np.linspace(trap[0], trap[-1], n_int + 1)[1:-1], trap, t) \
+        if trap[-1] > trap[0] else np.linspace(t[0], t[-1], n_int + 1)[1:-1]
+    tk = np.r_[[t[0]] * 4, inner, [t[-1]] * 4]
+    D = BSpline.design_matrix(t, tk, 3).toarray()
+    a, *_ = np.linalg.lstsq(D, w, rcond=None)
+    r = w - D @ a
+    K = a.size
+    s2 = float(r @ r) / max(t.size - K, 1)
+    m = max(int(t.size / (4 * n_int)), 1)
+    local = np.convolve(r, np.ones(m) / m, mode="valid")
+    factor = float(np.clip(m * np.mean(local ** 2) / max(np.mean(r ** 2), 1e-300), 1.0, m))
+    cov_a = factor * s2 * np.linalg.pinv(D.T @ D, hermitian=True)
+    speed = BSpline(tk, a, 3)
+    angle = speed.antiderivative()
+    anti = BSpline(tk, np.eye(K), 3).antiderivative()
+    L = anti.c[: anti.t.size - 5]                              # angle coefficients per a_j
+    err = AngleError(anti.t, L @ cov_a @ L.T, 0.0, degree=4)
+    ang = angle(t)
+    return RotorAngle(ang - ang[0], speed(t), speed(t, 1), np.ones(t.size, bool), source,
+                      referenced=False, angle_error=err)
 
 
 def angle_from_1x(t, z, *, min_amplitude_fraction: float = 0.05,
