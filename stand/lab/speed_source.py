@@ -28,18 +28,18 @@ def rotor_angle_of(table, notes: list):
         A pulse channel without usable pulses (names the column).
     """
     from dsp.errors import SignalError
-    from dsp.speed import (RotorAngle, angle_from_pulses, angle_from_speed, pulse_times,
+    from dsp.speed import (angle_from_encoder, angle_from_pulses, angle_from_speed, pulse_times,
                            pulse_timing_std, repair_pulses, retime_pulses)
 
     from stand.lab.table import TableError
 
     t, sig, cols = table.t, table.signals, table.columns
     if "angle" in sig:
-        phi = np.unwrap(sig["angle"])
-        w = np.gradient(phi, t) if t.size > 1 else np.zeros_like(phi)
-        a = np.gradient(w, t) if t.size > 1 else np.zeros_like(phi)
-        return (RotorAngle(phi, w, a, np.ones(t.size, bool), "angle", referenced=True),
-                f"rotor angle from column {cols['angle'].column!r}")
+        try:
+            ra = angle_from_encoder(t, sig["angle"])
+        except SignalError as exc:
+            raise TableError(f"{table.path}: angle column {cols['angle'].column!r}: {exc}") from None
+        return ra, f"rotor angle from column {cols['angle'].column!r}"
     if "keyphasor" in sig:
         v, spec = sig["keyphasor"], cols["keyphasor"]
         try:
