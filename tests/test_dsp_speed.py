@@ -15,7 +15,8 @@ from scipy.integrate import solve_ivp
 from dsp.errors import SignalError
 from dsp.response_fit import fit_response_without_speed, fit_unbalance_response
 from dsp.speed import (angle_from_1x, angle_from_pulses, angle_from_speed, otsu_threshold,
-                       pulse_times, repair_pulses, retime_pulses, speed_programme)
+                       pulse_times, repair_pulses, speed_programme)
+from dsp.pulse_timing import retime_pulses
 
 TWO_PI = 2 * math.pi
 

@@ -15,7 +15,8 @@ import math
 
 import numpy as np
 
-from dsp.speed import pulse_timing_std, pulse_times
+from dsp.pulse_timing import pulse_timing_std
+from dsp.speed import pulse_times
 
 TWO_PI = 2 * math.pi
 

@@ -28,8 +28,9 @@ def rotor_angle_of(table, notes: list):
         A pulse channel without usable pulses (names the column).
     """
     from dsp.errors import SignalError
-    from dsp.speed import (angle_from_encoder, angle_from_pulses, angle_from_speed, pulse_times,
-                           pulse_timing_std, repair_pulses, retime_pulses)
+    from dsp.pulse_timing import pulse_timing_std, retime_pulses
+    from dsp.speed import angle_from_pulses, angle_from_speed, pulse_times, repair_pulses
+    from dsp.speed_channels import angle_from_encoder
 
     from stand.lab.table import TableError
 
