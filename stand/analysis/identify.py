@@ -36,7 +36,7 @@ import numpy as np
 
 from dsp.errors import SignalError
 
-from stand.analysis.sources import read_source, whirls
+from stand.analysis.sources import no_weights as _no_weights, read_source, whirls
 from stand.analysis.two_plane import two_plane
 from stand.analysis.unbalance import line_1x, unbalance
 from stand.analysis.vibration import VIBRATION, vibration_in_users_quantity
@@ -99,8 +99,8 @@ def analyze(path, grade: float = 6.3, service_speed_rpm: float | None = None,
     if d.get("quantity", "length") != "length":
         sc1 = None          # its vector is a velocity / acceleration: the fit or the line's |1X|
     if rotating:
-        unbalance(out, d["scene"], sc1, d, rmap, getattr(rmap, "mass_kg", None), grade,
-                  service_speed_rpm, notes)
+        unbalance(out, d["scene"], sc1, d, rmap, getattr(rmap, "mass_kg", None) or d.get("mass_kg"),
+                  grade, service_speed_rpm, notes)
     _components(d, out, sl, rotating)
     _regime(d, out, speed)
     for key, value in list(out.items()):  # e.g. samples near 1e308 overflow inside dsp
@@ -306,13 +306,6 @@ def _scene_damping(scene):
     s = scene.supports
     k, c = 0.5 * (s.stiffness_x + s.stiffness_y), 0.5 * (s.damping_x + s.damping_y)
     return float(c / (2.0 * math.sqrt(k * scene.total_mass))) if k > 0 else None
-
-
-def _no_weights(scene) -> bool:
-    """The rigid-rotor model of the run-up fit applies: a planar rotor without weights (a
-    rotor of the family is left to its own model)."""
-    bal = getattr(scene, "balancer", None)
-    return getattr(scene, "kind", None) == "planar" and not getattr(bal, "count", 0)
 
 
 def _photogate(tab, notes):

@@ -18,7 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["read_source", "from_table", "from_run", "whirls"]
+__all__ = ["read_source", "from_table", "from_run", "whirls", "probe_channels", "probes_xy",
+           "no_weights"]
 
 TWO_PI = 2 * math.pi
 
@@ -98,23 +99,134 @@ _SUPPORT_MODEL = ("velocity / acceleration channels: taken as the motion of the 
 
 def from_run(rec):
     """The arrays of a Run or Recording; the scene only where the model parts apply (the
-    planar rotor of chapter 5)."""
-    scene = rec.scene if getattr(rec.scene, "kind", None) == "planar" else None
+    planar rotor of chapter 5).
+
+    With displacement probes (``instruments/probes`` of a recording, ``run.instruments
+    ["probes"]`` in memory) the record is analysed as a lab would: the probes' own time
+    base and signals (x, y solved from the probes' projections, with their noise,
+    quantisation and runout) and the rotor angle of the recording's encoder (``rotor/angle``
+    interpolated onto the probe times).  A planar rotor without weights then goes through
+    the run-up model fit like a lab table (``scene`` None, the scene's total mass as
+    ``mass_kg``; its f0 and damping only as a cross-check in ``notes``).  Without probes the
+    simulator's shaft state (``shaft/x``, ``shaft/y``) is analysed, noise-free.
+    """
+    rscene = rec.scene
+    scene = rscene if getattr(rscene, "kind", None) == "planar" else None
+    notes = list(rec.notes)
+    t = np.asarray(rec.t)
     phi = rec.rotor_angle if np.all(np.isfinite(rec.rotor_angle)) else None
     w = rec.weight_angle if rec.weight_angle.size and np.all(np.isfinite(rec.weight_angle)) else None
-    angle = None
-    t = np.asarray(rec.t)
-    if phi is not None and t.size > 1:
-        from dsp.speed import RotorAngle
+    x, y = np.asarray(rec.x), np.asarray(rec.y)
+    pr = probe_channels(rec)
+    xy = None if pr is None else probes_xy(pr["signal"], pr["angles"], notes)
+    mass = None
+    if xy is not None and pr["time"].size > 1:
+        tp = pr["time"]
+        if phi is not None:
+            from scipy.interpolate import CubicSpline
 
-        ph = np.unwrap(np.asarray(phi, float))
-        wr = np.gradient(ph, t)
-        angle = RotorAngle(ph, wr, np.gradient(wr, t), np.ones(t.size, bool), "rotor angle",
-                           referenced=True)
-    return dict(t=t, x=np.asarray(rec.x), y=np.asarray(rec.y), phi=phi, kp=None,
-                weights=w, scene=scene, notes=list(rec.notes), angle=angle,
-                speed_how="the recording's rotor angle" if phi is not None else "no rotor angle",
-                table=None, rec_scene=rec.scene)
+            phi = CubicSpline(t, np.unwrap(np.asarray(phi, float)))(tp)
+        if w is not None:
+            wa = np.unwrap(np.asarray(w, float), axis=0).reshape(t.size, -1)
+            w = np.column_stack([np.interp(tp, t, c) for c in wa.T]).reshape((tp.size,) +
+                                                                                 np.shape(w)[1:])
+        t, (x, y) = tp, xy
+        deg = ", ".join(f"{math.degrees(a):g}" for a in pr["angles"])
+        plane = f" in plane {pr['plane']!r}" if pr.get("plane") else ""
+        notes.append(f"analysed the displacement probes (instruments/probes{plane}: "
+                     f"{len(pr['angles'])} probes at {deg} deg, {t.size} samples at "
+                     f"{1.0 / float(np.median(np.diff(t))):.6g} samples/s; x, y solved from the "
+                     "probes' projections, with their noise, quantisation and runout) and the "
+                     "rotor angle of the recording's encoder (rotor/angle interpolated onto the "
+                     "probe times), as a lab would; not the simulator's shaft state")
+        if scene is not None and no_weights(scene):
+            mass = float(scene.total_mass)
+            s = scene.supports
+            notes.append(f"the recording's scene says f0 = {scene.natural_frequency / TWO_PI:.6g} Hz, "
+                         f"zeta = {c_over_ccrit(scene):.4g} (cross-check only: f0, zeta and the "
+                         "unbalance are fitted to the probes)" if s.stiffness_x > 0 else
+                         "the recording's scene has no support stiffness (no cross-check)")
+            scene = None                        # the run-up model is fitted, as on a lab table
+    elif pr is None:
+        notes.append("no displacement probes in the recording: the simulator's shaft state "
+                     "(shaft/x, shaft/y) is analysed, noise-free; its ± are numerical only "
+                     "(add [instruments.probes] to the scene to see what a lab sees)")
+    angle = None
+    if phi is not None and t.size > 1:
+        from stand.lab.speed_source import encoder_angle
+
+        angle = encoder_angle(t, phi, "rotor angle")
+    return dict(t=t, x=x, y=y, phi=phi, kp=None, weights=w, scene=scene, notes=notes,
+                angle=angle, speed_how="the recording's rotor angle" if phi is not None
+                else "no rotor angle", table=None, rec_scene=rscene, mass_kg=mass,
+                probes=pr if xy is not None else None)
+
+
+def no_weights(scene) -> bool:
+    """The rigid-rotor model of the run-up fit applies: a planar rotor without weights (a
+    rotor of the family is left to its own model)."""
+    bal = getattr(scene, "balancer", None)
+    return getattr(scene, "kind", None) == "planar" and not getattr(bal, "count", 0)
+
+
+def c_over_ccrit(scene) -> float:
+    """A planar scene's damping ratio c / (2 sqrt(k M)) (the supports' mean of x and y)."""
+    s = scene.supports
+    k, c = 0.5 * (s.stiffness_x + s.stiffness_y), 0.5 * (s.damping_x + s.damping_y)
+    return float(c / (2.0 * math.sqrt(k * scene.total_mass))) if k > 0 else float("nan")
+
+
+def probe_channels(rec):
+    """The displacement probes of a Run or Recording: ``{"time": (M,) [s], "signal": (M, p)
+    [m], "angles": (p,) [rad], "plane": str or None}``, or None without probes.  Read from
+    the file (``instruments/probes/{time,signal,angles}``) or, for a Run in memory, from
+    ``run.instruments["probes"]``."""
+    shape = getattr(rec, "shape", None)
+    if callable(shape) and getattr(rec, "path", ""):
+        try:
+            if shape("instruments/probes/signal") is not None:
+                sig = np.asarray(rec.dataset("instruments/probes/signal"), float)
+                return {"time": np.asarray(rec.dataset("instruments/probes/time"), float),
+                        "signal": sig.reshape(sig.shape[0], -1),
+                        "angles": np.atleast_1d(np.asarray(
+                            rec.dataset("instruments/probes/angles"), float)),
+                        "plane": rec.dataset_attrs("instruments/probes").get("plane")}
+        except (OSError, ValueError):
+            return None
+    ins = getattr(rec, "instruments", None)
+    try:
+        out = ins["probes"] if ins is not None and "probes" in ins else None
+    except (KeyError, TypeError):
+        out = None
+    if out is None:
+        return None
+    r = out.readings
+    sig = np.asarray(r["signal"], float)
+    return {"time": np.asarray(r["time"], float), "signal": sig.reshape(sig.shape[0], -1),
+            "angles": np.atleast_1d(np.asarray(r["angles"], float)),
+            "plane": getattr(out, "plane", None) if getattr(rec.scene, "kind", None) == "rotor"
+            else None}
+
+
+def probes_xy(signal, angles, notes=None):
+    """``(x, y)`` [m] from probes reading ``s_i = x cos a_i + y sin a_i`` (``signal`` (M, p),
+    ``angles`` (p,) [rad]): two probes -- the 2x2 solve (at 0 and 90 deg the columns
+    themselves); more -- least squares.  None (with the reason in ``notes``) when the
+    directions do not span the plane (one probe, or parallel probes)."""
+    a = np.asarray(angles, float)
+    A = np.column_stack([np.cos(a), np.sin(a)])
+    sv = np.linalg.svd(A, compute_uv=False) if a.size >= 2 else np.zeros(1)
+    if a.size < 2 or sv[-1] < 1e-3 * sv[0] or signal.shape[1] != a.size:
+        if notes is not None:
+            notes.append(f"instruments/probes at {np.degrees(a).round(3).tolist()} deg: "
+                         "the directions do not span the plane (x and y cannot be solved); "
+                         "the simulator's shaft state (shaft/x, shaft/y) is analysed instead, "
+                         "noise-free: its ± are numerical only")
+        return None
+    if a.size == 2 and abs(a[0]) < 1e-12 and abs(a[1] - math.pi / 2) < 1e-12:
+        return signal[:, 0].copy(), signal[:, 1].copy()
+    sol = np.linalg.lstsq(A, signal.T, rcond=None)[0]
+    return sol[0], sol[1]
 
 
 def whirls(t, x, y) -> bool:
