@@ -186,11 +186,12 @@ def probe_channels(rec):
         try:
             if shape("instruments/probes/signal") is not None:
                 sig = np.asarray(rec.dataset("instruments/probes/signal"), float)
+                at = rec.dataset_attrs("instruments/probes")
                 return {"time": np.asarray(rec.dataset("instruments/probes/time"), float),
                         "signal": sig.reshape(sig.shape[0], -1),
                         "angles": np.atleast_1d(np.asarray(
                             rec.dataset("instruments/probes/angles"), float)),
-                        "plane": rec.dataset_attrs("instruments/probes").get("plane")}
+                        "plane": at.get("plane"), "runout_1x_m": _runout_1x(at.get("settings"))}
         except (OSError, ValueError):
             return None
     ins = getattr(rec, "instruments", None)
@@ -205,7 +206,25 @@ def probe_channels(rec):
     return {"time": np.asarray(r["time"], float), "signal": sig.reshape(sig.shape[0], -1),
             "angles": np.atleast_1d(np.asarray(r["angles"], float)),
             "plane": getattr(out, "plane", None) if getattr(rec.scene, "kind", None) == "rotor"
-            else None}
+            else None, "runout_1x_m": _runout_1x(getattr(out, "settings", None))}
+
+
+def _runout_1x(settings):
+    """The probes' stated 1X runout amplitude [m] (their settings: a dataclass, a mapping or
+    the recording's JSON text), or None when not stated."""
+    import json
+
+    if isinstance(settings, (str, bytes)):
+        try:
+            settings = json.loads(settings)
+        except ValueError:
+            return None
+    r = settings.get("runout") if isinstance(settings, dict) else getattr(settings, "runout", None)
+    try:
+        r = np.atleast_1d(np.asarray(r, float))
+        return float(r[0]) if r.size and np.isfinite(r[0]) else 0.0
+    except (TypeError, ValueError):
+        return None
 
 
 def probes_xy(signal, angles, notes=None):
