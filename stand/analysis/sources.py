@@ -8,7 +8,11 @@ returns one dict: ``t`` [s], ``x``, ``y`` [m], ``phi`` (the rotor angle [rad] or
 turns a 1X response into an unbalance, or None), ``notes``, ``angle`` (a
 :class:`dsp.speed.RotorAngle` or None), ``speed_how`` (where the speed comes from),
 ``table`` (the lab table or None), ``quantity`` (what x and y measure: ``length``,
-``velocity`` [m/s] or ``acceleration`` [m/s²]; a Run's are ``length``).  :func:`whirls` tells whether a record without a
+``velocity`` [m/s] or ``acceleration`` [m/s²]; a Run's are ``length``), and for a Run or
+recording ``mass_kg`` (the scene's total mass when the run-up model is fitted) and
+``probes`` (the displacement probes analysed, or None).  A recording with displacement
+probes is analysed through them, as a lab would (:func:`from_run`); without, through the
+simulator's noise-free shaft state.  :func:`whirls` tells whether a record without a
 speed channel comes from a spinning shaft.
 """
 from __future__ import annotations
