@@ -112,7 +112,7 @@ def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
     from stand.io.atomic import write_text
     from stand.recording.hdf5 import Recording, read_recording
 
-    from stand.analysis.sources import probe_channels
+    from stand.recording.probes import probe_channels
 
     rec = recording if isinstance(recording, Recording) else read_recording(recording)
     pr = probe_channels(rec)
@@ -182,7 +182,7 @@ def daq_bode(recording, csv_path, *, truth_path: Optional[str] = None, bin_hz: f
     from stand.io.atomic import write_text
     from stand.recording.hdf5 import Recording, read_recording
 
-    from stand.analysis.sources import probe_channels
+    from stand.recording.probes import probe_channels
 
     rec = recording if isinstance(recording, Recording) else read_recording(recording)
     pr = probe_channels(rec)
