@@ -15,7 +15,7 @@ from scipy.integrate import solve_ivp
 from dsp.errors import SignalError
 from dsp.response_fit import fit_response_without_speed, fit_unbalance_response
 from dsp.speed import (angle_from_1x, angle_from_pulses, angle_from_speed, otsu_threshold,
-                       pulse_times, repair_pulses, speed_programme)
+                       pulse_times, repair_pulses, retime_pulses, speed_programme)
 
 TWO_PI = 2 * math.pi
 
@@ -74,6 +74,40 @@ def test_angle_from_pulses_of_a_constant_acceleration():
         assert np.max(np.abs(ra.angle_rad - phi)) < 1e-6
         assert np.max(np.abs(ra.speed_rad_s - (w0 + a * t))) < 1e-4
         assert ra.referenced and ra.covered.all()
+
+
+@pytest.mark.parametrize("rate_hz_s", [6.0, -6.0])
+def test_retimed_edges_of_a_ramp_keyphasor_on_a_changing_speed(rate_hz_s):
+    """A keyphasor edge linear in the rotor angle (a ramp 90 deg wide, its 50 % level at the
+    mark), 10 samples per revolution at the top speed, 6 rev/s^2: interpolated linearly in
+    time, each edge is off by about (phi'' / phi') dt^2 / 8 (here up to ~2e-5 rad of angle);
+    interpolated in the angle of the spline through the pulses, to the rounding floor."""
+    f_top = 40.0
+    f_start = 5.0 if rate_hz_s > 0 else f_top
+    duration = abs(f_top - 5.0 / 1.0) / abs(rate_hz_s)
+    fs = 10 * f_top
+    t = np.arange(0.0, duration, 1 / fs)
+    phi = TWO_PI * (f_start * t + 0.5 * rate_hz_s * t * t)
+    u = np.mod(phi + math.pi, TWO_PI) - math.pi
+    ramp = math.pi / 2
+    v = 5.0 * np.minimum(np.clip((u + ramp / 2) / ramp, 0, 1),
+                         np.clip((3 * math.pi / 4 + ramp / 2 - u) / ramp, 0, 1))
+    p = pulse_times(t, v)
+    k = np.round(TWO_PI * (f_start * p + 0.5 * rate_hz_s * p * p) / TWO_PI)
+    # the truth: phi(p) = 2 pi k, solved for p
+    a, b = 0.5 * rate_hz_s, f_start
+    truth = (-b + np.sqrt(b * b + 4 * a * k)) / (2 * a)
+
+    def angle_error(q):
+        return np.max(np.abs(TWO_PI * (f_start * q + 0.5 * rate_hz_s * q * q) - TWO_PI * k))
+
+    assert angle_error(p) > 1e-6                      # linear in time: visibly late/early
+    q = retime_pulses(t, v, p)
+    assert angle_error(q) < 1e-10
+    assert np.max(np.abs(q - truth)) < 1e-12
+    # a pulse with no crossing between its samples (one repair_pulses inserted) keeps its time
+    r = retime_pulses(t, v, np.r_[p[:5], 0.5 * (p[5] + p[6]) + 0.3 / fs, p[6:]][: p.size])
+    assert r[5] == pytest.approx(0.5 * (p[5] + p[6]) + 0.3 / fs, abs=0)
 
 
 def test_angle_from_a_held_tachometer_reading():

@@ -1,4 +1,4 @@
 """Recordings: :mod:`.hdf5` gathers the public names of :mod:`.layout` (the one HDF5 layout for
 every scene), :mod:`.write` (written atomically), :mod:`.read` (read back with checks),
-:mod:`.pandas_tables` (pandas tables in HDF5 lab files) and :mod:`.legacy` (files written
-before the one layout)."""
+:mod:`.pandas_tables` (pandas tables in HDF5 lab files), :mod:`.legacy` (files written
+before the one layout) and :mod:`.sweep_table` (a sweep's final table)."""

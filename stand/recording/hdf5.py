@@ -6,7 +6,8 @@ The public names of the recording modules, in one place (imports elsewhere use t
 * :mod:`.write`  -- :func:`write_recording` (``Run.write``);
 * :mod:`.read`   -- :func:`read_recording` (``stand.read``) and :class:`Recording`;
 * :mod:`.pandas_tables` -- pandas tables in HDF5 files (lab recordings);
-* :mod:`.legacy` -- files written before the one layout.
+* :mod:`.legacy` -- files written before the one layout;
+* :mod:`.sweep_table` -- the other HDF5 layout: a sweep's final table.
 """
 from __future__ import annotations
 

@@ -18,11 +18,9 @@ import warnings
 from pathlib import Path
 from typing import Union
 
-import numpy as np
 import pandas as pd
 
 from stand.io.atomic import atomic_path
-from stand.io.jsonable import dumps
 from stand.sweep.schema import rows_to_frame
 
 __all__ = ["parts_dir", "read_results", "read_parts", "write_part", "write_table", "remove_parts"]
@@ -38,28 +36,6 @@ def _write_parquet(df: pd.DataFrame, path: Path) -> None:
         df.to_parquet(tmp, index=False)
 
 
-def _write_hdf5(df: pd.DataFrame, path: Path, attrs: dict) -> None:
-    """Write the table with h5py: one dataset per column under ``/results``."""
-    import h5py
-
-    with atomic_path(path) as tmp:
-        with h5py.File(tmp, "w") as f:
-            g = f.create_group("results")
-            for k, v in attrs.items():
-                f.attrs[k] = v
-            g.attrs["columns"] = dumps(list(df.columns))
-            for c in df.columns:
-                col = df[c]
-                if col.dtype == "string" or col.dtype == object:
-                    g.create_dataset(c, data=np.array(col.fillna("").astype(str), dtype=object),
-                                     dtype=h5py.string_dtype())
-                elif str(col.dtype) in ("boolean", "Int64"):
-                    g.create_dataset(c, data=col.astype("float64").to_numpy(na_value=np.nan))
-                    g[c].attrs["dtype"] = str(col.dtype)
-                else:
-                    g.create_dataset(c, data=col.to_numpy())
-
-
 def write_table(table: pd.DataFrame, output: Union[str, Path], attrs: dict) -> None:
     """Write the final table: HDF5 for ``*.h5``/``*.hdf5`` (``attrs`` on the file), else Parquet.
 
@@ -72,33 +48,11 @@ def write_table(table: pd.DataFrame, output: Union[str, Path], attrs: dict) -> N
     """
     output = Path(output)
     if output.suffix.lower() in (".h5", ".hdf5"):
-        _write_hdf5(table, output, attrs)
+        from stand.recording.sweep_table import write_sweep_table
+
+        write_sweep_table(table, output, attrs)
     else:
         _write_parquet(table, output)
-
-
-def _read_hdf5(path: Path) -> pd.DataFrame:
-    import json
-
-    import h5py
-
-    with h5py.File(path, "r") as f:
-        g = f["results"]
-        cols = json.loads(g.attrs["columns"])
-        data = {}
-        for c in cols:
-            ds = g[c]
-            kind = ds.attrs.get("dtype")
-            if h5py.check_string_dtype(ds.dtype) is not None:
-                data[c] = pd.array([s.decode() if isinstance(s, bytes) else s for s in ds[()]],
-                                   dtype="string")
-            elif kind in ("boolean", "Int64"):
-                x = ds[()]
-                vals = [None if np.isnan(v) else (bool(v) if kind == "boolean" else int(v)) for v in x]
-                data[c] = pd.array(vals, dtype=kind)
-            else:
-                data[c] = ds[()]
-    return pd.DataFrame(data, columns=cols)
 
 
 def read_results(path: Union[str, Path]) -> pd.DataFrame:
@@ -114,7 +68,9 @@ def read_results(path: Union[str, Path]) -> pd.DataFrame:
     """
     path = Path(path)
     if path.suffix.lower() in (".h5", ".hdf5"):
-        return _read_hdf5(path)
+        from stand.recording.sweep_table import read_sweep_table
+
+        return read_sweep_table(path)
     return pd.read_parquet(path)
 
 
