@@ -248,8 +248,8 @@ def _runout_removed(d, sc1, speed, sl, notes):
     revolutions or more, before the steady stretch) its 1X there -- the slow-roll vector --
     is taken off; the ± then holds the slow-roll vector's scatter and the response still in
     it (the model's |H(w_s)| times the unbalance plus the weights' capacity, all of it, as a
-    bound).  Without a slow roll the probes' stated 1X runout r goes into the ± (r on each
-    of Re, Im: a vector of that length at an unknown angle, bounded)."""
+    bound).  Else -- or when that gives the larger ± -- the probes' stated 1X runout r goes
+    into the ± (r on each of Re, Im: a vector of that length at an unknown angle, bounded)."""
     import dataclasses
 
     from stand.analysis.signals import per_revolution
@@ -274,6 +274,11 @@ def _runout_removed(d, sc1, speed, sl, notes):
             pr = per_revolution(t[k], x[k], y[k], phi[k])
         except SignalError:
             pr = None
+    r = (d.get("probes") or {}).get("runout_1x_m")
+    stated = None if r is None else (v1, math.hypot(sv, r),
+                                     f"the probes' stated 1X runout {r * 1e6:.3g} um is in the "
+                                     "steady 1X's ±")
+    slowroll = None
     if pr is not None and pr[2].size >= 4:
         vs = pr[2]
         V = complex(np.mean(vs))
@@ -281,20 +286,23 @@ def _runout_removed(d, sc1, speed, sl, notes):
         cap = getattr(getattr(scene, "balancer", None), "capacity", 0.0) or 0.0
         dyn = H(float(np.max(pr[1]))) * (abs(v1) / max(H(sc1.speed_rad_s), 1e-300)
                                          + cap / scene.total_mass)
-        v, s = v1 - V, math.sqrt(sv * sv + sV * sV + dyn * dyn)
-        notes.append(f"probe runout: the slow-roll 1X ({abs(V) * 1e6:.3g} um over "
-                     f"{vs.size} revolutions at <= {np.max(pr[1]) / TWO_PI:.3g} rev/s) taken off "
-                     f"the steady 1X; its scatter and the response still in it "
-                     f"({dyn * 1e6:.2g} um, bound) are in the ±")
-    else:
-        r = (d.get("probes") or {}).get("runout_1x_m")
-        if r is None:
-            notes.append("probe runout: no slow roll in the record and no stated runout: the "
-                         "steady 1X may be off by the probes' runout, not in the ±")
-            return sc1
-        v, s = v1, math.hypot(sv, r)
-        notes.append(f"probe runout: no slow roll in the record (at most a quarter of f0): the "
-                     f"probes' stated 1X runout {r * 1e6:.3g} um is in the steady 1X's ±")
+        slowroll = (v1 - V, math.sqrt(sv * sv + sV * sV + dyn * dyn),
+                    f"the slow-roll 1X ({abs(V) * 1e6:.3g} um over {vs.size} revolutions at "
+                    f"<= {np.max(pr[1]) / TWO_PI:.3g} rev/s) taken off the steady 1X; its scatter "
+                    f"and the response still in it ({dyn * 1e6:.2g} um, bound) are in the ±")
+    if slowroll is None and stated is None:
+        notes.append("probe runout: no slow roll in the record (four revolutions below a "
+                     "quarter of f0) and no stated runout: the steady 1X may be off by the "
+                     "probes' runout, not in the ±")
+        return sc1
+    # both honest: the one with the smaller ± (a slow roll still full of response is no use)
+    v, s, how = min((c for c in (slowroll, stated) if c is not None), key=lambda c: c[1])
+    if slowroll is None:
+        how += " (no slow roll in the record: four revolutions below a quarter of f0)"
+    elif how is stated[2]:
+        how += (f" (the slow roll's ± would be {slowroll[1] * 1e6:.2g} um: the response in it "
+                "is too large)")
+    notes.append(f"probe runout: {how}")
     a = abs(v)
     return dataclasses.replace(sc1, vector_m=v, amplitude_m=a, amplitude_std_m=s,
                                phase_rad=math.atan2(v.imag, v.real),
