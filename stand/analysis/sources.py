@@ -130,7 +130,11 @@ def from_run(rec):
         if phi is not None:
             from scipy.interpolate import CubicSpline
 
-            phi = CubicSpline(t, np.unwrap(np.asarray(phi, float)))(tp)
+            ph = np.unwrap(np.asarray(phi, float))
+            try:
+                phi = CubicSpline(t, ph)(tp)
+            except ValueError:                  # times not strictly increasing
+                phi = np.interp(tp, t, ph)
         if w is not None:
             wa = np.unwrap(np.asarray(w, float), axis=0).reshape(t.size, -1)
             w = np.column_stack([np.interp(tp, t, c) for c in wa.T]).reshape((tp.size,) +
