@@ -177,7 +177,8 @@ def _sweep(d, out, rotating) -> None:
     fit, res = sw["model_fit"], sw["resonance"]
     if fit is not None:     # exact for the model; the sweep-corrected 1X peak is a cross-check
         cross = (f"; the 1X peak of the {res['stretch']} with the sweep-rate lag removed gives "
-                 f"{res['critical_speed_hz']:.5g} rev/s (papers 001/003/004 4.3, 5.4)"
+                 f"{res['critical_speed_hz']:.5g} ± {res['critical_speed_hz_std']:.2g} rev/s "
+                 f"(papers 001/003/004 4.3, 5.4)"
                  if res is not None else "")
         out.update(critical_speed_hz=fit["critical_speed_hz"],
                    critical_speed_hz_std=fit["critical_speed_hz_std"],
