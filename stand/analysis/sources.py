@@ -113,6 +113,8 @@ def from_run(rec):
     ``mass_kg``; its f0 and damping only as a cross-check in ``notes``).  Without probes the
     simulator's shaft state (``shaft/x``, ``shaft/y``) is analysed, noise-free.
     """
+    from stand.recording.probes import probe_channels, probes_xy
+
     rscene = rec.scene
     scene = rscene if getattr(rscene, "kind", None) == "planar" else None
     notes = list(rec.notes)
@@ -120,8 +122,6 @@ def from_run(rec):
     phi = rec.rotor_angle if np.all(np.isfinite(rec.rotor_angle)) else None
     w = rec.weight_angle if rec.weight_angle.size and np.all(np.isfinite(rec.weight_angle)) else None
     x, y = np.asarray(rec.x), np.asarray(rec.y)
-    from stand.recording.probes import probe_channels, probes_xy
-
     pr = probe_channels(rec)
     xy = None if pr is None else probes_xy(pr["signal"], pr["angles"], notes)
     mass = None

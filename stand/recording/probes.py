@@ -13,9 +13,10 @@ __all__ = ["probe_channels", "probes_xy"]
 
 def probe_channels(rec):
     """The displacement probes of a Run or Recording: ``{"time": (M,) [s], "signal": (M, p)
-    [m], "angles": (p,) [rad], "plane": str or None}``, or None without probes.  Read from
-    the file (``instruments/probes/{time,signal,angles}``) or, for a Run in memory, from
-    ``run.instruments["probes"]``."""
+    [m], "angles": (p,) [rad], "plane": str or None, "runout_1x_m": the stated 1X runout [m]
+    or None}``, or None without probes.  Read from the file
+    (``instruments/probes/{time,signal,angles}`` and the group's settings) or, for a Run in
+    memory, from ``run.instruments["probes"]``."""
     shape = getattr(rec, "shape", None)
     if callable(shape) and getattr(rec, "path", ""):
         try:
