@@ -40,16 +40,19 @@ class AngleError:
     Attributes
     ----------
     knots : ndarray
-        The full knot vector of the cubic B-splines ``B_j`` of the angle [s].
+        The full knot vector of the B-splines ``B_j`` of the angle [s].
     covariance : ndarray (K, K)
         Covariance of the coefficient errors ``c`` [rad^2].
     delay_std_s : float
         RMS (about zero) of a delay ``delta`` common to the whole angle [s].
+    degree : int
+        The B-splines' degree (3; 4 for the integral of a cubic speed spline).
     """
 
     knots: np.ndarray
     covariance: np.ndarray
     delay_std_s: float
+    degree: int = 3
 
     def modes(self, t, speed_rad_s):
         """``(A, C)``: the angle's error at the times ``t`` [s] is ``A xi`` [rad] with
@@ -58,7 +61,7 @@ class AngleError:
         from scipy.interpolate import BSpline
 
         tk = self.knots
-        D = BSpline.design_matrix(np.asarray(t, float), tk, 3, extrapolate=True)
+        D = BSpline.design_matrix(np.asarray(t, float), tk, self.degree, extrapolate=True)
         A = sparse.hstack([D, sparse.csr_matrix(np.asarray(speed_rad_s, float)[:, None])],
                           format="csr")
         k = self.covariance.shape[0]

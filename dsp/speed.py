@@ -36,7 +36,7 @@ import numpy as np
 
 from .errors import SignalError, check_times
 
-__all__ = ["RotorAngle", "pulse_times", "retime_pulses", "angle_from_pulses", "angle_from_speed",
+__all__ = ["RotorAngle", "pulse_times", "retime_pulses", "pulse_timing_std", "angle_from_pulses", "angle_from_speed",
            "angle_from_1x", "smoothed_phase", "repair_pulses", "Stretch", "Programme", "speed_programme", "otsu_threshold"]
 
 TWO_PI = 2.0 * math.pi
@@ -349,7 +349,7 @@ def retime_pulses(t, v, pulses, *, threshold: Optional[float] = None,
 
 
 def angle_from_pulses(t, pulses, *, source: str = "keyphasor",
-                      knot_revolutions: float = 8.0) -> RotorAngle:
+                      knot_revolutions: float = 8.0, timing_std_s=None) -> RotorAngle:
     """Rotor angle from once-per-revolution pulse times (2 pi per pulse).
 
     The angle through the points (pulse k, 2 pi k) is a least-squares cubic
@@ -371,6 +371,10 @@ def angle_from_pulses(t, pulses, *, source: str = "keyphasor",
         Stored in the result.
     knot_revolutions : float
         Revolutions per spline interval (>= 4 pulses each).
+    timing_std_s : float or array_like, optional
+        Std [s] of each pulse's time (:func:`pulse_timing_std`).  Given, the
+        result's ``angle_error`` carries what it leaves open of the angle, for
+        the fits that use it (:func:`_pulse_angle_error`).
 
     Returns
     -------
@@ -382,7 +386,103 @@ def angle_from_pulses(t, pulses, *, source: str = "keyphasor",
     sp = _pulse_spline(p, knot_revolutions, source)
     inside = (t >= p[0]) & (t <= p[-1])
     ang, spd, acc = _on_samples(sp, t, inside)
-    return RotorAngle(ang, spd, acc, inside, source, referenced=True, pulses_s=p)
+    err = (None if timing_std_s is None else
+           _pulse_angle_error(p, sp, np.broadcast_to(np.asarray(timing_std_s, float), p.shape),
+                              float(np.median(np.diff(t)))))
+    return RotorAngle(ang, spd, acc, inside, source, referenced=True, pulses_s=p,
+                      angle_error=err)
+
+
+def _pulse_angle_error(p, sp, sigma_t, dt):
+    """The angle's uncertainty from the pulses' timing (a :class:`dsp.held_display.AngleError`
+    in the B-spline basis of the angle's least-squares spline, or None when it is nil).
+
+    A pulse late by ``delta t`` puts the angle ``phi' delta t`` off at it; the spline's
+    coefficients are linear in those angles (``c = S phi``, ``S`` the least-squares
+    solution operator): white errors give ``S diag(sigma_phi^2) S'``.  A sampled edge's
+    error is a function of where in its sample interval the edge falls (for a step,
+    ``(1/2 - u) dt`` with ``u`` that fraction), and ``u`` follows the rotation against
+    the sampling: alternating from pulse to pulse the errors cancel within a spline
+    interval, near a speed commensurate with the sample rate they repeat for many
+    revolutions and do not.  ``u`` is predicted from the spline (the times at which it
+    reaches 2 pi k, to well under a sample), and the white covariance is scaled by how
+    much the sawtooth ``1/2 - u`` keeps over a spline interval: ``m`` pulses per
+    coefficient, ``m (local mean)^2 / mean(sawtooth^2)`` at each pulse (the mean over the
+    ``m`` pulses around it), between 1 (white) and ``m`` (no averaging at all).
+    """
+    from scipy.interpolate import BSpline
+
+    from .held_display import AngleError
+
+    w = np.abs(sp(p, 1))
+    sig_phi = w * sigma_t
+    if not np.any(sig_phi > 0):
+        return None
+    tk = getattr(sp, "t", None)
+    if tk is None:          # the interpolating spline of a short record: one cubic for the error
+        tk = np.r_[[p[0]] * 4, [p[-1]] * 4]
+    D = BSpline.design_matrix(p, tk, 3).toarray()
+    S = np.linalg.pinv(D)
+    m = max(int(round(p.size / (tk.size - 4))), 1)
+    # when the smooth angle reaches each mark, and where that falls in its sample interval
+    tau = p - (sp(p) - TWO_PI * np.arange(p.size)) / np.where(w > 0, w, 1.0)
+    u = np.mod((tau - p[0]) / dt, 1.0) if dt > 0 else np.zeros(p.size)
+    g = 0.5 - u
+    local = np.convolve(g, np.ones(m) / m, mode="same")      # centred on each pulse
+    factor = np.clip(m * local ** 2 / max(np.mean(g ** 2), 1e-300), 1.0, m)
+    return AngleError(tk, (S * (factor * sig_phi ** 2)) @ S.T, 0.0)
+
+
+def pulse_timing_std(t, v, pulses, *, threshold: Optional[float] = None):
+    """Std [s] of each pulse time of :func:`pulse_times` / :func:`retime_pulses`.
+
+    An edge with both samples around its crossing on the edge itself (off both
+    states by more than four times the channel's noise) is interpolated between
+    them: its time is as good as the samples' noise over the edge's slope,
+    ``sqrt 2 sigma_v dt / |v_k - v_(k-1)|`` (the edge taken as linear in the angle
+    between them, :func:`retime_pulses`).  An edge faster than that (a TTL
+    step, a proximity probe over a sharp notch) lies anywhere in the sample
+    interval: the crossing put at the fraction ``f`` of it is off by
+    ``dt sqrt(f^2 - f + 1/3)`` RMS (``dt / sqrt 12`` at the middle).  A pulse
+    without a crossing between its samples (one :func:`repair_pulses` filled in)
+    gets ``dt / sqrt 3``.
+
+    Parameters
+    ----------
+    t, v : array_like
+        Sample times [s] and the pulse channel.
+    pulses : array_like
+        Pulse times [s].
+    threshold : float, optional
+        As given to :func:`pulse_times`.
+
+    Returns
+    -------
+    ndarray
+        One std [s] per pulse.
+    """
+    t = check_times(t, "t", 4)
+    v = np.asarray(v, float)
+    p = np.asarray(pulses, float)
+    level = otsu_threshold(v) if threshold is None else float(threshold)
+    high = v > level
+    lo, hi = _state_level(v[~high]), _state_level(v[high])
+    ref = 0.5 * (lo + hi) if threshold is None else level
+    band = 0.1 * abs(hi - lo)
+    near = np.r_[v[np.abs(v - lo) < band] - lo, v[np.abs(v - hi) < band] - hi]
+    sigma_v = 1.4826 * float(np.median(np.abs(near - np.median(near)))) if near.size else 0.0
+    margin = max(4.0 * sigma_v, 0.02 * abs(hi - lo))
+    k = np.clip(np.searchsorted(t, p), 1, t.size - 1)
+    a, b = v[k - 1] - ref, v[k] - ref
+    dt = t[k] - t[k - 1]
+    crossing = (a * b < 0) | (b == 0)
+    on_edge = ((np.minimum(v[k - 1], v[k]) > min(lo, hi) + margin)
+               & (np.maximum(v[k - 1], v[k]) < max(lo, hi) - margin))
+    f = np.clip((p - t[k - 1]) / dt, 0.0, 1.0)
+    step = dt * np.sqrt(f * f - f + 1.0 / 3.0)
+    slope = np.abs(v[k] - v[k - 1])
+    noise = math.sqrt(2.0) * sigma_v * dt / np.where(slope > 0, slope, np.inf)
+    return np.where(crossing, np.where(on_edge, noise, step), dt / math.sqrt(3.0))
 
 
 def angle_from_speed(t, speed_rad_s, *, source: str = "tachometer") -> RotorAngle:
@@ -400,14 +500,66 @@ def angle_from_speed(t, speed_rad_s, *, source: str = "tachometer") -> RotorAngl
     if w.shape != t.shape or not np.all(np.isfinite(w)):
         raise SignalError(f"{source}: needs a finite speed at every sample")
     change = np.flatnonzero(np.diff(w) != 0) + 1
-    if 2 <= change.size < t.size // 4:           # a held display: steps
-        from .held_display import held_angle
+    if 2 <= change.size < t.size // 4 and not _rounded_continuous(w, change):
+        from .held_display import held_angle          # a held display: steps
 
         ang, spd, acc, err, covered = held_angle(t, w, change)
         return RotorAngle(ang, spd, acc, covered, source, referenced=False, angle_error=err)
+    if t.size >= 64 and change.size >= 8:
+        return _speed_spline_angle(t, w, source)
     ang = np.concatenate(([0.0], np.cumsum(0.5 * (w[1:] + w[:-1]) * np.diff(t))))
     acc = np.gradient(w, t)
     return RotorAngle(ang, w, acc, np.ones(t.size, bool), source, referenced=False)
+
+
+def _rounded_continuous(w, change) -> bool:
+    """A speed channel that follows the speed, rounded to its resolution (an analog
+    tachometer's output, or a speed column written to 1 rpm), not a held display: every
+    step is one quantum (a display's reading on a sweep jumps by the sweep over a gate)."""
+    from .held_display import _quantum
+
+    steps = np.abs(np.diff(w[np.r_[change - 1, change[-1]]]))
+    q = _quantum(steps)
+    return bool(change.size >= 20 and q > 0
+                and np.mean(np.abs(steps - q) <= 1e-6 * q) >= 0.9)
+
+
+def _speed_spline_angle(t, w, source, knot_revolutions: float = 8.0):
+    """A continuous speed channel (each sample the speed, with noise or rounding): a
+    least-squares cubic spline of the speed (a knot every ``knot_revolutions``
+    revolutions), its integral the angle (a quartic spline) and its derivative the
+    acceleration; ``angle_error`` carries the coefficients' covariance through the
+    integral.  The channel's errors are white with the residuals' variance, scaled by
+    how much they keep over a quarter of a knot interval (as for the keyphasor's timing,
+    :func:`_pulse_angle_error`: filtered noise or a rounding that repeats does not
+    average out; never below white)."""
+    from scipy.interpolate import BSpline
+
+    from .held_display import AngleError
+
+    trap = np.concatenate(([0.0], np.cumsum(0.5 * (w[1:] + w[:-1]) * np.diff(t))))
+    revs = abs(trap[-1] - trap[0]) / TWO_PI
+    n_int = int(min(max(revs / knot_revolutions, 1), t.size / 16))
+    inner = np.interp(np.linspace(trap[0], trap[-1], n_int + 1)[1:-1], trap, t) \
+        if trap[-1] > trap[0] else np.linspace(t[0], t[-1], n_int + 1)[1:-1]
+    tk = np.r_[[t[0]] * 4, inner, [t[-1]] * 4]
+    D = BSpline.design_matrix(t, tk, 3).toarray()
+    a, *_ = np.linalg.lstsq(D, w, rcond=None)
+    r = w - D @ a
+    K = a.size
+    s2 = float(r @ r) / max(t.size - K, 1)
+    m = max(int(t.size / (4 * n_int)), 1)
+    local = np.convolve(r, np.ones(m) / m, mode="valid")
+    factor = float(np.clip(m * np.mean(local ** 2) / max(np.mean(r ** 2), 1e-300), 1.0, m))
+    cov_a = factor * s2 * np.linalg.pinv(D.T @ D, hermitian=True)
+    speed = BSpline(tk, a, 3)
+    angle = speed.antiderivative()
+    anti = BSpline(tk, np.eye(K), 3).antiderivative()
+    L = anti.c[: anti.t.size - 5]                              # angle coefficients per a_j
+    err = AngleError(anti.t, L @ cov_a @ L.T, 0.0, degree=4)
+    ang = angle(t)
+    return RotorAngle(ang - ang[0], speed(t), speed(t, 1), np.ones(t.size, bool), source,
+                      referenced=False, angle_error=err)
 
 
 def angle_from_1x(t, z, *, min_amplitude_fraction: float = 0.05,

@@ -86,7 +86,7 @@ def from_table(p, recording_map):
         t, x, y, phi = t[c], x[c], y[c], angle.angle_rad[c]
         angle = type(angle)(angle.angle_rad[c], angle.speed_rad_s[c], angle.acceleration_rad_s2[c],
                             np.ones(int(c.sum()), bool), angle.source, angle.referenced,
-                            angle.estimated, angle.pulses_s)
+                            angle.estimated, angle.pulses_s, angle.angle_error)
     if tab.quantity != "length":
         notes.append(_SUPPORT_MODEL)
     return dict(t=t, x=x, y=y, phi=phi, kp=None, weights=None, scene=None, notes=notes,

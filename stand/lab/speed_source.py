@@ -41,8 +41,8 @@ def rotor_angle_of(table, notes: list):
         A pulse channel without usable pulses (names the column).
     """
     from dsp.errors import SignalError
-    from dsp.speed import (angle_from_pulses, angle_from_speed, pulse_times, repair_pulses,
-                           retime_pulses)
+    from dsp.speed import (angle_from_pulses, angle_from_speed, pulse_times, pulse_timing_std,
+                           repair_pulses, retime_pulses)
 
     from stand.lab.table import TableError
 
@@ -68,9 +68,11 @@ def rotor_angle_of(table, notes: list):
             if p.size < 3:
                 raise SignalError(f"column {spec.column!r}: {p.size} pulse(s); the rotor angle "
                                   "needs at least 3 (two revolutions)")
+            timing = None
             if how == "leading edges":      # the edge is a function of the angle, not of time
                 p = retime_pulses(t, v, p, threshold=spec.threshold)
-            ra = angle_from_pulses(t, p)
+                timing = pulse_timing_std(t, v, p, threshold=spec.threshold)
+            ra = angle_from_pulses(t, p, timing_std_s=timing)
         except SignalError as exc:
             msg = str(exc)
             if spec.column not in msg:

@@ -20,7 +20,8 @@ TWO_PI = 2.0 * math.pi
 #: What a ± of the run-up model fit contains (the report's one line on it).
 FIT_UNCERTAINTY = ("± is one standard uncertainty: the model fit's statistical part with "
                    "correlated residuals (block-score sandwich covariance, never below the "
-                   "white-noise one); for angles, the keyphasor's pulse timing; a rotor angle "
+                   "white-noise one); the keyphasor's pulse timing (an edge faster than a "
+                   "sample anywhere in its sample interval) through the rotor angle; a rotor angle "
                    "estimated from the whirl, fitted with the model (its spline's coefficients "
                    "as nuisance parameters); a rotor angle from a held tachometer display, "
                    "that display's count quantum and its update timing (to one DAQ sample); "
