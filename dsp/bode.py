@@ -57,6 +57,16 @@ class ModalFit:
         Speeds fitted [rev/s].
     residual_rms_m : float
     points : int
+    specific_unbalance_m_std, angle_rad_std, critical_speed_hz_std : float
+        Standard uncertainties of |q| [m], arg q [rad] and the critical speed [rev/s].
+    sweep_rate_rad_s2 : float
+        The sweep rate the table shows [rad/s^2] (0 for a steady table; > 0 a run-up).
+
+    Every std is the larger of the white-residual covariance and the batch-means
+    sandwich over contiguous speed blocks (:func:`dsp.response_fit._covariances`): a
+    table's residuals follow the speed -- a run-up's sweep lag and ringing through the
+    resonance, bins averaged over a curved response, the probe's runout harmonics --
+    and those do not average out from point to point.
     """
 
     natural_frequency_hz: float
@@ -71,6 +81,10 @@ class ModalFit:
     speed_range_hz: tuple
     residual_rms_m: float
     points: int
+    specific_unbalance_m_std: float = math.nan
+    angle_rad_std: float = math.nan
+    critical_speed_hz_std: float = math.nan
+    sweep_rate_rad_s2: float = 0.0
 
 
 def to_displacement(speed_rad_s, vector, derivative: int):
@@ -79,13 +93,30 @@ def to_displacement(speed_rad_s, vector, derivative: int):
     return np.asarray(vector, complex) / (1j * w) ** int(derivative)
 
 
-def _shape(w, w0, zeta):
+def _lag(w, w0, zeta):
+    """The steady response's group delay d(theta)/d(Omega) [s], theta = arg(1 - r^2 + 2 i zeta r)."""
+    r = w / w0
+    return (2.0 * zeta / w0) * (1.0 + r * r) / ((1.0 - r * r) ** 2 + (2.0 * zeta * r) ** 2)
+
+
+_GAUSS = np.polynomial.legendre.leggauss(5)
+
+
+def _shape(w, w0, zeta, alpha=0.0, bins=None):
+    """r^2 / (1 - r^2 + 2 i zeta r) at the speed the response shows on a sweep of
+    ``alpha`` [rad/s^2] (Omega - alpha tau(Omega), tau the group delay), averaged over
+    speed bins ``bins`` [rad/s] wide when given (5-point Gauss-Legendre)."""
+    if bins is not None:
+        x, g = _GAUSS
+        return sum(0.5 * gi * _shape(w + 0.5 * xi * bins, w0, zeta, alpha) for xi, gi in zip(x, g))
+    if alpha:
+        w = w - alpha * _lag(w, w0, zeta)
     r = w / w0
     return r * r / (1.0 - r * r + 2j * zeta * r)
 
 
-def _linear(w, z, w0, zeta):
-    B = np.column_stack([_shape(w, w0, zeta), np.ones_like(w, dtype=complex)])
+def _linear(w, z, w0, zeta, alpha=0.0, bins=None):
+    B = np.column_stack([_shape(w, w0, zeta, alpha, bins), np.ones_like(w, dtype=complex)])
     c, *_ = np.linalg.lstsq(B, z, rcond=None)
     return c, z - B @ c
 
@@ -124,8 +155,6 @@ def modal_fit(speed_rad_s, vector_m, *, damping_guess=None) -> ModalFit:
     SignalError
         Fewer than 6 points, or a table whose speeds do not pass the resonance.
     """
-    from scipy.optimize import least_squares
-
     w = np.asarray(speed_rad_s, float)
     z = np.asarray(vector_m, complex)
     if w.shape != z.shape or w.size < 6:
@@ -140,34 +169,105 @@ def modal_fit(speed_rad_s, vector_m, *, damping_guess=None) -> ModalFit:
                           "the speeds do not pass the resonance")
     zh = half_power_damping(w, np.abs(z) / (w / w[k]) ** 2)
     z_guess = damping_guess or (zh if zh and 0 < zh < 0.5 else 0.05)
-    w_guess = w[k]
-    scale = float(np.max(np.abs(z))) or 1.0
-
-    def resid(p):
-        _, r = _linear(w, z, p[0] * w_guess, p[1])
-        return np.concatenate((r.real, r.imag)) / scale
-
-    sol = least_squares(resid, [1.0, z_guess], bounds=([0.3, 1e-5], [3.0, 0.7]),
-                        x_scale=[0.01, 0.01], xtol=1e-14, ftol=1e-14, gtol=1e-14)
-    w0, zeta = sol.x[0] * w_guess, float(sol.x[1])
-    (q, c), r = _linear(w, z, w0, zeta)
     n = w.size
-    s2 = float(np.sum(np.abs(r) ** 2)) / max(2 * n - 6, 1)
-    J = sol.jac * scale / np.array([w_guess, 1.0])        # d r / d(omega_0, zeta)
-    try:
-        cov = s2 * np.linalg.inv(J.T @ J)
-        sd = np.sqrt(np.abs(np.diag(cov)))
-    except np.linalg.LinAlgError:
-        sd = np.array([math.nan, math.nan])
+    # each point a snapshot of the 1X at its speed, or its mean over a speed bin as wide as
+    # the table's step (order tracking averages): the better fit is taken, the other one
+    # stays in the std by its weight (Akaike: exp(-delta chi^2 / 2))
+    fits = [_fit(w, z, w[k], z_guess, sweep=True, bins=b) for b in (None, np.gradient(w))]
+    rss = [float(np.sum(np.abs(f["r"]) ** 2)) for f in fits]
+    best = int(np.argmin(rss))
+    primary, other = fits[best], fits[1 - best]
+    s2 = rss[best] / max(2 * n - 7, 1)
+    dchi2 = (rss[1 - best] - rss[best]) / s2 if s2 > 0 else math.inf
+    w_other = 1.0 / (1.0 + math.exp(min(0.5 * dchi2, 700.0)))
+    steady = _fit(w, z, w[k], z_guess, sweep=False, bins=primary["bins"])
+    w0, zeta, alpha = primary["p"]
+    q, c, r = primary["q"], primary["c"], primary["r"]
+    sd = _stds(w, r, primary["p"], q, primary["bins"])
+    for key in sd:        # the method's part: half the sweep's first-order correction, the bins
+        sd[key] = math.hypot(sd[key], 0.5 * _diff(key, primary, steady),
+                             _diff(key, other, primary) * math.sqrt(w_other))
     crit = w0 / math.sqrt(1.0 - 2.0 * zeta * zeta) if zeta < 1 / math.sqrt(2) else math.nan
     zhp = half_power_damping(w, np.abs(z - c) / (w / w0) ** 2)
-    return ModalFit(natural_frequency_hz=float(w0) / TWO_PI, natural_frequency_hz_std=float(sd[0]) / TWO_PI,
-                    damping_ratio=zeta, damping_ratio_std=float(sd[1]),
+    return ModalFit(natural_frequency_hz=float(w0) / TWO_PI, natural_frequency_hz_std=sd["w0"] / TWO_PI,
+                    damping_ratio=zeta, damping_ratio_std=sd["zeta"],
                     critical_speed_hz=float(crit) / TWO_PI, specific_unbalance_m=float(abs(q)),
                     angle_rad=float(np.angle(q)), runout_m=complex(c),
                     half_power_damping_ratio=zhp,
                     speed_range_hz=(float(w[0] / TWO_PI), float(w[-1] / TWO_PI)),
-                    residual_rms_m=float(np.sqrt(np.mean(np.abs(r) ** 2))), points=int(n))
+                    residual_rms_m=float(np.sqrt(np.mean(np.abs(r) ** 2))), points=int(n),
+                    specific_unbalance_m_std=sd["e"], angle_rad_std=sd["beta"],
+                    critical_speed_hz_std=sd["fc"], sweep_rate_rad_s2=float(alpha))
+
+
+def _fit(w, z, w_guess, z_guess, *, sweep, bins=None) -> dict:
+    """Variable projection: (omega_0, zeta[, alpha]) by least squares, (q, c) linear."""
+    from scipy.optimize import least_squares
+
+    scale = float(np.max(np.abs(z))) or 1.0
+    a_unit = (z_guess * w_guess) ** 2            # a sweep whose lag is ~ the half-power width
+
+    def resid(p):
+        _, r = _linear(w, z, p[0] * w_guess, p[1], p[2] * a_unit if sweep else 0.0, bins)
+        return np.concatenate((r.real, r.imag)) / scale
+
+    x0 = [1.0, z_guess] + ([0.0] if sweep else [])
+    lo = [0.3, 1e-5] + ([-2.0] if sweep else [])
+    hi = [3.0, 0.7] + ([2.0] if sweep else [])
+    sol = least_squares(resid, x0, bounds=(lo, hi), x_scale=[0.01] * len(x0),
+                        xtol=1e-14, ftol=1e-14, gtol=1e-14)
+    p = (sol.x[0] * w_guess, float(sol.x[1]), float(sol.x[2]) * a_unit if sweep else 0.0)
+    (q, c), r = _linear(w, z, p[0], p[1], p[2], bins)
+    return {"p": p, "q": complex(q), "c": complex(c), "r": r, "bins": bins}
+
+
+def _diff(key, a, b) -> float:
+    """|a - b| of one reported quantity of two fits (:func:`_stds`' keys)."""
+    def value(f):
+        w0, zeta, _ = f["p"]
+        return {"w0": w0, "zeta": zeta, "e": abs(f["q"]), "beta": float(np.angle(f["q"])),
+                "fc": w0 / math.sqrt(1.0 - 2.0 * zeta * zeta) / TWO_PI
+                if zeta < 1 / math.sqrt(2) else math.nan}[key]
+    d = value(a) - value(b)
+    if key == "beta":
+        d = (d + math.pi) % TWO_PI - math.pi
+    return abs(d)
+
+
+def _stds(w, r, p, q, bins=None) -> dict:
+    """Statistical stds of omega_0 [rad/s], zeta, |q| [m], arg q [rad] and the critical
+    speed [rev/s] from the full model's Jacobian in (omega_0, zeta, alpha, q, c)."""
+    from .response_fit import _covariances
+
+    w0, zeta, alpha = p
+    shape = _shape(w, w0, zeta, alpha, bins)
+    cols = []
+    for j in range(3):
+        h = 1e-6 * (w0, max(zeta, 1e-4), max(abs(alpha), 1e-4 * w0 * w0))[j]
+        pp, pm = list(p), list(p)
+        pp[j] += h
+        pm[j] -= h
+        cols.append(-q * (_shape(w, *pp, bins) - _shape(w, *pm, bins)) / (2 * h))
+    cols += [-shape, -1j * shape, -np.ones_like(shape), -1j * np.ones_like(shape)]
+    Jc = np.column_stack(cols)
+    J = np.vstack((Jc.real, Jc.imag))
+    # contiguous blocks of the speed axis: a few long ones (a residual that follows the
+    # whole curve) and many short ones (a run-up's ringing just past the resonance)
+    covs = (_covariances(J, r, 7, blocks=8, min_block=8)
+            + _covariances(J, r, 7, blocks=w.size, min_block=4)[1:])
+    e = abs(q)
+    u = np.array([q.real, q.imag]) / e if e > 0 else np.array([1.0, 0.0])
+    v = np.array([-u[1], u[0]]) / (e if e > 0 else 1.0)
+    shift = 1.0 / math.sqrt(1.0 - 2.0 * zeta * zeta) if zeta < 1 / math.sqrt(2) else math.nan
+    gc = np.array([shift, w0 * 2 * zeta * shift ** 3]) / TWO_PI
+    grads = {"w0": (0, np.array([1.0])), "zeta": (1, np.array([1.0])), "e": (3, u),
+             "beta": (3, v), "fc": (0, gc)}
+
+    def std(C, i, g):
+        k = slice(i, i + g.size)
+        return float(math.sqrt(max(g @ C[k, k] @ g, 0.0)))
+
+    return {k: max(std(C, i, g) for C in covs) for k, (i, g) in grads.items()}
 
 
 def modal_fits(speed_rad_s, vector_m, *, prominence: float = 0.3) -> list:

@@ -349,7 +349,7 @@ def _propagated(J, dr_dphi, w, t, angle_error):
     return out
 
 
-def _covariances(J, r, n_par, blocks: int = 40):
+def _covariances(J, r, n_par, blocks: int = 40, min_block: int = 16):
     """Parameter covariances of the least-squares fit: (white, correlated).
 
     White: s^2 (J'J)^-1, right when the residuals are independent.  Correlated: the
@@ -357,6 +357,7 @@ def _covariances(J, r, n_par, blocks: int = 40):
     outer products of the block's score J'r (batch means: the residuals' correlation
     within a block -- noise that is not white, model error that follows the speed --
     is kept, not averaged away).  The std of a quantity is the larger of the two.
+    Blocks are at least ``min_block`` samples long.
     """
     n = r.size
     live = np.any(J != 0, axis=0)
@@ -370,7 +371,7 @@ def _covariances(J, r, n_par, blocks: int = 40):
     white = np.zeros((n_par, n_par))
     white[np.ix_(live, live)] = s2 * Ai
     score = J[:n, live] * r.real[:, None] + J[n:, live] * r.imag[:, None]     # per sample
-    nb = int(min(blocks, max(n // 16, 2)))
+    nb = int(min(blocks, max(n // min_block, 2)))
     edges = np.linspace(0, n, nb + 1).astype(int)
     sums = np.add.reduceat(score, edges[:-1], axis=0)
     S = sums.T @ sums * (2 * n / max(2 * n - n_par, 1))

@@ -19,7 +19,7 @@ TWO_PI = 2 * math.pi
 #: the keys of a time record's analysis a Bode table does not give
 _NONE = ("natural_frequency_hz", "natural_frequency_hz_std", "damping_ratio", "damping_ratio_std",
          "speed_hz", "response_1x_m", "unbalance_gmm", "unbalance_gmm_std", "unbalance_angle_deg",
-         "iso_grade", "programme", "critical_speed_hz", "critical_speed_hz_std",
+         "unbalance_angle_deg_std", "iso_grade", "programme", "critical_speed_hz", "critical_speed_hz_std",
          "critical_speed_method", "precession_hz", "nutation_hz", "petals", "shape", "regime",
          "runup", "stationary_stretch")
 
@@ -55,7 +55,11 @@ def analyze_bode(tab, notes: list) -> dict:
             "critical_speed_hz": m.critical_speed_hz,
             "specific_unbalance_gmm_per_kg": m.specific_unbalance_m * 1e6,
             "unbalance_gmm": m.specific_unbalance_m * mass * 1e6 if mass else None,
+            "unbalance_gmm_std": m.specific_unbalance_m_std * mass * 1e6 if mass else None,
             "unbalance_angle_deg": math.degrees(m.angle_rad) % 360.0,
+            "unbalance_angle_deg_std": math.degrees(m.angle_rad_std),
+            "critical_speed_hz_std": m.critical_speed_hz_std,
+            "sweep_rate_hz_s": m.sweep_rate_rad_s2 / TWO_PI,
             "runout_m": abs(m.runout_m), "speed_range_hz": list(m.speed_range_hz),
             "residual_rms_m": m.residual_rms_m, "points": m.points})
     first = max(out["modes"], key=lambda d: d["specific_unbalance_gmm_per_kg"] /
@@ -64,9 +68,12 @@ def analyze_bode(tab, notes: list) -> dict:
                natural_frequency_hz_std=first["natural_frequency_hz_std"],
                damping_ratio=first["damping_ratio"], damping_ratio_std=first["damping_ratio_std"],
                critical_speed_hz=first["critical_speed_hz"],
+               critical_speed_hz_std=first["critical_speed_hz_std"],
                critical_speed_method="modal fit of the steady 1X table (rational fit on the "
                                      "polar plot, dsp.bode), half-power as a cross-check",
-               unbalance_gmm=first["unbalance_gmm"], unbalance_angle_deg=first["unbalance_angle_deg"],
+               unbalance_gmm=first["unbalance_gmm"], unbalance_gmm_std=first["unbalance_gmm_std"],
+               unbalance_angle_deg=first["unbalance_angle_deg"],
+               unbalance_angle_deg_std=first["unbalance_angle_deg_std"],
                specific_unbalance_gmm_per_kg=first["specific_unbalance_gmm_per_kg"])
     if len(out["modes"]) > 1:
         notes.append(f"{len(out['modes'])} resonances in the table, each fitted (modes); the "

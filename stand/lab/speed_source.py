@@ -9,20 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["rotor_angle_of", "encoder_angle"]
-
-
-def encoder_angle(t, angle_rad, source: str = "angle"):
-    """The :class:`dsp.speed.RotorAngle` of an encoder's angle samples at the record's times
-    ``t`` [s]: unwrapped, speed and acceleration by central differences (a lab table's angle
-    column, a stand recording's ``rotor/angle``); referenced to the encoder's mark."""
-    from dsp.speed import RotorAngle
-
-    t = np.asarray(t, float)
-    phi = np.unwrap(np.asarray(angle_rad, float))
-    w = np.gradient(phi, t) if t.size > 1 else np.zeros_like(phi)
-    a = np.gradient(w, t) if t.size > 1 else np.zeros_like(phi)
-    return RotorAngle(phi, w, a, np.ones(t.size, bool), source, referenced=True)
+__all__ = ["rotor_angle_of"]
 
 
 def _binary_pulses(t, v):
@@ -41,15 +28,18 @@ def rotor_angle_of(table, notes: list):
         A pulse channel without usable pulses (names the column).
     """
     from dsp.errors import SignalError
-    from dsp.speed import (angle_from_pulses, angle_from_speed, pulse_times, pulse_timing_std,
-                           repair_pulses, retime_pulses)
+    from dsp.speed import (angle_from_encoder, angle_from_pulses, angle_from_speed, pulse_times,
+                           pulse_timing_std, repair_pulses, retime_pulses)
 
     from stand.lab.table import TableError
 
     t, sig, cols = table.t, table.signals, table.columns
     if "angle" in sig:
-        return (encoder_angle(t, sig["angle"]),
-                f"rotor angle from column {cols['angle'].column!r}")
+        try:
+            ra = angle_from_encoder(t, sig["angle"])
+        except SignalError as exc:
+            raise TableError(f"{table.path}: angle column {cols['angle'].column!r}: {exc}") from None
+        return ra, f"rotor angle from column {cols['angle'].column!r}"
     if "keyphasor" in sig:
         v, spec = sig["keyphasor"], cols["keyphasor"]
         try:
