@@ -162,22 +162,18 @@ def from_run(rec):
                      "(add [instruments.probes] to the scene to see what a lab sees)")
     angle = None
     if phi is not None and t.size > 1:
-        from dsp.errors import SignalError
-        from dsp.speed import angle_from_encoder
+        from dsp.speed import RotorAngle
 
-        # a lab table's encoder column (dsp.speed.angle_from_encoder); the simulator's encoder
-        # has no count quantum to average, so a knot every revolution: the spline then follows
-        # the drive programme's acceleration steps (a knot every 8 revolutions, the default
-        # for a quantised count, left f0 +4e-4 and zeta -0.45 % at a ramp -> hold kink)
-        try:
-            angle = angle_from_encoder(t, phi, source="rotor angle", knot_revolutions=1.0)
-        except SignalError:                     # e.g. times not strictly increasing
-            from dsp.speed import RotorAngle
-
-            ph = np.unwrap(np.asarray(phi, float))
-            wr = np.gradient(ph, t)
-            angle = RotorAngle(ph, wr, np.gradient(wr, t), np.ones(t.size, bool),
-                               "rotor angle", referenced=True)
+        # the simulator's encoder is exact (no count quantum for a spline to average, as
+        # dsp.speed.angle_from_encoder does for a lab's encoder column): central differences
+        # are exact on the drive programme's quadratic angle, O(N) on long records, and
+        # follow its acceleration steps (the spline with a knot every 8 revolutions left f0
+        # +4e-4 and zeta -0.45 % at a ramp -> hold corner; its dense design matrix grows as
+        # samples x revolutions)
+        ph = np.unwrap(np.asarray(phi, float))
+        wr = np.gradient(ph, t)
+        angle = RotorAngle(ph, wr, np.gradient(wr, t), np.ones(t.size, bool), "rotor angle",
+                           referenced=True)
     return dict(t=t, x=x, y=y, phi=phi, kp=None, weights=w, scene=scene, notes=notes,
                 angle=angle, speed_how="the recording's rotor angle" if phi is not None
                 else "no rotor angle", table=None, rec_scene=rscene, mass_kg=mass,
