@@ -495,3 +495,13 @@ def test_ill_conditioned_trial_runs_warn_on_the_command_line(tmp_path, capsys):
     assert doc["ill_conditioned"]["planes"] == ["P1", "P2"]
     warn = [ln for ln in cap.err.splitlines() if "ill-conditioned" in ln]
     assert len(warn) == 1 and "P1" in warn[0] and "P2" in warn[0]
+
+
+# ------------------------------------------------------------------ the ± of the corrections
+# (the calibration over 24 rotors: ``field-readings`` in tests/test_uncertainty_lab.py)
+def test_trial_mass_weighed_to_its_digits():
+    """"1.15 @ 0" was weighed to 0.01 g; "10 @ 0" is the nominal, exact mass."""
+    from stand.analysis.field_job import _weighing_std
+
+    assert _weighing_std("1.15 @ 0", 1e-3) == pytest.approx(0.01e-3 / np.sqrt(24.0))
+    assert _weighing_std("10 @ 0", 1e-3) == 0.0

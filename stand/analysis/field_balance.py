@@ -89,17 +89,14 @@ class _Chain:
                 self.pos[(r.index, s)] = len(self.x)
                 self.x.append(v)
                 self.sig.append(r.std[s])
+        for r in job.runs:            # the trial masses too: their weighing is a reading
+            for p, t in r.trial.items():
+                self.pos[("trial", r.index, p)] = len(self.x)
+                self.x.append(t)
+                self.sig.append(r.trial_std.get(p, 0.0))
         self.x = np.array(self.x, dtype=complex)
         self.sig = np.array(self.sig, dtype=float)
-        on = np.zeros(P, dtype=complex)
-        self.added = {}
-        for r in job.runs:
-            w = on.copy()
-            for p, t in r.trial.items():
-                w[job.planes.index(p)] += t
-            self.added[r.index] = w
-            if r.kind == "trial" and not r.removed:
-                on = w.copy()
+        self.added = self._added(self.x)
         self.plan = []
         self.notes = []
         for g, speed in enumerate(self.groups):
@@ -153,14 +150,30 @@ class _Chain:
             self.plan.append((speed, runs, sensors, slow[0] if slow else None, Ak))
         self.rows = [(s, speed) for speed, _, sensors, _, _ in self.plan for s in sensors]
 
+    def _added(self, x) -> dict:
+        """Run index -> the trial masses on the rotor during it [kg, complex per plane]
+        (a trial left on stays for the runs after it), from the trial entries of ``x``."""
+        job = self.job
+        on = np.zeros(len(job.planes), dtype=complex)
+        added = {}
+        for r in job.runs:
+            w = on.copy()
+            for p in r.trial:
+                w[job.planes.index(p)] += x[self.pos[("trial", r.index, p)]]
+            added[r.index] = w
+            if r.kind == "trial" and not r.removed:
+                on = w.copy()
+        return added
+
     def matrices(self, x):
-        """Stacked (A, V0) from the readings ``x``."""
+        """Stacked (A, V0) from the readings and trial masses ``x``."""
+        added = self._added(x)
         A_all, V_all = [], []
         for speed, runs, sensors, slow, Ak in self.plan:
             sr = np.array([x[self.pos[(slow.index, s)]] if slow is not None
                            and (slow.index, s) in self.pos else 0.0 for s in sensors])
             D = np.array([[x[self.pos[(r.index, s)]] for r in runs] for s in sensors]) - sr[:, None]
-            W = np.array([self.added[r.index] for r in runs], dtype=complex)     # K x P
+            W = np.array([added[r.index] for r in runs], dtype=complex)          # K x P
             if Ak is None:
                 M = np.vstack([np.ones(len(runs)), W.T])
                 X = D @ np.linalg.pinv(M)

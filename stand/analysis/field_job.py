@@ -51,7 +51,8 @@ def _vibration_quantity(unit: str, field_: str) -> tuple:
 class FieldRun:
     """One run of the job: kind, speed [rad/s] (NaN: not given), trial masses [kg, complex],
     ``removed``, readings (sensor -> SI peak complex) and their standard uncertainties
-    (sensor -> std of each of Re and Im, SI)."""
+    (sensor -> std of each of Re and Im, SI); ``trial_std``: plane -> std of each of Re and
+    Im of the trial mass [kg] (its written digits)."""
 
     index: int
     kind: str
@@ -60,6 +61,7 @@ class FieldRun:
     removed: bool
     readings: dict
     std: dict
+    trial_std: dict = field(default_factory=dict)
 
     @property
     def label(self) -> str:
@@ -118,6 +120,37 @@ def _polar(text, field_: str, unit_ok) -> tuple:
     if unit:
         unit_ok(unit, field_)
     return amp, math.radians(ang)
+
+
+def _last_digit(number: str) -> float:
+    """The unit of a written number's last digit: ``"170"`` -> 1, ``"1.15"`` -> 0.01,
+    ``"2.5e3"`` -> 100 (a display rounds to it)."""
+    mant, _, exp = number.strip().lstrip("+-").lower().partition("e")
+    decimals = len(mant.partition(".")[2])
+    return 10.0 ** ((int(exp) if exp else 0) - decimals)
+
+
+def _resolution_std(text, amplitude_si: float, display_to_si: float) -> float:
+    """Std of each of Re and Im of one ``"amplitude @ angle"`` reading from its resolution:
+    the amplitude and the angle rounded to their last written digits (uniform, q / sqrt 12
+    each), the angle's across the vector (|z| q_angle), pooled over Re and Im."""
+    m = _POLAR.match(str(text))
+    if not m:
+        return 0.0
+    qa = _last_digit(m.group(1)) * display_to_si
+    qp = math.radians(_last_digit(m.group(3)))
+    return math.sqrt((qa * qa + (amplitude_si * qp) ** 2) / 12.0 / 2.0)
+
+
+def _weighing_std(text, mass_factor: float) -> float:
+    """Std of each of Re and Im of a trial mass [kg]: a mass written with decimals
+    (``"1.15 @ 0"``) was weighed to its last digit (uniform, q / sqrt 12, along the mass);
+    a whole number (``"10 @ 0"``) is taken as the nominal, exact mass, and the angle as
+    the hole or mark it sits at (exact)."""
+    m = _POLAR.match(str(text))
+    if not m or "." not in m.group(1).lower().partition("e")[0]:
+        return 0.0
+    return _last_digit(m.group(1)) * mass_factor / math.sqrt(12.0) / math.sqrt(2.0)
 
 
 def _check_keys(table, allowed, where):
@@ -270,16 +303,20 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
         vals = v if isinstance(v, list) else [v]
         if not vals:
             raise ValueError(f"{where}: an empty list of readings")
-        z = []
+        z, res = [], []
         for k, x in enumerate(vals):
             a, ph = _polar(x, where if len(vals) == 1 else f"{where}[{k}]", unit_ok)
-            z.append(complex(job.from_display(a)) * complex(math.cos(ph), sense * math.sin(ph)))
+            a_si = float(job.from_display(a))
+            z.append(complex(a_si) * complex(math.cos(ph), sense * math.sin(ph)))
+            res.append(_resolution_std(x, a_si, float(job.from_display(1.0))))
         z = np.array(z)
         n = z.size
-        if n == 1:
-            return z[0], 0.0
-        # scatter of the mean, pooled over Re and Im (one standard uncertainty per component)
-        s = math.sqrt((np.var(z.real, ddof=1) + np.var(z.imag, ddof=1)) / 2.0 / n)
+        # what the written digits leave open (the display's rounding, averaged over n
+        # readings), and for repeated readings the scatter of their mean, pooled over Re
+        # and Im (one standard uncertainty per component): the larger of the two
+        s = math.sqrt(float(np.mean(np.square(res))) / n)
+        if n > 1:
+            s = max(s, math.sqrt((np.var(z.real, ddof=1) + np.var(z.imag, ddof=1)) / 2.0 / n))
         return complex(z.mean()), s
 
     runs = doc.get("run") or []
@@ -292,7 +329,7 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
         kind = str(t.get("kind", ""))
         if kind not in _KINDS:
             raise ValueError(f"{where}.kind = {t.get('kind')!r}: one of {', '.join(_KINDS)}")
-        trial = {}
+        trial, trial_std = {}, {}
         if kind == "trial":
             tt = t.get("trial")
             if not isinstance(tt, dict) or not tt:
@@ -304,6 +341,7 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
                     raise ValueError(f"{where}.trial.{p} = {x!r}: the trial mass must be > 0 {mu}")
                 add(job.planes, p)
                 trial[p] = a * job.mass_factor * complex(math.cos(ph), math.sin(ph))
+                trial_std[p] = _weighing_std(x, job.mass_factor)
         elif "trial" in t:
             raise ValueError(f"{where}.trial: only a run of kind = \"trial\" carries trial weights")
         removed = t.get("removed", True)
@@ -320,7 +358,7 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
                 add(job.sensors, s)
             speed = speed_of(t, where)
             job.runs.append(FieldRun(i, kind, w_rec if math.isnan(speed) else speed, trial,
-                                     removed, vals, stds))
+                                     removed, vals, stds, trial_std))
             continue
         rd = t.get("readings")
         if not isinstance(rd, dict) or not rd:
@@ -330,7 +368,8 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
         for s, v in rd.items():
             add(job.sensors, s)
             vals[s], stds[s] = reading(v, f"{where}.readings.{s}")
-        job.runs.append(FieldRun(i, kind, speed_of(t, where), trial, removed, vals, stds))
+        job.runs.append(FieldRun(i, kind, speed_of(t, where), trial, removed, vals, stds,
+                                 trial_std))
 
     if influence_doc is not None:
         if not influence_doc.get("influence"):

@@ -184,10 +184,11 @@ def cmd_balance(args) -> int:
         return 0
     mu, vu = res["mass_unit"], res["vibration_unit"]
     print(f"field balancing ({res['method']}, {res['solver']}): condition {res['condition']:.3g}")
+    from stand.reports.numbers import with_uncertainty
+
     for p, c in res["corrections"].items():
-        pm = f" +- {c['mass_std']:.3g}" if c["mass_std"] > 0 else ""
-        pa = f" +- {c['angle_std_deg']:.2g}" if c["angle_std_deg"] > 0 else ""
-        line = f"  {p}: {c['mass']:.5g}{pm} {mu} @ {c['angle_deg']:.2f}{pa} deg"
+        line = (f"  {p}: {with_uncertainty(c['mass'], c['mass_std'] or None, mu)} @ "
+                f"{with_uncertainty(c['angle_deg'], c['angle_std_deg'] or None, 'deg', resolution=False)}")
         if "split" in c:
             line += "  = " + " + ".join(f"{h['mass']:.4g} {mu} in hole {h['hole']} "
                                          f"({h['angle_deg']:.1f} deg)" for h in c["split"])

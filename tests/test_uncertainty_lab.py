@@ -1,0 +1,48 @@
+"""Issue 30, item 3 on the other inputs a lab brings: the fast version of the
+``benchmarks/_uncertainty_lab.py`` paths (a TTL keyphasor, an analog or rounded
+tachometer channel, an encoder count, a Bode table, a field balancer's readings).
+
+Before these changes the run-up paths gave z = 5.1 (f0, TTL keyphasor at 20 samples per
+revolution), 4.4 / 5.2 (f0 / U, speed rounded to 1 rpm taken for a held display), 3-5
+(analog tachometer: its noise integrated into the angle outside the ±), 100 (unbalance
+angle, an encoder count differentiated sample by sample); a single field reading had no
+uncertainty and the corrections no ±.
+
+Run-up paths: six draws each.  For a calibrated std, 6 RMS(z)^2 is chi-square with 6
+degrees of freedom: RMS(z) > 1.9 has probability 0.1 %; 3 or more of 6 outside |z| < 2
+has probability 0.2 % (tests/test_uncertainty_calibration.py).  The Bode table and the
+field readings are cheap: 24 draws and the acceptance itself (RMS(z) <= 1.5, |z| < 2 in
+>= 85 %).
+"""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
+if str(BENCH) not in sys.path:
+    sys.path.insert(0, str(BENCH))
+
+from _uncertainty_lab import PATHS  # noqa: E402
+
+
+@pytest.mark.parametrize("path", ["keyphasor-ttl", "tachometer-analog", "tachometer-rounded",
+                                  "encoder-360"])
+def test_runup_paths_are_calibrated(path, tmp_path):
+    zs = [PATHS[path](seed, tmp_path) for seed in range(6)]
+    for k in zs[0]:
+        z = np.array([d[k] for d in zs], float)
+        assert np.sqrt(np.mean(z ** 2)) < 1.9, (path, k, z)
+        assert np.sum(np.abs(z) < 2) >= 4, (path, k, z)
+
+
+@pytest.mark.parametrize("path", ["bode-steady", "field-readings"])
+def test_table_and_readings_paths_meet_the_acceptance(path):
+    zs = [PATHS[path](seed) for seed in range(24)]
+    for k in zs[0]:
+        z = np.array([d[k] for d in zs], float)
+        assert np.sqrt(np.mean(z ** 2)) <= 1.5, (path, k, z)
+        assert np.mean(np.abs(z) < 2) >= 0.85, (path, k, z)
