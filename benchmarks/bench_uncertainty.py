@@ -25,10 +25,12 @@ rotor angle, scipy DOP853 at rtol 1e-11), written as a DAQ CSV and read by
   (:func:`tachometer_display`: 60 pulses per revolution counted over back-to-back 0.5 s
   gates at a random phase, shown to 1 rpm; no unbalance angle);
 * ``recording``: the stand's own HDF5 recording (``stand run`` of
-  :data:`RECORDING_SCENE`, then ``stand analyze REC.h5``), the truth in closed form from
-  the scene's parameters.  That path reads the simulator's shaft state, not the probes,
-  and takes f0 and zeta from the recording's scene: its ± quantities are the steady 1X's
-  unbalance and angle.
+  :data:`RECORDING_SCENE`: a rigid rotor run up through its critical speed, x and y
+  displacement probes with 2 µm noise, 0.5 µm quantisation and the default 2 µm 1X
+  runout; then ``stand analyze REC.h5``), the truth in closed form from the scene's k, c,
+  M, e.  ``stand analyze`` reads the probes (not the simulator's shaft state) with the
+  recording's encoder angle and fits the run-up model, as on a lab table: f0, zeta, U,
+  its angle and the critical speed, each with its ±.
 
 The image, track and line paths
 (``--paths lines,lines-close,sinusoids,precession,track-rings,two-plane``)
@@ -141,8 +143,8 @@ def tachometer_csv(run, csv: Path, seed: int):
 
 #: the stand's own recording (``stand run`` -> ``stand analyze REC.h5``): a rigid rotor of
 #: 6 kg on isotropic supports, f0 = 12 Hz, zeta = 0.04, run up 8 -> 16 rev/s in 4 s, then
-#: 2 s at 16 rev/s; x, y probes with 2 um noise; per draw the unbalance's size and angle
-#: and the probes' seed
+#: 2 s at 16 rev/s; x, y probes with 2 um noise (and the probes' defaults: 0.5 um lsb, a
+#: 2 um 1X runout); per draw the unbalance's size and angle and the probes' seed
 RECORDING_SCENE = """[scene]
 name = "unc_recording"
 [rotor]

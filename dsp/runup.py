@@ -12,7 +12,7 @@ import numpy as np
 
 from .errors import SignalError, check_times
 
-__all__ = ["RunupResonance", "resonance_from_runup", "sweep_lag_rad_s", "U_STAR"]
+__all__ = ["RunupResonance", "resonance_from_runup", "resonance_std", "sweep_lag_rad_s", "U_STAR"]
 
 #: Argument of the maximum of |∫_{-∞}^u exp(iπs²/2) ds| (papers digest §4.3).
 U_STAR = 1.2172
@@ -201,3 +201,86 @@ def resonance_from_runup(t, speed_rad_s, amplitude, angular_acceleration_rad_s2=
         corrected_speed_rad_s=float(w0), corrected_frequency_hz=float(w0) / (2 * np.pi),
         angular_acceleration_rad_s2=alpha, direction="run-up" if alpha > 0 else "run-down",
         peak_amplitude=float(a[i]))
+
+
+def resonance_std(speed_rad_s, amplitude, result: RunupResonance, damping_ratio: float = 0.0,
+                  damping_ratio_std: float = 0.0, damping_known: bool = True,
+                  fit_fraction: float = 0.98) -> dict:
+    """Standard uncertainty [rad/s] of :func:`resonance_from_runup`'s corrected speed, by parts.
+
+    * ``peak``: the raw peak's statistical part -- the amplitudes' scatter (the residual
+      RMS of a quartic through the samples above half the maximum, which also holds the
+      curve's misfit: on the safe side) propagated through the parabola's vertex;
+    * ``peak_shape``: the vertex's method part -- the vertex of the parabola through the
+      samples above ``fit_fraction`` against the maximum of that quartic (a peak sampled
+      once per revolution, asymmetric behind a sweep);
+    * ``lag_model``: the sweep-lag correction's neglected order -- the envelope equation
+      (papers digest 4.3) holds the unbalance force and the damping constant across the
+      peak, which move by ~lag / omega0 over it: lag^2 / omega0;
+    * ``damping``: the lag's and the steady shift's change with zeta over its std; when
+      zeta is not known (``damping_known`` False, 0 used: the sweep-limited lag) the
+      damped lag can be anything from 0 up to that: half of it.
+
+    Returns
+    -------
+    dict
+        ``std_rad_s`` and the parts above [rad/s].
+    """
+    w = np.asarray(speed_rad_s, float)
+    a = np.asarray(amplitude, float)
+    i = int(np.argmax(a))
+    lo = hi = i
+    while lo > 0 and a[lo - 1] >= fit_fraction * a[i]:
+        lo -= 1
+    while hi < a.size - 1 and a[hi + 1] >= fit_fraction * a[i]:
+        hi += 1
+    if hi - lo < 4:
+        lo, hi = max(0, i - 2), min(a.size - 1, i + 2)
+    j0 = j1 = i
+    while j0 > 0 and a[j0 - 1] >= 0.5 * a[i]:
+        j0 -= 1
+    while j1 < a.size - 1 and a[j1 + 1] >= 0.5 * a[i]:
+        j1 += 1
+    j0, j1 = min(j0, lo), max(j1, hi)
+    peak = shape = 0.0
+    wi = w[i]
+    X = np.vander(w[lo:hi + 1] - wi, 3)
+    c = np.linalg.lstsq(X, a[lo:hi + 1], rcond=None)[0]
+    n4 = j1 - j0 + 1
+    if n4 >= 7 and c[0] < 0:
+        scale = max(float(np.max(np.abs(w[j0:j1 + 1] - wi))), 1e-12)
+        u = (w[j0:j1 + 1] - wi) / scale
+        q = np.polyfit(u, a[j0:j1 + 1], 4)
+        res = a[j0:j1 + 1] - np.polyval(q, u)
+        sa = float(np.sqrt(np.sum(res * res) / (n4 - 5)))
+        # vertex -c1 / 2 c0: gradient wrt (c0, c1), covariance sa^2 (X'X)^-1
+        J = np.array([c[1] / (2 * c[0] ** 2), -1.0 / (2 * c[0]), 0.0])
+        cov = sa * sa * np.linalg.pinv(X.T @ X)
+        peak = float(math.sqrt(max(J @ cov @ J, 0.0)))
+        uu = np.linspace((w[lo] - wi) / scale, (w[hi] - wi) / scale, 2001)
+        w_quartic = wi + scale * float(uu[int(np.argmax(np.polyval(q, uu)))])
+        shape = abs(w_quartic - result.peak_speed_rad_s)
+    w0 = result.corrected_speed_rad_s
+    lag = result.lag_rad_s
+    lag_model = lag * lag / w0 if w0 > 0 else 0.0
+    alpha = result.angular_acceleration_rad_s2
+    sign = 1.0 if alpha > 0 else -1.0
+
+    def corrected(z):
+        z = min(max(z, 0.0), 0.7)
+        shift = 1.0 / math.sqrt(1 - 2 * z * z)
+        x = w0
+        for _ in range(3):
+            x = (result.peak_speed_rad_s - sign * sweep_lag_rad_s(alpha, z, x)) / shift
+        return x
+
+    if not damping_known:
+        damping = 0.5 * lag
+    elif damping_ratio_std > 0:
+        damping = 0.5 * abs(corrected(damping_ratio + damping_ratio_std)
+                            - corrected(damping_ratio - damping_ratio_std))
+    else:
+        damping = 0.0
+    parts = {"peak": peak, "peak_shape": shape, "lag_model": lag_model, "damping": damping}
+    return {"std_rad_s": float(math.sqrt(sum(v * v for v in parts.values()))),
+            **{k: float(v) for k, v in parts.items()}}

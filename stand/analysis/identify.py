@@ -36,7 +36,7 @@ import numpy as np
 
 from dsp.errors import SignalError
 
-from stand.analysis.sources import read_source, whirls
+from stand.analysis.sources import no_weights as _no_weights, read_source, whirls
 from stand.analysis.two_plane import two_plane
 from stand.analysis.unbalance import line_1x, unbalance
 from stand.analysis.vibration import VIBRATION, vibration_in_users_quantity
@@ -99,8 +99,8 @@ def analyze(path, grade: float = 6.3, service_speed_rpm: float | None = None,
     if d.get("quantity", "length") != "length":
         sc1 = None          # its vector is a velocity / acceleration: the fit or the line's |1X|
     if rotating:
-        unbalance(out, d["scene"], sc1, d, rmap, getattr(rmap, "mass_kg", None), grade,
-                  service_speed_rpm, notes)
+        unbalance(out, d["scene"], sc1, d, rmap, getattr(rmap, "mass_kg", None) or d.get("mass_kg"),
+                  grade, service_speed_rpm, notes)
     _components(d, out, sl, rotating)
     _regime(d, out, speed)
     for key, value in list(out.items()):  # e.g. samples near 1e308 overflow inside dsp
@@ -158,7 +158,8 @@ def _sweep(d, out, rotating) -> None:
     from stand.analysis.runup import sweep_identification
 
     scene, tab = d["scene"], d.get("table")
-    out.update(runup=None, critical_speed_hz=None, critical_speed_method=None)
+    out.update(runup=None, critical_speed_hz=None, critical_speed_hz_std=None,
+               critical_speed_method=None)
     model_ok = scene is None and (d.get("rec_scene") is None or _no_weights(d.get("rec_scene")))
     if not (rotating and (tab is not None or model_ok or scene is not None)):
         return
@@ -176,7 +177,8 @@ def _sweep(d, out, rotating) -> None:
     fit, res = sw["model_fit"], sw["resonance"]
     if fit is not None:     # exact for the model; the sweep-corrected 1X peak is a cross-check
         cross = (f"; the 1X peak of the {res['stretch']} with the sweep-rate lag removed gives "
-                 f"{res['critical_speed_hz']:.5g} rev/s (papers 001/003/004 4.3, 5.4)"
+                 f"{res['critical_speed_hz']:.5g} ± {res['critical_speed_hz_std']:.2g} rev/s "
+                 f"(papers 001/003/004 4.3, 5.4)"
                  if res is not None else "")
         out.update(critical_speed_hz=fit["critical_speed_hz"],
                    critical_speed_hz_std=fit["critical_speed_hz_std"],
@@ -185,9 +187,13 @@ def _sweep(d, out, rotating) -> None:
     elif res is not None:
         zeta = (f", zeta = {res['damping_ratio_used']:.4g} from the recording's scene"
                 if res["damping_ratio_used"] else "")
+        p = res["critical_speed_hz_std_parts"]
         out.update(critical_speed_hz=res["critical_speed_hz"],
+                   critical_speed_hz_std=res["critical_speed_hz_std"],
                    critical_speed_method=f"1X peak of the {res['stretch']}, sweep-rate lag "
-                   f"removed (papers 001/003/004 4.3, 5.4{zeta})")
+                   f"removed (papers 001/003/004 4.3, 5.4{zeta}); its std: the peak's scatter "
+                   f"{p['peak']:.2g} and shape {p['peak_shape']:.2g}, the lag correction's "
+                   f"neglected order {p['lag_model']:.2g} and damping {p['damping']:.2g} rev/s")
     if fit is not None:
         out.update(natural_frequency_hz=fit["natural_frequency_hz"],
                    natural_frequency_hz_std=fit["natural_frequency_hz_std"],
@@ -221,6 +227,8 @@ def _steady_1x(d, out, speed, rotating):
             sc1 = ub.synchronous_component(t[sl], x[sl], y[sl],
                                            rotor_angle=None if phi is None else phi[sl],
                                            keyphasor_times=d["kp"])
+            if d.get("probes") is not None and d["scene"] is not None:
+                sc1 = _runout_removed(d, sc1, speed, sl, notes)
             out["response_1x_m"] = sc1.amplitude_m
             out["response_1x_m_std"] = sc1.amplitude_std_m
             out["speed_hz"] = sc1.speed_rad_s / TWO_PI
@@ -231,6 +239,75 @@ def _steady_1x(d, out, speed, rotating):
         line_1x(t[sl], x[sl] + 1j * y[sl], out, notes,
                 speed_how=d.get("speed_how") if ang is not None and not ang.estimated else None)
     return sl, sc1
+
+
+def _runout_removed(d, sc1, speed, sl, notes):
+    """The steady 1X of probes that see a runout (a profile fixed to the rotor: a 1X of its
+    own, up to its amplitude on the 1X), on the scene-model route (rotors with weights).
+
+    Where the record turns slowly (at most a quarter of the scene's natural frequency, four
+    revolutions or more, before the steady stretch) its 1X there -- the slow-roll vector --
+    is taken off; the ± then holds the slow-roll vector's scatter and the response still in
+    it (the model's |H(w_s)| times the unbalance plus the weights' capacity, all of it, as a
+    bound).  Else -- or when that gives the larger ± -- the probes' stated 1X runout r goes
+    into the ± (r on each of Re, Im: a vector of that length at an unknown angle, bounded)."""
+    import dataclasses
+
+    from stand.analysis.signals import per_revolution
+
+    scene, t, x, y, phi = d["scene"], d["t"], d["x"], d["y"], d["phi"]
+    w1 = scene.natural_frequency
+    zeta = scene.supports.damping_x / (2 * math.sqrt(scene.supports.stiffness_x * scene.total_mass))
+
+    def H(w):
+        R = w / w1
+        return abs(R * R / complex(1 - R * R, 2 * zeta * R))
+
+    v1, sv = sc1.vector_m, sc1.vector_std_m
+    i_end = sl.start if isinstance(sl, slice) and sl.start else t.size
+    slow = (np.abs(speed[:i_end]) > 0) & (np.abs(speed[:i_end]) <= 0.25 * w1) if w1 > 0 \
+        else np.zeros(0, bool)
+    j = np.flatnonzero(slow)
+    pr = None
+    if j.size >= 8:
+        k = j[: int(np.argmax(np.diff(np.append(j, -1)) != 1)) + 1]   # the first slow block
+        try:
+            pr = per_revolution(t[k], x[k], y[k], phi[k])
+        except SignalError:
+            pr = None
+    r = (d.get("probes") or {}).get("runout_1x_m")
+    stated = None if r is None else (v1, math.hypot(sv, r),
+                                     f"the probes' stated 1X runout {r * 1e6:.3g} um is in the "
+                                     "steady 1X's ±")
+    slowroll = None
+    if pr is not None and pr[2].size >= 4:
+        vs = pr[2]
+        V = complex(np.mean(vs))
+        sV = float(np.std(vs, ddof=1) / math.sqrt(2 * vs.size))
+        cap = getattr(getattr(scene, "balancer", None), "capacity", 0.0) or 0.0
+        dyn = H(float(np.max(pr[1]))) * (abs(v1) / max(H(sc1.speed_rad_s), 1e-300)
+                                         + cap / scene.total_mass)
+        slowroll = (v1 - V, math.sqrt(sv * sv + sV * sV + dyn * dyn),
+                    f"the slow-roll 1X ({abs(V) * 1e6:.3g} um over {vs.size} revolutions at "
+                    f"<= {np.max(pr[1]) / TWO_PI:.3g} rev/s) taken off the steady 1X; its scatter "
+                    f"and the response still in it ({dyn * 1e6:.2g} um, bound) are in the ±")
+    if slowroll is None and stated is None:
+        notes.append("probe runout: no slow roll in the record (four revolutions below a "
+                     "quarter of f0) and no stated runout: the steady 1X may be off by the "
+                     "probes' runout, not in the ±")
+        return sc1
+    # both honest: the one with the smaller ± (a slow roll still full of response is no use)
+    v, s, how = min((c for c in (slowroll, stated) if c is not None), key=lambda c: c[1])
+    if slowroll is None:
+        how += " (no slow roll in the record: four revolutions below a quarter of f0)"
+    elif how is stated[2]:
+        how += (f" (the slow roll's ± would be {slowroll[1] * 1e6:.2g} um: the response in it "
+                "is too large)")
+    notes.append(f"probe runout: {how}")
+    a = abs(v)
+    return dataclasses.replace(sc1, vector_m=v, amplitude_m=a, amplitude_std_m=s,
+                               phase_rad=math.atan2(v.imag, v.real),
+                               phase_std_rad=s / a if a > 0 else math.pi, vector_std_m=s)
 
 
 def _components(d, out, sl, rotating) -> None:
@@ -306,13 +383,6 @@ def _scene_damping(scene):
     s = scene.supports
     k, c = 0.5 * (s.stiffness_x + s.stiffness_y), 0.5 * (s.damping_x + s.damping_y)
     return float(c / (2.0 * math.sqrt(k * scene.total_mass))) if k > 0 else None
-
-
-def _no_weights(scene) -> bool:
-    """The rigid-rotor model of the run-up fit applies: a planar rotor without weights (a
-    rotor of the family is left to its own model)."""
-    bal = getattr(scene, "balancer", None)
-    return getattr(scene, "kind", None) == "planar" and not getattr(bal, "count", 0)
 
 
 def _photogate(tab, notes):

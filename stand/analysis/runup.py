@@ -17,7 +17,8 @@ on recordings of rotors without weights:
 * **Critical speed** from the resonance peak of the 1X amplitude with the
   sweep-rate lag removed (:func:`dsp.runup.resonance_from_runup`, papers
   001/003/004 sections 4.3, 5.4), using the fitted damping ratio; the runout
-  is taken out of the 1X vectors first.
+  is taken out of the 1X vectors first.  Its std (:func:`dsp.runup.resonance_std`):
+  the peak's scatter and shape, the lag correction's neglected order and damping.
 """
 from __future__ import annotations
 
@@ -90,7 +91,8 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
         the model is fitted in that quantity; the Bode data are displacement (1X / (i w)^k).
     damping_ratio : float, optional
         zeta [-] for the resonance's sweep-lag correction when the model is not fitted
-        (e.g. from a recording's scene); default 0 (the sweep-limited lag).
+        (e.g. from a recording's scene); default 0 (the sweep-limited lag, the damped lag's
+        upper bound: half of it then goes into the critical speed's std).
 
     Returns
     -------
@@ -101,7 +103,7 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
     """
     from dsp.errors import SignalError
     from dsp.response_fit import fit_response_without_speed, fit_unbalance_response
-    from dsp.runup import resonance_from_runup
+    from dsp.runup import resonance_from_runup, resonance_std
     from dsp.speed import speed_programme
 
     from stand.analysis.signals import per_revolution
@@ -178,10 +180,17 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
             raise SignalError(f"{int(inside.sum())} revolutions in the {s.kind}; need 16")
         r = resonance_from_runup(tm[inside], w[inside], np.abs(v[inside]), damping_ratio=zeta)
         shift = 1.0 / math.sqrt(1.0 - 2.0 * zeta * zeta)
+        sd = resonance_std(w[inside], np.abs(v[inside]), r, zeta,
+                           fit.damping_ratio_std if fit is not None else 0.0,
+                           damping_known=fit is not None or damping_ratio is not None)
         out["resonance"] = {"stretch": s.kind, "peak_speed_hz": r.peak_frequency_hz,
                             "sweep_rate_hz_s": r.angular_acceleration_rad_s2 / TWO_PI,
                             "lag_hz": r.lag_rad_s / TWO_PI,
                             "critical_speed_hz": r.corrected_frequency_hz * shift,
+                            "critical_speed_hz_std": sd["std_rad_s"] / TWO_PI * shift,
+                            "critical_speed_hz_std_parts": {
+                                k: sd[k] / TWO_PI * shift
+                                for k in ("peak", "peak_shape", "lag_model", "damping")},
                             "natural_frequency_hz": r.corrected_frequency_hz,
                             "damping_ratio_used": zeta, "direction": r.direction}
     except SignalError as exc:

@@ -8,7 +8,11 @@ returns one dict: ``t`` [s], ``x``, ``y`` [m], ``phi`` (the rotor angle [rad] or
 turns a 1X response into an unbalance, or None), ``notes``, ``angle`` (a
 :class:`dsp.speed.RotorAngle` or None), ``speed_how`` (where the speed comes from),
 ``table`` (the lab table or None), ``quantity`` (what x and y measure: ``length``,
-``velocity`` [m/s] or ``acceleration`` [m/s²]; a Run's are ``length``).  :func:`whirls` tells whether a record without a
+``velocity`` [m/s] or ``acceleration`` [m/s²]; a Run's are ``length``), and for a Run or
+recording ``mass_kg`` (the scene's total mass when the run-up model is fitted) and
+``probes`` (the displacement probes analysed, or None).  A recording with displacement
+probes is analysed through them, as a lab would (:func:`from_run`); without, through the
+simulator's noise-free shaft state.  :func:`whirls` tells whether a record without a
 speed channel comes from a spinning shaft.
 """
 from __future__ import annotations
@@ -18,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["read_source", "from_table", "from_run", "whirls"]
+__all__ = ["read_source", "from_table", "from_run", "whirls", "no_weights"]
 
 TWO_PI = 2 * math.pi
 
@@ -98,23 +102,96 @@ _SUPPORT_MODEL = ("velocity / acceleration channels: taken as the motion of the 
 
 def from_run(rec):
     """The arrays of a Run or Recording; the scene only where the model parts apply (the
-    planar rotor of chapter 5)."""
-    scene = rec.scene if getattr(rec.scene, "kind", None) == "planar" else None
+    planar rotor of chapter 5).
+
+    With displacement probes (``instruments/probes`` of a recording, ``run.instruments
+    ["probes"]`` in memory) the record is analysed as a lab would: the probes' own time
+    base and signals (x, y solved from the probes' projections, with their noise,
+    quantisation and runout) and the rotor angle of the recording's encoder (``rotor/angle``
+    interpolated onto the probe times).  A planar rotor without weights then goes through
+    the run-up model fit like a lab table (``scene`` None, the scene's total mass as
+    ``mass_kg``; its f0 and damping only as a cross-check in ``notes``).  Without probes the
+    simulator's shaft state (``shaft/x``, ``shaft/y``) is analysed, noise-free.
+    """
+    from stand.recording.probes import probe_channels, probes_xy
+
+    rscene = rec.scene
+    scene = rscene if getattr(rscene, "kind", None) == "planar" else None
+    notes = list(rec.notes)
+    t = np.asarray(rec.t)
     phi = rec.rotor_angle if np.all(np.isfinite(rec.rotor_angle)) else None
     w = rec.weight_angle if rec.weight_angle.size and np.all(np.isfinite(rec.weight_angle)) else None
+    x, y = np.asarray(rec.x), np.asarray(rec.y)
+    pr = probe_channels(rec)
+    xy = None if pr is None else probes_xy(pr["signal"], pr["angles"], notes)
+    mass = None
+    if xy is not None and pr["time"].size > 1:
+        tp = pr["time"]
+        if phi is not None:
+            from scipy.interpolate import CubicSpline
+
+            ph = np.unwrap(np.asarray(phi, float))
+            try:
+                phi = CubicSpline(t, ph)(tp)
+            except ValueError:                  # times not strictly increasing
+                phi = np.interp(tp, t, ph)
+        if w is not None:
+            wa = np.unwrap(np.asarray(w, float), axis=0).reshape(t.size, -1)
+            w = np.column_stack([np.interp(tp, t, c) for c in wa.T]).reshape((tp.size,) +
+                                                                                 np.shape(w)[1:])
+        t, (x, y) = tp, xy
+        deg = ", ".join(f"{math.degrees(a):g}" for a in pr["angles"])
+        plane = f" in plane {pr['plane']!r}" if pr.get("plane") else ""
+        notes.append(f"analysed the displacement probes (instruments/probes{plane}: "
+                     f"{len(pr['angles'])} probes at {deg} deg, {t.size} samples at "
+                     f"{1.0 / float(np.median(np.diff(t))):.6g} samples/s; x, y solved from the "
+                     "probes' projections, with their noise, quantisation and runout) and the "
+                     "rotor angle of the recording's encoder (rotor/angle interpolated onto the "
+                     "probe times), as a lab would; not the simulator's shaft state")
+        if scene is not None and no_weights(scene):
+            mass = float(scene.total_mass)
+            s = scene.supports
+            notes.append(f"the recording's scene says f0 = {scene.natural_frequency / TWO_PI:.6g} Hz, "
+                         f"zeta = {c_over_ccrit(scene):.4g} (cross-check only: f0, zeta and the "
+                         "unbalance are fitted to the probes)" if s.stiffness_x > 0 else
+                         "the recording's scene has no support stiffness (no cross-check)")
+            scene = None                        # the run-up model is fitted, as on a lab table
+    elif pr is None:
+        notes.append("no displacement probes in the recording: the simulator's shaft state "
+                     "(shaft/x, shaft/y) is analysed, noise-free; its ± are numerical only "
+                     "(add [instruments.probes] to the scene to see what a lab sees)")
     angle = None
-    t = np.asarray(rec.t)
     if phi is not None and t.size > 1:
         from dsp.speed import RotorAngle
 
+        # the simulator's encoder is exact (no count quantum for a spline to average, as
+        # dsp.speed.angle_from_encoder does for a lab's encoder column): central differences
+        # are exact on the drive programme's quadratic angle, O(N) on long records, and
+        # follow its acceleration steps (the spline with a knot every 8 revolutions left f0
+        # +4e-4 and zeta -0.45 % at a ramp -> hold corner; its dense design matrix grows as
+        # samples x revolutions)
         ph = np.unwrap(np.asarray(phi, float))
         wr = np.gradient(ph, t)
         angle = RotorAngle(ph, wr, np.gradient(wr, t), np.ones(t.size, bool), "rotor angle",
                            referenced=True)
-    return dict(t=t, x=np.asarray(rec.x), y=np.asarray(rec.y), phi=phi, kp=None,
-                weights=w, scene=scene, notes=list(rec.notes), angle=angle,
-                speed_how="the recording's rotor angle" if phi is not None else "no rotor angle",
-                table=None, rec_scene=rec.scene)
+    return dict(t=t, x=x, y=y, phi=phi, kp=None, weights=w, scene=scene, notes=notes,
+                angle=angle, speed_how="the recording's rotor angle" if phi is not None
+                else "no rotor angle", table=None, rec_scene=rscene, mass_kg=mass,
+                probes=pr if xy is not None else None)
+
+
+def no_weights(scene) -> bool:
+    """The rigid-rotor model of the run-up fit applies: a planar rotor without weights (a
+    rotor of the family is left to its own model)."""
+    bal = getattr(scene, "balancer", None)
+    return getattr(scene, "kind", None) == "planar" and not getattr(bal, "count", 0)
+
+
+def c_over_ccrit(scene) -> float:
+    """A planar scene's damping ratio c / (2 sqrt(k M)) (the supports' mean of x and y)."""
+    s = scene.supports
+    k, c = 0.5 * (s.stiffness_x + s.stiffness_y), 0.5 * (s.damping_x + s.damping_y)
+    return float(c / (2.0 * math.sqrt(k * scene.total_mass))) if k > 0 else float("nan")
 
 
 def whirls(t, x, y) -> bool:

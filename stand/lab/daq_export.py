@@ -112,20 +112,22 @@ def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
     from stand.io.atomic import write_text
     from stand.recording.hdf5 import Recording, read_recording
 
+    from stand.recording.probes import probe_channels
+
     rec = recording if isinstance(recording, Recording) else read_recording(recording)
-    if rec.shape("instruments/probes/signal") is None:
+    pr = probe_channels(rec)
+    if pr is None:
         from stand.errors import NotApplicable
 
         raise NotApplicable(f"{rec.path}: no instruments/probes (add [instruments.probes] with "
                          "angles = [0.0, 90.0] to the scene)")
-    ang = np.asarray(rec.dataset("instruments/probes/angles"), float)
+    ang = pr["angles"]
     if ang.size != 2 or abs(ang[0]) > 1e-9 or abs(ang[1] - math.pi / 2) > 1e-9:
         from stand.errors import NotApplicable
 
         raise NotApplicable(f"{rec.path}: instruments/probes angles = {np.degrees(ang).tolist()} deg; "
                          "the DAQ export writes an x and a y probe (angles = [0.0, 90.0])")
-    t = np.asarray(rec.dataset("instruments/probes/time"), float)
-    sig = np.asarray(rec.dataset("instruments/probes/signal"), float)
+    t, sig = pr["time"], pr["signal"]
     cols = {"time_ms": [f"{v:.1f}".replace(".", ",") for v in t * 1e3]}
     rng = np.random.default_rng(seed)
     if quantity == "displacement":
@@ -180,9 +182,16 @@ def daq_bode(recording, csv_path, *, truth_path: Optional[str] = None, bin_hz: f
     from stand.io.atomic import write_text
     from stand.recording.hdf5 import Recording, read_recording
 
+    from stand.recording.probes import probe_channels
+
     rec = recording if isinstance(recording, Recording) else read_recording(recording)
-    t = np.asarray(rec.dataset("instruments/probes/time"), float)
-    sig = np.asarray(rec.dataset("instruments/probes/signal"), float)
+    pr = probe_channels(rec)
+    if pr is None:
+        from stand.errors import NotApplicable
+
+        raise NotApplicable(f"{rec.path}: no instruments/probes (add [instruments.probes] to "
+                            "the scene)")
+    t, sig = pr["time"], pr["signal"]
     phi = np.interp(t, np.asarray(rec.t), np.unwrap(np.asarray(rec.rotor_angle)))
     z = sig[:, 0] + 1j * sig[:, 1]
     rev = np.floor((phi - phi[0]) / TWO_PI).astype(int)
