@@ -3,7 +3,7 @@
 A script, not a test::
 
     python benchmarks/bench_uncertainty.py [--seeds 24]
-        [--paths keyphasor,no-speed,tachometer,recording]
+        [--paths keyphasor,no-speed,no-speed-runout,tachometer,recording]
 
 For each path a lab takes, the same run-up is analysed under ``--seeds`` draws of
 probe noise and, for every reported quantity with a ±, the table gives the RMS of
