@@ -366,7 +366,6 @@ def _runout_part(J, rot, bound):
     r e^{i gamma} e^{i phi} with |r| = ``bound`` and gamma uniform: the shifts by the real
     and the imaginary unit runout, S_k = (J'J)^-1 J' d_k (d_k the data's change), each
     with variance bound^2 / 2."""
-    n = rot.size
     live = np.any(J != 0, axis=0)
     D = np.column_stack([np.concatenate((d.real, d.imag)) for d in (rot, 1j * rot)])
     S = np.linalg.pinv(J[:, live].T @ J[:, live], rcond=1e-13, hermitian=True) @ (J[:, live].T @ D)
@@ -426,10 +425,10 @@ def _phase_basis(t, phi, knot_revolutions: float = 20.0):
 def _angle_columns(t, phi, w, a, w0, zeta, rot_on, c, basis, h: float = 1e-6):
     """d(model)/d(angle's spline coefficients), (N, K) complex: the model's whole motion
     (forced response, transients, runout c[4] e^{i phi} if ``rot_on``) with its linear
-    coefficients ``c``
-    held, differentiated (central differences of step ``h`` rad) through the forcing
-    (phi, phi', phi'') -- not only its turn i z_model da (the quasi-steady part), but the
-    speed and acceleration a change of the angle brings into the forced response."""
+    coefficients ``c`` held, differentiated (central differences of step ``h`` rad)
+    through the forcing (phi, phi', phi''): not only its turn i z_model da (the
+    quasi-steady part), but the speed and acceleration a change of the angle brings into
+    the forced response."""
     B0, B1, B2 = basis
     tt = t - t[0]
     out = np.empty(B0.shape, complex)
@@ -514,6 +513,10 @@ def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_
     from .speed import angle_from_1x, smoothed_phase
 
     t, z, _ = check_signal(t, z, "z", min_samples=64)
+    allowance = float(runout_allowance_m)
+    if not (math.isfinite(allowance) and allowance >= 0):
+        raise SignalError(f"runout_allowance_m = {runout_allowance_m!r} m: the probes' largest "
+                          "1X runout must be finite and >= 0")
     z0 = complex(np.mean(z))
     ra = angle_from_1x(t, z - z0)
     c = ra.covered
@@ -522,8 +525,8 @@ def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_
         fit = fit_unbalance_response(t[c], z[c], ra.angle_rad[c], ra.speed_rad_s[c],
                                      ra.acceleration_rad_s2[c],
                                      natural_frequency_guess_hz=natural_frequency_guess_hz,
-                                     damping_guess=damping_guess, runout=False,
-                                     covariance=False, tolerance=float(np.clip(1e-3 * step, 1e-12, 1e-6)))
+                                     damping_guess=damping_guess, runout=False, covariance=False,
+                                     tolerance=float(np.clip(1e-3 * step, 1e-12, 1e-6)))
         natural_frequency_guess_hz = fit.natural_frequency_hz
         damping_guess = fit.damping_ratio
         tt = t[c] - t[c][0]
@@ -558,5 +561,5 @@ def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_
                                  natural_frequency_guess_hz=natural_frequency_guess_hz,
                                  damping_guess=damping_guess, runout=False,
                                  angle_basis=_phase_basis(t[c], ra.angle_rad[c]),
-                                 runout_allowance_m=runout_allowance_m)
+                                 runout_allowance_m=allowance)
     return replace(fit, angle_rad=math.nan, angle_rad_std=math.nan), ra
