@@ -180,7 +180,8 @@ def _linear(B, z):
 def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s2=None, *,
                            natural_frequency_guess_hz=None, damping_guess=0.05, runout=True,
                            covariance=True, angle_basis=None, angle_error=None,
-                           derivative: int = 0, tolerance: float = 1e-12):
+                           derivative: int = 0, tolerance: float = 1e-12,
+                           runout_allowance_m: float = 0.0):
     """Fit omega_1, zeta, the specific unbalance and its angle to a swept record.
 
     Parameters
@@ -201,14 +202,17 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         Start value of zeta [-].
     runout : bool
         Fit the probes' 1X runout r e^{i phi} (default).  Off when the angle is
-        itself estimated from the whirl (the column would mimic the response).
+        itself estimated from the whirl (not identifiable then: see
+        :func:`fit_response_without_speed`; ``runout_allowance_m`` puts its effect in
+        the std instead).
     covariance : bool
         Compute the uncertainties (off: the stds are NaN; for inner iterations).
-    angle_basis : ndarray (N, K), optional
-        When the rotor angle was itself estimated from ``z`` as a combination of these
-        functions of time (a spline's basis): its K coefficients enter the covariance
-        as nuisance parameters (a change a of them turns the model's motion by
-        i z_model a B), so the stds include what the angle's estimate leaves open.
+    angle_basis : tuple of 3 ndarray (N, K), optional
+        When the rotor angle was itself estimated from ``z`` as a combination of K
+        functions of time (a spline's basis; with their first and second derivatives):
+        the K coefficients enter the covariance as nuisance parameters (a change of them
+        turns the model's motion and changes the speed and acceleration of its forcing:
+        :func:`_angle_columns`), so the stds include what the angle's estimate leaves open.
     angle_error : dsp.held_display.AngleError, optional
         When the rotor angle was measured with an uncertainty of its own (a held
         tachometer display): its error modes are propagated into the covariance
@@ -224,6 +228,12 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         SI unit, and the runout (a displacement probe's) is not fitted.
     tolerance : float
         Relative tolerance of the search over (omega_1, zeta) (scipy's xtol, ftol, gtol).
+    runout_allowance_m : float
+        With ``runout`` off: a 1X runout r e^{i (phi + gamma)} the fit does not model, of
+        magnitude up to this [m] at an unknown angle gamma.  Its effect on the estimate,
+        linear in r (-(J'J)^-1 J' r e^{i phi}), enters the covariance as the RMS over a
+        uniform gamma at |r| = ``runout_allowance_m`` (the worst angle then moves a
+        quantity by sqrt(2) times that part).
 
     Returns
     -------
@@ -301,10 +311,12 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         pm[j] -= h
         J[:, j] = (full(pp) - full(pm)) / (2 * h)
     if angle_basis is not None:
-        zm = B[:, :3] @ c[:3]
-        extra = -(1j * zm)[:, None] * np.asarray(angle_basis, float)
+        extra = -_angle_columns(t, phi, w, a, w0, zeta, 1.0 if runout and order == 0 else 0.0,
+                                c, angle_basis)
         J = np.hstack((J, np.vstack((extra.real, extra.imag))))
     covs = _covariances(J, r, J.shape[1])
+    if runout_allowance_m and not (runout and order == 0):
+        covs = tuple(C + _runout_part(J, np.exp(1j * phi), runout_allowance_m) for C in covs)
     if angle_error is not None:
         covs = tuple(C + _propagated(J, -1j * (B[:, 0] * c[0] + B[:, 4] * c[4]), w,
                                      t, angle_error) for C in covs)
@@ -349,6 +361,19 @@ def _propagated(J, dr_dphi, w, t, angle_error):
     return out
 
 
+def _runout_part(J, rot, bound):
+    """Covariance [parameters^2] of the estimate's shift by an unmodelled runout
+    r e^{i gamma} e^{i phi} with |r| = ``bound`` and gamma uniform: the shifts by the real
+    and the imaginary unit runout, S_k = (J'J)^-1 J' d_k (d_k the data's change), each
+    with variance bound^2 / 2."""
+    live = np.any(J != 0, axis=0)
+    D = np.column_stack([np.concatenate((d.real, d.imag)) for d in (rot, 1j * rot)])
+    S = np.linalg.pinv(J[:, live].T @ J[:, live], rcond=1e-13, hermitian=True) @ (J[:, live].T @ D)
+    out = np.zeros((J.shape[1], J.shape[1]))
+    out[np.ix_(live, live)] = 0.5 * bound * bound * (S @ S.T)
+    return out
+
+
 def _covariances(J, r, n_par, blocks: int = 40, min_block: int = 16):
     """Parameter covariances of the least-squares fit: (white, correlated).
 
@@ -383,16 +408,39 @@ def _covariances(J, r, n_par, blocks: int = 40, min_block: int = 16):
 
 
 def _phase_basis(t, phi, knot_revolutions: float = 20.0):
-    """The basis of :func:`dsp.speed.smoothed_phase`'s spline over ``t`` (the first
-    function left out: a constant turn is the unbalance's angle, which has no reference)."""
+    """The basis of :func:`dsp.speed.smoothed_phase`'s spline over ``t`` and its first two
+    derivatives, each (N, K) (the first function left out: a constant turn is the
+    unbalance's angle, which has no reference)."""
     from scipy.interpolate import BSpline
 
     turns = (phi[-1] - phi[0]) / TWO_PI
     n_int = int(max(1, min(turns / knot_revolutions, t.size / 50)))
     inner = np.linspace(t[0], t[-1], n_int + 1)[1:-1]
     knots = np.concatenate(([t[0]] * 4, inner, [t[-1]] * 4))
-    D = BSpline.design_matrix(np.clip(t, t[0], t[-1]), knots, 3).toarray()
-    return D[:, 1:]
+    nb = knots.size - 4
+    sp = BSpline(knots, np.eye(nb), 3)
+    tc = np.clip(t, t[0], t[-1])
+    return tuple(np.asarray(sp(tc, d))[:, 1:] for d in range(3))
+
+
+def _angle_columns(t, phi, w, a, w0, zeta, rot_on, c, basis, h: float = 1e-6):
+    """d(model)/d(angle's spline coefficients), (N, K) complex: the model's whole motion
+    (forced response, transients, runout c[4] e^{i phi} if ``rot_on``) with its linear
+    coefficients ``c`` held, differentiated (central differences of step ``h`` rad)
+    through the forcing (phi, phi', phi''): not only its turn i z_model da (the
+    quasi-steady part), but the speed and acceleration a change of the angle brings into
+    the forced response."""
+    B0, B1, B2 = basis
+    tt = t - t[0]
+    out = np.empty(B0.shape, complex)
+    for k in range(B0.shape[1]):
+        m = []
+        for s_ in (h, -h):
+            p_ = phi + s_ * B0[:, k]
+            f = _Forcing(t, p_, w + s_ * B1[:, k], a + s_ * B2[:, k])
+            m.append(_basis(w0, zeta, tt, f, rot_on * np.exp(1j * p_)) @ c)
+        out[:, k] = (m[0] - m[1]) / (2 * h)
+    return out
 
 
 def _extrapolated(new, old, c, gain):
@@ -408,7 +456,7 @@ def _extrapolated(new, old, c, gain):
 
 
 def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_guess_hz=None,
-                               damping_guess=0.05):
+                               damping_guess=0.05, runout_allowance_m: float = 0.0):
     """The fit of :func:`fit_unbalance_response` when no speed channel was recorded.
 
     The rotor angle is estimated from the whirl itself
@@ -429,11 +477,36 @@ def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_
     phase noise entered the angle at full weight and zeta, U scattered by
     ~1.5 times their std.
 
+    The probes' 1X runout r e^{i (phi + gamma)} is not fitted: with the angle estimated
+    from the whirl, a runout, a slow turn of the angle (which also changes the speed in
+    the forcing) and changes of e and zeta make a shallow, curved valley of the joint
+    least-squares problem.  Fitted jointly (the runout column and Levenberg-Marquardt
+    over (omega_1, zeta) and the angle's spline), noise-free model data without runout
+    came back with a fitted runout of 3 um and e 0.16 % off (a local minimum, the
+    residual 4e-5 of the signal), and with 2 um of probe noise e was 8 and 18 of its
+    linearised stds off: the linearised covariance does not describe that valley.
+    Instead the runout's effect, linear in r, is put in the covariance for a runout of
+    magnitude ``runout_allowance_m`` at an unknown angle (:func:`_runout_part`): the
+    stated std covers a runout up to that size, not a larger one.
+
+    Parameters
+    ----------
+    t : array_like
+        Sample times [s], uniform.
+    z : array_like (complex)
+        x + i y [m].
+    iterations : int
+        Most angle corrections.
+    natural_frequency_guess_hz, damping_guess : float, optional
+        Start values (as :func:`fit_unbalance_response`).
+    runout_allowance_m : float
+        The largest 1X runout of the probes [m] the stds allow for (0: none).
+
     Returns
     -------
     (ResponseFit, RotorAngle)
         The fit (``angle_rad`` NaN: without a reference mark the unbalance has
-        no angle; no runout term: it cannot be told from the response) and the
+        no angle; ``runout_m`` 0: not fitted) and the
         estimated rotor angle (``estimated`` True).
     """
     from dataclasses import replace
@@ -441,6 +514,10 @@ def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_
     from .speed import angle_from_1x, smoothed_phase
 
     t, z, _ = check_signal(t, z, "z", min_samples=64)
+    allowance = float(runout_allowance_m)
+    if not (math.isfinite(allowance) and allowance >= 0):
+        raise SignalError(f"runout_allowance_m = {runout_allowance_m!r} m: the probes' largest "
+                          "1X runout must be finite and >= 0")
     z0 = complex(np.mean(z))
     ra = angle_from_1x(t, z - z0)
     c = ra.covered
@@ -484,5 +561,6 @@ def fit_response_without_speed(t, z, *, iterations: int = 40, natural_frequency_
                                  ra.acceleration_rad_s2[c],
                                  natural_frequency_guess_hz=natural_frequency_guess_hz,
                                  damping_guess=damping_guess, runout=False,
-                                 angle_basis=_phase_basis(t[c], ra.angle_rad[c]))
+                                 angle_basis=_phase_basis(t[c], ra.angle_rad[c]),
+                                 runout_allowance_m=allowance)
     return replace(fit, angle_rad=math.nan, angle_rad_std=math.nan), ra

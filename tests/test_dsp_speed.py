@@ -207,6 +207,12 @@ def test_fit_without_speed_gets_the_magnitude():
     assert r.natural_frequency_hz == pytest.approx(F0, rel=0.002)
 
 
+def test_fit_without_speed_refuses_a_negative_runout_allowance():
+    t, z, phi, w, a = _runup_record(noise=1e-6)
+    with pytest.raises(SignalError, match="runout_allowance_m = -2e-06 m"):
+        fit_response_without_speed(t, z, runout_allowance_m=-2e-6)
+
+
 def test_fit_refuses_a_record_that_misses_the_resonance():
     t, z, phi, w, a = _runup_record(w_start=TWO_PI * 16, alpha=TWO_PI * 0.5, T=12.0)
     with pytest.raises(SignalError, match="does not pass the resonance|outside the record"):

@@ -107,3 +107,37 @@ def test_noise_free_stand_recording_is_exact(tmp_path):
     assert d["unbalance_gmm"] == pytest.approx(m * e * 1e6, rel=REL)
     assert d["unbalance_angle_deg"] == pytest.approx(beta, rel=REL)
     assert d["critical_speed_hz"] == pytest.approx(f0 / math.sqrt(1 - 2 * zeta * zeta), rel=REL)
+
+
+@pytest.mark.parametrize("gamma_deg", [0.0, 135.0])
+def test_noise_free_runout_without_a_speed_channel_is_inside_the_allowance(gamma_deg):
+    """Without a speed channel the probes' 1X runout is not fitted (not identifiable with
+    the angle estimated from the whirl: dsp.response_fit.fit_response_without_speed);
+    the std allows for one up to ``runout_allowance_m`` at any angle, its effect taken
+    linear in the runout.  Noise-free, a 2 um runout at the allowance moves the estimates
+    by at most sqrt(2) of that part (the worst angle): inside 2 std for any angle, and
+    not inside 2 std of the fit that allows for none."""
+    import math
+
+    import numpy as np
+
+    from dsp.response_fit import fit_response_without_speed
+
+    run = exact_runup(fs_hz=400.0, f_start_hz=12.0, f_end_hz=25.0, duration_s=6.0,
+                      runout_m=2e-6 * complex(math.cos(math.radians(gamma_deg)),
+                                              math.sin(math.radians(gamma_deg))))
+    z = run.x + 1j * run.y
+    fit, _ = fit_response_without_speed(run.t, z, runout_allowance_m=2e-6)
+    err = {"f0": (fit.natural_frequency_hz - run.f0_hz, fit.natural_frequency_hz_std),
+           "zeta": (fit.damping_ratio - run.zeta, fit.damping_ratio_std),
+           "e": (fit.specific_unbalance_m - run.e_m, fit.specific_unbalance_m_std),
+           "critical": (fit.critical_speed_hz - run.critical_speed_hz, fit.critical_speed_hz_std)}
+    for name, (d, s) in err.items():
+        assert abs(d) <= 2 * s, (name, d, s)
+    # the runout does move the estimates: a fit that allows for none states a std far
+    # below the error (the noise-free residual is the only scatter left)
+    bare, _ = fit_response_without_speed(run.t, z)
+    assert max(abs(d) / s for d, s in
+               [(bare.specific_unbalance_m - run.e_m, bare.specific_unbalance_m_std),
+                (bare.damping_ratio - run.zeta, bare.damping_ratio_std)]) > 2
+    assert np.isnan(fit.angle_rad) and fit.runout_m == 0

@@ -13,7 +13,8 @@ on recordings of rotors without weights:
   integrated speed is the angle up to a constant (the unbalance angle is then not
   reported); with no speed channel at all the angle is estimated from
   the whirl (:func:`dsp.response_fit.fit_response_without_speed`) and the
-  unbalance has a magnitude but no angle.
+  unbalance has a magnitude but no angle; the probes' runout is then not fitted
+  but allowed for in the ± (:data:`RUNOUT_ALLOWANCE_M`).
 * **Critical speed** from the resonance peak of the 1X amplitude with the
   sweep-rate lag removed (:func:`dsp.runup.resonance_from_runup`, papers
   001/003/004 sections 4.3, 5.4), using the fitted damping ratio; the runout
@@ -31,6 +32,12 @@ __all__ = ["sweep_identification", "SWEEPS"]
 
 TWO_PI = 2.0 * math.pi
 SWEEPS = ("run-up", "run-down", "coast-down")
+
+#: Without a speed channel the probes' 1X runout is not fitted (with the angle estimated
+#: from the whirl it is not identifiable: a runout, a turn of the angle and a change of e,
+#: zeta and the speed make a shallow curved valley); its effect on the estimates, for a
+#: runout up to this magnitude [m] at an unknown angle, is put in their std.
+RUNOUT_ALLOWANCE_M = 2.0e-6
 
 
 def _keyphasor_angle_std(t, angle) -> float:
@@ -141,11 +148,14 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
         if angle is None and _steady_line(t, z):
             return None     # not swept: a constant-speed fit would take the speed for f0
         try:
-            fit, angle = fit_response_without_speed(t, z)
+            fit, angle = fit_response_without_speed(t, z, runout_allowance_m=RUNOUT_ALLOWANCE_M)
         except SignalError as exc:
             notes.append(f"run-up model fit without a keyphasor: {exc}")
             return None
         out.update(speed_source="1X line (estimated from the vibration)", speed_estimated=True)
+        notes.append("run-up model fit without a speed channel: the probes' 1X runout is not "
+                     f"fitted; the ± allows for one up to {RUNOUT_ALLOWANCE_M * 1e6:g} um at any "
+                     "angle (a larger runout is not covered)")
         c = angle.covered
         prog = speed_programme(t[c], angle.speed_rad_s[c])
         if not any(s.kind in SWEEPS for s in prog.stretches):
@@ -154,6 +164,8 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
     out["programme"] = _programme_dict(prog)
     if fit is not None:
         out["model_fit"] = _fit_dict(fit, ref, _keyphasor_angle_std(t, angle) if ref else 0.0)
+        if out["speed_estimated"]:
+            out["model_fit"]["runout_allowance_m"] = RUNOUT_ALLOWANCE_M
     # Bode: the 1X vector revolution by revolution, runout removed
     c = angle.covered
     try:

@@ -47,9 +47,11 @@ class ExactRunup:
 
 def exact_runup(*, f0_hz=18.5, zeta=0.04, e_m=150e-6, beta_deg=70.0, mass_kg=2.0,
                 f_start_hz=6.0, f_end_hz=32.0, duration_s=26.0, samples_per_rev_max=10.0,
-                fs_hz=None, noise_m=0.0, seed=0, offset_m=0j) -> ExactRunup:
+                fs_hz=None, noise_m=0.0, seed=0, offset_m=0j, runout_m=0j) -> ExactRunup:
     """Sampled at ``fs_hz`` (default ``samples_per_rev_max`` samples per revolution at the
-    top speed)."""
+    top speed).  ``offset_m``: the probes' DC offset x0 + i y0 [m]; ``runout_m``: their 1X
+    runout r e^{i gamma} [m], a vector fixed to the rotor, r e^{i (phi + gamma)} added to
+    x + i y (a probe track's out-of-roundness: seen at any speed, even at rest)."""
     w0 = TWO_PI * f0_hz
     rate = (f_end_hz - f_start_hz) / duration_s            # [Hz/s]
     fs = samples_per_rev_max * f_end_hz if fs_hz is None else fs_hz
@@ -69,7 +71,8 @@ def exact_runup(*, f0_hz=18.5, zeta=0.04, e_m=150e-6, beta_deg=70.0, mass_kg=2.0
     t = np.arange(0.0, duration_s, 1.0 / fs)
     sol = solve_ivp(rhs, (0.0, t[-1]), [0.0, 0.0, 0.0, 0.0], method="DOP853", t_eval=t,
                     rtol=1e-11, atol=1e-16, max_step=0.05 / f_end_hz)
-    x, y = sol.y[0] + offset_m.real, sol.y[1] + offset_m.imag
+    ro = complex(runout_m) * np.exp(1j * phi(t))
+    x, y = sol.y[0] + offset_m.real + ro.real, sol.y[1] + offset_m.imag + ro.imag
     if noise_m:
         rng = np.random.default_rng(seed)
         x = x + noise_m * rng.standard_normal(t.size)
