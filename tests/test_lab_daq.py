@@ -117,3 +117,19 @@ def test_the_sample_is_what_the_stand_writes(tmp_path):
     assert (tmp_path / "daq_runup.csv").read_bytes() == (DAQ / "daq_runup.csv").read_bytes()
     truth = json.loads((tmp_path / "daq_runup.truth.json").read_text())
     assert truth["unbalance_gmm"] == pytest.approx(TRUTH["unbalance_gmm"], rel=1e-12)
+
+
+def test_map_declares_the_probes_runout(tmp_path):
+    """[probes] runout: the no-speed fit's ± allows for the declared runout (0 when it is
+    compensated), named in the notes; a negative one is refused naming the key."""
+    from stand.lab.recording_map import MapError, read_map
+
+    m = tmp_path / "m.toml"
+    m.write_text('[columns]\ntime = "t [s]"\n\n[probes]\nrunout = "5 um"\n')
+    assert read_map(m).probe_runout_m == pytest.approx(5e-6)
+    m.write_text('[columns]\ntime = "t [s]"\n\n[probes]\nrunout = "-1 um"\n')
+    with pytest.raises(MapError, match=r"probes\.runout"):
+        read_map(m)
+    m.write_text('[columns]\ntime = "t [s]"\n\n[probes]\nrunot = "1 um"\n')
+    with pytest.raises(MapError, match="runot"):
+        read_map(m)

@@ -166,7 +166,9 @@ def _sweep(d, out, rotating) -> None:
     sw = sweep_identification(d["t"], d["x"], d["y"], d.get("angle"), out["notes"],
                               fit_model=model_ok or tab is not None,
                               derivative=VIBRATION[d.get("quantity", "length")],
-                              damping_ratio=_scene_damping(scene))
+                              damping_ratio=_scene_damping(scene),
+                              runout_allowance_m=getattr(getattr(tab, "recording_map", None),
+                                                         "probe_runout_m", None))
     if sw is None:
         return
     out["runup"] = sw

@@ -80,7 +80,8 @@ def _fit_dict(fit, referenced: bool, mark_std_rad: float = 0.0) -> dict:
 
 def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bool] = None,
                          fit_model: bool = True, derivative: int = 0,
-                         damping_ratio: Optional[float] = None) -> Optional[dict]:
+                         damping_ratio: Optional[float] = None,
+                         runout_allowance_m: Optional[float] = None) -> Optional[dict]:
     """Identify what a swept record gives (module docstring).
 
     Parameters
@@ -100,6 +101,9 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
         zeta [-] for the resonance's sweep-lag correction when the model is not fitted
         (e.g. from a recording's scene); default 0 (the sweep-limited lag, the damped lag's
         upper bound: half of it then goes into the critical speed's std).
+    runout_allowance_m : float, optional
+        Without a speed channel: the probes' 1X runout [m] the ± allows for (a recording
+        map's ``[probes] runout``); default :data:`RUNOUT_ALLOWANCE_M`.
 
     Returns
     -------
@@ -148,14 +152,18 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
         if angle is None and _steady_line(t, z):
             return None     # not swept: a constant-speed fit would take the speed for f0
         try:
-            fit, angle = fit_response_without_speed(t, z, runout_allowance_m=RUNOUT_ALLOWANCE_M)
+            allow = RUNOUT_ALLOWANCE_M if runout_allowance_m is None else runout_allowance_m
+            fit, angle = fit_response_without_speed(t, z, runout_allowance_m=allow)
         except SignalError as exc:
             notes.append(f"run-up model fit without a keyphasor: {exc}")
             return None
         out.update(speed_source="1X line (estimated from the vibration)", speed_estimated=True)
+        said = ("the recording map's [probes] runout" if runout_allowance_m is not None else
+                "the default; declare the probes' runout as [probes] runout = \"... um\" in the "
+                "recording map")
         notes.append("run-up model fit without a speed channel: the probes' 1X runout is not "
-                     f"fitted; the ± allows for one up to {RUNOUT_ALLOWANCE_M * 1e6:g} um at any "
-                     "angle (a larger runout is not covered)")
+                     f"fitted; the ± allows for one up to {allow * 1e6:g} um at any angle "
+                     f"({said}; a larger runout is not covered)")
         c = angle.covered
         prog = speed_programme(t[c], angle.speed_rad_s[c])
         if not any(s.kind in SWEEPS for s in prog.stretches):
@@ -165,7 +173,8 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
     if fit is not None:
         out["model_fit"] = _fit_dict(fit, ref, _keyphasor_angle_std(t, angle) if ref else 0.0)
         if out["speed_estimated"]:
-            out["model_fit"]["runout_allowance_m"] = RUNOUT_ALLOWANCE_M
+            out["model_fit"]["runout_allowance_m"] = (
+                RUNOUT_ALLOWANCE_M if runout_allowance_m is None else runout_allowance_m)
     # Bode: the 1X vector revolution by revolution, runout removed
     c = angle.covered
     try:

@@ -138,6 +138,7 @@ class RecordingMap:
     service_speed_rad_s: Optional[float] = None
     natural_frequency_hz: Optional[float] = None
     damping_ratio: Optional[float] = None
+    probe_runout_m: Optional[float] = None
     source: str = "--columns"
 
     def merged(self, other: "RecordingMap") -> "RecordingMap":
@@ -225,10 +226,10 @@ def read_map(path) -> RecordingMap:
     from stand.io.tomlfile import read_toml
 
     data, _, label = read_toml(path, "recording map", MapError)
-    unknown = set(data) - {"table", "columns", "rotor"}
+    unknown = set(data) - {"table", "columns", "rotor", "probes"}
     if unknown:
         raise MapError(f"{label}unknown table(s) {sorted(unknown)} (expected [table], [columns], "
-                       "[rotor])")
+                       "[rotor], [probes])")
     cols = {}
     for role, v in (data.get("columns") or {}).items():
         where = f"{label}columns.{role}"
@@ -273,13 +274,21 @@ def read_map(path) -> RecordingMap:
                              or not 0 <= zeta < 1):
         raise MapError(f"{label}rotor.damping_ratio = {zeta!r}: a number in [0, 1)")
     f0 = q("natural_frequency", "speed")
+    probes = data.get("probes") or {}
+    _allow(probes, "probes", ("runout",), label)
+    runout = None
+    if "runout" in probes:
+        runout = parse_quantity(probes["runout"], "length", f"{label}probes.runout")
+        if not runout >= 0:
+            raise MapError(f"{label}probes.runout = {probes['runout']!r}: must be >= 0 (the "
+                           "probes' 1X runout, e.g. \"2 um\"; 0 when it is compensated)")
     try:
         return RecordingMap(columns=cols, delimiter=tab.get("delimiter"), decimal=tab.get("decimal"),
                             header_row=hr, key=tab.get("key"), mass_kg=q("mass", "mass"),
                             service_speed_rad_s=q("service_speed", "speed"),
                             natural_frequency_hz=None if f0 is None else f0 / (2 * math.pi),
                             damping_ratio=None if zeta is None else float(zeta),
-                            source=str(path))
+                            probe_runout_m=runout, source=str(path))
     except UnitError as exc:
         raise MapError(str(exc)) from None
 
