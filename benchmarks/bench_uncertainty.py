@@ -38,7 +38,9 @@ rotor angle, scipy DOP853 at rtol 1e-11), written as a DAQ CSV and read by
 
 The image, track and line paths
 (``--paths lines,lines-close,sinusoids,precession,track-rings,two-plane``)
-are in :mod:`_uncertainty_images`.
+are in :mod:`_uncertainty_images`; the other speed channels, the Bode table and the
+field balancer's readings (``--paths keyphasor-ttl,tachometer-analog,tachometer-rounded,
+encoder-360,bode-steady,field-readings``) in :mod:`_uncertainty_lab`.
 """
 from __future__ import annotations
 
@@ -60,6 +62,7 @@ sys.path.insert(0, str(ROOT))
 
 from oracles.runup_exact import exact_runup, write_csv  # noqa: E402
 from _uncertainty_images import PATHS as IMAGE_PATHS  # noqa: E402  (tracks, rings, lines)
+from _uncertainty_lab import PATHS as LAB_PATHS  # noqa: E402  (speed channels, tables, readings)
 
 #: (key of ``stand analyze --json``, key of its std, truth attribute of the reference)
 QUANTITIES = {
@@ -95,6 +98,8 @@ def run_path(path: str, seed: int, *, workdir: Path, noise_m: float = 2e-6, **ru
     keywords of :func:`oracles.runup_exact.exact_runup`."""
     if path in IMAGE_PATHS:
         return IMAGE_PATHS[path](seed, workdir)
+    if path in LAB_PATHS:
+        return LAB_PATHS[path](seed, workdir)
     if path == "recording":
         return run_recording(seed, workdir=workdir)
     if path == "no-speed-runout":
