@@ -14,6 +14,10 @@ the mark's angle, so that the sampling's phase against the rotation changes.
   keyphasor -- a sharp 30° pulse, 20 samples per revolution at the top speed: no
   sample on its edge, each mark timed only to its sample interval
   (:func:`dsp.speed.pulse_timing_std`);
+* ``keyphasor-ttl-steady``: the same keyphasor on a constant 25 rev/s sampled at exactly
+  20 per revolution (every mark at the same place in its sample interval: one common
+  timing offset, up to 9°), the map's f0 and zeta turning the steady 1X into the
+  unbalance and its angle;
 * ``tachometer-analog``: 1000 samples/s and a speed column [rpm] with 0.2 % white noise
   (an analog tachometer's output);
 * ``tachometer-rounded``: the same speed rounded to 1 rpm (every step one rpm: not a
@@ -83,6 +87,28 @@ def keyphasor_ttl(seed, workdir):
               + rng.normal(0.0, 0.02, run.t.size))
     run.beta_deg = (run.beta_deg - math.degrees(off)) % 360.0
     return _runup_z(_analyze(*write_csv(run, Path(workdir) / f"ttl{seed}.csv")), run)
+
+
+def keyphasor_ttl_steady(seed, workdir, f_hz=25.0):
+    """A constant speed sampled at exactly 20 per revolution (the marks fall at the same
+    place in their sample intervals all along: one common timing offset), the map's f0
+    and zeta turning the steady 1X into the unbalance."""
+    from oracles.runup_exact import exact_runup, write_csv
+
+    rng = np.random.default_rng(500 + seed)
+    run = exact_runup(fs_hz=20 * f_hz, f_start_hz=f_hz, f_end_hz=f_hz, duration_s=8.0,
+                      noise_m=2e-6, seed=seed, beta_deg=rng.uniform(0, 360))
+    off = rng.uniform(0.0, TWO_PI)
+    run.kp = (np.where(np.mod(run.phi + off, TWO_PI) < math.radians(30.0), 5.0, 0.0)
+              + rng.normal(0.0, 0.02, run.t.size))
+    run.beta_deg = (run.beta_deg - math.degrees(off)) % 360.0
+    csv, rmap = write_csv(run, Path(workdir) / f"ttl_steady{seed}.csv")
+    rmap.write_text(rmap.read_text() + f'natural_frequency = "{run.f0_hz} Hz"\n'
+                    f'damping_ratio = {run.zeta}\n')
+    d = _analyze(csv, rmap)
+    da = (d["unbalance_angle_deg"] - run.beta_deg + 180.0) % 360.0 - 180.0
+    return {"U": (d["unbalance_gmm"] - run.unbalance_gmm) / d["unbalance_gmm_std"],
+            "angle": da / d["unbalance_angle_deg_std"]}
 
 
 def _tachometer(kind):
@@ -183,6 +209,7 @@ def field_readings(seed, workdir=None):
     return out
 
 
-PATHS = {"keyphasor-ttl": keyphasor_ttl, "tachometer-analog": _tachometer("analog"),
+PATHS = {"keyphasor-ttl": keyphasor_ttl, "keyphasor-ttl-steady": keyphasor_ttl_steady,
+         "tachometer-analog": _tachometer("analog"),
          "tachometer-rounded": _tachometer("rounded"), "encoder-360": encoder_360,
          "bode-steady": bode_steady, "field-readings": field_readings}

@@ -104,7 +104,9 @@ def _pulse_angle_error(p, sp, sigma_t, dt):
     reaches 2 pi k, to well under a sample), and the white covariance is scaled by how
     much the sawtooth ``1/2 - u`` keeps over a spline interval: ``m`` pulses per
     coefficient, ``m (local mean)^2 / mean(sawtooth^2)`` at each pulse (the mean over the
-    ``m`` pulses around it), between 1 (white) and ``m`` (no averaging at all).
+    ``m`` pulses around it), between 1 (white) and ``m`` (no averaging at all); and what
+    the whole record cannot average, a common delay of RMS ``R sigma_t`` (``R`` the
+    circular concentration of ``u``: 1 at a speed commensurate with the sample rate).
     """
     from scipy.interpolate import BSpline
 
@@ -126,7 +128,13 @@ def _pulse_angle_error(p, sp, sigma_t, dt):
     g = 0.5 - u
     local = np.convolve(g, np.ones(m) / m, mode="same")      # centred on each pulse
     factor = np.clip(m * local ** 2 / max(np.mean(g ** 2), 1e-300), 1.0, m)
-    return AngleError(tk, (S * (factor * sig_phi ** 2)) @ S.T, 0.0)
+    # a common delay: when the marks fall at the same place in their sample intervals all
+    # along (a speed commensurate with the sample rate), the errors are one offset that no
+    # spline averages; the phases' circular concentration R (1: all alike, ~0: spread)
+    # scales the edges' RMS timing std into that delay
+    R = float(abs(np.mean(np.exp(2j * np.pi * u))))
+    delay = R * float(np.sqrt(np.mean(sigma_t ** 2)))
+    return AngleError(tk, (S * (factor * sig_phi ** 2)) @ S.T, delay)
 
 
 def pulse_timing_std(t, v, pulses, *, threshold: Optional[float] = None):

@@ -71,6 +71,9 @@ class SynchronousComponent:
         The 1X vector of each revolution [m].
     t_start, t_end : float
         Time span of the revolutions used [s].
+    reference_std_rad : float
+        What the phase reference itself leaves open [rad] (a keyphasor's timing), already
+        in ``phase_std_rad``; 0 when not known.
     """
 
     vector_m: complex
@@ -85,6 +88,7 @@ class SynchronousComponent:
     per_revolution_m: np.ndarray = field(repr=False)
     t_start: float = 0.0
     t_end: float = 0.0
+    reference_std_rad: float = 0.0
 
     phase_deg = converted("phase_rad", DEG_PER_RAD,
                           "Phase of the 1X vector ahead of the reference mark [deg].")

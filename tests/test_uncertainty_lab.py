@@ -5,7 +5,9 @@ tachometer channel, an encoder count, a Bode table, a field balancer's readings)
 Before these changes the run-up paths gave z = 5.1 (f0, TTL keyphasor at 20 samples per
 revolution), 4.4 / 5.2 (f0 / U, speed rounded to 1 rpm taken for a held display), 3-5
 (analog tachometer: its noise integrated into the angle outside the ±), 100 (unbalance
-angle, an encoder count differentiated sample by sample); a single field reading had no
+angle, an encoder count differentiated sample by sample), z 6 (the unbalance angle of a
+constant speed commensurate with the sample rate: one common timing offset); a single
+field reading had no
 uncertainty and the corrections no ±.
 
 Run-up paths: six draws each.  For a calibrated std, 6 RMS(z)^2 is chi-square with 6
@@ -29,8 +31,8 @@ if str(BENCH) not in sys.path:
 from _uncertainty_lab import PATHS  # noqa: E402
 
 
-@pytest.mark.parametrize("path", ["keyphasor-ttl", "tachometer-analog", "tachometer-rounded",
-                                  "encoder-360"])
+@pytest.mark.parametrize("path", ["keyphasor-ttl", "keyphasor-ttl-steady", "tachometer-analog",
+                                  "tachometer-rounded", "encoder-360"])
 def test_runup_paths_are_calibrated(path, tmp_path):
     zs = [PATHS[path](seed, tmp_path) for seed in range(6)]
     for k in zs[0]:

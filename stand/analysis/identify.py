@@ -231,6 +231,7 @@ def _steady_1x(d, out, speed, rotating):
                                            keyphasor_times=d["kp"])
             if d.get("probes") is not None and d["scene"] is not None:
                 sc1 = _runout_removed(d, sc1, speed, sl, notes)
+            sc1 = _mark_timing(d.get("angle"), sc1, t[sl], None if speed is None else speed[sl])
             out["response_1x_m"] = sc1.amplitude_m
             out["response_1x_m_std"] = sc1.amplitude_std_m
             out["speed_hz"] = sc1.speed_rad_s / TWO_PI
@@ -310,6 +311,26 @@ def _runout_removed(d, sc1, speed, sl, notes):
     return dataclasses.replace(sc1, vector_m=v, amplitude_m=a, amplitude_std_m=s,
                                phase_rad=math.atan2(v.imag, v.real),
                                phase_std_rad=s / a if a > 0 else math.pi, vector_std_m=s)
+
+
+def _mark_timing(angle, sc1, t, speed):
+    """The 1X phase's std with what the rotor angle leaves open over the stretch (a
+    keyphasor's edge timing, an encoder's count: ``RotorAngle.angle_error``): the mean
+    angle error over the stretch turns the vector by ``sigma``, its amplitude not
+    (``phase_std_rad``; :func:`stand.analysis.unbalance.unbalance` carries it into the
+    unbalance angle's std)."""
+    import dataclasses
+
+    err = getattr(angle, "angle_error", None)
+    if err is None or speed is None or not getattr(angle, "referenced", False):
+        return sc1
+    A, C = err.modes(t, speed)
+    a = np.asarray(A.mean(axis=0)).ravel()
+    sig = math.sqrt(max(float(a @ C @ a), 0.0))
+    if not sig > 0:
+        return sc1
+    return dataclasses.replace(sc1, phase_std_rad=math.hypot(sc1.phase_std_rad, sig),
+                               reference_std_rad=sig)
 
 
 def _components(d, out, sl, rotating) -> None:

@@ -39,6 +39,13 @@ def line_1x(t, z, out, notes, speed_how=None) -> None:
         notes.append(f"1X line: {exc}")
 
 
+def _turn_std(est, sc1) -> float:
+    """The unbalance angle's std [rad]: the 1X vector's scatter across it (``est``) and what
+    the phase reference adds (``sc1.reference_std_rad``: a keyphasor's timing,
+    :func:`stand.analysis.identify._mark_timing`)."""
+    return math.hypot(est.angle_std_rad, sc1.reference_std_rad)
+
+
 def unbalance(out, scene, sc1, d, rmap, mass, grade, service_speed_rpm, notes) -> None:
     """The unbalance from the model (the scene's, the run-up fit's, or the map's f0 and
     damping), the ring zones of a track, and the ISO 21940-11 grade."""
@@ -55,7 +62,7 @@ def unbalance(out, scene, sc1, d, rmap, mass, grade, service_speed_rpm, notes) -
                                          zeta)
         out.update(unbalance_gmm=est.unbalance_gmm, unbalance_gmm_std=est.unbalance_std_gmm,
                    unbalance_angle_deg=est.angle_deg,
-                   unbalance_angle_deg_std=math.degrees(est.angle_std_rad))
+                   unbalance_angle_deg_std=math.degrees(_turn_std(est, sc1)))
         iso_grade(out, est.unbalance_gmm, est.unbalance_std_gmm, scene.rotor.mass,
                   sc1.speed_rad_s, grade, service_speed_rpm)
         return
@@ -69,7 +76,7 @@ def unbalance(out, scene, sc1, d, rmap, mass, grade, service_speed_rpm, notes) -
         est = ub.unbalance_from_response(sc1, sc1.speed_rad_s, 1.0, rmap.natural_frequency_hz,
                                          rmap.damping_ratio)
         e, se, ang = est.unbalance_kg_m, est.unbalance_std_kg_m, est.angle_deg
-        sang = math.degrees(est.angle_std_rad)
+        sang = math.degrees(_turn_std(est, sc1))
         how = f"steady 1X with the map's natural frequency and damping ({rmap.source})"
     elif out.get("response_1x_m") and rmap is not None and rmap.natural_frequency_hz \
             and rmap.damping_ratio is not None:
