@@ -20,6 +20,23 @@ from .rotor_angle import TWO_PI
 __all__ = ["retime_pulses", "pulse_timing_std"]
 
 
+def _crossing_index(t, v, p, ref):
+    """``(k, crossing)``: for each time ``p`` the sample ``k`` with ``p`` in ``[t[k-1], t[k]]``
+    whose pair of samples crosses ``ref``; a time that rounds onto a sample may have its
+    crossing in the pair after it (``crossing`` False: no pair around it crosses)."""
+    k = np.clip(np.searchsorted(t, p), 1, t.size - 1)
+
+    def crosses(k):
+        a, b = v[k - 1] - ref, v[k] - ref
+        return (a * b <= 0) & (a != b)
+
+    c = crosses(k)
+    k2 = np.clip(k + 1, 1, t.size - 1)
+    use2 = ~c & crosses(k2) & (np.abs(p - t[k]) <= 1e-9 * (t[k2] - t[k - 1]))
+    k = np.where(use2, k2, k)
+    return k, c | use2
+
+
 def retime_pulses(t, v, pulses, *, threshold: Optional[float] = None,
                   knot_revolutions: float = 8.0, passes: int = 2):
     """Pulse edges timed by interpolating the channel linearly in the rotor angle.
@@ -65,11 +82,8 @@ def retime_pulses(t, v, pulses, *, threshold: Optional[float] = None,
     high = v > level
     ref = (0.5 * (_state_level(v[~high]) + _state_level(v[high])) if threshold is None
            else level)
-    k = np.searchsorted(t, p)                        # t[k - 1] < p <= t[k]
-    ok = (k > 0) & (k < t.size)
-    kk = np.clip(k, 1, t.size - 1)
+    kk, ok = _crossing_index(t, v, p, ref)           # the samples around each crossing
     a, b = v[kk - 1] - ref, v[kk] - ref
-    ok &= (a * b < 0) | (b == 0)                     # a crossing between these samples
     if not ok.any():
         return p
     frac = np.where(ok, a / np.where(a - b == 0, 1.0, a - b), 0.0)
@@ -176,10 +190,8 @@ def pulse_timing_std(t, v, pulses, *, threshold: Optional[float] = None):
     near = np.r_[v[np.abs(v - lo) < band] - lo, v[np.abs(v - hi) < band] - hi]
     sigma_v = 1.4826 * float(np.median(np.abs(near - np.median(near)))) if near.size else 0.0
     margin = max(4.0 * sigma_v, 0.02 * abs(hi - lo))
-    k = np.clip(np.searchsorted(t, p), 1, t.size - 1)
-    a, b = v[k - 1] - ref, v[k] - ref
+    k, crossing = _crossing_index(t, v, p, ref)
     dt = t[k] - t[k - 1]
-    crossing = (a * b < 0) | (b == 0)
     on_edge = ((np.minimum(v[k - 1], v[k]) > min(lo, hi) + margin)
                & (np.maximum(v[k - 1], v[k]) < max(lo, hi) - margin))
     f = np.clip((p - t[k - 1]) / dt, 0.0, 1.0)

@@ -38,3 +38,17 @@ def test_timing_std_of_sharp_and_resolved_edges():
     s = pulse_timing_std(t, ramp, pulse_times(t, ramp))
     slope = 5.0 / (ramp_rad / (TWO_PI * f))          # [V/s]
     assert np.allclose(s, math.sqrt(2.0) * noise / slope, rtol=0.35)
+
+
+def test_an_edge_crossing_on_a_sample_is_still_on_its_slope():
+    """A ramp whose 50 % level falls on a sample (the crossing time rounds onto it, the
+    sample a hair below the level): the pair that crosses is the one after, and the edge is
+    timed to its (nil) noise, not taken for a missing crossing (dt / sqrt 3: that made the
+    keyphasor path's ± 30 to 100 times too wide)."""
+    from oracles.runup_exact import exact_runup
+
+    run = exact_runup(fs_hz=500.0, f_start_hz=10.0, f_end_hz=28.0, duration_s=9.0)
+    p = pulse_times(run.t, run.kp)
+    on = np.isclose(p[:, None], run.t[None, :], rtol=0, atol=1e-12).any(axis=1)
+    assert on.any()                                    # the case is there
+    assert np.max(pulse_timing_std(run.t, run.kp, p)) < 1e-9
