@@ -28,7 +28,7 @@ the optimum, scaled by the residual variance.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -66,6 +66,15 @@ class ResponseFit:
         RMS of the complex residual per sample [m].
     samples : int
         Samples fitted.
+    std_parts : dict
+        What each std contains: ``{quantity: {part: std}}`` with quantities
+        ``natural_frequency_hz``, ``damping_ratio``, ``specific_unbalance_m``,
+        ``angle_rad``, ``critical_speed_hz`` and parts ``noise`` (the residuals'
+        covariance, the larger of white and batch-means; with the angle estimated from
+        the whirl, its spline's coefficients included), ``rotor_angle`` (what the speed
+        channel leaves open: a keyphasor's timing, a tachometer's quantum, an encoder's
+        count) and ``runout`` (a probe runout allowed for, not fitted); the std is the
+        root sum of squares of its parts.
     """
 
     natural_frequency_hz: float
@@ -82,6 +91,7 @@ class ResponseFit:
     runout_m: complex
     residual_rms_m: float
     samples: int
+    std_parts: dict = field(default_factory=dict)
 
 
 #: Gauss-Legendre nodes and weights on [0, 1] for the forcing integral over one sample step.
@@ -315,11 +325,14 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
                                 c, angle_basis)
         J = np.hstack((J, np.vstack((extra.real, extra.imag))))
     covs = _covariances(J, r, J.shape[1])
+    extra = {}
     if runout_allowance_m and not (runout and order == 0):
-        covs = tuple(C + _runout_part(J, np.exp(1j * phi), runout_allowance_m) for C in covs)
+        extra["runout"] = _runout_part(J, np.exp(1j * phi), runout_allowance_m)
     if angle_error is not None:
-        covs = tuple(C + _propagated(J, -1j * (B[:, 0] * c[0] + B[:, 4] * c[4]), w,
-                                     t, angle_error) for C in covs)
+        extra["rotor_angle"] = _propagated(J, -1j * (B[:, 0] * c[0] + B[:, 4] * c[4]), w,
+                                           t, angle_error)
+    noise_covs = covs
+    covs = tuple(C + sum(extra.values()) for C in covs)
     q = c[0]
     e = abs(q)
     # e along q, angle across it
@@ -333,13 +346,19 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
     sd = {k: max(_std(C, i, g) for C in covs) for k, (i, g) in grads.items()}
     if not e > 0:
         sd["beta"] = math.pi
+    names = {"w0": "natural_frequency_hz", "zeta": "damping_ratio", "e": "specific_unbalance_m",
+             "beta": "angle_rad", "fc": "critical_speed_hz"}
+    unit = {"w0": 1 / TWO_PI}
+    parts = {names[k]: {"noise": max(_std(C, i, g) for C in noise_covs) * unit.get(k, 1.0),
+                        **{p: _std(C, i, g) * unit.get(k, 1.0) for p, C in extra.items()}}
+             for k, (i, g) in grads.items()}
     return ResponseFit(natural_frequency_hz=w0 / TWO_PI, natural_frequency_hz_std=sd["w0"] / TWO_PI,
                        damping_ratio=zeta, damping_ratio_std=sd["zeta"],
                        critical_speed_hz=w0 * shift / TWO_PI, critical_speed_hz_std=sd["fc"],
                        specific_unbalance_m=float(e), specific_unbalance_m_std=sd["e"],
                        angle_rad=float(math.atan2(q.imag, q.real)), angle_rad_std=sd["beta"],
                        offset_m=complex(c[3]), runout_m=complex(c[4]) if runout and order == 0 else 0j, residual_rms_m=float(np.sqrt(np.mean(np.abs(r) ** 2))),
-                       samples=int(n))
+                       samples=int(n), std_parts=parts)
 
 
 def _std(C, i, g) -> float:

@@ -66,6 +66,20 @@ def test_unbalance_critical_speed_and_natural_frequency(with_keyphasor):
     assert g["grade_mm_s"] == pytest.approx(e_mm * 1560 * 2 * math.pi / 60, rel=0.02)
 
 
+def test_the_std_says_what_it_contains(with_keyphasor):
+    """The model fit's std_parts: the sample's keyphasor edge (6 deg, faster than a sample at
+    26 rev/s) dominates the probes' noise; the stated std is the parts' root sum of
+    squares; the interval holds the truth (issue 30's acceptance on the DAQ sample)."""
+    d = with_keyphasor
+    fit = d["runup"]["model_fit"]
+    parts = fit["std_parts"]["specific_unbalance_m"]
+    assert parts["rotor_angle"] > 3 * parts["noise"]
+    rss = math.sqrt(sum(v * v for v in parts.values()))
+    assert fit["specific_unbalance_m_std"] == pytest.approx(rss, rel=0.05)
+    assert abs(d["unbalance_gmm"] - TRUTH["unbalance_gmm"]) < 2 * d["unbalance_gmm_std"]
+    assert "keyphasor_scatter" in fit["std_parts"]["unbalance_angle_deg"]
+
+
 def test_without_a_speed_channel(with_keyphasor):
     d = analyze("--map", DAQ / "daq_runup_no_speed.map.toml")
     assert "estimated" in d["speed_source"]

@@ -59,6 +59,18 @@ def _keyphasor_angle_std(t, angle) -> float:
     return float(np.std(res) * math.sqrt(8.0 / p.size))
 
 
+def _std_parts(fit, referenced: bool, mark_std_rad: float) -> dict:
+    """What each std of the fit contains (``dsp.response_fit.ResponseFit.std_parts``), the
+    angle's in degrees with the keyphasor pulses' scatter about their spline; no angle
+    without a mark."""
+    parts = {k: dict(v) for k, v in (getattr(fit, "std_parts", None) or {}).items()}
+    ang = parts.pop("angle_rad", None)
+    if referenced and ang is not None:
+        parts["unbalance_angle_deg"] = {**{k: math.degrees(v) for k, v in ang.items()},
+                                        "keyphasor_scatter": math.degrees(mark_std_rad)}
+    return parts
+
+
 def _fit_dict(fit, referenced: bool, mark_std_rad: float = 0.0) -> dict:
     angle_std = math.hypot(fit.angle_rad_std, mark_std_rad)
     return {"natural_frequency_hz": fit.natural_frequency_hz,
@@ -73,6 +85,7 @@ def _fit_dict(fit, referenced: bool, mark_std_rad: float = 0.0) -> dict:
             "unbalance_angle_deg_std_parts": ({"fit": math.degrees(fit.angle_rad_std),
                                                "keyphasor_timing": math.degrees(mark_std_rad)}
                                               if referenced else None),
+            "std_parts": _std_parts(fit, referenced, mark_std_rad),
             "offset_x_m": fit.offset_m.real, "offset_y_m": fit.offset_m.imag,
             "runout_m": abs(fit.runout_m), "residual_rms_m": fit.residual_rms_m,
             "samples": fit.samples}

@@ -196,6 +196,7 @@ LABELS = {
     "damping_ratio_used": ("Damping ratio used", "", 1.0),
     "direction": ("Direction", "", 1.0),
     "model_fit": ("Rigid-rotor model fitted to the record", "", 1.0),
+    "std_parts": ("What each ± contains (its parts; the ± is their root sum of squares)", "", 1.0),
     "offset_x_m": ("Probe offset x", "µm", 1e6),
     "offset_y_m": ("Probe offset y", "µm", 1e6),
     "runout_m": ("Probe runout (1X)", "µm", 1e6),
