@@ -18,7 +18,7 @@ the mark's angle, so that the sampling's phase against the rotation changes.
   20 per revolution (every mark at the same place in its sample interval: one common
   timing offset, up to 9°), the map's f0 and zeta turning the steady 1X into the
   unbalance and its angle;
-* ``tachometer-analog``: 1000 samples/s and a speed column [rpm] with 0.2 % white noise
+* ``tachometer-analog``: 500 samples/s and a speed column [rpm] with 0.2 % white noise
   (an analog tachometer's output);
 * ``tachometer-rounded``: the same speed rounded to 1 rpm (every step one rpm: not a
   held display);
@@ -115,7 +115,7 @@ def _tachometer(kind):
     def path(seed, workdir):
         from oracles.runup_exact import write_csv
 
-        run, rng = _runup(seed, 1000.0, 200)
+        run, rng = _runup(seed, 500.0, 200)
         rpm = np.gradient(run.phi, run.t) / TWO_PI * 60.0
         rpm = (np.round(rpm) if kind == "rounded"
                else rpm * (1 + 0.002 * rng.standard_normal(rpm.size)))
@@ -126,7 +126,7 @@ def _tachometer(kind):
 
 
 def encoder_360(seed, workdir, lines=360):
-    run, _ = _runup(seed, 1000.0, 300)
+    run, _ = _runup(seed, 500.0, 300)
     q = TWO_PI / lines
     p = Path(workdir) / f"enc{seed}.csv"
     np.savetxt(p, np.column_stack((run.t, run.x * 1e6, run.y * 1e6, np.floor(run.phi / q) * q)),
