@@ -191,10 +191,12 @@ def _lsq_cubic(x, y, n_int, knots_at=None, w=None):
     return make_lsq_spline(x, y, np.concatenate(([x[0]] * 4, inner, [x[-1]] * 4)), k=3, w=w)
 
 
-def _pulse_spline(p, knot_revolutions: float, source: str = "keyphasor"):
+def _pulse_spline(p, knot_revolutions: float, source: str = "keyphasor", corners: bool = False,
+                  sigma_phi=None):
     """The angle through the points (pulse k, 2 pi k): interpolating for
     ``knot_revolutions = 0`` or fewer than two intervals, else a least-squares cubic with
-    a knot every ``knot_revolutions`` pulses (:func:`angle_from_pulses`)."""
+    a knot every ``knot_revolutions`` pulses (:func:`angle_from_pulses`); with ``corners``,
+    double knots where the speed's slope jumps (:func:`_corner_knots`)."""
     from scipy.interpolate import CubicSpline
 
     if p.size < 3:
@@ -205,5 +207,52 @@ def _pulse_spline(p, knot_revolutions: float, source: str = "keyphasor"):
     n_int = int(p.size / max(knot_revolutions, 4.0)) if knot_revolutions else 0
     if n_int < 2:
         return CubicSpline(p, k)
-    return _lsq_cubic(p, k, n_int, np.interp(np.linspace(0, p.size - 1, n_int + 1)[1:-1],
-                                             np.arange(p.size), p))
+    inner = np.interp(np.linspace(0, p.size - 1, n_int + 1)[1:-1], np.arange(p.size), p)
+    if corners:
+        inner = _corner_knots(p, k, inner, sigma_phi)
+    return _lsq_cubic(p, k, n_int, inner)
+
+
+
+
+def _corner_knots(p, k, inner, sigma_phi=None, max_corners: int = 4):
+    """Inner knots with double knots added where the speed's slope jumps (a run-up that
+    turns into a hold, a drive switched over): the cubic through a knot every few
+    revolutions rounds such a corner over its interval and misses the angle there by many
+    times the pulses' scatter.  One corner at a time, at the place that lowers the pulses'
+    chi^2 most (a scan over the pulses, then Brent between the neighbours), while it lowers it
+    by more than :data:`CORNER_CHI2`; ``sigma_phi`` the pulses' angle std [rad] (default:
+    their scatter about the spline, robust)."""
+    from scipy.optimize import minimize_scalar
+
+    def chi2(knots):
+        try:
+            sp = _lsq_cubic(p, k, 0, np.sort(knots))
+        except (ValueError, np.linalg.LinAlgError):
+            return np.inf, None
+        return float(np.sum(((k - sp(p)) / sig) ** 2)), sp
+
+    base = _lsq_cubic(p, k, 0, inner)
+    r = k - base(p)
+    if sigma_phi is None:
+        sig = 1.4826 * float(np.median(np.abs(r - np.median(r)))) or 1e-12
+    else:
+        sig = np.maximum(np.broadcast_to(np.asarray(sigma_phi, float), p.shape), 1e-12)
+    knots = np.asarray(inner, float)
+    best, _ = chi2(knots)
+    for _ in range(max_corners):
+        cand = p[2:-2]
+        trials = [chi2(np.concatenate([knots, [c, c]]))[0] for c in cand]
+        if not trials:
+            break
+        i = int(np.argmin(trials))
+        lo, hi = p[i + 1], p[i + 3]
+        res = minimize_scalar(lambda c: chi2(np.concatenate([knots, [c, c]]))[0],
+                              bounds=(lo, hi), method="bounded",
+                              options={"xatol": 1e-6 * (hi - lo)})
+        c = float(res.x) if res.fun <= trials[i] else float(cand[i])
+        new, _ = chi2(np.concatenate([knots, [c, c]]))
+        if not best - new > 2.0 * np.log(p.size):
+            break
+        knots, best = np.concatenate([knots, [c, c]]), new
+    return np.sort(knots)

@@ -33,6 +33,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import SignalError, check_signal
+from .lsq import covariances as _covariances, propagated_angle as _propagated, \
+    runout_part as _runout_part, std_of as _std
 
 __all__ = ["ResponseFit", "fit_unbalance_response", "fit_response_without_speed"]
 
@@ -359,71 +361,6 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
                        angle_rad=float(math.atan2(q.imag, q.real)), angle_rad_std=sd["beta"],
                        offset_m=complex(c[3]), runout_m=complex(c[4]) if runout and order == 0 else 0j, residual_rms_m=float(np.sqrt(np.mean(np.abs(r) ** 2))),
                        samples=int(n), std_parts=parts)
-
-
-def _std(C, i, g) -> float:
-    """sqrt(g' C g) over the parameters i, i + 1, ... (len(g) of them)."""
-    k = slice(i, i + g.size)
-    return float(math.sqrt(max(g @ C[k, k] @ g, 0.0)))
-
-
-def _propagated(J, dr_dphi, w, t, angle_error):
-    """Covariance [parameters^2] the angle's own error adds: with ``delta phi = A xi``,
-    ``xi ~ N(0, C)``, the estimate moves by ``-(J'J)^-1 J' (dr/dphi) A xi``."""
-    A, C = angle_error.modes(t, w)
-    n = dr_dphi.size
-    live = np.any(J != 0, axis=0)
-    G = J[:n, live].T * dr_dphi.real + J[n:, live].T * dr_dphi.imag        # (P, N)
-    S = np.linalg.pinv(J[:, live].T @ J[:, live], rcond=1e-13, hermitian=True) @ (A.T @ G.T).T
-    out = np.zeros((J.shape[1], J.shape[1]))
-    out[np.ix_(live, live)] = S @ C @ S.T
-    return out
-
-
-def _runout_part(J, rot, bound):
-    """Covariance [parameters^2] of the estimate's shift by an unmodelled runout
-    r e^{i gamma} e^{i phi} with |r| = ``bound`` and gamma uniform: the shifts by the real
-    and the imaginary unit runout, S_k = (J'J)^-1 J' d_k (d_k the data's change), each
-    with variance bound^2 / 2."""
-    live = np.any(J != 0, axis=0)
-    D = np.column_stack([np.concatenate((d.real, d.imag)) for d in (rot, 1j * rot)])
-    S = np.linalg.pinv(J[:, live].T @ J[:, live], rcond=1e-13, hermitian=True) @ (J[:, live].T @ D)
-    out = np.zeros((J.shape[1], J.shape[1]))
-    out[np.ix_(live, live)] = 0.5 * bound * bound * (S @ S.T)
-    return out
-
-
-def _covariances(J, r, n_par, blocks: int = 40, min_block: int = 16):
-    """Parameter covariances of the least-squares fit: (white, correlated).
-
-    White: s^2 (J'J)^-1, right when the residuals are independent.  Correlated: the
-    sandwich (J'J)^-1 S (J'J)^-1 with S the sum over ``blocks`` contiguous blocks of the
-    outer products of the block's score J'r (batch means: the residuals' correlation
-    within a block -- noise that is not white, model error that follows the speed --
-    is kept, not averaged away).  The std of a quantity is the larger of the two.
-    Blocks are at least ``min_block`` samples long.
-    """
-    n = r.size
-    live = np.any(J != 0, axis=0)
-    A = J[:, live].T @ J[:, live]
-    try:
-        Ai = np.linalg.pinv(A, rcond=1e-13, hermitian=True)
-    except np.linalg.LinAlgError:
-        nan = np.full((n_par, n_par), np.nan)
-        return nan, nan
-    s2 = float(np.sum(np.abs(r) ** 2)) / max(2 * n - n_par, 1)
-    white = np.zeros((n_par, n_par))
-    white[np.ix_(live, live)] = s2 * Ai
-    score = J[:n, live] * r.real[:, None] + J[n:, live] * r.imag[:, None]     # per sample
-    nb = int(min(blocks, max(n // min_block, 2)))
-    edges = np.linspace(0, n, nb + 1).astype(int)
-    sums = np.add.reduceat(score, edges[:-1], axis=0)
-    S = sums.T @ sums * (2 * n / max(2 * n - n_par, 1))
-    corr = np.zeros((n_par, n_par))
-    corr[np.ix_(live, live)] = Ai @ S @ Ai
-    return white, corr
-
-
 
 
 def _phase_basis(t, phi, knot_revolutions: float = 20.0):

@@ -43,6 +43,8 @@ class RotorAngle:
     angle_error : dsp.held_display.AngleError or None
         What the source leaves open of the angle (a held tachometer display's quantum
         and timing), for the fits that use it.
+    pulse_timing_std_s : ndarray or None
+        Std [s] of each pulse time of ``pulses_s`` (a keyphasor's edges), when known.
     """
 
     angle_rad: np.ndarray
@@ -54,3 +56,4 @@ class RotorAngle:
     estimated: bool = False
     pulses_s: Optional[np.ndarray] = None
     angle_error: Optional[object] = None
+    pulse_timing_std_s: Optional[np.ndarray] = None

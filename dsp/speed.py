@@ -54,7 +54,8 @@ def _on_samples(spline, t, inside):
 
 
 def angle_from_pulses(t, pulses, *, source: str = "keyphasor",
-                      knot_revolutions: float = 8.0, timing_std_s=None) -> RotorAngle:
+                      knot_revolutions: float = 8.0, timing_std_s=None,
+                      corners: bool = False) -> RotorAngle:
     """Rotor angle from once-per-revolution pulse times (2 pi per pulse).
 
     The angle through the points (pulse k, 2 pi k) is a least-squares cubic
@@ -88,7 +89,11 @@ def angle_from_pulses(t, pulses, *, source: str = "keyphasor",
     """
     t = check_times(t, "t", 2)
     p = np.asarray(pulses, float)
-    sp = _pulse_spline(p, knot_revolutions, source)
+    sig_phi = None
+    if corners and timing_std_s is not None:
+        w = np.abs(np.gradient(TWO_PI * np.arange(p.size), p)) if p.size > 2 else 1.0
+        sig_phi = w * np.broadcast_to(np.asarray(timing_std_s, float), p.shape)
+    sp = _pulse_spline(p, knot_revolutions, source, corners=corners, sigma_phi=sig_phi)
     inside = (t >= p[0]) & (t <= p[-1])
     ang, spd, acc = _on_samples(sp, t, inside)
     from .pulse_timing import _pulse_angle_error
@@ -97,7 +102,9 @@ def angle_from_pulses(t, pulses, *, source: str = "keyphasor",
            _pulse_angle_error(p, sp, np.broadcast_to(np.asarray(timing_std_s, float), p.shape),
                               float(np.median(np.diff(t)))))
     return RotorAngle(ang, spd, acc, inside, source, referenced=True, pulses_s=p,
-                      angle_error=err)
+                      angle_error=err, pulse_timing_std_s=(
+                          None if timing_std_s is None else
+                          np.broadcast_to(np.asarray(timing_std_s, float), p.shape).copy()))
 
 
 def angle_from_speed(t, speed_rad_s, *, source: str = "tachometer") -> RotorAngle:

@@ -84,9 +84,11 @@ def from_table(p, recording_map):
             notes.append(f"samples outside the first and last keyphasor pulse left out "
                          f"({int((~c).sum())})")
         t, x, y, phi = t[c], x[c], y[c], angle.angle_rad[c]
-        angle = type(angle)(angle.angle_rad[c], angle.speed_rad_s[c], angle.acceleration_rad_s2[c],
-                            np.ones(int(c.sum()), bool), angle.source, angle.referenced,
-                            angle.estimated, angle.pulses_s, angle.angle_error)
+        from dataclasses import replace
+
+        angle = replace(angle, angle_rad=angle.angle_rad[c], speed_rad_s=angle.speed_rad_s[c],
+                        acceleration_rad_s2=angle.acceleration_rad_s2[c],
+                        covered=np.ones(int(c.sum()), bool))
     if tab.quantity != "length":
         notes.append(_SUPPORT_MODEL)
     return dict(t=t, x=x, y=y, phi=phi, kp=None, weights=None, scene=None, notes=notes,

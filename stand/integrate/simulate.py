@@ -208,6 +208,8 @@ def _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoi
         raise SceneError(str(exc)) from None
     if blows:
         model = _with_blows(model, scene, blows)
+    if not torque and scene.drive.initial_angle:
+        model.prog[:, 2] += scene.drive.initial_angle     # the programme's angle column
     method, ratio, reason = choose_method(model, method)
     if method == "numpy-DOP853":
         raise SceneError("run.method = \"numpy-DOP853\": the pure-numpy reference path exists for "

@@ -159,6 +159,7 @@ def build_planar_model(scene: Scene) -> PlanarModel:
         assert isinstance(d, SpeedDrive)
         pr = np.asarray(d.programme, float)
         prog = build_table(pr[:, 0] * w1, pr[:, 1] / w1)
+        prog[:, 2] += d.initial_angle
         if d.coast_down_start is not None:
             tc = d.coast_down_start * w1
             phic, Rc, _ = programme_kinematics(tc, prog, prog.shape[0])

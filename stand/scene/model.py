@@ -146,6 +146,9 @@ class SpeedDrive:
         T [s] of the exponential coast-down.
     rotor_drag : float
         H_0 [N*m*s]; has no effect on the motion when the speed is prescribed.
+    initial_angle : float
+        The rotor's angle at t = 0 [rad] (0: the reference mark starts at the X axis); set
+        when a simulation is driven by a recorded rotor angle (:mod:`stand.fit`).
     """
 
     programme: np.ndarray
@@ -153,6 +156,7 @@ class SpeedDrive:
     coast_down_time_constant: Optional[float] = None
     rotor_drag: float = 0.0
     kind: str = "speed"
+    initial_angle: float = 0.0
 
 
 @dataclass(frozen=True)

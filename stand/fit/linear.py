@@ -1,0 +1,144 @@
+"""The fit's linear nuisance: what the record adds to the model that is linear in its
+coefficients, solved in closed form at every trial of the scene values (variable projection,
+Golub & Pereyra 1973).
+
+* the sensors' DC offset ``c0`` (complex; a probe's gap voltage);
+* a probe's 1X runout ``c1 e^{i phi}`` (complex; a vector fixed to the rotor), when the record
+  can tell it from the unbalance response (a sweep);
+* the measured rotor angle's own error ``delta phi(t) = A(t) xi`` (a keyphasor's timing, an
+  encoder's count, a tachometer's quantum: :class:`dsp.held_display.AngleError`), with its
+  Gaussian prior ``xi ~ N(0, C)``.  The model's signal changes by ``G eta`` (``eta = C^-1/2
+  xi``, whitened), ``G`` the simulation's own sensitivity to each error mode of the drive
+  (finite differences of simulations driven by the perturbed angle:
+  :meth:`stand.fit.objective.Objective.angle_sensitivity`) -- not the quasi-static turn
+  ``i m delta phi``: near a resonance the shaft does not follow a wobble of the drive's phase
+  within its own time constant.  The coefficients are estimated with the prior (one prior
+  row per mode), so the residual left for the scene values is white noise when the model is
+  right, and their covariance contains what the angle leaves open.
+
+:class:`LinearPart` builds the design for one model signal; :meth:`LinearPart.solve` returns
+the augmented residual ``[(z - m - D c) / sigma; eta]`` and the orthonormal basis that projects
+the scene values' Jacobian.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+
+__all__ = ["AngleModes", "angle_modes", "LinearPart"]
+
+
+@dataclass(frozen=True)
+class AngleModes:
+    """The measured angle's error modes at the fitted samples, whitened:
+    ``delta phi = W eta`` with ``eta ~ N(0, I)`` (W (N, K) dense)."""
+
+    W: np.ndarray
+
+    @property
+    def count(self) -> int:
+        return self.W.shape[1]
+
+
+def angle_modes(angle, t) -> Optional[AngleModes]:
+    """The whitened modes of a :class:`dsp.speed.RotorAngle`'s ``angle_error`` at the samples
+    ``t`` (None when the source states none)."""
+    err = getattr(angle, "angle_error", None) if angle is not None else None
+    if err is None:
+        return None
+    A, C = err.modes(np.asarray(t, float), np.asarray(angle.speed_rad_s, float))
+    lam, V = np.linalg.eigh(0.5 * (C + C.T))
+    keep = lam > 1e-14 * max(float(lam.max(initial=0.0)), 1e-300)
+    if not keep.any():
+        return None
+    L = V[:, keep] * np.sqrt(lam[keep])              # C = L L'
+    W = np.asarray(A @ L)
+    live = np.any(W != 0.0, axis=0)
+    return AngleModes(W[:, live]) if live.any() else None
+
+
+class LinearPart:
+    """The linear nuisance of one fit (module docstring).
+
+    Parameters
+    ----------
+    phi : ndarray (N,) or None   the rotor angle at the fitted samples [rad] (runout basis)
+    runout : bool                fit a 1X runout
+    modes : AngleModes or None   the angle's error modes
+    sigma : float                the noise std per component [record's SI unit]
+
+    Attributes
+    ----------
+    G : ndarray (N, K) complex or None
+        The model's sensitivity to the whitened modes (set by the objective; None: the
+        modes are left out, e.g. while the starts are compared).
+    """
+
+    def __init__(self, phi, runout: bool, modes: Optional[AngleModes], sigma: float):
+        self.phi = None if phi is None else np.asarray(phi, float)
+        self.runout = bool(runout) and self.phi is not None
+        self.modes = modes
+        self.sigma = float(sigma)
+        self.G = None
+
+    @property
+    def k(self) -> int:
+        """The number of angle modes in the design."""
+        return 0 if self.G is None else self.G.shape[1]
+
+    def design(self, m):
+        """Real design (2N + K, L) of the model signal ``m`` (N,): offset, runout, angle modes,
+        the data rows divided by sigma, the modes' prior rows below."""
+        n = m.size
+        cols = [np.concatenate([np.ones(n), np.zeros(n)]),
+                np.concatenate([np.zeros(n), np.ones(n)])]
+        if self.runout:
+            c, s = np.cos(self.phi[:n]), np.sin(self.phi[:n])
+            cols += [np.concatenate([c, s]), np.concatenate([-s, c])]
+        k = self.k
+        D = np.zeros((2 * n + k, len(cols) + k))
+        for j, col in enumerate(cols):
+            D[:2 * n, j] = col / self.sigma
+        if k:
+            G = self.G[:n]
+            D[:n, len(cols):] = G.real / self.sigma
+            D[n:2 * n, len(cols):] = G.imag / self.sigma
+            D[2 * n:, len(cols):] = np.eye(k)
+        return D, len(cols)
+
+    def solve(self, z, m):
+        """``(r, Q, coef, n_lin)``: the augmented residual (2N + K,), an orthonormal basis Q of
+        the design's columns, the coefficients (offset, runout as complex; eta) and the
+        number of offset/runout real columns."""
+        n = m.size
+        k = self.k
+        D, nl = self.design(m)
+        y = np.zeros(2 * n + k)
+        d = z[:n] - m
+        y[:n], y[n:2 * n] = d.real / self.sigma, d.imag / self.sigma
+        Q, R = np.linalg.qr(D)
+        c = np.linalg.solve(R, Q.T @ y) if np.all(np.abs(np.diag(R)) > 0) else \
+            np.linalg.lstsq(D, y, rcond=None)[0]
+        r = y - D @ c
+        coef = {"offset": complex(c[0], c[1]),
+                "runout": complex(c[2], c[3]) if self.runout else 0j,
+                "eta": c[nl:]}
+        return r, Q, coef, nl
+
+    def fitted_signal(self, m, coef):
+        """The model signal with its fitted nuisance: m + offset + runout + i m delta phi."""
+        n = m.size
+        out = m + coef["offset"]
+        if self.runout:
+            out = out + coef["runout"] * np.exp(1j * self.phi[:n])
+        if self.G is not None and coef["eta"].size:
+            out = out + self.G[:n] @ coef["eta"]
+        return out
+
+    def angle_correction(self, coef, n):
+        """delta phi at the first ``n`` samples [rad] (zeros without modes)."""
+        if self.G is None or not coef["eta"].size:
+            return np.zeros(n)
+        return self.modes.W[:n] @ coef["eta"]
