@@ -244,6 +244,11 @@ ALL_KEYS = {
 }
 
 
+#: the angles of ALL_KEYS (degrees in the scene file) as the builders take them (rad)
+IN_RAD = {"spatial": {"unbalance_angle": math.radians(0.5)},
+          "flexible": {"unbalances": {"balancer": 2e-3, "b2": [1e-3, math.radians(0.5)]}}}
+
+
 def _toml(v):
     if isinstance(v, bool):
         return "true" if v else "false"
@@ -273,10 +278,14 @@ def test_every_builder_argument_is_a_scene_key(kind, tmp_path):
     p.write_text(f'[structure]\ntype = "{kind}"\n{body}\n[drive]\ntype = "speed"\n'
                  'programme = [[0.0, 0.0], [1.0, 1.0]]\n[run]\nduration = 1.0\nsample_rate = 50.0\n')
     rot = stand.load(str(p)).linear_rotor()
-    want = fn(**ALL_KEYS[kind])
+    # the scene's angles are in degrees, the builder's in rad
+    want = fn(**dict(ALL_KEYS[kind], **IN_RAD.get(kind, {})))
     for key in ("M", "G", "D", "K"):
         np.testing.assert_array_equal(getattr(rot, key), getattr(want, key))
     assert set(rot.planes) == set(want.planes)
+    assert [(u.plane, u.s) for u in rot.unbalances] == [(u.plane, u.s) for u in want.unbalances]
+    np.testing.assert_allclose([u.angle for u in rot.unbalances],
+                               [u.angle for u in want.unbalances], rtol=1e-15)
     assert ROTOR_TYPES[kind]
 
 

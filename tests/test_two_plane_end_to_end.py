@@ -19,7 +19,7 @@ def _truth():
 
     st = tomllib.loads(SAMPLE.read_text())["structure"]
     a1, a2 = st["balancer_positions"]
-    ang = st["unbalance_angle"]
+    ang = math.radians(st["unbalance_angle"])     # every angle of a scene file is in degrees
     us = [(st["unbalance_position"], st["unbalance"], ang),
           (st["couple_positions"][0], st["couple_unbalance"], ang),
           (st["couple_positions"][1], st["couple_unbalance"], ang + math.pi)]

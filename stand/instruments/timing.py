@@ -276,14 +276,14 @@ def shaft_velocity(traj) -> tuple[np.ndarray, np.ndarray]:
 def _generic_velocity(traj, state):
     """Main-plane velocity (vx, vy) [m/s] of a run of the generic kernel, or None.
 
-    Scenes with body weights (and the rotor family) run on the generic kernel
+    Scenes with body weights or dry friction (and the rotor family) run on the generic kernel
     (:mod:`stand.model.rotors.coupled`), whose state is ``[q, alpha, q', alpha', body
     states]`` scaled per coordinate: the planar layout (half the state width)
     does not apply.  The model is rebuilt from the scene (cheap: tables only)
     for its layout and scales.
     """
     scene = getattr(traj, "scene", None)
-    if scene is None or not (getattr(scene, "kind", None) == "rotor" or getattr(scene, "bodies", ())):
+    if scene is None or not getattr(scene, "generic_kernel", ""):
         return None
     from stand.model.rotors.coupled import build_model
 

@@ -303,10 +303,10 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None,
     methods = list(methods)
     want_rk4 = "RK4" in methods
     methods = [m for m in methods if m != "RK4"]
-    if want_rk4 and scene.kind != "planar":
+    if want_rk4 and (scene.kind != "planar" or scene.friction is not None):
         want_rk4 = False
         notes.append(f"RK4 rows: the fixed-step RK4 loop runs the planar rotor's kernel only "
-                     f"(this scene's structure is {scene.structure_type})")
+                     f"(this scene runs on the generic kernel: {scene.generic_kernel})")
     if scene.kind == "book" and "numpy-DOP853" in methods:
         methods.remove("numpy-DOP853")
     ref_method = "DOP853" if auto == "DOP853" else "Radau"

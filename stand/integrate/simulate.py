@@ -4,8 +4,9 @@ One entry point for every scene (:func:`simulate`, also :func:`stand.run`),
 shaped like ``scipy.integrate.solve_ivp``: ``method=`` by name, a result with
 ``status``/``message``/``nfev``... plus SI arrays with units.  The planar rotor
 of chapter 5 runs on its own compiled kernel (:mod:`stand.model.planar`); any other
-structure (and the planar rotor with ``kernel="generic"``) on the generic
-kernel (:mod:`stand.model.rotors.coupled_kernel`); both through the one integrator
+structure, the planar rotor with what its kernel does not have (body weights, dry friction
+of the weights: :attr:`stand.scene.model.Scene.generic_kernel`) and the planar rotor with
+``kernel="generic"`` on the generic kernel (:mod:`stand.model.rotors.coupled_kernel`); both through the one integrator
 path :mod:`stand.integrate.driver`.  A book weight model (``[weight_model]``)
 runs its own right-hand side through scipy's solvers
 (:mod:`stand.model.balancers.book_run`, reached through :data:`RUNNERS`).  Methods:
@@ -118,7 +119,9 @@ def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
     kernel : {"auto", "planar", "generic"}
         The planar rotor runs on its own kernel by default; ``"generic"`` runs it
         through the generic structure + weights kernel (the other structures'
-        path; used to check that both agree).
+        path; used to check that both agree).  A planar scene with what the planar
+        kernel does not have (:attr:`stand.scene.model.Scene.generic_kernel`: body weights,
+        dry friction) always runs on the generic kernel (``"planar"`` is refused).
 
     Returns
     -------
@@ -137,9 +140,9 @@ def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
     if scene.kind == "book":
         run_book = resolve(RUNNERS, "book", "scene.kind", "scene kind")
         return run_book(scene, method=method, rtol=rtol, atol=atol)
-    if scene.kind == "rotor" or kernel == "generic" or scene.bodies:
-        if kernel == "planar" and scene.bodies:
-            raise SceneError('kernel = "planar": body weights run on the generic kernel')
+    if scene.generic_kernel or kernel == "generic":
+        if kernel == "planar" and scene.kind == "planar":
+            raise SceneError(f'kernel = "planar": {scene.generic_kernel} run on the generic kernel')
         return _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoint,
                                  checkpoint_steps)
     model = build_planar_model(scene)
@@ -168,7 +171,7 @@ def auto_method(scene: Scene) -> str:
     """The method ``run.method = "auto"`` picks for ``scene`` (DOP853, or Radau when stiff)."""
     if scene.kind == "book":
         return "DOP853"
-    if scene.kind == "planar":
+    if scene.kind == "planar" and not scene.generic_kernel:
         return choose_method(build_planar_model(scene), "auto")[0]
     from stand.model.rotors.coupled import build_model
 

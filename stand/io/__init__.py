@@ -3,6 +3,7 @@
 * :mod:`.atomic`, :mod:`.lock`, :mod:`.guard` -- atomic writes, locks, resource guards;
 * :mod:`.jsonable`, :mod:`.tomlfile` -- JSON out, TOML in;
 * :mod:`.validate` -- the one checker of input numbers (messages name key, value, unit);
+* :mod:`.units` -- the unit tables and the one parser of ``"<number> <unit>"`` strings;
 * :mod:`.executor` -- the one process/thread pool;
 * :mod:`.figures` -- figures without a plotting backend, saved atomically;
 * :mod:`.result` -- the base of the result objects (``to_dict``, ``to_frame``, ``plot(ax=)``).

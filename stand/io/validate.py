@@ -16,8 +16,9 @@ from typing import Any, Callable, Mapping, Optional
 import numpy as np
 
 from stand.errors import SceneError
+from stand.io.units import QUANTITIES, UnitError, parse_quantity
 
-__all__ = ["Table", "number", "fmt", "kind", "suggest", "REQUIRED"]
+__all__ = ["Table", "number", "angle", "fmt", "kind", "suggest", "REQUIRED"]
 
 REQUIRED = _REQUIRED = object()   #: marks a key without a default
 
@@ -74,6 +75,31 @@ def _number(name: str, value: Any, unit: str, *, gt=None, ge=None, lt=None) -> f
         if bound is not None and not ok:
             raise SceneError(f"{name} = {_fmt(value)}: must be {sign} {_fmt(bound)} ({unit})")
     return x
+
+
+def _angle(name: str, value: Any, default_unit: str = "deg") -> float:
+    """An angle [rad]: a number in ``default_unit`` (a scene file's: degrees) or a string with
+    its unit, ``"0.7 rad"``, ``"40 deg"`` (:func:`stand.io.units.parse_quantity`)."""
+    what = (f"an angle: a number ({default_unit}) or a string with its unit, e.g. \"0.7 rad\" "
+            f"({', '.join(QUANTITIES['angle'])})")
+    if isinstance(value, str):
+        try:
+            x = parse_quantity(value, "angle", name, default_unit)
+        except (UnitError, OverflowError) as exc:
+            why = str(exc).split(": ", 1)[-1] if isinstance(exc, UnitError) else "out of range"
+            raise SceneError(f"{name} = {_fmt(value)}: {why}; write a number ({default_unit}) or "
+                             "a string such as \"0.7 rad\"") from None
+        if not math.isfinite(x):
+            raise SceneError(f"{name} = {_fmt(value)}: must be finite ({what})")
+        return x
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise SceneError(f"{name} = {_fmt(value)}: must be {what}, not {_kind(value)}")
+    x = _number(name, value, default_unit)
+    with np.errstate(all="ignore"):
+        out = x * QUANTITIES["angle"][default_unit]
+    if not math.isfinite(out):
+        raise SceneError(f"{name} = {_fmt(value)}: out of floating-point range ({default_unit})")
+    return out
 
 
 class _Table:
@@ -163,6 +189,7 @@ class _Table:
 #: public names
 Table = _Table
 number = _number
+angle = _angle
 fmt = _fmt
 kind = _kind
 suggest = _suggest

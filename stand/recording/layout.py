@@ -17,7 +17,10 @@ has ``time`` attached as its first dimension's scale, so h5py, h5netcdf and
 xarray users see the time axis.  Root attributes: ``format`` =
 :data:`FORMAT`, ``format_version``, ``version`` (``stand.__version__``),
 ``created`` (ISO 8601, UTC), ``scene_name``, ``scene`` (the scene's TOML
-text), ``structure`` (:attr:`stand.scene.model.Scene.structure_type`),
+text), ``scene_language`` (the scene-file language of that text,
+:data:`stand.scene.model.SCENE_LANGUAGE`; files without it were written in language 1,
+whose ``[structure]`` angles are in rad: :func:`scene_language`), ``structure``
+(:attr:`stand.scene.model.Scene.structure_type`),
 ``main_plane``, ``weight_planes`` (JSON: weight -> plane), ``solver`` (JSON of
 :class:`stand.integrate.result.SolverStats`), plus any ``extra_attrs``.
 
@@ -29,8 +32,10 @@ from typing import Any
 
 import numpy as np
 
+from stand.scene.model import SCENE_LANGUAGE
+
 __all__ = ["FORMAT", "FORMAT_VERSION", "DATASETS", "REQUIRED", "RESERVED_ATTRS", "V1_WEIGHTS",
-           "RecordingError", "decode_attr"]
+           "RecordingError", "decode_attr", "scene_language", "SCENE_LANGUAGE"]
 
 FORMAT = "autobalancer-stand recording"
 FORMAT_VERSION = 2
@@ -43,8 +48,9 @@ DATASETS = {
     "rotor/speed": ("rotor_speed", "rad/s", "rotor angular speed"),
 }
 REQUIRED = ("time", "shaft/x", "shaft/y")
-RESERVED_ATTRS = ("scene", "scene_name", "solver", "version", "format", "format_version",
-                  "created", "structure", "main_plane", "weight_planes", "run_notes")
+RESERVED_ATTRS = ("scene", "scene_name", "scene_language", "solver", "version", "format",
+                  "format_version", "created", "structure", "main_plane", "weight_planes",
+                  "run_notes")
 #: format_version 1 weight matrices (N, n): path -> coordinate
 V1_WEIGHTS = {"weights/angle": "angle", "weights/speed": "speed"}
 
@@ -64,3 +70,13 @@ def decode_attr(value: Any) -> Any:
     if isinstance(value, np.generic):
         return value.item()
     return value
+
+
+def scene_language(attrs: dict) -> int:
+    """The scene-file language of a recording's stored scene text (root attribute
+    ``scene_language``): 1 for the files written before it existed (their ``[structure]``
+    angles are in rad), else the attribute's value."""
+    v = attrs.get("scene_language")
+    if isinstance(v, (int, np.integer)) and not isinstance(v, bool):
+        return int(v)
+    return 1

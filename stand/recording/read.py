@@ -19,7 +19,7 @@ import numpy as np
 
 from stand.integrate.result import Run, SolverStats
 from stand.recording.layout import (DATASETS, FORMAT, FORMAT_VERSION, REQUIRED, V1_WEIGHTS,
-                                    RecordingError, decode_attr)
+                                    RecordingError, decode_attr, scene_language)
 from stand.recording.legacy import legacy_layout
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -328,7 +328,7 @@ def _read_open(f: "h5py.File", label: str) -> Recording:
     scene_text = attrs.get("scene", attrs.get("scene_text", ""))
     if not isinstance(scene_text, str):
         raise RecordingError(f"{label}: root attribute 'scene' is not text")
-    scene = _scene(scene_text, notes)
+    scene = _scene(scene_text, notes, scene_language(attrs))
     stats = SolverStats(**{k: v for k, v in solver.items() if k in SolverStats.FIELDS})
     return Recording(
         t=_freeze(t), planes={p: _freeze(a) for p, a in planes.items()}, main_plane=main,
@@ -338,7 +338,9 @@ def _read_open(f: "h5py.File", label: str) -> Recording:
         version=str(attrs.get("version", "")), attrs=attrs, path=label, notes=tuple(notes))
 
 
-def _scene(text: str, notes: list) -> "Optional[Scene]":
+def _scene(text: str, notes: list, language: int) -> "Optional[Scene]":
+    """The stored scene, read in the scene-file language it was written in (a file without
+    ``scene_language`` predates it: language 1, ``[structure]`` angles in rad)."""
     if not text.strip():
         notes.append("root attribute 'scene' missing or empty: Recording.scene is None")
         return None
@@ -346,11 +348,20 @@ def _scene(text: str, notes: list) -> "Optional[Scene]":
     from stand.scene.parse import load
 
     try:
-        return load(text if "\n" in text else text + "\n")
+        scene = load(text if "\n" in text else text + "\n", language=language)
     except (SceneError, ValueError, TypeError, KeyError) as exc:
         notes.append(f"the stored scene is not readable by this version ({exc}); "
                      "Recording.scene is None")
         return None
+    if language == 1 and scene.kind == "rotor":
+        from stand.scene.structure_tables import angle_keys
+
+        keys = angle_keys(scene.structure.type, scene.structure.params)
+        if keys:
+            notes.append("the stored scene predates scene language 2 (every angle of a scene "
+                         f"file in degrees): its structure.{', structure.'.join(keys)} are read "
+                         "in rad, as written")
+    return scene
 
 
 def _read_weights(f, attrs, label, N, rotor_angle, main, notes, units):

@@ -17,7 +17,8 @@ import numpy as np
 
 from stand.io.atomic import atomic_path, check_output_path
 from stand.io.jsonable import to_jsonable
-from stand.recording.layout import DATASETS, FORMAT, FORMAT_VERSION, RESERVED_ATTRS
+from stand.recording.layout import (DATASETS, FORMAT, FORMAT_VERSION, RESERVED_ATTRS,
+                                    SCENE_LANGUAGE, scene_language)
 
 __all__ = ["write_recording", "check_output_path"]
 
@@ -140,6 +141,10 @@ def write_recording(run: Any, path: Union[str, os.PathLike], *,
         "created": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
         "scene_name": str(getattr(scene, "name", "") or ""),
         "scene": str(getattr(scene, "text", "") or getattr(run, "scene_text", "") or ""),
+        # the language the stored text is written in (a recording's text keeps its own)
+        "scene_language": np.int64(getattr(scene, "language", None) or (
+            scene_language(run.attrs) if isinstance(getattr(run, "attrs", None), dict)
+            and getattr(run, "scene_text", "") else SCENE_LANGUAGE)),
         "structure": str(getattr(scene, "structure_type", "") or ""),
         "main_plane": run.main_plane,
         "run_notes": json.dumps(list(run.notes)),

@@ -79,7 +79,7 @@ def _velocity(tr):
     layout through :func:`stand.instruments.timing.shaft_velocity`)."""
     from stand.model.planar import build_planar_model
 
-    if tr.scene.kind != "planar" or tr.scene.bodies:
+    if tr.scene.kind != "planar" or tr.scene.generic_kernel:
         from stand.instruments.timing import shaft_velocity
 
         vx, vy = shaft_velocity(tr)

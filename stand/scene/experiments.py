@@ -19,7 +19,8 @@ Orientation changes (gravity direction, table 4.6) need the rotor models with
 gravity (the rotor-family issue); the planar vertical-axis model has none.
 
 Body weights (two-axis pendulum, coupled pair, damper, liquids in ``[[weights]]``
-of a planar scene) and every ``[structure]`` rotor run on the generic kernel, which takes a speed programme
+of a planar scene), dry friction of the ``[balancer]`` weights and every ``[structure]``
+rotor run on the generic kernel, which takes a speed programme
 and an initial state but no perturbations: ``constant``, ``run-up``,
 ``run-down`` (the exponential coast-down as a piecewise-linear programme of
 :data:`EXP_NODES` nodes, relative error below 1e-4) and ``natural-frequency``
@@ -120,7 +121,7 @@ def run_down(scene: Scene, speed: float, time: float = 175.0, exponential: bool 
     """
     speed = _positive("speed", speed, "rev/s")
     time = _positive("time", time, "s")
-    if exponential and (scene.bodies or scene.kind != "planar"):
+    if exponential and scene.generic_kernel:
         # the generic kernel has no coast-down law: the exponential as a programme
         tk = np.linspace(0.0, time, EXP_NODES + 1)
         rows = [[0.0, speed]] + [[settle + t, speed * math.exp(-5.0 * t / time)] for t in tk]
@@ -202,6 +203,9 @@ def not_applicable(scene: Scene, name: str):
         kinds = ", ".join(dict.fromkeys(pb.kind for pb in scene.bodies))
         return (f"programme {name} on a scene with body weights ({kinds}): "
                 f"{GENERIC_KERNEL_WHY[name]}")
+    if scene.generic_kernel and name in GENERIC_KERNEL_WHY:
+        return (f"programme {name} on a scene with {scene.generic_kernel}: "
+                f"{GENERIC_KERNEL_WHY[name].replace('that runs body weights', 'that runs them')}")
     return None
 
 

@@ -20,6 +20,10 @@ import numpy as np
 
 #: integration methods accepted by ``run.method`` and :func:`stand.integrate.simulate.simulate`
 METHODS = ("auto", "DOP853", "Radau", "BDF", "LSODA", "numpy-DOP853")
+#: the scene-file language this reader writes and reads by default: 2 = every angle of a scene
+#: file in degrees (a unit string may say otherwise).  Language 1 (recordings written before;
+#: their root attribute ``scene_language`` is missing) gave the ``[structure]`` angles in rad.
+SCENE_LANGUAGE = 2
 
 
 from stand.errors import SceneError  # noqa: E402 (re-exported: the scene's error)
@@ -412,6 +416,11 @@ class Scene:
     structure: Union[RotorStructure, BookModel, None] = None
     #: weights in named planes of ``structure`` (:class:`PlaneWeights`)
     plane_weights: tuple = ()
+    #: dry friction of the planar rotor's ``[balancer]`` weights
+    #: (:class:`stand.model.balancers.friction.Friction`; None: viscous drag only)
+    friction: Optional["Friction"] = None    # noqa: F821 (stand.model.balancers.friction)
+    #: the scene-file language ``text`` was read in (:data:`SCENE_LANGUAGE`)
+    language: int = SCENE_LANGUAGE
 
     def __post_init__(self):
         if self.structure is None and (self.rotor is None or self.supports is None):
@@ -447,8 +456,26 @@ class Scene:
         if self.structure is None:
             if not self.balancer.count:
                 return ()
-            return (PlaneWeights("balancer", self.balancer),)
+            return (PlaneWeights("balancer", self.balancer, self.friction),)
         return tuple(w for w in self.plane_weights if hasattr(w, "balancer"))
+
+    @property
+    def generic_kernel(self) -> str:
+        """Why the scene runs on the generic kernel (:mod:`stand.model.rotors.coupled_kernel`),
+        ``""`` when it does not: every ``[structure]`` rotor; a planar scene with what its own
+        kernel (:mod:`stand.model.planar`) does not have -- body weights, dry friction of the
+        ``[balancer]`` weights.  A book weight model runs its own right-hand side (``""``)."""
+        if self.kind == "rotor":
+            return f"rotor type {self.structure_type}"
+        if self.kind != "planar":
+            return ""
+        why = []
+        if self.bodies:
+            why.append("body weights (" + ", ".join(dict.fromkeys(b.kind for b in self.bodies))
+                       + ")")
+        if self.friction is not None:
+            why.append("dry friction of the balancer's weights")
+        return " and ".join(why)
 
     @property
     def bodies(self) -> tuple:

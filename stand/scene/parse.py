@@ -32,12 +32,12 @@ from stand.scene.dimensionless import (DIMENSIONLESS_KEYS, _dimensionless_params
 from stand.scene.instrument_tables import INSTRUMENTS, NAMED_INSTRUMENTS, instrument_tables  # noqa: F401
 from stand.scene.limits import (MAX_CYCLES, MAX_IMAGE_PIXELS, MAX_SAMPLES,  # noqa: F401 (re-exported)
                                 MAX_STATE_BYTES, MAX_WEIGHTS)
-from stand.scene.model import Balancer, InitialState, Scene, SceneError, TorqueDrive
+from stand.scene.model import SCENE_LANGUAGE, Balancer, InitialState, Scene, SceneError, TorqueDrive
 from stand.scene.structure_tables import parse_family_scene
 from stand.scene.tables import (BALANCER_KEYS, INITIAL_KEYS, PERTURBATION_KEYS,  # noqa: F401
                                 ROTOR_KEYS, RUN_KEYS, SCENE_KEYS, SPEED_KEYS, SUPPORT_KEYS, TABLES,
                                 TORQUE_KEYS, TORQUE_MODEL_KEYS, balancer_table, check_programme_slope,
-                                check_tables, drive_table, initial_table, perturbation_tables, rotor_table,
+                                check_tables, drive_table, friction_table, initial_table, perturbation_tables, rotor_table,
                                 run_table, scene_header, supports_table, weight_tables)
 
 __all__ = ["load", "load_scene", "parse", "parse_scene", "scene_from_dimensionless", "MAX_SAMPLES"]
@@ -94,16 +94,20 @@ def parse_scene(data: Mapping, text: str = "") -> Scene:
                      if "perturbation" in data else ())
     supports = supports_table(tables["supports"])
     balancer = balancer_table(tables["balancer"]) if "balancer" in tables else Balancer()
+    friction = friction_table(tables["balancer"]) if "balancer" in tables else None
     w1 = math.sqrt(supports.stiffness_x / (rotor.mass + float(np.sum(balancer.mass))))
     drive = drive_table(tables["drive"], w1)
     if isinstance(drive, TorqueDrive) and rotor.inertia is None:
         raise SceneError("rotor.inertia: missing; required with a torque drive "
                          '(drive.type = "torque") (kg*m^2, about the rotor\'s own centre of mass)')
     bodies = _bodies(data.get("weights"), rotor, supports, drive, perturbations)
+    if friction is not None:
+        _generic_kernel_limits("balancer.friction (dry friction of the weights)", drive,
+                               perturbations, torque=True)
     return check_derived(Scene(rotor=rotor, supports=supports, balancer=balancer, drive=drive,
                                run=run, initial=initial, name=name, text=text,
                                instruments=instruments, perturbations=perturbations,
-                               description=desc, plane_weights=bodies))
+                               description=desc, plane_weights=bodies, friction=friction))
 
 
 def _bodies(items, rotor, supports, drive, perturbations) -> tuple:
@@ -115,24 +119,40 @@ def _bodies(items, rotor, supports, drive, perturbations) -> tuple:
     lin = planar_rotor(rotor.mass, supports.stiffness_x, supports.stiffness_y,
                        supports.damping_x, supports.damping_y)
     out = weight_tables(items, lin, "planar", planar=True)
-    if out and (drive.kind != "speed" or drive.coast_down_start is not None
-                or any(p.kind != "impulse" for p in perturbations)):
-        raise SceneError("weights: body weights run on the generic kernel: a speed programme "
-                         '(drive.type = "speed", no coast_down) and of the [[perturbation]]s '
-                         'only impulses')
+    if out:
+        _generic_kernel_limits("weights: body weights", drive, perturbations, torque=False)
     return out
 
 
-def parse(data: Mapping, text: str = "", stem: str = "") -> Scene:
+def _generic_kernel_limits(what: str, drive, perturbations, torque: bool) -> None:
+    """What the generic kernel (stand.model.rotors.coupled_kernel) runs of a planar scene: a
+    speed programme without the exponential coast-down (or, with ``torque``, a torque drive)
+    and, of the ``[[perturbation]]``s, the blows to the housing."""
+    if ((drive.kind != "speed" and not torque)
+            or (drive.kind == "speed" and drive.coast_down_start is not None)
+            or any(p.kind != "impulse" for p in perturbations)):
+        drives = ('a speed programme (drive.type = "speed", no coast_down) or a torque drive'
+                  if torque else 'a speed programme (drive.type = "speed", no coast_down)')
+        raise SceneError(f"{what} run on the generic kernel: {drives} and of the "
+                         "[[perturbation]]s only impulses")
+
+
+def parse(data: Mapping, text: str = "", stem: str = "", language: int = SCENE_LANGUAGE) -> Scene:
     """Build the :class:`Scene` of any scene document (the three file forms).
 
     A ``[structure]`` table selects :func:`stand.scene.structure_tables.parse_family_scene`,
     ``[weight_model]`` :func:`stand.scene.book_tables.parse_weight_model`, else the planar
     tables or ``[dimensionless]`` (:func:`parse_scene`).  Every form's linear structure is
     held to the conditioning limits (:func:`stand.scene.conditioning.check_conditioning`).
+    ``language``: the scene-file language of the document (:data:`SCENE_LANGUAGE`: every
+    angle in degrees; 1, of recordings written before it, read their ``[structure]`` angles
+    in rad; the other tables read the same in both).
     """
+    if language not in (1, SCENE_LANGUAGE):
+        raise SceneError(f"scene language {language!r}: this reader knows 1 ([structure] angles "
+                         f"in rad) and {SCENE_LANGUAGE} (every angle of a scene file in degrees)")
     if isinstance(data, Mapping) and "structure" in data:
-        return check_conditioning(parse_family_scene(data, text, stem))
+        return check_conditioning(parse_family_scene(data, text, stem, language))
     if isinstance(data, Mapping) and "weight_model" in data:
         return parse_weight_model(data, text, stem)
     scene = check_conditioning(parse_scene(data, text=text))
@@ -186,6 +206,8 @@ def check_derived(scene: Scene) -> Scene:
         if d.kind == "speed":
             check_programme_slope(d.programme)
         width = 2 * (2 + b.count + (1 if d.kind == "torque" else 0))
+        if scene.friction is not None and scene.friction.sticks:
+            width += b.count        # the generic kernel's adhesion state per weight
         nbytes = (run.duration * run.sample_rate + 1) * width * 8 * 2  # samples + SI copies
         if nbytes > MAX_STATE_BYTES:
             raise SceneError(f"run.duration * run.sample_rate = {run.duration * run.sample_rate:.3g} "
@@ -203,13 +225,17 @@ def check_derived(scene: Scene) -> Scene:
     return scene
 
 
-def load_scene(source: Union[str, Path]) -> Scene:
+def load_scene(source: Union[str, Path], language: int = SCENE_LANGUAGE) -> Scene:
     """Read a scene (any file form) from a TOML file, or from TOML text.
 
     Parameters
     ----------
     source : str or pathlib.Path
         A path, or TOML text if it is a ``str`` containing a newline.
+    language : int
+        The scene-file language of the text (:data:`stand.scene.model.SCENE_LANGUAGE`, every
+        angle in degrees); 1 reads a text stored in a recording written before it
+        (``[structure]`` angles in rad; :func:`stand.recording.layout.scene_language`).
 
     Returns
     -------
@@ -228,7 +254,7 @@ def load_scene(source: Union[str, Path]) -> Scene:
     data, text, label = read_toml(source, "scene file")
     stem = "" if not label else Path(source).stem
     try:
-        return parse(data, text=text, stem=stem)
+        return parse(data, text=text, stem=stem, language=language)
     except SceneError as exc:
         if label:
             raise SceneError(f"{label}{exc}") from None

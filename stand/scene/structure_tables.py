@@ -31,7 +31,14 @@ named planes (``plane_weights``)::
 
 The builder's keyword arguments are taken by name; a value may be a number,
 a list of numbers, or a string (for switches); unknown keys are an error that
-lists the valid ones.  Units are those of the builder's docstring (SI).
+lists the valid ones.  Units are those of the builder's docstring (SI), except
+angles: as everywhere in a scene file, **every angle is in degrees**
+(``unbalance_angle``, grinding's ``alpha``, the angle of flexible's
+``unbalances = { plane = [s, angle] }``; :data:`ANGLE_KEYS`), and a string with
+its unit may say otherwise (``unbalance_angle = "0.7 rad"``).  They are
+converted to rad here, once (:func:`structure_angles`); the builders stay SI.
+Scene texts of scene language 1 (recordings written before this rule) gave
+these angles in rad: ``language=1`` reads them so.
 """
 from __future__ import annotations
 
@@ -41,16 +48,17 @@ from typing import Mapping
 
 import numpy as np
 
-from stand.io.validate import _Table, _fmt, _kind, _number
+from stand.io.validate import _Table, _angle, _fmt, _kind, _number
 from stand.model.rotors.structure import LinearRotor
 from stand.scene.instrument_tables import instrument_tables
 from stand.scene.limits import MAX_CYCLES
-from stand.scene.model import RotorStructure, Scene, SceneError
+from stand.scene.model import SCENE_LANGUAGE, RotorStructure, Scene, SceneError
 from stand.scene.tables import (FRICTION_KEYS, check_programme_slope,  # noqa: F401 (re-exported)
                                 check_tables, drive_table,
                                 run_table, scene_header, weight_tables)
 
-__all__ = ["ROTOR_TYPES", "parse_family_scene", "build_rotor", "check_cycles"]
+__all__ = ["ROTOR_TYPES", "ANGLE_KEYS", "parse_family_scene", "build_rotor", "check_cycles",
+           "structure_angles", "angle_keys"]
 
 #: rotor type -> ("module:builder", book section) (stand.model.registry)
 ROTOR_TYPES = {
@@ -65,6 +73,54 @@ ROTOR_TYPES = {
     "platform": ("stand.model.rotors.platform:platform_rotor", "paper 004"),
 }
 TABLES = ("scene", "structure", "weights", "drive", "run", "instruments")
+#: the builders' angle keywords ([rad] in their docstrings), read in degrees from a scene file:
+#: key -> rotor types (None: every type whose builder takes it); ``unbalances`` (flexible) is a
+#: table {plane = s} or {plane = [s, angle]} whose angles are read so
+ANGLE_KEYS = {"unbalance_angle": None, "alpha": ("grinding",), "unbalances": ("flexible",)}
+
+
+def _angle_unit(language: int) -> str:
+    """The unit of a bare number of a ``[structure]`` angle key in scene language ``language``."""
+    if language not in (1, SCENE_LANGUAGE):
+        raise SceneError(f"scene language {language!r}: this reader knows 1 ([structure] angles "
+                         f"in rad) and {SCENE_LANGUAGE} (every angle of a scene file in degrees)")
+    return "rad" if language == 1 else "deg"
+
+
+def angle_keys(kind: str, params: Mapping) -> list:
+    """The angle keys (:data:`ANGLE_KEYS`) a ``[structure]`` table of type ``kind`` gives (and
+    its builder takes)."""
+    takes = inspect.signature(_builder(kind)).parameters
+    return [k for k, kinds in ANGLE_KEYS.items()
+            if k in params and k in takes and (kinds is None or kind in kinds)]
+
+
+def structure_angles(kind: str, params: Mapping, language: int = SCENE_LANGUAGE) -> dict:
+    """The ``[structure]`` keywords with every angle (:data:`ANGLE_KEYS`) converted to rad: a
+    number is in degrees (rad in scene language 1), a string carries its unit (``"0.7 rad"``,
+    ``"40 deg"``; :func:`stand.io.validate.angle`).  Other keys are returned as given."""
+    unit = _angle_unit(language)
+    out = dict(params)
+    for key in angle_keys(kind, params):
+        name, v = f"structure.{key}", params[key]
+        if key != "unbalances":
+            out[key] = _angle(name, v, unit)
+            continue
+        if not isinstance(v, Mapping):
+            continue        # the builder's own forms (a list of tuples) are Python-only
+        table = {}
+        for plane, u in v.items():
+            where = f"{name}.{plane}"
+            if isinstance(u, list) and len(u) in (1, 2):
+                table[plane] = [_number(f"{where}[0]", u[0], "kg m")] + (
+                    [_angle(f"{where}[1]", u[1], unit)] if len(u) == 2 else [])
+            elif isinstance(u, (list, dict, str, bool)) or u is None:
+                raise SceneError(f"{where} = {_fmt(u)}: must be s (kg m) or [s (kg m), angle "
+                                 f"({unit}, or a string with its unit such as \"0.7 rad\")]")
+            else:
+                table[plane] = _number(where, u, "kg m")
+        out[key] = table
+    return out
 
 
 def _builder(kind: str):
@@ -136,8 +192,13 @@ def check_cycles(rotor: LinearRotor, run, programme) -> None:
     check_programme_slope(programme)
 
 
-def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:
-    """Validate a ``[structure]`` document and build the :class:`Scene` (SI)."""
+def parse_family_scene(data: Mapping, text: str = "", stem: str = "",
+                       language: int = SCENE_LANGUAGE) -> Scene:
+    """Validate a ``[structure]`` document and build the :class:`Scene` (SI).
+
+    ``language``: the scene language of the text (:data:`stand.scene.model.SCENE_LANGUAGE`;
+    1 reads the ``[structure]`` angles of a recording written before the degrees rule in rad).
+    """
     check_tables(data, TABLES, "rotor-family")
     for key in ("structure", "drive", "run"):
         if key not in data:
@@ -147,6 +208,7 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:
     kind = st.pop("type", None)
     if not isinstance(kind, str):
         raise SceneError(f"structure.type = {kind!r}: required, one of {', '.join(ROTOR_TYPES)}")
+    st = structure_angles(kind, st, language)
     rotor = build_rotor(kind, st)
     weights = weight_tables(data.get("weights", []), rotor, kind)
     drive = drive_table(_Table(data["drive"], "drive"), 1.0, structure=True)
@@ -162,7 +224,7 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "") -> Scene:
                                         tuple(rotor.planes), kind)
     scene = Scene(drive=drive, run=run, name=name, text=text, description=desc,
                   structure=RotorStructure(kind, st, rotor, ROTOR_TYPES[kind][1]),
-                  plane_weights=weights, instruments=instruments)
+                  plane_weights=weights, instruments=instruments, language=language)
     if instruments:
         from stand.instruments.placement import check_instruments
 

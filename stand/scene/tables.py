@@ -13,7 +13,6 @@ speeds (rev/s); they are converted here, once.
 """
 from __future__ import annotations
 
-import dataclasses
 import math
 from typing import Any, Mapping, Optional
 
@@ -28,6 +27,7 @@ from stand.scene.model import (METHODS, Balancer, Impulse, InitialState, PlaneWe
                                Supports, TorqueDrive, UnbalanceChange)
 
 __all__ = ["check_tables", "scene_header", "rotor_table", "supports_table", "balancer_table",
+           "friction_table",
            "programme_table", "drive_table", "run_table", "initial_table",
            "perturbation_tables", "weight_tables"]
 
@@ -45,8 +45,19 @@ PERTURBATION_KEYS = {
 SCENE_KEYS = ("name", "description")
 ROTOR_KEYS = ("mass", "eccentricity", "unbalance_angle", "inertia")
 SUPPORT_KEYS = ("stiffness", "stiffness_x", "stiffness_y", "damping", "damping_x", "damping_y")
+#: dry-friction keys of the weights' table (:func:`friction_table`,
+#: stand.model.balancers.friction): key -> (Friction field, unit, default, strictly positive)
+FRICTION_FIELDS = {
+    "friction": ("kinetic", "dimensionless, mu_k (balls: rolling resistance)", 0.0, False),
+    "static_friction": ("static", "dimensionless, mu_s >= friction", None, False),
+    "slip_speed": ("slip_speed", "rad/s", 0.02, True),
+    "dwell_time": ("dwell_time", "s", 1.0, True),
+    "release_time": ("release_time", "s", 0.01, True),
+}
+FRICTION_KEYS = tuple(FRICTION_FIELDS)
+#: keys of the planar ``[balancer]`` and of a ball/pendulum ``[[weights]]`` table (+ ``plane``)
 BALANCER_KEYS = ("type", "count", "mass", "radius", "drag", "inertia",
-                 "initial_angles", "initial_speeds")
+                 "initial_angles", "initial_speeds") + FRICTION_KEYS + ("rolling",)
 SPEED_KEYS = ("type", "programme", "programme_dimensionless", "coast_down", "rotor_drag")
 TORQUE_KEYS = ("type", "model", "rotor_drag", "initial_speed")
 TORQUE_MODEL_KEYS = {
@@ -60,8 +71,6 @@ INITIAL_KEYS = ("x", "y", "vx", "vy")
 BOOK_RUN_KEYS = ("duration", "samples", "initial", "rtol", "speed")
 #: book weight models written in SI (time in s); the others in tau = omega_0 t
 SI_MODELS = ("liquid_float", "liquid_chamber")
-#: dry-friction keys of a ball/pendulum ``[[weights]]`` table (stand.model.balancers.friction)
-FRICTION_KEYS = ("friction", "static_friction", "slip_speed", "dwell_time", "release_time")
 #: the keys a ``[structure]`` scene's torque drive does not share with a speed drive
 _TORQUE_ONLY = ("model", "torque", "c1", "c2", "target_speed", "rotor_drag", "initial_speed",
                 "inertia")
@@ -121,16 +130,26 @@ def supports_table(t: _Table) -> Supports:
 
 
 def balancer_table(t: _Table) -> Balancer:
-    """Balls or pendulums: the planar ``[balancer]`` and each ball/pendulum ``[[weights]]``."""
+    """Balls or pendulums: the planar ``[balancer]`` and each ball/pendulum ``[[weights]]``
+    (one reader, one meaning).  ``rolling = true`` (balls only): balls rolling without slip,
+    inertia 7/5 m l^2 (j = 5/7).  Their dry friction is :func:`friction_table`."""
     t.allow(BALANCER_KEYS)
     kind = t.string("type", ("balls", "pendulums", "none"))
     if kind == "none":
         t.allow(("type",), lambda k: f"{t.name(k)} = {_fmt(t.data[k])}: not allowed with "
-                                     f'balancer.type = "none" (only type is allowed)')
+                                     f'{t.name("type")} = "none" (only type is allowed)')
         return Balancer()
     t.allow([k for k in BALANCER_KEYS if kind == "pendulums" or k != "inertia"],
             lambda k: f"{t.name(k)} = {_fmt(t.data[k])}: not allowed for balls (point "
-                      f"masses: the inertia about the shaft is m l^2)")
+                      f"masses: the inertia about the shaft is m l^2; rolling balls: "
+                      f"rolling = true)")
+    rolling = t.data.get("rolling", False)
+    if not isinstance(rolling, (bool, np.bool_)):
+        raise SceneError(f"{t.name('rolling')} = {_fmt(rolling)}: must be true or false (balls "
+                         "rolling without slip: inertia 7/5 m l^2, j = 5/7)")
+    if rolling and kind != "balls":
+        raise SceneError(f"{t.name('rolling')} = true: only for balls ({t.name('type')} = "
+                         f'"{kind}"; give a pendulum\'s inertia)')
     n = t.integer("count", minimum=1, maximum=MAX_WEIGHTS)
     count_key = t.name("count")
     m = t.per_weight("mass", n, count_key, "kg", gt=0)
@@ -139,7 +158,7 @@ def balancer_table(t: _Table) -> Balancer:
     drag = t.per_weight("drag", n, count_key, drag_unit, 0.0, ge=0)
     with np.errstate(all="ignore"):  # overflow is reported by check_derived
         point = m * l ** 2
-    J = point
+    J = point / ROLLING_BALL_J if rolling else point
     if kind == "pendulums":
         J = t.per_weight("inertia", n, count_key, "kg*m^2", None, gt=0)
         if J is None:
@@ -155,6 +174,26 @@ def balancer_table(t: _Table) -> Balancer:
     speeds = t.per_weight("initial_speeds", n, count_key, "rev/s", 0.0)
     return Balancer(type=kind, mass=m, radius=l, drag=drag, inertia=np.asarray(J, float),
                     initial_angles=angles * DEG, initial_speeds=speeds * TWO_PI)
+
+
+def friction_table(t: _Table) -> Optional[Friction]:
+    """The dry friction of the weights of a ``[balancer]`` or ball/pendulum ``[[weights]]``
+    table (:data:`FRICTION_FIELDS`; :mod:`stand.model.balancers.friction`), None without
+    friction keys.  Call it after :func:`balancer_table` (which refuses them with type
+    ``"none"``)."""
+    if not any(k in t for k in FRICTION_KEYS):
+        return None
+    kw = {}
+    for key, (field, unit, default, positive) in FRICTION_FIELDS.items():
+        if key == "static_friction" and key in t:
+            mu_k = kw["kinetic"]
+            kw[field] = t.number(key, unit, ge=mu_k)
+        else:
+            kw[field] = t.number(key, unit, default, **({"gt": 0} if positive else {"ge": 0}))
+    try:
+        return Friction(**kw)
+    except ValueError as exc:   # (the checks above are Friction's own)
+        raise SceneError(f"{t.path}: {exc}") from None
 
 
 #: steepest speed change between two programme nodes accepted [rev/s per s]: a step of
@@ -366,7 +405,7 @@ def weight_tables(items: Any, rotor, kind: str, planar: bool = False) -> tuple:
 
     Body kinds (:data:`stand.scene.body_tables.BODY_TYPES`) become
     :class:`stand.model.rotors.bodies.PlaneBody`; balls and pendulums (the keys of
-    ``[balancer]``, plus dry friction :data:`FRICTION_KEYS` and ``rolling``) become
+    ``[balancer]``: :data:`BALANCER_KEYS`, dry friction and ``rolling`` included) become
     :class:`PlaneWeights`.  On a ``planar`` scene the one plane is ``"balancer"`` and balls
     and pendulums belong in ``[balancer]``.
     """
@@ -401,27 +440,7 @@ def weight_tables(items: Any, rotor, kind: str, planar: bool = False) -> tuple:
 
 
 def _plane_weights(item: dict, where: str, plane: str) -> PlaneWeights:
-    """Balls or pendulums of one ``[[weights]]`` table, with their friction (SI)."""
-    fkeys = {k: item.pop(k) for k in list(item) if k in FRICTION_KEYS}
-    rolling = item.pop("rolling", False)
-    if not isinstance(rolling, bool):
-        raise SceneError(f"{where}.rolling = {_fmt(rolling)}: must be true or false (balls "
-                         "rolling without slip: inertia 7/5 m l^2, j = 5/7)")
-    bal = balancer_table(_Table(item, where))
-    if rolling:
-        if bal.type != "balls":
-            raise SceneError(f"{where}.rolling: only for balls")
-        bal = dataclasses.replace(bal, inertia=bal.inertia / ROLLING_BALL_J)
-    friction = None
-    if fkeys:
-        for k, v in fkeys.items():  # finite numbers (Friction checks the signs)
-            fkeys[k] = _number(f"{where}.{k}", v, "see stand.model.balancers.friction")
-        try:
-            friction = Friction(kinetic=fkeys.get("friction", 0.0),
-                                static=fkeys.get("static_friction"),
-                                slip_speed=fkeys.get("slip_speed", 0.02),
-                                dwell_time=fkeys.get("dwell_time", 1.0),
-                                release_time=fkeys.get("release_time", 0.01))
-        except ValueError as exc:
-            raise SceneError(f"{where}: {exc}") from None
-    return PlaneWeights(plane, bal, friction)
+    """Balls or pendulums of one ``[[weights]]`` table, with their friction (SI): the keys
+    and meaning of the planar ``[balancer]`` (:func:`balancer_table`, :func:`friction_table`)."""
+    t = _Table(item, where)
+    return PlaneWeights(plane, balancer_table(t), friction_table(t))

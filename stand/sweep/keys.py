@@ -8,7 +8,8 @@
 
 Keys by base scene kind (:attr:`stand.scene.model.Scene.kind`):
 
-* every kind: dotted scene keys ``table.key``; ``[[weights]]`` tables by index,
+* every kind: dotted scene keys ``table.key`` (the balls' dry friction too:
+  ``balancer.friction``, ``weights[0].static_friction``, ...); ``[[weights]]`` tables by index,
   ``weights[0].drag``; a body weight's keys by its ``type`` (:func:`body_keys`:
   ``weights[0].fill_volume``, ``weights[0].arm``, ``weights[0].tilt_drag``, ...;
   its dimensionless sugar as ``weights[0].dimensionless.R_m``) on the planar
@@ -17,8 +18,9 @@ Keys by base scene kind (:attr:`stand.scene.model.Scene.kind`):
   also ``R_omega`` (speed in units of omega_1), the bare dimensionless names
   and, on a physical scene, the conversions of ``e0``, ``h`` and ``H``;
 * ``"rotor"`` (``[structure]`` + ``[[weights]]``): ``structure.<builder
-  parameter>``, ``weights[i].<key>``, ``run.<key>`` and ``speed`` (rev/s: the
-  speed programme is scaled); no ``R_omega`` (a structure has no single omega_1);
+  parameter>`` (angles in degrees, as in the scene file), ``weights[i].<key>``,
+  ``run.<key>`` and ``speed`` (rev/s: the speed programme is scaled); no ``R_omega``
+  (a structure has no single omega_1);
 * ``"book"`` (``[weight_model]``): ``weight_model.<parameter>`` and ``run.<key>``
   (the model holds its own speed, ``weight_model.R_omega``).
 """
@@ -48,7 +50,8 @@ DIMENSIONLESS_NAMES = ("n", "Rt", "h", "H", "e0", "R_omega2", "unbalance_angle")
 #: known keys of each planar scene table (second level), for early messages
 SCENE_TABLE_KEYS = {
     "scene": sf.SCENE_KEYS, "rotor": sf.ROTOR_KEYS, "supports": sf.SUPPORT_KEYS,
-    "balancer": sf.BALANCER_KEYS, "run": sf.RUN_KEYS, "initial": sf.INITIAL_KEYS,
+    "balancer": tuple(k for k in sf.BALANCER_KEYS if k != "rolling"), "run": sf.RUN_KEYS,
+    "initial": sf.INITIAL_KEYS,
     "dimensionless": sf.DIMENSIONLESS_KEYS,
     "drive": tuple(dict.fromkeys(sf.SPEED_KEYS + sf.TORQUE_KEYS + ("torque", "c1", "c2", "target_speed"))),
 }
@@ -190,7 +193,7 @@ def _check_planar(name: str, key: str, path: list, base: dict) -> None:
 
 
 def _check_rotor(name: str, key: str, path: list, base: dict) -> None:
-    from stand.scene.structure_tables import FRICTION_KEYS, _builder
+    from stand.scene.structure_tables import _builder
 
     table, first = path[0], path[1]
     if table == "structure":
@@ -201,7 +204,7 @@ def _check_rotor(name: str, key: str, path: list, base: dict) -> None:
             raise _unknown_key(name, key, table, first, params)
     elif table == "weights":
         _check_weights(name, key, path, base,
-                       tuple(k for k in sf.BALANCER_KEYS if k != "type") + FRICTION_KEYS)
+                       tuple(k for k in sf.BALANCER_KEYS if k not in ("type", "rolling")))
     elif table == "run":
         known = tuple(k for k in sf.RUN_KEYS if k != "method")
         if first not in known:

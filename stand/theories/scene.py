@@ -44,7 +44,7 @@ def theory(scene, max_speed: float | None = None, floquet: bool = True):
     from stand.theories.planar.speedmap import TheoryError, scene_theory
     from stand.theories.result import Theory
 
-    na = []
+    na = _friction_notes(scene)
     if scene.kind == "book":
         from stand.scene.book_tables import model_theory
 
@@ -68,6 +68,26 @@ def theory(scene, max_speed: float | None = None, floquet: bool = True):
                         floquet=floquet and bool(scene.n_weights))
     return Theory({"kind": "structure", **to_jsonable(doc), "weight_models": models,
                    "not_applicable": na})
+
+
+def _friction_notes(scene) -> list:
+    """What the theory leaves out of weights with dry friction (stand.model.balancers.friction):
+    its steady motions are those of viscous drag only."""
+    out = []
+    for w in scene.weights if scene.kind != "book" else ():
+        f = w.friction
+        if f is None or not (f.kinetic > 0 or f.static > 0):
+            continue
+        where = "balancer" if scene.kind == "planar" else f"the weights in plane {w.plane}"
+        mu_l = max(f.kinetic, 0.0) * float(max(w.balancer.radius))
+        out.append(f"dry friction of {where} (friction = {f.kinetic:g}"
+                   + (f", static_friction = {f.static:g}" if f.sticks else "")
+                   + "): outside the steady-motion theory, whose weights feel viscous drag only "
+                   "(the results below are for the frictionless weights); with friction they stop "
+                   "where the shaft's push falls below the friction moment, short of balance: a "
+                   f"residual whirl of order mu l = {mu_l:.3g} m above the critical speed "
+                   "(stand.model.balancers.friction)")
+    return out
 
 
 def _body_models(scene, na: list) -> list:
