@@ -148,7 +148,20 @@ def _pulse_angle_error(p, sp, sigma_t, dt):
     # scales the edges' RMS timing std into that delay
     R = float(abs(np.mean(np.exp(2j * np.pi * u))))
     delay = R * float(np.sqrt(np.mean(sigma_t ** 2)))
-    return AngleError(tk, (S * (factor * sig_phi ** 2)) @ S.T, delay)
+    # ... and when the marks fall on a few places only (a speed at p/q samples per
+    # revolution: q phases), the sawtooth's mean over them is not zero although its first
+    # harmonic is (three phases 0, 1/3, 2/3: R = 0, mean 1/6): an offset of mean(g) dt where
+    # the edges are faster than a sample (their timing std there ~ dt / sqrt(12))
+    fast = sigma_t >= 0.25 * dt if dt > 0 else np.zeros(p.size, bool)
+    if fast.any():
+        delay = max(delay, abs(float(np.mean(np.where(fast, g, 0.0)))) * dt)
+    C = (S * (factor * sig_phi ** 2)) @ S.T
+    # the sawtooth's local mean where the edges are fast: a bias of the spline over every
+    # stretch the speed keeps the same few phases (a hold at p/q samples per revolution: the
+    # whole hold), the same sign all along it -- one error mode of its own shape (unit
+    # std), not an independent error per coefficient that the stretch would average away
+    bias = S @ (w * np.where(fast, local, 0.0) * dt)
+    return AngleError(tk, C + np.outer(bias, bias), delay)
 
 
 def pulse_timing_std(t, v, pulses, *, threshold: Optional[float] = None):

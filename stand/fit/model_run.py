@@ -35,30 +35,31 @@ class Setup:
     paths : tuple of str       the free scene values, in the order of the parameter vector
     times : ndarray (N,)       the samples to fit [s from the record's first sample, where the
                                simulation starts]
-    programme : ndarray (K, 2) or None
-        The record's drive [s, rad/s] (None: the scene's own programme).
-    initial_angle : float      the rotor angle where the simulation starts [rad]
+    drive : stand.fit.record.RecordedDrive or None
+        The record's drive (None: the scene's own programme).
     order : int                0 displacement, 1 velocity, 2 acceleration
     plane : str or None        the sensors' plane (None: the scene's main plane)
     rtol, atol : float         the integrator's tolerances
-    nuisance : bool            the parameter vector ends with the initial shaft state
+    nuisance : bool            the parameter vector goes on with the initial shaft state
+    lead_in : bool             ... and ends with where the drive's lead-in starts from rest
     """
 
     doc: dict
     stem: str
     paths: tuple
     times: np.ndarray
-    programme: Optional[np.ndarray]
-    initial_angle: float
+    drive: Optional[object]
     order: int
     plane: Optional[str]
     rtol: float = 1e-9
     atol: float = 1e-11
     nuisance: bool = True
+    lead_in: bool = False
 
     def scene(self, theta, end: Optional[float] = None):
         """The Scene of the parameter vector ``theta`` (free values in their file units, then
-        the initial shaft state [m, m/s]), driven by the record, lasting to ``end`` [s]."""
+        the initial shaft state [m, m/s], then the lead-in's start [s]), driven by the
+        record, lasting to ``end`` [s]."""
         from stand.scene.model import InitialState, SpeedDrive
 
         k = len(self.paths)
@@ -70,9 +71,9 @@ class Setup:
         rep = {"instruments": {}, "run": dataclasses.replace(
             sc.run, duration=duration, sample_rate=1.0 / duration,
             rtol=min(sc.run.rtol, self.rtol), atol=min(sc.run.atol, self.atol))}
-        if self.programme is not None:
-            rep["drive"] = SpeedDrive(programme=np.asarray(self.programme, float),
-                                      initial_angle=float(self.initial_angle))
+        if self.drive is not None:
+            prog, phi0 = self.drive.full(float(theta[-1]) if self.lead_in else None)
+            rep["drive"] = SpeedDrive(programme=prog, initial_angle=phi0)
         if self.nuisance:
             x, y, vx, vy = (float(v) for v in theta[k:k + 4])
             rep["initial"] = InitialState(x=x, y=y, vx=vx, vy=vy)

@@ -142,11 +142,14 @@ class Objective:
             for k in range(W.shape[1]):
                 h = 1e-3 / max(float(np.max(np.abs(W[:, k]))), 1e-300)
                 dW = np.gradient(W[:, k], rec.t)
-                prog, phi0, _ = angle_programme(rec.t, a.angle_rad + h * W[:, k],
-                                                a.speed_rad_s + h * dW, a.acceleration_rad_s2,
-                                                rec.t_start)
-                self._mode_setups.append((replace(self.setup, programme=prog,
-                                                  initial_angle=phi0), h))
+                # the acceleration too: before the first pulse the drive is extrapolated with
+                # it, and the weights' lag over that stretch follows
+                drive, _ = angle_programme(rec.t, a.angle_rad + h * W[:, k],
+                                           a.speed_rad_s + h * dW,
+                                           a.acceleration_rad_s2 + h * np.gradient(dW, rec.t),
+                                           rec.t_start)
+                self._mode_setups.append((replace(self.setup, drive=replace(
+                    drive, rest_until=self.setup.drive.rest_until)), h))
         theta = np.asarray(theta, float)
         base = self.signal(theta, n)
         outs = self._map([(s_, theta, self.end_time(n)) for s_, _ in self._mode_setups])

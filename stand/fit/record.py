@@ -19,7 +19,7 @@ import numpy as np
 
 from stand.fit.paths import FitError
 
-__all__ = ["FitRecord", "fit_record", "angle_programme"]
+__all__ = ["FitRecord", "RecordedDrive", "fit_record", "angle_programme"]
 
 TWO_PI = 2.0 * math.pi
 #: what each channel quantity is, as a derivative order of the displacement
@@ -40,9 +40,8 @@ class FitRecord:
     z : ndarray (N,) complex    x + i y of the sensors [SI unit of ``quantity``]
     quantity : str              ``"length"``, ``"velocity"`` or ``"acceleration"``
     angle : RotorAngle or None  the measured rotor angle (None: no speed channel)
-    programme : ndarray (K, 2) or None
-        Nodes [s from ``t_start``, rad/s] of the speed programme that reproduces the angle.
-    initial_angle : float       the programme's angle at ``t_start`` [rad]
+    drive : RecordedDrive or None
+        The speed programme that reproduces the angle (None: no speed channel).
     angle_misfit_rad : float    the largest |programme angle - measured angle| [rad]
     plane : str or None         the plane the sensors look at (None: the scene's main plane)
     label : str                 the file (or the run) it came from
@@ -58,8 +57,7 @@ class FitRecord:
     z: np.ndarray
     quantity: str
     angle: Optional[object]
-    programme: Optional[np.ndarray]
-    initial_angle: float
+    drive: Optional[RecordedDrive]
     angle_misfit_rad: float
     plane: Optional[str]
     label: str
@@ -136,10 +134,10 @@ def fit_record(source, recording_map=None) -> FitRecord:
     rmap = getattr(tab, "recording_map", None) if tab is not None else recording_map
     probes = d.get("probes")
     t_start = float(min(t[0], np.min(tab.t) if tab is not None else t[0]))
-    prog, phi0, misfit = (None, 0.0, 0.0)
+    drive, misfit = None, 0.0
     if angle is not None:
-        prog, phi0, misfit = angle_programme(t, angle.angle_rad, angle.speed_rad_s,
-                                             angle.acceleration_rad_s2, t_start)
+        drive, misfit = angle_programme(t, angle.angle_rad, angle.speed_rad_s,
+                                        angle.acceleration_rad_s2, t_start)
         if t_start < t[0]:
             notes.append(f"the rotor angle before the first keyphasor pulse ({t[0] - t_start:.4g} "
                          "s of the record) is extrapolated at the speed and acceleration the "
@@ -150,7 +148,7 @@ def fit_record(source, recording_map=None) -> FitRecord:
         notes.append("no speed channel: the simulation runs the scene's own speed programme "
                      "from the record's first sample; phases are not referenced")
     return FitRecord(t=t, t_start=t_start, z=z, quantity=d.get("quantity") or "length", angle=angle,
-                     programme=prog, initial_angle=phi0, angle_misfit_rad=misfit,
+                     drive=drive, angle_misfit_rad=misfit,
                      plane=(probes or {}).get("plane") or None, label=_label(source, d),
                      notes=notes, weights=w,
                      mass_kg=getattr(rmap, "mass_kg", None) or d.get("mass_kg"),
@@ -193,17 +191,59 @@ def _label(source, d) -> str:
     return str(source)
 
 
+@dataclass(frozen=True)
+class RecordedDrive:
+    """The drive of a record: the measured rotor angle as a speed programme, and the stretch
+    before the first measured angle (a keyphasor's first pulse comes after the record
+    starts) as a constant acceleration from rest.
+
+    Attributes
+    ----------
+    programme : ndarray (K, 2)  measured nodes [s from the record's first sample, rad/s]
+    angle : float               the measured angle at the first node [rad]
+    lead : float                the first node's time [s] (0: the angle is measured from
+                                the first sample on)
+    rest_until : float          where the lead-in's constant acceleration starts from rest
+                                [s]; negative: the rotor already turns at the first sample
+                                (at the speed the same acceleration gives there)
+    """
+
+    programme: np.ndarray
+    angle: float
+    lead: float = 0.0
+    rest_until: float = 0.0
+
+    def full(self, rest_until: Optional[float] = None):
+        """``(programme (K', 2), angle at the first sample)`` with the lead-in starting from
+        rest at ``rest_until`` (default: this drive's)."""
+        prog = np.asarray(self.programme, float)
+        if self.lead <= 0.0:
+            return prog, float(self.angle)
+        tz = self.rest_until if rest_until is None else float(rest_until)
+        tz = min(tz, self.lead * (1.0 - 1e-9))
+        w0 = float(prog[0, 1])
+        if tz >= 0.0:
+            head = [[0.0, 0.0]] + ([[tz, 0.0]] if tz > 0.0 else [])
+            gained = 0.5 * w0 * (self.lead - tz)
+        else:
+            ws = w0 * (-tz) / (self.lead - tz)
+            head = [[0.0, ws]]
+            gained = 0.5 * (ws + w0) * self.lead
+        return np.vstack([np.array(head), prog]), float(self.angle - gained)
+
+
 def angle_programme(t, phi, w, a, t_start: float, spacing_rev: float = 0.25,
                     max_spacing_s: float = 0.02):
-    """A piecewise-linear speed programme that reproduces a measured rotor angle.
+    """The :class:`RecordedDrive` that reproduces a measured rotor angle.
 
     Nodes every ``spacing_rev`` revolutions of the top speed (at most ``max_spacing_s``, at
     least one sample interval) with speeds chosen by least squares so that the programme's
     angle -- the integral of the speed, the trapezoid of each step -- matches the measured
     angle at every node (weight 1) while staying near the measured speed (weight 1e-3:
-    fixes the alternating mode the node angles leave free).  Before the first measured
-    sample (``t_start < t[0]``: a keyphasor's first pulse comes after the record starts) the
-    speed is extrapolated linearly with the acceleration at ``t[0]``, never below rest.
+    fixes the alternating mode the node angles leave free; weight 1 at the first node).
+    Before the first measured sample (``t_start < t[0]``) the rotor accelerates from rest
+    at the acceleration the angle has at ``t[0]`` (or turns at a constant speed when it does
+    not accelerate there); :meth:`RecordedDrive.full` moves that start.
 
     Parameters
     ----------
@@ -214,8 +254,7 @@ def angle_programme(t, phi, w, a, t_start: float, spacing_rev: float = 0.25,
 
     Returns
     -------
-    (programme (K, 2) [s from t_start, rad/s], angle at t_start [rad], largest angle misfit
-    over the samples [rad])
+    (RecordedDrive, largest angle misfit over the samples [rad])
     """
     import scipy.sparse as sps
     from scipy.sparse.linalg import spsolve
@@ -235,31 +274,19 @@ def angle_programme(t, phi, w, a, t_start: float, spacing_rev: float = 0.25,
     wk = np.interp(nodes, tt, w)
     h = np.diff(nodes)
     m = nodes.size
-    lam = 1e-3
+    lam = np.full(m, 1e-3)
+    lam[0] = 1.0           # the first node keeps the measured speed: the lead-in starts there
     rows = np.concatenate([np.arange(m - 1), np.arange(m - 1), m - 1 + np.arange(m)])
     cols = np.concatenate([np.arange(m - 1), np.arange(1, m), np.arange(m)])
-    vals = np.concatenate([0.5 * h, 0.5 * h, lam * np.full(m, step)])
+    vals = np.concatenate([0.5 * h, 0.5 * h, lam * step])
     A = sps.csr_matrix((vals, (rows, cols)), shape=(2 * m - 1, m))
     b = np.concatenate([np.diff(ph), lam * step * wk])
     speeds = spsolve((A.T @ A).tocsc(), A.T @ b)
     table = build_table(nodes, speeds)
     table[:, 2] += phi[0]
     misfit = float(np.max(np.abs(programme_kinematics_many(tt, table)[:, 0] - phi)))
-    # the stretch before the first measured angle
     lead = float(t[0] - t_start)
-    pre_t, pre_w = [], []
-    if lead > 0:
-        w0, a0 = float(speeds[0]), float(np.asarray(a, float)[0])
-        if a0 > 0 and w0 - a0 * lead < 0:           # at rest before t_z
-            tz = lead - w0 / a0
-            pre_t, pre_w = [0.0, tz], [0.0, 0.0]
-        else:
-            pre_t, pre_w = [0.0], [w0 - a0 * lead]
-    nodes = np.concatenate([pre_t, nodes + lead])
-    speeds = np.concatenate([pre_w, speeds])
-    keep = np.concatenate([[True], np.diff(nodes) > 1e-12])
-    nodes, speeds = nodes[keep], speeds[keep]
-    # the angle at t_start such that the angle at t[0] is the measured one
-    full = build_table(nodes, speeds)
-    at_t0 = programme_kinematics_many(np.array([lead]), full)[0, 0]
-    return np.column_stack([nodes, speeds]), float(phi[0] - at_t0), misfit
+    w0, a0 = float(speeds[0]), float(np.asarray(a, float)[0])
+    rest = lead - w0 / a0 if a0 > 0 and w0 > 0 else -1e6 * max(lead, 1.0)
+    return RecordedDrive(np.column_stack([nodes + lead, speeds]), float(phi[0]), lead,
+                         rest), misfit

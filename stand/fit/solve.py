@@ -204,17 +204,19 @@ def fit_scene(scene, data, free, *, recording_map=None, workers: Optional[int] =
         notes.append("the speed channel has no reference mark: angles (the unbalance's, the "
                      "weights' start) are relative to an arbitrary origin")
     # the record's drive and where the simulation starts
-    top = float(np.max(np.abs(rec.programme[:, 1]))) if rec.programme is not None else 0.0
-    start_speed = float(abs(rec.programme[0, 1])) if rec.programme is not None else 0.0
+    drive = rec.drive
+    top = float(np.max(np.abs(drive.programme[:, 1]))) if drive is not None else 0.0
+    start_speed = float(abs(drive.full()[0][0, 1])) if drive is not None else 0.0
     if initial_state is None:
-        initial_state = rec.programme is not None and start_speed > 0.1 * top
+        initial_state = drive is not None and start_speed > 0.1 * top
+    lead_in = drive is not None and drive.lead > 0 and drive.rest_until > -drive.lead
     if initial_state:
         notes.append("the record starts with the rotor turning: the shaft's initial state is "
                      "fitted beside the scene values (initial.x, .y, .vx, .vy)")
     setup = Setup(doc=doc, stem=stem, paths=tuple(f.path for f in free),
-                  times=rec.t - rec.t_start, programme=rec.programme,
-                  initial_angle=rec.initial_angle, order=rec.order, plane=rec.plane,
-                  rtol=rtol, atol=rtol * 1e-2, nuisance=bool(initial_state))
+                  times=rec.t - rec.t_start, drive=drive, order=rec.order, plane=rec.plane,
+                  rtol=rtol, atol=rtol * 1e-2, nuisance=bool(initial_state),
+                  lead_in=bool(lead_in))
     w = rec.speed()
     sweep = w is not None and np.max(np.abs(w)) > 1.5 * max(np.min(np.abs(w)), 1e-9)
     if runout is None:
@@ -227,13 +229,19 @@ def fit_scene(scene, data, free, *, recording_map=None, workers: Optional[int] =
     zmax = float(np.max(np.abs(rec.z - np.mean(rec.z)))) or 1.0
     f0 = _natural_frequency_hz(template)
     wref = TWO_PI * max(f0, 1.0)
-    scales = [f.scale for f in free] + ([zmax, zmax, zmax * wref, zmax * wref]
-                                        if initial_state else [])
-    scales = np.asarray(scales, float)
-    lo = np.array([f.lower for f in free] + [-np.inf] * (4 if initial_state else 0))
-    hi = np.array([f.upper for f in free] + [np.inf] * (4 if initial_state else 0))
+    n4 = 4 if initial_state else 0
+    scales = [f.scale for f in free] + [zmax, zmax, zmax * wref, zmax * wref][:n4]
+    lo = [f.lower for f in free] + [-np.inf] * n4
+    hi = [f.upper for f in free] + [np.inf] * n4
+    start = [f.start for f in free] + [0.0] * n4
+    if lead_in:          # where the lead-in starts from rest [s]
+        scales.append(max(0.05 * drive.lead, 1e-3))
+        lo.append(-10.0 * drive.lead)
+        hi.append(drive.lead * (1.0 - 1e-6))
+        start.append(min(drive.rest_until, 0.999 * drive.lead))
+    scales, lo, hi = (np.asarray(v, float) for v in (scales, lo, hi))
     steps = 1e-5 * scales
-    theta0 = np.array([f.start for f in free] + [0.0] * (4 if initial_state else 0))
+    theta0 = np.asarray(start, float)
     ends = _stage_ends(rec, f0)
     log = {"evals": 0, "best": math.inf}
 
@@ -325,6 +333,10 @@ def fit_scene(scene, data, free, *, recording_map=None, workers: Optional[int] =
     if initial_state:
         nuis.update({k: {"value": float(v), "unit": u} for k, v, u in
                      zip(NUISANCE, theta[len(free):], NUISANCE_UNITS)})
+    if lead_in:
+        nuis["drive.rest_until"] = {"value": float(theta[-1] + rec.t_start), "unit": "s",
+                                    "note": "the rotor starts from rest here (the stretch "
+                                    "before the first keyphasor pulse)"}
     nuis["offset"] = {"value": [coef["offset"].real, coef["offset"].imag], "unit": rec.unit}
     if runout:
         nuis["runout"] = {"value": [coef["runout"].real, coef["runout"].imag], "unit": rec.unit}
@@ -333,7 +345,7 @@ def fit_scene(scene, data, free, *, recording_map=None, workers: Optional[int] =
         nuis["rotor_angle_correction_rms"] = {"value": float(np.sqrt(np.mean(dphi ** 2))),
                                               "unit": "rad"}
     series = {"t": rec.t, "measured": rec.z, "model": lp.fitted_signal(m, coef),
-              "simulated": m, "residual": e, "speed": rec.speed()}
+              "simulated": m, "residual": e, "speed": rec.speed(), "angle_correction": dphi}
     cmp_rows = comparison(obj, theta, unc, rec, fitted, series, progress)
     doc_json = {
         "scene": scene_label, "data": rec.label,
