@@ -5,18 +5,18 @@ The flat API (imported on first use, so ``import stand`` is cheap)::
     stand.load(path_or_text) -> Scene       stand.run(scene) -> Run
     stand.read(path) -> Recording           stand.theory(scene) -> Theory
     stand.analyze(run | recording | path)   stand.report(run | recording | path, html_path=...)
-    stand.track(recording | video)
+    stand.track(recording | video)          stand.fit(scene, record, free=[...]) -> Fit
 
 The answers are result objects (docs/results.md): attributes, ``to_dict()``,
 ``to_frame()``, ``plot(ax=)``.
 """
 __version__ = "0.1.0"
 
-__all__ = ["load", "run", "read", "theory", "analyze", "report", "track", "balance", "Scene", "Run", "Recording",
+__all__ = ["load", "run", "read", "theory", "analyze", "report", "track", "balance", "fit", "Scene", "Run", "Recording",
            "SceneError", "RecordingError", "__version__"]
 
 _LAZY = {"load": "api", "run": "api", "read": "api", "theory": "api", "analyze": "api",
-         "report": "api", "track": "api", "balance": "api", "Scene": "scene.model", "SceneError": "scene.model", "Run": "integrate.result",
+         "report": "api", "track": "api", "balance": "api", "fit": "api", "Scene": "scene.model", "SceneError": "scene.model", "Run": "integrate.result",
          "Recording": "recording.hdf5", "RecordingError": "recording.hdf5"}
 
 

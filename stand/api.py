@@ -14,6 +14,8 @@ book weight model) and every recording::
     stand.theory(scene)                    # what the theory predicts: a Theory
     stand.track("runup.h5")                # the screen's spot in each frame: a Track
     stand.balance("job.toml")              # field balancing from readings: a FieldBalance
+    stand.fit("scene.toml", "rec.csv", free=["supports.stiffness", "balancer.drag"],
+              recording_map="rec.map.toml")    # the scene calibrated to a record: a Fit
 
 The answers are result objects (:mod:`stand.io.result`, docs/results.md): attribute
 and mapping access, ``to_dict()`` (the JSON the command line prints), ``to_frame()``
@@ -24,7 +26,7 @@ from __future__ import annotations
 import os
 from typing import Optional, Union
 
-__all__ = ["load", "run", "read", "theory", "analyze", "report", "track", "balance"]
+__all__ = ["load", "run", "read", "theory", "analyze", "report", "track", "balance", "fit"]
 
 
 def load(source: Union[str, os.PathLike]):
@@ -176,3 +178,50 @@ def balance(job, *, influence=None, method: Optional[str] = None, html_path=None
 
         write_field_report(res, html_path, pdf=pdf_path, json_path=json_path)
     return res
+
+
+def fit(scene, data, free, *, recording_map=None, columns: Optional[str] = None,
+        workers: Optional[int] = None, scheduler=None, progress=False,
+        runout: Optional[bool] = None, initial_state: Optional[bool] = None,
+        max_nfev: int = 40, rtol: float = 1e-9):
+    """Calibrate a scene to a record (:func:`stand.fitting.solve.fit_scene`, ``stand fit``).
+
+    The simulation is driven as the record was (the rotor angle of its keyphasor, encoder or
+    tachometer, with what that source leaves open of it) and read as its sensors read the
+    shaft; the values named in ``free`` are adjusted by nonlinear least squares (scans of
+    each value on the record's first stretch, then continuation over the record).
+
+    Parameters
+    ----------
+    scene : str, os.PathLike or Scene
+        The template scene (a file, TOML text, or a Scene read from a file).
+    data : str, os.PathLike, Run or Recording
+        Anything :func:`analyze` reads: a lab table (with ``recording_map`` / ``columns``), a
+        stand recording with probes, a Run.
+    free : str or sequence
+        Dotted TOML paths of the scene values to fit, each with optional bounds in the file's
+        units: ``"supports.stiffness=1000..3000,rotor.unbalance_angle,balancer.drag"``, or a
+        list of such strings or of ``(path, (lo, hi))``.  A path to a list frees every element.
+    recording_map, columns
+        As for :func:`analyze`.
+    workers, scheduler
+        Where the Jacobian's simulations run: local processes (default: all cores), or a
+        dask.distributed scheduler address (as ``stand sweep``).
+    progress : bool or callable
+        Iteration, cost and values on stderr (or to the callable).
+    runout, initial_state : bool, optional
+        Fit a probe runout / the shaft's initial state (default: decided from the record).
+
+    Returns
+    -------
+    stand.fitting.result.Fit
+        ``parameters`` (value, std, unit, identifiable per path), ``correlation``, ``fit``
+        (chi2_dof, rms_residual, ...), ``comparison`` (theory against experiment), ``scene``
+        (the fitted Scene), ``write_scene(path)``, ``to_frame()``, ``plot(ax=)``.
+    """
+    from stand.fitting.solve import fit_scene
+
+    rmap = None if not isinstance(data, (str, os.PathLike)) else _recording_map(recording_map, columns)
+    return fit_scene(scene, data, free, recording_map=rmap, workers=workers,
+                     scheduler=scheduler, progress=progress, runout=runout,
+                     initial_state=initial_state, max_nfev=max_nfev, rtol=rtol)

@@ -6,6 +6,8 @@
     stand snapshot RUN.h5 [--instrument screen|strobe|rings] [--frame N] -o FRAME.png
     stand experiment SCENE.toml PROGRAMME [options] -o RUN.h5
     stand analyze RUN.h5|RUN.csv [--json] [--grade G] [--service-speed RPM]
+    stand fit SCENE.toml DATA [--map MAP.toml] --free PATH[=LO..HI],... [-o FITTED.toml] [--json]
+              [--report FIT.html]
     stand balance JOB.toml [--json] [--method M] [--influence FILE] [--save-influence FILE]
                   [-o REPORT.html] [--pdf REPORT.pdf]
     stand track FRAMES -o track.csv [--calibration RINGS.png] [--ring-radii R1,R2,...|RINGS.txt]
@@ -38,7 +40,7 @@ from pathlib import Path  # noqa: E402
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (stand.cli.parser) with the command handlers (stand.cli.simulation,
     .analysis, .images)."""
-    from stand.cli import analysis, images, simulation
+    from stand.cli import analysis, fitting, images, simulation
     from stand.cli.parser import build_parser as build
 
     return build({"accuracy": simulation.cmd_accuracy,
@@ -46,6 +48,7 @@ def build_parser() -> argparse.ArgumentParser:
                   "balance": analysis.cmd_balance,
                   "daq": analysis.cmd_daq,
                   "experiment": simulation.cmd_experiment,
+                  "fit": fitting.cmd_fit,
                   "influence": analysis.cmd_influence,
                   "report": analysis.cmd_report,
                   "run": simulation.cmd_run,
@@ -70,19 +73,22 @@ def _guard(args) -> None:
     g = lambda name: getattr(args, name, None)  # noqa: E731
     cmd = args.command
     inputs = [g("scene"), g("recording"), g("source"), g("calibration"), g("catalogue"), g("spec"),
-              g("job"), g("influence")]
+              g("job"), g("influence"), g("data"), g("map")]
     out = g("output")
     outputs = [(g("json_file"), "json"), (g("plot"), "png"), (g("summary"), _table_kind(g("summary"))),
                (g("regime_map"), "png"), (g("critical_map"), "png"), (g("pdf"), "pdf")]
     kind = {"run": "hdf5", "experiment": "hdf5", "accuracy": "html", "report": "html",
             "stress": "html", "snapshot": "png", "track": "csv", "strobe": "csv", "daq": "csv",
-            "sweep": "parquet", "analyze": _table_kind(out), "balance": "html"}.get(cmd)
+            "sweep": "parquet", "analyze": _table_kind(out), "balance": "html",
+            "fit": "toml"}.get(cmd)
     if out is not None and kind and not Path(out).is_dir():
         outputs.append((out, kind))
     if cmd == "run":
         outputs.append((g("checkpoint"), "npz"))
     if cmd == "balance":
         outputs.append((g("save_influence"), "toml"))
+    if cmd == "fit":
+        outputs.append((g("report"), "html"))
     check_outputs(inputs, outputs, force=bool(g("force")))
 
 

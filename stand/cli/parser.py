@@ -64,6 +64,28 @@ def build_parser(handlers: dict) -> argparse.ArgumentParser:
     st.add_argument("--catalogue", default=None, help="catalogue TOML (default: the built-in one)")
     st.add_argument("--cases", default=None, help="comma-separated case names, or 'fast'")
     st.set_defaults(func=handlers["stress"])
+    ft = sub.add_parser("fit", help="calibrate a scene to a recording: the free values by least "
+                                    "squares, with their ± and identifiability (issue 39)")
+    ft.add_argument("scene", help="template scene file (TOML)")
+    ft.add_argument("data", help="recording: lab table with --map/--columns, HDF5 recording with "
+                                 "probes (anything stand analyze reads)")
+    _table_options(ft)
+    ft.add_argument("--free", required=True, metavar="PATH[=LO..HI],...",
+                    help="scene values to fit by their dotted TOML path, with optional bounds in "
+                         "the file's units, e.g. supports.stiffness,rotor.unbalance_angle,"
+                         "balancer.drag=0.01..1")
+    ft.add_argument("-o", "--output", default=None, metavar="FITTED.toml",
+                    help="write the fitted scene (a new file; never an input)")
+    ft.add_argument("--json", action="store_true", help="print the JSON result on stdout")
+    ft.add_argument("--json-file", default=None, help="write the JSON result to this file")
+    ft.add_argument("--report", default=None, metavar="FIT.html",
+                    help="write the HTML report: values, theory against experiment, overlays")
+    ft.add_argument("--workers", type=int, default=None, help="local worker processes for the "
+                                                              "Jacobian's simulations")
+    ft.add_argument("--scheduler", default=None, help="dask.distributed scheduler address")
+    ft.add_argument("--no-progress", action="store_true", help="no progress lines on stderr")
+    ft.add_argument("--force", action="store_true", help="replace an output of another kind")
+    ft.set_defaults(func=handlers["fit"])
     wu = sub.add_parser("warmup", help="compile the kernels ahead (one time after an install)")
     wu.add_argument("--all", action="store_true",
                     help="every model kind and every compiled function, not only the planar rotor")

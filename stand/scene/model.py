@@ -152,7 +152,7 @@ class SpeedDrive:
         H_0 [N*m*s]; has no effect on the motion when the speed is prescribed.
     initial_angle : float
         The rotor's angle at t = 0 [rad] (0: the reference mark starts at the X axis); set
-        when a simulation is driven by a recorded rotor angle (:mod:`stand.fit`).
+        when a simulation is driven by a recorded rotor angle (:mod:`stand.fitting`).
     """
 
     programme: np.ndarray

@@ -3,7 +3,7 @@ by finite differences of the compiled simulator on all cores.
 
 A parameter vector ``theta`` holds the free scene values in the scene file's units, then
 (when the record starts away from rest) the shaft's initial state.  :class:`Objective` turns
-it into the augmented residual of :class:`stand.fit.linear.LinearPart` over the record's
+it into the augmented residual of :class:`stand.fitting.linear.LinearPart` over the record's
 first ``n`` samples (the continuation over the record fits growing stretches), caches the
 model signal of the last few vectors, and computes the Jacobian's columns as simulations
 mapped over a :class:`stand.io.executor.Executor` (process pool, or a Dask cluster).
@@ -16,9 +16,9 @@ from typing import Optional
 
 import numpy as np
 
-from stand.fit.linear import LinearPart
-from stand.fit.model_run import Setup, model_channel
-from stand.fit.paths import FitError
+from stand.fitting.linear import LinearPart
+from stand.fitting.model_run import Setup, model_channel
+from stand.fitting.paths import FitError
 
 __all__ = ["Objective", "robust_sigma"]
 
@@ -129,7 +129,7 @@ class Objective:
         """Set the linear part's ``G``: the model signal's change per unit of each whitened
         error mode of the measured rotor angle, by simulations driven by the angle perturbed
         along the mode (a step of 1e-3 rad at its largest), over the first ``n`` samples."""
-        from stand.fit.record import angle_programme
+        from stand.fitting.record import angle_programme
 
         lp, rec = self.linear(n), self.record
         if lp.modes is None or rec is None or rec.angle is None:

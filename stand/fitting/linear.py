@@ -10,7 +10,7 @@ Golub & Pereyra 1973).
   Gaussian prior ``xi ~ N(0, C)``.  The model's signal changes by ``G eta`` (``eta = C^-1/2
   xi``, whitened), ``G`` the simulation's own sensitivity to each error mode of the drive
   (finite differences of simulations driven by the perturbed angle:
-  :meth:`stand.fit.objective.Objective.angle_sensitivity`) -- not the quasi-static turn
+  :meth:`stand.fitting.objective.Objective.angle_sensitivity`) -- not the quasi-static turn
   ``i m delta phi``: near a resonance the shaft does not follow a wobble of the drive's phase
   within its own time constant.  The coefficients are estimated with the prior (one prior
   row per mode), so the residual left for the scene values is white noise when the model is

@@ -14,7 +14,7 @@ from typing import Optional
 
 import numpy as np
 
-from stand.fit.paths import FitError, scene_with
+from stand.fitting.paths import FitError, scene_with
 
 __all__ = ["Setup", "model_channel", "simulate_setup", "NUISANCE"]
 
@@ -35,7 +35,7 @@ class Setup:
     paths : tuple of str       the free scene values, in the order of the parameter vector
     times : ndarray (N,)       the samples to fit [s from the record's first sample, where the
                                simulation starts]
-    drive : stand.fit.record.RecordedDrive or None
+    drive : stand.fitting.record.RecordedDrive or None
         The record's drive (None: the scene's own programme).
     order : int                0 displacement, 1 velocity, 2 acceleration
     plane : str or None        the sensors' plane (None: the scene's main plane)

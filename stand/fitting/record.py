@@ -17,7 +17,7 @@ from typing import Optional
 
 import numpy as np
 
-from stand.fit.paths import FitError
+from stand.fitting.paths import FitError
 
 __all__ = ["FitRecord", "RecordedDrive", "fit_record", "angle_programme"]
 
@@ -139,11 +139,12 @@ def fit_record(source, recording_map=None) -> FitRecord:
         drive, misfit = angle_programme(t, angle.angle_rad, angle.speed_rad_s,
                                         angle.acceleration_rad_s2, t_start)
         if t_start < t[0]:
-            notes.append(f"the rotor angle before the first keyphasor pulse ({t[0] - t_start:.4g} "
-                         "s of the record) is extrapolated at the speed and acceleration the "
-                         "angle has there (not below rest); the simulation starts at the record's "
-                         "first sample from the scene's initial state, the fit uses the samples "
-                         "with a measured angle")
+            notes.append(f"before the first measured angle ({t[0] - t_start:.4g} s of the "
+                         "record) the rotor is taken to accelerate steadily from rest to the "
+                         "speed it has there, the start of that fitted when the record begins "
+                         "near rest (nuisance drive.rest_until); the simulation starts at the "
+                         "record's first sample from the scene's initial state, the fit uses "
+                         "the samples with a measured angle")
     else:
         notes.append("no speed channel: the simulation runs the scene's own speed programme "
                      "from the record's first sample; phases are not referenced")

@@ -61,7 +61,7 @@ class Fit(Result):
         """The fitted scene file: the template's text with the fitted values written over its
         own (comments and layout kept), headed by a comment block saying what was fitted to
         what, with the ± and the fit's chi^2/dof."""
-        from stand.fit.paths import document_text
+        from stand.fitting.paths import document_text
 
         from stand import __version__ as version
 

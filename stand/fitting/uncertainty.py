@@ -82,7 +82,13 @@ def uncertainty(obj, theta, scales, lo, hi, free, rec, lp, progress=None) -> dic
     var_s = np.maximum(np.diag(white), np.diag(corr))
     std = np.sqrt(np.maximum(var_s, 0.0)) * scales
     cost0 = float(r @ r)
+    better = None
     notes = []
+    # does the record show a motion at all?  The fitted model against the offset (and runout)
+    # alone: a gain below chi^2's 99.9 % point for P values means the record is noise to it
+    still = rec.z - (coef["offset"] + (coef["runout"] * np.exp(1j * lp.phi) if lp.runout else 0))
+    gain = float(np.sum(np.abs(still) ** 2) - np.sum(np.abs(e) ** 2)) / sigma ** 2
+    quiet = gain < 2.0 * P + 10.0 * math.sqrt(P) + 10.0
     params = {}
     for i, f in enumerate(free):
         info = float(np.linalg.norm(Js[:, i]))
@@ -90,7 +96,12 @@ def uncertainty(obj, theta, scales, lo, hi, free, rec, lp, progress=None) -> dic
         ident = True
         s = float(std[i])
         widen = 1.0
-        if info < 1.0:
+        if quiet:
+            ident, note = False, (f"the record shows no motion above its noise: the fitted model "
+                                  f"lowers chi^2 by {gain:.3g} against no motion at all, what "
+                                  f"{P} values fitted to noise would")
+            s = math.inf
+        elif info < 1.0:
             ident, note = False, ("the record does not depend on it: a change by its whole size "
                                   f"({f.scale:.3g} {f.unit}) moves the residual by {info:.2g} "
                                   "noise units")
@@ -106,6 +117,9 @@ def uncertainty(obj, theta, scales, lo, hi, free, rec, lp, progress=None) -> dic
                     continue
                 rr = obj.residual(th, n)[0]
                 rises.append(float(rr @ rr) - cost0)
+                if rises[-1] < -max(1.0, 1e-9 * cost0) and (
+                        better is None or float(rr @ rr) < better[1]):
+                    better = (th.copy(), float(rr @ rr))     # not at the minimum yet
             expect = 4.0 * chi2_dof
             if rises and min(rises) < 0.25 * expect:
                 ident = False
@@ -165,5 +179,5 @@ def uncertainty(obj, theta, scales, lo, hi, free, rec, lp, progress=None) -> dic
                      "model that misses the physics may still be biased")
     return {"parameters": params,
             "correlation": {"paths": [f.path for f in free], "matrix": R.tolist()},
-            "fit": fit, "notes": notes, "covariance": white, "std": std}
+            "fit": fit, "notes": notes, "covariance": white, "std": std, "better": better}
 

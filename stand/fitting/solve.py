@@ -3,10 +3,10 @@ recorded channels.
 
 The method (issue 39 item 3):
 
-1. **The record and its drive** (:mod:`stand.fit.record`): the channels ``stand analyze``
+1. **The record and its drive** (:mod:`stand.fitting.record`): the channels ``stand analyze``
    reads, the rotor angle of the record's keyphasor / encoder / tachometer as a speed
    programme, the simulation starting at the record's first sample.
-2. **The objective** (:mod:`stand.fit.objective`, :mod:`stand.fit.linear`): the recorded
+2. **The objective** (:mod:`stand.fitting.objective`, :mod:`stand.fitting.linear`): the recorded
    ``x + i y`` minus the simulated one, less what is linear in its coefficients (the probes'
    offset and runout, the rotor angle's own error with its prior), scaled by the noise.
 3. **Start values**: the template's, and -- where the rotor's own values are free -- those of
@@ -16,7 +16,7 @@ The method (issue 39 item 3):
 4. **Continuation over the record**: trust-region least squares
    (:func:`scipy.optimize.least_squares`, ``trf`` with the bounds) on the record up to past
    the first resonance, then on two thirds, then on all of it, each from the last.
-5. **Uncertainty** (:mod:`stand.fit.uncertainty`): covariance from the projected Jacobian --
+5. **Uncertainty** (:mod:`stand.fitting.uncertainty`): covariance from the projected Jacobian --
    white and batch-means sandwich, the larger --, the curvature checked along each value's
    profile, and an identifiability verdict per value.
 """
@@ -31,11 +31,11 @@ from typing import Optional
 
 import numpy as np
 
-from stand.fit.linear import LinearPart, angle_modes
-from stand.fit.model_run import NUISANCE, NUISANCE_UNITS, Setup
-from stand.fit.objective import Objective, executor_for, robust_sigma
-from stand.fit.paths import FitError, parse_free, scene_with, set_value
-from stand.fit.record import fit_record
+from stand.fitting.linear import LinearPart, angle_modes
+from stand.fitting.model_run import NUISANCE, NUISANCE_UNITS, Setup
+from stand.fitting.objective import Objective, executor_for, robust_sigma
+from stand.fitting.paths import FitError, parse_free, scene_with, set_value
+from stand.fitting.record import fit_record
 
 __all__ = ["fit_scene"]
 
@@ -144,24 +144,35 @@ def _batch_costs(obj, thetas, n) -> np.ndarray:
     return costs
 
 
+def _weights_value(path: str) -> bool:
+    """A value of the correction weights (``balancer.*``, ``weights[i].*``)."""
+    return path.startswith("balancer.") or path.startswith("weights")
+
+
 def _scan(obj, theta, free, n, lo, hi, sweeps: int = 2, points: int = 81):
-    """Coordinate scans of the free values on the first ``n`` samples: each value over a wide
-    range in turn -- a factor 4 either side of a positive start on a log grid, the whole
-    circle for an angle, +-3 scales otherwise -- with the others held, kept where the cost is
-    lowest; ``sweeps`` rounds, the simulations of one scan together on the executor.  The
+    """Coordinate scans of the free values on the first ``n`` samples: each value in turn,
+    the weights' first -- a factor 4 either side of a positive weights' value (a factor 2 for
+    the others: a lab's first guess is 10-50 % off) on a log grid, the whole circle for an
+    angle, +-3 scales otherwise -- with the others held, kept where the cost is lowest;
+    ``sweeps`` rounds, the simulations of one scan together on the executor.  The
     weights' drag winds their phase at the resonance: the objective has valleys a few per
     cent wide in it, which a local method started 50 % off misses and a dense scan over the
     short first stretch finds (its valley there is the widest)."""
     theta = np.asarray(theta, float).copy()
     best = float(_batch_costs(obj, [theta], n)[0])
+    # the weights' values first (their phase winds with them), then the rest over a factor 2
+    order = sorted(range(len(free)), key=lambda i: not _weights_value(free[i].path))
     for _ in range(sweeps):
         moved = False
-        for i, f in enumerate(free):
+        for i in order:
+            f = free[i]
             v = theta[i]
+            wide = _weights_value(f.path)
             if f.angle:
                 cand = v + np.linspace(-180.0, 180.0, 72, endpoint=False)
             elif f.lower >= 0.0 and v > 0:
-                cand = v * np.geomspace(0.25, 4.0, points)
+                cand = v * (np.geomspace(0.25, 4.0, points) if wide else
+                            np.geomspace(0.5, 2.0, points // 2 + 1))
             else:
                 cand = v + f.scale * np.linspace(-3.0, 3.0, points)
             cand = np.unique(np.clip(cand, lo[i], hi[i]))
@@ -172,7 +183,7 @@ def _scan(obj, theta, free, n, lo, hi, sweeps: int = 2, points: int = 81):
                 trials.append(th)
             costs = _batch_costs(obj, trials, n)
             j = int(np.argmin(costs))
-            if costs[j] < best * (1 - 1e-9):
+            if costs[j] < best - 1.0:           # by more than the noise moves it
                 best, theta, moved = float(costs[j]), trials[j], True
         if not moved:
             break
@@ -186,9 +197,9 @@ def fit_scene(scene, data, free, *, recording_map=None, workers: Optional[int] =
     """Fit a scene's free values to a record (module docstring); see :func:`stand.fit`."""
     from scipy.optimize import least_squares
 
-    from stand.fit.compare import comparison
-    from stand.fit.result import Fit
-    from stand.fit.uncertainty import uncertainty
+    from stand.fitting.compare import comparison
+    from stand.fitting.result import Fit
+    from stand.fitting.uncertainty import uncertainty
     from stand.scene.parse import parse
 
     wall0 = time.perf_counter()
@@ -321,10 +332,28 @@ def fit_scene(scene, data, free, *, recording_map=None, workers: Optional[int] =
         lp.sigma = max(robust_sigma(e, 1), floor)
         obj._cache.clear()
         unc = uncertainty(obj, theta, scales, lo, hi, free, rec, lp, progress)
+        for _ in range(2):        # the profile found a lower cost: not at the minimum yet
+            if unc["better"] is None:
+                break
+            _say(progress, "stand fit: a lower cost beside the optimum; least squares again")
+            theta, _ = solve(unc["better"][0], n, max_nfev, "polish on the whole record")
+            if lp.modes is not None:
+                obj.angle_sensitivity(theta, n)
+            unc = uncertainty(obj, theta, scales, lo, hi, free, rec, lp, progress)
+        r, Q, coef, m = obj.residual(theta, n)
+        e = rec.z - lp.fitted_signal(m, coef)
     finally:
         if ex is not None:
             ex.close()
-    values = {f.path: float(v) for f, v in zip(free, theta)}
+    values = {}
+    for f, v in zip(free, theta):
+        d = unc["parameters"][f.path]
+        if not d["identifiable"] and not math.isfinite(d["std"]):
+            # the record says nothing of it: the template's value stays (scene and report)
+            d["note"] += f"; kept at the template's {f.start:g} {f.unit} (the fit wandered to {v:.4g})"
+            d["value"] = f.start
+            v = f.start
+        values[f.path] = float(v)
     fitted = scene_with(doc, values, stem)
     doc_out = copy.deepcopy(doc)
     for p, v in values.items():

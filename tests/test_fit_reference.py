@@ -1,0 +1,77 @@
+"""``stand fit`` against an independent reference (issue 39 acceptance, fast form).
+
+The records are written by tests/oracles/two_ball_stand.py -- its own equations of the rotor
+and the balls, solved by scipy, its own keyphasor -- never by the stand's simulator: a run-up
+of the universal stand through its critical speed, a TTL keyphasor and 2 um probe noise at
+1 kHz.  The template is the lab's first guess: stiffness +12 %, damping x1.8, eccentricity
+x0.7, unbalance angle +35 deg, ball drag x2.5.  The fit must find every value within 2 %
+(the angle within 2 deg) and each within 3 of its own std (the 24-seed calibration --
+RMS(z), coverage -- is benchmarks/bench_fit.py, in benchmarks/README.md).  With rolling
+friction (the balls stop short of balance) the friction coefficient within 10 %, with its ±.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import stand
+
+from oracles.two_ball_stand import Stand, record, template_scene, write_record
+
+FREE = "supports.stiffness,supports.damping,rotor.eccentricity,rotor.unbalance_angle,balancer.drag"
+#: a shorter run-up than the bench's 25 s (0 -> 12 rev/s in 6 s, held to 10 s): the test's time
+SHORT = dict(programme=[[0.0, 0.0], [6.0, 12.0]])
+DURATION = 10.0
+
+
+def _check(fit, truth: Stand, z_max=3.0, rel=0.02):
+    t = {"supports.stiffness": truth.stiffness, "supports.damping": truth.damping,
+         "rotor.eccentricity": truth.eccentricity, "rotor.unbalance_angle": truth.unbalance_angle,
+         "balancer.drag": truth.drag, "balancer.friction": truth.friction}
+    zs = {}
+    for p, d in fit["parameters"].items():
+        assert d["identifiable"], (p, d)
+        if d["unit"] == "deg":
+            err = (d["value"] - t[p] + 180.0) % 360.0 - 180.0
+            assert abs(err) < 2.0, (p, d["value"], t[p])
+        else:
+            err = d["value"] - t[p]
+            assert abs(err) < rel * t[p], (p, d["value"], t[p])
+        zs[p] = err / d["std"]
+    assert max(abs(z) for z in zs.values()) < z_max, zs
+    return zs
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_fit_recovers_the_reference_stand(tmp_path, seed):
+    truth = Stand(**SHORT)
+    rec = record(truth, duration=DURATION, seed=seed)
+    csv, m = write_record(rec, truth, tmp_path / f"ref{seed}.csv")
+    tmpl = template_scene(truth, tmp_path / "template.toml", duration=DURATION)
+    fit = stand.fit(tmpl, csv, FREE, recording_map=m, workers=1)
+    _check(fit, truth)
+    assert fit["fit"]["chi2_dof"] < 3.0
+    # theory against experiment: the critical speed the record shows, the model predicts
+    rows = {r["key"]: r for r in fit["comparison"]}
+    assert "critical_speed" in rows and abs(rows["critical_speed"]["difference_sigma"]) < 5
+
+
+def test_fit_finds_the_balls_rolling_friction(tmp_path):
+    """Rolling resistance 3e-3: the balls stop short of balance (a residual whirl of order
+    mu l); the template's friction 1.5x too large, drag x2.5, eccentricity x0.7."""
+    truth = Stand(friction=3e-3, **SHORT)
+    rec = record(truth, duration=DURATION, seed=3)
+    last = rec["t"] > DURATION - 1.0
+    assert np.mean(np.hypot(rec["x_true"], rec["y_true"])[last]) > 5e-5   # short of balance
+    csv, m = write_record(rec, truth, tmp_path / "fric.csv")
+    tmpl = template_scene(truth, tmp_path / "template.toml", duration=DURATION,
+                          perturb={"friction": 1.5, "drag": 2.5, "eccentricity": 0.7,
+                                   "unbalance_angle": 35.0})
+    fit = stand.fit(tmpl, csv, "rotor.eccentricity,rotor.unbalance_angle,balancer.drag,"
+                    "balancer.friction", recording_map=m, workers=1)
+    d = fit["parameters"]["balancer.friction"]
+    assert d["identifiable"] and np.isfinite(d["std"]) and d["std"] > 0
+    assert abs(d["value"] - truth.friction) < 0.1 * truth.friction, d
+    # its ± is the covariance's: the stick-slip at the run-up's end leaves a misfit the model
+    # of the angle's error does not absorb (chi2/dof above 1 there), a bias of a few std
+    assert abs(d["value"] - truth.friction) < 6 * d["std"], (d, fit["fit"]["chi2_dof"])
