@@ -195,8 +195,9 @@ def _pulse_spline(p, knot_revolutions: float, source: str = "keyphasor", corners
                   sigma_phi=None):
     """The angle through the points (pulse k, 2 pi k): interpolating for
     ``knot_revolutions = 0`` or fewer than two intervals, else a least-squares cubic with
-    a knot every ``knot_revolutions`` pulses (:func:`angle_from_pulses`); with ``corners``,
-    double knots where the speed's slope jumps (:func:`_corner_knots`)."""
+    a knot every ``knot_revolutions`` pulses (:func:`angle_from_pulses`); with ``corners``
+    True, double knots where the speed's slope jumps (:func:`_corner_knots`); a sequence of
+    times: double knots there."""
     from scipy.interpolate import CubicSpline
 
     if p.size < 3:
@@ -208,8 +209,12 @@ def _pulse_spline(p, knot_revolutions: float, source: str = "keyphasor", corners
     if n_int < 2:
         return CubicSpline(p, k)
     inner = np.interp(np.linspace(0, p.size - 1, n_int + 1)[1:-1], np.arange(p.size), p)
-    if corners:
+    if corners is True:
         inner = _corner_knots(p, k, inner, sigma_phi)
+    elif corners is not False and corners is not None:     # corner times given
+        c = np.asarray(corners, float).ravel()
+        c = c[(c > p[1]) & (c < p[-2])]
+        inner = np.sort(np.concatenate([inner, c, c]))
     return _lsq_cubic(p, k, n_int, inner)
 
 

@@ -55,7 +55,7 @@ def _on_samples(spline, t, inside):
 
 def angle_from_pulses(t, pulses, *, source: str = "keyphasor",
                       knot_revolutions: float = 8.0, timing_std_s=None,
-                      corners: bool = False) -> RotorAngle:
+                      corners=False) -> RotorAngle:
     """Rotor angle from once-per-revolution pulse times (2 pi per pulse).
 
     The angle through the points (pulse k, 2 pi k) is a least-squares cubic
@@ -81,6 +81,10 @@ def angle_from_pulses(t, pulses, *, source: str = "keyphasor",
         Std [s] of each pulse's time (:func:`pulse_timing_std`).  Given, the
         result's ``angle_error`` carries what it leaves open of the angle, for
         the fits that use it (:func:`_pulse_angle_error`).
+    corners : bool or sequence of float
+        True: a double knot (a jump of the acceleration: a run-up turning into a hold) where
+        it lowers the pulses' chi^2 by more than the information criterion's price
+        (:func:`dsp.pulses._corner_knots`); a sequence: double knots at those times [s].
 
     Returns
     -------
@@ -90,7 +94,7 @@ def angle_from_pulses(t, pulses, *, source: str = "keyphasor",
     t = check_times(t, "t", 2)
     p = np.asarray(pulses, float)
     sig_phi = None
-    if corners and timing_std_s is not None:
+    if corners is True and timing_std_s is not None:
         w = np.abs(np.gradient(TWO_PI * np.arange(p.size), p)) if p.size > 2 else 1.0
         sig_phi = w * np.broadcast_to(np.asarray(timing_std_s, float), p.shape)
     sp = _pulse_spline(p, knot_revolutions, source, corners=corners, sigma_phi=sig_phi)

@@ -139,7 +139,7 @@ def comparison(obj, theta, unc, rec, fitted, series, progress=None, draws: int =
             zl = z[last] - z[last].mean()
             one = np.mean(zl * np.exp(-1j * phi[last]))
             rest = np.sqrt(max(np.mean(np.abs(zl) ** 2) - abs(one) ** 2 - 2 * sigma ** 2, 0.0))
-            qp |= rest > 0.2 * max(abs(one), 10 * sigma)
+            qp |= rest > max(0.2 * abs(one), 20 * sigma)
     m = quantities(t, measured_sig, phi, w, fitted, sigma, qp)
     p = quantities(t, sim, phi, w, fitted, 0.0, qp)
     rng = np.random.default_rng(0)

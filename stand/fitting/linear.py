@@ -55,8 +55,43 @@ def angle_modes(angle, t) -> Optional[AngleModes]:
         return None
     L = V[:, keep] * np.sqrt(lam[keep])              # C = L L'
     W = np.asarray(A @ L)
+    corners = _corner_modes(angle, err.knots, np.asarray(t, float))
+    if corners is not None:
+        W = np.hstack([W, corners])
     live = np.any(W != 0.0, axis=0)
     return AngleModes(W[:, live]) if live.any() else None
+
+
+def _corner_modes(angle, knots, t):
+    """One mode per corner of the speed programme (a double knot of the keyphasor's spline,
+    :func:`dsp.speed.angle_from_pulses` ``corners=True``): where the corner lies between two
+    pulses is not known to better than the pulses' spacing, and the angle's shape near it
+    follows its place.  The mode is the angle's change when the corner moves by its prior std,
+    half the local pulse interval (the spline refitted to the pulses with the knot moved)."""
+    from scipy.interpolate import make_lsq_spline
+
+    p = getattr(angle, "pulses_s", None)
+    if p is None or knots is None:
+        return None
+    inner = np.asarray(knots, float)[4:-4]
+    vals, counts = np.unique(inner, return_counts=True)
+    doubles = vals[counts >= 2]
+    if not doubles.size:
+        return None
+    k = 2.0 * np.pi * np.arange(p.size)
+    base = make_lsq_spline(p, k, np.asarray(knots, float), k=3)
+    cols = []
+    for c in doubles:
+        i = int(np.clip(np.searchsorted(p, c), 1, p.size - 1))
+        sd = 0.5 * float(p[i] - p[i - 1])
+        moved = np.where(np.asarray(knots) == c, c + sd, knots)
+        try:
+            sp = make_lsq_spline(p, k, np.sort(moved), k=3)
+        except (ValueError, np.linalg.LinAlgError):
+            continue
+        tc = np.clip(t, p[0], p[-1])
+        cols.append(sp(tc) - base(tc))
+    return np.column_stack(cols) if cols else None
 
 
 class LinearPart:

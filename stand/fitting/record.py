@@ -19,7 +19,8 @@ import numpy as np
 
 from stand.fitting.paths import FitError
 
-__all__ = ["FitRecord", "RecordedDrive", "fit_record", "angle_programme"]
+__all__ = ["FitRecord", "RecordedDrive", "fit_record", "angle_programme", "corner_times",
+           "with_corners_at"]
 
 TWO_PI = 2.0 * math.pi
 #: what each channel quantity is, as a derivative order of the displacement
@@ -154,6 +155,37 @@ def fit_record(source, recording_map=None) -> FitRecord:
                      notes=notes, weights=w,
                      mass_kg=getattr(rmap, "mass_kg", None) or d.get("mass_kg"),
                      runout_m=getattr(rmap, "probe_runout_m", None))
+
+
+def corner_times(angle) -> list:
+    """The times [s] of the double knots of a keyphasor angle's spline (its corners)."""
+    knots = getattr(getattr(angle, "angle_error", None), "knots", None)
+    if knots is None:
+        return []
+    vals, counts = np.unique(np.asarray(knots, float)[4:-4], return_counts=True)
+    return [float(v) for v in vals[counts >= 2]]
+
+
+def with_corners_at(rec: FitRecord, times) -> Optional[FitRecord]:
+    """``rec`` with its keyphasor angle's corners moved to ``times`` [s] (the angle, its drive
+    and its error modes made again from the same pulses); None when that fails."""
+    from dataclasses import replace
+
+    from dsp.errors import SignalError
+    from dsp.speed import angle_from_pulses
+
+    a = rec.angle
+    try:
+        new = angle_from_pulses(rec.t, a.pulses_s, timing_std_s=a.pulse_timing_std_s,
+                                corners=list(times))
+    except (SignalError, ValueError, np.linalg.LinAlgError):
+        return None
+    if not np.all(new.covered):
+        return None
+    drive, misfit = angle_programme(rec.t, new.angle_rad, new.speed_rad_s,
+                                    new.acceleration_rad_s2, rec.t_start)
+    return replace(rec, angle=new, drive=replace(drive, rest_until=rec.drive.rest_until),
+                   angle_misfit_rad=misfit)
 
 
 def _with_corners(angle, t, notes):

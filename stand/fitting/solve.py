@@ -190,6 +190,59 @@ def _scan(obj, theta, free, n, lo, hi, sweeps: int = 2, points: int = 81):
     return theta
 
 
+def _corner_cost(obj, theta, rec, setup, lp, times):
+    """The whole record's cost at ``theta`` with the keyphasor's corners at ``times`` (the
+    angle's error modes left out: a comparison of corner places)."""
+    from dataclasses import replace
+
+    from stand.fitting.record import with_corners_at
+
+    r2 = with_corners_at(rec, times)
+    if r2 is None:
+        return np.inf, None
+    s2 = replace(setup, drive=r2.drive)
+    lp2 = LinearPart(r2.phi(), lp.runout, angle_modes(r2.angle, r2.t), lp.sigma)
+    o2 = Objective(s2, r2.z, lambda n: lp2, obj.steps, None, record=r2)
+    r = o2.residual(theta, r2.t.size)[0]
+    return float(r @ r), (r2, s2, lp2)
+
+
+def _place_corners(obj, theta, rec, setup, lp, progress):
+    """Move each corner of the keyphasor angle's spline to where the record's vibration fits
+    best (a scan of +-1 s in 0.1 s, then +-0.1 s in 0.01 s, at the fitted values); returns
+    ``(record, setup, linear part)`` with the corners moved, or None when they stay."""
+    from stand.fitting.record import corner_times
+
+    if rec.angle is None or getattr(rec.angle, "pulses_s", None) is None:
+        return None
+    times = corner_times(rec.angle)
+    if not times:
+        return None
+    _say(progress, f"stand fit: placing the keyphasor angle's corner(s) at "
+         + ", ".join(f"{c:.3f}" for c in times) + " s by the vibration")
+    lp.G, saved = None, lp.G
+    best, best_parts = _corner_cost(obj, theta, rec, setup, lp, times)
+    start = list(times)
+    for i in range(len(times)):
+        for half, step in ((1.0, 0.1), (0.1, 0.01)):
+            c0 = times[i]
+            for c in c0 + np.arange(-half, half + 1e-9, step):
+                trial = list(times)
+                trial[i] = float(c)
+                cost, parts = _corner_cost(obj, theta, rec, setup, lp, trial)
+                if cost < best - 1.0:
+                    best, best_parts, times = cost, parts, trial
+    lp.G = saved
+    if times == start or best_parts is None:
+        return None
+    rec2 = best_parts[0]
+    rec2.notes.append("keyphasor angle: corner(s) of the speed programme moved from "
+                      + ", ".join(f"{a:.3f}" for a in start) + " s (the pulses' best) to "
+                      + ", ".join(f"{b:.3f}" for b in times) + " s, where the vibration fits "
+                      "best")
+    return best_parts
+
+
 def fit_scene(scene, data, free, *, recording_map=None, workers: Optional[int] = None,
               scheduler=None, progress=None, runout: Optional[bool] = None,
               initial_state: Optional[bool] = None, max_nfev: int = 40,
@@ -322,6 +375,18 @@ def fit_scene(scene, data, free, *, recording_map=None, workers: Optional[int] =
                 obj.angle_sensitivity(theta, n)
             theta, _ = solve(theta, n, max_nfev, f"stretch to {rec.t[n - 1] - rec.t[0]:.3g} s")
         n = rec.t.size
+        # the keyphasor spline's corners where the vibration puts them (the pulses alone
+        # leave a run-up's end uncertain by a good part of a second), then the record again
+        moved = _place_corners(obj, theta, rec, setup, lp, progress)
+        if moved is not None:
+            rec, setup, lp = moved
+            notes.append(rec.notes[-1])
+            done = obj.simulations + obj.failed * 0
+            obj = Objective(setup, rec.z, lambda n_: lp, steps, ex, on_eval, record=rec)
+            obj.simulations = done
+            if lp.modes is not None:
+                obj.angle_sensitivity(theta, n)
+            theta, _ = solve(theta, n, max_nfev, "whole record, corners placed")
         if lp.modes is not None:
             obj.angle_sensitivity(theta, n)
         r, Q, coef, m = obj.residual(theta, n)
