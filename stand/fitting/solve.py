@@ -366,9 +366,15 @@ def fit_scene(scene, data, free, *, recording_map=None, workers: Optional[int] =
         if coef is not None:
             e = rec.z[:n0] - lp.fitted_signal(m, coef)
             lp.sigma = max(robust_sigma(e, 1), floor)
+        # a record that shows no motion above its noise: nothing to continue with (the
+        # uncertainty step says so, value by value)
+        n_all = rec.t.size
+        still = lp.solve(rec.z, np.zeros(n_all, complex))[0]      # offset (and runout) only
+        excess = float(still @ still) - 2.0 * n_all                # chi^2 beyond pure noise's
+        stretches = ends[1:] if excess > 5.0 * math.sqrt(4.0 * n_all) + 2.0 * theta.size else []
         # 4. continuation, with the rotor angle's error modes (their sensitivities at the
         # stretch's start values)
-        for n in ends[1:]:
+        for n in stretches:
             if lp.modes is not None:
                 _say(progress, f"stand fit: the model's sensitivity to the rotor angle's "
                      f"{lp.modes.count} error modes")
