@@ -204,7 +204,25 @@ def _corner_cost(obj, theta, rec, setup, lp, times):
     lp2 = LinearPart(r2.phi(), lp.runout, angle_modes(r2.angle, r2.t), lp.sigma)
     o2 = Objective(s2, r2.z, lambda n: lp2, obj.steps, None, record=r2)
     r = o2.residual(theta, r2.t.size)[0]
-    return float(r @ r), (r2, s2, lp2)
+    return float(r @ r) + _pulses_chi2(r2.angle), (r2, s2, lp2)
+
+
+def _pulses_chi2(angle) -> float:
+    """chi^2 of a keyphasor angle's spline at its own pulses (their timing std as the angle's):
+    what the pulses say of a corner's place, added to what the vibration says."""
+    from scipy.interpolate import make_lsq_spline
+
+    p, st = angle.pulses_s, angle.pulse_timing_std_s
+    knots = getattr(angle.angle_error, "knots", None)
+    if p is None or st is None or knots is None:
+        return 0.0
+    k = 2.0 * np.pi * np.arange(p.size)
+    try:
+        sp = make_lsq_spline(p, k, np.asarray(knots, float), k=3)
+    except (ValueError, np.linalg.LinAlgError):
+        return 0.0
+    sig = np.maximum(np.abs(sp(p, 1)) * st, 1e-12)
+    return float(np.sum(((k - sp(p)) / sig) ** 2))
 
 
 def _place_corners(obj, theta, rec, setup, lp, progress):
@@ -355,12 +373,15 @@ def fit_scene(scene, data, free, *, recording_map=None, workers: Optional[int] =
                 if f.path in an:
                     th[i] = min(max(an[f.path], f.lower), f.upper)
             starts.append(("rigid-rotor fit of the first stretch", th))
-        costs = [_cost(obj, th, n0) for _, th in starts]
-        start_name, theta = starts[int(np.argmin(costs))]
-        _say(progress, f"stand fit: scanning around the {start_name}'s values on the first "
-             f"{rec.t[n0 - 1] - rec.t[0]:.3g} s")
-        theta = _scan(obj, theta, free, n0, lo, hi)
-        theta, _ = solve(theta, n0, max_nfev, "first stretch")
+        best = None
+        for name, th in starts:          # each start scanned and fitted: the better one goes on
+            _say(progress, f"stand fit: scanning around the {name}'s values on the first "
+                 f"{rec.t[n0 - 1] - rec.t[0]:.3g} s")
+            th = _scan(obj, th, free, n0, lo, hi)
+            th, cost = solve(th, n0, max_nfev, f"first stretch from the {name}")
+            if best is None or cost < best[1]:
+                best = (th, cost, name)
+        theta, _, start_name = best
         # the noise from the residual of the first stretch (differences: white part only)
         r, Q, coef, m = obj.residual(theta, n0)
         if coef is not None:
@@ -385,14 +406,23 @@ def fit_scene(scene, data, free, *, recording_map=None, workers: Optional[int] =
         # leave a run-up's end uncertain by a good part of a second), then the record again
         moved = _place_corners(obj, theta, rec, setup, lp, progress)
         if moved is not None:
+            kept = (rec, setup, lp, obj, theta)
+            if lp.modes is not None:
+                obj.angle_sensitivity(theta, n)
+            before = _cost(obj, theta, n)
             rec, setup, lp = moved
-            notes.append(rec.notes[-1])
-            done = obj.simulations + obj.failed * 0
+            done = obj.simulations
             obj = Objective(setup, rec.z, lambda n_: lp, steps, ex, on_eval, record=rec)
             obj.simulations = done
             if lp.modes is not None:
                 obj.angle_sensitivity(theta, n)
-            theta, _ = solve(theta, n, max_nfev, "whole record, corners placed")
+            theta, after = solve(theta, n, max_nfev, "whole record, corners placed")
+            if after < before:
+                notes.append(rec.notes[-1])
+            else:                      # the moved corner fits worse with its error modes: back
+                rec, setup, lp, old_obj, theta = kept
+                old_obj.simulations = obj.simulations
+                obj = old_obj
         if lp.modes is not None:
             obj.angle_sensitivity(theta, n)
         r, Q, coef, m = obj.residual(theta, n)
