@@ -373,15 +373,20 @@ def fit_scene(scene, data, free, *, recording_map=None, workers: Optional[int] =
                 if f.path in an:
                     th[i] = min(max(an[f.path], f.lower), f.upper)
             starts.append(("rigid-rotor fit of the first stretch", th))
-        best = None
-        for name, th in starts:          # each start scanned and fitted: the better one goes on
+        cands = []
+        for name, th in starts:          # each start scanned and fitted on the first stretch
             _say(progress, f"stand fit: scanning around the {name}'s values on the first "
                  f"{rec.t[n0 - 1] - rec.t[0]:.3g} s")
             th = _scan(obj, th, free, n0, lo, hi)
             th, cost = solve(th, n0, max_nfev, f"first stretch from the {name}")
-            if best is None or cost < best[1]:
-                best = (th, cost, name)
-        theta, _, start_name = best
+            cands.append((th, cost, name))
+        if len(cands) > 1 and len(ends) > 1:
+            # the first stretch may not tell two valleys apart: each goes on to the second
+            # stretch (angle modes left out), the better one there is kept
+            n1 = ends[1]
+            cands = [(*solve(th, n1, max(10, max_nfev // 2), f"second stretch from the {name}"),
+                      name) for th, _, name in cands]
+        theta, _, start_name = min(cands, key=lambda c: c[1])
         # the noise from the residual of the first stretch (differences: white part only)
         r, Q, coef, m = obj.residual(theta, n0)
         if coef is not None:
