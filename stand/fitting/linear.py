@@ -115,8 +115,40 @@ class LinearPart:
         self.phi = None if phi is None else np.asarray(phi, float)
         self.runout = bool(runout) and self.phi is not None
         self.modes = modes
-        self.sigma = float(sigma)
-        self.G = None
+        self._sigma = float(sigma)
+        self._G = None
+        self._qr: dict = {}
+
+    # the design depends on the samples, G and sigma only, not on the model signal: its QR is
+    # made once per stretch and reused by every trial of the scene values (setting G or sigma
+    # forgets it)
+    @property
+    def sigma(self) -> float:
+        return self._sigma
+
+    @sigma.setter
+    def sigma(self, value: float) -> None:
+        self._sigma = float(value)
+        self._qr.clear()
+
+    @property
+    def G(self):
+        return self._G
+
+    @G.setter
+    def G(self, value) -> None:
+        self._G = value
+        self._qr.clear()
+
+    def _factored(self, n: int):
+        """``(D, Q, R, n_lin)`` of the design of ``n`` samples (cached)."""
+        if n not in self._qr:
+            if len(self._qr) > 2:
+                self._qr.pop(next(iter(self._qr)))
+            D, nl = self.design(np.zeros(n))
+            Q, R = np.linalg.qr(D)
+            self._qr[n] = (D, Q, R, nl)
+        return self._qr[n]
 
     @property
     def k(self) -> int:
@@ -149,11 +181,10 @@ class LinearPart:
         number of offset/runout real columns."""
         n = m.size
         k = self.k
-        D, nl = self.design(m)
+        D, Q, R, nl = self._factored(n)
         y = np.zeros(2 * n + k)
         d = z[:n] - m
         y[:n], y[n:2 * n] = d.real / self.sigma, d.imag / self.sigma
-        Q, R = np.linalg.qr(D)
         c = np.linalg.solve(R, Q.T @ y) if np.all(np.abs(np.diag(R)) > 0) else \
             np.linalg.lstsq(D, y, rcond=None)[0]
         r = y - D @ c

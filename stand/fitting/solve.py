@@ -190,21 +190,27 @@ def _scan(obj, theta, free, n, lo, hi, sweeps: int = 2, points: int = 81):
     return theta
 
 
-def _corner_cost(obj, theta, rec, setup, lp, times):
-    """The whole record's cost at ``theta`` with the keyphasor's corners at ``times`` (the
-    angle's error modes left out: a comparison of corner places)."""
+def _corner_costs(obj, theta, rec, setup, lp, trials):
+    """The whole record's cost at ``theta`` with the keyphasor's corners at each of ``trials``
+    (lists of times [s]; the angle's error modes left out: a comparison of corner places),
+    the simulations together on the executor.  Returns ``(costs, records)``."""
     from dataclasses import replace
 
     from stand.fitting.record import with_corners_at
 
-    r2 = with_corners_at(rec, times)
-    if r2 is None:
-        return np.inf, None
-    s2 = replace(setup, drive=r2.drive)
-    lp2 = LinearPart(r2.phi(), lp.runout, angle_modes(r2.angle, r2.t), lp.sigma)
-    o2 = Objective(s2, r2.z, lambda n: lp2, obj.steps, None, record=r2)
-    r = o2.residual(theta, r2.t.size)[0]
-    return float(r @ r) + _pulses_chi2(r2.angle), (r2, s2, lp2)
+    recs = [with_corners_at(rec, times) for times in trials]
+    live = [i for i, r2 in enumerate(recs) if r2 is not None]
+    end = float(setup.times[-1])
+    outs = obj._map([(replace(setup, drive=recs[i].drive), theta, end) for i in live])
+    costs = np.full(len(trials), np.inf)
+    for i, m in zip(live, outs):
+        r2 = recs[i]
+        m = np.asarray(m)[:r2.t.size]
+        if m.size == r2.t.size and np.all(np.isfinite(m)):
+            lp2 = LinearPart(r2.phi(), lp.runout, None, lp.sigma)
+            r = lp2.solve(r2.z, m)[0]
+            costs[i] = float(r @ r) + _pulses_chi2(r2.angle)
+    return costs, recs
 
 
 def _pulses_chi2(angle) -> float:
@@ -238,27 +244,31 @@ def _place_corners(obj, theta, rec, setup, lp, progress):
         return None
     _say(progress, f"stand fit: placing the keyphasor angle's corner(s) at "
          + ", ".join(f"{c:.3f}" for c in times) + " s by the vibration")
-    lp.G, saved = None, lp.G
-    best, best_parts = _corner_cost(obj, theta, rec, setup, lp, times)
+    costs, recs = _corner_costs(obj, theta, rec, setup, lp, [list(times)])
+    best, best_rec = float(costs[0]), recs[0]
     start = list(times)
     for i in range(len(times)):
         for half, step in ((1.0, 0.1), (0.1, 0.01)):
-            c0 = times[i]
-            for c in c0 + np.arange(-half, half + 1e-9, step):
+            trials = []
+            for c in times[i] + np.arange(-half, half + 1e-9, step):
                 trial = list(times)
                 trial[i] = float(c)
-                cost, parts = _corner_cost(obj, theta, rec, setup, lp, trial)
-                if cost < best - 1.0:
-                    best, best_parts, times = cost, parts, trial
-    lp.G = saved
-    if times == start or best_parts is None:
+                trials.append(trial)
+            costs, recs = _corner_costs(obj, theta, rec, setup, lp, trials)
+            j = int(np.argmin(costs))
+            if costs[j] < best - 1.0:
+                best, best_rec, times = float(costs[j]), recs[j], trials[j]
+    if times == start or best_rec is None:
         return None
-    rec2 = best_parts[0]
-    rec2.notes.append("keyphasor angle: corner(s) of the speed programme moved from "
-                      + ", ".join(f"{a:.3f}" for a in start) + " s (the pulses' best) to "
-                      + ", ".join(f"{b:.3f}" for b in times) + " s, where the vibration fits "
-                      "best")
-    return best_parts
+    best_rec.notes.append("keyphasor angle: corner(s) of the speed programme moved from "
+                          + ", ".join(f"{a:.3f}" for a in start) + " s (the pulses' best) to "
+                          + ", ".join(f"{b:.3f}" for b in times) + " s, where the vibration "
+                          "fits best")
+    from dataclasses import replace
+
+    return (best_rec, replace(setup, drive=best_rec.drive),
+            LinearPart(best_rec.phi(), lp.runout, angle_modes(best_rec.angle, best_rec.t),
+                       lp.sigma))
 
 
 def fit_scene(scene, data, free, *, recording_map=None, workers: Optional[int] = None,
@@ -352,9 +362,11 @@ def fit_scene(scene, data, free, *, recording_map=None, workers: Optional[int] =
                      + ", ".join(f"{f.path} = {v:.6g}" for f, v in zip(free, th)))
                 return obj.jacobian(th, n) * scales
 
+            # stop when a step lowers chi^2 by less than 0.01 (the cost is about n there):
+            # the values then move by a tenth of their std at most
             sol = least_squares(fun, x0, jac=jac, bounds=(xl, xh), method="trf",
-                                x_scale=1.0, ftol=1e-10, xtol=1e-10, gtol=1e-10,
-                                max_nfev=nfev)
+                                x_scale=1.0, ftol=max(5e-3 / n, 1e-12), xtol=1e-8,
+                                gtol=1e-10, max_nfev=nfev)
             th = theta0 + scales * sol.x
             stages.append({"label": label, "samples": int(n), "end_s": float(rec.t[n - 1]),
                            "cost": float(2 * sol.cost), "iterations": int(sol.nfev),
@@ -400,28 +412,34 @@ def fit_scene(scene, data, free, *, recording_map=None, workers: Optional[int] =
         stretches = ends[1:] if excess > 5.0 * math.sqrt(4.0 * n_all) + 2.0 * theta.size else []
         # 4. continuation, with the rotor angle's error modes (their sensitivities at the
         # stretch's start values)
+        last = None                     # the whole record's cost, G as it stands
         for n in stretches:
             if lp.modes is not None:
                 _say(progress, f"stand fit: the model's sensitivity to the rotor angle's "
                      f"{lp.modes.count} error modes")
                 obj.angle_sensitivity(theta, n)
-            theta, _ = solve(theta, n, max_nfev, f"stretch to {rec.t[n - 1] - rec.t[0]:.3g} s")
+            theta, cost = solve(theta, n, max_nfev, f"stretch to {rec.t[n - 1] - rec.t[0]:.3g} s")
+            last = cost if n == rec.t.size else None
         n = rec.t.size
         # the keyphasor spline's corners where the vibration puts them (the pulses alone
         # leave a run-up's end uncertain by a good part of a second), then the record again
         moved = _place_corners(obj, theta, rec, setup, lp, progress)
         if moved is not None:
             kept = (rec, setup, lp, obj, theta)
-            if lp.modes is not None:
-                obj.angle_sensitivity(theta, n)
-            before = _cost(obj, theta, n)
+            if last is None:             # no continuation over the whole record ran
+                if lp.modes is not None:
+                    obj.angle_sensitivity(theta, n)
+                last = _cost(obj, theta, n)
+            before = last
             rec, setup, lp = moved
             done = obj.simulations
             obj = Objective(setup, rec.z, lambda n_: lp, steps, ex, on_eval, record=rec)
             obj.simulations = done
             if lp.modes is not None:
                 obj.angle_sensitivity(theta, n)
-            theta, after = solve(theta, n, max_nfev, "whole record, corners placed")
+            after = _cost(obj, theta, n)
+            if after < before:         # better with the error modes too: least squares there
+                theta, after = solve(theta, n, max_nfev, "whole record, corners placed")
             if after < before:
                 notes.append(rec.notes[-1])
             else:                      # the moved corner fits worse with its error modes: back

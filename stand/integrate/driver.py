@@ -41,8 +41,8 @@ _DIVERGED = ("State diverged (|state| > 1e12 in units of the length scale, rad, 
 
 def segments(model, tau_end: float) -> list:
     """Integration segments: the model's breakpoints before ``tau_end``, then ``tau_end``."""
-    bp = [b for b in model.breakpoints() if b < tau_end]
-    return bp + [tau_end]
+    bp = np.asarray(model.breakpoints(), float)
+    return bp[bp < tau_end].tolist() + [tau_end]
 
 
 def fingerprint(scene, method, rtol, atol, ts, size) -> str:
@@ -97,11 +97,21 @@ class Checkpoint:
 
 def run_dop853(model, y0, tau_end, rtol, atol, ts, out, stats, max_steps, progress, ck=None,
                 chunk=CHUNK_STEPS):
-    kind, sp, wt, prog = model.kind, model.sp, model.wt, model.prog
+    kind = model.kind
+    # the compiled entry points take C-contiguous float64 arrays: made so once here, the
+    # checked wrappers are skipped in the loop over the programme's segments (a recorded
+    # drive has one per node, a thousand in a 25-s run-up)
+    sp, wt, prog = (np.ascontiguousarray(a, dtype=float) for a in (model.sp, model.wt,
+                                                                  model.prog))
     ks = kernels(kind)
     cap = np.where(model.angle_mask(), np.pi, np.inf)
+    ts = np.ascontiguousarray(ts, dtype=float)
     y = np.array(y0, dtype=float)
     f = np.empty_like(y)
+    step = getattr(ks.dop853, "unchecked", None)
+    if step is None or not (out.dtype == np.float64 and out.flags.c_contiguous
+                            and out.flags.writeable):
+        step = ks.dop853
     try:
         ks.evaluate(0.0, y, f, sp, wt, prog)
     except np.linalg.LinAlgError:       # a singular or non-finite mass matrix
@@ -113,7 +123,8 @@ def run_dop853(model, y0, tau_end, rtol, atol, ts, out, stats, max_steps, progre
         return 1
     st = np.zeros(3, np.int64)
     st[2] = 1
-    h = initial_step(model, y, f, rtol, atol, cap)
+    rtol, atol = float(rtol), float(atol)
+    h = float(initial_step(model, y, f, rtol, atol, cap))
     t = 0.0
     k_next = 1
     seg_done = 0
@@ -136,9 +147,9 @@ def run_dop853(model, y0, tau_end, rtol, atol, ts, out, stats, max_steps, progre
                 status = STEP_BUDGET
                 break
             try:
-                status, t, h, k_next = ks.dop853(sp, wt, prog, t, y, f, h, seg_end, rtol, atol,
-                                                 cap, np.inf, ts, k_next, out, st, budget,
-                                                 DIVERGENCE_LIMIT)
+                status, t, h, k_next = step(sp, wt, prog, t, y, f, h, seg_end, rtol, atol,
+                                            cap, np.inf, ts, k_next, out, st, budget,
+                                            DIVERGENCE_LIMIT)
             except np.linalg.LinAlgError:   # the compiled solve met a non-finite mass matrix
                 status = NOT_FINITE
             if bar is not None:

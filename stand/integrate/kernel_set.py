@@ -136,6 +136,10 @@ def _checked(kind: int, source: str, loop, ev, jac) -> KernelSet:
                     float(t_end), float(rtol), float(atol), c(cap, float), float(max_step),
                     c(ts, float), int(k_next), out, stats, int(max_steps), float(limit))
 
+    # the entry point itself, for a caller that has made every array C-contiguous float64
+    # (int64 statistics) and passes plain floats and ints
+    dop853.unchecked = loop
+
     def evaluate(t, y, dy, sp, wt, prog):
         if not ok(dy):
             from stand.model.kernels import evaluate as dispatch

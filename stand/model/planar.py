@@ -105,12 +105,14 @@ class PlanarModel:
     def breakpoints(self) -> np.ndarray:
         """Dimensionless times where the prescribed acceleration jumps."""
         npg, nub, nf = (int(self.sp[k]) for k in (N_PROG, N_UB, N_FORCE))
-        pts = [] if self.free else list(breakpoints(self.prog[:npg], self.sp[COAST_T0]))
-        pts += list(self.prog[npg:npg + nub, 0])
-        pts += list(self.prog[npg + nub:npg + nub + nf, :2].ravel())
+        pts = [np.asarray(self.prog[npg:npg + nub, 0], float),
+               np.asarray(self.prog[npg + nub:npg + nub + nf, :2], float).ravel()]
+        if not self.free:
+            pts.append(breakpoints(self.prog[:npg], self.sp[COAST_T0]))
         if self.impulses is not None:
-            pts += list(self.impulses[:, 0])
-        return np.array(sorted({p for p in pts if p > 0.0 and np.isfinite(p)}))
+            pts.append(np.asarray(self.impulses[:, 0], float))
+        pts = np.concatenate(pts)
+        return np.unique(pts[(pts > 0.0) & np.isfinite(pts)])
 
     def angle_mask(self) -> np.ndarray:
         """True for state components that are angles (error scale capped)."""

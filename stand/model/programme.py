@@ -28,11 +28,12 @@ def build_table(times: np.ndarray, speeds: np.ndarray) -> np.ndarray:
     """
     times = np.asarray(times, dtype=float)
     speeds = np.asarray(speeds, dtype=float)
-    phi = np.empty_like(times)
-    phi[0] = speeds[0] * times[0]  # constant speed R_0 before the first node
-    for k in range(1, len(times)):
-        phi[k] = phi[k - 1] + 0.5 * (speeds[k] + speeds[k - 1]) * (times[k] - times[k - 1])
-    return np.column_stack([times, speeds, phi])
+    # phi_k = phi_{k-1} + the trapezoid of step k (np.cumsum adds in order: the same sums
+    # as the loop); a constant speed R_0 before the first node
+    steps = np.empty_like(times)
+    steps[:1] = speeds[:1] * times[:1]
+    steps[1:] = 0.5 * (speeds[1:] + speeds[:-1]) * (times[1:] - times[:-1])
+    return np.column_stack([times, speeds, np.cumsum(steps)])
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -115,7 +116,7 @@ def drive_torque_law(model, m0, c1, c2, w_target, t, phi, speed):
 
 def breakpoints(prog: np.ndarray, coast_t0: float) -> np.ndarray:
     """Times where phi'' jumps: integration restarts there for accuracy."""
-    pts = list(prog[:, 0])
+    pts = np.asarray(prog[:, 0], float)
     if np.isfinite(coast_t0):
-        pts = [p for p in pts if p < coast_t0] + [coast_t0]
-    return np.array(sorted(set(p for p in pts if p > 0.0)))
+        pts = np.append(pts[pts < coast_t0], coast_t0)
+    return np.unique(pts[pts > 0.0])

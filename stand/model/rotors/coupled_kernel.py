@@ -412,10 +412,11 @@ class CoupledModel:
 
     def breakpoints(self) -> np.ndarray:
         """Dimensionless times where the programme's acceleration jumps."""
-        pts = [] if self.free else [b for b in self.prog[1:, 0] if b > 0 and np.isfinite(b)]
+        pts = [np.zeros(0) if self.free else np.asarray(self.prog[1:, 0], float)]
         if self.impulses is not None:
-            pts += [t for t in self.impulses[:, 0] if t > 0]
-        return np.array(sorted(set(pts)))
+            pts.append(np.asarray(self.impulses[:, 0], float))
+        pts = np.concatenate(pts)
+        return np.unique(pts[(pts > 0.0) & np.isfinite(pts)])
 
 
 def _positive(name, v, unit):
