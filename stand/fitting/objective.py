@@ -45,6 +45,12 @@ def _column(item):
     return model_channel(setup, theta, end)
 
 
+def _columns(items):
+    """Several simulations in one call of the executor (a chunk: the setups they share are
+    pickled once, and a pool's per-call overhead is paid once)."""
+    return [_column(it) for it in items]
+
+
 class Objective:
     """Residuals and Jacobian of the fit (module docstring).
 
@@ -104,7 +110,13 @@ class Objective:
     def _map(self, items) -> list:
         self.simulations += len(items)
         if self.executor is not None and len(items) > 1:
-            return self.executor.map(_column, items)
+            k = min(len(items), self.executor.workers)
+            chunks = [items[i::k] for i in range(k)]          # as even as the items are
+            done = self.executor.map(_columns, chunks)
+            out = [None] * len(items)
+            for i, part in enumerate(done):
+                out[i::k] = part
+            return out
         return [_column(it) for it in items]
 
     def columns(self, theta, n: int) -> np.ndarray:
@@ -125,15 +137,25 @@ class Objective:
             J[:, j] = (o - base) / h
         return J
 
-    def angle_sensitivity(self, theta, n: int) -> None:
+    def angle_sensitivity(self, theta, n: int, scales=None, moved: float = 1e-3) -> None:
         """Set the linear part's ``G``: the model signal's change per unit of each whitened
         error mode of the measured rotor angle, by simulations driven by the angle perturbed
-        along the mode (a step of 1e-3 rad at its largest), over the first ``n`` samples."""
+        along the mode (a step of 1e-3 rad at its largest), over the first ``n`` samples.
+
+        With ``scales`` (the parameters' scales), a ``G`` made over at least ``n`` samples at
+        values within ``moved`` scales of ``theta`` is kept: the sensitivity changes with the
+        values in proportion (1e-3 of it at most then), and the simulations are causal, so
+        the first ``n`` rows of a longer run's ``G`` are the shorter run's."""
         from stand.fitting.record import angle_programme
 
         lp, rec = self.linear(n), self.record
         if lp.modes is None or rec is None or rec.angle is None:
             lp.G = None
+            return
+        theta = np.asarray(theta, float)
+        at = getattr(self, "_G_at", None)
+        if (scales is not None and at is not None and lp.G is not None and at[1] >= n
+                and np.all(np.abs(theta - at[0]) <= moved * np.asarray(scales, float))):
             return
         W = lp.modes.W
         if self._mode_setups is None:
@@ -150,7 +172,6 @@ class Objective:
                                            rec.t_start)
                 self._mode_setups.append((replace(self.setup, drive=replace(
                     drive, rest_until=self.setup.drive.rest_until)), h))
-        theta = np.asarray(theta, float)
         base = self.signal(theta, n)
         outs = self._map([(s_, theta, self.end_time(n)) for s_, _ in self._mode_setups])
         G = np.zeros((rec.t.size, W.shape[1]), complex)
@@ -159,6 +180,7 @@ class Objective:
             if o.size == n and np.all(np.isfinite(o)):
                 G[:n, k] = (o - base) / h
         lp.G = G
+        self._G_at = (theta.copy(), n)
 
     def jacobian(self, theta, n: int):
         """The augmented residual's Jacobian (2n + K, P), projected off the linear nuisance."""

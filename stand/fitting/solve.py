@@ -415,9 +415,10 @@ def fit_scene(scene, data, free, *, recording_map=None, workers: Optional[int] =
         last = None                     # the whole record's cost, G as it stands
         for n in stretches:
             if lp.modes is not None:
+                # over the whole record at once (kept while the values hardly move)
                 _say(progress, f"stand fit: the model's sensitivity to the rotor angle's "
                      f"{lp.modes.count} error modes")
-                obj.angle_sensitivity(theta, n)
+                obj.angle_sensitivity(theta, n_all, scales)
             theta, cost = solve(theta, n, max_nfev, f"stretch to {rec.t[n - 1] - rec.t[0]:.3g} s")
             last = cost if n == rec.t.size else None
         n = rec.t.size
@@ -447,7 +448,7 @@ def fit_scene(scene, data, free, *, recording_map=None, workers: Optional[int] =
                 old_obj.simulations = obj.simulations
                 obj = old_obj
         if lp.modes is not None:
-            obj.angle_sensitivity(theta, n)
+            obj.angle_sensitivity(theta, n, scales)
         r, Q, coef, m = obj.residual(theta, n)
         if coef is None:
             raise FitError("the simulation with the fitted values stopped early; the record "
@@ -462,7 +463,7 @@ def fit_scene(scene, data, free, *, recording_map=None, workers: Optional[int] =
             _say(progress, "stand fit: a lower cost beside the optimum; least squares again")
             theta, _ = solve(unc["better"][0], n, max_nfev, "polish on the whole record")
             if lp.modes is not None:
-                obj.angle_sensitivity(theta, n)
+                obj.angle_sensitivity(theta, n, scales)
             unc = uncertainty(obj, theta, scales, lo, hi, free, rec, lp, progress)
         r, Q, coef, m = obj.residual(theta, n)
         e = rec.z - lp.fitted_signal(m, coef)
