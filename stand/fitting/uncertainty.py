@@ -84,6 +84,15 @@ def uncertainty(obj, theta, scales, lo, hi, free, rec, lp, progress=None) -> dic
     cost0 = float(r @ r)
     better = None
     notes = []
+    # the Gauss-Newton step from here: a trust region that shrank on the way stops least
+    # squares where each step gains little, short of a minimum it predicts chi^2 lower at
+    g = Js.T @ r
+    gain_gn = float(g @ Ai @ g)
+    if gain_gn > 0.1:
+        th = np.clip(theta - (Ai @ g) * scales, lo, hi)
+        rr = obj.residual(th, n)[0]
+        if float(rr @ rr) < cost0 - 0.05:
+            better = (th.copy(), float(rr @ rr))
     # does the record show a motion at all?  The fitted model against the offset (and runout)
     # alone: a gain below chi^2's 99.9 % point for P values means the record is noise to it
     still = rec.z - (coef["offset"] + (coef["runout"] * np.exp(1j * lp.phi) if lp.runout else 0))
@@ -121,12 +130,15 @@ def uncertainty(obj, theta, scales, lo, hi, free, rec, lp, progress=None) -> dic
                         better is None or float(rr @ rr) < better[1]):
                     better = (th.copy(), float(rr @ rr))     # not at the minimum yet
             expect = 4.0 * chi2_dof
-            if rises and min(rises) < 0.25 * expect:
+            # the curvature is the mean of the two sides' rises (a first-order term from a
+            # point a little beside the minimum cancels in it); one side where a bound stops
+            rise = float(np.mean(rises)) if rises else None
+            if rise is not None and rise < 0.25 * expect:
                 ident = False
-                note = (f"its profile is flat: {2 * s:.3g} {f.unit} away the cost rises by "
-                        f"{min(rises):.3g} where a determined value's would rise by {expect:.3g}")
-            elif rises and min(rises) < expect:
-                widen = math.sqrt(expect / max(min(rises), 1e-300))
+                note = (f"its profile is flat: {2 * s:.3g} {f.unit} either side the cost rises "
+                        f"by {rise:.3g} where a determined value's would rise by {expect:.3g}")
+            elif rise is not None and rise < expect:
+                widen = math.sqrt(expect / max(rise, 1e-300))
                 s *= widen
             if ident and s > UNDETERMINED * f.scale:
                 ident = False
