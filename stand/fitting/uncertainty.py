@@ -84,20 +84,20 @@ def uncertainty(obj, theta, scales, lo, hi, free, rec, lp, progress=None) -> dic
     cost0 = float(r @ r)
     better = None
     notes = []
-    # the Gauss-Newton step from here: a trust region that shrank on the way stops least
-    # squares where each step gains little, short of a minimum it predicts chi^2 lower at
-    g = Js.T @ r
-    gain_gn = float(g @ Ai @ g)
-    if gain_gn > 0.1:
-        th = np.clip(theta - (Ai @ g) * scales, lo, hi)
-        rr = obj.residual(th, n)[0]
-        if float(rr @ rr) < cost0 - 0.05:
-            better = (th.copy(), float(rr @ rr))
     # does the record show a motion at all?  The fitted model against the offset (and runout)
     # alone: a gain below chi^2's 99.9 % point for P values means the record is noise to it
     still = rec.z - (coef["offset"] + (coef["runout"] * np.exp(1j * lp.phi) if lp.runout else 0))
     gain = float(np.sum(np.abs(still) ** 2) - np.sum(np.abs(e) ** 2)) / sigma ** 2
     quiet = gain < 2.0 * P + 10.0 * math.sqrt(P) + 10.0
+    # the Gauss-Newton step from here (a record that moves, every value felt): a trust region
+    # that shrank on the way stops least squares where each step gains little, short of the
+    # minimum it predicts chi^2 lower at
+    g = Js.T @ r
+    if not quiet and np.all(np.linalg.norm(Js, axis=0) >= 1.0) and float(g @ Ai @ g) > 0.1:
+        th = np.clip(theta - (Ai @ g) * scales, lo, hi)
+        rr = obj.residual(th, n)[0]
+        if float(rr @ rr) < cost0 - 0.05:
+            better = (th.copy(), float(rr @ rr))
     params = {}
     for i, f in enumerate(free):
         info = float(np.linalg.norm(Js[:, i]))
