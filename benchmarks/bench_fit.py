@@ -345,11 +345,13 @@ def source_version() -> str:
 
 
 def warm_up(workdir: Path, workers: int) -> float:
-    """An untimed small fit (1 value, 4-s record): imports, numba's compilation or cache
-    load, the pool's first start -- left out of the timings."""
+    """Untimed small fits (1 value, 4-s records, without and with friction: the planar and
+    the generic kernel): imports, numba's compilation or cache load, the pool's first start
+    -- left out of the timings."""
     t0 = time.perf_counter()
-    truth, csv, m, tmpl = write_case(workdir, 0, 4.0, 0.0, FIVE[:1])
-    fit_case(truth, csv, m, tmpl, FIVE[:1], workers)
+    for friction in (0.0, FRICTION):
+        truth, csv, m, tmpl = write_case(workdir, 0, 4.0, friction, FIVE[:1])
+        fit_case(truth, csv, m, tmpl, FIVE[:1], workers)
     return time.perf_counter() - t0
 
 
