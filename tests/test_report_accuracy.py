@@ -31,7 +31,7 @@ def test_report_files_schema_and_self_contained(tmp_path, capsys):
         assert attr.startswith("#") or attr.startswith("data:image/png;base64,"), attr
     rec = doc["recommended"]
     assert rec["reached"] and rec["relative_error"] <= 1e-6
-    from stand.reports.numbers import plain
+    from stand.io.numbers import plain
 
     assert plain(rec["relative_error"]) in text         # the HTML shows the JSON's numbers (4 digits)
     # the recommendation comes first: the element right after the title is the banner

@@ -208,7 +208,7 @@ def test_every_number_in_html_tables_comes_from_the_json(which, request):
                 checked += 1
     assert checked > 50
     # the headline values appear, rounded to their uncertainty
-    from stand.reports.numbers import with_uncertainty
+    from stand.io.numbers import with_uncertainty
 
     bq = r["json"]["balancing_quality"]
     shown = with_uncertainty(bq["residual_unbalance_gmm"], bq["residual_unbalance_gmm_std"], "g·mm")

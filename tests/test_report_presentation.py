@@ -11,8 +11,8 @@ from pathlib import Path
 import pytest
 
 from stand.reports.balancing import balancing_report
-from stand.reports.labels import LABELS, markdown_table
-from stand.reports.numbers import plain, with_uncertainty
+from stand.io.labels import LABELS, markdown_table
+from stand.io.numbers import plain, with_uncertainty
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "data_samples" / "recordings" / "stand_cameras.h5"
@@ -134,7 +134,7 @@ def test_labels_table_is_the_one_in_the_docs():
     block = docs[docs.index("<!-- labels:begin -->") + len("<!-- labels:begin -->"):
                  docs.index("<!-- labels:end -->")]
     assert block.strip() == markdown_table().strip(), \
-        "docs/reports.md: regenerate the table with `python -m stand.reports.labels`"
+        "docs/reports.md: regenerate the table with `python -m stand.io.labels`"
 
 
 def test_every_schema_key_has_a_label():

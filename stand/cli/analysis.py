@@ -113,7 +113,7 @@ def cmd_analyze(args) -> int:
         doc = two_plane(args.recording, args.tracks, grade=args.grade, service_speed_rpm=args.service_speed)
         if args.json:
             return print_json(doc) or 0
-        from stand.reports.numbers import with_uncertainty as wu
+        from stand.io.numbers import with_uncertainty as wu
         for r in doc["planes"]:     # values rounded to their uncertainty (GUM 7.2.6)
             print(f"  {r['plane']} ({r['axial_position_m']:g} m): "
                   f"{wu(r['unbalance_gmm'], r['unbalance_gmm_std'], 'g*mm')} at "
@@ -130,7 +130,7 @@ def cmd_analyze(args) -> int:
     if args.json:
         print_json({k: v for k, v in doc.items() if k != "regime_timeline"})
         return 0
-    from stand.reports.numbers import with_uncertainty
+    from stand.io.numbers import with_uncertainty
 
     def fmt(v, sd=None, unit="", angle=False):
         """``v ± sd`` rounded to the uncertainty (the report's rounding)."""
@@ -184,7 +184,7 @@ def cmd_balance(args) -> int:
         return 0
     mu, vu = res["mass_unit"], res["vibration_unit"]
     print(f"field balancing ({res['method']}, {res['solver']}): condition {res['condition']:.3g}")
-    from stand.reports.numbers import with_uncertainty
+    from stand.io.numbers import with_uncertainty
 
     for p, c in res["corrections"].items():
         line = (f"  {p}: {with_uncertainty(c['mass'], c['mass_std'] or None, mu)} @ "

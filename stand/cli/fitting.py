@@ -8,7 +8,7 @@ from pathlib import Path
 
 def _lines(fit) -> list:
     """Each fitted value with its ± (rounded to it), the fit's chi^2, then the comparison."""
-    from stand.reports.numbers import with_uncertainty
+    from stand.io.numbers import with_uncertainty
 
     out = []
     for p, d in fit["parameters"].items():

@@ -7,4 +7,6 @@
 * :mod:`.executor` -- the one process/thread pool;
 * :mod:`.figures` -- figures without a plotting backend, saved atomically;
 * :mod:`.result` -- the base of the result objects (``to_dict``, ``to_frame``, ``plot(ax=)``).
+* :mod:`.numbers`, :mod:`.labels` -- the one formatter of a value with its ± and unit, and the one
+  table of human names with units (CLI text, reports, figure labels).
 """

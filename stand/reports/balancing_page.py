@@ -17,8 +17,8 @@ from __future__ import annotations
 import html
 from typing import Mapping
 
-from stand.reports.labels import label
-from stand.reports.numbers import plain
+from stand.io.labels import label
+from stand.io.numbers import plain
 from stand.reports.tables import details as _details
 from stand.reports.tables import figure as _figure
 from stand.reports.tables import list_table as _list_table

@@ -31,7 +31,7 @@ def write_summary_page(df, html_dir, grade: float) -> Path:
     file's report; written atomically.  Returns its path."""
     from stand.io.atomic import write_text
     from stand.reports.html import render_html
-    from stand.reports.numbers import plain
+    from stand.io.numbers import plain
 
     d = Path(html_dir)
     rows = []

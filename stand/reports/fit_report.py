@@ -15,7 +15,7 @@ from typing import Optional
 import numpy as np
 
 from stand.reports.html import figure_png, write_report
-from stand.reports.numbers import with_uncertainty
+from stand.io.numbers import with_uncertainty
 
 __all__ = ["fit_report", "fit_figures"]
 

@@ -156,7 +156,7 @@ def render_html(title: str, doc: Mapping, figures: Mapping[str, str] | None = No
         parts.append("</body></html>")
         return "\n".join(parts)
     keys = list(sections) if sections is not None else list(doc)
-    from stand.reports.labels import label as _label
+    from stand.io.labels import label as _label
 
     parts.append("<p>" + " · ".join(f"<a href='#{html.escape(k)}'>{html.escape(_label(k))}</a>" for k in keys)
                  + (" · <a href='#figures'>figures</a>" if figures else "") + "</p>")
@@ -164,7 +164,7 @@ def render_html(title: str, doc: Mapping, figures: Mapping[str, str] | None = No
         if k not in doc:
             continue
         v = doc[k]
-        from stand.reports.labels import label
+        from stand.io.labels import label
 
         parts.append(f"<h2 id='{html.escape(k)}'>{html.escape(label(k))}</h2>")
         if isinstance(v, Mapping):

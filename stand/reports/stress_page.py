@@ -6,7 +6,7 @@ Built from the report's JSON document (:data:`stand.reports.stress.SCHEMA`):
 :func:`case_lines` gives one line per case ("NAME: passed" / "NAME: failed —
 why", the reason the report records); :func:`stress_body` is the rest of the
 page: that list, the figure, the summary and each case's detail table
-(collapsed), with the labels and units of :mod:`stand.reports.labels`.
+(collapsed), with the labels and units of :mod:`stand.io.labels`.
 """
 from __future__ import annotations
 

@@ -9,8 +9,8 @@ from __future__ import annotations
 import html
 from typing import Mapping
 
-from stand.reports.labels import label, unit
-from stand.reports.numbers import plain, with_uncertainty
+from stand.io.labels import label, unit
+from stand.io.numbers import plain, with_uncertainty
 
 __all__ = ["show", "rows", "table", "list_table", "nested", "details", "figure"]
 
