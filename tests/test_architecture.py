@@ -4,7 +4,8 @@ equations, and docs/architecture.md's picture drawn from the real imports.
 The import graph is read from the sources (``ast``), every ``import`` statement counted wherever it
 stands -- at the top of a module or inside a function -- since a circle through a function-level
 import is still a circle: the two modules cannot be understood, tested or moved one without the
-other.  ``from P import name`` is an edge to ``P.name`` when that is a module, else to ``P``.
+other.  A string literal in code that names one of our modules (``"stand.x.y"``, ``"stand.x.y:obj"``:
+registries, ``importlib``, ``_jit.closure``) is an import too (issue 40).  ``from P import name`` is an edge to ``P.name`` when that is a module, else to ``P``.
 Importing a module does not count as importing its package's ``__init__`` (as in grimp).
 """
 from __future__ import annotations
@@ -34,8 +35,46 @@ def _modules() -> dict:
     return mods
 
 
+#: a string literal naming one of our modules, optionally with an object: ``"stand.x.y"``,
+#: ``"stand.x.y:obj"`` (registries, ``importlib.import_module``, ``_jit.closure`` arguments)
+MODULE_STRING = re.compile(r"((?:stand|dsp|vision)(?:\.\w+)+)(?::[\w.]+)?")
+
+
+def _docstrings(tree) -> set:
+    """ids of the string constants that are docstrings (module, class, function)."""
+    out = set()
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)) and node.body:
+            first = node.body[0]
+            if isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant):
+                out.add(id(first.value))
+    return out
+
+
+def import_targets(tree, here: str, mods) -> list:
+    """Dotted names a module's source imports: ``import``/``from`` statements anywhere (also inside
+    functions) and string literals in code that name a module of ours exactly (``"stand.x.y"`` or
+    ``"stand.x.y:obj"``); docstrings do not count.  ``here`` is the package relative imports start from."""
+    docs = _docstrings(tree)
+    targets = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            targets += [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                up = here.split(".")[: len(here.split(".")) - (node.level - 1)]
+                base = ".".join(up + ([node.module] if node.module else []))
+            targets += [f"{base}.{a.name}" if f"{base}.{a.name}" in mods else base for a in node.names]
+        elif isinstance(node, ast.Constant) and isinstance(node.value, str) and id(node) not in docs:
+            m = MODULE_STRING.fullmatch(node.value)
+            if m and m.group(1) in mods:
+                targets.append(m.group(1))
+    return targets
+
+
 def import_graph() -> dict:
-    """Module -> set of the package's modules it imports (anywhere in its source)."""
+    """Module -> set of the package's modules it imports (anywhere in its source, strings too)."""
     mods = _modules()
 
     def owner(name):  # the longest prefix of ``name`` that is a module of ours
@@ -46,22 +85,8 @@ def import_graph() -> dict:
     graph = {}
     for name, (path, is_pkg) in mods.items():
         here = name if is_pkg else name.rpartition(".")[0]
-        edges = set()
-        for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
-            targets = []
-            if isinstance(node, ast.Import):
-                targets = [a.name for a in node.names]
-            elif isinstance(node, ast.ImportFrom):
-                base = node.module or ""
-                if node.level:
-                    up = here.split(".")[: len(here.split(".")) - (node.level - 1)]
-                    base = ".".join(up + ([node.module] if node.module else []))
-                targets = [f"{base}.{a.name}" if f"{base}.{a.name}" in mods else base
-                           for a in node.names]
-            for t in targets:
-                o = owner(t)
-                if o and o != name:
-                    edges.add(o)
+        tree = ast.parse(path.read_text(), filename=str(path))
+        edges = {o for o in map(owner, import_targets(tree, here, mods)) if o and o != name}
         graph[name] = edges
     return graph
 
@@ -202,3 +227,61 @@ def test_architecture_picture_shows_every_arrow():
     not_drawn = sorted((a, b) for a, b in real if b not in reachable(drawn, a))
     assert not not_real and not not_drawn, \
         f"drawn but not imported: {not_real}; imported but not along the arrows: {not_drawn}"
+
+
+def declared_layers() -> list:
+    """The stack, lowest first, as docs/architecture.md declares it: the line
+    ``Layers, lowest first: `a` → `b` → ...`` (issue 40: a strict stack)."""
+    text = (ROOT / "docs" / "architecture.md").read_text()
+    m = re.search(r"^Layers, lowest first: (.*)$", text, re.M)
+    assert m, "docs/architecture.md declares no 'Layers, lowest first:' line"
+    return re.findall(r"`([\w.]+)`", m.group(1))
+
+
+def against_the_stack(graph: dict, layers: list) -> list:
+    """Module edges that do not go from a higher layer to a lower one ("a -> b (A above? no)").
+    Every package must have a layer; imports inside one package are free (no circles is checked
+    apart)."""
+    rank = {name: i for i, name in enumerate(layers)}
+    bad = []
+    for mod, targets in sorted(graph.items()):
+        a = package_of(mod)
+        for t in sorted(targets):
+            b = package_of(t)
+            if a == b:
+                continue
+            if a not in rank or b not in rank:
+                bad.append(f"{mod} -> {t}: package {a if a not in rank else b} has no layer")
+            elif rank[a] < rank[b]:
+                bad.append(f"{mod} -> {t}: {a} imports {b}, a higher layer")
+    return bad
+
+
+def test_layer_checker_finds_planted_violations():
+    """The checker itself: an upward import statement inside a function, and an upward registry
+    string, are found; a downward import, a docstring and a string that is not a module are not."""
+    mods = {"stand.model.a": None, "stand.scene.b": None, "stand.scene": None}
+    src = ('"""Docstring naming stand.scene.b."""\n'
+           "def f():\n    from stand.scene import b\n"
+           'REG = {"x": ("stand.scene.b:Thing", "")}\n'
+           'MSG = "stand.analyze"\n')
+    found = import_targets(ast.parse(src), "stand.model", mods)
+    assert found == ["stand.scene.b", "stand.scene.b"], found
+    assert import_targets(ast.parse('"""stand.scene.b"""\n'), "stand.model", mods) == []
+    layers = ["stand.model", "stand.scene"]
+    graph = {"stand.model.a": {"stand.scene.b"}, "stand.scene.b": {"stand.model.a"}}
+    bad = against_the_stack(graph, layers)
+    assert len(bad) == 1 and bad[0].startswith("stand.model.a -> stand.scene.b"), bad
+    assert against_the_stack({"stand.scene.b": {"stand.model.a"}}, layers) == []
+    assert "has no layer" in against_the_stack({"stand.new.c": {"stand.model.a"}}, layers)[0]
+
+
+def test_packages_form_a_strict_stack():
+    """Every import between two packages -- statement or module string -- goes from a higher layer
+    to a lower one of docs/architecture.md's order, and the order names every package."""
+    layers = declared_layers()
+    graph = import_graph()
+    missing = sorted({package_of(m) for m in graph} - set(layers))
+    assert not missing, f"packages without a layer in docs/architecture.md: {missing}"
+    bad = against_the_stack(graph, layers)
+    assert not bad, f"{len(bad)} imports against the stack:\n" + "\n".join(bad)
