@@ -7,7 +7,7 @@ numba ``cfunc`` that wraps the stand's own generic right-hand side
 and the stand evaluate the same compiled RHS on the same scaled state (coordinates in
 units of their capacity response, time tau = omega_ref t) at the same rtol / atol; what
 differs is the stepper and what the stand does around it.  The stand is timed as a whole
-call of :func:`stand.model.rotors.coupled.simulate_coupled` and by phases (model
+call of :func:`stand.integrate.coupled.simulate_coupled` and by phases (model
 packing, initial state, the compiled DOP853 loop, the SI conversion of the samples), so a
 gap to the floor is attributed to a phase.
 
@@ -120,7 +120,7 @@ def stand_phases(scene, rtol, atol):
     """
     from stand.integrate.driver import run_dop853
     from stand.integrate.result import SolverStats
-    from stand.model.rotors.coupled import build_model, initial_state, samples_si
+    from stand.integrate.coupled import build_model, initial_state, samples_si
 
     rotor, prog = scene.linear_rotor(), scene.drive.programme
     dur, rate = scene.run.duration, scene.run.sample_rate
@@ -183,7 +183,7 @@ def floor(name, scene, ref, ours, error, tol, rtol, atol, rounds=3):
     -------
     list of (label, Peer, time [s] or None, RHS evaluations, note)
     """
-    from stand.model.rotors.coupled import build_model, initial_state
+    from stand.integrate.coupled import build_model, initial_state
 
     model = build_model(scene.linear_rotor(), scene.weights, scene.drive.programme)
     y0 = initial_state(model, scene.weights)

@@ -14,7 +14,7 @@ against each other:
 * ROSS (``rotor.run_time_response(speed_array, F, t)``: Newmark, average acceleration,
   one step per entry of ``t``) against scipy's DOP853 at rtol 1e-11 on ROSS's own matrices
   ``M q'' + (C + Omega G) q' + (K + Omega' Ksdt) q = F`` (what its Newmark integrates);
-* the stand (:func:`stand.model.rotors.coupled.simulate_coupled`) against the closed
+* the stand (:func:`stand.integrate.coupled.simulate_coupled`) against the closed
   complex Jeffcott equation of ``tests/oracles/runup_exact.py`` (scipy DOP853, rtol 1e-11);
 * the two references against each other (the model gap: the shaft's own flexibility and
   mass distribution in ROSS).

@@ -267,7 +267,7 @@ def two_plane_tracks(seed, workdir, **kw):
     import pandas as pd
 
     from stand.analysis.two_plane import _correction_planes, _forward
-    from stand.model.rotors.coupled import with_locked_weights
+    from stand.integrate.coupled import with_locked_weights
     from stand.recording.hdf5 import read_recording
 
     p = {**TWO_PLANE, **kw}

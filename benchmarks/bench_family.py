@@ -1,6 +1,6 @@
 """The rotor family's generic kernel against its peers (issue 33).
 
-(a) the stand's generic kernel (compiled DOP853, :func:`stand.model.rotors.coupled.simulate_coupled`)
+(a) the stand's generic kernel (compiled DOP853, :func:`stand.integrate.coupled.simulate_coupled`)
     against scipy's ``solve_ivp`` (DOP853) on a right-hand side written here in numpy from the
     equations of :mod:`stand.model.rotors.coupled_kernel`'s docstring (SI state, the Schur
     system assembled with matrix products and solved by ``np.linalg.solve``: the same linear
@@ -100,7 +100,7 @@ def flexible(n_modes: int, balls: int, duration: float = 1.5) -> str:
 
 
 def ours(scene, rtol=RTOL, atol=ATOL):
-    from stand.model.rotors.coupled import simulate_coupled
+    from stand.integrate.coupled import simulate_coupled
 
     r = simulate_coupled(scene.linear_rotor(), scene.weights, scene.drive.programme,
                          scene.run.duration, scene.run.sample_rate, rtol=rtol, atol=atol)
@@ -174,7 +174,7 @@ def numpy_problem(scene):
 def run_numpy(scene, rtol=RTOL, atol=ATOL):
     from scipy.integrate import solve_ivp
 
-    from stand.model.rotors.coupled import build_model
+    from stand.integrate.coupled import build_model
 
     rhs, z0, ts, n = numpy_problem(scene)
     # the stand's atol is on its scaled state (coordinates in units of their capacity response

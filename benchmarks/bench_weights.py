@@ -43,7 +43,7 @@ TOL_RTOL = 1000.0
 
 def liquid_float(repeats: int) -> dict:
     import stand
-    from stand.model.balancers.book_run import run_book
+    from stand.integrate.book_run import run_book
     from stand.model.balancers.runup_closed_form import runup_closed_form
 
     sys.path.insert(0, str(ROOT / "tests"))           # the books' forms are test oracles
@@ -67,7 +67,7 @@ def liquid_float(repeats: int) -> dict:
 def per_weight_cost(counts=(1, 2, 4, 8, 16, 32), calls: int = 200_000) -> list:
     from stand._jit import njit
     from stand.model.rotors.bodies import PlaneBody, TiltingWeight
-    from stand.model.rotors.coupled import build_model, initial_state
+    from stand.integrate.coupled import build_model, initial_state
     from stand.model.rotors.coupled_kernel import rhs_generic
     from stand.model.rotors.planar_supports import planar_rotor
 

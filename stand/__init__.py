@@ -10,7 +10,7 @@ The flat API (imported on first use, so ``import stand`` is cheap)::
 The answers are result objects (docs/results.md): attributes, ``to_dict()``,
 ``to_frame()``, ``plot(ax=)``.
 """
-__version__ = "0.1.0"
+from stand.io import __version__
 
 __all__ = ["load", "run", "read", "theory", "analyze", "report", "track", "balance", "fit", "Scene", "Run", "Recording",
            "SceneError", "RecordingError", "__version__"]

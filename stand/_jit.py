@@ -21,8 +21,8 @@ Stale caches.  numba invalidates a cached function only when *its own* file
 changes, not when a kernel it calls or inlines from another module does: a
 stale cache would silently run old physics.  :func:`drop_stale_caches` keeps,
 per compiled module, a hash of its source and of the compiled modules it
-imports (directly or not; :data:`DYNAMIC_IMPORTS` adds the ones chosen at
-compile time), and deletes that module's cache files when the hash changes:
+imports (directly or not; a string literal naming a module, ``"stand.x.y"``, counts as
+an import: the kernels chosen at compile time by model kind), and deletes that module's cache files when the hash changes:
 editing the generic rotor kernel keeps the planar rotor's caches.
 """
 from __future__ import annotations
@@ -39,10 +39,6 @@ _DISABLED = os.environ.get("STAND_DISABLE_JIT", "") not in ("", "0")
 HAVE_NUMBA = (not _DISABLED) and importlib.util.find_spec("numba") is not None
 
 PACKAGE = Path(__file__).resolve().parent
-
-#: modules whose compiled code calls kernels chosen at compile time (by model kind), so
-#: the static imports do not show them: module -> modules it compiles against
-DYNAMIC_IMPORTS = {"stand.model.kernels": ("stand.model.planar", "stand.model.rotors.coupled_kernel")}
 
 _numba = None          # the numba module, once imported
 _PENDING: list = []    # LazyKernel objects made before numba was imported
@@ -169,6 +165,8 @@ def _module_file(name: str) -> Path | None:
 
 _IMPORT = re.compile(rb"^[ \t]*(?:from[ \t]+(\.*)([\w.]*)[ \t]+import[ \t]+(\([^)]*\)|[^\n#]*)"
                      rb"|import[ \t]+(stand[\w.]*))", re.M)
+#: a string literal naming a module (a registry entry: ``"stand.x.y"`` or ``"stand.x.y:obj"``)
+_NAMED = re.compile(rb"[\"'](stand(?:\.\w+)+)(?::[\w.]+)?[\"']")
 
 
 def _imports(path: Path, name: str) -> set:
@@ -200,7 +198,8 @@ def closure(*names: str, dynamic: bool = True) -> list:
     """The modules a compiled module depends on, as sorted names: itself, what it imports,
     and recursively what the compiled modules among those import (a module without
     compiled code contributes its own source, e.g. constants frozen into the kernels, and
-    is not followed further).  ``dynamic`` adds :data:`DYNAMIC_IMPORTS`."""
+    is not followed further).  ``dynamic`` adds the modules that compiled modules name in
+    string literals (kernels chosen at compile time, e.g. :data:`stand.model.kernels.RHS`)."""
     seen, todo = set(), list(names)
     while todo:
         m = todo.pop()
@@ -212,7 +211,7 @@ def closure(*names: str, dynamic: bool = True) -> list:
             continue
         todo.extend(_imports(f, m))
         if dynamic:
-            todo.extend(DYNAMIC_IMPORTS.get(m, ()))
+            todo.extend(n.decode() for n in _NAMED.findall(f.read_bytes()) if _module_file(n.decode()))
     return sorted(seen)
 
 

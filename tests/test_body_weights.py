@@ -18,13 +18,13 @@ from scipy.integrate import solve_ivp
 
 import stand
 from stand.model.balancers import damper, gravity_pair, liquid_chamber, liquid_float, two_axis
-from stand.model.balancers.book_run import STATE_COLUMNS, initial_state
+from stand.integrate.book_run import STATE_COLUMNS, initial_state
 from oracles.book_run import book_rhs as _rhs
 from stand.model.balancers.composition import composition
 from stand.integrate.driver import run_dop853
 from stand.integrate.result import SolverStats
 from stand.model.rotors.bodies import LiquidWeight, PlaneBody, body_channels
-from stand.model.rotors.coupled import build_model, initial_state as generic_initial, samples_si
+from stand.integrate.coupled import build_model, initial_state as generic_initial, samples_si
 from stand.model.rotors.planar_supports import planar_rotor
 from stand.scene.model import SceneError
 

@@ -8,7 +8,7 @@ import pytest
 import stand
 from stand.scene import experiments as ex
 from stand.cli.main import main
-from stand.model.rotors.coupled import with_locked_weights
+from stand.integrate.coupled import with_locked_weights
 
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 

@@ -112,7 +112,7 @@ def ff():
 
 def test_cfunc_gives_the_generic_kernels_rhs_and_counts_calls(ff):
     bf = _load("bench_family")
-    from stand.model.rotors.coupled import build_model, initial_state
+    from stand.integrate.coupled import build_model, initial_state
     from stand.model.rotors.coupled_kernel import rhs_generic
 
     sc = bf.load(bf.SPATIAL_TWO)

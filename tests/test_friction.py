@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from stand.model.balancers.friction import Friction
-from stand.model.rotors.coupled import PlaneWeights, simulate_coupled
+from stand.integrate.coupled import PlaneWeights, simulate_coupled
 from stand.model.rotors.planar_supports import planar_rotor
 from stand.scene.structure_tables import parse_family_scene
 from stand.scene.model import Balancer, SceneError

@@ -25,7 +25,7 @@ def test_theory_json_holds_the_generalised_criterion_of_the_sample(name, onset_h
     gc = json.loads(out)["generalised_criterion"]
     assert gc["planes"] == ["balancer1", "balancer2"]
     sc = stand.load(path)
-    from stand.model.rotors.coupled import with_locked_weights
+    from stand.integrate.coupled import with_locked_weights
 
     rot = with_locked_weights(sc.linear_rotor(), sc.weights)
 

@@ -156,7 +156,7 @@ def test_theory_json_holds_the_generalised_criterion(scene003):
     gc = doc["generalised_criterion"]
     assert gc["planes"] == ["balancer1", "balancer2"]
     assert "K_xi and K_eta negative definite" in gc["condition"]
-    from stand.model.rotors.coupled import with_locked_weights
+    from stand.integrate.coupled import with_locked_weights
     rot = with_locked_weights(sc.linear_rotor(), sc.weights, sc.bodies)
     planes = ["balancer1", "balancer2"]
     assert gc["onsets_hz"]

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from stand.model.rotors import working_ranges
-from stand.model.rotors.coupled import PlaneWeights, simulate_coupled, with_locked_weights
+from stand.integrate.coupled import PlaneWeights, simulate_coupled, with_locked_weights
 from stand.scene.model import Balancer
 
 

@@ -1,11 +1,11 @@
-"""Weights coupled to the generic LinearRotor (stand.model.rotors.coupled)."""
+"""Weights coupled to the generic LinearRotor (stand.integrate.coupled)."""
 import math
 
 import numpy as np
 import pytest
 
 from stand.model.rotors import LinearRotor, Unbalance, working_ranges
-from stand.model.rotors.coupled import PlaneWeights, simulate_coupled
+from stand.integrate.coupled import PlaneWeights, simulate_coupled
 from stand.scene.model import Balancer
 from stand.scene.parse import load_scene
 from stand.integrate.simulate import simulate
@@ -81,7 +81,7 @@ def test_generic_kernel_allocation_free_matches_a_numpy_solve():
     elimination for n > 12: q'' of the flexible shaft with 10 modes (n = 20) against the same
     Schur system assembled and solved by numpy (round-off: 1e-10 of the largest term)."""
     from stand.scene.parse import load_scene
-    from stand.model.rotors.coupled import build_model, initial_state
+    from stand.integrate.coupled import build_model, initial_state
     from stand.model.rotors.coupled_kernel import (H_OS, rhs_generic, scratch_size, W_J, W_L,
                                                    W_M, W_PLANE)
     from stand.model.programme import programme_kinematics_many
@@ -138,7 +138,7 @@ def test_plane_space_solve_equals_the_general_elimination(torque, one_plane):
     (its phi''-column under a torque drive): every derivative equal to round-off, for random
     states, compiled and in plain Python."""
     from stand.model.rotors.bodies import LiquidWeight, PlaneBody, TiltingWeight
-    from stand.model.rotors.coupled import build_model, initial_state
+    from stand.integrate.coupled import build_model, initial_state
     from stand.model.rotors.coupled_kernel import H_FAST, rhs_generic
     from stand.model.rotors.flexible import flexible_shaft
     from stand.scene.model import RotorTorqueDrive

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from stand.cli.main import main
-from stand.model.rotors.coupled import PlaneWeights, simulate_coupled
+from stand.integrate.coupled import PlaneWeights, simulate_coupled
 from stand.model.rotors.planar_supports import planar_critical_speeds, planar_rotor
 from stand.scene.structure_tables import parse_family_scene
 from stand.scene.parse import load_scene

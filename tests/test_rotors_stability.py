@@ -1,5 +1,5 @@
 """Main-motion stability of any rotor with weights by Floquet multipliers
-(stand.model.rotors.stability), checked against the planar theory of the theory issue
+(stand.theories.rotor_stability), checked against the planar theory of the theory issue
 and against simulation for a rotor the theory does not cover."""
 import math
 
@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from stand.model.rotors import LinearRotor, Unbalance
-from stand.model.rotors.coupled import PlaneWeights, simulate_coupled
+from stand.integrate.coupled import PlaneWeights, simulate_coupled
 from stand.scene.parse import load_scene
-from stand.model.rotors.stability import _state_guess, main_motion_critical_speeds, main_motion_stability
+from stand.theories.rotor_stability import _state_guess, main_motion_critical_speeds, main_motion_stability
 from stand.scene.model import Balancer
 from stand.theories.planar.main_motion import critical_speeds, d_two_balls, spectral_abscissa
 

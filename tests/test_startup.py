@@ -201,7 +201,8 @@ def _fake_package(tmp_path):
     (pkg / "a.py").write_text("from .b import g\n@njit\ndef f(): pass\n")
     (pkg / "b.py").write_text("@njit\ndef g(): pass\n")
     (pkg / "c.py").write_text("@njit\ndef h(): pass\n")
-    for stem in "abc":
+    (pkg / "d.py").write_text('KERNELS = {0: ("stand.c", "h")}\n@njit\ndef k(): pass\n')
+    for stem in "abcd":
         (pkg / "__pycache__" / f"{stem}.f-1.py311.nbi").write_text("x")
         (pkg / "__pycache__" / f"{stem}.f-1.py311.1.nbc").write_text("x")
     return pkg
@@ -210,16 +211,18 @@ def _fake_package(tmp_path):
 def test_a_cache_is_dropped_when_a_module_it_imports_changes(tmp_path, monkeypatch):
     pkg = _fake_package(tmp_path)
     monkeypatch.setattr(_jit, "PACKAGE", pkg)
-    monkeypatch.setattr(_jit, "DYNAMIC_IMPORTS", {})
     cache = pkg / "__pycache__"
     _jit.drop_stale_caches()          # first sight: no stamps yet, every cache dropped
-    for stem in "abc":
+    for stem in "abcd":
         (cache / f"{stem}.f-1.py311.nbi").write_text("x")
     _jit.drop_stale_caches()          # nothing changed: all kept
-    assert {p.name.split(".")[0] for p in cache.glob("*.nbi")} == {"a", "b", "c"}
+    assert {p.name.split(".")[0] for p in cache.glob("*.nbi")} == {"a", "b", "c", "d"}
     (pkg / "b.py").write_text("@njit\ndef g(): return 1\n")
     _jit.drop_stale_caches()          # b changed: b's and its importer a's caches go, c's stays
-    assert {p.name.split(".")[0] for p in cache.glob("*.nbi")} == {"c"}
+    assert {p.name.split(".")[0] for p in cache.glob("*.nbi")} == {"c", "d"}
+    (pkg / "c.py").write_text("@njit\ndef h(): return 1\n")
+    _jit.drop_stale_caches()          # c changed: c's and d's, which names it in a string, go
+    assert {p.name.split(".")[0] for p in cache.glob("*.nbi")} == set()
 
 
 def test_compilation_is_announced_only_when_it_takes_time(capsys):
@@ -374,7 +377,7 @@ def test_warm_run_of_every_kind_imports_no_numba(name, tmp_path):
     if precompiled.available() is not None:
         pytest.skip(f"precompiling unavailable: {precompiled.available()}")
     _python("from stand.integrate.kernel_set import kernels\nfrom stand.integrate import "
-            "precompiled\nkernels(1, build=True)\nprecompiled.build('render')")
+            "precompiled\nkernels(1, build=True)\nprecompiled.build('stand.instruments.render:render_frame')")
     code = ("import sys\nfrom stand.cli.main import main\n"
             f"rc = main(['run', {str(SCENES / (name + '.toml'))!r}, '-o', "
             f"{str(tmp_path / 'r.h5')!r}, '--force'])\n"
@@ -384,12 +387,12 @@ def test_warm_run_of_every_kind_imports_no_numba(name, tmp_path):
 
 
 def test_precompiled_renderer_equals_the_jit_one():
-    """The precompiled screen renderer (precompiled.EXTRAS) draws the same frame bit for bit."""
+    """The precompiled screen renderer (an extra of stand.integrate.precompiled) draws the same frame bit for bit."""
     if precompiled.available() is not None:
         pytest.skip(f"precompiling unavailable: {precompiled.available()}")
     from stand.instruments import render
 
-    mod = precompiled.build("render")
+    mod = precompiled.build("stand.instruments.render:render_frame")
     r = render._Renderer.__new__(render._Renderer)
     thr, guide, kmin = render.background_table(8.0, 2.0, True, 10.0, 255)
     u = np.array([30.2, 31.0, 31.7])

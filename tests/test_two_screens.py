@@ -8,7 +8,7 @@ import pytest
 from dsp.errors import SignalError
 from dsp.two_plane import principal_axis_offsets, shaft_axis_points, two_plane_unbalances
 from stand.model.rotors import Unbalance
-from stand.model.rotors.coupled import simulate_coupled
+from stand.integrate.coupled import simulate_coupled
 from stand.model.rotors.spatial import spatial_scene_rotor
 
 

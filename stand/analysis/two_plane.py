@@ -90,7 +90,7 @@ def two_plane(path, tracks, grade: float = 6.3, service_speed_rpm: float | None 
     from dsp.unbalance import iso_21940_permissible
 
     from stand.recording.hdf5 import read_recording
-    from stand.model.rotors.coupled import with_locked_weights
+    from stand.integrate.coupled import with_locked_weights
 
     if len(tracks) != 2:
         raise ValueError(f"--tracks: two screens' tracks, got {len(tracks)}")

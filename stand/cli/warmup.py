@@ -73,7 +73,7 @@ def warmup(every_kind: bool = False, say=print, precompile: bool = True, kinds=N
 
         t0 = time.perf_counter()
         try:
-            source = "precompiled" if precompiled.build("render") is not None else "jit"
+            source = "precompiled" if precompiled.build("stand.instruments.render:render_frame") is not None else "jit"
         except Exception:  # noqa: BLE001 - no compiler: numba's JIT on first use
             source = "jit"
         row = {"what": "screen renderer (stand run with a screen)", "source": source,

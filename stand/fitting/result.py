@@ -63,7 +63,7 @@ class Fit(Result):
         what, with the ± and the fit's chi^2/dof."""
         from stand.fitting.paths import document_text
 
-        from stand import __version__ as version
+        from stand.io import __version__ as version
 
         body = document_text(self._document, self._values, self._template_text)
         if body is None:          # a key the text's layout hides: the document re-written

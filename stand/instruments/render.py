@@ -427,7 +427,20 @@ def _render_kernel():
     as fast as one without), or on numba's JIT (stand.integrate.kernel_set.extra)."""
     from stand.integrate.kernel_set import extra
 
-    return extra("render", render_frame)
+    return extra(render_frame)
+
+
+def render_frame_signature():
+    """numba's signature of :func:`render_frame` for its precompiled module (readonly arrays
+    need the type objects; :func:`stand.integrate.kernel_set.extra`)."""
+    from numba import types
+
+    a1 = types.Array(types.float64, 1, "C")
+    ro = lambda t: types.Array(t, 1, "C", readonly=True)  # noqa: E731
+    f8, i8, b1 = types.float64, types.int64, types.boolean
+    return types.int64(a1, a1, a1, f8, f8, f8, f8, f8, f8, b1, i8, b1, types.uint64,
+                       ro(types.int64), ro(types.int32), i8, f8, types.Array(f8, 2, "C"),
+                       types.Array(types.uint16, 2, "C"))
 
 
 def _settings(cam):

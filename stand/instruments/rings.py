@@ -124,7 +124,7 @@ def family_ring_radii(scene: Scene, speed: Optional[float] = None,
                       zones: Iterable[int] = ZONES, cam=None,
                       plane: Optional[str] = None) -> np.ndarray:
     """Ring radii [m] of a rotor-family scene: the steady response of the locked-weights
-    rotor (:func:`stand.model.rotors.coupled.with_locked_weights`, every weight's mass moving
+    rotor (:func:`stand.integrate.coupled.with_locked_weights`, every weight's mass moving
     with its plane) to the unbalance i S / 16 in the main plane (where the balancer of
     capacity S sits), seen in ``plane`` (the screen's; an axis point ``axis@<d>m`` too).
 
@@ -132,7 +132,7 @@ def family_ring_radii(scene: Scene, speed: Optional[float] = None,
     isotropic rotor and an ellipse otherwise; the radius is its semi-major axis
     ``|A| + |B|`` (as the planar closed form).  The phase of the unbalance does not change it.
     """
-    from stand.model.rotors.coupled import with_locked_weights
+    from stand.integrate.coupled import with_locked_weights
 
     S = _capacity(scene)
     w = _speed(scene, speed)

@@ -277,7 +277,7 @@ def _generic_velocity(traj, state):
     """Main-plane velocity (vx, vy) [m/s] of a run of the generic kernel, or None.
 
     Scenes with body weights or dry friction (and the rotor family) run on the generic kernel
-    (:mod:`stand.model.rotors.coupled`), whose state is ``[q, alpha, q', alpha', body
+    (:mod:`stand.integrate.coupled`), whose state is ``[q, alpha, q', alpha', body
     states]`` scaled per coordinate: the planar layout (half the state width)
     does not apply.  The model is rebuilt from the scene (cheap: tables only)
     for its layout and scales.
@@ -285,7 +285,7 @@ def _generic_velocity(traj, state):
     scene = getattr(traj, "scene", None)
     if scene is None or not getattr(scene, "generic_kernel", ""):
         return None
-    from stand.model.rotors.coupled import build_model
+    from stand.integrate.coupled import build_model
 
     d = scene.drive
     torque = d.kind != "speed"

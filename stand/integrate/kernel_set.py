@@ -269,11 +269,15 @@ _JIT_USED: set = set()
 _EXTRAS: dict = {}
 
 
-def extra(name: str, jit_function: Callable) -> Callable:
-    """The compiled function ``name`` of :data:`stand.integrate.precompiled.EXTRAS` (e.g. the
-    screen renderer), from the fastest source as :func:`kernels`: its precompiled module
-    (no numba import), else ``jit_function`` (numba's JIT; the command line then builds the
-    module in the background).  ``STAND_KERNELS=precompiled`` builds it now if missing."""
+def extra(jit_function: Callable) -> Callable:
+    """A compiled function outside the integrator (e.g. the screen renderer), from the fastest
+    source as :func:`kernels`: its precompiled module (no numba import; the extra is named
+    ``"<module>:<function>"`` after ``jit_function``, whose module gives
+    ``<function>_signature()``), else ``jit_function`` (numba's JIT; the command line then
+    builds the module in the background).  ``STAND_KERNELS=precompiled`` builds it now if
+    missing."""
+    py = getattr(jit_function, "py_func", jit_function)
+    name = f"{py.__module__}:{py.__name__}"
     if name in _EXTRAS:
         return _EXTRAS[name]
     mode = _mode()
@@ -286,7 +290,7 @@ def extra(name: str, jit_function: Callable) -> Callable:
             with _Announce(f"{name} kernel", 10):
                 mod = precompiled.build(name)
         if mod is not None:
-            f = getattr(mod, precompiled.EXTRAS[name][1])
+            f = getattr(mod, py.__name__)
         elif mode == "auto":
             _JIT_USED.add(name)
     _EXTRAS[name] = f
@@ -309,7 +313,7 @@ def precompile_in_background(say: bool = True) -> list:
                 or precompiled.building(kind)):
             continue
         subprocess.Popen([sys.executable, "-m", "stand.integrate.precompiled",
-                          precompiled._label(kind)],
+                          kind if precompiled.is_extra(kind) else precompiled._label(kind)],
                          stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
                          stderr=subprocess.DEVNULL, start_new_session=True, close_fds=True)
         started.append(precompiled._label(kind))

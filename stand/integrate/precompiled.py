@@ -44,27 +44,15 @@ EXPORTS = {
     "evaluate": f"void(f8, {_ARR1}, {_ARR1}, {_ARR1}, {_ARR2}, {_ARR2})",
 }
 
-#: compiled functions outside the integrator, precompiled on their own (one module each):
-#: name -> (module, function, signature text; the types are made in :func:`_extra_signature`)
-EXTRAS = {
-    "render": ("stand.instruments.render", "render_frame",
-               "i8(f8[::1], f8[::1], f8[::1], f8, f8, f8, f8, f8, f8, b1, i8, b1, u8, "
-               "readonly i8[::1], readonly i4[::1], i8, f8, f8[:,::1], u2[:,::1])"),
-}
+#: A compiled function outside the integrator (an *extra*, e.g. the screen renderer) is
+#: precompiled on its own module, named ``"<module>:<function>"`` by the layer that owns it
+#: (:func:`stand.integrate.kernel_set.extra`): the integrator names no layer above it.  The
+#: module gives the function's numba signature as ``<function>_signature()``.
 
 
-def _extra_signature(name: str):
-    """numba's signature of extra ``name`` (EXTRAS; readonly arrays need the type objects)."""
-    from numba import types
-
-    if name != "render":  # pragma: no cover - one extra so far
-        raise KeyError(name)
-    a1 = types.Array(types.float64, 1, "C")
-    ro = lambda t: types.Array(t, 1, "C", readonly=True)  # noqa: E731
-    f8, i8, b1 = types.float64, types.int64, types.boolean
-    return types.int64(a1, a1, a1, f8, f8, f8, f8, f8, f8, b1, i8, b1, types.uint64,
-                       ro(types.int64), ro(types.int32), i8, f8, types.Array(f8, 2, "C"),
-                       types.Array(types.uint16, 2, "C"))
+def is_extra(kind) -> bool:
+    """Whether ``kind`` names an extra (``"<module>:<function>"``), not a model kind."""
+    return isinstance(kind, str) and ":" in kind
 
 
 def cache_dir() -> Path:
@@ -100,16 +88,16 @@ def _numba_version() -> str:
 
 
 def _label(kind) -> str:
-    """A model kind's name, or an extra's name (:data:`EXTRAS`)."""
-    return kind if kind in EXTRAS else KIND_NAMES[kind]
+    """A model kind's name, or an extra's function name."""
+    return kind.rpartition(":")[2] if is_extra(kind) else KIND_NAMES[kind]
 
 
 def module_name(kind) -> str:
-    """Name of the precompiled module of model ``kind`` (or of extra ``kind``, a name in
-    :data:`EXTRAS`) for the current sources."""
+    """Name of the precompiled module of model ``kind`` (or of extra ``kind``,
+    ``"<module>:<function>"``) for the current sources."""
     h = hashlib.sha1()
     h.update(_jit.sources_hash(kernel_modules(kind)).encode())
-    exports = EXTRAS[kind] if kind in EXTRAS else sorted(EXPORTS.items())
+    exports = kind if is_extra(kind) else sorted(EXPORTS.items())
     for part in (_numba_version(), sys.version, _cpu(), repr(exports)):
         h.update(part.encode())
     return f"_stand_{_label(kind)}_{h.hexdigest()[:16]}"
@@ -117,8 +105,8 @@ def module_name(kind) -> str:
 
 def kernel_modules(kind) -> list:
     """The package modules whose sources make up kind ``kind``'s compiled kernels."""
-    if kind in EXTRAS:
-        return _jit.closure(EXTRAS[kind][0], dynamic=False)
+    if is_extra(kind):
+        return _jit.closure(kind.partition(":")[0], dynamic=False)
     return _jit.closure("stand.integrate.dop853", "stand.model.kernels", RHS[kind][0], dynamic=False)
 
 
@@ -247,9 +235,12 @@ def main(argv=None) -> int:
     import traceback
 
     args = sys.argv[1:] if argv is None else argv
-    names = {**{v: k for k, v in KIND_NAMES.items()}, **{e: e for e in EXTRAS}}
+    names = {v: k for k, v in KIND_NAMES.items()}
+    if len(args) == 1 and is_extra(args[0]):
+        names[args[0]] = args[0]
     if len(args) != 1 or args[0] not in names:
-        print(f"usage: python -m stand.integrate.precompiled {{{','.join(names)}}}", file=sys.stderr)
+        print(f"usage: python -m stand.integrate.precompiled {{{','.join(names)},<module>:<function>}}",
+              file=sys.stderr)
         return 2
     try:
         os.nice(10)
@@ -271,12 +262,13 @@ def _build(kind, numba, out):
     name = module_name(kind)
     import numpy as np
 
-    if kind in EXTRAS:
+    if is_extra(kind):
         import importlib
 
-        module, func, _ = EXTRAS[kind]
-        f = getattr(importlib.import_module(module), func)
-        exports = {func: (_extra_signature(kind), getattr(f, "dispatcher", f))}
+        module, _, func = kind.partition(":")
+        mod = importlib.import_module(module)
+        f = getattr(mod, func)
+        exports = {func: (getattr(mod, f"{func}_signature")(), getattr(f, "dispatcher", f))}
     else:
         exports = _kernel_exports(kind, np)
     with tempfile.TemporaryDirectory(dir=out, prefix=".build-") as tmp:

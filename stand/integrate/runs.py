@@ -2,7 +2,7 @@
 samples as a :class:`stand.integrate.result.Run`.
 
 Used by :mod:`stand.integrate.simulate` (the scenes' entry point) and by the book weight
-models' runs (:mod:`stand.model.balancers.book_run`), which build their generic composition
+models' runs (:mod:`stand.integrate.book_run`), which build their generic composition
 and integrate it here -- so neither reaches into the other.  Times handed to the driver are
 dimensionless (``tau = omega_1 t``), sample times in seconds.
 """
@@ -73,7 +73,7 @@ def integrate_model(scene, model, y0, tau_end, ts, out, stats, method, progress,
 def generic_run(scene, model, out, tau, stats) -> Run:
     """The generic kernel's samples ``out`` at the dimensionless times ``tau`` as a
     :class:`Run` (SI channels, weights' and bodies' coordinates, residual unbalance truth)."""
-    from stand.model.rotors.coupled import samples_si
+    from stand.integrate.coupled import samples_si
 
     t, q, qd, phi, speed, alpha, planes, residual = samples_si(model, out, tau)
     n, nw, w = model.n, model.nw, model.omega_1

@@ -9,7 +9,7 @@ of the weights: :attr:`stand.scene.model.Scene.generic_kernel`) and the planar r
 ``kernel="generic"`` on the generic kernel (:mod:`stand.model.rotors.coupled_kernel`); both through the one integrator
 path :mod:`stand.integrate.driver`.  A book weight model (``[weight_model]``)
 runs its own right-hand side through scipy's solvers
-(:mod:`stand.model.balancers.book_run`, reached through :data:`RUNNERS`).  Methods:
+(:mod:`stand.integrate.book_run`, reached through :data:`RUNNERS`).  Methods:
 
 * ``"DOP853"`` -- compiled explicit 8th-order Runge-Kutta (:mod:`stand.integrate.dop853`),
   the default for ordinary scenes;
@@ -42,7 +42,7 @@ STIFFNESS_RATIO = 30.0
 #: the planar run's result type under its earlier name
 Trajectory = Run
 #: where the runs of scene kinds with their own run code live (imported when a scene uses them)
-RUNNERS = {"book": ("stand.model.balancers.book_run:run_book", "ch. 6, 7, paper 001, thesis 002")}
+RUNNERS = {"book": ("stand.integrate.book_run:run_book", "ch. 6, 7, paper 001, thesis 002")}
 
 
 def stiffness(model: PlanarModel) -> float:
@@ -173,7 +173,7 @@ def auto_method(scene: Scene) -> str:
         return "DOP853"
     if scene.kind == "planar" and not scene.generic_kernel:
         return choose_method(build_planar_model(scene), "auto")[0]
-    from stand.model.rotors.coupled import build_model
+    from stand.integrate.coupled import build_model
 
     d = scene.drive
     torque = d.kind == "torque"
@@ -186,7 +186,7 @@ def auto_method(scene: Scene) -> str:
 def _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoint,
                       checkpoint_steps) -> Run:
     """Any LinearRotor with its weights (stand.model.rotors.coupled_kernel) -> Run."""
-    from stand.model.rotors.coupled import build_model, initial_state as generic_initial
+    from stand.integrate.coupled import build_model, initial_state as generic_initial
 
     torque = scene.drive.kind == "torque"
     blows = [p for p in scene.perturbations if p.kind == "impulse"]

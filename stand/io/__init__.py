@@ -9,4 +9,8 @@
 * :mod:`.result` -- the base of the result objects (``to_dict``, ``to_frame``, ``plot(ax=)``).
 * :mod:`.numbers`, :mod:`.labels` -- the one formatter of a value with its ± and unit, and the one
   table of human names with units (CLI text, reports, figure labels).
+
+``__version__`` is the package's version (``stand.__version__``), here so that every layer can
+name it without importing the API.
 """
+__version__ = "0.1.0"

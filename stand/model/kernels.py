@@ -16,7 +16,7 @@ import importlib
 from stand._jit import literally, njit, when_numba
 
 PLANAR = 0
-GENERIC = 1   #: any LinearRotor with weights in any planes (stand.model.rotors.coupled)
+GENERIC = 1   #: any LinearRotor with weights in any planes (stand.integrate.coupled)
 
 #: model kind -> (module, function) of its compiled right-hand side
 #: ``f(t, y, dy, sp, wt, prog)`` (writes dy); imported when the kind is first used

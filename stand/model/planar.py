@@ -37,7 +37,6 @@ import numpy as np
 from stand._jit import njit
 from stand.model.programme import (build_table, breakpoints, drive_torque_law, programme_kinematics,
                         programme_kinematics_many, rotor_kinematics)
-from stand.scene.model import Scene, SpeedDrive
 from stand.model.structure import PlanarStructure
 from stand.model.weights import EPS, H, MU, NU, weight_table
 
@@ -127,7 +126,7 @@ class PlanarModel:
         return rotor_kinematics_many(np.asarray(tau, float), self.prog[:int(self.sp[N_PROG])], self.sp)
 
 
-def build_planar_model(scene: Scene) -> PlanarModel:
+def build_planar_model(scene) -> PlanarModel:
     """Make the dimensionless model of a scene."""
     st = PlanarStructure.from_scene(scene)
     w1 = st.natural_frequency
@@ -158,7 +157,6 @@ def build_planar_model(scene: Scene) -> PlanarModel:
         sp[WTARGET] = d.target_speed / w1
         prog = np.zeros((1, 3))
     else:
-        assert isinstance(d, SpeedDrive)
         pr = np.asarray(d.programme, float)
         prog = build_table(pr[:, 0] * w1, pr[:, 1] / w1)
         prog[:, 2] += d.initial_angle
@@ -182,7 +180,7 @@ def build_planar_model(scene: Scene) -> PlanarModel:
                        omega_1=w1, length=L, structure=st, impulses=impulses)
 
 
-def rotor_unbalance(scene: Scene, t: np.ndarray) -> np.ndarray:
+def rotor_unbalance(scene, t: np.ndarray) -> np.ndarray:
     """The rotor's unbalance M e e^{i beta} [kg*m] at times ``t`` [s], rotor frame,
     following the scene's unbalance changes (piecewise linear; a discrete change
     takes effect at its time)."""
@@ -207,7 +205,7 @@ def rotor_unbalance(scene: Scene, t: np.ndarray) -> np.ndarray:
     return out
 
 
-def perturbation_tables(scene: Scene, Ms: float, L: float, w1: float):
+def perturbation_tables(scene, Ms: float, L: float, w1: float):
     """Dimensionless tables of the scene's perturbations (tables 4.5-4.6 of the book).
 
     Returns the unbalance programme ``[tau, u_x, u_y]`` (empty when the
@@ -236,7 +234,7 @@ def perturbation_tables(scene: Scene, Ms: float, L: float, w1: float):
     return ub, np.array(forces).reshape(-1, 6), np.array(impulses).reshape(-1, 3)
 
 
-def initial_state(scene: Scene, model: PlanarModel) -> np.ndarray:
+def initial_state(scene, model: PlanarModel) -> np.ndarray:
     """Dimensionless initial state from the scene's initial conditions."""
     nq, n, L, w1 = model.nq, model.n, model.length, model.omega_1
     y = np.zeros(2 * nq)

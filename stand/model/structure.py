@@ -14,8 +14,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from stand.scene.model import Scene
-
 
 @dataclass(frozen=True)
 class PlanarStructure:
@@ -45,7 +43,9 @@ class PlanarStructure:
     rotor_inertia: float | None
 
     @classmethod
-    def from_scene(cls, scene: Scene) -> "PlanarStructure":
+    def from_scene(cls, scene) -> "PlanarStructure":
+        """The structure of a planar scene (any object with the attributes of
+        :class:`stand.scene.model.Scene`: ``supports``, ``rotor``, ``total_mass``)."""
         s = scene.supports
         return cls(
             total_mass=scene.total_mass,

@@ -10,15 +10,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from stand.scene.model import Balancer
-
 #: columns of the weight table
 EPS, MU, H, NU = 0, 1, 2, 3
 
 
-def weight_table(balancer: Balancer, total_mass: float, length: float,
+def weight_table(balancer, total_mass: float, length: float,
                  omega_1: float, rotor_inertia: float | None) -> np.ndarray:
-    """Dimensionless coefficients, one row per weight.
+    """Dimensionless coefficients, one row per weight of ``balancer`` (the attributes of
+    :class:`stand.scene.model.Balancer`: ``count``, ``mass`` [kg], ``radius`` [m], ``inertia``
+    [kg m^2], ``moment_drag`` [N m s]).
 
     Columns (see :mod:`stand.model.planar` for the equations):
 

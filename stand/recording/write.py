@@ -122,7 +122,7 @@ def write_recording(run: Any, path: Union[str, os.PathLike], *,
         The run's arrays have inconsistent shapes, or ``extra_attrs`` uses a
         reserved name or holds ``None``.
     """
-    from stand import __version__
+    from stand.io import __version__
 
     path = check_output_path(path, "recording")
     extra = dict(extra_attrs or {})

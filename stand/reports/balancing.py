@@ -101,7 +101,7 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
         service_speed_rpm = float(service_speed_rpm)
         if not (math.isfinite(service_speed_rpm) and service_speed_rpm > 0):
             raise ValueError(f"service_speed_rpm = {service_speed_rpm!r}: must be > 0 rpm")
-    from stand import __version__
+    from stand.io import __version__
 
     rec = load_record(recording_path, recording_map)
     d = rec.data

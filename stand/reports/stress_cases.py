@@ -70,7 +70,7 @@ def _liquid_scene(case, prm):
 
 
 def _kind_liquid(case, res):
-    from stand.model.balancers.book_run import run_book
+    from stand.integrate.book_run import run_book
     from stand.model.balancers.liquid_float import LiquidFloatParams
     from stand.model.balancers.runup_closed_form import free_whirl_amplitudes, runup_closed_form_state
 
@@ -122,7 +122,7 @@ def _kind_liquid(case, res):
 
 # ------------------------------------------------------------------ kind: platform
 def _kind_platform(case, res):
-    from stand.model.rotors.coupled import PlaneWeights, simulate_coupled
+    from stand.integrate.coupled import PlaneWeights, simulate_coupled
     from stand.model.rotors.platform import platform_rotor
     from stand.scene.model import Balancer
 
@@ -208,7 +208,7 @@ def warm(case: dict) -> None:
     if case["kind"] in PLANAR_KINDS or case["kind"] == "body_scene":
         warm_planar(case)   # a scene file: a tiny run of it compiles its kernels
     elif case["kind"] == "platform":
-        from stand.model.rotors.coupled import PlaneWeights, simulate_coupled
+        from stand.integrate.coupled import PlaneWeights, simulate_coupled
         from stand.model.rotors.platform import platform_rotor
         from stand.scene.model import Balancer
 

@@ -13,14 +13,14 @@ gives its parameters by the names of the module's parameter dataclass::
     [run]                      # optional
     duration = 200.0           # dimensionless time tau = omega_0 t (s for the liquids)
     samples = 2001
-    initial = [...]            # optional state vector (stand.model.balancers.book_run.STATE_COLUMNS)
+    initial = [...]            # optional state vector (stand.integrate.book_run.STATE_COLUMNS)
     speed = 30.0               # liquid_chamber: the run's constant speed [rad/s]
 
 :func:`stand.load` builds one :class:`stand.scene.model.Scene` whose ``structure`` is a
 :class:`stand.scene.model.BookModel`; ``stand theory`` prints the model's steady
 motions (with stability), its quasi-periodic motions or efficiency, or the
 closed-form run-up extrema (:func:`model_theory`); ``stand run`` integrates it
-(:mod:`stand.model.balancers.book_run`) into the common recording.
+(:mod:`stand.integrate.book_run`) into the common recording.
 """
 from __future__ import annotations
 

@@ -64,7 +64,7 @@ def _f0(scene: Scene) -> float:
     with its weights locked otherwise."""
     if scene.kind == "planar":
         return scene.natural_frequency / TWO_PI
-    from stand.model.rotors.coupled import with_locked_weights
+    from stand.model.rotors.coupled_kernel import with_locked_weights
 
     wn = with_locked_weights(scene.linear_rotor(), scene.weights,
                              scene.bodies).natural_frequencies(0.0)

@@ -502,7 +502,7 @@ class Scene:
 
         For the planar rotor this is model 2.5.1 (:func:`stand.model.rotors.planar_supports.planar_rotor`)
         with the rotor's mass, the supports and the unbalance M e; the weights are not
-        included (they are coupled by :mod:`stand.model.rotors.coupled`).
+        included (they are coupled by :mod:`stand.integrate.coupled`).
         """
         if isinstance(self.structure, RotorStructure):
             return self.structure.rotor

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from stand.model.rotors.coupled import with_locked_weights
+from stand.integrate.coupled import with_locked_weights
 from stand.scene.structure_tables import ROTOR_TYPES
 from stand.model.rotors.structure import generalised_working_ranges, working_ranges
 
@@ -43,7 +43,7 @@ def _floquet_scan(scene, ranges: dict, lo: float, hi: float, n: int = 14) -> dic
     """Main-motion critical speeds by Floquet continuation from the operating speed, under
     the work budget :data:`FLOQUET_BUDGET`."""
     from stand.errors import Budget
-    from stand.model.rotors.stability import step_budget
+    from stand.theories.rotor_stability import step_budget
 
     with step_budget(Budget("the Floquet scan (one-revolution flows of the main motion)",
                             FLOQUET_BUDGET, "state-steps")):
@@ -52,7 +52,7 @@ def _floquet_scan(scene, ranges: dict, lo: float, hi: float, n: int = 14) -> dic
 
 def _floquet_scan_within(scene, ranges: dict, lo: float, hi: float, n: int) -> dict:
     from stand.errors import BudgetExceeded
-    from stand.model.rotors.stability import _state_guess, main_motion_critical_speeds, main_motion_stability
+    from stand.theories.rotor_stability import _state_guess, main_motion_critical_speeds, main_motion_stability
 
     w0 = scene.operating_speed
     if not w0 > 0:

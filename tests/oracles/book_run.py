@@ -1,8 +1,8 @@
 """The books' own right-hand sides behind one calling convention, and a ``[weight_model]``
-scene run on them -- the oracle path of :func:`stand.model.balancers.book_run.run_book`.
+scene run on them -- the oracle path of :func:`stand.integrate.book_run.run_book`.
 
 :func:`book_rhs` gives ``f(tau, y)`` of a model's fixed frame in the state layout
-:data:`stand.model.balancers.book_run.STATE_COLUMNS` (the three calling conventions of
+:data:`stand.integrate.book_run.STATE_COLUMNS` (the three calling conventions of
 the books' modules papered over); :func:`run_book_oracle` integrates it with scipy's
 solvers through the one integrator path (:func:`stand.integrate.driver.run_scipy`) into
 the common :class:`stand.integrate.result.Run`, with the same ``state/<column>``
@@ -24,13 +24,13 @@ import numpy as np
 from stand.integrate.driver import run_scipy
 from stand.integrate.result import Run, SolverStats
 from stand.integrate.runs import sample_times
-from stand.model.balancers.book_run import DIMENSIONLESS_NOTE, MODULES, STATE_COLUMNS, initial_state
+from stand.integrate.book_run import DIMENSIONLESS_NOTE, MODULES, STATE_COLUMNS, initial_state
 from stand.scene.model import SceneError
 
 __all__ = ["book_rhs", "run_book_oracle"]
 
 #: where each model's book right-hand side lives (moved here model by model; the rest are
-#: still in the package's modules, stand.model.balancers.book_run.MODULES)
+#: still in the package's modules, stand.integrate.book_run.MODULES)
 ORACLES = {**MODULES, "gravity_pair": "oracles.gravity_pair", "damper": "oracles.damper",
            "two_axis": "oracles.two_axis", "liquid_float": "oracles.liquid_float"}
 

@@ -24,7 +24,7 @@ import numpy as np
 
 from stand.model.balancers.composition import composition
 from stand.model.rotating import rotating_rhs
-from stand.model.rotors.coupled import build_model
+from stand.model.rotors.coupled_kernel import build_model
 
 __all__ = ["rotating_form"]
 

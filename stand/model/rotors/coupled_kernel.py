@@ -65,7 +65,7 @@ models 1-3): constant M; c1 (omega - phi'); c1 (omega - phi') + c2 (omega t - ph
 The integration is the one integrator path (:mod:`stand.integrate.driver`,
 compiled DOP853 or scipy's methods) with model kind ``GENERIC`` in
 :mod:`stand.model.kernels`; this module holds the compiled right-hand side and the
-packing only (the runner is :mod:`stand.model.rotors.coupled`), so that the kernels
+packing only (the runner is :mod:`stand.integrate.coupled`), so that the kernels
 import nothing that imports them.  Time is scaled by a
 reference frequency omega_ref (tau = omega_ref t) and each coordinate by its
 own length scale, so that the tolerances mean the same for every rotor.
@@ -80,7 +80,6 @@ import numpy as np
 
 from stand._jit import njit
 from stand.model.programme import build_table, drive_torque_law, programme_kinematics
-from stand.scene.model import PlaneWeights  # noqa: F401 (re-exported: the kernel's input)
 from stand.model.rotors.bodies import PlaneBody, body_rows
 from stand.model.rotors.bodies_kernel import (B_H1, B_H2, B_KIND, B_OFF, B_PLANE, N_BCOL, SPHERE, TILT,
                             body_derivatives, body_reaction)
@@ -88,7 +87,7 @@ from stand.model.rotors.coupled_solve import (matrix_kind, plane_parts, rotor_fo
                                              solve_general, solve_planes, t_dot)
 from stand.model.rotors.structure import LinearRotor
 
-__all__ = ["PlaneWeights", "CoupledModel", "build_model", "rhs_generic", "scratch_size",
+__all__ = ["CoupledModel", "build_model", "rhs_generic", "scratch_size",
            "with_locked_weights"]
 
 # header of the scalar parameter vector sp
@@ -113,7 +112,7 @@ W_PLANE, W_M, W_L, W_J, W_H, W_MUK, W_MUS, W_VS, W_TD, W_TR, W_Z = range(11)
 N_WCOL = 11
 
 
-def with_locked_weights(rotor: LinearRotor, weights: Sequence[PlaneWeights],
+def with_locked_weights(rotor: LinearRotor, weights: Sequence,
                         bodies: Sequence[PlaneBody] = ()) -> LinearRotor:
     """The rotor with its weights locked (their masses moving with the planes:
     ``M + sum m_j T_p^T T_p``, body weights included): the structure the engineering
@@ -426,7 +425,7 @@ def _positive(name, v, unit):
     return v
 
 
-def build_model(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,
+def build_model(rotor: LinearRotor, weights: Sequence, programme,
                 omega_ref: Optional[float] = None, bodies: Sequence[PlaneBody] = (),
                 inertia: Optional[float] = None) -> CoupledModel:
     """Pack a rotor, its weights and a speed programme for the compiled RHS.
@@ -434,8 +433,9 @@ def build_model(rotor: LinearRotor, weights: Sequence[PlaneWeights], programme,
     Parameters
     ----------
     rotor : LinearRotor
-    weights : sequence of PlaneWeights
-        Weights per plane (any number of planes, any number of weights).
+    weights : sequence of plane weights
+        Weights per plane (any number of planes, any number of weights): objects with
+        ``plane``, ``balancer`` and ``friction``, as :class:`stand.scene.model.PlaneWeights`.
     programme : array (k, 2) or TorqueDrive
         Speed programme ``[[t_s, omega_rad_s], ...]``, piecewise linear, held
         after the last node; or a torque drive (:class:`stand.scene.model.TorqueDrive`):

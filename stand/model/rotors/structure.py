@@ -73,7 +73,7 @@ class LinearRotor:
         Mass, gyroscopic (per unit spin, skew-symmetric), damping, stiffness
         (SI, consistent with the coordinates).  The rotor's own unbalance masses
         are included in M; the correction weights are NOT (they are added by
-        the coupling, :mod:`stand.model.rotors.coupled`).
+        the coupling, :mod:`stand.integrate.coupled`).
     planes : dict of str -> ndarray (2, n)
         T_p for each named plane.
     unbalances : tuple of Unbalance

@@ -15,11 +15,13 @@ from typing import Sequence
 import numpy as np
 
 from stand.model.programme import programme_kinematics_many
-from stand.scene.model import RotorTorqueDrive  # noqa: F401 (re-exported; it lives with the scene)
+from stand.scene.model import PlaneWeights, RotorTorqueDrive  # noqa: F401 (re-exported: the inputs)
 from stand.model.rotors.bodies import body_channels, body_initial
-from stand.model.rotors.coupled_kernel import (H_W0, W_L, W_M, W_PLANE, CoupledModel, PlaneWeights, build_model,
-                             rhs_generic, with_locked_weights)
+from stand.model.rotors.coupled_kernel import (H_W0, W_L, W_M, W_PLANE, CoupledModel, build_model,
+                                               rhs_generic, with_locked_weights)
 from stand.model.rotors.structure import LinearRotor
+from stand.integrate.driver import run_dop853
+from stand.integrate.result import SolverStats
 
 __all__ = ["PlaneWeights", "CoupledModel", "CoupledRun", "build_model", "simulate_coupled",
            "rhs_generic", "with_locked_weights", "initial_state", "samples_si",
@@ -81,8 +83,6 @@ def simulate_coupled(rotor: LinearRotor, weights: Sequence[PlaneWeights], progra
         Initial rotor coordinates [SI] and rates; weights start at their
         balancers' ``initial_angles`` / ``initial_speeds`` (relative).
     """
-    from stand.integrate.driver import run_dop853
-    from stand.integrate.result import SolverStats
 
     duration = _positive("duration", duration, "s")
     sample_rate = _positive("sample_rate", sample_rate, "Hz")

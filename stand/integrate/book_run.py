@@ -82,7 +82,7 @@ def run_book(scene, method: str = "DOP853", rtol=None, atol=None) -> Run:
 def _run_composed(scene, y0, method, rtol, atol) -> Run:
     """The book model as a generic composition on the compiled kernel (same samples,
     same ``state/<column>`` coordinates as the oracle path)."""
-    from stand.model.rotors.coupled import build_model, initial_state as generic_initial
+    from stand.integrate.coupled import build_model, initial_state as generic_initial
     from stand.model.balancers.composition import composition
 
     bm, run = scene.structure, scene.run

@@ -31,7 +31,7 @@ from typing import Sequence
 
 import numpy as np
 
-from stand.model.rotors.coupled import CoupledModel, PlaneWeights, build_model, simulate_coupled
+from stand.integrate.coupled import CoupledModel, PlaneWeights, build_model, simulate_coupled
 from stand.model.rotors.structure import LinearRotor
 
 __all__ = ["settle", "periodic_orbit", "floquet", "MainMotionStability",
@@ -88,7 +88,7 @@ def _model(rotor, weights, omega):
 def settle(rotor: LinearRotor, weights: Sequence[PlaneWeights], omega: float,
            revolutions: int = 400) -> np.ndarray:
     """A state on (or near) the attracting motion at speed omega: the scaled
-    state of :mod:`stand.model.rotors.coupled` after an integer number of
+    state of :mod:`stand.integrate.coupled` after an integer number of
     revolutions from the balancers' initial angles (rotor angle 0 mod 2 pi)."""
     model = _model(rotor, weights, omega)
     T = 2 * math.pi / omega
