@@ -18,6 +18,7 @@ from scipy.integrate import solve_ivp
 
 import stand
 from stand.model.balancers import damper, gravity_pair, liquid_chamber, liquid_float, two_axis
+from stand.theories.weights import liquid_chamber_quasi_static as lqs
 from stand.integrate.book_run import STATE_COLUMNS, initial_state
 from oracles.book_run import book_rhs as _rhs
 from stand.model.balancers.composition import composition
@@ -166,7 +167,7 @@ def test_liquid_chamber_steady_state_solves_thesis_2_12(speed):
     rhs = math.sin(delta) * math.sqrt(1 + 2 * k * math.cos(alpha0) + k * k) / k
     assert lhs == pytest.approx(rhs, rel=1e-8, abs=1e-10)
     root = math.sqrt((1 - s2) * (k * k - s2))
-    corrected = liquid_chamber.equilibrium_angle(k, delta).alpha0
+    corrected = lqs.equilibrium_angle(k, delta).alpha0
     assert corrected == pytest.approx(math.pi - math.acos((s2 + root) / k), abs=1e-12)
     other = math.acos((-s2 + root) / k)
     rotor, pb, _ = _chamber_composition()
@@ -358,9 +359,9 @@ def test_theory_of_a_body_scene_holds_the_book_model(tmp_path, capsys):
 def test_book_steady_motions_are_equilibria_of_the_derived_rotating_form(kind):
     """The books' steady motions ((6.12) steady states, (7.6), (7.51)) are equilibria of
     the rotating-frame form derived from the one fixed-frame composition
-    (stand.model.rotating) to 1e-10."""
-    from stand.model.balancers import damper_steady, gravity_pair_steady, two_axis_steady
-    from stand.model.rotating import rotating_rhs
+    (stand.theories.rotating) to 1e-10."""
+    from stand.theories.weights import damper_steady, gravity_pair_steady, two_axis_steady
+    from stand.theories.rotating import rotating_rhs
 
     p = CASES[kind]
     comp = composition(kind, p, 1.0)

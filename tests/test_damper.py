@@ -6,7 +6,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from stand.model.balancers import damper as d
-from stand.model.balancers.one_model import rotating_form
+from stand.theories.weights import damper_steady as dst
+from stand.theories.weights.one_model import rotating_form
 from oracles import damper as book
 
 FIG726 = dict(R_m=0.1, R_omega=3.0, R_g=0.3, h=0.3, H=0.3, e0=0.5)
@@ -30,7 +31,7 @@ def test_fixed_and_rotating_forms_agree():
 
 def test_steady_motions_are_equilibria_and_match_7_53():
     p = d.DamperParams(**FIG726)
-    ms = d.steady_motions(p)
+    ms = dst.steady_motions(p)
     assert [m.label for m in ms] == [1, 2, 3, 4]
     for m in ms:
         assert np.abs(book.rhs_rotating(0.0, m.state(p.R_omega), p)).max() < 1e-12
@@ -69,7 +70,7 @@ def test_e6_critical_speeds_table():
              ((0.1, 0.3, 0.9), 0.5001, 0.991, (1.010, 7.066)),
              ((0.1, 0.6, 0.5), 0.0177, 0.972, (1.035, 3.863))]
     for args, es, r1, r23 in table:
-        c = d.critical_speeds_undamped(*args)
+        c = dst.critical_speeds_undamped(*args)
         assert round(c["e0_star"], 4) == es and round(c["R1"], 3) == r1
         if r23 is None:
             assert math.isnan(c["R2"])
@@ -79,8 +80,8 @@ def test_e6_critical_speeds_table():
 
 def test_e6_root_count_changes_at_the_critical_speeds():
     Rm, Rg, e0 = 0.1, 0.3, 0.9
-    c = d.critical_speeds_undamped(Rm, Rg, e0)
-    count = lambda R: d.steady_quartic_roots(d.DamperParams(R_m=Rm, R_omega=R, R_g=Rg, H=0.0, e0=e0)).size
+    c = dst.critical_speeds_undamped(Rm, Rg, e0)
+    count = lambda R: dst.steady_quartic_roots(d.DamperParams(R_m=Rm, R_omega=R, R_g=Rg, H=0.0, e0=e0)).size
     for Rc in (c["R1"], c["R2"], c["R3"]):
         assert count(Rc * 0.995) != count(Rc * 1.005)
     assert [count(R) for R in (0.5, 1.0005, 3.0, 10.0)] == [2, 4, 2, 4]
@@ -93,10 +94,10 @@ def test_efficiency_table_digest_e6():
             (0.05, 1.0): (1.46, 1.91, 0.486, 0.509, 0.607, 0.714, 0.656, 0.505, 0.291, 0.100)}
     for (H, Rg), vals in rows.items():
         for R, v in zip(speeds, vals):
-            n = d.efficiency(d.DamperParams(R_m=0.1, R_omega=R, R_g=Rg, h=0.3, H=H, e0=0.5))
+            n = dst.efficiency(d.DamperParams(R_m=0.1, R_omega=R, R_g=Rg, h=0.3, H=H, e0=0.5))
             assert n == pytest.approx(v, abs=0.0051 if v < 1 else 0.011)
     p = d.DamperParams(**{**FIG726, "R_omega": 1.5})
-    assert d.efficiency_approx(p) == pytest.approx(d.efficiency(p), rel=0.05)
+    assert dst.efficiency_approx(p) == pytest.approx(dst.efficiency(p), rel=0.05)
 
 
 # --- stability (7.63)-(7.78), E7 --------------------------------------------------------
@@ -104,18 +105,18 @@ def test_efficiency_table_digest_e6():
 def test_sign_rule_7_68_small_mass_weak_gravity():
     for R in (0.5, 0.8, 1.3, 2.0, 5.0):
         p = d.DamperParams(R_m=1e-4, R_omega=R, R_g=0.1, h=0.3, H=0.3, e0=0.5)
-        for m in d.steady_motions(p):
-            assert d.is_stable(p, m) == (m.u > 0), (R, m.label)
+        for m in dst.steady_motions(p):
+            assert dst.is_stable(p, m) == (m.u > 0), (R, m.label)
     above = d.DamperParams(R_m=1e-4, R_omega=3.0, R_g=0.1, h=0.3, H=0.3, e0=0.5)
-    assert [m.label for m in d.steady_motions(above) if d.is_stable(above, m)] == [1]
+    assert [m.label for m in dst.steady_motions(above) if dst.is_stable(above, m)] == [1]
 
 
 def test_e7_fast_rotor_roots_scale_with_R_omega():
     for R in (20.0, 50.0):
         p = d.DamperParams(**{**FIG726, "R_omega": R})
-        m1 = d.steady_motions(p)[0]
-        num = d.eigenvalues(p, m1)
-        pred = d.fast_rotor_roots(p, m1.phi)            # lambda = R_omega * mu (E7)
+        m1 = dst.steady_motions(p)[0]
+        num = dst.eigenvalues(p, m1)
+        pred = dst.fast_rotor_roots(p, m1.phi)            # lambda = R_omega * mu (E7)
         for lam in pred:
             assert np.min(np.abs(num - lam)) < 0.02 * max(1.0, abs(lam))
         # the printed mu = lambda / nu gives lambda = mu nu = mu / R: mu^(7/8) = -h nu +- i
@@ -130,7 +131,7 @@ def test_e7_fast_rotor_roots_scale_with_R_omega():
 
 def test_main_motion_reached_from_nearby_start():
     p = d.DamperParams(**FIG726)
-    m1 = d.steady_motions(p)[0]
+    m1 = dst.steady_motions(p)[0]
     s0 = d.state_from_angles(m1.phi + 0.2, m1.psi - 0.3, p.R_omega, xi=m1.xi, eta=m1.eta)
     sol = book.simulate(p, s0, 150.0, frame="rotating")
     assert np.abs(sol.y[:, -1] - m1.state(p.R_omega)).max() < 1e-5
@@ -163,7 +164,7 @@ def test_start_exactly_at_neutral_reaches_main_motion():
     p = d.DamperParams(**FIG726)
     s0 = d.state_from_angles(0.0, 0.0, p.R_omega)              # n = -e_z: Euler-singular start
     sol = book.simulate(p, s0, 200.0, frame="rotating", rtol=1e-9, atol=1e-11)
-    m1 = d.steady_motions(p)[0]
+    m1 = dst.steady_motions(p)[0]
     assert np.abs(sol.y[:, -1] - m1.state(p.R_omega)).max() < 1e-5
     assert np.all(np.isfinite(sol.y))
 

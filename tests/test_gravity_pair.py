@@ -5,6 +5,8 @@ import numpy as np
 import pytest
 
 from stand.model.balancers import gravity_pair as gp
+from stand.theories.weights import gravity_pair_qp as gqp
+from stand.theories.weights import gravity_pair_steady as gst
 from oracles import gravity_pair as book
 
 E2 = dict(R_m=0.05, R_omega=3.0, R_rho=1.0, H=0.1, h1=0.5, h2=0.5, e0=0.5)
@@ -46,7 +48,7 @@ def test_e2_length_scale_gives_classical_forced_response():
                                            H2=0.01, H3=H3, e=e)
     Ms = M + m
     # CW on the axis (side motion of the 2nd group): the rotor alone responds
-    side = [s for s in gp.steady_motions(p) if s.kind == "side-2"][0]
+    side = [s for s in gst.steady_motions(p) if s.kind == "side-2"][0]
     x_dimensional = side.deflection / gp.GravityPairParams.length_scale(m, A, l)
     classical = M * e * omega ** 2 / abs(c - Ms * omega ** 2 + 1j * H3 * omega)
     assert x_dimensional == pytest.approx(classical, rel=1e-12)
@@ -70,32 +72,32 @@ def test_from_physical_rejects_bad_input():
 
 def test_side_band_7_8_and_existence():
     p = gp.GravityPairParams(**E2)
-    r1, r2 = gp.side_band(p)
+    r1, r2 = gst.side_band(p)
     assert (round(r1, 3), round(r2, 3)) == (0.917, 1.090)          # digest section 5, E1
     assert r1 * r2 == pytest.approx(1.0)
-    labels = lambda R: {m.label for m in gp.steady_motions(p.with_speed(R))}
+    labels = lambda R: {m.label for m in gst.steady_motions(p.with_speed(R))}
     assert labels(1.0) == {1, 2, 5, 6}
     assert labels(r1 - 1e-3) == labels(r2 + 1e-3) == {1, 2, 3, 4, 5, 6}
-    for m in gp.steady_motions(p.with_speed(1.5)):
+    for m in gst.steady_motions(p.with_speed(1.5)):
         assert np.allclose(book.rhs_rotating(0.0, m.state, p.with_speed(1.5)), 0.0, atol=1e-12)
 
 
 def test_stability_summary():
     p = gp.GravityPairParams(**E2)
-    stab = lambda R: {m.label: gp.is_stable(p.with_speed(R), m) for m in gp.steady_motions(p.with_speed(R))}
+    stab = lambda R: {m.label: gst.is_stable(p.with_speed(R), m) for m in gst.steady_motions(p.with_speed(R))}
     assert stab(3.0) == {1: True, 2: True, 3: False, 4: False, 5: False, 6: False}
     assert not any(stab(0.95).values())                  # R^(1) < R < 1: nothing stable
     low = stab(0.5)                                      # below R^(1): the heavy side (3)
     assert low[3] and not low[5] and not low[6]
     pe = gp.GravityPairParams(**{**E2, "e0": 1.5})       # capacity insufficient
-    assert {m.label: gp.is_stable(pe, m) for m in gp.steady_motions(pe)} == \
+    assert {m.label: gst.is_stable(pe, m) for m in gst.steady_motions(pe)} == \
         {1: True, 2: False, 3: False, 4: False}
 
 
 def test_small_oscillation_frequencies_7_19():
     p = gp.GravityPairParams(R_m=0.01, R_omega=20.0, R_rho=1.0, h1=0.2, h2=0.3, H=0.1, e0=0.5)
-    m1 = gp.steady_motions(p)[0]
-    lam = gp.eigenvalues(p, m1)
+    m1 = gst.steady_motions(p)[0]
+    lam = gst.eigenvalues(p, m1)
     slow = np.sort(np.abs(lam.imag[np.abs(lam.imag) < 5]))
     pred = sorted([p.R_omega * math.sqrt(p.R_m) * math.cos(m1.phi),
                    p.R_omega * math.sqrt(p.R_m) * math.sin(m1.phi) / p.R_rho])
@@ -109,7 +111,7 @@ def test_autobalancing_simulation_digest_e2():
     assert math.sin(yr[0]) == pytest.approx(0.5, abs=1e-6)
     assert yr[1] % (2 * math.pi) == pytest.approx(math.pi / 2, abs=1e-6)
     assert math.hypot(yr[2], yr[3]) < 1e-6
-    locked = p.R_m * p.R_omega ** 2 * p.e0 / math.sqrt(gp.D(p.R_omega, p.H))
+    locked = p.R_m * p.R_omega ** 2 * p.e0 / math.sqrt(gqp.D(p.R_omega, p.H))
     assert round(locked, 4) == 0.0281
 
 
@@ -117,13 +119,13 @@ def test_autobalancing_simulation_digest_e2():
 
 def test_e3_qp_amplitudes_against_simulation():
     p = gp.GravityPairParams(**E3)
-    Om = gp.qp_frequency(p)
-    Ap, An = gp.qp_amplitudes(p, Om)
+    Om = gqp.qp_frequency(p)
+    Ap, An = gqp.qp_amplitudes(p, Om)
     assert (round(Ap, 4), round(An, 5)) == (0.2498, 0.00213)
-    lo, hi = gp.qp_radius_range(p, Om)
+    lo, hi = gqp.qp_radius_range(p, Om)
     assert (round(lo, 5), round(hi, 5)) == (0.2477, 0.25196)
-    sol = book.simulate(p, gp.qp_initial_state(p), 1200.0, t_eval=np.arange(0, 1200, 0.01))
-    slo, shi = gp.orbit_radius_range(sol, 800.0)
+    sol = book.simulate(p, gqp.qp_initial_state(p), 1200.0, t_eval=np.arange(0, 1200, 0.01))
+    slo, shi = gqp.orbit_radius_range(sol, 800.0)
     assert (round(slo, 5), round(shi, 5)) == (0.24767, 0.25199)     # digest's simulation
     assert abs(slo - lo) < 1e-4 and abs(shi - hi) < 1e-4            # corrected theory fits
     # the CW locks at phi = pi/2 and spins at Omega
@@ -131,45 +133,45 @@ def test_e3_qp_amplitudes_against_simulation():
     assert np.mean(sol.y[5, k]) == pytest.approx(Om, abs=2e-5)
     assert np.allclose(sol.y[0, k], math.pi / 2, atol=1e-6)
     # the printed amplitudes (no Omega^2, R_omega^2) do not fit
-    pAp, pAn = gp.qp_amplitudes_printed(p, Om)
+    pAp, pAn = gqp.qp_amplitudes_printed(p, Om)
     assert abs((pAp + pAn) - shi) > 0.01
     # the shaft law (7.46) itself: nutation at R_omega, precession at Omega
     z = sol.y[2, k] + 1j * sol.y[3, k]
     t = sol.t[k]
-    zth = gp.qp_orbit(p, t, Om, gamma=0.0)
+    zth = gqp.qp_orbit(p, t, Om, gamma=0.0)
     # align the free precession phase, then compare
     ph = np.angle(np.mean(z * np.exp(-1j * Om * t)) / np.mean(zth * np.exp(-1j * Om * t)))
-    zth = gp.qp_orbit(p, t, Om, gamma=ph)
+    zth = gqp.qp_orbit(p, t, Om, gamma=ph)
     assert np.max(np.abs(z - zth)) < 2e-3 * Ap
 
 
 def test_e5_qp_frequency():
     p = gp.GravityPairParams(**E3)
-    assert round(gp.qp_frequency(p), 5) == 0.97070
-    assert round(gp.qp_frequency_approx(p), 4) == 0.9677               # corrected asymptotics
-    assert round(gp.qp_frequency_approx_printed(p), 3) == 0.918        # printed (7.42)
-    assert abs(gp.qp_frequency_approx(p) - gp.qp_frequency(p)) < abs(
-        gp.qp_frequency_approx_printed(p) - gp.qp_frequency(p)) / 10
+    assert round(gqp.qp_frequency(p), 5) == 0.97070
+    assert round(gqp.qp_frequency_approx(p), 4) == 0.9677               # corrected asymptotics
+    assert round(gqp.qp_frequency_approx_printed(p), 3) == 0.918        # printed (7.42)
+    assert abs(gqp.qp_frequency_approx(p) - gqp.qp_frequency(p)) < abs(
+        gqp.qp_frequency_approx_printed(p) - gqp.qp_frequency(p)) / 10
     table = {2: (0.944, 1.082), 4: (0.971, 1.036), 8: (0.992, 1.011), 8.9: (0.998, 1.004)}
     for R, (o1, o2) in table.items():
-        r = gp.qp_roots(p.with_speed(R))
+        r = gqp.qp_roots(p.with_speed(R))
         near = r[(r > 0.9) & (r < 1.1)]
         assert np.round(near, 3).tolist() == [o1, o2]
-    r = gp.qp_roots(p.with_speed(9.1))
+    r = gqp.qp_roots(p.with_speed(9.1))
     assert not np.any((r > 0.9) & (r < 1.1))
 
 
 def test_e4_qp_family_limit():
     p = gp.GravityPairParams(**E3)
     assert p.R_mH == pytest.approx(0.02)
-    assert gp.qp_family_limit(p) == pytest.approx(9.0)                 # 1 + R_mH/H^2
-    R_exact, Om_star = gp.qp_family_limit_exact(p)
+    assert gqp.qp_family_limit(p) == pytest.approx(9.0)                 # 1 + R_mH/H^2
+    R_exact, Om_star = gqp.qp_family_limit_exact(p)
     assert 8.9 < R_exact < 9.1 and abs(Om_star - 1) < 0.01
     # printed (7.41) uses R_rho, not R_rho^2: differs once R_rho != 1
     q = gp.GravityPairParams(**{**E3, "R_rho": 1.5})
-    assert gp.qp_family_limit(q) == pytest.approx(gp.qp_family_limit_exact(q)[0], rel=0.02)
+    assert gqp.qp_family_limit(q) == pytest.approx(gqp.qp_family_limit_exact(q)[0], rel=0.02)
     printed = 1 + q.R_m / (q.h2 * q.H * q.R_rho)
-    assert abs(printed - gp.qp_family_limit_exact(q)[0]) > 1.0
+    assert abs(printed - gqp.qp_family_limit_exact(q)[0]) > 1.0
 
 
 def test_qp_family_coexists_below_and_vanishes_above_limit():
@@ -180,6 +182,6 @@ def test_qp_family_coexists_below_and_vanishes_above_limit():
     assert abs(math.sin(yr[0])) == pytest.approx(0.1, abs=1e-4) and math.hypot(yr[2], yr[3]) < 1e-4
     # above R* = 9 the precessing start also balances
     q = p.with_speed(12.0)
-    sol = book.simulate(q, gp.qp_initial_state(p), 1500.0, rtol=1e-7, atol=1e-9)
+    sol = book.simulate(q, gqp.qp_initial_state(p), 1500.0, rtol=1e-7, atol=1e-9)
     yr = gp.to_rotating(sol.t[-1], sol.y[:, -1], 12.0)
     assert abs(math.sin(yr[0])) == pytest.approx(0.1, abs=1e-4) and math.hypot(yr[2], yr[3]) < 1e-4

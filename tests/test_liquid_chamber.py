@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from stand.model.balancers import liquid_chamber as lc
+from stand.theories.weights import liquid_chamber_quasi_static as lqs
 from stand.model.balancers.liquid_chamber import LiquidChamberParams
 
 GAMMAS = (0.4, 0.6, 0.8, 1.0, 1.2, 1.4)
@@ -65,25 +66,25 @@ def test_A2_total_unbalance_by_vector_addition(k, alpha):
 def test_A3_phase_lag_table_3_1():
     expected = (7.14, 13.85, 30.30, 90.0, 144.35, 159.02)
     for g, d in zip(GAMMAS, expected):
-        assert math.degrees(lc.phase_lag(g * WCR, WCR, 7.85)) == pytest.approx(d, abs=0.01)
-    assert lc.phase_lag(WCR, WCR, 0.3) == pytest.approx(math.pi / 2, abs=1e-15)
-    assert 0 < lc.phase_lag(3 * WCR, WCR, 0.3) < math.pi
+        assert math.degrees(lqs.phase_lag(g * WCR, WCR, 7.85)) == pytest.approx(d, abs=0.01)
+    assert lqs.phase_lag(WCR, WCR, 0.3) == pytest.approx(math.pi / 2, abs=1e-15)
+    assert 0 < lqs.phase_lag(3 * WCR, WCR, 0.3) < math.pi
 
 
 # ---- A4 deflection (2.7)
 def test_A4_deflection_thesis_vs_jeffcott():
     for g in (0.3, 0.7, 1.3, 2.0):
-        assert lc.deflection_factor(g * WCR, WCR, 0.0) == pytest.approx(
-            lc.deflection_factor(g * WCR, WCR, 0.0, form="jeffcott"), rel=1e-12)
+        assert lqs.deflection_factor(g * WCR, WCR, 0.0) == pytest.approx(
+            lqs.deflection_factor(g * WCR, WCR, 0.0, form="jeffcott"), rel=1e-12)
     n = 0.1315 * WCR
-    assert lc.deflection_factor(WCR, WCR, n) == pytest.approx(3.668, rel=1e-3)
-    assert lc.deflection_factor(WCR, WCR, n, form="jeffcott") == pytest.approx(3.80, rel=1e-3)
+    assert lqs.deflection_factor(WCR, WCR, n) == pytest.approx(3.668, rel=1e-3)
+    assert lqs.deflection_factor(WCR, WCR, n, form="jeffcott") == pytest.approx(3.80, rel=1e-3)
     # the regular form equals the printed cos(d)[cos(phi) wc^2/(wc^2-w^2) - 1]
     w, n = 0.8 * WCR, 7.85
-    d = lc.phase_lag(w, WCR, n)
+    d = lqs.phase_lag(w, WCR, n)
     cphi = math.sqrt(1 - (2 * n * w / WCR ** 2) ** 2)
     printed = math.cos(d) * (cphi * WCR ** 2 / (WCR ** 2 - w ** 2) - 1)
-    assert lc.deflection_factor(w, WCR, n) == pytest.approx(printed, rel=1e-12)
+    assert lqs.deflection_factor(w, WCR, n) == pytest.approx(printed, rel=1e-12)
 
 
 # ---- A5 corrected (2.13) against (2.12)
@@ -98,10 +99,10 @@ def _res_212(k, d, a):
 @pytest.mark.parametrize("k,d_deg,a_deg,lam", TABLE_A5)
 def test_A5_corrected_2_13_vectors(k, d_deg, a_deg, lam):
     d = math.radians(d_deg)
-    eq = lc.equilibrium_angle(k, d)
+    eq = lqs.equilibrium_angle(k, d)
     assert eq.valid
     assert math.degrees(eq.alpha0) == pytest.approx(a_deg, abs=1e-4)
-    assert lc.efficiency(k, eq.alpha0) == pytest.approx(lam, rel=2e-5)
+    assert lqs.efficiency(k, eq.alpha0) == pytest.approx(lam, rel=2e-5)
     assert abs(_res_212(k, d, eq.alpha0)) < 1e-12
     assert abs(_res_212(k, d, eq.alpha0_other)) < 1e-12       # the discarded root also solves (2.12)
 
@@ -111,34 +112,34 @@ def test_A5_residual_many_and_special_cases():
     for _ in range(500):
         d = rng.uniform(0, math.pi)
         k = math.sin(d) + rng.uniform(0, 5)
-        a = lc.equilibrium_angle(k, d).alpha0
+        a = lqs.equilibrium_angle(k, d).alpha0
         assert abs(_res_212(k, d, a)) < 1e-12
     for d in (0.0, 0.3, 1.2, math.pi / 2, 2.5):           # k = 1: alpha0 = pi for every delta
-        eq = lc.equilibrium_angle(1.0, d)
+        eq = lqs.equilibrium_angle(1.0, d)
         assert eq.alpha0 == pytest.approx(math.pi, abs=1e-7)
-        assert lc.efficiency(1.0, math.pi) == math.inf
+        assert lqs.efficiency(1.0, math.pi) == math.inf
     for k in (1.1, 2.0, 7.0):                               # delta = 90 deg
-        assert lc.equilibrium_angle(k, math.pi / 2).alpha0 == pytest.approx(math.pi - math.acos(1 / k), abs=1e-12)
-    eq = lc.equilibrium_angle(0.3, math.radians(30))        # k < sin(delta): no real root
+        assert lqs.equilibrium_angle(k, math.pi / 2).alpha0 == pytest.approx(math.pi - math.acos(1 / k), abs=1e-12)
+    eq = lqs.equilibrium_angle(0.3, math.radians(30))        # k < sin(delta): no real root
     assert not eq.valid and math.isnan(eq.alpha0) and "no equilibrium" in eq.flags[0]
 
 
 def test_A5_printed_2_13_fails_2_12_except_k_1():
     d = math.radians(30)
-    lit = lc.equilibrium_angle(1.0, d, literal=True)
+    lit = lqs.equilibrium_angle(1.0, d, literal=True)
     assert abs(_res_212(1.0, d, lit.alpha0)) < 1e-12
-    lit = lc.equilibrium_angle(0.8, math.radians(10), literal=True)
+    lit = lqs.equilibrium_angle(0.8, math.radians(10), literal=True)
     assert abs(_res_212(0.8, math.radians(10), lit.alpha0)) > 1e-3
     assert not lit.valid and any("literal" in f for f in lit.flags)
     # k > 1: the printed arccos argument exceeds 1 (Pascal crash)
-    lit = lc.equilibrium_angle(2.0, math.radians(45), literal=True)
+    lit = lqs.equilibrium_angle(2.0, math.radians(45), literal=True)
     assert math.isnan(lit.alpha0) and any("outside [-1, 1]" in f for f in lit.flags)
 
 
 # ---- A6 (2.14) at alpha0 = pi
 def test_A6_efficiency_at_pi():
     for k in (0.1, 0.4, 0.5, 0.7, 1.5, 3.0):
-        lam = lc.efficiency(k, math.pi)
+        lam = lqs.efficiency(k, math.pi)
         assert lam == pytest.approx(k / abs(1 - k), rel=1e-9)
         assert (lam > 1) == (k > 0.5)
 
@@ -148,30 +149,30 @@ def test_A6_efficiency_at_pi():
                                               (179, 1.00015, 57.2987)])
 def test_A7_extremum_table(a_deg, kstar, lmax):
     a = math.radians(a_deg)
-    ex = lc.efficiency_extremum(a)
+    ex = lqs.efficiency_extremum(a)
     assert ex.valid
     assert ex.k_star == pytest.approx(kstar, rel=1e-5)
     assert ex.lambda_max == pytest.approx(lmax, rel=1e-5)
-    assert lc.efficiency(ex.k_star, a) == pytest.approx(ex.lambda_max, rel=1e-12)
-    assert lc.efficiency_derivative(ex.k_star, a) == pytest.approx(0.0, abs=1e-12)
+    assert lqs.efficiency(ex.k_star, a) == pytest.approx(ex.lambda_max, rel=1e-12)
+    assert lqs.efficiency_derivative(ex.k_star, a) == pytest.approx(0.0, abs=1e-12)
     # printed second derivative l.1092 equals the general one at the stationary point only
-    assert lc.efficiency_second_derivative(ex.k_star, a, literal=True) == pytest.approx(
-        lc.efficiency_second_derivative(ex.k_star, a), rel=1e-9)
-    assert lc.efficiency_second_derivative(ex.k_star, a) < 0
+    assert lqs.efficiency_second_derivative(ex.k_star, a, literal=True) == pytest.approx(
+        lqs.efficiency_second_derivative(ex.k_star, a), rel=1e-9)
+    assert lqs.efficiency_second_derivative(ex.k_star, a) < 0
 
 
 def test_A7_derivatives_by_finite_differences():
     for k, a in [(0.7, 2.5), (1.6, 3.0), (2.5, 2.0)]:
         hh = 1e-5
-        fd1 = (lc.efficiency(k + hh, a) - lc.efficiency(k - hh, a)) / (2 * hh)
-        assert lc.efficiency_derivative(k, a) == pytest.approx(fd1, rel=1e-6)
+        fd1 = (lqs.efficiency(k + hh, a) - lqs.efficiency(k - hh, a)) / (2 * hh)
+        assert lqs.efficiency_derivative(k, a) == pytest.approx(fd1, rel=1e-6)
         hh = 1e-4
-        fd2 = (lc.efficiency(k + hh, a) - 2 * lc.efficiency(k, a) + lc.efficiency(k - hh, a)) / hh ** 2
-        assert lc.efficiency_second_derivative(k, a) == pytest.approx(fd2, rel=1e-5)
+        fd2 = (lqs.efficiency(k + hh, a) - 2 * lqs.efficiency(k, a) + lqs.efficiency(k - hh, a)) / hh ** 2
+        assert lqs.efficiency_second_derivative(k, a) == pytest.approx(fd2, rel=1e-5)
     # printed l.1092 is wrong away from the stationary point
-    assert lc.efficiency_second_derivative(0.7, 2.5, literal=True) != pytest.approx(
-        lc.efficiency_second_derivative(0.7, 2.5), rel=1e-2)
-    ex = lc.efficiency_extremum(math.radians(60))
+    assert lqs.efficiency_second_derivative(0.7, 2.5, literal=True) != pytest.approx(
+        lqs.efficiency_second_derivative(0.7, 2.5), rel=1e-2)
+    ex = lqs.efficiency_extremum(math.radians(60))
     assert not ex.valid and math.isnan(ex.k_star)
 
 
@@ -322,21 +323,21 @@ def test_A13_log_decrement_from_synthetic_decay():
 
 # =========================================================================== B. regime oracles
 def test_B_undamped_subcritical_liquid_adds_unbalance():
-    eq = lc.equilibrium_angle(2.0, 0.0)
+    eq = lqs.equilibrium_angle(2.0, 0.0)
     assert eq.alpha0_other == pytest.approx(0.0, abs=1e-7)    # l.806: liquid on the unbalance side
-    assert lc.efficiency(2.0, eq.alpha0_other) < 1
+    assert lqs.efficiency(2.0, eq.alpha0_other) < 1
     assert eq.alpha0 == pytest.approx(math.pi, abs=1e-7)      # the thesis branch (documented ambiguity)
 
 
 def test_B_supercritical_and_near_critical():
-    eq = lc.equilibrium_angle(1.7, math.pi)                  # delta -> pi
+    eq = lqs.equilibrium_angle(1.7, math.pi)                  # delta -> pi
     assert eq.alpha0 == pytest.approx(math.pi, abs=1e-7)
     e, k = 1e-3, 1.7
     e_c, _ = lc.total_unbalance(e, k, eq.alpha0)
     assert e_c == pytest.approx(k * e - e, rel=1e-9)        # e_c = e0 - e
-    assert lc.efficiency(k, eq.alpha0) > 1
+    assert lqs.efficiency(k, eq.alpha0) > 1
     for k in (1.05, 1.2):                                    # near critical: liquid ~ opposite
-        assert math.degrees(lc.equilibrium_angle(k, math.pi / 2).alpha0) > 145
+        assert math.degrees(lqs.equilibrium_angle(k, math.pi / 2).alpha0) > 145
 
 
 def test_B_optimum_at_k_1_for_every_delta():
@@ -348,7 +349,7 @@ def test_B_optimum_at_k_1_for_every_delta():
             if k < math.sqrt(s2):
                 lam.append(0.0)
                 continue
-            lam.append(lc.efficiency(k, lc.equilibrium_angle(k, d).alpha0))
+            lam.append(lqs.efficiency(k, lqs.equilibrium_angle(k, d).alpha0))
         lam = np.array(lam)
         assert ks[np.argmax(lam)] == pytest.approx(1.0, abs=1e-3)
 
@@ -363,7 +364,7 @@ F_DIGEST_MM = (0.65, 1.51, 2.81, 4.65, 3.49, 3.02)
 
 
 def test_C_corrected_closure_gives_digest_values(p31):
-    res = [lc.quasi_static_efficiency(p31, g * WCR) for g in GAMMAS]
+    res = [lqs.quasi_static_efficiency(p31, g * WCR) for g in GAMMAS]
     for r, lam, k, a, f in zip(res, CLOSURE_DIGEST, K_DIGEST, ALPHA_DIGEST, F_DIGEST_MM):
         assert r.lambda0 == pytest.approx(lam, abs=0.006)
         assert r.k == pytest.approx(k, abs=0.006)
@@ -385,11 +386,11 @@ def test_C_corrected_closure_gives_digest_values(p31):
 
 def test_C_closure_validity_flags(p31):
     # vertical shaft (default): the paraboloid thins the top of the layer
-    vert = [lc.quasi_static_efficiency(p31, g * WCR) for g in GAMMAS]
+    vert = [lqs.quasi_static_efficiency(p31, g * WCR) for g in GAMMAS]
     assert not any(r.valid for r in vert)
     assert all(any("sufficiency violated" in f for f in r.flags) for r in vert)
     # horizontal shaft: sufficiency f <= R - r holds at 0.4, 0.6 and fails for gamma >= 0.8 (digest 4.6)
-    hor = [lc.quasi_static_efficiency(LiquidChamberParams.table_3_1(inclination=0.0), g * WCR) for g in GAMMAS]
+    hor = [lqs.quasi_static_efficiency(LiquidChamberParams.table_3_1(inclination=0.0), g * WCR) for g in GAMMAS]
     assert [r.valid for r in hor] == [True, True, False, False, False, False]
     for r in hor[2:]:
         assert any("sufficiency violated" in f for f in r.flags)
@@ -400,7 +401,7 @@ def test_C_closure_validity_flags(p31):
 
 
 def test_C_literal_mode_does_not_reproduce_table_3_2(p31):
-    lit = [lc.quasi_static_efficiency(p31, g * WCR, literal=True) for g in GAMMAS]
+    lit = [lqs.quasi_static_efficiency(p31, g * WCR, literal=True) for g in GAMMAS]
     assert all(not r.valid and r.literal for r in lit)
     assert lit[0].lambda0 == pytest.approx(0.1340, abs=1e-4)           # digest 4.6 / 5A.5
     assert lit[0].f * 1e3 == pytest.approx(36.5, abs=0.05)
@@ -420,7 +421,7 @@ def test_C_literal_mode_does_not_reproduce_table_3_2(p31):
 def test_C_run_up_oracle_inconsistent():
     # 2000 g cm with 100 ml water at resonance: thesis 1.7 (+-30 %); the model gives ~3.2 -> documented
     p = LiquidChamberParams.table_3_1(unbalance_mass=0.1, liquid_volume=1e-4, inclination=0.0)
-    r = lc.quasi_static_efficiency(p, WCR)
+    r = lqs.quasi_static_efficiency(p, WCR)
     assert r.lambda0 > 1.3 * 1.7
 
 
@@ -467,14 +468,14 @@ def test_flags_fill_geometry():
 
 def test_flags_quasi_static():
     p = LiquidChamberParams.table_3_1(liquid_volume=0.01)       # fill exceeds the chamber
-    r = lc.quasi_static_efficiency(p, 30.0)
+    r = lqs.quasi_static_efficiency(p, 30.0)
     assert not r.valid and math.isnan(r.lambda0) and any("exceeds" in f for f in r.flags)
     p = LiquidChamberParams.table_3_1(damping_rate=500.0, inclination=0.0)   # 2 n omega > omega_cr^2
-    r = lc.quasi_static_efficiency(p, 40.0)
+    r = lqs.quasi_static_efficiency(p, 40.0)
     assert not r.valid and any("no real phi" in f for f in r.flags)
     # heavy damping at low speed: deflection factor H < 0, no self-consistent state (G'H <= 0)
     p = LiquidChamberParams.table_3_1(damping_rate=50.0, inclination=0.0)
-    r = lc.quasi_static_efficiency(p, 0.3 * WCR)
+    r = lqs.quasi_static_efficiency(p, 0.3 * WCR)
     assert r.deflection_factor < 0
     assert not r.valid and math.isnan(r.lambda0) and any("no self-consistent state" in f for f in r.flags)
 
@@ -513,7 +514,7 @@ def test_bad_inputs_functions():
     with pytest.raises(ValueError, match="r = 0.3 m"):
         lc.liquid_centroid(0.2, 0.3, 0.001)
     with pytest.raises(ValueError, match="k = -1.0"):
-        lc.equilibrium_angle(-1.0, 0.3)
+        lqs.equilibrium_angle(-1.0, 0.3)
     with pytest.raises(ValueError, match="m = -7.0 kg"):
         lc.simplified_single_chamber(-7.0, 1e4, 1e-4, 100.0, 0.2, 0.05, 1e-4)
     with pytest.raises(ValueError, match="chambers overlap"):
@@ -525,4 +526,4 @@ def test_bad_inputs_functions():
     with pytest.raises(ValueError, match="one is required"):
         LiquidChamberParams.table_3_1(damping_rate=None, log_decrement=None)
     with pytest.raises(ValueError, match="omega = -1.0 rad/s"):
-        lc.quasi_static_efficiency(LiquidChamberParams.table_3_1(), -1.0)
+        lqs.quasi_static_efficiency(LiquidChamberParams.table_3_1(), -1.0)

@@ -8,7 +8,7 @@ digest's printed eigenvalues) is checked in tests/test_theory_main.py.
 import numpy as np
 import pytest
 
-from stand.model.rotating import main_motion_state, rotating_jacobian, rotating_rhs
+from stand.theories.rotating import main_motion_state, rotating_jacobian, rotating_rhs
 from stand.theories.planar.main_motion import main_eigenvalues
 
 from _helpers import dimensionless_model, match_roots

@@ -11,7 +11,7 @@ import numpy as np
 import numpy.polynomial.polynomial as P
 import pytest
 
-from stand.model.rotating import main_motion_state, rotating_jacobian, rotating_rhs
+from stand.theories.rotating import main_motion_state, rotating_jacobian, rotating_rhs
 from stand.theories.planar.main_motion import (
     CriticalSpeed, StabilityWarning, R1_first_order, R1_max_closed_form, R1_max_validity,
     R1_refined, R_window_large_H, balancing_rate, charpoly_coefficients,

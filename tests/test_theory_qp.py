@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from stand.model.planar import COAST_T0, build_planar_model, rhs_planar
-from stand.model.rotating import constant_speed_programme
+from stand.theories.rotating import constant_speed_programme
 from stand.scene.model import RunSettings, SpeedDrive
 from stand.scene.parse import scene_from_dimensionless
 from stand.theories.planar.qp import (QPWarning, dspeed_dOmega, epitrochoid, escape_speed,

@@ -4,7 +4,7 @@ Oracles: digest ch5 section 3 (steady equations (5.49), main motions (5.50),
 side motions (5.51)-(5.75) with the corrected (5.57) and (5.64)), section 4.5
 (stability of side motions and of the e0 > 1 main motion, (5.140)-(5.161)),
 tests T6 and T6b of section 8.3.  Equilibria are checked against the
-simulator's own equations in the rotating frame (stand.model.rotating).
+simulator's own equations in the rotating frame (stand.theories.rotating).
 """
 import math
 
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from stand.model.planar import build_planar_model
-from stand.model.rotating import rotating_rhs
+from stand.theories.rotating import rotating_rhs
 from stand.scene.model import RunSettings, SpeedDrive
 from stand.scene.parse import scene_from_dimensionless
 from stand.theories.planar.side import (

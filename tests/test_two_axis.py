@@ -6,18 +6,18 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from stand.model.balancers.two_axis import (
-    TwoAxisParams, rotating_to_fixed, fixed_to_rotating,
+from stand.model.balancers.two_axis import TwoAxisParams, rotating_to_fixed, fixed_to_rotating
+from stand.theories.weights.two_axis_steady import (
     steady_polynomial, first_group, second_group, steady_motions, no_gravity_no_damping,
     r0, eigenvalues, max_real_part)
-from stand.model.balancers.two_axis_theory import (
+from stand.theories.weights.two_axis_theory import (
     char_poly_first_group, char_poly_second_group, small_mass_roots,
     fast_rotation_main_roots, fast_rotation_side_roots, R_star_omega1, fold_speeds,
     above_pivot_onset, fast_rotation_u, near_resonance_u, efficiency_approx,
     n_max_estimate, efficiency_curve, efficiency_extremum, qp_motions, qp_state,
     qp_char_poly, qp_polynomial, qp_existence_limit, qp_gravity_allows,
     qp_amplitudes)
-from stand.model.balancers.one_model import rotating_form
+from stand.theories.weights.one_model import rotating_form
 from oracles.two_axis import (residual_rotating, residual_fixed, rhs_rotating, rhs_fixed,
                               rhs_fixed_variable_speed, linear_ramp, rhs_omega_frame)
 

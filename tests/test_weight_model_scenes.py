@@ -4,7 +4,7 @@ import json
 import numpy as np
 import pytest
 
-from stand.scene.book_tables import model_theory
+from stand.theories.scene import model_theory
 from stand.scene.parse import load_scene as load_weight_model
 import stand
 from stand.cli.main import main

@@ -1,4 +1,4 @@
-"""Theory of the book weight models (issue 16 item 6): stand.model.balancers.weight_theory.
+"""Theory of the book weight models (issue 16 item 6): stand.theories.weights.weight_theory.
 
 Numbers are the digests' oracles (/work/shared/physics/ch7_ch1.md section 5,
 ch6_two_axis.md section 8, thesis_002_liquid.md sections 4-5) and the optimal
@@ -17,7 +17,7 @@ from stand.model.balancers.gravity_pair import GravityPairParams
 from stand.model.balancers.liquid_chamber import LiquidChamberParams
 from stand.model.balancers.liquid_float import LiquidFloatParams
 from stand.model.balancers.two_axis import TwoAxisParams
-from stand.model.balancers.weight_theory import LIQUIDS, weight_theory
+from stand.theories.weights.weight_theory import LIQUIDS, weight_theory
 
 from _helpers import stand_stdout
 

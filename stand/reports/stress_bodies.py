@@ -21,9 +21,9 @@ or run at other tolerances.  It runs on the generic compiled kernel
   its last speed over the last 30 % of the run: the residual unbalance of the
   plane (truth, rotor frame) divided by the rotor's unbalance ``M e`` at the end
   against the theory's stable main motions (ch. 6 (6.40): efficiency ``n`` of
-  :func:`stand.model.balancers.two_axis_steady.steady_motions`; ch. 7.1 (7.7): 0, or
+  :func:`stand.theories.weights.two_axis_steady.steady_motions`; ch. 7.1 (7.7): 0, or
   ``(e0 - 1) / e0`` above capacity; ch. 7.2 (7.54):
-  :func:`stand.model.balancers.damper_steady.efficiency` of the stable main motions;
+  :func:`stand.theories.weights.damper_steady.efficiency` of the stable main motions;
   without gravity 0).  The error is the distance to the nearest stable main
   motion; the drift is the spread of that ratio over the last 30 %.
 * ``reference`` -- the run against itself at ``reference_rtol``.
@@ -105,13 +105,13 @@ def _expected_ratios(kind, prm) -> tuple:
         return [over], ("main motions (7.7): exact balance" if e0 < 1 else
                         "main motion above capacity: residual (e0 - 1) S")
     if kind == "two_axis":
-        from stand.model.balancers.two_axis_steady import steady_motions
+        from stand.theories.weights.two_axis_steady import steady_motions
 
         mains = [m for m in steady_motions(prm) if m.kind.startswith("main") and m.stable]
         return ([float(m.n) for m in mains],
                 "stable main motions of ch. 6, efficiency n (6.40): "
                 + ", ".join(f"{m.kind} n = {m.n:.6g}" for m in mains))
-    from stand.model.balancers.damper_steady import efficiency, is_stable, steady_motions
+    from stand.theories.weights.damper_steady import efficiency, is_stable, steady_motions
 
     mains = [m for m in steady_motions(prm) if m.kind == "main" and is_stable(prm, m)]
     ns = [float(efficiency(prm, m.u)) for m in mains]

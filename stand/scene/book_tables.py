@@ -19,7 +19,7 @@ gives its parameters by the names of the module's parameter dataclass::
 :func:`stand.load` builds one :class:`stand.scene.model.Scene` whose ``structure`` is a
 :class:`stand.scene.model.BookModel`; ``stand theory`` prints the model's steady
 motions (with stability), its quasi-periodic motions or efficiency, or the
-closed-form run-up extrema (:func:`model_theory`); ``stand run`` integrates it
+closed-form run-up extrema (:func:`stand.theories.scene.model_theory`); ``stand run`` integrates it
 (:mod:`stand.integrate.book_run`) into the common recording.
 """
 from __future__ import annotations
@@ -29,13 +29,12 @@ import math
 
 import numpy as np
 
-from stand.io.jsonable import to_jsonable
 from stand.io.validate import _Table, _fmt, _number
 from stand.scene.limits import MAX_CYCLES
 from stand.scene.model import BookModel, Scene, SceneError, SpeedDrive
 from stand.scene.tables import BOOK_RUN_KEYS, SI_MODELS, check_tables, run_table, scene_header
 
-__all__ = ["MODEL_TYPES", "parse_weight_model", "model_theory"]
+__all__ = ["MODEL_TYPES", "parse_weight_model"]
 
 MODEL_TYPES = {
     "two_axis": ("stand.model.balancers.two_axis:TwoAxisParams", "ch. 6"),
@@ -110,30 +109,3 @@ def _speed(kind, p, run) -> float:
     if kind == "liquid_chamber":
         return float(run.get("speed", 0.5 * p.critical_speed))
     return float(p.R_omega)
-
-
-def model_theory(scene: Scene) -> dict:
-    """Steady motions (with stability) and the model's characteristic numbers.
-
-    The content is :func:`stand.model.balancers.weight_theory.weight_theory` of the
-    scene's model at the scene's speed (the parameters' own speed; for the
-    liquid chamber ``run.speed``, default half the critical speed), merged
-    under ``scene``, ``type``, ``source`` and ``parameters``.  The earlier keys
-    stay: ``quasi_periodic_frequency`` and ``quasi_periodic_family_limit``
-    (gravity pair) and ``efficiency`` (damper, (7.54)).
-    """
-    from stand.model.balancers.weight_theory import weight_theory
-
-    bm = scene.structure
-    kind, p = bm.type, bm.params
-    speed = _speed(kind, p, bm.options) if kind == "liquid_chamber" else None
-    wt = weight_theory(kind, p, speed)
-    out = {"scene": scene.name, "type": kind, "source": MODEL_TYPES[kind][1],
-           "parameters": to_jsonable(p)}
-    out |= {k: v for k, v in wt.items() if k not in ("model", "source", "parameters")}
-    if kind == "gravity_pair":
-        out["quasi_periodic_frequency"] = wt["quasi_periodic"].get("frequency_Omega")
-        out["quasi_periodic_family_limit"] = wt["quasi_periodic"].get("family_limit_R_omega")
-    elif kind == "damper":
-        out["efficiency"] = wt["balancing_efficiency"].get("value")
-    return out

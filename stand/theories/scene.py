@@ -7,7 +7,7 @@
   critical speeds and the engineering criterion's working ranges per plane
   (:func:`stand.theories.rotors.family_theory`);
 * a book weight model: its steady motions with stability, quasi-periodic
-  motions, efficiency or run-up extrema (:func:`stand.scene.book_tables.model_theory`).
+  motions, efficiency or run-up extrema (:func:`model_theory`).
 
 The result is a :class:`stand.theories.result.Theory` (the JSON document ``stand theory
 --json`` prints, with attribute access, tables and a picture) with ``kind`` (``"chapter5"``, ``"structure"``,
@@ -46,8 +46,6 @@ def theory(scene, max_speed: float | None = None, floquet: bool = True):
 
     na = _friction_notes(scene)
     if scene.kind == "book":
-        from stand.scene.book_tables import model_theory
-
         doc = model_theory(scene)
         return Theory({"kind": "book_model", **doc, "not_applicable": na})
     if scene.kind == "planar" and scene.n_weights:
@@ -96,7 +94,7 @@ def _body_models(scene, na: list) -> list:
     if not scene.bodies:
         return []
     from stand.model.balancers.composition import book_params
-    from stand.model.balancers.weight_theory import weight_theory
+    from stand.theories.weights.weight_theory import weight_theory
 
     bp = book_params(scene)
     if bp is None:
@@ -266,7 +264,7 @@ _BOOK_LINES = {"gravity_pair": _gravity_pair_lines, "two_axis": _two_axis_lines,
 
 
 def _book_model_lines(doc: dict) -> list:
-    """Lines of a book weight model (:func:`stand.model.balancers.weight_theory.weight_theory`)."""
+    """Lines of a book weight model (:func:`stand.theories.weights.weight_theory.weight_theory`)."""
     head = f"{doc['scene']}: weight model {doc['type']} ({doc['source']})"
     if doc.get("speed_R_omega") is not None:
         head += (f" at R_omega = {_g(doc['speed_R_omega'])} (speeds in omega0, deflections "
@@ -338,4 +336,34 @@ def theory_lines(doc: dict) -> list:
     else:
         out += _book_model_lines(doc)
     out += [f"not applicable: {n}" for n in doc.get("not_applicable", [])]
+    return out
+
+
+def model_theory(scene) -> dict:
+    """Steady motions (with stability) and the model's characteristic numbers of a
+    ``[weight_model]`` scene.
+
+    The content is :func:`stand.theories.weights.weight_theory.weight_theory` of the
+    scene's model at the scene's speed (the parameters' own speed; for the
+    liquid chamber ``run.speed``, default half the critical speed), merged
+    under ``scene``, ``type``, ``source`` and ``parameters``.  The earlier keys
+    stay: ``quasi_periodic_frequency`` and ``quasi_periodic_family_limit``
+    (gravity pair) and ``efficiency`` (damper, (7.54)).
+    """
+    from stand.io.jsonable import to_jsonable
+    from stand.scene.book_tables import MODEL_TYPES, _speed
+    from stand.theories.weights.weight_theory import weight_theory
+
+    bm = scene.structure
+    kind, p = bm.type, bm.params
+    speed = _speed(kind, p, bm.options) if kind == "liquid_chamber" else None
+    wt = weight_theory(kind, p, speed)
+    out = {"scene": scene.name, "type": kind, "source": MODEL_TYPES[kind][1],
+           "parameters": to_jsonable(p)}
+    out |= {k: v for k, v in wt.items() if k not in ("model", "source", "parameters")}
+    if kind == "gravity_pair":
+        out["quasi_periodic_frequency"] = wt["quasi_periodic"].get("frequency_Omega")
+        out["quasi_periodic_family_limit"] = wt["quasi_periodic"].get("family_limit_R_omega")
+    elif kind == "damper":
+        out["efficiency"] = wt["balancing_efficiency"].get("value")
     return out

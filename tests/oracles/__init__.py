@@ -2,7 +2,7 @@
 
 The package runs each model once, on the fixed-frame SI right-hand sides of
 stand/model (planar kernel, generic kernel with its bodies) and the rotating
-frame derived from them (:mod:`stand.model.rotating`).  The books write the same
+frame derived from them (:mod:`stand.theories.rotating`).  The books write the same
 models in their own dimensionless variables, with their own right-hand sides
 and calling conventions; those are here, beside the tests, as the independent
 check: the tests integrate both and ask them to agree (<= 1e-8 relative).

@@ -3,7 +3,7 @@
 The model, its parameters and the derivation are described in
 :mod:`stand.model.balancers.two_axis`; the package runs the pendulum on the one model
 (the generic composition with its tilting body; its rotating frame -- at the rotor's
-speed or at a QP motion's speed Omega -- :mod:`stand.model.balancers.one_model`).
+speed or at a QP motion's speed Omega -- :mod:`stand.theories.weights.one_model`).
 
 * (6.12) rotating frame, state ``y = [phi, psi, xi, eta, phi', psi', xi', eta']``
   (' = d/dtau): :func:`rhs_rotating`, residual :func:`residual_rotating`.

@@ -46,7 +46,7 @@ braces).  The steady-motion equations (7.51)-(7.53) follow from it by hand
 (torque balance ``n x (R_g^2 e_z - R_omega^2 Z) = 0`` gives (7.62), the rotor
 equation then (7.53)); the test suite checks that every root of (7.53) is an
 equilibrium of the rotating frame to 1e-12 (the one model's,
-:func:`stand.model.balancers.one_model.rotating_form`, and the book's own, the test
+:func:`stand.theories.weights.one_model.rotating_form`, and the book's own, the test
 oracle ``tests/oracles/damper.py``).
 
 Dimensionless parameters (7.48)-(7.50)::
@@ -95,17 +95,11 @@ from stand.model.balancers.damper_motion import (angles_from_state, residual_unb
                                                  to_fixed, to_rotating)
 from stand.model.balancers.damper_residual import (R_f_ball_joint, R_f_cardan, residual_cubic, residual_parametric,
                               residual_unbalance)
-from stand.model.balancers.damper_steady import (DamperSteady, critical_speeds_undamped, efficiency, efficiency_approx,
-                            eigenvalues, fast_rotor_roots, is_stable, jacobian, stability_scan,
-                            steady_motions, steady_quartic_roots)
 
 __all__ = [
-    "DryFriction", "DamperParams", "DamperSteady",
-    "state_from_angles", "angles_from_state", "to_rotating", "to_fixed",
-    "steady_quartic_roots", "steady_motions", "efficiency", "efficiency_approx",
-    "critical_speeds_undamped", "jacobian", "eigenvalues", "is_stable",
-    "fast_rotor_roots", "stability_scan", "R_f_cardan", "R_f_ball_joint",
-    "residual_parametric", "residual_unbalance", "residual_cubic", "residual_unbalance_now",
+    "DryFriction", "DamperParams", "state_from_angles", "angles_from_state", "to_rotating",
+    "to_fixed", "R_f_cardan", "R_f_ball_joint", "residual_parametric", "residual_unbalance",
+    "residual_cubic", "residual_unbalance_now",
 ]
 
 

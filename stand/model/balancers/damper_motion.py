@@ -3,7 +3,7 @@
 Part of :mod:`stand.model.balancers.damper` (model, parameters and the
 direction-vector formulation are described there).  The damper runs on the one
 model (the generic composition, :mod:`stand.model.balancers.composition`; its
-rotating frame, :mod:`stand.model.balancers.one_model`); the book's own equations
+rotating frame, :mod:`stand.theories.weights.one_model`); the book's own equations
 of motion (7.47) with erratum E1 are the test oracle ``tests/oracles/damper.py``.
 State vector, fixed frame, and the same quantities in rotating-frame components::
 

@@ -81,20 +81,9 @@ from __future__ import annotations
 
 from stand.model.balancers.gravity_pair_params import GravityPairParams
 from stand.model.balancers.gravity_pair_motion import energy, to_fixed, to_rotating
-from stand.model.balancers.gravity_pair_qp import (D, orbit_radius_range, qp_amplitudes, qp_amplitudes_printed,
-                              qp_family_limit, qp_family_limit_exact, qp_frequency,
-                              qp_frequency_approx, qp_frequency_approx_printed, qp_initial_state,
-                              qp_orbit, qp_polynomial, qp_radius_range, qp_roots)
-from stand.model.balancers.gravity_pair_steady import (SteadyMotion, eigenvalues, is_stable, jacobian, side_band,
-                                  steady_motions)
 
 __all__ = [
-    "GravityPairParams", "SteadyMotion", "to_rotating", "to_fixed", "energy",
-    "steady_motions", "side_band", "jacobian", "eigenvalues", "is_stable",
-    "D", "qp_polynomial", "qp_roots", "qp_frequency", "qp_frequency_approx",
-    "qp_frequency_approx_printed", "qp_family_limit", "qp_family_limit_exact",
-    "qp_amplitudes", "qp_amplitudes_printed", "qp_radius_range", "qp_orbit",
-    "qp_initial_state", "orbit_radius_range",
+    "GravityPairParams", "to_rotating", "to_fixed", "energy",
 ]
 
 

@@ -3,7 +3,7 @@
 Part of :mod:`stand.model.balancers.gravity_pair` (model, parameters and the
 derivation are described there).  The pair runs on the one model (the generic
 composition, :mod:`stand.model.balancers.composition`; its rotating frame,
-:mod:`stand.model.balancers.one_model`); the book's own equations -- fixed frame
+:mod:`stand.theories.weights.one_model`); the book's own equations -- fixed frame
 (7.34), rotating frame (7.2) with erratum E1 -- are the test oracle
 ``tests/oracles/gravity_pair.py``.
 

@@ -92,27 +92,19 @@ from stand.model.balancers.liquid_chamber_design import (OptimalVolume, annulus_
                                     unbalance_coefficient)
 from stand.model.balancers.liquid_chamber_geometry import (G_STANDARD, FillGeometry, LiquidCentroid, fill_geometry,
                                       free_surface_height, liquid_centroid, total_unbalance)
-from stand.model.balancers.liquid_chamber_quasi_static import (EfficiencyExtremum, EquilibriumAngle, QuasiStaticResult,
-                                          deflection_factor, efficiency, efficiency_derivative,
-                                          efficiency_extremum, efficiency_second_derivative,
-                                          equilibrium_angle, phase_lag, quasi_static_efficiency)
 from stand.model.balancers.liquid_chamber_simplified import (MultiChamberResult, SimplifiedResult, multi_chamber,
                                         simplified_single_chamber)
 from stand.model.balancers.liquid_chamber_viscous import (ViscousZone, in_equilibrium_zone, select_liquid, viscous_zone,
                                      wetted_arc)
 
 __all__ = [
-    "G_STANDARD", "LiquidChamberParams", "FillGeometry", "LiquidCentroid", "EquilibriumAngle",
-    "EfficiencyExtremum", "QuasiStaticResult", "ViscousZone", "SimplifiedResult",
-    "MultiChamberResult", "OptimalVolume",
-    "log_decrement", "damping_rate_from_log_decrement", "fill_geometry", "free_surface_height",
-    "liquid_centroid", "total_unbalance", "phase_lag", "deflection_factor", "equilibrium_angle",
-    "efficiency", "efficiency_derivative", "efficiency_second_derivative", "efficiency_extremum",
-    "quasi_static_efficiency", "viscous_zone", "in_equilibrium_zone", "wetted_arc",
-    "select_liquid", "simplified_single_chamber", "multi_chamber", "segment_capacity",
-    "annulus_capacity", "optimal_volume", "permissible_eccentricity_household",
-    "permissible_eccentricity_general", "iso_grade_from_eccentricity",
-    "eccentricity_from_iso_grade", "unbalance_coefficient",
+    "G_STANDARD", "LiquidChamberParams", "FillGeometry", "LiquidCentroid", "ViscousZone",
+    "SimplifiedResult", "MultiChamberResult", "OptimalVolume", "log_decrement",
+    "damping_rate_from_log_decrement", "fill_geometry", "free_surface_height", "liquid_centroid",
+    "total_unbalance", "viscous_zone", "in_equilibrium_zone", "wetted_arc", "select_liquid",
+    "simplified_single_chamber", "multi_chamber", "segment_capacity", "annulus_capacity",
+    "optimal_volume", "permissible_eccentricity_household", "permissible_eccentricity_general",
+    "iso_grade_from_eccentricity", "eccentricity_from_iso_grade", "unbalance_coefficient",
 ]
 
 

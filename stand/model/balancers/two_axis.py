@@ -69,16 +69,9 @@ from __future__ import annotations
 
 from stand.model.balancers.two_axis_params import TwoAxisParams
 from stand.model.balancers.two_axis_motion import fixed_to_rotating, rotating_to_fixed
-from stand.model.balancers.two_axis_steady import (SteadyMotion, efficiency, eigenvalues, first_group, jacobian,
-                              max_real_part, no_gravity_no_damping, r0, second_group,
-                              steady_motions, steady_polynomial)
 
 __all__ = [
-    "TwoAxisParams", "SteadyMotion",
-    "rotating_to_fixed", "fixed_to_rotating",
-    "jacobian", "eigenvalues", "max_real_part",
-    "steady_polynomial", "first_group", "second_group", "steady_motions",
-    "no_gravity_no_damping", "efficiency", "r0",
+    "TwoAxisParams", "rotating_to_fixed", "fixed_to_rotating",
 ]
 
 

@@ -3,7 +3,7 @@
 Part of :mod:`stand.model.balancers.two_axis` (model, parameters and the derivation
 are described there).  The pendulum runs on the one model (the generic composition,
 :mod:`stand.model.balancers.composition`; its rotating frame,
-:mod:`stand.model.balancers.one_model`); the book's own equations (6.12), (6.15) and
+:mod:`stand.theories.weights.one_model`); the book's own equations (6.12), (6.15) and
 the run-up extension are the test oracle ``tests/oracles/two_axis.py``.
 
 Frame change (6.13) between the rotating-frame state

@@ -337,8 +337,8 @@ def _degenerate_message(h, H, who):
 def jacobian_eigenvalues(model, R, alphas, *, zero_tol=1e-7):
     """Eigenvalues of the simulator's rotating-frame Jacobian at a main motion.
 
-    Thin wrapper over :func:`stand.model.rotating.rotating_jacobian` at
-    :func:`stand.model.rotating.main_motion_state` (central differences, error ~1e-7).
+    Thin wrapper over :func:`stand.theories.rotating.rotating_jacobian` at
+    :func:`stand.theories.rotating.main_motion_state` (central differences, error ~1e-7).
     For n = 2 the 8 eigenvalues are the roots of (5.90).  For n >= 3 the main
     motions form an (n-2)-parameter family (5.50), which contributes n - 2 zero
     eigenvalues (motion along the family) and n - 2 eigenvalues -h (relative
@@ -364,7 +364,7 @@ def jacobian_eigenvalues(model, R, alphas, *, zero_tol=1e-7):
     ValueError
         ``alphas`` is not a main motion of ``model`` at speed R.
     """
-    from stand.model.rotating import main_motion_state, rotating_jacobian, rotating_rhs
+    from stand.theories.rotating import main_motion_state, rotating_jacobian, rotating_rhs
 
     z = main_motion_state(model, np.asarray(alphas, dtype=float))
     res = np.max(np.abs(rotating_rhs(model, R, z)))

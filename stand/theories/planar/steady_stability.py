@@ -2,8 +2,8 @@
 
 Digest ch5 section 4.5.  The steady motions of :mod:`stand.theories.planar.steady`
 (main motions (5.50), side motions (5.51)-(5.75), the e0 > 1 main motion) are
-placed in the state of :mod:`stand.model.rotating`; stability is decided by the
-eigenvalues of the Jacobian of :func:`stand.model.rotating.rotating_rhs` (the
+placed in the state of :mod:`stand.theories.rotating`; stability is decided by the
+eigenvalues of the Jacobian of :func:`stand.theories.rotating.rotating_rhs` (the
 simulator's own equations in the rotating frame, central differences) at the
 exact equilibrium.  Dimensionless units as in :mod:`stand.theories.planar.steady`
 (R = omega/omega_1, e0 and e_j in units of the capacity, deflections in r*);
@@ -20,7 +20,7 @@ import numpy as np
 
 from stand.model.planar import (BETA, D11, D12, D21, D22, EPS0, FREE, K11, K12, K21, K22,
                       PlanarModel, build_planar_model)
-from stand.model.rotating import rotating_jacobian, rotating_rhs
+from stand.theories.rotating import rotating_jacobian, rotating_rhs
 from stand.model.weights import EPS as W_EPS
 from stand.theories.planar.steady import (SideMotion, _wrap, bits_of, identical_side_classes, main_motion_angles,
                      side_motions)
@@ -38,7 +38,7 @@ def _as_model(scene_or_model) -> PlanarModel:
 
 
 def steady_state(model, s: complex, alphas) -> np.ndarray:
-    """Rotating-frame state of :mod:`stand.model.rotating` for a synchronous steady motion.
+    """Rotating-frame state of :mod:`stand.theories.rotating` for a synchronous steady motion.
 
     ``s`` and ``alphas`` are in the theory's frame (heavy side at angle 0); the
     model's unbalance angle beta (heavy side from the reference mark) is added:
@@ -59,8 +59,8 @@ def steady_state(model, s: complex, alphas) -> np.ndarray:
 def steady_eigenvalues(scene_or_model, R: float, state, step: float = 1e-7) -> np.ndarray:
     """Eigenvalues of the rotating-frame Jacobian at a steady state.
 
-    Jacobian of :func:`stand.model.rotating.rotating_rhs` by central differences
-    (:func:`stand.model.rotating.rotating_jacobian`; error ~1e-7 on the eigenvalues
+    Jacobian of :func:`stand.theories.rotating.rotating_rhs` by central differences
+    (:func:`stand.theories.rotating.rotating_jacobian`; error ~1e-7 on the eigenvalues
     with the default step), sorted by decreasing real part.  ``state`` should
     be an exact equilibrium (see :func:`steady_state`).
     """
@@ -224,7 +224,7 @@ def stable_steady_motions(model, R: float, e0: Optional[float] = None, n: Option
           with psi = 0 is omitted (it is a main motion: e0 = |e_k|, Fig. 5.2 b).
 
     Each report carries the eigenvalues of the rotating-frame Jacobian and the
-    residual of :func:`stand.model.rotating.rotating_rhs` at the state.
+    residual of :func:`stand.theories.rotating.rotating_rhs` at the state.
 
     Raises
     ------

@@ -2,7 +2,7 @@
 
 Part of :mod:`stand.model.balancers.gravity_pair`.  The steady (synchronous)
 motions are the equilibria of the rotating-frame system (7.6) (evaluated on the one
-model, :mod:`stand.model.balancers.one_model`): main motions
+model, :mod:`stand.theories.weights.one_model`): main motions
 ``phi = arcsin e0`` (7.7), first-group side motions (CWs fully deflected)
 outside the band (7.8), second-group side motions (``sin phi = 0``), and for
 ``e0 > 1`` the set (7.9).  Stability by the numerical Jacobian (the
@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from stand.model.balancers._ode import central_jacobian
-from stand.model.balancers.one_model import rotating_form
+from stand.theories.weights.one_model import rotating_form
 
 if TYPE_CHECKING:
     from stand.model.balancers.gravity_pair_params import GravityPairParams
@@ -151,7 +151,7 @@ def side_band(p: GravityPairParams) -> tuple[float, float]:
 
 def jacobian(p: GravityPairParams, y, *, step: float = 1e-6) -> np.ndarray:
     """Central-difference Jacobian (8x8) of the rotating-frame equations (7.2) at the state
-    ``y``, evaluated on the one model (:func:`stand.model.balancers.one_model.rotating_form`)."""
+    ``y``, evaluated on the one model (:func:`stand.theories.weights.one_model.rotating_form`)."""
     return central_jacobian(rotating_form("gravity_pair", p), y, np.full(8, step))
 
 

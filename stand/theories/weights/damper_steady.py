@@ -1,7 +1,7 @@
 """Autobalancer-damper (book 7.2): steady motions, efficiency and their stability.
 
 Part of :mod:`stand.model.balancers.damper`.  The steady motions are the equilibria
-of the rotating frame (:func:`stand.model.balancers.one_model.rotating_form`): the CW locked to the
+of the rotating frame (:func:`stand.theories.weights.one_model.rotating_form`): the CW locked to the
 rotor at ``u = cos(phi)``, a real root of (7.53)
 ``(1 - u^2) Delta(u) = R_m^2 R_omega^8 e0^2 u^2 / R_g^4`` with
 ``Delta(u) = (R_omega^2 - 1 + R_m R_omega^4 u / R_g^2)^2 + (H R_omega)^2``,
@@ -20,7 +20,7 @@ import numpy as np
 from stand.model.balancers._ode import central_jacobian
 from stand.model.balancers._params import BOOK
 from stand.model.balancers.damper_motion import _EZ, state_from_angles
-from stand.model.balancers.one_model import rotating_form
+from stand.theories.weights.one_model import rotating_form
 
 if TYPE_CHECKING:
     from stand.model.balancers.damper_params import DamperParams
@@ -236,7 +236,7 @@ def _tangent(n):
 
 def jacobian(p: DamperParams, s, *, step: float = 1e-6) -> np.ndarray:
     """9x9 Jacobian of the rotating-frame equations (evaluated on the one model,
-    :func:`stand.model.balancers.one_model.rotating_form`) at ``s`` in the chart
+    :func:`stand.theories.weights.one_model.rotating_form`) at ``s`` in the chart
     ``(xi, eta, xi', eta', eps1, eps2, W1, W2, W3)``, ``n = normalise(n0 + eps1 t1 + eps2 t2)``
     -- the book's 9 first-order variables (``x, y, phi, psi, p`` and rates), without the
     constraint direction."""

@@ -6,7 +6,7 @@ again here: :func:`rotating_form` maps the book's rotating-frame state to the
 generic composition of the model (:func:`stand.model.balancers.composition.composition`,
 planar rotor x one body weight, run in the book's units ``M_Sigma = 1 kg``,
 ``omega0 = 1 rad/s``, ``l = 1 m``) and evaluates the rotating frame derived from the
-fixed-frame kernel (:func:`stand.model.rotating.rotating_rhs`).  The map is linear
+fixed-frame kernel (:func:`stand.theories.rotating.rotating_rhs`).  The map is linear
 (a permutation and the model's length scale), so equilibria, Jacobians and
 eigenvalues are the book's.
 
@@ -23,7 +23,7 @@ from typing import Callable
 import numpy as np
 
 from stand.model.balancers.composition import composition
-from stand.model.rotating import rotating_rhs
+from stand.theories.rotating import rotating_rhs
 from stand.model.rotors.coupled_kernel import build_model
 
 __all__ = ["rotating_form"]

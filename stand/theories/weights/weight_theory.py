@@ -7,7 +7,7 @@
 :class:`~stand.model.balancers.liquid_float.LiquidFloatParams`,
 :class:`~stand.model.balancers.liquid_chamber.LiquidChamberParams`) and returns one
 JSON-able dict.  It knows nothing of scenes: ``stand theory`` reaches it
-through :func:`stand.scene.book_tables.model_theory`, and a rotor carrying body
+through :func:`stand.theories.scene.model_theory`, and a rotor carrying body
 weights can call it with the weight's parameters directly.
 
 What each model gets
@@ -142,19 +142,20 @@ def _D(w, H):
 
 
 def _gravity_pair(p, notes) -> dict:
-    from stand.model.balancers import gravity_pair as gp
+    from stand.theories.weights import gravity_pair_steady as gst
+    from stand.theories.weights import gravity_pair_qp as gqp
 
     out = {"speed_R_omega": p.R_omega, "units": _BOOK_UNITS}
     motions = []
     try:
-        for m in gp.steady_motions(p):
+        for m in gst.steady_motions(p):
             motions.append(to_jsonable(m) | {"deflection": m.deflection}
-                           | _eig_summary(gp.eigenvalues(p, m)))
+                           | _eig_summary(gst.eigenvalues(p, m)))
     except (ValueError, ArithmeticError) as exc:
         notes.append(f"steady motions (7.6)-(7.9): {_why(exc, p)}")
     out["steady_motions"] = motions
     if 0.0 < p.e0 < 1.0:
-        lo, hi = gp.side_band(p)
+        lo, hi = gst.side_band(p)
         out["side_motion_gap_R_omega"] = [lo, hi]
     r0 = p.R_m * p.R_omega ** 2 * p.e0 / math.sqrt(_D(p.R_omega, p.H)) if _D(p.R_omega, p.H) > 0 \
         else math.inf
@@ -173,23 +174,23 @@ def _gravity_pair(p, notes) -> dict:
                                        else "undamped resonance (r0 infinite)"))
     out["balancing_efficiency"] = eff
     qp = {"equations": "(7.38)-(7.46) with errata E3-E5 (digest ch7 section 1.6)",
-          "phi_rad": math.pi / 2, "family_limit_R_omega": gp.qp_family_limit(p)}
+          "phi_rad": math.pi / 2, "family_limit_R_omega": gqp.qp_family_limit(p)}
     if p.h2 == 0.0:
         notes.append("quasi-periodic motions: h2 = 0, the frequency equation (7.39) needs h2 > 0")
         qp["exists"] = False
         out["quasi_periodic"] = qp
         return out
-    Omega = gp.qp_frequency(p)
-    lim_exact, _ = gp.qp_family_limit_exact(p)
+    Omega = gqp.qp_frequency(p)
+    lim_exact, _ = gqp.qp_family_limit_exact(p)
     qp["family_limit_exact_R_omega"] = lim_exact
     qp["frequency_Omega"] = Omega
-    qp["frequency_small_H_approx"] = gp.qp_frequency_approx(p)
+    qp["frequency_small_H_approx"] = gqp.qp_frequency_approx(p)
     in_range = 1.0 < p.R_omega < lim_exact
     qp["in_stable_range"] = bool(in_range)
     qp["exists"] = bool(math.isfinite(Omega) and in_range)
     if math.isfinite(Omega):
         try:
-            Ap, An = gp.qp_amplitudes(p, Omega)
+            Ap, An = gqp.qp_amplitudes(p, Omega)
             qp |= {"precession_amplitude": Ap, "nutation_amplitude": An,
                    "orbit_radius_min": abs(Ap - An), "orbit_radius_max": Ap + An}
             qp["trace"] = _trace(Ap, An, Omega, p.R_omega, p.R_m, p.H)
@@ -204,14 +205,13 @@ def _gravity_pair(p, notes) -> dict:
 
 # --------------------------------------------------------------------------- ch. 6
 def _two_axis(p, notes) -> dict:
-    from stand.model.balancers import two_axis as ta
-    from stand.model.balancers import two_axis_steady as st
-    from stand.model.balancers import two_axis_theory as th
+    from stand.theories.weights import two_axis_steady as st
+    from stand.theories.weights import two_axis_theory as th
 
     out = {"speed_R_omega": p.R_omega, "units": _BOOK_UNITS}
     motions = []
     try:
-        for m in ta.steady_motions(p):
+        for m in st.steady_motions(p):
             motions.append(to_jsonable(m) | {"stable": bool(m.stable), "max_real_part": m.max_re})
     except (ValueError, ArithmeticError) as exc:
         notes.append(f"steady motions (6.29)-(6.51): {_why(exc, p)}")
@@ -250,23 +250,23 @@ def _two_axis(p, notes) -> dict:
 
 # --------------------------------------------------------------------------- ch. 7.2
 def _damper(p, notes) -> dict:
-    from stand.model.balancers import damper as dm
-    from stand.model.balancers.damper_steady import _Delta
+    from stand.theories.weights import damper_steady as dst
+    from stand.theories.weights.damper_steady import _Delta
 
     out = {"speed_R_omega": p.R_omega, "units": _BOOK_UNITS}
     motions = []
     try:
-        for m in dm.steady_motions(p):
+        for m in dst.steady_motions(p):
             motions.append(to_jsonable(m) | {"deflection": m.deflection}
-                           | _eig_summary(dm.eigenvalues(p, m)))
+                           | _eig_summary(dst.eigenvalues(p, m)))
     except (ValueError, ArithmeticError) as exc:
         notes.append(f"steady motions (7.51)-(7.53): {_why(exc, p)}")
     out["steady_motions"] = motions
     eff = {"equation": "(7.54): n = sqrt(Delta(0)/Delta(u)), u = cos(phi) the largest positive root "
                        "of (7.53) (the branch stable by (7.68))"}
     try:
-        eff["value"] = dm.efficiency(p)
-        roots = dm.steady_quartic_roots(p)
+        eff["value"] = dst.efficiency(p)
+        roots = dst.steady_quartic_roots(p)
         roots = roots[roots > 0]
         if roots.size:
             u = float(roots.max())
@@ -281,7 +281,7 @@ def _damper(p, notes) -> dict:
             notes.append("efficiency (7.54): no steady motion with the weight below the "
                          "suspension point (u > 0)")
         if p.e0 < 1.0:
-            eff["approx_6_114"] = dm.efficiency_approx(p)
+            eff["approx_6_114"] = dst.efficiency_approx(p)
             if p.R_m > 0 and p.R_omega > 0:
                 eff["fast_rotor_asymptote"] = p.R_g ** 2 / (p.R_m * p.R_omega ** 2
                                                             * math.sqrt(1 - p.e0 ** 2))
@@ -290,7 +290,7 @@ def _damper(p, notes) -> dict:
         notes.append(f"efficiency (7.54): {_why(exc, p)}")
     out["balancing_efficiency"] = eff
     if p.R_m > 0 and p.R_g > 0 and 0.0 <= p.e0 < 1.0:
-        out["existence_boundaries_undamped"] = dm.critical_speeds_undamped(p.R_m, p.R_g, p.e0) \
+        out["existence_boundaries_undamped"] = dst.critical_speeds_undamped(p.R_m, p.R_g, p.e0) \
             | {"equations": "(7.55)-(7.56), for H = 0"}
     return out
 
@@ -326,12 +326,13 @@ def _liquid_float(p, omega, notes) -> dict:
 # --------------------------------------------------------------------------- thesis 002
 def _liquid_chamber(p, omega, notes) -> dict:
     from stand.model.balancers import liquid_chamber as lc
+    from stand.theories.weights import liquid_chamber_quasi_static as lqs
 
     out = {"speed_rad_s": omega, "gamma": omega / p.critical_speed}
     R, h, rho, V = p.chamber_radius, p.chamber_height, p.liquid_density, p.liquid_volume
     D0 = p.rotor_unbalance
     if omega > 0:
-        qs = lc.quasi_static_efficiency(p, omega)
+        qs = lqs.quasi_static_efficiency(p, omega)
         out["quasi_static_efficiency"] = to_jsonable(qs)
         eff = {"lambda0": qs.lambda0, "k": qs.k, "alpha0_rad": qs.alpha0,
                "alpha0_deg": math.degrees(qs.alpha0), "delta_rad": qs.delta,
@@ -339,14 +340,14 @@ def _liquid_chamber(p, omega, notes) -> dict:
                            "alpha0 from the corrected (2.13)",
                "valid": qs.valid, "flags": list(qs.flags)}
         if math.isfinite(qs.alpha0):
-            ex = lc.efficiency_extremum(qs.alpha0)
+            ex = lqs.efficiency_extremum(qs.alpha0)
             eff |= {"k_star": ex.k_star, "lambda0_max": ex.lambda_max}
         out["balancing_efficiency"] = eff
     else:
         notes.append("quasi-static efficiency (2.14): needs a speed > 0 rad/s")
     rows = []
     for g in TABLE_3_2_GAMMAS:
-        r = lc.quasi_static_efficiency(p, g * p.critical_speed)
+        r = lqs.quasi_static_efficiency(p, g * p.critical_speed)
         rows.append({"gamma": g, "omega_rad_s": g * p.critical_speed, "lambda0": r.lambda0,
                      "k": r.k, "valid": r.valid})
     out["efficiency_by_speed"] = rows
@@ -374,6 +375,7 @@ def _liquid_chamber(p, omega, notes) -> dict:
 def _liquid_choice(p, omega, D0, notes) -> dict:
     """Width of the equilibrium zone (2.15) of each liquid of :data:`LIQUIDS`."""
     from stand.model.balancers import liquid_chamber as lc
+    from stand.theories.weights import liquid_chamber_quasi_static as lqs
 
     R, h = p.chamber_radius, p.chamber_height
     out = {"equation": "(2.15): sin(beta*) = 8 pi nu R xi/(V omega), xi = 2 pi (whole wall); "
@@ -425,7 +427,7 @@ def _params_class(kind):
     import importlib
 
     mod, name = _PARAMS[kind]
-    return getattr(importlib.import_module(f"{__package__}.{mod}"), name)
+    return getattr(importlib.import_module(f"stand.model.balancers.{mod}"), name)
 
 
 def weight_theory(kind: str, params, speed: float | None = None) -> dict:

@@ -5,7 +5,7 @@ from the quartic (6.36) in ``u = cos(phi~)`` with (6.37)-(6.38) and the
 efficiency (6.40); second-group motions (6.29)-(6.30); the gravity-free,
 undamped case of section 6.2.2, (6.46)-(6.51).  Each motion carries the
 eigenvalues of the linearised (6.12) (numerical Jacobian); the analytic
-characteristic equations are in :mod:`stand.model.balancers.two_axis_theory`.
+characteristic equations are in :mod:`stand.theories.weights.two_axis_theory`.
 """
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, List, Optional
 import numpy as np
 
 from stand.model.balancers._ode import central_jacobian
-from stand.model.balancers.one_model import rotating_form
+from stand.theories.weights.one_model import rotating_form
 
 if TYPE_CHECKING:
     from stand.model.balancers.two_axis_params import TwoAxisParams
@@ -40,7 +40,7 @@ def jacobian(fun, y0, *args, eps=1e-6):
 
 def eigenvalues(p: TwoAxisParams, y0) -> np.ndarray:
     """Eigenvalues of the linearised (6.12) at the rotating-frame state ``y0`` (the rotating
-    frame evaluated on the one model, :func:`stand.model.balancers.one_model.rotating_form`)."""
+    frame evaluated on the one model, :func:`stand.theories.weights.one_model.rotating_form`)."""
     form = rotating_form("two_axis", p)
     return np.linalg.eigvals(jacobian(lambda tau, y: form(y), y0))
 

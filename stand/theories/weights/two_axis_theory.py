@@ -33,8 +33,8 @@ from scipy.optimize import brentq, minimize_scalar
 
 from stand.model.balancers._params import BOOK
 from stand.model.balancers.two_axis_params import TwoAxisParams
-from stand.model.balancers.one_model import rotating_form
-from stand.model.balancers.two_axis_steady import _D, efficiency, eigenvalues, first_group, jacobian, max_real_part
+from stand.theories.weights.one_model import rotating_form
+from stand.theories.weights.two_axis_steady import _D, efficiency, eigenvalues, first_group, jacobian, max_real_part
 
 __all__ = [
     "char_poly_first_group", "char_poly_second_group", "small_mass_roots",
@@ -406,7 +406,7 @@ def qp_state(p: TwoAxisParams, Omega, phi, beta=0.0) -> np.ndarray:
 def _qp_eig(p, Omega, phi):
     """Eigenvalues of (6.15) linearised in axes turning at ``Omega`` (6.19)-(6.22), about the
     QP motion's state (:func:`qp_state`): the one model's rotating frame at the frame speed
-    ``Omega`` (:func:`stand.model.balancers.one_model.rotating_form`), e0 = 0."""
+    ``Omega`` (:func:`stand.theories.weights.one_model.rotating_form`), e0 = 0."""
     q = p.with_(e0=0.0)
     form = rotating_form("two_axis", q, frame_speed=Omega)
     return np.linalg.eigvals(jacobian(lambda tau, y: form(y), qp_state(q, Omega, phi)))
