@@ -15,11 +15,13 @@ from scipy.integrate import solve_ivp
 
 from stand.model.rotors import working_ranges
 from stand.model.rotors.spatial import (
-    SupportStiffness, auxiliary_speed, balances_at_high_speed, cantilever_disk, couple_unbalance,
-    critical_speeds, delta, disk_on_clamped_shaft, disk_on_hinged_shaft, frequency_polynomial,
-    frequency_roots, high_speed_limit, intersect_ranges, isotropic_supports, r_ac, spatial_rotor,
-    static_unbalance, symmetric_critical_speeds, two_balancer_ranges, two_elastic_supports,
-    two_support_rotor,
+    SupportStiffness, cantilever_disk, couple_unbalance, disk_on_clamped_shaft, disk_on_hinged_shaft,
+    isotropic_supports, spatial_rotor, static_unbalance, two_elastic_supports, two_support_rotor,
+)
+from stand.theories.spatial_criterion import (
+    auxiliary_speed, balances_at_high_speed, critical_speeds, delta, frequency_polynomial,
+    frequency_roots, high_speed_limit, intersect_ranges, r_ac, symmetric_critical_speeds,
+    two_balancer_ranges,
 )
 
 INF = math.inf

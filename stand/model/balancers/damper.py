@@ -83,10 +83,9 @@ rotating-frame components)::
 Modules
 -------
 This module re-exports the parameters (:mod:`.damper_params`) and the model's functions from
-:mod:`.damper_motion` (frames, initial states), :mod:`.damper_steady` (steady motions (7.51)-(7.62), efficiency
-(7.54), stability (7.63)-(7.74)) and :mod:`.damper_residual` (dry-friction
-residual unbalance (7.80)-(7.84)), so ``stand.model.balancers.damper.<name>`` keeps
-working for all of them.
+:mod:`.damper_motion` (frames, initial states) and :mod:`.damper_residual` (dry-friction
+residual unbalance (7.80)-(7.84)).  The steady motions (7.51)-(7.62), efficiency (7.54) and
+stability (7.63)-(7.74) are theory: :mod:`stand.theories.weights.damper_steady`.
 """
 from __future__ import annotations
 

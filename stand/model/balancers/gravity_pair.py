@@ -72,10 +72,9 @@ with ``psi = alpha - R_omega tau`` and ``xi + i eta = z e^{-i R_omega tau}`` (7.
 Modules
 -------
 This module re-exports the parameters (:mod:`.gravity_pair_params`) and the model's functions from
-:mod:`.gravity_pair_motion` (frames, energy), :mod:`.gravity_pair_steady` (steady motions (7.6)-(7.9),
-stability) and :mod:`.gravity_pair_qp` (quasi-periodic motions
-(7.38)-(7.46)), so ``stand.model.balancers.gravity_pair.<name>`` keeps working for
-all of them.
+:mod:`.gravity_pair_motion` (frames, energy).  The theory is in :mod:`stand.theories.weights`:
+steady motions (7.6)-(7.9) and their stability in ``gravity_pair_steady``, quasi-periodic
+motions (7.38)-(7.46) in ``gravity_pair_qp``.
 """
 from __future__ import annotations
 

@@ -13,10 +13,10 @@ Contents
   V/(pi h)), l.1787; the paraboloid of l.662-666), :func:`free_surface_height`.
 * Liquid centre of mass: :func:`liquid_centroid` (l.668), valid under the
   sufficiency condition (3.4) ``f <= R - r``.
-* Damped quasi-static model below the critical speed (section 2.2.2.1):
-  :func:`phase_lag` (2.5), :func:`deflection_factor` (2.7),
-  :func:`equilibrium_angle` (2.13, **corrected**), :func:`efficiency` (2.14),
-  :func:`quasi_static_efficiency` (the self-consistent closure of digest
+* Damped quasi-static model below the critical speed (section 2.2.2.1), in
+  :mod:`stand.theories.weights.liquid_chamber_quasi_static`: ``phase_lag`` (2.5),
+  ``deflection_factor`` (2.7), ``equilibrium_angle`` (2.13, **corrected**), ``efficiency``
+  (2.14), ``quasi_static_efficiency`` (the self-consistent closure of digest
   section 4.6, or the literal Appendix-B algorithm with ``literal=True``).
 * Viscous equilibrium zones (2.15): :func:`viscous_zone`, :func:`wetted_arc`,
   :func:`select_liquid`.
@@ -74,11 +74,11 @@ Modules
 -------
 This module re-exports the parameters and the damping conventions
 (:mod:`.liquid_chamber_params`) and the model's functions from :mod:`.liquid_chamber_geometry` (fill, free
-surface, centroid), :mod:`.liquid_chamber_quasi_static` ((2.5)-(2.14) and the
-self-consistent efficiency), :mod:`.liquid_chamber_viscous` ((2.15)),
+surface, centroid), :mod:`.liquid_chamber_viscous` ((2.15)),
 :mod:`.liquid_chamber_simplified` ((3.1)-(3.14)) and
-:mod:`.liquid_chamber_design` (optimal volume, permissible unbalance), so
-``stand.model.balancers.liquid_chamber.<name>`` keeps working for all of them.
+:mod:`.liquid_chamber_design` (optimal volume, permissible unbalance).  The damped
+quasi-static model (2.5)-(2.14) and the self-consistent efficiency are theory:
+:mod:`stand.theories.weights.liquid_chamber_quasi_static`.
 """
 from __future__ import annotations
 

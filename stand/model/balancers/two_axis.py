@@ -59,11 +59,10 @@ the rotating form (6.12) follows by (6.13) and is checked numerically in the tes
 
 Modules
 -------
-This module re-exports the parameters (:mod:`.two_axis_params`) and the model's functions from
-:mod:`.two_axis_motion` (frame changes (6.13)) and
-:mod:`.two_axis_steady` (linearisation, steady motions of section 6.2), so
-``stand.model.balancers.two_axis.<name>`` keeps working for all of them; the theory
-of sections 6.3-6.5 is in :mod:`.two_axis_theory`.
+This module re-exports the parameters (:mod:`.two_axis_params`) and the model's frame
+changes (6.13) (:mod:`.two_axis_motion`).  The theory is in :mod:`stand.theories.weights`:
+linearisation and steady motions of section 6.2 in ``two_axis_steady``, sections 6.3-6.5 in
+``two_axis_theory``.
 """
 from __future__ import annotations
 

@@ -30,7 +30,7 @@ Contents (every name is importable from this module)
 * This module: :func:`spatial_rotor`, the :class:`LinearRotor` of (2.118)/(2.122);
   :func:`static_unbalance`, :func:`couple_unbalance`; the scene-file builder
   :func:`spatial_scene_rotor`.
-* :mod:`.spatial_criterion`, closed forms of 2.7.2/2.7.3: :func:`delta` (2.126),
+* :mod:`stand.theories.spatial_criterion` (theory), closed forms of 2.7.2/2.7.3: ``delta`` (2.126),
   :func:`r_ac` (2.133), :func:`high_speed_limit` (2.134)-(2.137),
   :func:`auxiliary_speed` (2.138), :func:`frequency_polynomial` /
   :func:`frequency_roots` (2.139)-(2.141), :func:`critical_speeds`
@@ -49,10 +49,6 @@ import math
 import numpy as np
 
 from stand.model.rotors._build import gyroscopic_pair, nonnegative, positive
-from stand.model.rotors.spatial_criterion import (SpeedRegions, auxiliary_speed, balances_at_high_speed,
-                                critical_speeds, delta, frequency_polynomial, frequency_roots,
-                                high_speed_limit, intersect_ranges, r_ac, rotor_shape,
-                                symmetric_critical_speeds, two_balancer_ranges)
 from stand.model.rotors.spatial_supports import (COORDS, SupportStiffness, cantilever_disk, disk_on_clamped_shaft,
                                disk_on_hinged_shaft, isotropic_supports, numbered_planes, plane_map,
                                two_elastic_supports)
@@ -62,10 +58,7 @@ from stand.model.rotors.structure import LinearRotor
 __all__ = [
     "SupportStiffness", "two_elastic_supports", "isotropic_supports", "cantilever_disk",
     "disk_on_hinged_shaft", "disk_on_clamped_shaft", "plane_map", "spatial_rotor",
-    "static_unbalance", "couple_unbalance", "rotor_shape", "delta", "r_ac",
-    "high_speed_limit", "balances_at_high_speed", "auxiliary_speed", "frequency_polynomial",
-    "frequency_roots", "SpeedRegions", "critical_speeds", "symmetric_critical_speeds",
-    "intersect_ranges", "two_balancer_ranges", "TwoSupportRotor", "two_support_rotor",
+    "static_unbalance", "couple_unbalance", "TwoSupportRotor", "two_support_rotor",
 ]
 
 

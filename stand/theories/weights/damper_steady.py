@@ -1,6 +1,6 @@
 """Autobalancer-damper (book 7.2): steady motions, efficiency and their stability.
 
-Part of :mod:`stand.model.balancers.damper`.  The steady motions are the equilibria
+Theory of the model :mod:`stand.model.balancers.damper`.  The steady motions are the equilibria
 of the rotating frame (:func:`stand.theories.weights.one_model.rotating_form`): the CW locked to the
 rotor at ``u = cos(phi)``, a real root of (7.53)
 ``(1 - u^2) Delta(u) = R_m^2 R_omega^8 e0^2 u^2 / R_g^4`` with

@@ -1,6 +1,6 @@
 """Gravity-insensitive coupled pair (book 7.1): quasi-periodic motions, (7.38)-(7.46).
 
-Part of :mod:`stand.model.balancers.gravity_pair` (digest section 1.6).  Above
+Theory of the model :mod:`stand.model.balancers.gravity_pair` (digest section 1.6).  Above
 resonance the CWs can whirl at their own speed ``Omega`` below the shaft's
 (the QP family): ``Omega`` is the root in (0, 1) of the precession-frequency
 equation ``P(Omega) = R_mH Omega^5 - (R_omega - Omega) D(Omega) = 0`` (second

@@ -1,6 +1,6 @@
 """Gravity-insensitive coupled pair (book 7.1): steady motions and their stability.
 
-Part of :mod:`stand.model.balancers.gravity_pair`.  The steady (synchronous)
+Theory of the model :mod:`stand.model.balancers.gravity_pair`.  The steady (synchronous)
 motions are the equilibria of the rotating-frame system (7.6) (evaluated on the one
 model, :mod:`stand.theories.weights.one_model`): main motions
 ``phi = arcsin e0`` (7.7), first-group side motions (CWs fully deflected)

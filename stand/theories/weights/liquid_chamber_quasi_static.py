@@ -1,6 +1,6 @@
 """Liquid chamber balancer (thesis 002): damped quasi-static model below the critical speed.
 
-Part of :mod:`stand.model.balancers.liquid_chamber` (section 2.2.2.1 of the
+Theory of the model :mod:`stand.model.balancers.liquid_chamber` (section 2.2.2.1 of the
 thesis): phase lag (2.5), deflection factor (2.7)-(2.8), liquid equilibrium
 angle (2.12)-(2.13) (**corrected**: the print drops the ``1/k`` of l.814;
 ``literal=True`` evaluates the print), efficiency (2.14) and its extremum over

@@ -1,6 +1,6 @@
 """Two-axis pendulum CW (ch. 6): steady (synchronous) motions, section 6.2.
 
-Part of :mod:`stand.model.balancers.two_axis`.  First-group motions (sin phi~ != 0)
+Theory of the model :mod:`stand.model.balancers.two_axis`.  First-group motions (sin phi~ != 0)
 from the quartic (6.36) in ``u = cos(phi~)`` with (6.37)-(6.38) and the
 efficiency (6.40); second-group motions (6.29)-(6.30); the gravity-free,
 undamped case of section 6.2.2, (6.46)-(6.51).  Each motion carries the

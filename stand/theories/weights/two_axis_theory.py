@@ -1,7 +1,7 @@
 """Theory of the two-axis pendulum CW (ch. 6): stability, critical speeds,
 efficiency, quasi-periodic motions.
 
-Companion of :mod:`stand.model.balancers.two_axis` (model, equations, steady motions).
+Companion of :mod:`stand.model.balancers.two_axis` (model, equations; steady motions in :mod:`.two_axis_steady`).
 Digest ``/work/shared/physics/ch6_two_axis.md`` sections 4-6; book numbers cited
 per function.  Book errors are NOT reproduced; where a formula follows the
 digest's correction instead of the print, the docstring says so:

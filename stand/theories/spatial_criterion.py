@@ -14,7 +14,7 @@ isotropic supports ``(c11 [N/m], c14 [N/rad], c33 [N m/rad])`` (2.122):
 * :func:`intersect_ranges`, :func:`two_balancer_ranges` (2.160).
 
 Each closed form equals the generic :meth:`LinearRotor.criterion` of
-:func:`stand.model.rotors.spatial.spatial_rotor`, which re-exports these names.
+:func:`stand.model.rotors.spatial.spatial_rotor` (the model; this is its theory).
 """
 from __future__ import annotations
 
