@@ -303,7 +303,7 @@ def test_a_jit_run_starts_one_background_build(monkeypatch):
 
 def test_background_build_entry_point_refuses_unknown_kinds(capsys):
     assert precompiled.main(["spherical"]) == 2
-    assert "usage: python -m stand.integrate.precompiled {planar,generic,render}" in \
+    assert "usage: python -m stand.integrate.precompiled {planar,generic,<module>:<function>}" in \
         capsys.readouterr().err
 
 
