@@ -111,17 +111,6 @@ def _naming_the_input(args, exc) -> str:
     return msg
 
 
-def _background_precompile() -> None:
-    """A command that ran a kernel on numba's JIT starts the build of its precompiled module
-    (stand.integrate.kernel_set), so that the next command starts without numba."""
-    ks = sys.modules.get("stand.integrate.kernel_set")
-    if ks is not None:
-        try:
-            ks.precompile_in_background()
-        except Exception:  # noqa: BLE001 - never let a background build spoil the command
-            pass
-
-
 def _one_line_errors(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
     """Argument errors as one line (docs/guarantees.md), not argparse's usage block:
     ``stand influence: error: the following arguments are required: --trial; see
@@ -166,7 +155,9 @@ def main(argv=None) -> int:
               "(please report this with the scene file)", file=sys.stderr)
         return 3
     finally:
-        _background_precompile()
+        from stand.api.simulation import precompile_in_background
+
+        precompile_in_background()
 
 
 if __name__ == "__main__":  # pragma: no cover
