@@ -79,7 +79,8 @@ def _analysis_lines(doc) -> list:
     if vib.get("quantity") not in (None, "displacement") and vib.get("peak") is not None:
         lines.append(f"{label('vibration_1x')}: {vib['quantity']} {plain(vib['peak'], vib.get('unit', ''))} "
                      "(peak)")
-    if vib.get("velocity_rms_mm_s") is not None:
+    if vib.get("velocity_rms_mm_s") is not None and resolved(doc.get("response_1x_m"),
+                                                            doc.get("response_1x_m_std")):
         lines.append(labelled(vib, "velocity_rms_mm_s"))
     lines.append(labelled(doc, "unbalance_gmm"))
     # an angle of an unbalance below resolution means nothing: not shown
@@ -87,8 +88,10 @@ def _analysis_lines(doc) -> list:
         lines.append(labelled(doc, "unbalance_angle_deg", angle=True))
     g = doc.get("iso_grade")
     if g:
-        achieved = shown({"g": g["grade_mm_s"], "g_std": g.get("grade_mm_s_std")}, "g")
-        lines.append(f"ISO 21940-11: {label('achieved_grade_mm_s').lower()} {achieved} mm/s "
+        # analyze's grade_mm_s is the achieved grade (the report's key for it: achieved_grade_mm_s)
+        achieved = shown({"achieved_grade_mm_s": g["grade_mm_s"],
+                          "achieved_grade_mm_s_std": g.get("grade_mm_s_std")}, "achieved_grade_mm_s")
+        lines.append(f"ISO 21940-11: {label('achieved_grade_mm_s').lower()} {achieved} "
                      f"({g['class']}), required G {plain(g['target_mm_s'])} mm/s: "
                      + ("pass" if g["passed"] else "FAIL"))
     if doc.get("programme"):
@@ -100,7 +103,7 @@ def _analysis_lines(doc) -> list:
         lines.append(crit + (f" ({doc['critical_speed_method']})" if doc.get("critical_speed_method") else ""))
     lines += [labelled(doc, k) for k in ("precession_hz", "nutation_hz", "petals", "shape", "regime")]
     for c in doc.get("critical_speeds_hz") or []:
-        lines.append(f"{label('regime')}: {c['before']} -> {c['after']} at "
+        lines.append(f"{label('regime_change')}: {c['before']} -> {c['after']} at "
                      f"{shown(c, 'speed_hz')}")
     lines += [f"note: {n}" for n in doc.get("notes") or []]
     return [f"  {line}" for line in lines if line]

@@ -267,7 +267,7 @@ LABELS = {
     "shape": ("Shape of the path", "", 1.0),
     "vibration_1x": ("1X vibration as measured", "", 1.0),
     "velocity_rms_mm_s": ("1X vibration velocity, rms (ISO 20816)", "mm/s", 1.0),
-    "regime_changes": ("Regime changes", "", 1.0),
+    "regime_change": ("Regime change", "", 1.0),
 }
 
 
