@@ -12,19 +12,12 @@ from stand.cli.common import (labelled, print_json, print_recognised, print_warn
 __all__ = ["cmd_report", "cmd_analyze", "cmd_influence", "cmd_balance", "cmd_daq"]
 
 
-def _output_dirs_exist(*outputs) -> None:
-    for o in outputs:
-        if o and not Path(o).resolve().parent.is_dir():
-            raise FileNotFoundError(f"output directory of {o!r} does not exist")
-
-
 def cmd_report(args) -> int:
     from stand.api import report
     from stand.api.analysis import is_batch, report_many
     from stand.cli.parser import _grade
 
     grade = _grade(args.grade)
-    _output_dirs_exist(args.output, args.json_file, args.pdf)
     if is_batch(args.recording):
         summary = args.summary or str(Path(args.output).with_suffix(".csv")) if args.output else args.summary
         if not summary:
@@ -116,7 +109,6 @@ def cmd_analyze(args) -> int:
     if is_batch(args.recording):
         if not args.output:
             raise ValueError("a folder or glob needs -o SUMMARY.csv|.parquet (one row per recording)")
-        _output_dirs_exist(args.output)
         df = analyze_many(args.recording, args.output, grade=args.grade,
                           service_speed_rpm=args.service_speed, recording_map=args.map,
                           columns=args.columns, workers=args.workers, scheduler=args.scheduler,

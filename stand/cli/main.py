@@ -67,7 +67,8 @@ def _table_kind(path) -> str:
 
 
 def _guard(args) -> None:
-    """Refuse outputs that are inputs or files of another kind (stand.io.guard), before any work."""
+    """Refuse outputs in a missing directory, outputs that are inputs and files of another kind
+    (stand.io.guard), before any work."""
     from stand.io.guard import check_outputs
 
     g = lambda name: getattr(args, name, None)  # noqa: E731
@@ -89,6 +90,9 @@ def _guard(args) -> None:
         outputs.append((g("save_influence"), "toml"))
     if cmd == "fit":
         outputs.append((g("report"), "html"))
+    for o, _ in outputs:    # fail before the work, not after it
+        if o is not None and not Path(o).resolve().parent.is_dir():
+            raise FileNotFoundError(f"output directory of {str(o)!r} does not exist")
     check_outputs(inputs, outputs, force=bool(g("force")))
 
 

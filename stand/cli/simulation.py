@@ -4,7 +4,6 @@ API (:mod:`stand.api`, :mod:`stand.api.simulation`) and prints."""
 from __future__ import annotations
 
 import sys
-from pathlib import Path
 
 from stand.cli.common import print_json, say_not_applicable
 
@@ -66,9 +65,6 @@ def cmd_accuracy(args) -> int:
     if steps and not all(v > 0 for v in steps):
         raise ValueError(f"--rk4-steps = {args.rk4_steps!r}: steps must be > 0 (s)")
     methods = args.methods.split(",") if args.methods else None
-    for o in (args.output, args.json_file):
-        if o and not Path(o).resolve().parent.is_dir():
-            raise FileNotFoundError(f"output directory of {o!r} does not exist")
     rep = accuracy(scene, rtols=rtols, methods=methods, rk4_steps=steps, fast=args.fast,
                    html_path=args.output, json_path=args.json_file)
     if args.json:
@@ -122,8 +118,6 @@ def cmd_theory(args) -> int:
     from stand.api.simulation import speed_map, theory_text
 
     scene = load(args.scene)
-    if args.plot and not Path(args.plot).resolve().parent.exists():
-        raise FileNotFoundError(f"plot directory {str(Path(args.plot).parent)!r} does not exist")
     doc = theory(scene, max_speed=args.max_speed, floquet=not args.no_floquet)
     if args.plot:
         if doc["kind"] == "chapter5":
@@ -150,9 +144,6 @@ def cmd_sweep(args) -> int:
 def cmd_stress(args) -> int:
     from stand.api.simulation import stress
 
-    for o in (args.output, args.json_file):
-        if o and not Path(o).resolve().parent.is_dir():
-            raise FileNotFoundError(f"output directory of {o!r} does not exist")
     cases = None
     if args.cases:
         cases = "fast" if args.cases == "fast" else [c.strip() for c in args.cases.split(",")]
