@@ -247,3 +247,21 @@ def test_snapshot_of_a_frame_without_the_spot_says_so(tmp_path, capsys):
     img = cv2.imread(str(out), cv2.IMREAD_UNCHANGED)
     assert int(img.max()) - float(np.median(img)) > 50       # the spot (DN above background)
     assert "warning" not in capsys.readouterr().err
+
+
+def test_balance_prints_an_exact_cancellation_as_zero(capsys):
+    """Two planes, two readings: the corrections cancel the readings exactly, so the predicted
+    residual is round-off (~1e-14 mm/s) and printed as 0, not as a number; the ± in
+    the text are the JSON's, by the one formatter."""
+    from stand.io.numbers import with_uncertainty
+
+    job = str(ROOT / "data_samples" / "balance" / "bk_17_227.toml")
+    assert main(["balance", job, "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert all(abs(r["after"]) < 1e-9 * abs(r["before"]) for r in doc["residuals"])
+    assert main(["balance", job]) == 0
+    out = capsys.readouterr().out
+    _nothing_without_a_meaning(out)
+    assert out.count(f"-> 0 {doc['vibration_unit']}") == len(doc["residuals"]) == 2
+    c = doc["corrections"]["P1"]
+    assert f"P1: {with_uncertainty(c['mass'], c['mass_std'], doc['mass_unit'])} @ " in out

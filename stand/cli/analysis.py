@@ -149,6 +149,14 @@ def _resolved(row) -> bool:
     return resolved(row.get("unbalance_gmm"), row.get("unbalance_gmm_std"))
 
 
+def _after(after, before, unit: str, sig: int = 4) -> str:
+    """A predicted residual: 0 when it is round-off (below 1e-9 of the value before: the
+    corrections cancel the readings exactly, as many planes as readings)."""
+    from stand.io.numbers import plain
+
+    return plain(0 if abs(after) < 1e-9 * abs(before) else after, unit, sig)
+
+
 def _influence_lines(res) -> list:
     """Influence-coefficient balancing as text: one line per correction plane, then the sensors."""
     import math
@@ -165,7 +173,7 @@ def _influence_lines(res) -> list:
         v = res.reference_m[i]
         lines.append(f"  sensor {s}: 1X {plain(abs(v) * 1e6, 'µm')} at "
                      f"{plain(math.degrees(math.atan2(v.imag, v.real)) % 360, '°')}, after correction "
-                     f"(predicted) {plain(abs(res.residual_m[i]) * 1e6, 'µm', 2)}")
+                     f"(predicted) {_after(abs(res.residual_m[i]) * 1e6, abs(v) * 1e6, 'µm', 2)}")
     return lines
 
 
@@ -207,7 +215,8 @@ def cmd_balance(args) -> int:
         print(line)
     for r in res["residuals"]:
         at = f" at {plain(r['speed_rpm'], 'rpm', 6)}" if r["speed_rpm"] is not None else ""
-        print(f"  {r['sensor']}{at}: {plain(r['before'])} -> {plain(r['after'], vu)} {res['amplitude']}"
+        print(f"  {r['sensor']}{at}: {plain(r['before'])} -> {_after(r['after'], r['before'], vu)} "
+              f"{res['amplitude']}"
               f" (predicted)")
     return 0
 
