@@ -234,7 +234,8 @@ def test_report_names_its_warnings(tmp_path, capsys):
 
 def test_snapshot_of_a_frame_without_the_spot_says_so(tmp_path, capsys):
     """stand_cameras.h5's frames 4-8 show no spot (the brightest pixel is noise): the
-    snapshot warns naming the frame and why; a frame with the spot gives no warning."""
+    snapshot warns naming the frame and why; a frame with the whole spot gives no warning,
+    one whose spot runs past the border (simulator truth, frames 9-10) says so."""
     import cv2
 
     out = tmp_path / "f.png"
@@ -247,6 +248,13 @@ def test_snapshot_of_a_frame_without_the_spot_says_so(tmp_path, capsys):
     img = cv2.imread(str(out), cv2.IMREAD_UNCHANGED)
     assert int(img.max()) - float(np.median(img)) > 50       # the spot (DN above background)
     assert "warning" not in capsys.readouterr().err
+    # a warning exactly where the simulator's truth has the spot's path leave the image
+    with h5py.File(CAMERAS) as f:
+        inside = f["truth/screen/in_frame"][:]
+    for k in (3, 4, 9, 10, 11):
+        assert main(["snapshot", str(CAMERAS), "--frame", str(k), "-o", str(out)]) == 0
+        warned = f"stand snapshot: warning: frame {k} " in capsys.readouterr().err
+        assert warned == (not inside[k]), k
 
 
 def test_balance_prints_an_exact_cancellation_as_zero(capsys):

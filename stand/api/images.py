@@ -65,28 +65,38 @@ def snapshot(recording, output, *, instrument: str = "screen", frame: int = 0) -
     else:
         img = rec.dataset(name)
     if instrument == "screen":
-        doc["warnings"] += _spot_warnings(img, frame, doc["time_s"])
+        inside = None       # the simulator's truth: the spot's path within the image
+        if len(shape) == 3 and rec.shape("truth/screen/in_frame") is not None:
+            inside = bool(rec.dataset("truth/screen/in_frame", frame % shape[0]))
+        doc["warnings"] += _spot_warnings(img, frame, doc["time_s"], inside)
     with atomic_path(output, suffix=".png") as tmp:
         if not cv2.imwrite(tmp, img):
             raise ValueError(f"could not encode {output}")
     return doc
 
 
-def _spot_warnings(img, frame: int, time_s) -> list:
-    """A sentence when the screen frame shows no spot (:func:`vision.spot.locate`'s criterion)."""
+def _spot_warnings(img, frame: int, time_s, inside=None) -> list:
+    """A sentence when the screen frame shows no spot (:func:`vision.spot.locate`'s criterion,
+    as ``stand track``) or, by the simulator's truth (``inside``), the spot's path leaves the
+    image during the exposure."""
+    import math
+
     from vision.spot import locate
 
     spot = locate(img, refine="centroid")
-    if "missing" not in spot.flags:
-        return []
-    import math
-
     at = f" (t = {time_s:.4g} s)" if time_s is not None else ""
-    peak = spot.peak if math.isfinite(spot.peak) else 0.0
-    thr = max(10 * spot.noise, 5.0) if math.isfinite(spot.noise) else 5.0
-    return [f"frame {frame}{at} shows no spot: its brightest point is {peak:.0f} DN above the "
-            f"background, below the spot threshold of {thr:.0f} DN; the spot is off the screen "
-            "(the shaft's whirl is larger than the screen shows) or the laser is dark"]
+    off = ("the spot is off the screen during the exposure (simulator truth)" if inside is False
+           else "the spot is off the screen (the shaft's whirl is larger than the screen "
+                "shows) or the laser is dark")
+    if "missing" in spot.flags:
+        peak = spot.peak if math.isfinite(spot.peak) else 0.0
+        thr = max(10 * spot.noise, 5.0) if math.isfinite(spot.noise) else 5.0
+        return [f"frame {frame}{at} shows no spot: its brightest point is {peak:.0f} DN above "
+                f"the background, below the spot threshold of {thr:.0f} DN; {off}"]
+    if inside is False:
+        return [f"frame {frame}{at}: the spot's path runs past the image border during the "
+                "exposure (simulator truth): what the frame shows of it is cut"]
+    return []
 
 
 def write_track(track, path) -> None:
