@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import sys
 
-from stand.cli.common import print_json, say_not_applicable
+from stand.cli.common import print_json, say_not_applicable, shown
 
 __all__ = ["cmd_run", "cmd_accuracy", "cmd_experiment", "cmd_theory", "cmd_sweep", "cmd_stress", "cmd_warmup"]
 
@@ -43,7 +43,7 @@ def cmd_run(args) -> int:
             ru = final.get("residual_unbalance")
             print(f"  t = {plain(final['time_s'], 's', 6)}, speed "
                   f"{plain(final['rotor_speed_rev_per_s'], 'rev/s')}, plane {final['main_plane']} "
-                  f"whirl radius {plain(final['whirl_radius_m'], 'm')}"
+                  f"whirl radius {shown({'final_whirl_m': final['whirl_radius_m']}, 'final_whirl_m')}"
                   + (f", residual unbalance {plain(100 * ru, '% of S', 3)}" if ru is not None else ""))
         for n in res.notes:
             print(f"  note: {n}")
