@@ -30,7 +30,7 @@ def pytest_configure(config):
         return
     from stand.model.kernels import KIND_NAMES
 
-    code = "from stand.cli.warmup import warmup; warmup(kinds=[{k}], say=lambda s: None)"
+    code = "from stand.api.warmup import warmup; warmup(kinds=[{k}], say=lambda s: None)"
     procs = [subprocess.Popen([sys.executable, "-c", code.format(k=k)]) for k in sorted(KIND_NAMES)]
     procs.append(subprocess.Popen([sys.executable, "-c", "from vision.blur import warm; warm()"]))
     procs.append(subprocess.Popen([sys.executable, "-c", "from dsp._line_kernel import warm; warm()"]))

@@ -385,7 +385,7 @@ def run_harness(tmp: Path) -> tuple:
     """All cells; returns (rows, table text)."""
     import warnings
 
-    from stand.cli.warmup import warmup
+    from stand.api.warmup import warmup
 
     # compile ahead: a cell's time limit is about input handling, not a cold compiler
     warmup(every_kind=True, say=lambda line: None, precompile=False)

@@ -305,3 +305,27 @@ def test_packages_form_a_strict_stack():
     assert not bad, f"{len(bad)} imports against the stack:\n" + "\n".join(bad)
     gone = sorted(e for e in NOT_YET if e[1] not in graph.get(e[0], ()))
     assert not gone, f"strike these from NOT_YET, they are gone: {gone}"
+
+
+#: what the command line may import (issue 40): the API, itself, the errors and the io layer
+CLI_MAY_IMPORT = ("stand.api", "stand.cli", "stand.errors", "stand.io")
+
+
+def cli_imports_beyond_the_api(graph: dict) -> list:
+    """``(cli module, imported module)`` for each import of stand/cli outside
+    :data:`CLI_MAY_IMPORT` (``stand`` itself, ``stand._jit``, ``dsp``, ... included)."""
+    allowed = lambda m: any(m == p or m.startswith(p + ".") for p in CLI_MAY_IMPORT)  # noqa: E731
+    return sorted((mod, t) for mod, targets in graph.items()
+                  if mod == "stand.cli" or mod.startswith("stand.cli.")
+                  for t in targets if not allowed(t))
+
+
+def test_cli_imports_only_the_api():
+    """stand/cli calls the library only through stand.api (plus stand.cli, stand.errors,
+    stand.io), imports inside functions counted; the checker itself finds a planted import."""
+    planted = {"stand.cli.x": {"stand.api", "stand.io.numbers", "stand.apiary", "stand"},
+               "stand.clinic": {"dsp"}}
+    assert cli_imports_beyond_the_api(planted) == [("stand.cli.x", "stand"),
+                                                   ("stand.cli.x", "stand.apiary")]
+    bad = cli_imports_beyond_the_api(import_graph())
+    assert not bad, "stand/cli imports beyond stand.api: " + ", ".join(f"{a} -> {b}" for a, b in bad)

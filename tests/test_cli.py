@@ -1,6 +1,7 @@
 """The ``stand`` command line: the README's main job and input errors."""
 import json
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -147,3 +148,128 @@ def test_last_sample_is_never_lost_to_rounding(duration, rate):
     assert np.all(np.diff(t) > 0) and t[-1] <= duration
     if abs(duration * rate - round(duration * rate)) < 1e-9:
         assert t[-1] == duration
+
+
+# ---------------------------------------------------------------- what the commands print (issue 40)
+DAQ = ROOT / "data_samples" / "daq"
+CAMERAS = ROOT / "data_samples" / "recordings" / "stand_cameras.h5"
+
+
+def _nothing_without_a_meaning(text: str) -> None:
+    """No Python None, no "+-" beside "±", no float noise as a ± (``8.9e-15``)."""
+    assert "None" not in text and "+-" not in text and "warning(s)" not in text, text
+    assert not re.search(r"\de-1\d", text), text
+
+
+def test_numbers_resolved_and_round_off():
+    """One formatter: a ± below 1e-9 of the value is round-off (not shown); a value below its
+    rounded ± is "below resolution", and :func:`resolved` says so too (the CLI then shows no
+    angle for it)."""
+    from stand.io.numbers import resolved, with_uncertainty
+
+    assert with_uncertainty(12.0, 8.9e-15, "rev/s") == "12 rev/s"
+    assert with_uncertainty(0.03, 0.033, "g·mm").startswith("below resolution")
+    assert not resolved(0.03, 0.033) and not resolved(None, 1.0)
+    assert resolved(0.034, 0.033) and resolved(240.0, 0.88) and resolved(12.0, None)
+    # the edge: u rounds to 2 digits (0.0335 -> 0.034), as the text shows it
+    assert not resolved(0.0339, 0.0335)
+    assert with_uncertainty(0.0339, 0.0335).startswith("below resolution")
+
+
+def test_analyze_prints_labels_units_and_the_json_numbers(capsys):
+    """``stand analyze`` of a lab run-up prints each value by its label (stand.io.labels) in
+    the label's unit, rounded to its ±: the 1X in µm equals the JSON's metres x 1e6 to half
+    the last digit shown (GUM 7.2.6 rounding), and nothing the analysis did not give."""
+    from stand.io.labels import label
+
+    args = ["analyze", str(DAQ / "daq_runup.csv"), "--map", str(DAQ / "daq_runup.map.toml")]
+    assert main(args + ["--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    _nothing_without_a_meaning(out)
+    m = re.search(re.escape(label("response_1x_m")) + r": (\d+\.(\d+)) ± (\d+\.\d+) µm", out)
+    assert m, out
+    half_digit = 0.5 * 10.0 ** -len(m.group(2))
+    assert float(m.group(1)) == pytest.approx(doc["response_1x_m"] * 1e6, abs=half_digit)
+    assert float(m.group(3)) == pytest.approx(doc["response_1x_m_std"] * 1e6, abs=half_digit)
+    assert f"{label('unbalance_gmm')}: " in out and " g·mm" in out
+    assert label("unbalance_angle_deg") in out       # resolved: 240 ± 0.9 g·mm
+    assert doc["petals"] is None and label("petals") not in out   # not given: not printed
+
+
+def test_analyze_shows_no_angle_of_an_unbalance_below_resolution(capsys):
+    """The simulator's balanced run: the unbalance is below its numerical ±, so its angle
+    (and the vibration velocity of that 1X) are not printed; the regime changes carry a ±
+    only where it is above round-off."""
+    from stand.io.labels import label
+
+    assert main(["analyze", str(CAMERAS), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["unbalance_gmm"] < doc["unbalance_gmm_std"]
+    assert main(["analyze", str(CAMERAS)]) == 0
+    out = capsys.readouterr().out
+    _nothing_without_a_meaning(out)
+    assert f"{label('unbalance_gmm')}: below resolution" in out
+    assert label("unbalance_angle_deg") not in out and " deg" not in out
+    changes = re.findall(label("regime_change") + r": \w+ -> \w+ at ([^\n]+)", out)
+    assert len(changes) == len(doc["critical_speeds_hz"]) > 0
+
+
+def test_report_names_its_warnings(tmp_path, capsys):
+    """``stand report`` says which warnings it gave (each message, as in the JSON), not
+    "1 warning(s)"."""
+    js = tmp_path / "r.json"
+    assert main(["report", str(DAQ / "daq_runup.csv"), "--map", str(DAQ / "daq_runup.map.toml"),
+                 "-o", str(tmp_path / "r.html"), "--json-file", str(js)]) == 0
+    cap = capsys.readouterr()
+    warnings = json.loads(js.read_text())["warnings"]
+    assert warnings, "the sample fails G6.3: one warning expected"
+    for w in warnings:
+        assert f"stand report: warning: {w['message']}" in cap.err
+    n = len(warnings)
+    assert f"; {n} warning{'s' if n != 1 else ''} (above)" in cap.out
+    _nothing_without_a_meaning(cap.out + cap.err)
+
+
+def test_snapshot_of_a_frame_without_the_spot_says_so(tmp_path, capsys):
+    """stand_cameras.h5's frames 4-8 show no spot (the brightest pixel is noise): the
+    snapshot warns naming the frame and why; a frame with the whole spot gives no warning,
+    one whose spot runs past the border (simulator truth, frames 9-10) says so."""
+    import cv2
+
+    out = tmp_path / "f.png"
+    assert main(["snapshot", str(CAMERAS), "--frame", "5", "-o", str(out)]) == 0
+    err = capsys.readouterr().err
+    img = cv2.imread(str(out), cv2.IMREAD_UNCHANGED)
+    assert int(img.max()) - float(np.median(img)) < 20       # black: noise only (DN)
+    assert "stand snapshot: warning: frame 5 " in err and "off the screen" in err
+    assert main(["snapshot", str(CAMERAS), "--frame", "12", "-o", str(out)]) == 0
+    img = cv2.imread(str(out), cv2.IMREAD_UNCHANGED)
+    assert int(img.max()) - float(np.median(img)) > 50       # the spot (DN above background)
+    assert "warning" not in capsys.readouterr().err
+    # a warning exactly where the simulator's truth has the spot's path leave the image
+    with h5py.File(CAMERAS) as f:
+        inside = f["truth/screen/in_frame"][:]
+    for k in (3, 4, 9, 10, 11):
+        assert main(["snapshot", str(CAMERAS), "--frame", str(k), "-o", str(out)]) == 0
+        warned = f"stand snapshot: warning: frame {k} " in capsys.readouterr().err
+        assert warned == (not inside[k]), k
+
+
+def test_balance_prints_an_exact_cancellation_as_zero(capsys):
+    """Two planes, two readings: the corrections cancel the readings exactly, so the predicted
+    residual is round-off (~1e-14 mm/s) and printed as 0, not as a number; the ± in
+    the text are the JSON's, by the one formatter."""
+    from stand.io.numbers import with_uncertainty
+
+    job = str(ROOT / "data_samples" / "balance" / "bk_17_227.toml")
+    assert main(["balance", job, "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert all(abs(r["after"]) < 1e-9 * abs(r["before"]) for r in doc["residuals"])
+    assert main(["balance", job]) == 0
+    out = capsys.readouterr().out
+    _nothing_without_a_meaning(out)
+    assert out.count(f"-> 0 {doc['vibration_unit']}") == len(doc["residuals"]) == 2
+    c = doc["corrections"]["P1"]
+    assert f"P1: {with_uncertainty(c['mass'], c['mass_std'], doc['mass_unit'])} @ " in out

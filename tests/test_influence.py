@@ -206,13 +206,20 @@ def _cli(capsys, *extra):
 
 
 def test_cli_text_and_json(capsys):
-    rc, out = _cli(capsys)
+    from stand.io.numbers import with_uncertainty
+
+    rc, text = _cli(capsys)
     assert rc == 0
-    assert "balancer1: correction 20 " in out.out and "at 210.00" in out.out
     rc, out = _cli(capsys, "--json")
     assert rc == 0
     doc = json.loads(out.out)
     got = {p["plane"]: p for p in doc["planes"]}
+    # the text: each value with its ± by the one formatter (stand.io.numbers), never "+-"
+    b1 = got["balancer1"]
+    assert (f"balancer1: correction {with_uncertainty(b1['mass_g'], b1['mass_std_g'], 'g')} at "
+            f"{with_uncertainty(b1['angle_deg'], b1['angle_std_deg'], '°', resolution=False)}"
+            in text.out), text.out
+    assert "+-" not in text.out
     assert got["balancer1"]["mass_g"] == pytest.approx(20.0, rel=1e-4)
     assert got["balancer2"]["angle_deg"] == pytest.approx(20.0, abs=0.01)
     assert doc["speed_rev_s"] == pytest.approx(40.0)

@@ -16,8 +16,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from stand.sweep import (TIMING_COLUMNS, SweepSpecError, add_sweep_arguments, load_sweep,
-                         parts_dir, read_results, run_sweep, sweep_main)
+from stand.cli.sweep import add_sweep_arguments, sweep_main
+from stand.sweep import (TIMING_COLUMNS, SweepSpecError, load_sweep,
+                         parts_dir, read_results, run_sweep)
 from stand.sweep.maps import critical_speed_map, regime_map
 from stand.theories.planar import main_motion as mm
 

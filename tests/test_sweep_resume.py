@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 import stand.sweep.run as sweep_run
-from stand.sweep import add_sweep_arguments, parts_dir, read_results, sweep_main
+from stand.cli.sweep import add_sweep_arguments, sweep_main
+from stand.sweep import parts_dir, read_results
 
 from _helpers import toml_text
 

@@ -32,7 +32,7 @@ from dsp.influence import influence_balance
 from dsp.unbalance import synchronous_component
 
 __all__ = ["TrialWeight", "parse_trial", "steady_window", "run_phasors",
-           "influence_from_recordings", "model_correction", "format_result", "cli_influence"]
+           "influence_from_recordings", "model_correction"]
 
 
 @dataclass(frozen=True)
@@ -206,36 +206,3 @@ def model_correction(scene, planes: Sequence[str]) -> np.ndarray:
         out[j] = -sum(u.s * complex(math.cos(u.angle), math.sin(u.angle))
                       for u in rotor.unbalances if u.plane == p)
     return out
-
-
-def format_result(res) -> str:
-    """The text the CLI prints: one line per correction plane, then the sensors."""
-    lines = [f"influence-coefficient balancing at {res.speed_rad_s / (2 * math.pi):.6g} rev/s "
-             f"(condition number of A {res.condition:.3g})"]
-    for j, p in enumerate(res.planes):
-        lines.append(f"  {p}: correction {res.mass_g[j]:.5g} +- {res.mass_std_g[j]:.2g} g at "
-                     f"{res.angle_deg[j]:.2f} +- {res.angle_std_deg[j]:.2g} deg, radius "
-                     f"{res.radius_m[j] * 1e3:.4g} mm ({res.correction_gmm[j]:.5g} g*mm)")
-    for i, s in enumerate(res.sensors):
-        v = res.reference_m[i]
-        lines.append(f"  sensor {s}: 1X {abs(v) * 1e6:.4g} um at "
-                     f"{math.degrees(math.atan2(v.imag, v.real)) % 360:.1f} deg, after correction "
-                     f"(predicted) {abs(res.residual_m[i]) * 1e6:.2g} um")
-    return "\n".join(lines)
-
-
-def cli_influence(recordings: Sequence[str], trials: Sequence[str], sensors: str,
-                  as_json: bool = False) -> int:
-    """``stand influence REF TRIAL1 TRIAL2 ... --trial ... --sensors a,b [--json]``."""
-    recordings = list(recordings)
-    if len(recordings) < 2:
-        raise ValueError("give the reference recording and one trial recording per --trial")
-    res = influence_from_recordings(recordings[0], recordings[1:], list(trials),
-                                    [s.strip() for s in sensors.split(",") if s.strip()])
-    if as_json:
-        from stand.io.jsonable import dumps
-
-        print(dumps(res.to_dict(), indent=2))
-    else:
-        print(format_result(res))
-    return 0

@@ -1,207 +1,230 @@
 """Commands that read recordings and answer: ``stand analyze``, ``report``, ``influence``,
 ``balance``, ``daq``.
-Each calls the library and prints."""
+Each calls the API (:mod:`stand.api`, :mod:`stand.api.analysis`) and prints."""
 from __future__ import annotations
 
 import sys
 from pathlib import Path
 
-from stand.cli.common import print_json, print_recognised, say_not_applicable
+from stand.cli.common import (labelled, print_json, print_recognised, print_warnings,
+                              say_not_applicable, shown)
 
-__all__ = ["report_row", "cmd_report", "cmd_analyze", "cmd_influence", "cmd_balance", "cmd_daq"]
-
-
-def report_row(path, grade, service_speed_rpm, html_dir, recording_map=None):
-    """One row of a batch report (never raises): writes <stem>.html next to the others."""
-    from stand.reports.balancing import balancing_report
-
-    row = {"file": path, "status": "ok", "error": "", "report": ""}
-    try:
-        out = str(Path(html_dir) / (Path(path).stem + ".html")) if html_dir else None
-        doc = balancing_report(path, grade=grade, service_speed_rpm=service_speed_rpm, html_path=out,
-                               recording_map=recording_map)
-        row["report"] = out or ""
-        q = doc.get("balancing_quality", {})
-        for k, v in q.items():
-            if isinstance(v, (int, float, str, bool)) or v is None:
-                row[k] = v
-        iso = q.get("iso_21940_11") or {}
-        row["iso_passed"] = iso.get("passed")
-        row["achieved_grade_mm_s"] = iso.get("achieved_grade_mm_s")
-        row["warnings"] = len(doc.get("warnings", []))
-    except Exception as exc:   # reported in the row: one bad file must not stop the batch
-        row.update(status="error", error=f"{type(exc).__name__}: {exc}")
-    return row
+__all__ = ["cmd_report", "cmd_analyze", "cmd_influence", "cmd_balance", "cmd_daq"]
 
 
 def cmd_report(args) -> int:
-    from stand.analysis.batch import expand_sources, is_batch_source, run_batch, write_table
-
+    from stand.api import report
+    from stand.api.analysis import is_batch, report_many
     from stand.cli.parser import _grade
 
-    from stand.lab.recording_map import map_from_options
-
     grade = _grade(args.grade)
-    rmap = map_from_options(args.columns, args.map)
-    for o in (args.output, args.json_file, args.pdf):
-        if o and not Path(o).resolve().parent.is_dir():
-            raise FileNotFoundError(f"output directory of {o!r} does not exist")
-    if is_batch_source(args.recording):
-        files = expand_sources(args.recording)
+    if is_batch(args.recording):
         summary = args.summary or str(Path(args.output).with_suffix(".csv")) if args.output else args.summary
         if not summary:
             raise ValueError("a folder or glob needs --summary SUMMARY.csv (and optionally -o DIR/ for the HTML files)")
         html_dir = args.output if args.output and Path(args.output).is_dir() else None
-        df = run_batch(files, report_row, workers=args.workers, scheduler=args.scheduler,
-                       progress=sys.stderr.isatty(), grade=grade,
-                       service_speed_rpm=args.service_speed, html_dir=html_dir, recording_map=rmap)
-        from stand.reports.batch_summary import order_failures_first, write_summary_page
-
-        df = order_failures_first(df)
-        write_table(df, summary)
-        page = write_summary_page(df, html_dir, grade) if html_dir else None
+        df, page = report_many(args.recording, summary, html_dir=html_dir, grade=grade,
+                               service_speed_rpm=args.service_speed, recording_map=args.map,
+                               columns=args.columns, workers=args.workers,
+                               scheduler=args.scheduler, progress=sys.stderr.isatty())
         print(f"{len(df)} recordings reported ({int((df['status'] != 'ok').sum())} failed) -> {summary}"
               + (f"; summary page {page}" if page else ""))
         return 0
-    from stand.reports.balancing import balancing_report
-
     if not args.output and not args.json_file and not args.json and not args.pdf:
         raise ValueError("stand report: give -o REPORT.html, --pdf REPORT.pdf, --json-file REPORT.json "
                          "or --json")
-    doc = balancing_report(args.recording, grade=grade, service_speed_rpm=args.service_speed,
-                           html_path=args.output, json_path=args.json_file, tracks=args.tracks,
-                           recording_map=rmap, pdf_path=args.pdf)
+    doc = report(args.recording, grade=grade, service_speed_rpm=args.service_speed,
+                 html_path=args.output, json_path=args.json_file, tracks=args.tracks,
+                 recording_map=args.map, columns=args.columns, pdf_path=args.pdf)
+    warnings = doc.get("warnings") or []
+    print_warnings("report", warnings)
     if args.json:
         print_json(doc)
         return 0
-    q = doc.get("balancing_quality", {})
-    print(f"{args.recording}: report -> {', '.join(str(o) for o in (args.output, args.pdf, args.json_file) if o)}"
-          + (f"; residual {q.get('residual_unbalance_gmm'):.4g} g mm" if isinstance(q.get('residual_unbalance_gmm'), (int, float)) else "")
-          + (f", ISO 21940-11 G{grade:g}: {'pass' if q['iso_21940_11'].get('passed') else 'fail'}"
-             if isinstance(q.get("iso_21940_11"), dict) and q["iso_21940_11"].get("passed") is not None else "")
-          + f"; {len(doc.get('warnings', []))} warning(s)")
+    q = doc.get("balancing_quality") or {}
+    iso = q.get("iso_21940_11") if isinstance(q.get("iso_21940_11"), dict) else {}
+    parts = [f"{args.recording}: report -> "
+             + ", ".join(str(o) for o in (args.output, args.pdf, args.json_file) if o)]
+    residual = labelled(q, "residual_unbalance_gmm")
+    if residual:
+        parts.append(residual)
+    if iso.get("passed") is not None:
+        parts.append(f"ISO 21940-11 G{grade:g}: {'pass' if iso['passed'] else 'FAIL'}")
+    n = len(warnings)
+    parts.append(f"{n} warning{'s' if n != 1 else ''}" + (" (above)" if n else ""))
+    print("; ".join(parts))
     return 0
 
 
+def _analysis_lines(doc) -> list:
+    """What ``stand analyze`` prints: each value the analysis gave, by its label
+    (:mod:`stand.io.labels`), with its ± in the label's unit; nothing for what it did not give."""
+    from stand.io.labels import label
+    from stand.io.numbers import plain, resolved
+
+    lines = [labelled(doc, k) for k in ("natural_frequency_hz", "damping_ratio", "speed_hz")]
+    one_x = labelled(doc, "response_1x_m")
+    stretch = doc.get("stationary_stretch") or {}
+    if one_x and stretch.get("t_start_s") is not None:
+        one_x += f" (over {plain(stretch['t_start_s'])}–{plain(stretch['t_end_s'], 's')})"
+    lines.append(one_x)
+    vib = doc.get("vibration_1x") or {}
+    if vib.get("quantity") not in (None, "displacement") and vib.get("peak") is not None:
+        lines.append(f"{label('vibration_1x')}: {vib['quantity']} {plain(vib['peak'], vib.get('unit', ''))} "
+                     "(peak)")
+    if vib.get("velocity_rms_mm_s") is not None and resolved(doc.get("response_1x_m"),
+                                                            doc.get("response_1x_m_std")):
+        lines.append(labelled(vib, "velocity_rms_mm_s"))
+    lines.append(labelled(doc, "unbalance_gmm"))
+    # an angle of an unbalance below resolution means nothing: not shown
+    if resolved(doc.get("unbalance_gmm"), doc.get("unbalance_gmm_std")):
+        lines.append(labelled(doc, "unbalance_angle_deg", angle=True))
+    g = doc.get("iso_grade")
+    if g:
+        # analyze's grade_mm_s is the achieved grade (the report's key for it: achieved_grade_mm_s)
+        achieved = shown({"achieved_grade_mm_s": g["grade_mm_s"],
+                          "achieved_grade_mm_s_std": g.get("grade_mm_s_std")}, "achieved_grade_mm_s")
+        lines.append(f"ISO 21940-11: {label('achieved_grade_mm_s').lower()} {achieved} "
+                     f"({g['class']}), required G {plain(g['target_mm_s'])} mm/s: "
+                     + ("pass" if g["passed"] else "FAIL"))
+    if doc.get("programme"):
+        lines.append(f"{label('programme')}: {doc['programme']['kind']}"
+                     + (f"; {label('speed_source').lower()} {doc['speed_source']}"
+                        if doc.get("speed_source") else ""))
+    crit = labelled(doc, "critical_speed_hz")
+    if crit:
+        lines.append(crit + (f" ({doc['critical_speed_method']})" if doc.get("critical_speed_method") else ""))
+    lines += [labelled(doc, k) for k in ("precession_hz", "nutation_hz", "petals", "shape", "regime")]
+    for c in doc.get("critical_speeds_hz") or []:
+        lines.append(f"{label('regime_change')}: {c['before']} -> {c['after']} at "
+                     f"{shown(c, 'speed_hz')}")
+    lines += [f"note: {n}" for n in doc.get("notes") or []]
+    return [f"  {line}" for line in lines if line]
+
+
 def cmd_analyze(args) -> int:
-    from dsp.errors import SignalError
+    from stand.api import analyze
+    from stand.api.analysis import analyze_many, is_batch, two_plane
 
-    from stand.analysis.identify import analyze
-    from stand.analysis.batch import analyze_row, expand_sources, is_batch_source, run_batch, write_table
-    from stand.recording.hdf5 import RecordingError
-
-    from stand.lab.recording_map import map_from_options
-
-    rmap = map_from_options(args.columns, args.map)
-    if is_batch_source(args.recording):
-        files = expand_sources(args.recording)
+    if is_batch(args.recording):
         if not args.output:
             raise ValueError("a folder or glob needs -o SUMMARY.csv|.parquet (one row per recording)")
-        if not Path(args.output).resolve().parent.is_dir():
-            raise FileNotFoundError(f"output directory of {args.output!r} does not exist")
-        df = run_batch(files, analyze_row, workers=args.workers, scheduler=args.scheduler,
-                       progress=sys.stderr.isatty(), grade=args.grade,
-                       service_speed_rpm=args.service_speed, recording_map=rmap)
-        write_table(df, args.output)
+        df = analyze_many(args.recording, args.output, grade=args.grade,
+                          service_speed_rpm=args.service_speed, recording_map=args.map,
+                          columns=args.columns, workers=args.workers, scheduler=args.scheduler,
+                          progress=sys.stderr.isatty())
         bad = int((df["status"] != "ok").sum())
         print(f"{len(df)} recordings analysed ({bad} failed) -> {args.output}")
         return 0
     if not Path(args.recording).exists():
         raise FileNotFoundError(f"recording not found: {args.recording}")
     if args.tracks:
-        from stand.analysis.identify import two_plane
-        doc = two_plane(args.recording, args.tracks, grade=args.grade, service_speed_rpm=args.service_speed)
+        doc = two_plane(args.recording, args.tracks, grade=args.grade,
+                        service_speed_rpm=args.service_speed)
         if args.json:
             return print_json(doc) or 0
-        from stand.io.numbers import with_uncertainty as wu
         for r in doc["planes"]:     # values rounded to their uncertainty (GUM 7.2.6)
-            print(f"  {r['plane']} ({r['axial_position_m']:g} m): "
-                  f"{wu(r['unbalance_gmm'], r['unbalance_gmm_std'], 'g*mm')} at "
-                  f"{wu(r['angle_deg'], r['angle_deg_std'], 'deg', resolution=False)} (correction at "
-                  f"{wu(r['correction_angle_deg'], r['correction_angle_deg_std'], 'deg', resolution=False)}); "
-                  f"permissible {r['permissible_gmm']:.4g}: {'pass' if r['passed'] else 'FAIL'}")
+            at = (f" at {shown(r, 'angle_deg', angle=True)} (correction at "
+                  f"{shown(r, 'correction_angle_deg', angle=True)})"
+                  if _resolved(r) else "")
+            print(f"  {r['plane']} ({shown(r, 'axial_position_m')}): {shown(r, 'unbalance_gmm')}{at}; "
+                  f"permissible {shown(r, 'permissible_gmm')}: {'pass' if r['passed'] else 'FAIL'}")
         return 0
-    try:
-        doc = analyze(args.recording, grade=args.grade, service_speed_rpm=args.service_speed,
-                      recording_map=rmap)
-    except (RecordingError, SignalError) as exc:
-        raise ValueError(str(exc)) from None
+    doc = analyze(args.recording, grade=args.grade, service_speed_rpm=args.service_speed,
+                  recording_map=args.map, columns=args.columns)
     print_recognised(doc)
     if args.json:
         print_json({k: v for k, v in doc.items() if k != "regime_timeline"})
         return 0
-    from stand.io.numbers import with_uncertainty
-
-    def fmt(v, sd=None, unit="", angle=False):
-        """``v ± sd`` rounded to the uncertainty (the report's rounding)."""
-        return "n/a" if v is None else with_uncertainty(v, sd, unit, resolution=not angle)
     print(f"{args.recording}:")
-    print(f"  natural frequency {fmt(doc['natural_frequency_hz'], doc['natural_frequency_hz_std'], 'Hz')}, "
-          f"damping ratio {fmt(doc['damping_ratio'], doc['damping_ratio_std'])}")
-    print(f"  speed {fmt(doc['speed_hz'], None, 'rev/s')}, 1X {fmt(doc['response_1x_m'], doc.get('response_1x_m_std'), 'm')}, "
-          f"unbalance {fmt(doc['unbalance_gmm'], doc['unbalance_gmm_std'], 'g*mm')} at "
-          f"{fmt(doc['unbalance_angle_deg'], doc.get('unbalance_angle_deg_std'), 'deg', angle=True)}")
-    if doc["iso_grade"]:
-        g = doc["iso_grade"]
-        print(f"  ISO 21940-11: G {fmt(g['grade_mm_s'], g.get('grade_mm_s_std'), 'mm/s')} "
-              f"({g['class']}), target G {g['target_mm_s']}: "
-              + ("pass" if g["passed"] else "FAIL"))
-    if doc.get("programme"):
-        print(f"  programme {doc['programme']['kind']}; speed from {doc.get('speed_source')}")
-    if doc.get("critical_speed_hz") is not None:
-        print(f"  critical speed {fmt(doc['critical_speed_hz'], doc.get('critical_speed_hz_std'), 'rev/s')} "
-              f"({doc['critical_speed_method']})")
-    print(f"  precession {fmt(doc['precession_hz'], doc.get('precession_hz_std'), 'Hz')}, "
-          f"nutation {fmt(doc['nutation_hz'], doc.get('nutation_hz_std'), 'Hz')}, "
-          f"petals {doc['petals']}, shape {doc['shape']}; regime {doc['regime']}")
-    for c in doc["critical_speeds_hz"]:
-        print(f"  regime change {c['before']} -> {c['after']} at {c['speed_hz']:.4g} +- {c['speed_hz_std']:.2g} rev/s")
-    for n in doc["notes"]:
-        print(f"  note: {n}")
+    for line in _analysis_lines(doc):
+        print(line)
     return 0
 
 
+def _resolved(row) -> bool:
+    """Whether a row's unbalance stands above its ± (else its angle is not shown)."""
+    from stand.io.numbers import resolved
+
+    return resolved(row.get("unbalance_gmm"), row.get("unbalance_gmm_std"))
+
+
+def _after(after, before, unit: str, sig: int = 4) -> str:
+    """A predicted residual: 0 when it is round-off (below 1e-9 of the value before: the
+    corrections cancel the readings exactly, as many planes as readings)."""
+    from stand.io.numbers import plain
+
+    return plain(0 if abs(after) < 1e-9 * abs(before) else after, unit, sig)
+
+
+def _influence_lines(res) -> list:
+    """Influence-coefficient balancing as text: one line per correction plane, then the sensors."""
+    import math
+
+    from stand.io.numbers import plain, with_uncertainty as wu
+
+    lines = [f"influence-coefficient balancing at {plain(res.speed_rad_s / (2 * math.pi), 'rev/s', 6)} "
+             f"(condition number of A {plain(res.condition, sig=3)})"]
+    for j, p in enumerate(res.planes):
+        lines.append(f"  {p}: correction {wu(res.mass_g[j], res.mass_std_g[j], 'g')} at "
+                     f"{wu(res.angle_deg[j], res.angle_std_deg[j], '°', resolution=False)}, radius "
+                     f"{plain(res.radius_m[j] * 1e3, 'mm')} ({plain(res.correction_gmm[j], 'g·mm', 5)})")
+    for i, s in enumerate(res.sensors):
+        v = res.reference_m[i]
+        lines.append(f"  sensor {s}: 1X {plain(abs(v) * 1e6, 'µm')} at "
+                     f"{plain(math.degrees(math.atan2(v.imag, v.real)) % 360, '°')}, after correction "
+                     f"(predicted) {_after(abs(res.residual_m[i]) * 1e6, abs(v) * 1e6, 'µm', 2)}")
+    return lines
+
+
 def cmd_influence(args) -> int:
-    from stand.analysis.influence import cli_influence
-    return cli_influence(args.recordings, args.trial, args.sensors, as_json=args.json)
+    from stand.api.analysis import influence
+
+    if len(args.recordings) < 2:
+        raise ValueError("give the reference recording and one trial recording per --trial")
+    res = influence(args.recordings[0], args.recordings[1:], args.trial, args.sensors)
+    if args.json:
+        print_json(res.to_dict())
+    else:
+        print("\n".join(_influence_lines(res)))
+    return 0
 
 
 def cmd_balance(args) -> int:
     """``stand balance JOB.toml``: corrections from a field-balancing job file."""
-    from stand.analysis.field_balance import influence_toml
     from stand.api import balance
+    from stand.api.analysis import save_influence
+    from stand.io.numbers import plain, with_uncertainty
 
     res = balance(args.job, influence=args.influence, method=args.method, html_path=args.output,
                   pdf_path=args.pdf)
     if args.save_influence:
-        from stand.io.atomic import write_text
-
-        write_text(args.save_influence, influence_toml(res))
-    for w in res["warnings"]:
-        print(f"stand balance: warning: {w}", file=sys.stderr)
+        save_influence(res, args.save_influence)
+    print_warnings("balance", res["warnings"])
     if args.json:
         print_json(res.to_dict())
         return 0
     mu, vu = res["mass_unit"], res["vibration_unit"]
-    print(f"field balancing ({res['method']}, {res['solver']}): condition {res['condition']:.3g}")
-    from stand.io.numbers import with_uncertainty
-
+    print(f"field balancing ({res['method']}, {res['solver']}): condition {plain(res['condition'], sig=3)}")
     for p, c in res["corrections"].items():
         line = (f"  {p}: {with_uncertainty(c['mass'], c['mass_std'] or None, mu)} @ "
-                f"{with_uncertainty(c['angle_deg'], c['angle_std_deg'] or None, 'deg', resolution=False)}")
+                f"{with_uncertainty(c['angle_deg'], c['angle_std_deg'] or None, '°', resolution=False)}")
         if "split" in c:
-            line += "  = " + " + ".join(f"{h['mass']:.4g} {mu} in hole {h['hole']} "
-                                         f"({h['angle_deg']:.1f} deg)" for h in c["split"])
+            line += "  = " + " + ".join(f"{plain(h['mass'], mu)} in hole {h['hole']} "
+                                         f"({plain(h['angle_deg'], '°')})" for h in c["split"])
         print(line)
     for r in res["residuals"]:
-        at = f" at {r['speed_rpm']:.6g} rpm" if r["speed_rpm"] is not None else ""
-        print(f"  {r['sensor']}{at}: {r['before']:.4g} -> {r['after']:.4g} {vu} {res['amplitude']}"
+        at = f" at {plain(r['speed_rpm'], 'rpm', 6)}" if r["speed_rpm"] is not None else ""
+        print(f"  {r['sensor']}{at}: {plain(r['before'])} -> {_after(r['after'], r['before'], vu)} "
+              f"{res['amplitude']}"
               f" (predicted)")
     return 0
 
 
 def cmd_daq(args) -> int:
-    from stand.lab.daq_export import daq_export
+    from stand.api.analysis import daq
+    from stand.errors import NotApplicable
+    from stand.io.numbers import plain
 
     try:
         off = tuple(float(v) for v in args.offset.split(","))
@@ -209,20 +232,14 @@ def cmd_daq(args) -> int:
         off = ()
     if len(off) != 2:
         raise ValueError(f"--offset = {args.offset!r}: two numbers X_UM,Y_UM (um)")
-    from stand.errors import NotApplicable
-
     try:
-        if getattr(args, "bode", False):
-            from stand.lab.daq_export import daq_bode
-
-            truth = daq_bode(args.recording, args.output, truth_path=args.truth)
-        else:
-            truth = daq_export(args.recording, args.output, truth_path=args.truth, offset_um=off,
-                               quantity=getattr(args, "quantity", "displacement"))
+        truth = daq(args.recording, args.output, truth=args.truth, offset_um=off,
+                    quantity=args.quantity, bode=args.bode)
     except NotApplicable as exc:
         return say_not_applicable("daq", str(exc))
-    print(f"{args.recording} -> {args.output} (DAQ export); truth: unbalance "
-          f"{truth.get('unbalance_gmm', float('nan')):.6g} g*mm, f0 "
-          f"{truth.get('natural_frequency_hz', float('nan')):.6g} Hz, critical speed "
-          f"{truth.get('critical_speed_hz', float('nan')):.6g} rev/s")
+    known = [f"{name} {plain(truth[k], u, 6)}" for k, name, u in (
+        ("unbalance_gmm", "unbalance", "g·mm"), ("natural_frequency_hz", "f0", "Hz"),
+        ("critical_speed_hz", "critical speed", "rev/s")) if truth.get(k) is not None]
+    print(f"{args.recording} -> {args.output} (DAQ export)"
+          + (f"; truth: {', '.join(known)}" if known else ""))
     return 0

@@ -1,4 +1,4 @@
-"""``stand fit``: parse, call :func:`stand.fit`, print (the command line stays thin)."""
+"""``stand fit``: parse, call :func:`stand.api.fit`, print (the command line stays thin)."""
 from __future__ import annotations
 
 import math
@@ -13,7 +13,8 @@ def _lines(fit) -> list:
     out = []
     for p, d in fit["parameters"].items():
         if not d["identifiable"]:
-            out.append(f"  {p} = {d['value']:.6g} {d['unit']}: not identifiable ({d['note']})")
+            out.append(f"  {p} = {d['value']:.6g} {d['unit']}: not identifiable"
+                       + (f" ({d['note']})" if d.get("note") else ""))
         else:
             out.append(f"  {p} = {with_uncertainty(d['value'], d['std'], d['unit'], resolution=False)}"
                        + (f" ({d['note']})" if d.get("note") else ""))
@@ -38,16 +39,15 @@ def _lines(fit) -> list:
 
 
 def cmd_fit(args) -> int:
-    import stand
+    from stand.api import fit as fit_scene
+    from stand.api.analysis import fit_report
     from stand.cli.common import print_json
-    from stand.lab.recording_map import map_from_options
 
     for what, path in (("scene", args.scene), ("record", args.data)):
         if not Path(path).exists():
             raise FileNotFoundError(f"{what} not found: {path}")
     progress = (lambda s: print(s, file=sys.stderr, flush=True)) if not args.no_progress else False
-    fit = stand.fit(args.scene, args.data, args.free,
-                    recording_map=map_from_options(args.columns, args.map),
+    fit = fit_scene(args.scene, args.data, args.free, recording_map=args.map, columns=args.columns,
                     workers=args.workers, scheduler=args.scheduler, progress=progress)
     written = []
     if args.output:
@@ -58,9 +58,7 @@ def cmd_fit(args) -> int:
         write_text(args.json_file, fit.to_json(indent=2))
         written.append(args.json_file)
     if args.report:
-        from stand.reports.fit_report import fit_report
-
-        fit_report(fit, html_path=args.report)
+        fit_report(fit, args.report)
         written.append(args.report)
     if args.json:
         print_json(fit)

@@ -67,7 +67,8 @@ def _table_kind(path) -> str:
 
 
 def _guard(args) -> None:
-    """Refuse outputs that are inputs or files of another kind (stand.io.guard), before any work."""
+    """Refuse outputs in a missing directory, outputs that are inputs and files of another kind
+    (stand.io.guard), before any work."""
     from stand.io.guard import check_outputs
 
     g = lambda name: getattr(args, name, None)  # noqa: E731
@@ -89,6 +90,9 @@ def _guard(args) -> None:
         outputs.append((g("save_influence"), "toml"))
     if cmd == "fit":
         outputs.append((g("report"), "html"))
+    for o, _ in outputs:    # fail before the work, not after it
+        if o is not None and not Path(o).resolve().parent.is_dir():
+            raise FileNotFoundError(f"output directory of {str(o)!r} does not exist")
     check_outputs(inputs, outputs, force=bool(g("force")))
 
 
@@ -109,17 +113,6 @@ def _naming_the_input(args, exc) -> str:
     if src is not None and Path(str(src)).name not in msg:
         msg = f"{src}: {msg}"
     return msg
-
-
-def _background_precompile() -> None:
-    """A command that ran a kernel on numba's JIT starts the build of its precompiled module
-    (stand.integrate.kernel_set), so that the next command starts without numba."""
-    ks = sys.modules.get("stand.integrate.kernel_set")
-    if ks is not None:
-        try:
-            ks.precompile_in_background()
-        except Exception:  # noqa: BLE001 - never let a background build spoil the command
-            pass
 
 
 def _one_line_errors(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
@@ -166,7 +159,9 @@ def main(argv=None) -> int:
               "(please report this with the scene file)", file=sys.stderr)
         return 3
     finally:
-        _background_precompile()
+        from stand.api.simulation import precompile_in_background
+
+        precompile_in_background()
 
 
 if __name__ == "__main__":  # pragma: no cover

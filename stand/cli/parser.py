@@ -34,7 +34,8 @@ def _table_options(sp) -> None:
 
 def build_parser(handlers: dict) -> argparse.ArgumentParser:
     """The argument parser; ``handlers`` maps each command to its function (stand.cli.main passes them)."""
-    from stand.scene.model import METHODS
+    from stand.api.simulation import METHODS
+    from stand.cli.sweep import add_sweep_arguments
 
     p = argparse.ArgumentParser(prog="stand", description="Virtual autobalancer test stand")
     sub = p.add_subparsers(dest="command", required=True)
@@ -54,7 +55,6 @@ def build_parser(handlers: dict) -> argparse.ArgumentParser:
     rp.add_argument("--scheduler", default=None, help="batch: dask.distributed scheduler address")
     rp.set_defaults(func=handlers["report"])
     sw = sub.add_parser("sweep", help="parameter sweep (theory and/or simulation) on a process pool or a Dask cluster")
-    from stand.sweep.command import add_sweep_arguments
     add_sweep_arguments(sw)
     sw.set_defaults(func=handlers["sweep"])
     st = sub.add_parser("stress", help="numerical stability on the stiff and extreme catalogue (HTML + JSON)")

@@ -1,7 +1,7 @@
 """The finite-difference Jacobian of a compiled right-hand side (scipy's implicit methods).
 
 Used by :mod:`stand.integrate.kernel_set` (the implicit solvers' ``jac``) and compiled
-ahead by :mod:`stand.cli.warmup`; a module of its own so that the integrator
+ahead by :mod:`stand.api.warmup`; a module of its own so that the integrator
 driver and the kernel set both import it and not each other.
 """
 from __future__ import annotations

@@ -258,6 +258,16 @@ LABELS = {
     "n_rejected": ("Rejected steps", "", 1.0),
     "params": ("Parameters (as in the catalogue)", "", 1.0),
     "fast": ("Fast case", "", 1.0),
+    # command line (stand analyze's document)
+    "precession_hz": ("Precession", "Hz", 1.0),
+    "precession_hz_std": ("Precession: uncertainty", "Hz", 1.0),
+    "nutation_hz": ("Nutation", "Hz", 1.0),
+    "nutation_hz_std": ("Nutation: uncertainty", "Hz", 1.0),
+    "petals": ("Petals of the path", "", 1.0),
+    "shape": ("Shape of the path", "", 1.0),
+    "vibration_1x": ("1X vibration as measured", "", 1.0),
+    "velocity_rms_mm_s": ("1X vibration velocity, rms (ISO 20816)", "mm/s", 1.0),
+    "regime_change": ("Regime change", "", 1.0),
 }
 
 

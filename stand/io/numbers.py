@@ -5,6 +5,8 @@
   (the last digit shown is the same in both, GUM 7.2.6); a value smaller than
   its own uncertainty is shown as "below resolution (< u)".  Very large or
   small numbers share one power of ten: ``(8.1 ± 1.9) × 10⁻⁶``.
+* :func:`resolved` -- whether a value stands above its uncertainty (an angle of a value
+  that does not means nothing and is not shown);
 * :func:`plain` -- a value without an uncertainty, to 4 significant digits
   without trailing zeros (integers as they are), with a power of ten outside
   10⁻³ .. 10⁶.
@@ -13,7 +15,7 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["with_uncertainty", "plain", "SUPERSCRIPT"]
+__all__ = ["with_uncertainty", "plain", "resolved", "SUPERSCRIPT"]
 
 SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
@@ -53,6 +55,29 @@ def plain(v, unit: str = "", sig: int = 4) -> str:
     return _join(f"{text} × {_pow10(e)}", unit)
 
 
+def _rounded_u(u: float) -> tuple:
+    """(last decimal place shown, u rounded to two significant digits)."""
+    place = math.floor(math.log10(u)) - 1          # last digit: two significant digits of u
+    if round(u / 10 ** place) >= 100:              # 99.5 -> 100: one more digit left
+        place += 1
+    return place, round(u / 10 ** place) * 10 ** place
+
+
+def _noise(v, u) -> bool:
+    """No uncertainty to show: missing, zero, not finite, or below 1e-9 of ``v`` (round-off)."""
+    return u is None or not math.isfinite(float(u)) or float(u) <= 0 \
+        or float(u) < 1e-9 * abs(float(v))
+
+
+def resolved(v, u) -> bool:
+    """Whether ``v`` is at least its uncertainty ``u`` as shown (two significant digits):
+    False is what :func:`with_uncertainty` shows as "below resolution"; True without a
+    ``u`` to show.  A None value is not resolved."""
+    if v is None:
+        return False
+    return _noise(v, u) or abs(float(v)) >= _rounded_u(float(u))[1]
+
+
 def with_uncertainty(v, u, unit: str = "", resolution: bool = True) -> str:
     """``v ± u`` rounded to the uncertainty (module docstring); ``plain(v)`` when ``u`` is
     missing, zero, not finite, or below 1e-9 of ``v`` (floating-point noise).
@@ -60,15 +85,10 @@ def with_uncertainty(v, u, unit: str = "", resolution: bool = True) -> str:
     resolution"."""
     if v is None:
         return "—"
-    if u is None or not math.isfinite(float(u)) or float(u) <= 0 \
-            or float(u) < 1e-9 * abs(float(v)):   # rounding noise, not a measurement's
+    if _noise(v, u):          # rounding noise, not a measurement's
         return plain(v, unit)
     v, u = float(v), float(u)
-    place = math.floor(math.log10(u)) - 1          # last digit: two significant digits of u
-    u_r = round(u / 10 ** place) * 10 ** place
-    if round(u / 10 ** place) >= 100:              # 99.5 -> 100: one more digit left
-        place += 1
-        u_r = round(u / 10 ** place) * 10 ** place
+    place, u_r = _rounded_u(u)
     if resolution and abs(v) < u_r:
         return f"below resolution (< {plain(u_r, unit, sig=2)})"
     v_r = round(v / 10 ** place) * 10 ** place

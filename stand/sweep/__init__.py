@@ -7,21 +7,19 @@ Dask cluster, with checkpoint/resume.
 * :mod:`.run`   -- execution and checkpoints (:func:`run_sweep`), with
   :mod:`.compute` and :mod:`.theory_points` (the work of a point),
   :mod:`.schema` (the table's columns) and :mod:`.store` (the files);
-* :mod:`.command` -- ``stand sweep`` (:func:`sweep_main`);
 * :mod:`.maps`  -- regime and critical-speed maps (PNG).
 
 See ``docs/sweep.md``.
 """
 __all__ = ["Axis", "SweepSpec", "SweepSpecError", "load_sweep", "parse_sweep", "point_scene_dict",
-           "RESULT_SCHEMA", "TIMING_COLUMNS", "add_sweep_arguments", "compute_chunk", "parts_dir",
-           "read_results", "run_sweep", "sweep_main", "critical_speed_map", "regime_map"]
+           "RESULT_SCHEMA", "TIMING_COLUMNS", "compute_chunk", "parts_dir",
+           "read_results", "run_sweep", "critical_speed_map", "regime_map"]
 
 #: where each public name lives (imported on first use: ``stand --help`` needs no pandas)
 _HOME = {**dict.fromkeys(("Axis", "SweepSpec", "SweepSpecError", "load_sweep", "parse_sweep",
                           "point_scene_dict"), "spec"),
          **dict.fromkeys(("RESULT_SCHEMA", "TIMING_COLUMNS", "compute_chunk", "parts_dir",
                           "read_results", "run_sweep"), "run"),
-         "add_sweep_arguments": "command", "sweep_main": "command",
          "critical_speed_map": "maps", "regime_map": "maps"}
 
 

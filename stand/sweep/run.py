@@ -13,9 +13,9 @@ error ...) gets ``status = "error"`` and the message in ``error``; it never
 stops the sweep, and it counts as finished (a resume does not retry it).
 
 The per-point work is :mod:`.compute` (and :mod:`.theory_points`), the table's
-columns :mod:`.schema`, the files :mod:`.store`, the command :mod:`.command`;
-their public names are importable from here as before, except the command's
-(``stand.sweep.sweep_main``, ``add_sweep_arguments``): :mod:`.command` calls this module.
+columns :mod:`.schema`, the files :mod:`.store`; their public names are importable from
+here as before.  The command (``stand sweep``) is :mod:`stand.cli.sweep`, through
+:func:`stand.api.sweep.sweep`.
 """
 from __future__ import annotations
 

@@ -20,6 +20,12 @@ book weight model) and every recording::
 The answers are result objects (:mod:`stand.io.result`, docs/results.md): attribute
 and mapping access, ``to_dict()`` (the JSON the command line prints), ``to_frame()``
 and ``plot(ax=)``.
+
+What else the ``stand`` command needs lives in submodules by job, not exported from ``stand``:
+:mod:`.simulation` (``save`` a run, experiment programmes, accuracy, stress), :mod:`.analysis`
+(folders of recordings, two-plane and influence balancing, DAQ exports), :mod:`.images`
+(snapshots, track files, videos), :mod:`.sweep` and :mod:`.warmup`.  :mod:`stand.cli` calls
+only these (tests/test_architecture.py).
 """
 from __future__ import annotations
 
