@@ -98,17 +98,13 @@ def scene_header(data: Mapping, default_name: str = "") -> tuple:
 
 
 def scene_language(data: Mapping, given: Optional[int] = None) -> Optional[int]:
-    """The scene language of a document: ``[scene] language`` when the file declares it, else
-    ``given`` (a recording's ``scene_language`` attribute), else None (undeclared: a bare
-    non-zero ``[structure]`` angle is refused, :func:`stand.scene.structure_tables.structure_angles`)."""
+    """The scene language of a document: ``[scene] language`` when the file declares it (the
+    key is younger than language 1, so it wins), else ``given`` (a recording's
+    ``scene_language`` attribute), else None (undeclared: a bare non-zero ``[structure]``
+    angle is refused, :func:`stand.scene.structure_tables.structure_angles`)."""
     scene = data.get("scene") if isinstance(data, Mapping) else None
     if isinstance(scene, Mapping) and "language" in scene:
-        t = _Table(scene, "scene")
-        value = t.integer("language", minimum=1, maximum=SCENE_LANGUAGE)
-        if given is not None and given != value:
-            raise SceneError(f"scene.language = {value}: the text was stored as scene language "
-                             f"{given}")
-        return value
+        return _Table(scene, "scene").integer("language", minimum=1, maximum=SCENE_LANGUAGE)
     if given is not None and given not in (1, SCENE_LANGUAGE):
         raise SceneError(f"scene language {given!r}: this reader knows 1 ([structure] angles "
                          f"in rad) and {SCENE_LANGUAGE} (every angle of a scene file in degrees)")
