@@ -165,6 +165,15 @@ def test_planar_structure_torque_drive_gives_the_rotor_inertia():
         stand.load(text.replace("inertia = 0.05", "inertia = 1e-9"))
 
 
+def test_initial_angles_take_unit_strings_in_both_tables():
+    """initial_angles: degrees, or a unit string per weight, in [balancer] and [[weights]]."""
+    for text in (planar_text(""), weights_text("")):
+        sc = stand.load(text.replace("[150.0, 210.0]", '["2.5 rad", 210.0]'))
+        assert list(sc.balancer.initial_angles) == [2.5, math.radians(210.0)]
+        with pytest.raises(SceneError, match=r"initial_angles\[0\] = \"2\.5 furlongs\": unknown unit"):
+            stand.load(text.replace("[150.0, 210.0]", '["2.5 furlongs", 210.0]'))
+
+
 def test_structure_eccentricity_and_unbalance_not_both():
     text = weights_text("").replace("unbalance = ", f"eccentricity = {E!r}\nunbalance = ")
     with pytest.raises(SceneError, match=r"structure\.eccentricity and structure\.unbalance"):

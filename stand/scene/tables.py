@@ -182,12 +182,17 @@ def balancer_table(t: _Table) -> Balancer:
             raise SceneError(f"{name} = {_fmt(float(J[i]))}: must be >= m l^2 = "
                              f"{float(point[i]):.6g} (kg*m^2, inertia about the shaft axis; "
                              f"parallel-axis theorem)")
-    angles = t.per_weight("initial_angles", n, count_key, "deg", None, scalar=False)
-    if angles is None:
-        angles = 360.0 * np.arange(n) / n
+    given = t.data.get("initial_angles")
+    if isinstance(given, list) and any(isinstance(a, str) for a in given) and len(given) == n:
+        # a unit string per angle ("0.5 rad"), the others in degrees
+        angles = np.array([_angle(f"{t.name('initial_angles')}[{i}]", a)
+                           for i, a in enumerate(given)])
+    else:
+        angles = t.per_weight("initial_angles", n, count_key, "deg", None, scalar=False)
+        angles = (360.0 * np.arange(n) / n if angles is None else angles) * DEG
     speeds = t.per_weight("initial_speeds", n, count_key, "rev/s", 0.0)
     return Balancer(type=kind, mass=m, radius=l, drag=drag, inertia=np.asarray(J, float),
-                    initial_angles=angles * DEG, initial_speeds=speeds * TWO_PI)
+                    initial_angles=angles, initial_speeds=speeds * TWO_PI)
 
 
 def friction_table(t: _Table) -> Optional[Friction]:
