@@ -32,7 +32,7 @@ from stand.scene.dimensionless import (DIMENSIONLESS_KEYS, _dimensionless_params
 from stand.scene.instrument_tables import INSTRUMENTS, NAMED_INSTRUMENTS, instrument_tables  # noqa: F401
 from stand.scene.limits import (MAX_CYCLES, MAX_IMAGE_PIXELS, MAX_SAMPLES,  # noqa: F401 (re-exported)
                                 MAX_STATE_BYTES, MAX_WEIGHTS)
-from stand.scene.model import (SCENE_LANGUAGE, Balancer, InitialState, Rotor, Scene,  # noqa: F401
+from stand.scene.model import (SCENE_LANGUAGE, Balancer, InitialState, Rotor, Scene,
                                SceneError, Supports, TorqueDrive)
 from stand.scene.structure_tables import parse_family_scene
 from stand.scene.tables import (BALANCER_KEYS, INITIAL_KEYS, PERTURBATION_KEYS,  # noqa: F401
@@ -160,7 +160,8 @@ def parse(data: Mapping, text: str = "", stem: str = "", language: Optional[int]
     if isinstance(data, Mapping) and "weight_model" in data:
         return parse_weight_model(data, text, stem)
     scene = check_conditioning(parse_scene(data, text=text))
-    return scene if scene.name else dataclasses.replace(scene, name=stem)
+    return dataclasses.replace(scene, name=scene.name or stem,
+                               language=language or SCENE_LANGUAGE)
 
 
 def planar_structure(sc: Scene, data: Mapping) -> Scene:
