@@ -3,7 +3,8 @@
 Three file forms build the same Scene: the planar tables (``[rotor]``,
 ``[supports]``, ``[balancer]``) or the book's ``[dimensionless]`` form (this
 module), ``[structure]`` + ``[[weights]]`` (:mod:`stand.scene.structure_tables`) and
-``[weight_model]`` (:mod:`stand.scene.book_tables`).  Each table is read by one
+``[weight_model]`` (:mod:`stand.scene.book_tables`); ``[structure] type = "planar"`` is read
+into the Scene of the planar tables (:func:`planar_structure`).  Each table is read by one
 function of :mod:`stand.scene.tables` (instruments: :mod:`stand.scene.instrument_tables`)
 whatever the form it appears in; the forms only assemble them.
 

@@ -38,7 +38,8 @@ angles: as everywhere in a scene file, **every angle is in degrees**
 its unit may say otherwise (``unbalance_angle = "0.7 rad"``).  They are
 converted to rad here, once (:func:`structure_angles`); the builders stay SI.
 Scene texts of scene language 1 (recordings written before this rule) gave
-these angles in rad: ``language=1`` reads them so.
+these angles in rad: ``language=1`` reads them so.  A file declares its language with
+``[scene] language``; undeclared, a bare non-zero angle here is refused (it meant rad).
 """
 from __future__ import annotations
 
@@ -102,7 +103,8 @@ def angle_keys(kind: str, params: Mapping) -> list:
 
 def structure_angles(kind: str, params: Mapping, language: int = SCENE_LANGUAGE) -> dict:
     """The ``[structure]`` keywords with every angle (:data:`ANGLE_KEYS`) converted to rad: a
-    number is in degrees (rad in scene language 1), a string carries its unit (``"0.7 rad"``,
+    number is in degrees (rad in scene language 1; refused but 0 with ``language`` None), a
+    string carries its unit (``"0.7 rad"``,
     ``"40 deg"``; :func:`stand.io.validate.angle`).  Other keys are returned as given."""
     unit = "rad" if language == 1 else "deg"
     out = dict(params)
