@@ -1,7 +1,12 @@
-"""One scene language (issue 39 item 6): the planar ``[balancer]`` takes the dry-friction keys
-and ``rolling`` of a ball ``[[weights]]`` table with the same meaning (the same run), and every
+"""One scene language (issue 39 item 6, issue 40 item 4): the planar rotor written as
+``[rotor]``/``[supports]``/``[balancer]`` or as ``[structure] type = "planar"`` with
+``[[weights]]`` is one Scene and one run, bit for bit; the planar ``[balancer]`` takes the
+dry-friction keys and ``rolling`` of a ball ``[[weights]]`` table with the same meaning; every
 angle of a scene file is in degrees -- ``[structure]`` angles included, a unit string may say
-otherwise; recordings written before the rule (scene language 1) still read their angles in rad.
+otherwise; a file that does not declare ``[scene] language`` and gives a bare non-zero
+``[structure]`` angle (rad before) is refused with what to write; recordings written before
+the rule (scene language 1) still read their angles in rad.  (docs/scene.md, the scene
+language rules.)
 """
 from __future__ import annotations
 
