@@ -199,8 +199,6 @@ def planar_structure(sc: Scene, data: Mapping) -> Scene:
     rotor = Rotor(mass=M, eccentricity=e, unbalance_angle=u.angle, inertia=inertia)
     supports = Supports(float(lin.K[0, 0]), float(lin.K[1, 1]), float(lin.D[0, 0]),
                         float(lin.D[1, 1]))
-    if pw is not None and pw.friction is not None:
-        _generic_kernel_limits("weights: dry friction", drive, (), torque=True)
     return check_derived(Scene(
         rotor=rotor, supports=supports, balancer=pw.balancer if pw else Balancer(), drive=drive,
         run=sc.run, name=sc.name, text=sc.text, instruments=sc.instruments,
