@@ -275,7 +275,7 @@ def test_every_builder_argument_is_a_scene_key(kind, tmp_path):
     assert names == set(ALL_KEYS[kind]), names ^ set(ALL_KEYS[kind])
     body = "\n".join(f"{k} = {_toml(v)}" for k, v in ALL_KEYS[kind].items())
     p = tmp_path / f"{kind}.toml"
-    p.write_text(f'[structure]\ntype = "{kind}"\n{body}\n[drive]\ntype = "speed"\n'
+    p.write_text(f'[scene]\nlanguage = 2\n[structure]\ntype = "{kind}"\n{body}\n[drive]\ntype = "speed"\n'
                  'programme = [[0.0, 0.0], [1.0, 1.0]]\n[run]\nduration = 1.0\nsample_rate = 50.0\n')
     rot = stand.load(str(p)).linear_rotor()
     # the scene's angles are in degrees, the builder's in rad

@@ -1,7 +1,12 @@
-"""One scene language (issue 39 item 6): the planar ``[balancer]`` takes the dry-friction keys
-and ``rolling`` of a ball ``[[weights]]`` table with the same meaning (the same run), and every
+"""One scene language (issue 39 item 6, issue 40 item 4): the planar rotor written as
+``[rotor]``/``[supports]``/``[balancer]`` or as ``[structure] type = "planar"`` with
+``[[weights]]`` is one Scene and one run, bit for bit; the planar ``[balancer]`` takes the
+dry-friction keys and ``rolling`` of a ball ``[[weights]]`` table with the same meaning; every
 angle of a scene file is in degrees -- ``[structure]`` angles included, a unit string may say
-otherwise; recordings written before the rule (scene language 1) still read their angles in rad.
+otherwise; a file that does not declare ``[scene] language`` and gives a bare non-zero
+``[structure]`` angle (rad before) is refused with what to write; recordings written before
+the rule (scene language 1) still read their angles in rad.  (docs/scene.md, the scene
+language rules.)
 """
 from __future__ import annotations
 
@@ -49,18 +54,24 @@ sample_rate = 200.0
 """
 
 
-def planar_text(extra: str, unbalance_angle: float = 25.0) -> str:
+def planar_text(extra: str, unbalance_angle=25.0) -> str:
     """The planar form: [rotor], [supports], [balancer] with ``extra`` keys."""
-    return (f"[rotor]\nmass = {M!r}\neccentricity = {E!r}\nunbalance_angle = {unbalance_angle!r}\n"
+    angle = f'"{unbalance_angle}"' if isinstance(unbalance_angle, str) else repr(unbalance_angle)
+    return (f"[rotor]\nmass = {M!r}\neccentricity = {E!r}\nunbalance_angle = {angle}\n"
             f"[supports]\nstiffness = {C!r}\ndamping = {H!r}\n"
             f"[balancer]\n{BALLS}{extra}" + TAIL)
 
 
-def weights_text(extra: str, unbalance_angle: float = 25.0) -> str:
-    """The same stand written as [structure] type = "planar" with the balls in [[weights]]."""
-    return (f'[structure]\ntype = "planar"\nmass = {M!r}\nstiffness_x = {C!r}\nstiffness_y = {C!r}\n'
-            f"damping_x = {H!r}\ndamping_y = {H!r}\nunbalance = {M * E!r}\n"
-            f"unbalance_angle = {unbalance_angle!r}\n"
+def weights_text(extra: str, unbalance_angle=25.0, language: str = "language = 2\n",
+                 unbalance: str = f"unbalance = {M * E!r}") -> str:
+    """The same stand written as [structure] type = "planar" with the balls in [[weights]]
+    (``language``: the [scene] declaration, "" for none)."""
+    angle = unbalance_angle if isinstance(unbalance_angle, str) else repr(unbalance_angle)
+    angle = f'"{angle}"' if isinstance(unbalance_angle, str) else angle
+    return ((f"[scene]\n{language}" if language else "")
+            + f'[structure]\ntype = "planar"\nmass = {M!r}\nstiffness_x = {C!r}\nstiffness_y = {C!r}\n'
+            f"damping_x = {H!r}\ndamping_y = {H!r}\n{unbalance}\n"
+            f"unbalance_angle = {angle}\n"
             f'[[weights]]\nplane = "balancer"\n{BALLS}{extra}' + TAIL)
 
 
@@ -71,6 +82,146 @@ def _agreement(a, b) -> tuple:
             float(np.max(np.abs(a.weight_angle - b.weight_angle))))
 
 
+def _same_scene(a, b) -> None:
+    """Every field of two Scenes equal (arrays element for element), but the text."""
+    for f in dataclasses.fields(a):
+        if f.name == "text":
+            continue
+        x, y = getattr(a, f.name), getattr(b, f.name)
+        if f.name == "balancer" or f.name == "drive":
+            for g in dataclasses.fields(x):
+                np.testing.assert_array_equal(getattr(x, g.name), getattr(y, g.name), g.name)
+        else:
+            assert x == y, (f.name, x, y)
+
+
+def _channels(run) -> dict:
+    """Every array of a Run: time, state, planes, weights, coordinates, truth, rotor."""
+    out = {"t": run.t, "state": run.state, "rotor_angle": run.rotor_angle,
+           "rotor_speed": run.rotor_speed}
+    for group in ("planes", "weights", "coordinates", "truth"):
+        for name, value in getattr(run, group).items():
+            items = (value.items() if isinstance(value, dict) else
+                     enumerate(value) if isinstance(value, tuple) else [("", value)])
+            for k, v in items:          # (coordinates and truth: (array, unit) pairs)
+                if isinstance(v, np.ndarray):
+                    out[f"{group}/{name}/{k}"] = v
+    return out
+
+
+# ---------------------------------------------------------------- one planar rotor, two spellings
+@pytest.mark.parametrize("angle", [25.0, "25 deg", "1.2 rad", 0.0])
+def test_both_spellings_are_one_scene_and_one_run(angle):
+    """Issue 40 item 4: [rotor]/[supports]/[balancer] and [structure] type = "planar" with
+    [[weights]] read into one Scene (kind "planar", the same floats) and run on the same
+    kernel, the planar one: every channel of the two runs is equal bit for bit.  The angle is
+    in degrees in both forms (a unit string says otherwise); the same keys (eccentricity)."""
+    ecc = f"eccentricity = {E!r}"
+    a_sc = stand.load(planar_text("", angle))
+    b_sc = stand.load(weights_text("", angle, unbalance=ecc))
+    assert a_sc.kind == b_sc.kind == "planar" and a_sc.generic_kernel == b_sc.generic_kernel == ""
+    _same_scene(a_sc, b_sc)
+    want = {25.0: math.radians(25.0), "25 deg": math.radians(25.0), "1.2 rad": 1.2, 0.0: 0.0}[angle]
+    assert a_sc.rotor.unbalance_angle == pytest.approx(want, rel=1e-15, abs=0)
+    a, b = simulate(a_sc), simulate(b_sc)       # two integrations, not one cached answer
+    assert a.stats.status == b.stats.status == 0 and a.stats.nfev == b.stats.nfev
+    ca, cb = _channels(a), _channels(b)
+    assert ca.keys() == cb.keys() and len(ca) >= 8
+    for k in ca:
+        assert np.array_equal(ca[k], cb[k]), k
+    # the balls moved and the shaft whirls: the comparison is of a run that did something
+    assert np.ptp(a.weights["ball1"]["angle"] if "ball1" in a.weights else a.state[:, 2]) > 0.1
+    # the unbalance's written as kg m (the builder's key) is the same rotor to round-off
+    c_sc = stand.load(weights_text("", angle))
+    assert c_sc.rotor.unbalance == pytest.approx(a_sc.rotor.unbalance, rel=2e-16)
+
+
+def test_both_spellings_with_friction_run_alike_on_the_generic_kernel():
+    """Dry friction: both spellings are one Scene on the generic kernel, bit for bit."""
+    ecc = f"eccentricity = {E!r}"
+    a_sc, b_sc = stand.load(planar_text(FRICTION)), stand.load(weights_text(FRICTION, unbalance=ecc))
+    _same_scene(a_sc, b_sc)
+    assert "friction" in b_sc.generic_kernel
+    a, b = simulate(a_sc), simulate(b_sc)
+    for k, v in _channels(a).items():
+        assert np.array_equal(v, _channels(b)[k]), k
+
+
+def test_planar_structure_the_planar_form_cannot_say_stays_a_rotor_scene():
+    """Transverse gravity (a horizontal axis) or two ball tables: the generic structure."""
+    g = weights_text("").replace('type = "planar"\n', 'type = "planar"\ng = [0.0, -9.81]\n')
+    sc = stand.load(g)
+    assert sc.kind == "rotor" and sc.generic_kernel == "rotor type planar"
+    two = weights_text("").replace("[drive]", f'[[weights]]\nplane = "balancer"\n{BALLS}\n[drive]')
+    sc = stand.load(two)
+    assert sc.kind == "rotor" and len(sc.weights) == 2
+
+
+def test_planar_structure_torque_drive_gives_the_rotor_inertia():
+    """[drive] inertia of a [structure] scene is J_p about the shaft; the planar Scene holds
+    J_C = J_p - M e^2 (rotor.inertia), so that J_0 = J_C + M e^2 is J_p to round-off."""
+    torque = 'type = "torque"\nmodel = "constant"\ntorque = 0.1\ninertia = 0.05\n'
+    text = weights_text("", unbalance=f"eccentricity = {E!r}").replace(
+        'type = "speed"\nprogramme = [[0.0, 0.0], [10.0, 15.0]]\n', torque)
+    sc = stand.load(text)
+    assert sc.kind == "planar" and sc.drive.kind == "torque"
+    assert sc.rotor.inertia_about_shaft == pytest.approx(0.05, rel=1e-15)
+    with pytest.raises(SceneError, match=r"drive\.inertia = 1e-09: must be > M e\^2"):
+        stand.load(text.replace("inertia = 0.05", "inertia = 1e-9"))
+
+
+def test_initial_angles_take_unit_strings_in_both_tables():
+    """initial_angles: degrees, or a unit string per weight, in [balancer] and [[weights]]."""
+    for text in (planar_text(""), weights_text("")):
+        sc = stand.load(text.replace("[150.0, 210.0]", '["2.5 rad", 210.0]'))
+        assert list(sc.balancer.initial_angles) == [2.5, math.radians(210.0)]
+        with pytest.raises(SceneError, match=r"initial_angles\[0\] = \"2\.5 furlongs\": unknown unit"):
+            stand.load(text.replace("[150.0, 210.0]", '["2.5 furlongs", 210.0]'))
+
+
+def test_structure_eccentricity_and_unbalance_not_both():
+    text = weights_text("").replace("unbalance = ", f"eccentricity = {E!r}\nunbalance = ")
+    with pytest.raises(SceneError, match=r"structure\.eccentricity and structure\.unbalance"):
+        stand.load(text)
+
+
+# ---------------------------------------------------------------- old files: never a silent change
+def test_undeclared_bare_structure_angle_is_refused_with_what_to_write():
+    """A file of before scene language 2 with [structure] unbalance_angle = 1.57 meant rad;
+    read in degrees it would silently be 1.57 deg.  Without [scene] language it is refused in
+    one line naming the key, the value and what to write."""
+    text = weights_text("", 1.57, language="")
+    with pytest.raises(SceneError) as exc:
+        stand.load(text)
+    msg = str(exc.value)
+    assert "\n" not in msg and msg.startswith("structure.unbalance_angle = 1.57: ")
+    assert '"1.57 rad"' in msg and '"89.9544 deg"' in msg and "[scene] language = 2" in msg
+    # what the message says to write reads as meant
+    for fix, want in (('"1.57 rad"', 1.57), ('"89.9544 deg"', math.radians(89.9544))):
+        sc = stand.load(text.replace("unbalance_angle = 1.57", f"unbalance_angle = {fix}"))
+        assert sc.rotor.unbalance_angle == pytest.approx(want, rel=1e-15)
+    declared = {1: 1.57, 2: math.radians(1.57)}
+    for lang, want in declared.items():
+        sc = stand.load(text.replace("[structure]", f"[scene]\nlanguage = {lang}\n[structure]"))
+        assert sc.rotor.unbalance_angle == pytest.approx(want, rel=1e-15) and sc.language == lang
+    # zero means the same in both: no refusal; the [rotor] form always read degrees
+    assert stand.load(weights_text("", 0.0, language="")).rotor.unbalance_angle == 0.0
+    assert stand.load(planar_text("", 1.57)).rotor.unbalance_angle == pytest.approx(
+        math.radians(1.57), rel=1e-15)
+    with pytest.raises(SceneError, match=r"scene\.language = 3: must be <= 2"):
+        stand.load(text.replace("[structure]", "[scene]\nlanguage = 3\n[structure]"))
+
+
+def test_undeclared_bare_grinding_and_flexible_angles_are_refused():
+    st = dict(BUILDERS["grinding"], type="grinding")
+    with pytest.raises(SceneError, match=r'^structure\.alpha = 30\.0: .*"30\.0 rad"'):
+        parse(_doc(st, language=None))
+    st = dict(type="flexible", length=1.0, mass_per_length=10.0, EJ=2000.0, n_modes=3,
+              unbalances={"balancer": [1e-3, 200.0]})
+    with pytest.raises(SceneError, match=r"^structure\.unbalances\.balancer\[1\] = 200\.0: "):
+        parse(_doc(st, language=None))
+
+
 # ---------------------------------------------------------------- friction and rolling
 def test_balancer_friction_is_the_weights_form_to_round_off():
     """[balancer] friction = ... on the planar scene is the [[weights]] form of the same
@@ -79,7 +230,7 @@ def test_balancer_friction_is_the_weights_form_to_round_off():
     weight table and scales, so the runs agree bit for bit (measured: 0); the bound 1e-12
     leaves room for a reordered sum, far below the tolerance-level 1e-8 of two kernels."""
     a_sc, b_sc = stand.load(planar_text(FRICTION)), stand.load(weights_text(FRICTION))
-    assert a_sc.kind == "planar" and b_sc.kind == "rotor"
+    assert a_sc.kind == b_sc.kind == "planar"
     (wa,), (wb,) = a_sc.weights, b_sc.weights
     assert wa.plane == wb.plane == "balancer" and wa.friction == wb.friction
     assert wa.friction.kinetic == 2e-3 and wa.friction.static == 0.01 and wa.friction.sticks
@@ -108,7 +259,8 @@ def test_rolling_balls_agree_with_the_weights_form():
     np.testing.assert_allclose(a_sc.balancer.inertia, J, rtol=1e-15)
     np.testing.assert_array_equal(a_sc.weights[0].balancer.inertia, b_sc.weights[0].balancer.inertia)
     assert a_sc.generic_kernel == "" and a_sc.friction is None
-    gen, ref = simulate(a_sc, kernel="generic"), simulate(b_sc)
+    assert b_sc.generic_kernel == ""       # one Scene: the planar kernel for both forms
+    gen, ref = simulate(a_sc, kernel="generic"), simulate(b_sc, kernel="generic")
     xy, ang = _agreement(gen, ref)
     assert xy <= 1e-12 and ang <= 1e-12, (xy, ang)
     tight = dataclasses.replace(a_sc, run=dataclasses.replace(a_sc.run, rtol=1e-10, atol=1e-12))
@@ -176,7 +328,12 @@ def test_theory_says_friction_is_outside_and_still_answers():
     assert th["kind"] == "chapter5" and th["stable_bands"]
     assert any("dry friction of balancer" in n and "outside the steady-motion theory" in n
                for n in th["not_applicable"])
-    th = stand.theory(stand.load(weights_text("friction = 2e-3\n")), floquet=False)
+    # the [[weights]] spelling is the same Scene: the same theory, the same note
+    th2 = stand.theory(stand.load(weights_text("friction = 2e-3\n")), floquet=False)
+    assert th2["kind"] == "chapter5" and th2["not_applicable"] == th["not_applicable"]
+    # a rotor-family structure says it its way
+    th = stand.theory(stand.load(weights_text("friction = 2e-3\n").replace(
+        'type = "planar"\n', 'type = "planar"\ng = [0.0, -1e-3]\n')), floquet=False)
     assert th["kind"] == "structure"
     assert any("dry friction of the weights in plane balancer" in n for n in th["not_applicable"])
 
@@ -221,9 +378,10 @@ BUILDERS = {
 }
 
 
-def _doc(structure: dict) -> dict:
-    return {"structure": structure, "drive": {"type": "speed", "programme": [[0.0, 1.0]]},
-            "run": {"duration": 0.1, "sample_rate": 100.0}}
+def _doc(structure: dict, language=2) -> dict:
+    doc = {"structure": structure, "drive": {"type": "speed", "programme": [[0.0, 1.0]]},
+           "run": {"duration": 0.1, "sample_rate": 100.0}}
+    return doc if language is None else dict(doc, scene={"language": language})
 
 
 @pytest.mark.parametrize("kind", sorted(BUILDERS))
@@ -248,7 +406,7 @@ def test_unit_strings_say_otherwise():
         sc = parse(_doc(dict(type="planar", mass=2.0, stiffness_x=1e4, unbalance=2e-3,
                              unbalance_angle=value)))
         assert sc.linear_rotor().unbalances[0].angle == pytest.approx(want, rel=1e-15), value
-        assert sc.structure.params["unbalance_angle"] == pytest.approx(want, rel=1e-15)
+        assert sc.rotor.unbalance_angle == pytest.approx(want, rel=1e-15)
 
 
 def test_grinding_alpha_and_flexible_unbalances_are_in_degrees():
@@ -303,8 +461,8 @@ def test_bad_flexible_unbalance_angle_is_refused_naming_the_key():
 
 # ---------------------------------------------------------------- old recordings (language 1)
 def test_language_1_reads_structure_angles_in_rad():
-    text = weights_text("", unbalance_angle=0.7)
-    assert stand.load(text).linear_rotor().unbalances[0].angle == pytest.approx(
+    text = weights_text("", unbalance_angle=0.7, language="")
+    assert load_scene(text, language=2).linear_rotor().unbalances[0].angle == pytest.approx(
         math.radians(0.7), rel=1e-15)
     old = load_scene(text, language=1)
     assert old.language == 1 and old.linear_rotor().unbalances[0].angle == 0.7
@@ -328,7 +486,8 @@ def test_old_sample_recordings_read_with_their_angles():
 
 
 def test_recordings_store_their_scene_language(tmp_path):
-    sc = stand.load(weights_text("", unbalance_angle=40.0))
+    text = weights_text("", unbalance_angle=40.0, language="")
+    sc = load_scene(text, language=2)       # (a text without [scene] language, as stored)
     sc = dataclasses.replace(sc, run=dataclasses.replace(sc.run, duration=0.05))
     path = stand.run(sc).write(tmp_path / "new.h5")
     rec = stand.read(path)
@@ -344,3 +503,10 @@ def test_recordings_store_their_scene_language(tmp_path):
     with h5py.File(path, "a") as f:
         del f.attrs["scene_language"]
     assert stand.read(path).scene.linear_rotor().unbalances[0].angle == pytest.approx(40.0)
+    # a text that declares [scene] language = 2 is read so, attribute or not
+    sc = stand.load(weights_text("", unbalance_angle=40.0))
+    path = stand.run(dataclasses.replace(
+        sc, run=dataclasses.replace(sc.run, duration=0.05))).write(tmp_path / "declared.h5")
+    with h5py.File(path, "a") as f:
+        del f.attrs["scene_language"]
+    assert stand.read(path).scene.rotor.unbalance_angle == pytest.approx(math.radians(40.0))

@@ -386,7 +386,8 @@ class Scene:
     Every scene file form builds this one class (:func:`stand.load`):
 
     * the planar rotor of chapter 5 on its supports (``[rotor]``, ``[supports]``,
-      ``[balancer]`` tables, or the book's ``[dimensionless]`` form): ``rotor`` and
+      ``[balancer]`` tables, the book's ``[dimensionless]`` form, or ``[structure] type =
+      "planar"`` with ``[[weights]]``: :func:`stand.scene.parse.planar_structure`): ``rotor`` and
       ``supports`` are set, the weights are ``balancer`` in the plane
       ``"balancer"``; ``kind == "planar"``;
     * any rotor of the family (``[structure]`` + ``[[weights]]``): ``structure`` is a

@@ -3,7 +3,8 @@
 Three file forms build the same Scene: the planar tables (``[rotor]``,
 ``[supports]``, ``[balancer]``) or the book's ``[dimensionless]`` form (this
 module), ``[structure]`` + ``[[weights]]`` (:mod:`stand.scene.structure_tables`) and
-``[weight_model]`` (:mod:`stand.scene.book_tables`).  Each table is read by one
+``[weight_model]`` (:mod:`stand.scene.book_tables`); ``[structure] type = "planar"`` is read
+into the Scene of the planar tables (:func:`planar_structure`).  Each table is read by one
 function of :mod:`stand.scene.tables` (instruments: :mod:`stand.scene.instrument_tables`)
 whatever the form it appears in; the forms only assemble them.
 
@@ -20,7 +21,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from pathlib import Path
-from typing import Mapping, Union
+from typing import Mapping, Optional, Union
 
 import numpy as np
 
@@ -32,13 +33,15 @@ from stand.scene.dimensionless import (DIMENSIONLESS_KEYS, _dimensionless_params
 from stand.scene.instrument_tables import INSTRUMENTS, NAMED_INSTRUMENTS, instrument_tables  # noqa: F401
 from stand.scene.limits import (MAX_CYCLES, MAX_IMAGE_PIXELS, MAX_SAMPLES,  # noqa: F401 (re-exported)
                                 MAX_STATE_BYTES, MAX_WEIGHTS)
-from stand.scene.model import SCENE_LANGUAGE, Balancer, InitialState, Scene, SceneError, TorqueDrive
+from stand.scene.model import (SCENE_LANGUAGE, Balancer, InitialState, Rotor, Scene,
+                               SceneError, Supports, TorqueDrive)
 from stand.scene.structure_tables import parse_family_scene
 from stand.scene.tables import (BALANCER_KEYS, INITIAL_KEYS, PERTURBATION_KEYS,  # noqa: F401
                                 ROTOR_KEYS, RUN_KEYS, SCENE_KEYS, SPEED_KEYS, SUPPORT_KEYS, TABLES,
                                 TORQUE_KEYS, TORQUE_MODEL_KEYS, balancer_table, check_programme_slope,
                                 check_tables, drive_table, friction_table, initial_table, perturbation_tables, rotor_table,
-                                run_table, scene_header, supports_table, weight_tables)
+                                run_table, scene_header, scene_language, supports_table,
+                                weight_tables)
 
 __all__ = ["load", "load_scene", "parse", "parse_scene", "scene_from_dimensionless", "MAX_SAMPLES"]
 
@@ -137,26 +140,70 @@ def _generic_kernel_limits(what: str, drive, perturbations, torque: bool) -> Non
                          "[[perturbation]]s only impulses")
 
 
-def parse(data: Mapping, text: str = "", stem: str = "", language: int = SCENE_LANGUAGE) -> Scene:
+def parse(data: Mapping, text: str = "", stem: str = "", language: Optional[int] = None) -> Scene:
     """Build the :class:`Scene` of any scene document (the three file forms).
 
-    A ``[structure]`` table selects :func:`stand.scene.structure_tables.parse_family_scene`,
-    ``[weight_model]`` :func:`stand.scene.book_tables.parse_weight_model`, else the planar
-    tables or ``[dimensionless]`` (:func:`parse_scene`).  Every form's linear structure is
-    held to the conditioning limits (:func:`stand.scene.conditioning.check_conditioning`).
-    ``language``: the scene-file language of the document (:data:`SCENE_LANGUAGE`: every
-    angle in degrees; 1, of recordings written before it, read their ``[structure]`` angles
-    in rad; the other tables read the same in both).
+    A ``[structure]`` table selects :func:`stand.scene.structure_tables.parse_family_scene`
+    (``type = "planar"`` is then read into the Scene of the ``[rotor]`` form,
+    :func:`planar_structure`), ``[weight_model]`` :func:`stand.scene.book_tables.parse_weight_model`,
+    else the planar tables or ``[dimensionless]`` (:func:`parse_scene`).  Every form's linear
+    structure is held to the conditioning limits (:func:`stand.scene.conditioning.check_conditioning`).
+    ``language``: the scene-file language of a stored text without ``[scene] language``
+    (:data:`SCENE_LANGUAGE`: every angle in degrees; 1, of recordings written before it, reads
+    the ``[structure]`` angles in rad; the other tables read the same in both); None (a file):
+    as ``[scene] language`` declares, and without it a bare non-zero ``[structure]`` angle is
+    refused (:func:`stand.scene.tables.scene_language`).
     """
-    if language not in (1, SCENE_LANGUAGE):
-        raise SceneError(f"scene language {language!r}: this reader knows 1 ([structure] angles "
-                         f"in rad) and {SCENE_LANGUAGE} (every angle of a scene file in degrees)")
+    language = scene_language(data, language)
     if isinstance(data, Mapping) and "structure" in data:
-        return check_conditioning(parse_family_scene(data, text, stem, language))
+        return planar_structure(check_conditioning(parse_family_scene(data, text, stem, language)),
+                                data)
     if isinstance(data, Mapping) and "weight_model" in data:
         return parse_weight_model(data, text, stem)
     scene = check_conditioning(parse_scene(data, text=text))
-    return scene if scene.name else dataclasses.replace(scene, name=stem)
+    return dataclasses.replace(scene, name=scene.name or stem,
+                               language=language or SCENE_LANGUAGE)
+
+
+def planar_structure(sc: Scene, data: Mapping) -> Scene:
+    """A ``[structure] type = "planar"`` scene as the Scene of its ``[rotor]``, ``[supports]``,
+    ``[balancer]`` form (one representation of the planar rotor, so that both spellings run
+    alike, bit for bit, on the kernel the content picks: :attr:`Scene.generic_kernel`).
+
+    The structure's M, K, D and unbalance are taken exactly (``eccentricity`` as written, else
+    unbalance / mass), its one ball or pendulum ``[[weights]]`` table is the balancer (with
+    its friction), body weights stay ``plane_weights``; a torque drive's ``inertia`` about
+    the shaft J_p gives ``rotor.inertia`` J_C = J_p - M e^2.  A scene the planar form cannot
+    say stays a rotor-family scene: transverse gravity ``g``, several weight tables, body
+    weights with a torque drive.
+    """
+    if sc.kind != "rotor" or sc.structure.type != "planar":
+        return sc
+    lin, st = sc.structure.rotor, data["structure"]
+    tables = [w for w in sc.plane_weights if hasattr(w, "balancer")]
+    torque = sc.drive.kind == "torque"
+    if np.any(lin.gravity_plane) or len(tables) > 1 or (torque and sc.bodies):
+        return sc
+    (u,) = lin.unbalances
+    M = float(lin.M[0, 0])
+    e = float(st["eccentricity"]) if "eccentricity" in st else u.s / M
+    inertia, drive = None, sc.drive
+    if torque:
+        inertia = drive.inertia - M * e * e
+        if not inertia > 0:
+            raise SceneError(f"drive.inertia = {drive.inertia:g}: must be > M e^2 = {M * e * e:g} "
+                             "(kg*m^2, the rotor's polar moment of inertia about the shaft)")
+        drive = TorqueDrive(**{f.name: getattr(drive, f.name) for f in
+                               dataclasses.fields(TorqueDrive)})
+    pw = tables[0] if tables else None
+    rotor = Rotor(mass=M, eccentricity=e, unbalance_angle=u.angle, inertia=inertia)
+    supports = Supports(float(lin.K[0, 0]), float(lin.K[1, 1]), float(lin.D[0, 0]),
+                        float(lin.D[1, 1]))
+    return check_derived(Scene(
+        rotor=rotor, supports=supports, balancer=pw.balancer if pw else Balancer(), drive=drive,
+        run=sc.run, name=sc.name, text=sc.text, instruments=sc.instruments,
+        description=sc.description, plane_weights=sc.bodies,
+        friction=pw.friction if pw else None, language=sc.language))
 
 
 def check_derived(scene: Scene) -> Scene:
@@ -225,17 +272,19 @@ def check_derived(scene: Scene) -> Scene:
     return scene
 
 
-def load_scene(source: Union[str, Path], language: int = SCENE_LANGUAGE) -> Scene:
+def load_scene(source: Union[str, Path], language: Optional[int] = None) -> Scene:
     """Read a scene (any file form) from a TOML file, or from TOML text.
 
     Parameters
     ----------
     source : str or pathlib.Path
         A path, or TOML text if it is a ``str`` containing a newline.
-    language : int
-        The scene-file language of the text (:data:`stand.scene.model.SCENE_LANGUAGE`, every
-        angle in degrees); 1 reads a text stored in a recording written before it
-        (``[structure]`` angles in rad; :func:`stand.recording.layout.scene_language`).
+    language : int or None
+        The scene-file language of a text without ``[scene] language``
+        (:data:`stand.scene.model.SCENE_LANGUAGE`, every angle in degrees; 1 reads a text stored
+        in a recording written before it, ``[structure]`` angles in rad:
+        :func:`stand.recording.layout.scene_language`).  None: the file's own declaration, or
+        none (a bare non-zero ``[structure]`` angle is then refused).
 
     Returns
     -------

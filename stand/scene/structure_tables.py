@@ -38,7 +38,8 @@ angles: as everywhere in a scene file, **every angle is in degrees**
 its unit may say otherwise (``unbalance_angle = "0.7 rad"``).  They are
 converted to rad here, once (:func:`structure_angles`); the builders stay SI.
 Scene texts of scene language 1 (recordings written before this rule) gave
-these angles in rad: ``language=1`` reads them so.
+these angles in rad: ``language=1`` reads them so.  A file declares its language with
+``[scene] language``; undeclared, a bare non-zero angle here is refused (it meant rad).
 """
 from __future__ import annotations
 
@@ -79,12 +80,17 @@ TABLES = ("scene", "structure", "weights", "drive", "run", "instruments")
 ANGLE_KEYS = {"unbalance_angle": None, "alpha": ("grinding",), "unbalances": ("flexible",)}
 
 
-def _angle_unit(language: int) -> str:
-    """The unit of a bare number of a ``[structure]`` angle key in scene language ``language``."""
-    if language not in (1, SCENE_LANGUAGE):
-        raise SceneError(f"scene language {language!r}: this reader knows 1 ([structure] angles "
-                         f"in rad) and {SCENE_LANGUAGE} (every angle of a scene file in degrees)")
-    return "rad" if language == 1 else "deg"
+def _structure_angle(name: str, value, language) -> float:
+    """One ``[structure]`` angle [rad]: a unit string as it says; a bare number in rad in
+    scene language 1, in degrees in language 2; in a file that declares no language a bare
+    non-zero number is refused (it meant rad before language 2: never a silent change)."""
+    if language is None and not isinstance(value, str) and isinstance(value, (int, float)) \
+            and not isinstance(value, bool) and value != 0 and math.isfinite(value):
+        raise SceneError(
+            f"{name} = {_fmt(value)}: a bare angle in [structure] meant rad before scene language "
+            f"2 and deg since; write \"{_fmt(value)} rad\" or \"{math.degrees(value):.6g} deg\", "
+            "or declare [scene] language = 2 (bare angles in deg) or = 1 (in rad)")
+    return _angle(name, value, "rad" if language == 1 else "deg")
 
 
 def angle_keys(kind: str, params: Mapping) -> list:
@@ -97,14 +103,15 @@ def angle_keys(kind: str, params: Mapping) -> list:
 
 def structure_angles(kind: str, params: Mapping, language: int = SCENE_LANGUAGE) -> dict:
     """The ``[structure]`` keywords with every angle (:data:`ANGLE_KEYS`) converted to rad: a
-    number is in degrees (rad in scene language 1), a string carries its unit (``"0.7 rad"``,
+    number is in degrees (rad in scene language 1; refused but 0 with ``language`` None), a
+    string carries its unit (``"0.7 rad"``,
     ``"40 deg"``; :func:`stand.io.validate.angle`).  Other keys are returned as given."""
-    unit = _angle_unit(language)
+    unit = "rad" if language == 1 else "deg"
     out = dict(params)
     for key in angle_keys(kind, params):
         name, v = f"structure.{key}", params[key]
         if key != "unbalances":
-            out[key] = _angle(name, v, unit)
+            out[key] = _structure_angle(name, v, language)
             continue
         if not isinstance(v, Mapping):
             continue        # the builder's own forms (a list of tuples) are Python-only
@@ -113,7 +120,7 @@ def structure_angles(kind: str, params: Mapping, language: int = SCENE_LANGUAGE)
             where = f"{name}.{plane}"
             if isinstance(u, list) and len(u) in (1, 2):
                 table[plane] = [_number(f"{where}[0]", u[0], "kg m")] + (
-                    [_angle(f"{where}[1]", u[1], unit)] if len(u) == 2 else [])
+                    [_structure_angle(f"{where}[1]", u[1], language)] if len(u) == 2 else [])
             elif isinstance(u, (list, dict, str, bool)) or u is None:
                 raise SceneError(f"{where} = {_fmt(u)}: must be s (kg m) or [s (kg m), angle "
                                  f"({unit}, or a string with its unit such as \"0.7 rad\")]")
@@ -209,6 +216,13 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "",
     if not isinstance(kind, str):
         raise SceneError(f"structure.type = {kind!r}: required, one of {', '.join(ROTOR_TYPES)}")
     st = structure_angles(kind, st, language)
+    if kind == "planar" and "eccentricity" in st:     # the key of [rotor]: s = M e
+        e = _number("structure.eccentricity", st.pop("eccentricity"), "m", ge=0)
+        if "unbalance" in st:
+            raise SceneError("structure.eccentricity and structure.unbalance are both given: use "
+                             "either eccentricity (m) or unbalance (kg*m, = mass * eccentricity)")
+        m = st.get("mass")
+        st["unbalance"] = m * e if isinstance(m, (int, float)) and not isinstance(m, bool) else e
     rotor = build_rotor(kind, st)
     weights = weight_tables(data.get("weights", []), rotor, kind)
     drive = drive_table(_Table(data["drive"], "drive"), 1.0, structure=True)
@@ -224,7 +238,8 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "",
                                         tuple(rotor.planes), kind)
     scene = Scene(drive=drive, run=run, name=name, text=text, description=desc,
                   structure=RotorStructure(kind, st, rotor, ROTOR_TYPES[kind][1]),
-                  plane_weights=weights, instruments=instruments, language=language)
+                  plane_weights=weights, instruments=instruments,
+                  language=language or SCENE_LANGUAGE)
     if instruments:
         from stand.instruments.placement import check_instruments
 

@@ -18,11 +18,11 @@ from typing import Any, Mapping, Optional
 
 import numpy as np
 
-from stand.io.validate import _Table, _fmt, _kind, _number, _suggest
+from stand.io.validate import _Table, _angle, _fmt, _kind, _number, _suggest
 from stand.model.balancers.friction import ROLLING_BALL_J, Friction
 from stand.scene.body_tables import BODY_TYPES, parse_body
 from stand.scene.limits import MAX_SAMPLES, MAX_WEIGHTS
-from stand.scene.model import (METHODS, Balancer, Impulse, InitialState, PlaneWeights, Rotor,
+from stand.scene.model import (METHODS, SCENE_LANGUAGE, Balancer, Impulse, InitialState, PlaneWeights, Rotor,
                                RotorTorqueDrive, RunSettings, SceneError, SideForce, SpeedDrive,
                                Supports, TorqueDrive, UnbalanceChange)
 
@@ -42,7 +42,7 @@ PERTURBATION_KEYS = {
     "impulse": ("type", "time", "velocity_x", "velocity_y"),
     "side_force": ("type", "start", "end", "force_x", "force_y", "stiffness_x", "stiffness_y"),
 }
-SCENE_KEYS = ("name", "description")
+SCENE_KEYS = ("name", "description", "language")
 ROTOR_KEYS = ("mass", "eccentricity", "unbalance_angle", "inertia")
 SUPPORT_KEYS = ("stiffness", "stiffness_x", "stiffness_y", "damping", "damping_x", "damping_y")
 #: dry-friction keys of the weights' table (:func:`friction_table`,
@@ -97,13 +97,27 @@ def scene_header(data: Mapping, default_name: str = "") -> tuple:
     return t.string("name", default=default_name), t.string("description", default="")
 
 
+def scene_language(data: Mapping, given: Optional[int] = None) -> Optional[int]:
+    """The scene language of a document: ``[scene] language`` when the file declares it (the
+    key is younger than language 1, so it wins), else ``given`` (a recording's
+    ``scene_language`` attribute), else None (undeclared: a bare non-zero ``[structure]``
+    angle is refused, :func:`stand.scene.structure_tables.structure_angles`)."""
+    scene = data.get("scene") if isinstance(data, Mapping) else None
+    if isinstance(scene, Mapping) and "language" in scene:
+        return _Table(scene, "scene").integer("language", minimum=1, maximum=SCENE_LANGUAGE)
+    if given is not None and given not in (1, SCENE_LANGUAGE):
+        raise SceneError(f"scene language {given!r}: this reader knows 1 ([structure] angles "
+                         f"in rad) and {SCENE_LANGUAGE} (every angle of a scene file in degrees)")
+    return given
+
+
 def rotor_table(t: _Table) -> Rotor:
-    """``[rotor]`` of a planar scene (SI; the unbalance angle in degrees)."""
+    """``[rotor]`` of a planar scene (SI; the unbalance angle in degrees or a unit string)."""
     t.allow(ROTOR_KEYS)
     return Rotor(
         mass=t.number("mass", "kg", gt=0),
         eccentricity=t.number("eccentricity", "m", 0.0, ge=0),
-        unbalance_angle=t.number("unbalance_angle", "deg", 0.0) * DEG,
+        unbalance_angle=_angle(t.name("unbalance_angle"), t.data.get("unbalance_angle", 0.0)),
         inertia=t.number("inertia", "kg*m^2", None, gt=0),
     )
 
@@ -168,12 +182,17 @@ def balancer_table(t: _Table) -> Balancer:
             raise SceneError(f"{name} = {_fmt(float(J[i]))}: must be >= m l^2 = "
                              f"{float(point[i]):.6g} (kg*m^2, inertia about the shaft axis; "
                              f"parallel-axis theorem)")
-    angles = t.per_weight("initial_angles", n, count_key, "deg", None, scalar=False)
-    if angles is None:
-        angles = 360.0 * np.arange(n) / n
+    given = t.data.get("initial_angles")
+    if isinstance(given, list) and any(isinstance(a, str) for a in given) and len(given) == n:
+        # a unit string per angle ("0.5 rad"), the others in degrees
+        angles = np.array([_angle(f"{t.name('initial_angles')}[{i}]", a)
+                           for i, a in enumerate(given)])
+    else:
+        angles = t.per_weight("initial_angles", n, count_key, "deg", None, scalar=False)
+        angles = (360.0 * np.arange(n) / n if angles is None else angles) * DEG
     speeds = t.per_weight("initial_speeds", n, count_key, "rev/s", 0.0)
     return Balancer(type=kind, mass=m, radius=l, drag=drag, inertia=np.asarray(J, float),
-                    initial_angles=angles * DEG, initial_speeds=speeds * TWO_PI)
+                    initial_angles=angles, initial_speeds=speeds * TWO_PI)
 
 
 def friction_table(t: _Table) -> Optional[Friction]:
@@ -350,7 +369,8 @@ def perturbation_tables(items: Any, rotor: Rotor, duration: float) -> tuple:
             out.append(UnbalanceChange(
                 start=start, duration=t.number("duration", "s", 0.0, ge=0),
                 eccentricity=t.number("eccentricity", "m", rotor.eccentricity, ge=0),
-                unbalance_angle=t.number("unbalance_angle", "deg", rotor.unbalance_angle / DEG) * DEG))
+                unbalance_angle=_angle(t.name("unbalance_angle"), t.data["unbalance_angle"])
+                if "unbalance_angle" in t else rotor.unbalance_angle))
         elif kind == "impulse":
             out.append(Impulse(start=t.number("time", "s", gt=0),
                                velocity_x=t.number("velocity_x", "m/s", 0.0),
