@@ -3,9 +3,8 @@
 ``[[weights]]`` is one Scene and one run, bit for bit; the planar ``[balancer]`` takes the
 dry-friction keys and ``rolling`` of a ball ``[[weights]]`` table with the same meaning; every
 angle of a scene file is in degrees -- ``[structure]`` angles included, a unit string may say
-otherwise; a file that does not declare ``[scene] language`` and gives a bare non-zero
-``[structure]`` angle (rad before) is refused with what to write; recordings written before
-the rule (scene language 1) still read their angles in rad.  (docs/scene.md, the scene
+otherwise (a file may declare ``[scene] language``; undeclared is language 2, degrees);
+recordings written before the rule (scene language 1) still read their angles in rad.  (docs/scene.md, the scene
 language rules.)
 """
 from __future__ import annotations
@@ -186,40 +185,37 @@ def test_structure_eccentricity_and_unbalance_not_both():
 
 
 # ---------------------------------------------------------------- old files: never a silent change
-def test_undeclared_bare_structure_angle_is_refused_with_what_to_write():
-    """A file of before scene language 2 with [structure] unbalance_angle = 1.57 meant rad;
-    read in degrees it would silently be 1.57 deg.  Without [scene] language it is refused in
-    one line naming the key, the value and what to write."""
+def test_undeclared_bare_structure_angle_is_degrees_and_language_1_reads_rad():
+    """Since issue 39 a bare [structure] angle is in degrees (scene language 2, the default);
+    a file (or a recording's stored text) of language 1 says so and reads rad; a unit string
+    reads as it says in both; an unknown language is refused naming the key."""
     text = weights_text("", 1.57, language="")
-    with pytest.raises(SceneError) as exc:
-        stand.load(text)
-    msg = str(exc.value)
-    assert "\n" not in msg and msg.startswith("structure.unbalance_angle = 1.57: ")
-    assert '"1.57 rad"' in msg and '"89.9544 deg"' in msg and "[scene] language = 2" in msg
-    # what the message says to write reads as meant
+    assert stand.load(text).rotor.unbalance_angle == pytest.approx(math.radians(1.57), rel=1e-15)
+    assert stand.load(text).language == 2
     for fix, want in (('"1.57 rad"', 1.57), ('"89.9544 deg"', math.radians(89.9544))):
-        sc = stand.load(text.replace("unbalance_angle = 1.57", f"unbalance_angle = {fix}"))
-        assert sc.rotor.unbalance_angle == pytest.approx(want, rel=1e-15)
+        for lang in ("", "[scene]\nlanguage = 1\n"):
+            sc = stand.load(lang + text.replace("unbalance_angle = 1.57", f"unbalance_angle = {fix}"))
+            assert sc.rotor.unbalance_angle == pytest.approx(want, rel=1e-15)
     declared = {1: 1.57, 2: math.radians(1.57)}
     for lang, want in declared.items():
         sc = stand.load(text.replace("[structure]", f"[scene]\nlanguage = {lang}\n[structure]"))
         assert sc.rotor.unbalance_angle == pytest.approx(want, rel=1e-15) and sc.language == lang
-    # zero means the same in both: no refusal; the [rotor] form always read degrees
-    assert stand.load(weights_text("", 0.0, language="")).rotor.unbalance_angle == 0.0
+    # the [rotor] form reads the same degrees: one language
     assert stand.load(planar_text("", 1.57)).rotor.unbalance_angle == pytest.approx(
         math.radians(1.57), rel=1e-15)
     with pytest.raises(SceneError, match=r"scene\.language = 3: must be <= 2"):
         stand.load(text.replace("[structure]", "[scene]\nlanguage = 3\n[structure]"))
 
 
-def test_undeclared_bare_grinding_and_flexible_angles_are_refused():
+def test_undeclared_bare_grinding_and_flexible_angles_are_degrees():
     st = dict(BUILDERS["grinding"], type="grinding")
-    with pytest.raises(SceneError, match=r'^structure\.alpha = 30\.0: .*"30\.0 rad"'):
-        parse(_doc(st, language=None))
-    st = dict(type="flexible", length=1.0, mass_per_length=10.0, EJ=2000.0, n_modes=3,
-              unbalances={"balancer": [1e-3, 200.0]})
-    with pytest.raises(SceneError, match=r"^structure\.unbalances\.balancer\[1\] = 200\.0: "):
-        parse(_doc(st, language=None))
+    deg = parse(_doc(dict(st, alpha=30.0), language=None))
+    rad = parse(_doc(dict(st, alpha=f"{math.radians(30.0)!r} rad"), language=None))
+    a, b = deg.linear_rotor(), rad.linear_rotor()
+    for m in ("M", "D", "K"):
+        np.testing.assert_allclose(getattr(a, m), getattr(b, m), rtol=1e-12, atol=0)
+    zero = parse(_doc(dict(st, alpha=0.0), language=None)).linear_rotor()
+    assert not np.allclose(zero.K, a.K) or not np.allclose(zero.D, a.D)   # alpha enters
 
 
 # ---------------------------------------------------------------- friction and rolling

@@ -151,8 +151,8 @@ def parse(data: Mapping, text: str = "", stem: str = "", language: Optional[int]
     ``language``: the scene-file language of a stored text without ``[scene] language``
     (:data:`SCENE_LANGUAGE`: every angle in degrees; 1, of recordings written before it, reads
     the ``[structure]`` angles in rad; the other tables read the same in both); None (a file):
-    as ``[scene] language`` declares, and without it a bare non-zero ``[structure]`` angle is
-    refused (:func:`stand.scene.tables.scene_language`).
+    as ``[scene] language`` declares, else :data:`SCENE_LANGUAGE`
+    (:func:`stand.scene.tables.scene_language`).
     """
     language = scene_language(data, language)
     if isinstance(data, Mapping) and "structure" in data:
@@ -284,7 +284,7 @@ def load_scene(source: Union[str, Path], language: Optional[int] = None) -> Scen
         (:data:`stand.scene.model.SCENE_LANGUAGE`, every angle in degrees; 1 reads a text stored
         in a recording written before it, ``[structure]`` angles in rad:
         :func:`stand.recording.layout.scene_language`).  None: the file's own declaration, or
-        none (a bare non-zero ``[structure]`` angle is then refused).
+        :data:`stand.scene.model.SCENE_LANGUAGE` without one.
 
     Returns
     -------

@@ -39,7 +39,7 @@ its unit may say otherwise (``unbalance_angle = "0.7 rad"``).  They are
 converted to rad here, once (:func:`structure_angles`); the builders stay SI.
 Scene texts of scene language 1 (recordings written before this rule) gave
 these angles in rad: ``language=1`` reads them so.  A file declares its language with
-``[scene] language``; undeclared, a bare non-zero angle here is refused (it meant rad).
+``[scene] language``; undeclared, it is the current language (degrees).
 """
 from __future__ import annotations
 
@@ -82,14 +82,7 @@ ANGLE_KEYS = {"unbalance_angle": None, "alpha": ("grinding",), "unbalances": ("f
 
 def _structure_angle(name: str, value, language) -> float:
     """One ``[structure]`` angle [rad]: a unit string as it says; a bare number in rad in
-    scene language 1, in degrees in language 2; in a file that declares no language a bare
-    non-zero number is refused (it meant rad before language 2: never a silent change)."""
-    if language is None and not isinstance(value, str) and isinstance(value, (int, float)) \
-            and not isinstance(value, bool) and value != 0 and math.isfinite(value):
-        raise SceneError(
-            f"{name} = {_fmt(value)}: a bare angle in [structure] meant rad before scene language "
-            f"2 and deg since; write \"{_fmt(value)} rad\" or \"{math.degrees(value):.6g} deg\", "
-            "or declare [scene] language = 2 (bare angles in deg) or = 1 (in rad)")
+    scene language 1 (recordings written before issue 39), in degrees otherwise."""
     return _angle(name, value, "rad" if language == 1 else "deg")
 
 
@@ -103,7 +96,7 @@ def angle_keys(kind: str, params: Mapping) -> list:
 
 def structure_angles(kind: str, params: Mapping, language: int = SCENE_LANGUAGE) -> dict:
     """The ``[structure]`` keywords with every angle (:data:`ANGLE_KEYS`) converted to rad: a
-    number is in degrees (rad in scene language 1; refused but 0 with ``language`` None), a
+    number is in degrees (rad in scene language 1), a
     string carries its unit (``"0.7 rad"``,
     ``"40 deg"``; :func:`stand.io.validate.angle`).  Other keys are returned as given."""
     unit = "rad" if language == 1 else "deg"

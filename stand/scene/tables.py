@@ -100,15 +100,15 @@ def scene_header(data: Mapping, default_name: str = "") -> tuple:
 def scene_language(data: Mapping, given: Optional[int] = None) -> Optional[int]:
     """The scene language of a document: ``[scene] language`` when the file declares it (the
     key is younger than language 1, so it wins), else ``given`` (a recording's
-    ``scene_language`` attribute), else None (undeclared: a bare non-zero ``[structure]``
-    angle is refused, :func:`stand.scene.structure_tables.structure_angles`)."""
+    ``scene_language`` attribute), else the current language (every bare angle in degrees,
+    the rule since issue 39; a recording written before it carries language 1)."""
     scene = data.get("scene") if isinstance(data, Mapping) else None
     if isinstance(scene, Mapping) and "language" in scene:
         return _Table(scene, "scene").integer("language", minimum=1, maximum=SCENE_LANGUAGE)
     if given is not None and given not in (1, SCENE_LANGUAGE):
         raise SceneError(f"scene language {given!r}: this reader knows 1 ([structure] angles "
                          f"in rad) and {SCENE_LANGUAGE} (every angle of a scene file in degrees)")
-    return given
+    return SCENE_LANGUAGE if given is None else given
 
 
 def rotor_table(t: _Table) -> Rotor:
