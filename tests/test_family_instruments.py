@@ -14,7 +14,7 @@ import pytest
 
 import stand
 from stand.cli.main import main
-from stand.instruments.placement import axis_plane_name, placement_of
+from stand.scene.placement import axis_plane_name, placement_of
 from stand.scene.model import SceneError
 
 ROOT = Path(__file__).resolve().parents[1]

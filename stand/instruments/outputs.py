@@ -34,7 +34,7 @@ from typing import Any, Optional
 import numpy as np
 
 from stand.integrate.result import column_unit
-from stand.instruments.placement import instrument_plane, placement_of, screens, with_axis_planes
+from stand.scene.placement import instrument_plane, placement_of, screens, with_axis_planes
 from stand.instruments.rings import scene_capacity
 
 __all__ = ["InstrumentOutputs", "InstrumentOutput", "ScreenOutput", "StroboscopeOutput",
@@ -48,7 +48,7 @@ def plane_view(traj, scene, settings):
     """``(view, plane, names)``: the run as the instrument ``settings`` sees it.
 
     Planar scenes: the run itself (one plane).  Rotor-family scenes: the run whose
-    main plane is the instrument's plane (:func:`stand.instruments.placement.instrument_plane`)
+    main plane is the instrument's plane (:func:`stand.scene.placement.instrument_plane`)
     -- ``x``, ``y`` and the shaft velocity are that plane's -- and whose scene and weights
     are those of that plane only (the stroboscope draws the weights of the plane it looks
     at); the weights are renamed as a scene with that plane's weights only numbers them

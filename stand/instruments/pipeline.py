@@ -37,7 +37,7 @@ from stand.integrate.simulate import Trajectory, simulate
 from stand.instruments.outputs import (MAX_STROBE_FRAMES, InstrumentOutputs, ReadingsOutput,
                                        ScreenOutput, StroboscopeOutput, flash_tables,
                                        screen_plans)
-from stand.instruments.placement import placement_of, with_axis_planes
+from stand.scene.placement import placement_of, with_axis_planes
 from stand.instruments.rings import scene_capacity
 
 FRAME_COMPRESSION = {"compression": "gzip", "compression_opts": 1, "shuffle": True}

@@ -3,7 +3,7 @@
 One reader for every scene form (:func:`instrument_tables`): the settings class of each
 instrument (:data:`INSTRUMENTS`, found through :mod:`stand.model.registry`) validates its
 own keys (``from_table``); ``plane`` / ``axial_position`` are taken out first and
-checked against the scene's planes (:mod:`stand.instruments.placement`).
+checked against the scene's planes (:mod:`stand.scene.placement`).
 """
 from __future__ import annotations
 
@@ -14,12 +14,12 @@ __all__ = ["INSTRUMENTS", "NAMED_INSTRUMENTS", "instrument_tables"]
 
 #: [instruments.<name>] -> ("module:settings class" with ``from_table``, section) (stand.model.registry)
 INSTRUMENTS = dict(
-    screen=("stand.instruments.screen:ScreenCamera", "4.3.2"),
-    stroboscope=("stand.instruments.stroboscope:Stroboscope", "4.3"),
-    photogate=("stand.instruments.photogate:PhotoGate", "4.3, FPM-09"),
-    keyphasor=("stand.instruments.probes:Keyphasor", ""),
-    tachometer=("stand.instruments.probes:Tachometer", ""),
-    probes=("stand.instruments.probes:DisplacementProbes", ""),
+    screen=("stand.scene.screen_camera:ScreenCamera", "4.3.2"),
+    stroboscope=("stand.scene.strobe_settings:Stroboscope", "4.3"),
+    photogate=("stand.scene.gate_settings:PhotoGate", "4.3, FPM-09"),
+    keyphasor=("stand.scene.probe_settings:Keyphasor", ""),
+    tachometer=("stand.scene.probe_settings:Tachometer", ""),
+    probes=("stand.scene.probe_settings:DisplacementProbes", ""),
 )
 
 
@@ -27,11 +27,11 @@ def instrument_tables(t: _Table, planes=("balancer",), kind: str = "planar") -> 
     """Parse ``[instruments.<name>]`` tables with each instrument's own validator.
 
     Shared by every scene form: ``plane`` / ``axial_position`` (where the instrument
-    is attached, :mod:`stand.instruments.placement`) are taken out of each table and
+    is attached, :mod:`stand.scene.placement`) are taken out of each table and
     checked against the scene's ``planes`` and rotor ``kind``; the rest is the
     instrument's own settings.
     """
-    from stand.instruments.placement import attach, check_placement, split_placement
+    from stand.scene.placement import attach, check_placement, split_placement
     from stand.model.registry import resolve
 
     out = {}

@@ -2,7 +2,7 @@
 
 A scene within these limits can never ask for a run that exhausts memory or takes
 days; :mod:`stand.scene.parse`, the book and family scene forms and the instruments'
-settings checks (:mod:`stand.instruments.placement`) all read them from here.
+settings checks (:mod:`stand.scene.placement`) all read them from here.
 """
 from __future__ import annotations
 

@@ -261,7 +261,7 @@ def check_derived(scene: Scene) -> Scene:
                              f"samples of {width} state components need about {nbytes / 1e9:.3g} GB; "
                              f"the limit is {MAX_STATE_BYTES / 1e9:.0f} GB: lower run.sample_rate "
                              "or shorten run.duration")
-        from stand.instruments.placement import check_instrument_budget
+        from stand.scene.placement import check_instrument_budget
 
         check_instrument_budget(scene, width)
         ini = scene.initial

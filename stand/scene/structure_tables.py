@@ -234,7 +234,7 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "",
                   plane_weights=weights, instruments=instruments,
                   language=language or SCENE_LANGUAGE)
     if instruments:
-        from stand.instruments.placement import check_instruments
+        from stand.scene.placement import check_instruments
 
         check_instruments(scene)
     return scene

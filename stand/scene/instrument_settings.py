@@ -1,12 +1,12 @@
 """Settings of the virtual instruments: one validator for the dataclasses and their TOML tables.
 
-Private helpers of :mod:`stand.instruments`.  Each settings dataclass
-(:class:`~stand.instruments.screen.ScreenCamera`,
-:class:`~stand.instruments.stroboscope.Stroboscope`,
-:class:`~stand.instruments.photogate.PhotoGate`,
-:class:`~stand.instruments.probes.Keyphasor`,
-:class:`~stand.instruments.probes.Tachometer`,
-:class:`~stand.instruments.probes.DisplacementProbes`) declares every checked
+The instruments' settings readers (the settings are scene data).  Each settings dataclass
+(:class:`~stand.scene.screen_camera.ScreenCamera`,
+:class:`~stand.scene.strobe_settings.Stroboscope`,
+:class:`~stand.scene.gate_settings.PhotoGate`,
+:class:`~stand.scene.probe_settings.Keyphasor`,
+:class:`~stand.scene.probe_settings.Tachometer`,
+:class:`~stand.scene.probe_settings.DisplacementProbes`) declares every checked
 field once, with :func:`number`, :func:`integer`, :func:`boolean`,
 :func:`choice` or :func:`numbers`; the unit, the bounds and the unit of the
 TOML file travel in the field's metadata.  Then
@@ -38,7 +38,7 @@ __all__ = ["REQUIRED", "number", "integer", "boolean", "choice", "numbers", "key
            "table_numbers"]
 
 REQUIRED = MISSING       #: default of a field that must be given
-_KEY = "stand.instruments.setting"   #: metadata key of the field's specification
+_KEY = "stand.scene.instrument_setting"   #: metadata key of the field's specification
 
 
 # ---------------------------------------------------------------- single values

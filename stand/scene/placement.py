@@ -272,7 +272,7 @@ def check_instrument_budget(scene, width: int) -> None:
     run = scene.run
     nbytes, what = 0, []
     for name, cam in screens(scene.instruments).items():
-        from stand.instruments.screen import exposure_times, frame_times
+        from stand.scene.screen_camera import exposure_times, frame_times
 
         n_frames = frame_times(run.duration, cam).size
         k = exposure_times(np.zeros(1), cam, max_rotor_speed=scene.top_speed).shape[1]
