@@ -34,10 +34,11 @@ from __future__ import annotations
 
 # every name the module had, the constants too (they are not in __all__)
 from stand.instruments.strobe_readings import (  # noqa: F401
-    DEG, HOUSING_FACTOR, PATH, STEEL_DENSITY, STROBE_KEYS, TWO_PI, BodyLook, StrobeReading,
+    HOUSING_FACTOR, PATH, STROBE_KEYS, TWO_PI, BodyLook, StrobeReading,
     Stroboscope, body_coordinates, body_looks, default_ball_radius, flash_times,
     image_multiplicity, multiplicity_for_ratio, point_weights, reading_error, strobe_angles,
 )
+from stand.scene.strobe_settings import DEG, STEEL_DENSITY  # noqa: F401
 from stand.instruments.strobe_render import (  # noqa: F401
     LEVEL_BALL, LEVEL_FLOAT, LEVEL_HOUSING, LEVEL_INTERIOR, LEVEL_LIQUID, LEVEL_MARK, LEVEL_RIM,
     LEVEL_ROD, MARK_SPAN, MAX_PIXELS, MAX_SUBPOSITIONS, StrobeFrame, drawn_weights,
