@@ -14,18 +14,17 @@ __all__ = ["cmd_run", "cmd_accuracy", "cmd_experiment", "cmd_theory", "cmd_sweep
 
 
 def cmd_run(args) -> int:
-    from stand.api import load, run
-    from stand.recording.hdf5 import check_output_path
+    from stand.api import load, run, save
+    from stand.io.atomic import check_output_path
 
     scene = load(args.scene)
     out = check_output_path(args.output)  # before the run, not after it
     res = run(scene, method=args.method, progress=not args.no_progress and sys.stderr.isatty(),
               checkpoint=args.checkpoint)
-    res.write(out)
-    summ = res.summary()
-    final = summ.get("final") or {}
+    save(res, out)
+    final = res.final or {}
     doc = {"scene": scene.name, "structure": scene.structure_type, "output": str(out),
-           "solver": summ["solver"], **final, "final": final, "notes": list(res.notes)}
+           "solver": res.solver, **final, "final": final, "notes": list(res.notes)}
     if args.json:
         print_json(doc)
     else:
@@ -106,7 +105,8 @@ def cmd_accuracy(args) -> int:
 def cmd_experiment(args) -> int:
     from stand.scene.experiments import PROGRAMMES, not_applicable, programme
     from stand.instruments.pipeline import run_with_instruments
-    from stand.recording.hdf5 import check_output_path, write_recording
+    from stand.api import save
+    from stand.io.atomic import check_output_path
     from stand.scene.parse import load_scene
 
     base = load_scene(args.scene)
@@ -127,8 +127,8 @@ def cmd_experiment(args) -> int:
         if opts[k] is None:
             raise ValueError(f"stand experiment {p}: --{flag.get(k, k)} is required")
     sc = programme(base, p, **opts)
-    res, writer = run_with_instruments(sc, progress=sys.stderr.isatty())
-    write_recording(res, out, writer=writer, extra_attrs={"experiment": {
+    res = run_with_instruments(sc, progress=sys.stderr.isatty())
+    save(res, out, attrs={"experiment": {
         "programme": p, **{k: v for k, v in vars(args).items() if k != "func" and v is not None}}})
     st = res.stats
     print(f"{sc.name} / {p}: {st.message} [{st.method}, {st.wall_time:.2f} s] -> {out}")

@@ -1,7 +1,8 @@
 """Writing a recording: one run into the one HDF5 layout (:mod:`.layout`), atomically.
 
-Takes any object with the fields of :class:`stand.integrate.result.Run` (it does not import
-it: ``Run.write`` calls this module).
+The one HDF5 writer of a run (``stand.save``): the core datasets here, what the instruments
+output (``run.instruments``) through :mod:`.write_instruments`.  Takes any object with the
+fields of :class:`stand.integrate.result.Run`.
 """
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ import io
 import json
 import os
 from pathlib import Path
-from typing import Any, Callable, Mapping, Optional, Union
+from typing import Any, Mapping, Optional, Union
 
 import h5py
 import numpy as np
@@ -18,9 +19,9 @@ import numpy as np
 from stand.io.atomic import atomic_path, check_output_path
 from stand.io.jsonable import to_jsonable
 from stand.recording.layout import (DATASETS, FORMAT, FORMAT_VERSION, RESERVED_ATTRS,
-                                    SCENE_LANGUAGE, scene_language)
+                                    SCENE_LANGUAGE, scene_language, truth_key)
 
-__all__ = ["write_recording", "check_output_path"]
+__all__ = ["write_recording"]
 
 #: arrays with more samples than this are stored chunked and gzip-compressed
 COMPRESS_ABOVE = 1000
@@ -75,7 +76,7 @@ def _check_arrays(run: Any) -> dict:
     N = t.shape[0]
     data = {}
     for key, (a, units) in {**run.channels(),
-                            **{f"truth/{k}": v for k, v in run.truth.items()}}.items():
+                            **{truth_key(k): v for k, v in run.truth.items()}}.items():
         a = np.asarray(a, dtype=np.float64)
         if a.ndim == 0 or a.shape[0] != N:
             raise ValueError(f"run channel {key!r}: shape {a.shape}, expected ({N}, ...) "
@@ -88,8 +89,7 @@ def _check_arrays(run: Any) -> dict:
 
 
 def write_recording(run: Any, path: Union[str, os.PathLike], *,
-                    extra_attrs: Optional[Mapping[str, Any]] = None,
-                    writer: Optional[Callable[["h5py.File"], None]] = None) -> Path:
+                    extra_attrs: Optional[Mapping[str, Any]] = None) -> Path:
     """Write one run to an HDF5 file, atomically (:func:`stand.io.atomic.atomic_path`).
 
     If anything fails, the temporary file is removed, the exception propagates,
@@ -98,13 +98,12 @@ def write_recording(run: Any, path: Union[str, os.PathLike], *,
     Parameters
     ----------
     run : stand.integrate.result.Run
-        Any scene's run (or a :class:`Recording`).
+        Any scene's run (or a :class:`Recording`).  What its instruments output
+        (``run.instruments``, :class:`stand.instruments.outputs.InstrumentOutputs`) is
+        stored after the core datasets, frames rendered one at a time
+        (:mod:`.write_instruments`); a failure there discards the whole file.
     path : str or os.PathLike
         Target file (conventionally ``*.h5``).  Its directory must exist.
-    writer : callable, optional
-        ``writer(h5file)`` is called with the open temporary file after the
-        core datasets are written (the instruments stream their frames, truth
-        and settings through it); a failure there discards the whole file.
     extra_attrs : mapping, optional
         Additional root attributes (str, numbers, arrays; mappings are stored
         as JSON text).  The reserved names (:data:`RESERVED_ATTRS`) cannot be
@@ -151,8 +150,11 @@ def write_recording(run: Any, path: Union[str, os.PathLike], *,
         "weight_planes": json.dumps(run.weight_planes),
         "solver": json.dumps(to_jsonable(dict(stats or {}))),
     }
-    estimate = sum(a.nbytes for a, _ in data.values()) + getattr(writer, "estimated_bytes",
-                                                                 0 if writer is None else np.inf)
+    from stand.instruments.outputs import InstrumentOutputs
+    from stand.recording.write_instruments import estimated_bytes, write_outputs
+
+    outputs = getattr(run, "instruments", None)
+    estimate = sum(a.nbytes for a, _ in data.values()) + estimated_bytes(outputs)
     with atomic_path(path, suffix=".h5.tmp") as tmp:
         # up to IN_MEMORY_BYTES the file is assembled in memory and then written with one plain
         # write: a full disk or a file-size limit is then a clean OSError, not a failure inside
@@ -173,8 +175,8 @@ def write_recording(run: Any, path: Union[str, os.PathLike], *,
             for key in data:
                 if key != "time":
                     f[key].dims[0].attach_scale(time)
-            if writer is not None:
-                writer(f)  # instruments: frames streamed in, truth, settings
+            if isinstance(outputs, InstrumentOutputs):
+                write_outputs(f, outputs)  # instruments: frames streamed in, truth, settings
         if target is not tmp:
             with open(tmp, "wb") as fh:
                 fh.write(target.getbuffer())
