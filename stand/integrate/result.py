@@ -394,10 +394,11 @@ class Run(Result):
                  "main_plane": self.main_plane}
         if getattr(self.scene, "kind", None) in ("planar", "rotor"):
             S = self.capacity()
-            psi = abs(self._last_residual())
+            psi = self._last_residual()
+            psi = abs(psi) if psi is not None else None
             final.update({
-                "residual_unbalance": float(psi / S) if S > 0 else None,
-                "residual_unbalance_g_mm": float(psi * 1e6),
+                "residual_unbalance": psi / S if S > 0 and psi is not None else None,
+                "residual_unbalance_g_mm": psi * 1e6 if psi is not None else None,
                 "capacity_g_mm": float(S * 1e6),
             })
         last = [w["angle"][-1] for w in self.weights.values() if "angle" in w]
@@ -410,19 +411,22 @@ class Run(Result):
             final["plane_radius_m"] = {p: float(np.hypot(*xy[-1])) for p, xy in self.planes.items()}
         return final
 
-    def _last_residual(self) -> complex:
-        """:meth:`residual_unbalance` at the last sample [kg m]."""
+    def _last_residual(self) -> Optional[complex]:
+        """:meth:`residual_unbalance` at the last sample [kg m]; None when the run cannot say
+        (a recording whose truth or weights the scene does not match)."""
         key = f"residual/{self.main_plane}"
         if key in self.truth:
             return complex(*np.asarray(self.truth[key][0])[-1, :2])
+        if self.scene.kind != "planar":
+            return None
         from stand.model.planar import rotor_unbalance
 
         b = self.scene.balancer
         psi = complex(rotor_unbalance(self.scene, self.t[-1:])[0])
-        if b.count:
-            a = self.weight_angle[-1] - self.rotor_angle[-1]
-            psi += complex(np.sum(b.mass * b.radius * np.exp(1j * a)))
-        return psi
+        a = self.weight_angle[-1] - self.rotor_angle[-1]
+        if a.size != b.count:
+            return None
+        return psi + complex(np.sum(b.mass * b.radius * np.exp(1j * a))) if b.count else psi
 
 
 def planar_weights(names, planes, angle, speed) -> tuple:
