@@ -17,7 +17,7 @@ from stand.cli.main import main
 from stand.io.jsonable import dumps, to_jsonable
 from stand.io.result import Result, flatten_numbers
 
-from _helpers import assert_result_contract
+from _helpers import _agg_axes, assert_result_contract
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = ROOT / "data_samples"
@@ -29,15 +29,6 @@ def _cli_json(capsys, *argv):
     capsys.readouterr()
     assert main([str(a) for a in argv]) == 0
     return json.loads(capsys.readouterr().out)
-
-
-def _agg_axes():
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    fig = Figure()
-    FigureCanvasAgg(fig)
-    return fig, fig.subplots()
 
 
 def _drawn(fig, ax) -> bool:

@@ -172,11 +172,9 @@ class Run(Result):
     instruments: Any = field(repr=False, default_factory=dict)
 
     _title = "run"
-    _summary_keys = ("scene_name", "samples", "main_plane")
+    _summary_keys = ("scene_name", "samples", "duration_s", "planes", "weight_planes")
     #: the pictures of :meth:`plot`
     PLOT_KINDS = ("time", "orbit")
-    UNITS = {"t": "s", "x": "m", "y": "m", "rotor_angle": "rad", "rotor_speed": "rad/s",
-             "weight_angle": "rad", "weight_speed": "rad/s"}
 
     # ------------------------------------------------------------ the result's document
     # the fields are plain attributes (not keys of the document): Result's attribute
@@ -213,9 +211,6 @@ class Run(Result):
                 "weight_planes": dict(self.weight_planes),
                 "solver": dict(self.stats) if self.stats is not None else {},
                 "final": self._final(), "notes": list(self.notes)}
-
-    UNITS = {"t": "s", "x": "m", "y": "m", "rotor_angle": "rad", "rotor_speed": "rad/s",
-             "weight_angle": "rad", "weight_speed": "rad/s"}
 
     # ------------------------------------------------------------ views
     @property
@@ -371,12 +366,6 @@ class Run(Result):
     def __len__(self) -> int:
         return int(np.shape(self.t)[0])
 
-    def __repr__(self) -> str:
-        name = getattr(self.scene, "name", "")
-        msg = self.stats.message if self.stats is not None else ""
-        return (f"{type(self).__name__}(scene={name!r}, samples={len(self)}, planes={list(self.planes)}, "
-                f"weights={list(self.weights)}, message={msg!r})")
-
     # ------------------------------------------------------------ summary
     def _final(self) -> Optional[dict]:
         """The state at the end (the document's ``final``; None without samples): speed,
@@ -428,8 +417,3 @@ class Run(Result):
             return None
         return psi + complex(np.sum(b.mass * b.radius * np.exp(1j * a))) if b.count else psi
 
-
-def planar_weights(names, planes, angle, speed) -> tuple:
-    """``weights`` and ``weight_planes`` dicts from (N, n) absolute angles and speeds."""
-    w = {n: {"angle": angle[:, j], "speed": speed[:, j]} for j, n in enumerate(names)}
-    return w, dict(zip(names, planes))

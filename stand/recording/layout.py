@@ -62,14 +62,12 @@ KEYPHASOR, TACHOMETER, PROBES = "keyphasor", "tachometer", "probes"
 
 
 def instrument_key(*parts: str) -> str:
-    """The path of an instrument's group or dataset: ``instrument_key("probes", "signal")`` ->
-    ``"instruments/probes/signal"``."""
+    """``instrument_key("probes", "signal")`` -> ``"instruments/probes/signal"``."""
     return "/".join((INSTRUMENTS,) + parts)
 
 
 def truth_key(*parts: str) -> str:
-    """The path of a ground-truth group or dataset: ``truth_key("screen", "centre_m")`` ->
-    ``"truth/screen/centre_m"``."""
+    """``truth_key("screen", "centre_m")`` -> ``"truth/screen/centre_m"``."""
     return "/".join((TRUTH,) + parts)
 
 

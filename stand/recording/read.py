@@ -83,11 +83,6 @@ class Recording(Run):
         return (f"Recording({self.path!r}, scene_name={name!r}, samples={len(self)}, "
                 f"planes={list(self.planes)}, weights={self.n_weights})")
 
-    def has(self, key: str) -> bool:
-        """True when the file holds a dataset ``key`` (e.g. ``"instruments/screen/frames"``)."""
-        with h5py.File(self.path, "r") as f:
-            return isinstance(f.get(key), h5py.Dataset)
-
     def dataset(self, key: str, index=()) -> np.ndarray:
         """Read dataset ``key`` (or ``index`` of it, e.g. one frame) from the file, on demand.
 
