@@ -11,14 +11,6 @@ the names), ``to_dict()`` its summary.  ``stand.save(run, path)`` writes the one
 recording (:mod:`stand.recording.write`), which :func:`stand.read` turns back into a
 :class:`stand.recording.read.Recording` with the same fields.
 
-Channel names (also the recording's dataset paths)::
-
-    time                         s
-    planes/<plane>/x, .../y      m       fixed-frame translation of each plane
-    rotor/angle, rotor/speed     rad, rad/s
-    weights/<weight>/<coord>     per coordinate (angle [rad], speed [rad/s], ...)
-    coordinates/<name>           structure coordinates or a book model's state
-
 Weights are named ``<kind><j>`` (``ball1``, ``pendulum2``; numbered across the
 whole scene) with their plane in :attr:`Run.weight_planes`.
 """
@@ -285,26 +277,6 @@ class Run(Result):
                      + sum(b.body.capacity for b in self.scene.bodies
                            if b.plane == self.main_plane))
 
-    # ------------------------------------------------------------ channels
-    def channels(self) -> dict:
-        """Every channel by its recording path: ``{path: (array, units)}`` (module docstring)."""
-        ch = {"time": (self.t, "s")}
-        for p, xy in self.planes.items():
-            ch[f"planes/{p}/x"] = (xy[:, 0], "m")
-            ch[f"planes/{p}/y"] = (xy[:, 1], "m")
-        ch["rotor/angle"] = (self.rotor_angle, "rad")
-        ch["rotor/speed"] = (self.rotor_speed, "rad/s")
-        for name, coords in self.weights.items():
-            for c, a in coords.items():
-                ch[f"weights/{name}/{c}"] = (a, self.weight_units(name, c))
-        for name, (a, u) in self.coordinates.items():
-            ch[f"coordinates/{name}"] = (a, u)
-        return ch
-
-    def weight_units(self, name: str, coord: str) -> str:
-        u = getattr(self, "_weight_units", {}).get((name, coord))
-        return u or WEIGHT_UNITS.get(coord, "1")
-
     def tables(self) -> list:
         """``"samples"`` (:meth:`to_frame`) and the document's tables."""
         return ["samples"] + super().tables()
@@ -331,7 +303,7 @@ class Run(Result):
         cols["rotor_speed_rad_s"] = self.rotor_speed
         for name, coords in self.weights.items():
             for c, a in coords.items():
-                cols[f"{name}_{c}_{unit(self.weight_units(name, c))}"] = a
+                cols[f"{name}_{c}_{unit(WEIGHT_UNITS.get(c, '1'))}"] = a
         for name, (a, u) in self.coordinates.items():
             cols[f"{name}_{unit(u)}"] = a
         return pd.DataFrame({k: np.array(v, dtype=np.float64) for k, v in cols.items()})

@@ -17,6 +17,7 @@ import h5py
 import numpy as np
 
 from stand.io.atomic import atomic_path, check_output_path
+from stand.integrate.result import WEIGHT_UNITS
 from stand.io.jsonable import to_jsonable
 from stand.recording.layout import (DATASETS, FORMAT, FORMAT_VERSION, RESERVED_ATTRS,
                                     SCENE_LANGUAGE, scene_language, truth_key)
@@ -68,6 +69,20 @@ def _describe(key: str) -> str:
 
 
 
+def _channels(run: Any) -> dict:
+    """Every channel of a run by its dataset path (the layout, :mod:`.layout`):
+    ``{path: (array, units)}``, the truth arrays included."""
+    ch = {key: (getattr(run, field), units) for key, (field, units, _) in DATASETS.items()
+          if not key.startswith("shaft/")}      # shaft/x|y: links to the main plane
+    for p, xy in run.planes.items():
+        ch[f"planes/{p}/x"], ch[f"planes/{p}/y"] = (xy[:, 0], "m"), (xy[:, 1], "m")
+    for name, coords in run.weights.items():
+        ch.update({f"weights/{name}/{c}": (a, WEIGHT_UNITS.get(c, "1")) for c, a in coords.items()})
+    ch.update({f"coordinates/{name}": v for name, v in run.coordinates.items()})
+    ch.update({truth_key(k): v for k, v in run.truth.items()})
+    return ch
+
+
 def _check_arrays(run: Any) -> dict:
     """``{path: (float64 array, units)}`` for every channel and truth array, shapes checked."""
     t = np.asarray(run.t, dtype=np.float64)
@@ -75,17 +90,13 @@ def _check_arrays(run: Any) -> dict:
         raise ValueError(f"run.t: shape {t.shape}, expected (N,)")
     N = t.shape[0]
     data = {}
-    for key, (a, units) in {**run.channels(),
-                            **{truth_key(k): v for k, v in run.truth.items()}}.items():
+    for key, (a, units) in _channels(run).items():
         a = np.asarray(a, dtype=np.float64)
         if a.ndim == 0 or a.shape[0] != N:
             raise ValueError(f"run channel {key!r}: shape {a.shape}, expected ({N}, ...) "
                              f"(one row per sample of run.t)")
         data[key] = (a, str(units))
-    if run.main_plane not in run.planes:
-        raise ValueError(f"run.main_plane = {run.main_plane!r}: not one of the planes "
-                         f"{', '.join(run.planes)}")
-    return data
+    return data   # (a Run checks its main_plane is one of its planes)
 
 
 def write_recording(run: Any, path: Union[str, os.PathLike], *,

@@ -1,20 +1,8 @@
-"""Storing what the instruments output (``run.instruments``) into a recording being written.
-
-Called by :func:`stand.recording.write.write_recording` with the open (temporary) file; the
-group and dataset names are :mod:`stand.recording.layout`'s.  Layout (beside the core
-datasets)::
-
-    instruments/<name>/...        what the instrument outputs (frames, times, readings)
-    instruments/<name>.attrs      its settings as JSON (SI units)
-    truth/<name>/...              the ground truth for scoring identification
-
-Frames are rendered and written one at a time, so a long video never sits in memory.
-Scenes with body weights (two-axis pendulums, coupled pairs, the damper, liquids) are seen
-too: the stroboscope records, per body, ``truth/stroboscope/<name>/<coordinate>`` (frame,
-flash) at the flashes, and what it draws of each weight in the attrs ``weights`` (JSON) of
-``instruments/stroboscope``; ``truth/capacity`` and the calibration rings count the bodies'
-capacities (:func:`stand.instruments.rings.scene_capacity`).
-"""
+"""What the instruments output (``run.instruments``) stored into the recording being written
+(:func:`stand.recording.write.write_recording`): ``instruments/<name>/...`` (frames, times,
+readings; the settings as JSON attrs, SI units) and ``truth/<name>/...`` (the ground truth
+for scoring identification; per body weight ``truth/stroboscope/<name>/<coordinate>``), the
+names of :mod:`stand.recording.layout`.  Frames are rendered and written one at a time."""
 from __future__ import annotations
 
 import dataclasses
