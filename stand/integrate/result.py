@@ -102,10 +102,10 @@ class Run(Result):
     """Sampled motion of the stand, SI units (module docstring): a result
     (:class:`stand.io.result.Result`) whose document is the run's summary.
 
-    The arrays are attributes; the mapping (``run["final"]``, ``run.to_dict()``, what
-    ``stand run --json`` prints) holds the summary, kept up to date when a field is set:
+    The arrays are attributes; the mapping (``run["final"]``, ``run.final``,
+    ``run.to_dict()``) holds the run's summary, kept up to date when a field is set:
     ``scene_name``, ``structure``, ``samples``, ``duration_s``, ``main_plane``, ``planes``,
-    ``weight_planes``, ``solver`` (:class:`SolverStats` as JSON), ``final`` (the state at
+    ``weight_planes``, ``solver`` (:attr:`stats`), ``final`` (the state at
     the end: speed, whirl radius, residual unbalance, weights' angles) and ``notes``.
     ``to_frame()`` is the samples table (also ``to_frame("samples")``); ``plot(ax=,
     kind="time" | "orbit")``.  ``len(run)`` is the number of samples; two runs are equal
@@ -201,7 +201,7 @@ class Run(Result):
                 "duration_s": float(t[-1] - t[0]) if t.size else 0.0,
                 "main_plane": self.main_plane, "planes": list(self.planes),
                 "weight_planes": dict(self.weight_planes),
-                "solver": dict(self.stats) if self.stats is not None else {},
+                "solver": self.stats if self.stats is not None else {},
                 "final": self._final(), "notes": list(self.notes)}
 
     # ------------------------------------------------------------ views
