@@ -75,7 +75,7 @@ def probes_xy(signal, angles, notes=None):
     sv = np.linalg.svd(A, compute_uv=False) if a.size >= 2 else np.zeros(1)
     if a.size < 2 or sv[-1] < 1e-3 * sv[0] or signal.shape[1] != a.size:
         if notes is not None:
-            notes.append(f"instruments/probes at {np.degrees(a).round(3).tolist()} deg: "
+            notes.append(f"{instrument_key(PROBES)} at {np.degrees(a).round(3).tolist()} deg: "
                          "the directions do not span the plane (x and y cannot be solved); "
                          "the simulator's shaft state (shaft/x, shaft/y) is analysed instead, "
                          "noise-free: its ± are numerical only")
