@@ -10,6 +10,7 @@ import datetime as _dt
 import io
 import json
 import os
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Mapping, Optional, Union
 
@@ -22,7 +23,7 @@ from stand.io.jsonable import to_jsonable
 from stand.recording.layout import (DATASETS, FORMAT, FORMAT_VERSION, RESERVED_ATTRS,
                                     SCENE_LANGUAGE, scene_language, truth_key)
 
-__all__ = ["write_recording"]
+__all__ = ["write_recording", "open_for_writing"]
 
 #: arrays with more samples than this are stored chunked and gzip-compressed
 COMPRESS_ABOVE = 1000
@@ -31,6 +32,23 @@ GZIP_LEVEL = 4
 CHUNK_BYTES = 256 * 1024
 #: recordings up to this size are assembled in memory, then written in one piece [bytes]
 IN_MEMORY_BYTES = 256 * 1024 * 1024
+
+
+@contextmanager
+def open_for_writing(path: Path, estimate: float = 0.0):
+    """The one place the stand opens an HDF5 file for writing: an ``h5py.File`` to fill, which
+    becomes ``path`` atomically (:func:`stand.io.atomic.atomic_path`) when the block ends
+    without an exception.  Up to :data:`IN_MEMORY_BYTES` (``estimate`` [bytes]) the file is
+    assembled in memory and written with one plain write: a full disk or a file-size limit is
+    then a clean OSError, not a failure inside the HDF5 library; larger files (long videos)
+    are streamed to the temporary file."""
+    with atomic_path(path, suffix=".h5.tmp") as tmp:
+        target = io.BytesIO() if estimate <= IN_MEMORY_BYTES else tmp
+        with h5py.File(target, "w") as f:
+            yield f
+        if target is not tmp:
+            with open(tmp, "wb") as fh:
+                fh.write(target.getbuffer())
 
 
 def _attr_value(key: str, value: Any) -> Any:
@@ -166,29 +184,21 @@ def write_recording(run: Any, path: Union[str, os.PathLike], *,
 
     outputs = getattr(run, "instruments", None)
     estimate = sum(a.nbytes for a, _ in data.values()) + estimated_bytes(outputs)
-    with atomic_path(path, suffix=".h5.tmp") as tmp:
-        # up to IN_MEMORY_BYTES the file is assembled in memory and then written with one plain
-        # write: a full disk or a file-size limit is then a clean OSError, not a failure inside
-        # the HDF5 library; larger files (long videos) are streamed to the temporary file
-        target = io.BytesIO() if estimate <= IN_MEMORY_BYTES else tmp
-        with h5py.File(target, "w") as f:
-            for key, value in {**root, **extra}.items():
-                f.attrs[key] = value
-            for key, (a, units) in data.items():
-                ds = f.create_dataset(key, data=a, dtype=np.float64, **_storage_options(a))
-                ds.attrs["units"] = units
-                ds.attrs["description"] = _describe(key)
-            for axis in ("x", "y"):
-                f[f"shaft/{axis}"] = h5py.SoftLink(f"/planes/{run.main_plane}/{axis}")
-            f.require_group("weights")
-            time = f["time"]
-            time.make_scale("time")
-            for key in data:
-                if key != "time":
-                    f[key].dims[0].attach_scale(time)
-            if isinstance(outputs, InstrumentOutputs):
-                write_outputs(f, outputs)  # instruments: frames streamed in, truth, settings
-        if target is not tmp:
-            with open(tmp, "wb") as fh:
-                fh.write(target.getbuffer())
+    with open_for_writing(path, estimate) as f:
+        for key, value in {**root, **extra}.items():
+            f.attrs[key] = value
+        for key, (a, units) in data.items():
+            ds = f.create_dataset(key, data=a, dtype=np.float64, **_storage_options(a))
+            ds.attrs["units"] = units
+            ds.attrs["description"] = _describe(key)
+        for axis in ("x", "y"):
+            f[f"shaft/{axis}"] = h5py.SoftLink(f"/planes/{run.main_plane}/{axis}")
+        f.require_group("weights")
+        time = f["time"]
+        time.make_scale("time")
+        for key in data:
+            if key != "time":
+                f[key].dims[0].attach_scale(time)
+        if isinstance(outputs, InstrumentOutputs):
+            write_outputs(f, outputs)  # instruments: frames streamed in, truth, settings
     return path
