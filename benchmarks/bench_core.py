@@ -348,7 +348,7 @@ def main(argv=None) -> int:
     t_ref, ref_tr = best_of(lambda: run_ours(scene, REF_RTOL, REF_ATOL), 1)
     ref = ref_tr.state
     tau = sample_times(scene, model, ref.shape[0])
-    fin = ref_tr.summary()["final"]
+    fin = ref_tr.final
     print(f"reference: stand DOP853 rtol {REF_RTOL:g} atol {REF_ATOL:g}: {fmt_ms(t_ref)}, "
           f"{ref_tr.stats.nfev} RHS evals, {ref.shape[0]} samples; max |xi, eta| = "
           f"{np.max(np.abs(ref[:, :2])):.3g}; final residual unbalance {fin['residual_unbalance']:.2g} "
@@ -527,7 +527,7 @@ def scaling(repeats: int) -> list:
     for n in NS_C:
         trn, t_int = last_c["sim", n], runners["sim", n].best_integration
         ns_rhs = runners["rhs", n].ns(best_c["rhs", n])
-        res = trn.summary()["final"]["residual_unbalance"]
+        res = trn.final["residual_unbalance"]
         rows_c.append((n, t_int / REVS_C, trn.stats.nfev / REVS_C, t_int / trn.stats.nfev, ns_rhs, res))
     base = rows_c[0][1]
     for n, tpr, fpr, tpf, ns_rhs, res in rows_c:

@@ -119,7 +119,7 @@ def main():
     with tempfile.TemporaryDirectory() as d:
         out = Path(d) / "r.h5"
         api = (f"import time, stand; t0 = time.perf_counter(); r = stand.run(stand.load({str(SCENE)!r})); "
-               f"r.write({str(out) + '.api.h5'!r}, ); print(time.perf_counter() - t0, r.stats.wall_time)")
+               f"stand.save(r, {str(out) + '.api.h5'!r}); print(time.perf_counter() - t0, r.stats.wall_time)")
         wall([*stand, "run", SCENE, "-o", out, "--force"], 1)          # warm the caches
         rows = [("baseline: import numpy, scipy.integrate, h5py",
                  wall([py, "-c", "import numpy, scipy.integrate, h5py"], a.repeat))]

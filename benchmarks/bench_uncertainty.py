@@ -197,7 +197,7 @@ def run_recording(seed: int, *, workdir: Path) -> dict:
     e, beta = rng.uniform(20e-6, 60e-6), rng.uniform(0.0, 360.0)
     scene = stand.load(RECORDING_SCENE.format(e=e, beta=beta, seed=seed))
     h5 = workdir / f"recording_{seed}.h5"
-    stand.run(scene).write(h5)
+    stand.save(stand.run(scene), h5)
     out, err = io.StringIO(), io.StringIO()
     with redirect_stdout(out), redirect_stderr(err):
         if main(["analyze", str(h5), "--json"]) != 0:

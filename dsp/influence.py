@@ -220,7 +220,7 @@ class InfluenceBalance:
                 for i, s in enumerate(self.sensors)],
         }
 
-    def to_pandas(self):
+    def to_frame(self):
         """One row per correction plane: correction [g mm], radius [mm], mass [g],
         angle [deg] and their standard uncertainties (a pandas DataFrame)."""
         import pandas as pd

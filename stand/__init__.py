@@ -3,21 +3,29 @@
 The flat API (imported on first use, so ``import stand`` is cheap)::
 
     stand.load(path_or_text) -> Scene       stand.run(scene) -> Run
-    stand.read(path) -> Recording           stand.theory(scene) -> Theory
-    stand.analyze(run | recording | path)   stand.report(run | recording | path, html_path=...)
-    stand.track(recording | video)          stand.fit(scene, record, free=[...]) -> Fit
+    stand.save(run, path) -> path           stand.read(path) -> Recording
+    stand.theory(scene) -> Theory           stand.analyze(run | recording | path) -> Analysis
+    stand.report(run | recording | path, html_path=...) -> Report
+    stand.track(recording | video) -> Track stand.balance(job) -> FieldBalance
+    stand.fit(scene, record, free=[...]) -> Fit
 
-The answers are result objects (docs/results.md): attributes, ``to_dict()``,
-``to_frame()``, ``plot(ax=)``.
+The answers are result objects (docs/results.md), all importable from here: attributes,
+``to_dict()``, ``to_frame(table=None)``, ``plot(ax=None, kind=...)``.
 """
 from stand.io import __version__
 
-__all__ = ["load", "run", "read", "theory", "analyze", "report", "track", "balance", "fit", "Scene", "Run", "Recording",
-           "SceneError", "RecordingError", "__version__"]
+#: name -> the module (under stand) that defines it
+_LAZY = {**dict.fromkeys(("load", "run", "save", "read", "theory", "analyze", "report", "track",
+                          "balance", "fit"), "api"),
+         "Scene": "scene.model", "SceneError": "scene.model",
+         "Recording": "recording.hdf5", "RecordingError": "recording.hdf5",
+         # the result objects
+         "Result": "io.result", "Run": "integrate.result", "SolverStats": "integrate.result",
+         "Theory": "theories.result", "Report": "reports.result", "Fit": "fitting.result",
+         "FieldBalance": "analysis.field_balance",
+         **dict.fromkeys(("Analysis", "TwoPlane", "Influence", "Track"), "analysis.results")}
 
-_LAZY = {"load": "api", "run": "api", "read": "api", "theory": "api", "analyze": "api",
-         "report": "api", "track": "api", "balance": "api", "fit": "api", "Scene": "scene.model", "SceneError": "scene.model", "Run": "integrate.result",
-         "Recording": "recording.hdf5", "RecordingError": "recording.hdf5"}
+__all__ = [*_LAZY, "__version__"]
 
 
 def __getattr__(name):  # PEP 562: import the API on first use

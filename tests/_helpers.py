@@ -167,3 +167,60 @@ e0 = {e0}
 R = 3.0
 duration_tau = 100.0
 """
+
+
+# ------------------------------------------------------------------ the result contract
+def _agg_axes():
+    """A figure with one Axes on the Agg canvas: draws without a display or pyplot."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure()
+    FigureCanvasAgg(fig)
+    return fig, fig.subplots()
+
+
+def assert_result_contract(res, cli_doc=None):
+    """The one contract of every answer of the stand (docs/results.md): a ``stand.Result``
+    importable from ``stand``; ``to_dict()`` plain strict JSON, the same through
+    ``to_json()``, ``to_jsonable`` and mapping access (and equal to the command line's
+    ``--json`` document ``cli_doc`` where given); ``to_frame()`` and ``to_frame(t)`` for every
+    ``t`` of ``tables()`` are DataFrames (the base's ``to_frame()`` holds every number of the
+    document), an unknown table is a KeyError; ``plot(ax=)`` draws on the Axes given and
+    returns them, an unknown ``kind`` is a ValueError; a short ``repr`` and an HTML table."""
+    import pandas as pd
+    import pytest
+
+    import stand
+    from stand.io.jsonable import to_jsonable
+    from stand.io.result import Result, flatten_numbers
+
+    cls = type(res)
+    assert isinstance(res, stand.Result)
+    assert getattr(stand, cls.__name__) is cls, f"{cls.__name__} is not exported by stand"
+    doc = res.to_dict()
+    assert doc and json.loads(json.dumps(doc, allow_nan=False)) == doc
+    assert json.loads(res.to_json()) == doc == to_jsonable(res)
+    for key, value in doc.items():      # mapping access gives the document's values
+        assert to_jsonable(res[key]) == value, key
+    if cli_doc is not None:
+        assert doc == cli_doc
+    df = res.to_frame()
+    assert isinstance(df, pd.DataFrame) and len(df) > 0
+    if cls.to_frame is Result.to_frame:
+        numbers = flatten_numbers(doc)
+        assert list(df.columns) == ["key", "value"] and len(df) == len(numbers)
+        assert dict(zip(df["key"], df["value"])) == pytest.approx(dict(numbers))
+    for table in res.tables():
+        assert isinstance(res.to_frame(table), pd.DataFrame), table
+    with pytest.raises(KeyError, match="no table"):
+        res.to_frame("no_such_table")
+    fig, ax = _agg_axes()
+    assert res.plot(ax=ax) is ax
+    fig.canvas.draw()           # renders without a display: the picture is complete
+    assert ax.lines or ax.patches or ax.collections or ax.texts
+    with pytest.raises(ValueError, match="kind = 'no_such_kind'"):
+        res.plot(ax=_agg_axes()[1], kind="no_such_kind")
+    text = repr(res)
+    assert text.startswith(f"{cls.__name__}(") and len(text) < 400
+    assert "<table>" in res._repr_html_()

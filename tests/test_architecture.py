@@ -276,31 +276,16 @@ def test_layer_checker_finds_planted_violations():
     assert "has no layer" in against_the_stack({"stand.new.c": {"stand.model.a"}}, layers)[0]
 
 
-#: module edges against the stack not removed yet (docs/architecture.md, "Two arrows still point
-#: up"): each one is struck off when it goes -- the test fails on a stale entry, so the list only
-#: shrinks.  integrate -> recording: ``Run.write``'s registry string (issue 40, the result part);
-#: scene -> instruments: the instruments' settings classes read the [instruments.*] tables.
-NOT_YET = {
-    ("stand.integrate.result", "stand.recording.write"),
-    ("stand.scene.instrument_tables", "stand.scene.placement"),
-    ("stand.scene.parse", "stand.scene.placement"),
-    ("stand.scene.structure_tables", "stand.scene.placement"),
-}
-
-
 def test_packages_form_a_strict_stack():
     """Every import between two packages -- statement or module string -- goes from a higher layer
-    to a lower one of docs/architecture.md's order, and the order names every package (the
-    edges of :data:`NOT_YET` excepted, and each of them must still exist)."""
+    to a lower one of docs/architecture.md's order (no exceptions), and the order names every
+    package."""
     layers = declared_layers()
     graph = import_graph()
     missing = sorted({package_of(m) for m in graph} - set(layers))
     assert not missing, f"packages without a layer in docs/architecture.md: {missing}"
-    bad = [b for b in against_the_stack(graph, layers)
-           if tuple(b.split(":")[0].split(" -> ")) not in NOT_YET]
+    bad = against_the_stack(graph, layers)
     assert not bad, f"{len(bad)} imports against the stack:\n" + "\n".join(bad)
-    gone = sorted(e for e in NOT_YET if e[1] not in graph.get(e[0], ()))
-    assert not gone, f"strike these from NOT_YET, they are gone: {gone}"
 
 
 #: what the command line may import (issue 40): the API, itself, the errors and the io layer

@@ -292,7 +292,7 @@ def test_body_channels_in_the_recording(tmp_path):
     run = stand.run(stand.load(p))
     assert run.success
     out = tmp_path / "d.h5"
-    run.write(out)
+    stand.save(run, out)
     rec = stand.read(out)
     n = np.column_stack([rec.weights["damper1"][c] for c in ("n_x", "n_y", "n_z")])
     assert np.allclose(np.linalg.norm(n, axis=1), 1.0, atol=1e-9)

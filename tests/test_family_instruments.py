@@ -88,7 +88,7 @@ def test_screen_on_another_plane_films_that_plane(tmp_path):
     sc = stand.load(p)
     assert placement_of(sc.instruments["screen"]).plane == "body"
     run = stand.run(sc)
-    path = run.write(tmp_path / "tm.h5")
+    path = stand.save(run, tmp_path / "tm.h5")
     with h5py.File(path) as f:
         assert f["instruments/screen"].attrs["plane"] == "body"
         cm = f["truth/screen/centre_m"][:]
@@ -165,7 +165,7 @@ def test_probes_on_a_named_plane(tmp_path):
     text += '\n[instruments.probes]\nplane = "body"\nsample_rate = 200.0\n'
     sc = _load(tmp_path, text)
     run = stand.run(sc)
-    path = run.write(tmp_path / "p.h5")
+    path = stand.save(run, tmp_path / "p.h5")
     with h5py.File(path) as f:
         g = f["instruments/probes"]
         assert g.attrs["plane"] == "body"

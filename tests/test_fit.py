@@ -19,6 +19,8 @@ import stand
 from stand.fitting.paths import FitError, document_text, get_value, parse_free, unit_of
 from stand.io.tomlfile import tomllib
 
+from _helpers import assert_result_contract
+
 ROOT = Path(__file__).resolve().parents[1]
 BALLS = ROOT / "data_samples" / "scenes" / "ball_runup.toml"
 
@@ -126,6 +128,7 @@ def test_fit_recovers_a_short_run_up_and_writes_the_scene(tmp_path):
     with pytest.raises(ValueError, match="input"):
         fit.write_scene(t, inputs=(t, csv))
     assert set(fit.to_frame().columns) >= {"value", "std", "unit", "identifiable"}
+    assert_result_contract(fit)
     assert fit.to_frame("series").shape[0] == fit["fit"]["samples"]
     fit.plot()
     json.dumps(fit.to_dict(), allow_nan=False)

@@ -46,7 +46,7 @@ def test_square_system_gives_the_exact_correction():
     np.testing.assert_allclose(res.angle_deg, [40.0, 250.0], atol=1e-9)
     np.testing.assert_allclose(np.abs(res.residual_m), 0.0, atol=1e-15)
     assert np.all(res.mass_std_g == 0) and res.condition < 10
-    df = res.to_pandas()
+    df = res.to_frame()
     assert list(df.index) == PLANES
     assert {"mass_g", "mass_std_g", "angle_deg", "angle_std_deg", "radius_mm",
             "correction_gmm"} <= set(df.columns)
@@ -183,7 +183,7 @@ def test_runs_from_the_sample_scenes():
 def test_recordings_at_different_speeds_are_refused(tmp_path):
     text = (SCENES / "influence_trial2.toml").read_text()
     fast = tmp_path / "trial2_fast.h5"
-    stand.run(stand.load(text.replace("[1.5, 40.0]", "[1.5, 41.0]"))).write(fast)
+    stand.save(stand.run(stand.load(text.replace("[1.5, 40.0]", "[1.5, 41.0]"))), fast)
     with pytest.raises(ValueError, match=r"trial run 2 .*trial2_fast\.h5.*41 rev/s differs"):
         influence_from_recordings(RECS / "influence_ref.h5",
                                   [RECS / "influence_trial1.h5", fast], TRIALS, SENSORS)

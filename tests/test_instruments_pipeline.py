@@ -15,8 +15,8 @@ SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 
 
 def test_no_instruments_nothing_rendered(tmp_path):
-    traj, writer = run_with_instruments(load_scene(SCENES / "ball_runup.toml"))
-    assert writer is None and traj.extra is None
+    traj = run_with_instruments(load_scene(SCENES / "ball_runup.toml"))
+    assert not traj.instruments and traj.extra is None
     out = tmp_path / "r.h5"
     assert main(["run", str(SCENES / "no_balancer.toml"), "-o", str(out)]) == 0
     with h5py.File(out) as f:

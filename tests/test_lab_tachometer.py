@@ -77,7 +77,7 @@ def test_held_tachometer_only_runup_of_the_no_balancer_scene(tmp_path):
               "seed = 3\n\n[instruments.keyphasor]\nmark_angle = 0.0\n\n[instruments.tachometer]\n"
               "gate_time = 0.5\nresolution = 0.016667\npulses_per_rev = 60\n")
     h5, csv, m = tmp_path / "nb.h5", tmp_path / "nb.csv", tmp_path / "nb.map.toml"
-    stand.run(stand.load(scene)).write(h5)
+    stand.save(stand.run(stand.load(scene)), h5)
     code, out, err = run("daq", h5, "-o", csv)
     assert code == 0, err
     m.write_text('[columns]\ntime = {column = "time_ms", unit = "ms"}\n'

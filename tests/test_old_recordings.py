@@ -60,7 +60,7 @@ def test_xarray_sees_the_time_axis_of_every_group(tmp_path):
     import dataclasses
 
     scene = dataclasses.replace(scene, run=dataclasses.replace(scene.run, duration=1.0))
-    path = stand.run(scene).write(tmp_path / "r.h5")
+    path = stand.save(stand.run(scene), tmp_path / "r.h5")
     for group, names in (("planes/balancer", {"x", "y"}), ("rotor", {"angle", "speed"})):
         ds = xr.open_dataset(path, engine="h5netcdf", group=group, phony_dims="access",
                              decode_timedelta=False)

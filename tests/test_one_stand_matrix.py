@@ -125,7 +125,7 @@ def test_every_function_on_every_scene_api(short_scene, tmp_path):
     df = run.to_frame()
     assert df.shape[0] == len(run.t) and {"t_s", "x_m", "y_m", "rotor_angle_rad"} <= set(df)
     assert np.all(np.isfinite(run.x)) and np.all(np.diff(run.t) > 0)
-    path = run.write(tmp_path / "api.h5")
+    path = stand.save(run, tmp_path / "api.h5")
     rec = stand.read(path)
     assert isinstance(rec, stand.Recording)
     np.testing.assert_array_equal(rec.t, run.t)

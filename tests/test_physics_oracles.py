@@ -393,7 +393,7 @@ def test_ball_runup_balances():
     tr = simulate(sc)
     assert tr.success, tr.stats.message
     assert_finite(tr)
-    final = tr.summary()["final"]
+    final = tr.final
     assert final["residual_unbalance"] < 0.02
     expected = 180.0 - math.degrees(math.acos(d.e0))  # e0 = 0.5 -> 120 deg
     assert expected == pytest.approx(180.0 - math.degrees(math.acos(0.5)), abs=1e-3)

@@ -17,6 +17,8 @@ from stand.cli.main import main
 from stand.io.jsonable import dumps, to_jsonable
 from stand.io.result import Result, flatten_numbers
 
+from _helpers import _agg_axes, assert_result_contract
+
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = ROOT / "data_samples"
 RECORDINGS = [SAMPLES / "recordings" / "stand_cameras.h5", SAMPLES / "recordings" / "influence_ref.h5"]
@@ -27,15 +29,6 @@ def _cli_json(capsys, *argv):
     capsys.readouterr()
     assert main([str(a) for a in argv]) == 0
     return json.loads(capsys.readouterr().out)
-
-
-def _agg_axes():
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    fig = Figure()
-    FigureCanvasAgg(fig)
-    return fig, fig.subplots()
 
 
 def _drawn(fig, ax) -> bool:
@@ -117,18 +110,18 @@ def test_plot_without_axes_uses_no_backend():
 def test_report_of_a_run_writes_no_file(tmp_path, monkeypatch):
     """stand.report(run) reads the run where it is: the same numbers as the report of its
     recording, and no file is written (no temporary recording)."""
-    import stand.recording.hdf5 as h5
+    import stand.recording.write as writing
 
     scene = stand.load(SAMPLES / "scenes" / "ball_runup.toml")
     run = stand.run(scene)
-    path = run.write(tmp_path / "r.h5")
+    path = stand.save(run, tmp_path / "r.h5")
     from_file = stand.report(stand.read(path))
     from_path = stand.report(str(path))
 
     def no_writing(*a, **k):
         raise AssertionError("stand.report(run) wrote a recording")
 
-    monkeypatch.setattr(h5, "write_recording", no_writing)
+    monkeypatch.setattr(writing, "write_recording", no_writing)
     monkeypatch.chdir(tmp_path)
     before = set(tmp_path.iterdir())
     rep = stand.report(run)
@@ -248,7 +241,7 @@ def test_report_of_a_run_with_instruments_reads_them_in_memory(tmp_path):
     rep = stand.report(run)
     ring = rep.balancing_quality["ring_reading"]
     assert ring is not None
-    written = stand.report(stand.read(run.write(tmp_path / "cams.h5")))
+    written = stand.report(stand.read(stand.save(run, tmp_path / "cams.h5")))
     assert dict(flatten_numbers(ring)) == pytest.approx(
         dict(flatten_numbers(written.balancing_quality["ring_reading"])), rel=1e-12)
     # the report's input read from run.instruments equals the one read back from the file
@@ -261,6 +254,79 @@ def test_report_of_a_run_with_instruments_reads_them_in_memory(tmp_path):
         assert np.array_equal(mem["inst"][key], value) if isinstance(value, np.ndarray) \
             else mem["inst"][key] == value, key
     assert np.array_equal(mem["truth"]["residual_unbalance"], disk["truth"]["residual_unbalance"])
+
+
+def _short_run():
+    import dataclasses
+
+    sc = stand.load(SAMPLES / "scenes" / "ball_runup.toml")
+    return stand.run(dataclasses.replace(sc, run=dataclasses.replace(sc.run, duration=2.0)))
+
+
+_MADE: dict = {}
+
+
+def _made(name, tmp_path_factory):
+    """One result of each class, made once for the module by its public producer."""
+    if name not in _MADE:
+        from stand.analysis.influence import influence_from_recordings
+
+        recs = [SAMPLES / "recordings" / f"influence_{k}.h5" for k in ("ref", "trial1", "trial2")]
+        make = {
+            "Run": _short_run,
+            "Recording": lambda: stand.read(stand.save(
+                _made("Run", tmp_path_factory), tmp_path_factory.mktemp("rec") / "short.h5")),
+            "Recording (sample file)": lambda: stand.read(RECORDINGS[0]),
+            "SolverStats": lambda: _made("Run", tmp_path_factory).stats,
+            "Analysis": lambda: stand.analyze(stand.read(RECORDINGS[0])),
+            "Theory": lambda: stand.theory(stand.load(SCENES[1]), floquet=False),
+            "Report": lambda: stand.report(str(RECORDINGS[0])),
+            "Influence": lambda: influence_from_recordings(
+                recs[0], recs[1:], ["balancer1:10:0:100", "balancer2:10:90:100"],
+                ["probe1", "probe2"]),
+            "FieldBalance": lambda: stand.balance(SAMPLES / "balance" / "bk_17_227.toml"),
+            "Track": lambda: stand.track(RECORDINGS[0]),
+        }
+        _MADE[name] = make[name]()
+    return _MADE[name]
+
+
+@pytest.mark.parametrize("name", ["Run", "Recording", "Recording (sample file)", "SolverStats",
+                                  "Analysis", "Theory", "Report", "Influence", "FieldBalance",
+                                  "Track"])
+def test_result_contract(name, tmp_path_factory):
+    """Every result class keeps the one contract (tests/_helpers.assert_result_contract);
+    ``TwoPlane`` and ``Fit`` are held to it where they are made (test_two_plane_end_to_end,
+    test_fit)."""
+    res = _made(name, tmp_path_factory)
+    assert type(res).__name__ == name.split()[0]
+    assert_result_contract(res)
+
+
+def test_run_document_is_its_summary_and_survives_the_recording(tmp_path_factory):
+    """A run's document is its summary, kept up to date when a field is set; written and read
+    back (float64 both ways) the recording's document holds the same numbers."""
+    run = _made("Run", tmp_path_factory)
+    rec = _made("Recording", tmp_path_factory)
+    assert run.samples == len(run) == len(run.t) == run.to_frame().shape[0]
+    assert run.duration_s == pytest.approx(2.0, abs=1e-12)
+    assert run.final["time_s"] == run.t[-1] and run.solver == dict(run.stats)
+    r = np.hypot(run.x[-1], run.y[-1])
+    assert run.final["whirl_radius_last_m"] == r
+    psi = run.residual_unbalance()[-1]            # the whole-record formula, at its last sample
+    assert run.final["residual_unbalance_g_mm"] == pytest.approx(abs(psi) * 1e6, rel=1e-12)
+    assert run.final["residual_unbalance"] == pytest.approx(abs(psi) / run.capacity(), rel=1e-12)
+    angles = np.degrees(run.relative_angle[-1])
+    assert run.final["weights_relative_angle_deg"] == pytest.approx(angles, abs=1e-9)
+    for key in ("samples", "duration_s", "main_plane", "planes", "weight_planes"):
+        assert rec[key] == run[key], key
+    assert dict(flatten_numbers(rec.final)) == pytest.approx(dict(flatten_numbers(run.final)),
+                                                             rel=1e-12)
+    assert rec.to_dict()["solver"] == run.to_dict()["solver"]
+    other = _short_run()
+    assert other != run and len({run, other}) == 2          # equal only when the same object
+    other.notes = ("set after the run",)
+    assert other["notes"] == ["set after the run"] and other.to_dict()["notes"] == other["notes"]
 
 
 @pytest.mark.parametrize("kind", ["time", "orbit"])

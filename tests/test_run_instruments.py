@@ -57,7 +57,7 @@ def test_screen_frames_in_memory_are_the_recorded_frames(nf_run, tmp_path):
     # 1.5 s at 20 frames/s, the first exposure at t = 0
     assert screen.n_frames == math.floor(nf_run.scene.run.duration * cam.frame_rate) == 30
     np.testing.assert_allclose(screen.times, np.arange(30) / 20.0, atol=1e-12)
-    out = nf_run.write(tmp_path / "nf.h5")
+    out = stand.save(nf_run, tmp_path / "nf.h5")
     with h5py.File(out) as f:
         frames = f["instruments/screen/frames"]
         assert frames.shape == (screen.n_frames, cam.height, cam.width) == (30, 240, 240)
@@ -99,7 +99,7 @@ def test_photogate_period_and_passes(nf_run, tmp_path):
     assert abs(len(gate.times) - 2 * sc.run.duration / T) <= 1
     df = gate.to_frame()
     assert set(df["event"]) == {"enter", "centre", "leave"} and df["time_s"].is_monotonic_increasing
-    with h5py.File(nf_run.write(tmp_path / "g.h5")) as f:
+    with h5py.File(stand.save(nf_run, tmp_path / "g.h5")) as f:
         assert f["instruments/photogate"].attrs["period_s"] == gate.attrs["period_s"]
         np.testing.assert_array_equal(f["instruments/photogate/enter_time"][:],
                                       gate.readings["enter_time"])
@@ -111,7 +111,7 @@ def test_stroboscope_frames_and_flashes(cameras_run, tmp_path):
     n = strobe.n_frames
     assert strobe.readings["flash_time"].shape[0] == n
     assert 0 < n <= 200
-    out = cameras_run.write(tmp_path / "cams.h5")
+    out = stand.save(cameras_run, tmp_path / "cams.h5")
     with h5py.File(out) as f:
         frames = f["instruments/stroboscope/frames"]
         assert frames.shape[0] == n

@@ -485,13 +485,13 @@ def test_recordings_store_their_scene_language(tmp_path):
     text = weights_text("", unbalance_angle=40.0, language="")
     sc = load_scene(text, language=2)       # (a text without [scene] language, as stored)
     sc = dataclasses.replace(sc, run=dataclasses.replace(sc.run, duration=0.05))
-    path = stand.run(sc).write(tmp_path / "new.h5")
+    path = stand.save(stand.run(sc), tmp_path / "new.h5")
     rec = stand.read(path)
     assert rec.attrs["scene_language"] == SCENE_LANGUAGE and not rec.notes
     assert rec.scene.linear_rotor().unbalances[0].angle == pytest.approx(math.radians(40.0))
     # an old recording written again keeps its text and its language
     old = stand.read(RECS / "influence_trial1.h5")
-    again = stand.read(old.write(tmp_path / "again.h5"))
+    again = stand.read(stand.save(old, tmp_path / "again.h5"))
     assert again.attrs["scene_language"] == 1 and again.scene_text == old.scene_text
     assert [u.angle for u in again.scene.linear_rotor().unbalances] == [
         u.angle for u in old.scene.linear_rotor().unbalances]

@@ -140,7 +140,7 @@ def test_warm_run_imports_no_numba():
     out = _python(
         "import sys, tempfile, os, stand\nsc = stand.load(%r)\n"
         "from dataclasses import replace\nsc = replace(sc, run=replace(sc.run, duration=1.0))\n"
-        "r = stand.run(sc)\nd = tempfile.mkdtemp()\nr.write(os.path.join(d, 'r.h5'))\n"
+        "r = stand.run(sc)\nd = tempfile.mkdtemp()\nstand.save(r, os.path.join(d, 'r.h5'))\n"
         "print(r.stats.success, 'numba' in sys.modules, 'scipy' in sys.modules)" % str(RUNUP),
         env={"STAND_KERNELS": "auto"})
     assert out.split() == ["True", "False", "False"]

@@ -10,6 +10,8 @@ import pytest
 
 from stand.cli.main import main
 
+from _helpers import assert_result_contract, stand_stdout
+
 SAMPLE = Path(__file__).resolve().parents[1] / "data_samples" / "scenes" / "paper003_two_screens.toml"
 
 
@@ -72,6 +74,16 @@ def test_analyze_two_plane_within_3_percent(two_plane_run, capsys):
         dang = (row["angle_deg"] - math.degrees(np.angle(U)) + 180) % 360 - 180
         assert abs(dang) < 2.0
         assert 0 < row["unbalance_gmm_std"] < 0.03 * row["unbalance_gmm"]
+
+
+def test_two_plane_result_contract(two_plane_run):
+    """The Python face of `stand analyze --tracks`: a TwoPlane result, the CLI's JSON."""
+    from stand.analysis.two_plane import two_plane
+
+    d, rec, tracks = two_plane_run
+    res = two_plane(rec, tracks)
+    assert_result_contract(res, cli_doc=json.loads(stand_stdout("analyze", rec, "--tracks",
+                                                                *tracks, "--json")))
 
 
 def test_report_two_plane_section(two_plane_run):

@@ -92,7 +92,7 @@ def _recording(tmp_path, probes=True):
     if not probes:
         text = text[:text.index("[instruments.probes]")]
     h5 = tmp_path / "rec.h5"
-    stand.run(stand.load(text)).write(h5)
+    stand.save(stand.run(stand.load(text)), h5)
     out = io.StringIO()
     with redirect_stdout(out):
         assert main(["analyze", str(h5), "--json"]) == 0

@@ -95,7 +95,7 @@ def test_noise_free_stand_recording_is_exact(tmp_path):
     text = RECORDING_SCENE.format(e=e, beta=beta, seed=1).replace(
         "noise_rms = 2.0e-6", "noise_rms = 0.0\nlsb = 1e-15\nrunout = 0.0")
     h5 = tmp_path / "rec.h5"
-    stand.run(stand.load(text)).write(h5)
+    stand.save(stand.run(stand.load(text)), h5)
     out, err = io.StringIO(), io.StringIO()
     with redirect_stdout(out), redirect_stderr(err):
         assert main(["analyze", str(h5), "--json"]) == 0, err.getvalue()

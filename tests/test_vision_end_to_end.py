@@ -30,8 +30,7 @@ SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 
 def _film(scene, cam, path):
     scene = dataclasses.replace(scene, instruments={"screen": cam})
-    traj, writer = run_with_instruments(scene)
-    write_recording(traj, path, writer=writer)
+    write_recording(run_with_instruments(scene), path)
     df = track(iter_frames(str(path)))
     with h5py.File(path) as f:
         t = f["instruments/screen/frame_time"][:] + 0.5 * cam.exposure

@@ -98,7 +98,7 @@ class Influence(Result):
     --json``); :attr:`balance` is the :class:`~dsp.influence.InfluenceBalance` itself, and
     its attributes are the result's (``planes``, ``sensors``, ``mass_g``, ``angle_deg``,
     ``correction_kg_m``, ... as tuples and arrays; the document's keys where it has none);
-    ``to_frame()`` one row per correction plane (its ``to_pandas()``)."""
+    ``to_frame()`` one row per correction plane (its ``to_frame()``)."""
 
     _title = "influence-coefficient balancing"
 
@@ -119,7 +119,7 @@ class Influence(Result):
         return super().__getattr__(name)
 
     def to_frame(self, table=None):
-        return self._balance.to_pandas() if table is None else super().to_frame(table)
+        return self._balance.to_frame() if table is None else super().to_frame(table)
 
     def _summary(self) -> list:
         b = self._balance

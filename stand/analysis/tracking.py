@@ -17,6 +17,9 @@ from typing import Optional
 
 import numpy as np
 
+from stand.recording.layout import INSTRUMENTS, STROBOSCOPE, instrument_key, screen_group
+from stand.recording.layout import SCREEN as SCREEN_NAME
+
 __all__ = ["track_frames", "write_track_csv", "parse_roi", "read_ring_file", "strobe_angles",
            "ring_radii_of", "calibration_image", "screen_group", "TRACK_PREAMBLE"]
 
@@ -24,16 +27,7 @@ __all__ = ["track_frames", "write_track_csv", "parse_roi", "read_ring_file", "st
 TRACK_PREAMBLE = ("source", "screen", "ring_radii_m", "capacity_gmm", "optical_gain", "exposure_s",
                   "roi_px", "background")
 
-SCREEN = "instruments/screen"
-
-
-def screen_group(name=None) -> str:
-    """The recording group of a screen: ``None`` / ``"screen"`` -> ``instruments/screen``;
-    ``"front"`` or ``"screen.front"`` (``[instruments.screen.front]``) -> ``instruments/screen.front``."""
-    if name is None or str(name) in ("", "screen"):
-        return SCREEN
-    name = str(name)
-    return f"instruments/{name if name.startswith('screen.') else 'screen.' + name}"
+SCREEN = screen_group()
 
 
 def _named_screen(source, screen):
@@ -54,8 +48,8 @@ def _named_screen(source, screen):
 
 def _screen_keys(rec):
     try:
-        return [f"instruments/{k}" for k in rec.members("instruments")
-                if k == "screen" or k.startswith("screen.")]
+        return [instrument_key(k) for k in rec.members(INSTRUMENTS)
+                if k == SCREEN_NAME or k.startswith(SCREEN_NAME + ".")]
     except (OSError, TypeError, AttributeError):
         return []
 
@@ -488,7 +482,7 @@ def write_track_csv(df, path) -> None:
             df.to_csv(fh, index=False)
 
 
-STROBE = "instruments/stroboscope"
+STROBE = instrument_key(STROBOSCOPE)
 
 
 def _strobe_meta(source):
@@ -560,7 +554,7 @@ def strobe_angles(source, n_weights: Optional[int] = None):
     from vision.strobe import reference_mark, weight_angles
 
     src = source if ":" in str(source) or not str(source).endswith(".h5") \
-        else (source, "instruments/stroboscope/frames")
+        else (source, f"{STROBE}/frames")
     settings, drawn, flash_t = _strobe_meta(source)
     own = ":" not in str(source)          # the recording's own frames: their flash times
     bobs = [w for w in drawn if w.get("drawn") == "pendulum" and "arm_px" in w]

@@ -21,6 +21,7 @@ def _track_of(path, rec):
     """``(name, axial position [m], t [s], x [m], y [m], frame rotor angle [rad] or None)``
     of one ``stand track --screen`` CSV; the position from the recording's screen attrs."""
     from stand.lab.table import read_frame
+    from stand.recording.layout import instrument_key
 
     df, _ = read_frame(path)
     for col in ("t_s", "x_m", "y_m"):
@@ -30,7 +31,7 @@ def _track_of(path, rec):
     name = str(df["screen"].iloc[0]) if "screen" in df and len(df) else ""
     d = None
     if name and getattr(rec, "path", None):
-        a = rec.dataset_attrs(f"instruments/{name}")
+        a = rec.dataset_attrs(instrument_key(name))
         if "axial_position_m" in a:
             d = float(a["axial_position_m"])
     if d is None and "axial_position_m" in df:
@@ -90,6 +91,7 @@ def two_plane(path, tracks, grade: float = 6.3, service_speed_rpm: float | None 
     from dsp.unbalance import iso_21940_permissible
 
     from stand.recording.hdf5 import read_recording
+    from stand.recording.layout import instrument_key
     from stand.integrate.coupled import with_locked_weights
 
     if len(tracks) != 2:
@@ -113,7 +115,7 @@ def two_plane(path, tracks, grade: float = 6.3, service_speed_rpm: float | None 
         import json
 
         try:
-            exposure = float(json.loads(rec.dataset_attrs(f"instruments/{name}")
+            exposure = float(json.loads(rec.dataset_attrs(instrument_key(name))
                                         .get("settings", "{}")).get("exposure", 0.0))
         except (TypeError, ValueError):
             exposure = 0.0

@@ -7,7 +7,7 @@ book weight model) and every recording::
     scene = stand.load("data_samples/scenes/ball_runup.toml")
     run = stand.run(scene)                 # stand.Run: t, planes, rotor, weights, stats
     run.to_frame()                         # pandas, SI units in the column names
-    run.write("runup.h5")                  # the one recording layout
+    stand.save(run, "runup.h5")            # the one recording layout
     rec = stand.read("runup.h5")           # stand.Recording: the same fields
     stand.analyze(rec)                     # identification (dsp): an Analysis
     stand.report(rec, html_path="r.html")  # balancing-quality report: a Report
@@ -32,7 +32,8 @@ from __future__ import annotations
 import os
 from typing import Optional, Union
 
-__all__ = ["load", "run", "read", "theory", "analyze", "report", "track", "balance", "fit"]
+__all__ = ["load", "run", "save", "read", "theory", "analyze", "report", "track", "balance",
+           "fit"]
 
 
 def load(source: Union[str, os.PathLike]):
@@ -63,8 +64,8 @@ def run(scene, method: Optional[str] = None, rtol: Optional[float] = None,
     -------
     Run
         ``run.stats.status`` is 0 on success, negative when the run stopped early
-        (what was computed is kept); ``run.write(path)`` also stores the
-        instruments' output.
+        (what was computed is kept); ``run.instruments`` the instruments' output in
+        memory, stored by :func:`save`.
     """
     from stand.scene.model import Scene
 
@@ -73,13 +74,30 @@ def run(scene, method: Optional[str] = None, rtol: Optional[float] = None,
     if scene.instruments:
         from stand.instruments.pipeline import run_with_instruments
 
-        res, _ = run_with_instruments(scene, method=method, progress=progress,
-                                      checkpoint=checkpoint, rtol=rtol, atol=atol)
-        return res   # res.instruments: the output in memory; res.write stores it
+        return run_with_instruments(scene, method=method, progress=progress,
+                                    checkpoint=checkpoint, rtol=rtol, atol=atol)
     from stand.integrate.simulate import simulate
 
     return simulate(scene, method=method, rtol=rtol, atol=atol, progress=progress,
                     checkpoint=checkpoint)
+
+
+def save(run, path: Union[str, os.PathLike], *, attrs=None):
+    """Write a run (with what its instruments output) to the one HDF5 recording layout,
+    atomically (:func:`stand.recording.write.write_recording`); returns the path.
+
+    Parameters
+    ----------
+    run : Run
+        :func:`run`'s answer (or a :class:`stand.Recording`).
+    path : str or os.PathLike
+        Target file (``*.h5``); its directory must exist.
+    attrs : mapping, optional
+        Further root attributes (e.g. the command that made the run; mappings as JSON).
+    """
+    from stand.recording.write import write_recording
+
+    return write_recording(run, path, extra_attrs=attrs)
 
 
 def read(path: Union[str, os.PathLike]):

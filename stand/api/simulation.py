@@ -12,17 +12,8 @@ from typing import Optional, Sequence, Union
 
 from stand.scene.model import METHODS
 
-__all__ = ["METHODS", "save", "experiment", "required_options", "accuracy", "theory_text", "speed_map", "stress",
+__all__ = ["METHODS", "experiment", "required_options", "accuracy", "theory_text", "speed_map", "stress",
            "precompile_in_background"]
-
-
-def save(run, path: Union[str, os.PathLike], *, extra_attrs=None):
-    """Write a run (with its instruments' output) as the one HDF5 recording, atomically
-    (:func:`stand.recording.write.write_recording`); returns the path written."""
-    from stand.recording.write import write_recording
-
-    return write_recording(run, path, writer=getattr(run.instruments, "writer", None),
-                           extra_attrs=extra_attrs)
 
 
 def experiment(scene, programme: str, output: Union[str, os.PathLike], *, progress: bool = False,
@@ -57,7 +48,7 @@ def experiment(scene, programme: str, output: Union[str, os.PathLike], *, progre
     ValueError
         A required option of the programme is missing (the message names it).
     """
-    from stand.api import load, run
+    from stand.api import load, run, save
     from stand.errors import NotApplicable
     from stand.io.atomic import check_output_path
     from stand.scene.experiments import not_applicable, programme as build
@@ -72,7 +63,7 @@ def experiment(scene, programme: str, output: Union[str, os.PathLike], *, progre
         raise ValueError(f"experiment {programme}: {', '.join(missing)} required")
     sc = build(base, programme, **options)
     res = run(sc, progress=progress)
-    save(res, out, extra_attrs={"experiment": {"programme": programme, **(record or {})}})
+    save(res, out, attrs={"experiment": {"programme": programme, **(record or {})}})
     return res, sc
 
 

@@ -19,8 +19,7 @@ def _numbers(text, option: str, what: str) -> tuple:
 
 
 def cmd_run(args) -> int:
-    from stand.api import load, run
-    from stand.api.simulation import save
+    from stand.api import load, run, save
     from stand.io.atomic import check_output_path
     from stand.io.numbers import plain
 
@@ -29,10 +28,9 @@ def cmd_run(args) -> int:
     res = run(scene, method=args.method, progress=not args.no_progress and sys.stderr.isatty(),
               checkpoint=args.checkpoint)
     save(res, out)
-    summ = res.summary()
-    final = summ.get("final") or {}
+    final = res.final or {}
     doc = {"scene": scene.name, "structure": scene.structure_type, "output": str(out),
-           "solver": summ["solver"], **final, "final": final, "notes": list(res.notes)}
+           "solver": res.solver, **final, "final": final, "notes": list(res.notes)}
     if args.json:
         print_json(doc)
     else:

@@ -124,6 +124,8 @@ class Fit(Result):
     def plot(self, ax=None, kind: str = "whirl"):
         """``kind="whirl"``: measured and fitted whirl radius against time; ``"residual"``:
         the residual's x and y against time; returns the Axes."""
+        if kind not in ("whirl", "residual"):
+            raise ValueError(f"Fit.plot: kind = {kind!r}: one of whirl, residual")
         ax = axes_of(ax)
         s = self._series
         if not s:

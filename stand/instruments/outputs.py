@@ -2,8 +2,8 @@
 
 :func:`stand.run` on a scene with ``[instruments.*]`` tables returns a Run whose
 ``instruments`` maps each instrument's name to its output, computed when first asked for
-and rendered frame by frame on demand; nothing is written until ``run.write(path)``, which
-stores these same outputs (:mod:`stand.instruments.pipeline`)::
+and rendered frame by frame on demand; nothing is written until ``stand.save(run, path)``,
+which stores these same outputs (:mod:`stand.recording.write_instruments`)::
 
     run = stand.run(stand.load("data_samples/scenes/stand_cameras.toml"))
     screen = run.instruments["screen"]
@@ -29,7 +29,7 @@ import dataclasses
 import functools
 import math
 from collections.abc import Mapping
-from typing import Any, Optional
+from typing import Optional
 
 import numpy as np
 
@@ -501,8 +501,7 @@ READERS = {"photogate": _photogate, "keyphasor": _keyphasor, "tachometer": _tach
 
 class InstrumentOutputs(Mapping):
     """``run.instruments``: instrument name -> its output (module docstring), each computed
-    when first asked for.  ``writer`` (set by :mod:`stand.instruments.pipeline`) stores them
-    all in a recording."""
+    when first asked for; :func:`stand.recording.write.write_recording` stores them all."""
 
     def __init__(self, scene, traj, plans: Optional[dict] = None):
         if scene.kind == "rotor" and any(placement_of(s).axial_position is not None
@@ -514,7 +513,6 @@ class InstrumentOutputs(Mapping):
         inst = scene.instruments
         self._names = list(self.plans) + [n for n in ("stroboscope", *READERS) if n in inst]
         self._cache: dict = {}
-        self.writer: Any = None
 
     def __getitem__(self, name: str) -> InstrumentOutput:
         if name not in self._cache:

@@ -5,18 +5,11 @@ model) and the weights, :func:`stand.run` returns a :class:`Run`: the sample
 times, every plane's fixed-frame translation, the rotor's angle and speed,
 each weight's coordinates by name, the solver statistics shaped like SciPy's
 ``OdeResult`` (``status``, ``message``, ``success``, ``nfev``, ``njev``,
-``nlu``), and the scene.  :meth:`Run.to_frame` gives a pandas DataFrame with
-SI columns (units in the names), :meth:`Run.write` the one HDF5 recording
-(:mod:`stand.recording.write`), which :func:`stand.read` turns back into a
+``nlu``), and the scene.  A run is a result (:class:`stand.io.result.Result`,
+docs/results.md): :meth:`Run.to_frame` gives a pandas DataFrame with SI columns (units in
+the names), ``to_dict()`` its summary.  ``stand.save(run, path)`` writes the one HDF5
+recording (:mod:`stand.recording.write`), which :func:`stand.read` turns back into a
 :class:`stand.recording.read.Recording` with the same fields.
-
-Channel names (also the recording's dataset paths)::
-
-    time                         s
-    planes/<plane>/x, .../y      m       fixed-frame translation of each plane
-    rotor/angle, rotor/speed     rad, rad/s
-    weights/<weight>/<coord>     per coordinate (angle [rad], speed [rad/s], ...)
-    coordinates/<name>           structure coordinates or a book model's state
 
 Weights are named ``<kind><j>`` (``ball1``, ``pendulum2``; numbered across the
 whole scene) with their plane in :attr:`Run.weight_planes`.
@@ -27,6 +20,8 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Optional
 
 import numpy as np
+
+from stand.io.result import Result
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
@@ -39,34 +34,9 @@ WEIGHT_UNITS = {"angle": "rad", "speed": "rad/s", "relative_angle": "rad", "tilt
                 "liquid_y": "m", "surface_x": "m", "surface_y": "m"}
 
 
-class _OdeResult(dict):
-    """SciPy's result type (``scipy.optimize.OptimizeResult``, the base of ``solve_ivp``'s
-    ``OdeResult``): a dict whose keys are also attributes, printed as aligned ``key: value``
-    lines.  The same behaviour without importing scipy.optimize, which alone takes
-    longer (0.35 s) than a whole run from the precompiled kernels."""
-
-    def __getattr__(self, name):
-        try:
-            return self[name]
-        except KeyError as e:
-            raise AttributeError(name) from e
-
-    __setattr__ = dict.__setitem__
-    __delattr__ = dict.__delitem__
-
-    def __repr__(self):
-        if not self:
-            return f"{type(self).__name__}()"
-        w = max(map(len, self)) + 1
-        return "\n".join(f"{k.rjust(w)}: {v!r}" for k, v in self.items())
-
-    def __dir__(self):
-        return list(self.keys())
-
-
-class SolverStats(_OdeResult):
-    """Solver statistics shaped like SciPy's ``OdeResult`` (a dict whose keys are also
-    attributes).
+class SolverStats(Result):
+    """Solver statistics shaped like SciPy's ``OdeResult``: a :class:`stand.io.result.Result`
+    (a dict whose keys are also attributes, ``to_dict()``, ``to_frame()``, ``plot(ax=)``).
 
     Attributes
     ----------
@@ -91,6 +61,9 @@ class SolverStats(_OdeResult):
         Why the method was chosen.
     """
 
+    _title = "solver statistics"
+    _summary_keys = ("method", "status", "message", "n_steps", "nfev", "wall_time")
+
     FIELDS = dict(method="", rtol=float("nan"), atol=float("nan"), n_steps=0, n_rejected=0,
                   nfev=0, njev=0, nlu=0, wall_time=0.0, status=0, message="", success=True,
                   stiffness_ratio=0.0, method_reason="")
@@ -102,14 +75,6 @@ class SolverStats(_OdeResult):
             raise TypeError(f"SolverStats: unknown field(s) {', '.join(unknown)}; valid: "
                             f"{', '.join(self.FIELDS)}")
         super().__init__({**self.FIELDS, "method": method, "rtol": rtol, "atol": atol, **fields})
-
-    def to_dict(self) -> dict:
-        return dict(self)
-
-    def to_json(self) -> str:
-        from stand.io.jsonable import dumps
-
-        return dumps(dict(self))
 
 
 def column_unit(units: str) -> str:
@@ -132,13 +97,19 @@ def weight_names(weights) -> tuple:
     return tuple(names), tuple(planes)
 
 
-#: recording format -> ("module:writer", source) (:mod:`stand.model.registry`): :meth:`Run.write`
-WRITERS = {"hdf5": ("stand.recording.write:write_recording", "")}
+@dataclass(eq=False, repr=False)
+class Run(Result):
+    """Sampled motion of the stand, SI units (module docstring): a result
+    (:class:`stand.io.result.Result`) whose document is the run's summary.
 
-
-@dataclass(eq=False)
-class Run:
-    """Sampled motion of the stand, SI units (module docstring).
+    The arrays are attributes; the mapping (``run["final"]``, ``run.final``,
+    ``run.to_dict()``) holds the run's summary, kept up to date when a field is set:
+    ``scene_name``, ``structure``, ``samples``, ``duration_s``, ``main_plane``, ``planes``,
+    ``weight_planes``, ``solver`` (:attr:`stats`), ``final`` (the state at
+    the end: speed, whirl radius, residual unbalance, weights' angles) and ``notes``.
+    ``to_frame()`` is the samples table (also ``to_frame("samples")``); ``plot(ax=,
+    kind="time" | "orbit")``.  ``len(run)`` is the number of samples; two runs are equal
+    only when they are the same object.
 
     Attributes
     ----------
@@ -173,7 +144,7 @@ class Run:
     instruments : mapping of str -> instrument output
         What the scene's instruments output, in memory: frames rendered on demand, readings,
         truth (:class:`stand.instruments.outputs.InstrumentOutputs`); empty without
-        instruments.  :meth:`write` stores them (its ``writer``).
+        instruments.  ``stand.save(run, path)`` stores them.
     """
 
     t: np.ndarray
@@ -192,8 +163,46 @@ class Run:
     notes: tuple = ()
     instruments: Any = field(repr=False, default_factory=dict)
 
-    UNITS = {"t": "s", "x": "m", "y": "m", "rotor_angle": "rad", "rotor_speed": "rad/s",
-             "weight_angle": "rad", "weight_speed": "rad/s"}
+    _title = "run"
+    _summary_keys = ("scene_name", "samples", "duration_s", "planes", "weight_planes")
+    #: the pictures of :meth:`plot`
+    PLOT_KINDS = ("time", "orbit")
+
+    # ------------------------------------------------------------ the result's document
+    # the fields are plain attributes (not keys of the document): Result's attribute
+    # routing is for documents whose keys are the attributes
+    __hash__ = object.__hash__
+    __eq__ = object.__eq__
+    __ne__ = object.__ne__
+    __delattr__ = object.__delattr__
+
+    def __setattr__(self, name, value) -> None:
+        object.__setattr__(self, name, value)
+        if self.__dict__.get("_ready") and name in self.__dataclass_fields__:
+            self._refresh()
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "_ready", True)
+        self._refresh()
+
+    def _refresh(self) -> None:
+        dict.clear(self)
+        dict.update(self, self._document())
+
+    def _document(self) -> dict:
+        """The summary the mapping holds (class docstring)."""
+        t = np.asarray(self.t)
+        if self.main_plane not in self.planes:
+            raise ValueError(f"Run.main_plane = {self.main_plane!r}: not one of the planes "
+                             f"{', '.join(map(str, self.planes)) or '(none)'}")
+        return {"scene_name": str(getattr(self.scene, "name", "") or ""),
+                "structure": str(getattr(self.scene, "structure_type", "") or ""),
+                "samples": len(self),
+                "duration_s": float(t[-1] - t[0]) if t.size else 0.0,
+                "main_plane": self.main_plane, "planes": list(self.planes),
+                "weight_planes": dict(self.weight_planes),
+                "solver": self.stats if self.stats is not None else {},
+                "final": self._final(), "notes": list(self.notes)}
 
     # ------------------------------------------------------------ views
     @property
@@ -268,28 +277,13 @@ class Run:
                      + sum(b.body.capacity for b in self.scene.bodies
                            if b.plane == self.main_plane))
 
-    # ------------------------------------------------------------ channels
-    def channels(self) -> dict:
-        """Every channel by its recording path: ``{path: (array, units)}`` (module docstring)."""
-        ch = {"time": (self.t, "s")}
-        for p, xy in self.planes.items():
-            ch[f"planes/{p}/x"] = (xy[:, 0], "m")
-            ch[f"planes/{p}/y"] = (xy[:, 1], "m")
-        ch["rotor/angle"] = (self.rotor_angle, "rad")
-        ch["rotor/speed"] = (self.rotor_speed, "rad/s")
-        for name, coords in self.weights.items():
-            for c, a in coords.items():
-                ch[f"weights/{name}/{c}"] = (a, self.weight_units(name, c))
-        for name, (a, u) in self.coordinates.items():
-            ch[f"coordinates/{name}"] = (a, u)
-        return ch
+    def tables(self) -> list:
+        """``"samples"`` (:meth:`to_frame`) and the document's tables."""
+        return ["samples"] + super().tables()
 
-    def weight_units(self, name: str, coord: str) -> str:
-        u = getattr(self, "_weight_units", {}).get((name, coord))
-        return u or WEIGHT_UNITS.get(coord, "1")
-
-    def to_frame(self) -> "pd.DataFrame":
-        """The samples as a pandas DataFrame, one row per sample, SI units in the names.
+    def to_frame(self, table: Optional[str] = None) -> "pd.DataFrame":
+        """The samples as a pandas DataFrame, one row per sample, SI units in the names
+        (``table=None`` or ``"samples"``; another name: a table of the document).
 
         Columns: ``t_s``; ``x_m``, ``y_m`` (main plane, as ``shaft/x|y``);
         ``<plane>_x_m``, ``<plane>_y_m`` for every other plane; ``rotor_angle_rad``,
@@ -298,6 +292,8 @@ class Run:
         """
         import pandas as pd
 
+        if table not in (None, "samples"):
+            return super().to_frame(table)
         unit = column_unit
         cols = {"t_s": self.t, "x_m": self.x, "y_m": self.y}
         for p, xy in self.planes.items():
@@ -307,7 +303,7 @@ class Run:
         cols["rotor_speed_rad_s"] = self.rotor_speed
         for name, coords in self.weights.items():
             for c, a in coords.items():
-                cols[f"{name}_{c}_{unit(self.weight_units(name, c))}"] = a
+                cols[f"{name}_{c}_{unit(WEIGHT_UNITS.get(c, '1'))}"] = a
         for name, (a, u) in self.coordinates.items():
             cols[f"{name}_{unit(u)}"] = a
         return pd.DataFrame({k: np.array(v, dtype=np.float64) for k, v in cols.items()})
@@ -319,11 +315,11 @@ class Run:
         ``kind="time"``: x and y [mm] against t [s]; ``"orbit"``: y against x [mm].
         ``ax``: draw into these axes (default: a new backend-free figure).
         """
-        from stand.io.figures import figure_and_axes
+        from stand.io.result import axes_of
 
-        if kind not in ("time", "orbit"):
-            raise ValueError(f"kind = {kind!r}: one of time, orbit")
-        _, ax = figure_and_axes(ax, figsize=(7, 4) if kind == "time" else (5, 5))
+        if kind not in self.PLOT_KINDS:
+            raise ValueError(f"kind = {kind!r}: one of {', '.join(self.PLOT_KINDS)}")
+        ax = axes_of(ax, figsize=(7, 4) if kind == "time" else (5, 5))
         name = getattr(self.scene, "name", "") or "run"
         if kind == "time":
             ax.plot(self.t, self.x * 1e3, lw=0.8, label="x")
@@ -339,70 +335,57 @@ class Run:
         ax.set_title(f"{name}: plane {self.main_plane}")
         return ax
 
-    def write(self, path, *, writer=None, extra_attrs=None):
-        """Write the one HDF5 recording (atomically), :func:`stand.recording.write.write_recording`,
-        with the instruments' output (``writer``: default :attr:`instruments`' writer).
-
-        The recording layer sits above this one (its :class:`~stand.recording.hdf5.Recording`
-        is a Run), so the writer is found by name through :mod:`stand.model.registry`."""
-        from stand.model.registry import resolve
-
-        write_recording = resolve(WRITERS, "hdf5", "recording format", "writer")
-        return write_recording(self, path, writer=writer or getattr(self.instruments, "writer", None),
-                               extra_attrs=extra_attrs)
-
     def __len__(self) -> int:
         return int(np.shape(self.t)[0])
 
-    def __repr__(self) -> str:
-        name = getattr(self.scene, "name", "")
-        msg = self.stats.message if self.stats is not None else ""
-        return (f"{type(self).__name__}(scene={name!r}, samples={len(self)}, planes={list(self.planes)}, "
-                f"weights={list(self.weights)}, message={msg!r})")
-
     # ------------------------------------------------------------ summary
-    def summary(self, window: float | None = None) -> dict:
-        """Final state for reports and ``stand run --json``.
-
-        Parameters
-        ----------
-        window : float, optional
-            Averaging window at the end of the run [s]; default: the last rotor
-            revolution (or the last 5 % of the run when the rotor is at rest).
-        """
+    def _final(self) -> Optional[dict]:
+        """The state at the end (the document's ``final``; None without samples): speed,
+        the main plane's whirl radius averaged over the last rotor revolution (or the last
+        5 % of the run when the rotor is at rest), residual unbalance (planar rotor and
+        rotor family), the weights' angles from the reference mark."""
         N = len(self.t)
-        out = {"solver": dict(self.stats) if self.stats is not None else {}}
         if N == 0:
-            out["final"] = None
-            return out
-        if window is None:
-            w = abs(self.rotor_speed[-1])
-            window = 2 * np.pi / w if w > 0 and np.isfinite(w) else 0.05 * self.t[-1]
+            return None
+        w = abs(self.rotor_speed[-1])
+        window = 2 * np.pi / w if w > 0 and np.isfinite(w) else 0.05 * self.t[-1]
         sel = self.t >= self.t[-1] - window
         final = {"time_s": float(self.t[-1]),
                  "rotor_speed_rev_per_s": float(self.rotor_speed[-1] / (2 * np.pi)),
                  "main_plane": self.main_plane}
-        scene = self.scene
-        kind = getattr(scene, "kind", None)
-        if kind in ("planar", "rotor"):
+        if getattr(self.scene, "kind", None) in ("planar", "rotor"):
             S = self.capacity()
-            psi = abs(self.residual_unbalance()[-1])
+            psi = self._last_residual()
+            psi = abs(psi) if psi is not None else None
             final.update({
-                "residual_unbalance": float(psi / S) if S > 0 else None,
-                "residual_unbalance_g_mm": float(psi * 1e6),
+                "residual_unbalance": psi / S if S > 0 and psi is not None else None,
+                "residual_unbalance_g_mm": psi * 1e6 if psi is not None else None,
                 "capacity_g_mm": float(S * 1e6),
             })
-        rel = np.degrees(self.relative_angle[-1]) if self.weight_angle.shape[1] else np.zeros(0)
+        last = [w["angle"][-1] for w in self.weights.values() if "angle" in w]
+        rel = np.degrees(np.angle(np.exp(1j * (np.asarray(last, float) - self.rotor_angle[-1]))))
         final["weights_relative_angle_deg"] = [float(a) for a in rel]
-        final["whirl_radius_m"] = float(np.mean(self.whirl_radius()[sel]))
-        final["whirl_radius_last_m"] = float(self.whirl_radius()[-1])
+        r = np.hypot(self.x[sel], self.y[sel])
+        final["whirl_radius_m"] = float(np.mean(r))
+        final["whirl_radius_last_m"] = float(r[-1])
         if len(self.planes) > 1:
             final["plane_radius_m"] = {p: float(np.hypot(*xy[-1])) for p, xy in self.planes.items()}
-        out["final"] = final
-        return out
+        return final
 
+    def _last_residual(self) -> Optional[complex]:
+        """:meth:`residual_unbalance` at the last sample [kg m]; None when the run cannot say
+        (a recording whose truth or weights the scene does not match)."""
+        key = f"residual/{self.main_plane}"
+        if key in self.truth:
+            return complex(*np.asarray(self.truth[key][0])[-1, :2])
+        if self.scene.kind != "planar":
+            return None
+        from stand.model.planar import rotor_unbalance
 
-def planar_weights(names, planes, angle, speed) -> tuple:
-    """``weights`` and ``weight_planes`` dicts from (N, n) absolute angles and speeds."""
-    w = {n: {"angle": angle[:, j], "speed": speed[:, j]} for j, n in enumerate(names)}
-    return w, dict(zip(names, planes))
+        b = self.scene.balancer
+        psi = complex(rotor_unbalance(self.scene, self.t[-1:])[0])
+        a = self.weight_angle[-1] - self.rotor_angle[-1]
+        if a.size != b.count:
+            return None
+        return psi + complex(np.sum(b.mass * b.radius * np.exp(1j * a))) if b.count else psi
+

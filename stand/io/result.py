@@ -185,9 +185,15 @@ class Result(dict):
         return pd.DataFrame.from_records(node)
 
     # ---------------------------------------------------------- the picture
-    def plot(self, ax=None):
+    def plot(self, ax=None, kind: Optional[str] = None):
         """Draw the result on ``ax`` (a matplotlib Axes; default: a new backend-free figure)
-        and return the Axes."""
+        and return the Axes.
+
+        ``kind`` names the picture where a result draws more than one (``Run``: ``"time"``,
+        ``"orbit"``; docs/results.md); the others draw one picture (``kind=None``)."""
+        if kind is not None:
+            raise ValueError(f"{type(self).__name__}.plot: kind = {kind!r}: it draws one "
+                             "picture (kind=None)")
         ax = axes_of(ax, figsize=(7, 4))
         self._draw(ax)
         return ax
@@ -218,4 +224,4 @@ class Result(dict):
                        f"<td style='text-align:left'>{html.escape(v)}</td></tr>"
                        for k, v in self._summary())
         return (f"<b>{html.escape(type(self).__name__)}</b> ({html.escape(self._title)}; "
-                f"{len(self)} keys)<table>{rows}</table>")
+                f"{dict.__len__(self)} keys)<table>{rows}</table>")

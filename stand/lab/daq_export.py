@@ -111,7 +111,7 @@ def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
     """
     from stand.io.atomic import write_text
     from stand.recording.hdf5 import Recording, read_recording
-
+    from stand.recording.layout import TACHOMETER, instrument_key
     from stand.recording.probes import probe_channels
 
     rec = recording if isinstance(recording, Recording) else read_recording(recording)
@@ -139,9 +139,9 @@ def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
     if keyphasor:
         phi = np.interp(t, np.asarray(rec.t), np.unwrap(np.asarray(rec.rotor_angle)))
         cols["kp_V"] = [f"{v:.3f}".replace(".", ",") for v in _keyphasor_volts(phi, rng=rng)]
-    if tachometer and rec.shape("instruments/tachometer/speed") is not None:
-        tt = np.asarray(rec.dataset("instruments/tachometer/time"), float)
-        sp = np.asarray(rec.dataset("instruments/tachometer/speed"), float) * 60.0 / TWO_PI
+    if tachometer and rec.shape(instrument_key(TACHOMETER, "speed")) is not None:
+        tt = np.asarray(rec.dataset(instrument_key(TACHOMETER, "time")), float)
+        sp = np.asarray(rec.dataset(instrument_key(TACHOMETER, "speed")), float) * 60.0 / TWO_PI
         i = np.searchsorted(tt, t, side="right") - 1          # the display holds its last reading
         rpm = np.where(i >= 0, sp[np.clip(i, 0, None)], 0.0)
         cols["tacho_rpm"] = [f"{v:.0f}" for v in rpm]

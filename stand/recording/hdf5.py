@@ -2,8 +2,9 @@
 
 The public names of the recording modules, in one place (imports elsewhere use this module):
 
-* :mod:`.layout` -- the layout (dataset names, units, root attributes), :class:`RecordingError`;
-* :mod:`.write`  -- :func:`write_recording` (``Run.write``);
+* :mod:`.layout` -- the layout (dataset and group names, units, root attributes),
+  :class:`RecordingError`;
+* :mod:`.write`  -- :func:`write_recording` (``stand.save``), with :mod:`.write_instruments`;
 * :mod:`.read`   -- :func:`read_recording` (``stand.read``) and :class:`Recording`;
 * :mod:`.pandas_tables` -- pandas tables in HDF5 files (lab recordings);
 * :mod:`.legacy` -- files written before the one layout;
@@ -11,7 +12,6 @@ The public names of the recording modules, in one place (imports elsewhere use t
 """
 from __future__ import annotations
 
-from stand.io.atomic import check_output_path
 from stand.recording.layout import (DATASETS, FORMAT, FORMAT_VERSION, REQUIRED,  # noqa: F401
                                     RESERVED_ATTRS, RecordingError)
 from stand.recording.pandas_tables import pandas_table_key, read_pandas_table
@@ -19,5 +19,5 @@ from stand.recording.read import Recording, read_recording
 from stand.recording.write import write_recording
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "DATASETS", "Recording", "RecordingError",
-           "read_recording", "write_recording", "check_output_path", "pandas_table_key",
+           "read_recording", "write_recording", "pandas_table_key",
            "read_pandas_table"]

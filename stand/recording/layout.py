@@ -35,7 +35,9 @@ import numpy as np
 from stand.scene.model import SCENE_LANGUAGE
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "DATASETS", "REQUIRED", "RESERVED_ATTRS", "V1_WEIGHTS",
-           "RecordingError", "decode_attr", "scene_language", "SCENE_LANGUAGE"]
+           "RecordingError", "decode_attr", "scene_language", "SCENE_LANGUAGE", "INSTRUMENTS",
+           "TRUTH", "SCREEN", "STROBOSCOPE", "PHOTOGATE", "KEYPHASOR", "TACHOMETER", "PROBES",
+           "instrument_key", "truth_key", "screen_group"]
 
 FORMAT = "autobalancer-stand recording"
 FORMAT_VERSION = 2
@@ -51,6 +53,33 @@ REQUIRED = ("time", "shaft/x", "shaft/y")
 RESERVED_ATTRS = ("scene", "scene_name", "scene_language", "solver", "version", "format",
                   "format_version", "created", "structure", "main_plane", "weight_planes",
                   "run_notes")
+#: the groups of what the instruments output and of their ground truth
+INSTRUMENTS, TRUTH = "instruments", "truth"
+#: the instruments' groups (``instruments/<name>``, ``truth/<name>``); named screens
+#: ``[instruments.screen.<n>]`` are ``screen.<n>`` (:func:`screen_group`)
+SCREEN, STROBOSCOPE, PHOTOGATE = "screen", "stroboscope", "photogate"
+KEYPHASOR, TACHOMETER, PROBES = "keyphasor", "tachometer", "probes"
+
+
+def instrument_key(*parts: str) -> str:
+    """``instrument_key("probes", "signal")`` -> ``"instruments/probes/signal"``."""
+    return "/".join((INSTRUMENTS,) + parts)
+
+
+def truth_key(*parts: str) -> str:
+    """``truth_key("screen", "centre_m")`` -> ``"truth/screen/centre_m"``."""
+    return "/".join((TRUTH,) + parts)
+
+
+def screen_group(name=None) -> str:
+    """The recording group of a screen: ``None`` / ``"screen"`` -> ``instruments/screen``;
+    ``"front"`` or ``"screen.front"`` (``[instruments.screen.front]``) -> ``instruments/screen.front``."""
+    if name is None or str(name) in ("", SCREEN):
+        return instrument_key(SCREEN)
+    name = str(name)
+    return instrument_key(name if name.startswith(SCREEN + ".") else f"{SCREEN}.{name}")
+
+
 #: format_version 1 weight matrices (N, n): path -> coordinate
 V1_WEIGHTS = {"weights/angle": "angle", "weights/speed": "speed"}
 

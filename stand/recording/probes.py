@@ -8,6 +8,8 @@ import math
 
 import numpy as np
 
+from stand.recording.layout import PROBES, instrument_key
+
 __all__ = ["probe_channels", "probes_xy"]
 
 
@@ -20,19 +22,19 @@ def probe_channels(rec):
     shape = getattr(rec, "shape", None)
     if callable(shape) and getattr(rec, "path", ""):
         try:
-            if shape("instruments/probes/signal") is not None:
-                sig = np.asarray(rec.dataset("instruments/probes/signal"), float)
-                at = rec.dataset_attrs("instruments/probes")
-                return {"time": np.asarray(rec.dataset("instruments/probes/time"), float),
+            if shape(instrument_key(PROBES, "signal")) is not None:
+                sig = np.asarray(rec.dataset(instrument_key(PROBES, "signal")), float)
+                at = rec.dataset_attrs(instrument_key(PROBES))
+                return {"time": np.asarray(rec.dataset(instrument_key(PROBES, "time")), float),
                         "signal": sig.reshape(sig.shape[0], -1),
                         "angles": np.atleast_1d(np.asarray(
-                            rec.dataset("instruments/probes/angles"), float)),
+                            rec.dataset(instrument_key(PROBES, "angles")), float)),
                         "plane": at.get("plane"), "runout_1x_m": _runout_1x(at.get("settings"))}
         except (OSError, ValueError):
             return None
     ins = getattr(rec, "instruments", None)
     try:
-        out = ins["probes"] if ins is not None and "probes" in ins else None
+        out = ins[PROBES] if ins is not None and PROBES in ins else None
     except (KeyError, TypeError):
         out = None
     if out is None:
@@ -73,7 +75,7 @@ def probes_xy(signal, angles, notes=None):
     sv = np.linalg.svd(A, compute_uv=False) if a.size >= 2 else np.zeros(1)
     if a.size < 2 or sv[-1] < 1e-3 * sv[0] or signal.shape[1] != a.size:
         if notes is not None:
-            notes.append(f"instruments/probes at {np.degrees(a).round(3).tolist()} deg: "
+            notes.append(f"{instrument_key(PROBES)} at {np.degrees(a).round(3).tolist()} deg: "
                          "the directions do not span the plane (x and y cannot be solved); "
                          "the simulator's shaft state (shaft/x, shaft/y) is analysed instead, "
                          "noise-free: its ± are numerical only")

@@ -18,8 +18,9 @@ import h5py
 import numpy as np
 
 from stand.integrate.result import Run, SolverStats
-from stand.recording.layout import (DATASETS, FORMAT, FORMAT_VERSION, REQUIRED, V1_WEIGHTS,
-                                    RecordingError, decode_attr, scene_language)
+from stand.recording.layout import (DATASETS, FORMAT, FORMAT_VERSION, INSTRUMENTS, REQUIRED,
+                                    SCREEN, V1_WEIGHTS, RecordingError, decode_attr,
+                                    scene_language, truth_key)
 from stand.recording.legacy import legacy_layout
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -81,11 +82,6 @@ class Recording(Run):
         name = self.attrs.get("scene_name", "")
         return (f"Recording({self.path!r}, scene_name={name!r}, samples={len(self)}, "
                 f"planes={list(self.planes)}, weights={self.n_weights})")
-
-    def has(self, key: str) -> bool:
-        """True when the file holds a dataset ``key`` (e.g. ``"instruments/screen/frames"``)."""
-        with h5py.File(self.path, "r") as f:
-            return isinstance(f.get(key), h5py.Dataset)
 
     def dataset(self, key: str, index=()) -> np.ndarray:
         """Read dataset ``key`` (or ``index`` of it, e.g. one frame) from the file, on demand.
@@ -170,10 +166,10 @@ def named_screens(path: Union[str, os.PathLike]) -> list:
     a file that is not a readable HDF5 file."""
     try:
         with h5py.File(path, "r") as f:
-            g = f.get("instruments")
+            g = f.get(INSTRUMENTS)
             if g is None:
                 return []
-            return [k.split(".", 1)[1] for k in g if k.startswith("screen.")
+            return [k.split(".", 1)[1] for k in g if k.startswith(SCREEN + ".")
                     and "axial_position_m" in g[k].attrs]
     except (OSError, ValueError):
         return []
@@ -314,7 +310,7 @@ def _read_open(f: "h5py.File", label: str) -> Recording:
             notes.append(f"{key}: not in the file; filled with NaN")
     weights, wplanes = _read_weights(f, attrs, label, N, rotor["rotor_angle"], main, notes, units)
     coords, truth = {}, {}
-    for group, target in (("coordinates", coords), ("truth/residual", truth)):
+    for group, target in (("coordinates", coords), (truth_key("residual"), truth)):
         g = f.get(group)
         if isinstance(g, h5py.Group):
             g.visititems(lambda name, obj: target.__setitem__(

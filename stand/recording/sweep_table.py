@@ -1,10 +1,11 @@
-"""The second HDF5 layout the stand writes: a sweep's final table (``stand sweep ... -o R.h5``).
+"""The second HDF5 layout of stand/recording: a sweep's final table (``stand sweep ... -o R.h5``).
 
 One dataset per column under ``/results`` (the column order as JSON in its ``columns``
 attribute; strings as variable-length UTF-8; pandas' nullable ``boolean`` / ``Int64`` as
 float64 with NaN for missing, their dtype in the dataset's ``dtype`` attribute), the sweep's
-strings (name, fingerprint, ...) as file attributes.  Written atomically
-(:func:`stand.io.atomic.atomic_path`).  Recordings of one run are :mod:`.write` / :mod:`.read`.
+strings (name, fingerprint, ...) as file attributes.  Written atomically by the one HDF5
+writer (:func:`stand.recording.write.open_for_writing`).  Recordings of one run are
+:mod:`.write` / :mod:`.read`.
 """
 from __future__ import annotations
 
@@ -16,8 +17,8 @@ import h5py
 import numpy as np
 import pandas as pd
 
-from stand.io.atomic import atomic_path
 from stand.io.jsonable import dumps
+from stand.recording.write import open_for_writing
 
 __all__ = ["write_sweep_table", "read_sweep_table"]
 
@@ -35,22 +36,21 @@ def write_sweep_table(df: pd.DataFrame, path: Union[str, Path], attrs: dict) -> 
     attrs : dict
         Strings stored as HDF5 file attributes (sweep name, fingerprint, ...).
     """
-    with atomic_path(Path(path)) as tmp:
-        with h5py.File(tmp, "w") as f:
-            g = f.create_group("results")
-            for k, v in attrs.items():
-                f.attrs[k] = v
-            g.attrs["columns"] = dumps(list(df.columns))
-            for c in df.columns:
-                col = df[c]
-                if col.dtype == "string" or col.dtype == object:
-                    g.create_dataset(c, data=np.array(col.fillna("").astype(str), dtype=object),
-                                     dtype=h5py.string_dtype())
-                elif str(col.dtype) in _NULLABLE:
-                    g.create_dataset(c, data=col.astype("float64").to_numpy(na_value=np.nan))
-                    g[c].attrs["dtype"] = str(col.dtype)
-                else:
-                    g.create_dataset(c, data=col.to_numpy())
+    with open_for_writing(Path(path), df.memory_usage(deep=True).sum()) as f:
+        g = f.create_group("results")
+        for k, v in attrs.items():
+            f.attrs[k] = v
+        g.attrs["columns"] = dumps(list(df.columns))
+        for c in df.columns:
+            col = df[c]
+            if col.dtype == "string" or col.dtype == object:
+                g.create_dataset(c, data=np.array(col.fillna("").astype(str), dtype=object),
+                                 dtype=h5py.string_dtype())
+            elif str(col.dtype) in _NULLABLE:
+                g.create_dataset(c, data=col.astype("float64").to_numpy(na_value=np.nan))
+                g[c].attrs["dtype"] = str(col.dtype)
+            else:
+                g.create_dataset(c, data=col.to_numpy())
 
 
 def read_sweep_table(path: Union[str, Path]) -> pd.DataFrame:

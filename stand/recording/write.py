@@ -1,7 +1,8 @@
 """Writing a recording: one run into the one HDF5 layout (:mod:`.layout`), atomically.
 
-Takes any object with the fields of :class:`stand.integrate.result.Run` (it does not import
-it: ``Run.write`` calls this module).
+The one HDF5 writer of a run (``stand.save``): the core datasets here, what the instruments
+output (``run.instruments``) through :mod:`.write_instruments`.  Takes any object with the
+fields of :class:`stand.integrate.result.Run`.
 """
 from __future__ import annotations
 
@@ -9,18 +10,20 @@ import datetime as _dt
 import io
 import json
 import os
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Any, Callable, Mapping, Optional, Union
+from typing import Any, Mapping, Optional, Union
 
 import h5py
 import numpy as np
 
 from stand.io.atomic import atomic_path, check_output_path
+from stand.integrate.result import WEIGHT_UNITS
 from stand.io.jsonable import to_jsonable
 from stand.recording.layout import (DATASETS, FORMAT, FORMAT_VERSION, RESERVED_ATTRS,
-                                    SCENE_LANGUAGE, scene_language)
+                                    SCENE_LANGUAGE, scene_language, truth_key)
 
-__all__ = ["write_recording", "check_output_path"]
+__all__ = ["write_recording", "open_for_writing"]
 
 #: arrays with more samples than this are stored chunked and gzip-compressed
 COMPRESS_ABOVE = 1000
@@ -29,6 +32,23 @@ GZIP_LEVEL = 4
 CHUNK_BYTES = 256 * 1024
 #: recordings up to this size are assembled in memory, then written in one piece [bytes]
 IN_MEMORY_BYTES = 256 * 1024 * 1024
+
+
+@contextmanager
+def open_for_writing(path: Path, estimate: float = 0.0):
+    """The one place the stand opens an HDF5 file for writing: an ``h5py.File`` to fill, which
+    becomes ``path`` atomically (:func:`stand.io.atomic.atomic_path`) when the block ends
+    without an exception.  Up to :data:`IN_MEMORY_BYTES` (``estimate`` [bytes]) the file is
+    assembled in memory and written with one plain write: a full disk or a file-size limit is
+    then a clean OSError, not a failure inside the HDF5 library; larger files (long videos)
+    are streamed to the temporary file."""
+    with atomic_path(path, suffix=".h5.tmp") as tmp:
+        target = io.BytesIO() if estimate <= IN_MEMORY_BYTES else tmp
+        with h5py.File(target, "w") as f:
+            yield f
+        if target is not tmp:
+            with open(tmp, "wb") as fh:
+                fh.write(target.getbuffer())
 
 
 def _attr_value(key: str, value: Any) -> Any:
@@ -67,6 +87,20 @@ def _describe(key: str) -> str:
 
 
 
+def _channels(run: Any) -> dict:
+    """Every channel of a run by its dataset path (the layout, :mod:`.layout`):
+    ``{path: (array, units)}``, the truth arrays included."""
+    ch = {key: (getattr(run, field), units) for key, (field, units, _) in DATASETS.items()
+          if not key.startswith("shaft/")}      # shaft/x|y: links to the main plane
+    for p, xy in run.planes.items():
+        ch[f"planes/{p}/x"], ch[f"planes/{p}/y"] = (xy[:, 0], "m"), (xy[:, 1], "m")
+    for name, coords in run.weights.items():
+        ch.update({f"weights/{name}/{c}": (a, WEIGHT_UNITS.get(c, "1")) for c, a in coords.items()})
+    ch.update({f"coordinates/{name}": v for name, v in run.coordinates.items()})
+    ch.update({truth_key(k): v for k, v in run.truth.items()})
+    return ch
+
+
 def _check_arrays(run: Any) -> dict:
     """``{path: (float64 array, units)}`` for every channel and truth array, shapes checked."""
     t = np.asarray(run.t, dtype=np.float64)
@@ -74,22 +108,17 @@ def _check_arrays(run: Any) -> dict:
         raise ValueError(f"run.t: shape {t.shape}, expected (N,)")
     N = t.shape[0]
     data = {}
-    for key, (a, units) in {**run.channels(),
-                            **{f"truth/{k}": v for k, v in run.truth.items()}}.items():
+    for key, (a, units) in _channels(run).items():
         a = np.asarray(a, dtype=np.float64)
         if a.ndim == 0 or a.shape[0] != N:
             raise ValueError(f"run channel {key!r}: shape {a.shape}, expected ({N}, ...) "
                              f"(one row per sample of run.t)")
         data[key] = (a, str(units))
-    if run.main_plane not in run.planes:
-        raise ValueError(f"run.main_plane = {run.main_plane!r}: not one of the planes "
-                         f"{', '.join(run.planes)}")
-    return data
+    return data   # (a Run checks its main_plane is one of its planes)
 
 
 def write_recording(run: Any, path: Union[str, os.PathLike], *,
-                    extra_attrs: Optional[Mapping[str, Any]] = None,
-                    writer: Optional[Callable[["h5py.File"], None]] = None) -> Path:
+                    extra_attrs: Optional[Mapping[str, Any]] = None) -> Path:
     """Write one run to an HDF5 file, atomically (:func:`stand.io.atomic.atomic_path`).
 
     If anything fails, the temporary file is removed, the exception propagates,
@@ -98,13 +127,12 @@ def write_recording(run: Any, path: Union[str, os.PathLike], *,
     Parameters
     ----------
     run : stand.integrate.result.Run
-        Any scene's run (or a :class:`Recording`).
+        Any scene's run (or a :class:`Recording`).  What its instruments output
+        (``run.instruments``, :class:`stand.instruments.outputs.InstrumentOutputs`) is
+        stored after the core datasets, frames rendered one at a time
+        (:mod:`.write_instruments`); a failure there discards the whole file.
     path : str or os.PathLike
         Target file (conventionally ``*.h5``).  Its directory must exist.
-    writer : callable, optional
-        ``writer(h5file)`` is called with the open temporary file after the
-        core datasets are written (the instruments stream their frames, truth
-        and settings through it); a failure there discards the whole file.
     extra_attrs : mapping, optional
         Additional root attributes (str, numbers, arrays; mappings are stored
         as JSON text).  The reserved names (:data:`RESERVED_ATTRS`) cannot be
@@ -151,31 +179,26 @@ def write_recording(run: Any, path: Union[str, os.PathLike], *,
         "weight_planes": json.dumps(run.weight_planes),
         "solver": json.dumps(to_jsonable(dict(stats or {}))),
     }
-    estimate = sum(a.nbytes for a, _ in data.values()) + getattr(writer, "estimated_bytes",
-                                                                 0 if writer is None else np.inf)
-    with atomic_path(path, suffix=".h5.tmp") as tmp:
-        # up to IN_MEMORY_BYTES the file is assembled in memory and then written with one plain
-        # write: a full disk or a file-size limit is then a clean OSError, not a failure inside
-        # the HDF5 library; larger files (long videos) are streamed to the temporary file
-        target = io.BytesIO() if estimate <= IN_MEMORY_BYTES else tmp
-        with h5py.File(target, "w") as f:
-            for key, value in {**root, **extra}.items():
-                f.attrs[key] = value
-            for key, (a, units) in data.items():
-                ds = f.create_dataset(key, data=a, dtype=np.float64, **_storage_options(a))
-                ds.attrs["units"] = units
-                ds.attrs["description"] = _describe(key)
-            for axis in ("x", "y"):
-                f[f"shaft/{axis}"] = h5py.SoftLink(f"/planes/{run.main_plane}/{axis}")
-            f.require_group("weights")
-            time = f["time"]
-            time.make_scale("time")
-            for key in data:
-                if key != "time":
-                    f[key].dims[0].attach_scale(time)
-            if writer is not None:
-                writer(f)  # instruments: frames streamed in, truth, settings
-        if target is not tmp:
-            with open(tmp, "wb") as fh:
-                fh.write(target.getbuffer())
+    from stand.instruments.outputs import InstrumentOutputs
+    from stand.recording.write_instruments import estimated_bytes, write_outputs
+
+    outputs = getattr(run, "instruments", None)
+    estimate = sum(a.nbytes for a, _ in data.values()) + estimated_bytes(outputs)
+    with open_for_writing(path, estimate) as f:
+        for key, value in {**root, **extra}.items():
+            f.attrs[key] = value
+        for key, (a, units) in data.items():
+            ds = f.create_dataset(key, data=a, dtype=np.float64, **_storage_options(a))
+            ds.attrs["units"] = units
+            ds.attrs["description"] = _describe(key)
+        for axis in ("x", "y"):
+            f[f"shaft/{axis}"] = h5py.SoftLink(f"/planes/{run.main_plane}/{axis}")
+        f.require_group("weights")
+        time = f["time"]
+        time.make_scale("time")
+        for key in data:
+            if key != "time":
+                f[key].dims[0].attach_scale(time)
+        if isinstance(outputs, InstrumentOutputs):
+            write_outputs(f, outputs)  # instruments: frames streamed in, truth, settings
     return path

@@ -232,7 +232,7 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
         path = getattr(recording_path, "path", recording_path)
         if not isinstance(path, (str, Path)) or not path:
             raise ValueError("tracks: two-plane balancing reads the screens' positions from a "
-                             "recording file; write the run first (run.write(path))")
+                             "recording file; write the run first (stand.save(run, path))")
         doc["two_plane"] = two_plane_section(path, tracks, grade, service_speed_rpm, warn)
         sections = sections[:-2] + ("two_plane",) + sections[-2:]
         extra["two_plane"] = TWO_PLANE_SCHEMA

@@ -180,7 +180,7 @@ def write_screen_video(recording, output, *, screen: Optional[str] = None,
 
     from stand.io.atomic import atomic_path, write_text
     from stand.recording.hdf5 import read_recording
-    from stand.analysis.tracking import screen_group
+    from stand.recording.layout import INSTRUMENTS, TRUTH, screen_group, truth_key
 
     paths = sidecar_paths(output)
     suffix = paths["video"].suffix.lower()
@@ -214,7 +214,7 @@ def write_screen_video(recording, output, *, screen: Optional[str] = None,
             _encode_ffv1(frames, tmp, fps)
     written = {"video": str(paths["video"])}
     # what the lab knows of its rings and camera
-    tname = group.replace("instruments/", "truth/", 1)
+    tname = group.replace(INSTRUMENTS, TRUTH, 1)
     exposure = float(settings.get("exposure", 0.0))
     meta = {"source": Path(str(recording)).name, "screen": group.split("/", 1)[1],
             "frame_rate_hz": repr(fps), "exposure_s": repr(exposure),
@@ -224,8 +224,8 @@ def write_screen_video(recording, output, *, screen: Optional[str] = None,
         radii = np.asarray(rec.dataset(f"{group}/ring_radius"), float)
         rings = dict(meta)
         rings["ring_radii_m"] = ",".join(repr(float(r)) for r in radii)
-        if rec.shape("truth/capacity") is not None:
-            rings["capacity_gmm"] = repr(float(rec.dataset("truth/capacity")) * 1e6)
+        if rec.shape(truth_key("capacity")) is not None:
+            rings["capacity_gmm"] = repr(float(rec.dataset(truth_key("capacity"))) * 1e6)
         test = rec.dataset_attrs(group).get("ring_test_speed_rad_s")
         if test is not None:
             rings["ring_test_speed_rad_s"] = repr(float(test))
