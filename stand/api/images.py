@@ -5,9 +5,9 @@ from __future__ import annotations
 __all__ = ["snapshot", "write_track", "spot_fit_compiles", "video"]
 
 #: the instrument a snapshot is of -> (its dataset in the recording, its scene table)
-_IMAGES = {"screen": ("instruments/screen/frames", "screen"),
-           "strobe": ("instruments/stroboscope/frames", "stroboscope"),
-           "rings": ("instruments/screen/calibration_image", "screen")}
+_IMAGES = {"screen": (("screen", "frames"), "screen"),
+           "strobe": (("stroboscope", "frames"), "stroboscope"),
+           "rings": (("screen", "calibration_image"), "screen")}
 
 
 def snapshot(recording, output, *, instrument: str = "screen", frame: int = 0) -> dict:
@@ -44,8 +44,10 @@ def snapshot(recording, output, *, instrument: str = "screen", frame: int = 0) -
     from stand.api import read
     from stand.errors import NotApplicable
     from stand.io.atomic import atomic_path
+    from stand.recording.layout import instrument_key, truth_key
 
-    name, table = _IMAGES[instrument]
+    parts, table = _IMAGES[instrument]
+    name = instrument_key(*parts)
     rec = read(recording)
     shape = rec.shape(name)
     if shape is None:
@@ -66,8 +68,9 @@ def snapshot(recording, output, *, instrument: str = "screen", frame: int = 0) -
         img = rec.dataset(name)
     if instrument == "screen":
         inside = None       # the simulator's truth: the spot's path within the image
-        if len(shape) == 3 and rec.shape("truth/screen/in_frame") is not None:
-            inside = bool(rec.dataset("truth/screen/in_frame", frame % shape[0]))
+        in_frame = truth_key("screen", "in_frame")
+        if len(shape) == 3 and rec.shape(in_frame) is not None:
+            inside = bool(rec.dataset(in_frame, frame % shape[0]))
         doc["warnings"] += _spot_warnings(img, frame, doc["time_s"], inside)
     with atomic_path(output, suffix=".png") as tmp:
         if not cv2.imwrite(tmp, img):
