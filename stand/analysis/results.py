@@ -39,6 +39,18 @@ class Analysis(Result):
     _summary_keys = ("recording", "speed_hz", "natural_frequency_hz", "damping_ratio",
                     "unbalance_gmm", "regime")
 
+    def __init__(self, doc, channels=None):
+        super().__init__(doc)
+        self._channels = channels
+
+    @property
+    def channels(self):
+        """The arrays analysed (:func:`stand.analysis.sources.read_source`: ``t`` [s], ``x``,
+        ``y`` [m or the channel's SI unit], ``phi`` [rad], ``weights`` [rad], ``scene``,
+        ``rec_scene``, ``rings``, ...; None for a Bode table): what a report draws, not part
+        of the document."""
+        return self._channels
+
     def _draw(self, ax) -> None:
         bode = (self.get("runup") or {}).get("bode")
         if bode:

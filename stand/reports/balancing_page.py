@@ -18,7 +18,7 @@ import html
 from typing import Mapping
 
 from stand.io.labels import label
-from stand.io.numbers import plain
+from stand.io.numbers import plain, with_uncertainty
 from stand.reports.tables import details as _details
 from stand.reports.tables import figure as _figure
 from stand.reports.tables import list_table as _list_table
@@ -90,10 +90,31 @@ def verdict(doc: Mapping) -> dict:
 
 QUALITY_KEYS = ("residual_unbalance_gmm", "residual_unbalance_angle_deg", "specific_unbalance_um",
                 "uncertainty_statement",
-                "residual_zone_label", "initial_unbalance_gmm", "initial_unbalance_source",
+                "unbalance_method", "residual_zone_label", "initial_unbalance_gmm",
+                "initial_unbalance_source",
                 "residual_speed_hz", "response_1x_m", "truth_residual_unbalance_gmm")
 ISO_KEYS = ("grade_mm_s", "service_speed_rpm", "permissible_residual_gmm",
             "permissible_specific_unbalance_um", "achieved_grade_mm_s", "achieved_class", "passed")
+
+
+def vibration_rows(bq: Mapping) -> list:
+    """The 1X as the sensors measure it (their unit and amplitude convention) and as ISO 20816
+    vibration velocity, rounded to the 1X's relative uncertainty; the displacement is the
+    ``response_1x_m`` row."""
+    v = bq.get("vibration_1x") or {}
+    a, sa = bq.get("response_1x_m"), bq.get("response_1x_m_std")
+    rel = sa / a if a and sa is not None else None
+    out = []
+    if v.get("unit") and v.get("quantity") != "displacement" and v.get("value") is not None:
+        val = v["value"]
+        text = (with_uncertainty(val, val * rel, v["unit"]) if rel is not None
+                else plain(val, v["unit"]))
+        out.append((f"1X {v['quantity']} as the sensors measure it ({v.get('convention')})", text))
+    if v.get("velocity_rms_mm_s") is not None:
+        w = v["velocity_rms_mm_s"]
+        out.append((label("velocity_rms_mm_s"), with_uncertainty(w, w * rel, "mm/s")
+                    if rel is not None else plain(w, "mm/s")))
+    return out
 
 
 def _critical_speeds(rows: list) -> str:
@@ -139,6 +160,7 @@ def page_body(doc: Mapping, figures: Mapping | None = None) -> str:
                                               ("quality", "Balancing quality")
                                               if single_plane_applies(doc) else
                                               ("two_plane", "Two-plane balancing"),
+                                              ("analysis", "Identification"),
                                               ("dynamics", "Dynamics"), ("warnings", "Warnings and notes"),
                                               ("details", "All fields"))) + "</nav>"]
     main = [(c, u) for c, u in figures.items() if any(c.startswith(m) for m in _MAIN_FIGS)]
@@ -149,7 +171,7 @@ def page_body(doc: Mapping, figures: Mapping | None = None) -> str:
     iso = bq.get("iso_21940_11") or {}
     if single_plane_applies(doc):
         parts.append("<h2 id='quality'>Balancing quality</h2>")
-        parts.append(_table(_rows(bq, QUALITY_KEYS)))
+        parts.append(_table(_rows(bq, QUALITY_KEYS) + vibration_rows(bq)))
         parts.append("<h3>ISO 21940-11</h3>" + _table(_rows(iso, ISO_KEYS)))
     red = bq.get("reduction") or {}
     if red.get("applicable"):
@@ -173,16 +195,16 @@ def page_body(doc: Mapping, figures: Mapping | None = None) -> str:
                                     "permissible_gmm", "passed", "passed_with_uncertainty"])
                      + _details("Screens and method", _nested({k: v for k, v in two.items()
                                                                if k != "planes"})))
-    lab = doc.get("lab_identification")
-    if lab:
-        parts.append("<h2 id='lab'>Identification from the lab record</h2>" + _table(_rows(lab, (
-            "speed_source", "critical_speed_hz", "critical_speed_method", "natural_frequency_hz",
-            "damping_ratio", "unbalance_gmm", "unbalance_angle_deg", "specific_unbalance_gmm_per_kg",
-            "unbalance_method", "mass_kg", "uncertainty_statement"))))
-        if lab.get("excluded_rows"):
-            parts.append("<h3>Rows left out of the analysis</h3>" + _list_table(lab["excluded_rows"]))
-        parts.append(_details("Input table, programme, resonance and model fit", _nested(
-            {k: lab[k] for k in ("input", "programme", "resonance", "model_fit") if lab.get(k)})))
+    a = doc.get("analysis") or {}
+    parts.append("<h2 id='analysis'>Identification (stand analyze)</h2>" + _table(_rows(a, (
+        "speed_source", "speed_hz", "critical_speed_hz", "critical_speed_method",
+        "natural_frequency_hz", "damping_ratio", "unbalance_gmm", "unbalance_angle_deg",
+        "specific_unbalance_gmm_per_kg", "unbalance_method"))))
+    if a.get("modes"):
+        parts.append("<h3>Resonances fitted in the table</h3>" + _list_table(a["modes"]))
+    excluded = (a.get("input") or {}).get("excluded")
+    if excluded:
+        parts.append("<h3>Rows left out of the analysis</h3>" + _list_table(excluded))
     dyn = doc.get("dynamics") or {}
     parts.append("<h2 id='dynamics'>Dynamics</h2>")
     nf = dyn.get("natural_frequency") or {}
@@ -213,7 +235,7 @@ def page_body(doc: Mapping, figures: Mapping | None = None) -> str:
 def pdf_tables(doc: Mapping) -> list:
     """``[(section title, [(label, text), ...]), ...]`` for :func:`stand.reports.pdf.write_pdf`."""
     bq = doc.get("balancing_quality") or {}
-    out = [("Balancing quality", _rows(bq, QUALITY_KEYS)),
+    out = [("Balancing quality", _rows(bq, QUALITY_KEYS) + vibration_rows(bq)),
            ("ISO 21940-11", _rows(bq.get("iso_21940_11") or {}, ISO_KEYS))] \
         if single_plane_applies(doc) else []
     for row in (doc.get("two_plane") or {}).get("planes", []):
