@@ -114,10 +114,11 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
     def warn(code, message, severity="warning"):
         warnings.append({"code": code, "severity": severity, "message": message})
 
-    header = _header(a, scene, recording_path)
-    if header["service_speed_rpm"] is None and not a.get("iso_grade"):
-        notes.append("no rotation in the recording and no service speed given: the ISO grade "
-                     "and the seeds' criteria are not evaluated")
+    header = _header(a, scene, recording_path, recording_map)
+    if not a.get("iso_grade"):
+        notes.append("ISO 21940-11 grade and the seeds' criteria not evaluated: they need the "
+                     "identified unbalance, the rotor mass and the service speed (given, the "
+                     "map's [rotor] service_speed, or the record's final speed)")
     bq = _quality(a, scene, grade, header, warn)
     dyn = _dynamics(a, scene, notes)
     _scene_warnings(a, scene, bq, dyn, warn)
@@ -196,7 +197,7 @@ def _capacity(scene) -> float:
             if scene is not None else 0.0)
 
 
-def _header(a, scene, source) -> dict:
+def _header(a, scene, source, recording_map=None) -> dict:
     """The machine (scene or map) and the record: sizes, speeds [Hz, rpm]."""
     ch = a.channels or {}
     t = ch.get("t")
@@ -206,10 +207,8 @@ def _header(a, scene, source) -> dict:
     if bode:
         speeds = [abs(f) for f in bode["speed_hz"]]
     iso = a.get("iso_grade") or {}
-    rmap = getattr(ch.get("table"), "recording_map", None)
-    mass = getattr(rmap, "mass_kg", None) if rmap is not None else None
-    if mass is None and bode:
-        mass = ((a.get("input") or {}).get("mass_kg"))
+    rmap = getattr(ch.get("table"), "recording_map", None) or recording_map
+    mass = getattr(rmap, "mass_kg", None)
     name = (getattr(scene, "name", None) or getattr(ch.get("rec_scene"), "name", None)
             or Path(source_name(source)).stem)
     S = _capacity(scene)
@@ -361,16 +360,17 @@ def _dynamics(a, scene, notes) -> dict:
                       "speed_hz": a["critical_speed_hz"],
                       "speed_hz_std": a.get("critical_speed_hz_std"),
                       "event": a.get("critical_speed_method")})
-    ths = np.array([r["speed_hz"] for r in theory])
     for c in a.get("critical_speeds_hz") or []:
-        k = int(np.argmin(np.abs(ths - c["speed_hz"]))) if ths.size else None
         found.append({"source": "recording (weights gain/lose synchrony)",
                       "speed_hz": c["speed_hz"], "speed_hz_std": c.get("speed_hz_std"),
                       "event": f"{REGIME_NAMES.get(c['before'], c['before'])} -> "
                                f"{REGIME_NAMES.get(c['after'], c['after'])} at t = "
-                               f"{c.get('time_s', float('nan')):.4g} s",
-                      "nearest_theory_hz": None if k is None else float(ths[k]),
-                      "difference_hz": None if k is None else c["speed_hz"] - float(ths[k])})
+                               f"{c['time_s']:.4g} s"})
+    ths = np.array([r["speed_hz"] for r in theory])
+    for r in found:
+        k = int(np.argmin(np.abs(ths - r["speed_hz"]))) if ths.size else None
+        r["nearest_theory_hz"] = None if k is None else float(ths[k])
+        r["difference_hz"] = None if k is None else r["speed_hz"] - float(ths[k])
     segs = []
     for w in a.get("regime_timeline") or []:
         nm = REGIME_NAMES.get(w["regime"], w["regime"])

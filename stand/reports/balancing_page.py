@@ -99,21 +99,18 @@ ISO_KEYS = ("grade_mm_s", "service_speed_rpm", "permissible_residual_gmm",
 
 def vibration_rows(bq: Mapping) -> list:
     """The 1X as the sensors measure it (their unit and amplitude convention) and as ISO 20816
-    vibration velocity, rounded to the 1X's relative uncertainty; the displacement is the
+    vibration velocity (``vibration_1x`` of the analysis); the displacement is the
     ``response_1x_m`` row."""
     v = bq.get("vibration_1x") or {}
-    a, sa = bq.get("response_1x_m"), bq.get("response_1x_m_std")
-    rel = sa / a if a and sa is not None else None
     out = []
     if v.get("unit") and v.get("quantity") != "displacement" and v.get("value") is not None:
-        val = v["value"]
-        text = (with_uncertainty(val, val * rel, v["unit"]) if rel is not None
-                else plain(val, v["unit"]))
-        out.append((f"1X {v['quantity']} as the sensors measure it ({v.get('convention')})", text))
+        std = v.get("value_std")
+        out.append((f"1X {v['quantity']} as the sensors measure it ({v.get('convention')})",
+                    plain(v["value"], v["unit"]) if std is None
+                    else with_uncertainty(v["value"], std, v["unit"])))
     if v.get("velocity_rms_mm_s") is not None:
-        w = v["velocity_rms_mm_s"]
-        out.append((label("velocity_rms_mm_s"), with_uncertainty(w, w * rel, "mm/s")
-                    if rel is not None else plain(w, "mm/s")))
+        out.append((label("velocity_rms_mm_s"), show("velocity_rms_mm_s", v["velocity_rms_mm_s"],
+                                                      v.get("velocity_rms_mm_s_std"))))
     return out
 
 
