@@ -180,6 +180,8 @@ def from_run(rec):
                 angle=angle, speed_how="the recording's rotor angle" if phi is not None
                 else "no rotor angle", table=None, rec_scene=rscene, mass_kg=mass,
                 probes=pr if xy is not None else None, truth=_truth(rec), rings=_rings(rec),
+                scene_name=str((getattr(rec, "attrs", None) or {}).get("scene_name")
+                               or getattr(rscene, "name", "") or ""),
                 solver=dict(getattr(rec, "solver", None) or getattr(rec, "stats", None) or {}))
 
 

@@ -106,7 +106,10 @@ def balancing_report(recording_path, *, grade=6.3, service_speed_rpm=None, html_
     sc = ch.get("rec_scene")
     scene = sc if getattr(sc, "kind", None) == "planar" else None
     notes = list(a["notes"])
-    if sc is not None and scene is None:
+    if sc is None:
+        notes.append("no scene in the recording: the masses, the balancer's capacity, the ring "
+                     "zones and the reduction factor are not available")
+    elif scene is None:
         notes.append(f"the recorded scene's structure is {sc.structure_type}: the model-based "
                      "parts (chapter-5 planar rotor) are skipped")
     warnings: list = []
@@ -209,7 +212,7 @@ def _header(a, scene, source, recording_map=None) -> dict:
     iso = a.get("iso_grade") or {}
     rmap = getattr(ch.get("table"), "recording_map", None) or recording_map
     mass = getattr(rmap, "mass_kg", None)
-    name = (getattr(scene, "name", None) or getattr(ch.get("rec_scene"), "name", None)
+    name = (ch.get("scene_name") or getattr(ch.get("rec_scene"), "name", None)
             or Path(source_name(source)).stem)
     S = _capacity(scene)
     n = None if t is None else int(t.size)
