@@ -236,9 +236,11 @@ def _steady_1x(d, out, speed, rotating):
     i0 = steady_start(t, speed) if speed is not None else 0
     if tab is not None and out["programme"] and out["programme"]["stretches"] \
             and getattr(d.get("angle"), "source", None) != "angle":
-        last = out["programme"]["stretches"][-1]      # a lab speed wobbles: the programme's stretch
-        if last["kind"] == "constant":
-            i0 = int(np.searchsorted(t, last["t_start_s"]))
+        # a lab speed wobbles: the programme's last constant stretch, also when a short tail
+        # after it (at most a tenth of the record: a keyphasor spline's end) reads as a ramp
+        const = [s for s in out["programme"]["stretches"] if s["kind"] == "constant"]
+        if const and t[-1] - const[-1]["t_end_s"] <= 0.1 * (t[-1] - t[0]):
+            i0 = int(np.searchsorted(t, const[-1]["t_start_s"]))
     sl, out["stationary_stretch"] = stationary_stretch(t, x + 1j * y, speed, i0)
     sc1 = None
     if rotating and (phi is not None or d["kp"] is not None):

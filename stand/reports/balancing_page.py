@@ -224,6 +224,8 @@ def page_body(doc: Mapping, figures: Mapping | None = None) -> str:
         parts.append(_details("More figures", "".join(_figure(c, u) for c, u in rest), open_=True))
     parts.append("<h2 id='details'>All fields</h2>")
     for k, v in doc.items():
+        if k == "analysis":           # the file's name, as the header gives it, not its path
+            v = {**v, "recording": (doc.get("report") or {}).get("recording")}
         if isinstance(v, Mapping):
             parts.append(_details(label(k), _nested(v)))
     return "\n".join(parts)
