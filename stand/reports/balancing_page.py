@@ -97,6 +97,12 @@ ISO_KEYS = ("grade_mm_s", "service_speed_rpm", "permissible_residual_gmm",
             "permissible_specific_unbalance_um", "achieved_grade_mm_s", "achieved_class", "passed")
 
 
+def _given(rows: list) -> list:
+    """The summary rows that hold a value (what was not obtained is under All fields and in
+    the notes, not a column of dashes)."""
+    return [r for r in rows if r[1] != "—"]
+
+
 def vibration_rows(bq: Mapping) -> list:
     """The 1X as the sensors measure it (their unit and amplitude convention) and as ISO 20816
     vibration velocity (``vibration_1x`` of the analysis); the displacement is the
@@ -168,8 +174,8 @@ def page_body(doc: Mapping, figures: Mapping | None = None) -> str:
     iso = bq.get("iso_21940_11") or {}
     if single_plane_applies(doc):
         parts.append("<h2 id='quality'>Balancing quality</h2>")
-        parts.append(_table(_rows(bq, QUALITY_KEYS) + vibration_rows(bq)))
-        parts.append("<h3>ISO 21940-11</h3>" + _table(_rows(iso, ISO_KEYS)))
+        parts.append(_table(_given(_rows(bq, QUALITY_KEYS)) + vibration_rows(bq)))
+        parts.append("<h3>ISO 21940-11</h3>" + _table(_given(_rows(iso, ISO_KEYS))))
     red = bq.get("reduction") or {}
     if red.get("applicable"):
         f, lb = red.get("factor"), red.get("factor_lower_bound")
@@ -193,10 +199,10 @@ def page_body(doc: Mapping, figures: Mapping | None = None) -> str:
                      + _details("Screens and method", _nested({k: v for k, v in two.items()
                                                                if k != "planes"})))
     a = doc.get("analysis") or {}
-    parts.append("<h2 id='analysis'>Identification (stand analyze)</h2>" + _table(_rows(a, (
-        "speed_source", "speed_hz", "critical_speed_hz", "critical_speed_method",
-        "natural_frequency_hz", "damping_ratio", "unbalance_gmm", "unbalance_angle_deg",
-        "specific_unbalance_gmm_per_kg", "unbalance_method"))))
+    parts.append("<h2 id='analysis'>Identification (stand analyze)</h2>"
+                 "<p>Every identified number of this report is stand analyze's; its whole "
+                 "document is under All fields.</p>" + _table(_given(_rows(a, (
+                     "speed_source", "natural_frequency_method", "critical_speed_method")))))
     if a.get("modes"):
         parts.append("<h3>Resonances fitted in the table</h3>" + _list_table(a["modes"]))
     excluded = (a.get("input") or {}).get("excluded")
@@ -205,7 +211,8 @@ def page_body(doc: Mapping, figures: Mapping | None = None) -> str:
     dyn = doc.get("dynamics") or {}
     parts.append("<h2 id='dynamics'>Dynamics</h2>")
     nf = dyn.get("natural_frequency") or {}
-    parts.append(_table(_rows(nf) + [(label("final_regime"), show("final_regime", dyn.get("final_regime")))]))
+    parts.append(_table(_given(_rows(nf) + [(label("final_regime"),
+                                             show("final_regime", dyn.get("final_regime")))])))
     if dyn.get("critical_speeds"):
         parts.append(_critical_speeds(dyn["critical_speeds"]))
     if dyn.get("regime_timeline"):
