@@ -187,8 +187,9 @@ def from_run(rec):
 
 def _truth(rec):
     """``(t [s], residual unbalance [kg m], complex)`` of a simulated planar run with weights
-    (the recording's ``truth/residual_unbalance``, else :meth:`Run.residual_unbalance`), or
-    None: what the identified residual is checked against."""
+    and instruments (the recording's ``truth/residual_unbalance``; in memory
+    :meth:`Run.residual_unbalance`, as its recording would hold), or None: what the
+    identified residual is checked against."""
     t = np.asarray(rec.t)
     if hasattr(rec, "shape"):                       # a Recording: the stored truth
         shape = rec.shape("truth/residual_unbalance")
@@ -197,6 +198,8 @@ def _truth(rec):
             return t, tr[:, 0] + 1j * tr[:, 1]
         return None
     scene = rec.scene
+    if not getattr(rec, "instruments", None):  # as its recording: truth with the instruments
+        return None
     if getattr(scene, "kind", None) != "planar" or not getattr(scene.balancer, "count", 0):
         return None
     try:
