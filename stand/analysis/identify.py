@@ -23,8 +23,14 @@ critical speed and the model fit (:mod:`stand.analysis.runup`).
 4. run-up / run-down: Bode data, critical speed, model fit (:func:`_sweep`);
 5. the 1X response and the unbalance over the final constant-speed stretch
    (:func:`_steady_1x`, :mod:`stand.analysis.unbalance`);
+   with the reduction balancer off / on and the simulator's truth over the same stretch
+   (:func:`stand.analysis.unbalance.reduction`, :func:`_truth`);
 6. the quasi-periodic decomposition of the orbit (:func:`_components`);
-7. the regime over windows and its critical speeds (:func:`_regime`).
+7. the regime over windows and its critical speeds (:func:`_regime`);
+8. the settling after each event of a planar scene (:func:`stand.analysis.signals.settling`).
+
+The balancing report (:mod:`stand.reports.balancing`) presents this result; it identifies
+nothing of its own.
 
 Two-plane balancing from two screens is :func:`stand.analysis.two_plane.two_plane`.
 """
