@@ -191,7 +191,7 @@ def test_partial_analysis_states_the_excluded_rows(tmp_path, case):
     code, _, err = run("report", p, "--json-file", tmp_path / "r.json", "-o", tmp_path / "r.html")
     assert code == 0, err
     rep = json.loads((tmp_path / "r.json").read_text())
-    assert any(reason in e["reason"] for e in rep["lab_identification"]["excluded_rows"])
+    assert any(reason in e["reason"] for e in rep["analysis"]["input"]["excluded"])
     assert html.escape(reason.split(":")[0]) in (tmp_path / "r.html").read_text()
 
 
@@ -212,9 +212,9 @@ def test_read_table_is_the_one_reader():
     import inspect
 
     from stand.analysis import identify, sources
-    from stand.reports import balancing_input
+    from stand.reports import balancing
 
-    for mod in (identify, sources, balancing_input):
+    for mod in (identify, sources, balancing):
         assert "read_csv" not in inspect.getsource(mod)
     with pytest.raises(TableError):
         read_table(__file__)

@@ -244,16 +244,19 @@ def test_report_of_a_run_with_instruments_reads_them_in_memory(tmp_path):
     written = stand.report(stand.read(stand.save(run, tmp_path / "cams.h5")))
     assert dict(flatten_numbers(ring)) == pytest.approx(
         dict(flatten_numbers(written.balancing_quality["ring_reading"])), rel=1e-12)
-    # the report's input read from run.instruments equals the one read back from the file
-    from stand.reports.balancing_input import read_input
+    # the analysis' channels read from run.instruments equal the ones read back from the file
+    from stand.analysis.sources import from_run
+    from stand.recording.hdf5 import read_recording
+    from stand.reports.balancing_figures import _last_frames
 
-    mem, disk = read_input(run), read_input(tmp_path / "cams.h5")
-    assert sorted(mem["inst"]) == sorted(disk["inst"]) == [
-        "ring_radius", "ring_test_speed_rad_s", "screen_frame", "screen_settings", "strobe_frame"]
-    for key, value in disk["inst"].items():
-        assert np.array_equal(mem["inst"][key], value) if isinstance(value, np.ndarray) \
-            else mem["inst"][key] == value, key
-    assert np.array_equal(mem["truth"]["residual_unbalance"], disk["truth"]["residual_unbalance"])
+    mem, disk = from_run(run), from_run(read_recording(tmp_path / "cams.h5"))
+    assert sorted(mem["rings"]) == sorted(disk["rings"])
+    for key, value in disk["rings"].items():
+        assert np.array_equal(mem["rings"][key], value), key
+    fm, fd = _last_frames(run), _last_frames(tmp_path / "cams.h5")
+    assert [c for c, _ in fm] == [c for c, _ in fd] and len(fm) == 2
+    assert all(np.array_equal(a, b) for (_, a), (_, b) in zip(fm, fd))
+    assert np.allclose(mem["truth"][1], disk["truth"][1], rtol=1e-12, atol=1e-18)
 
 
 def _short_run():

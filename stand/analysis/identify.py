@@ -23,8 +23,14 @@ critical speed and the model fit (:mod:`stand.analysis.runup`).
 4. run-up / run-down: Bode data, critical speed, model fit (:func:`_sweep`);
 5. the 1X response and the unbalance over the final constant-speed stretch
    (:func:`_steady_1x`, :mod:`stand.analysis.unbalance`);
+   with the reduction balancer off / on and the simulator's truth over the same stretch
+   (:func:`stand.analysis.unbalance.reduction`, :func:`_truth`);
 6. the quasi-periodic decomposition of the orbit (:func:`_components`);
-7. the regime over windows and its critical speeds (:func:`_regime`).
+7. the regime over windows and its critical speeds (:func:`_regime`);
+8. the settling after each event of a planar scene (:func:`stand.analysis.signals.settling`).
+
+The balancing report (:mod:`stand.reports.balancing`) presents this result; it identifies
+nothing of its own.
 
 Two-plane balancing from two screens is :func:`stand.analysis.two_plane.two_plane`.
 """
@@ -38,7 +44,8 @@ from dsp.errors import SignalError
 
 from stand.analysis.sources import no_weights as _no_weights, read_source, whirls
 from stand.analysis.two_plane import two_plane
-from stand.analysis.unbalance import line_1x, unbalance
+from stand.analysis.signals import settling
+from stand.analysis.unbalance import line_1x, reduction, unbalance
 from stand.analysis.vibration import VIBRATION, vibration_in_users_quantity
 
 __all__ = ["analyze", "two_plane"]
@@ -101,14 +108,30 @@ def analyze(path, grade: float = 6.3, service_speed_rpm: float | None = None,
     if rotating:
         unbalance(out, d["scene"], sc1, d, rmap, getattr(rmap, "mass_kg", None) or d.get("mass_kg"),
                   grade, service_speed_rpm, notes)
+    if rotating:
+        reduction(out, d)
+    _truth(d, out)
     _components(d, out, sl, rotating)
     _regime(d, out, speed)
+    out["settling"] = settling(d.get("rec_scene"), d["t"], d["x"], d["y"], notes)
     for key, value in list(out.items()):  # e.g. samples near 1e308 overflow inside dsp
         if isinstance(value, float) and not math.isfinite(value):
             out[key] = None
             notes.append(f"{key}: not finite ({value}); the input values are out of "
                          "floating-point range for this identification")
-    return Analysis(out)
+    return Analysis(out, channels=d)
+
+
+def _truth(d, out) -> None:
+    """``truth_unbalance_gmm``: a simulated run's true residual unbalance (rotor and
+    weights), the complex mean over the stationary stretch the 1X was taken over."""
+    tr, st = d.get("truth"), out.get("stationary_stretch")
+    if tr is None or not st:
+        return
+    t, psi = tr
+    w = (t >= st["t_start_s"] - 1e-9) & (t <= st["t_end_s"] + 1e-9)
+    if w.any():
+        out["truth_unbalance_gmm"] = float(abs(np.mean(psi[w]))) * 1e6
 
 
 def _speed(d, out):
@@ -219,9 +242,11 @@ def _steady_1x(d, out, speed, rotating):
     i0 = steady_start(t, speed) if speed is not None else 0
     if tab is not None and out["programme"] and out["programme"]["stretches"] \
             and getattr(d.get("angle"), "source", None) != "angle":
-        last = out["programme"]["stretches"][-1]      # a lab speed wobbles: the programme's stretch
-        if last["kind"] == "constant":
-            i0 = int(np.searchsorted(t, last["t_start_s"]))
+        # a lab speed wobbles: the programme's last constant stretch, also when a short tail
+        # after it (at most a tenth of the record: a keyphasor spline's end) reads as a ramp
+        const = [s for s in out["programme"]["stretches"] if s["kind"] == "constant"]
+        if const and t[-1] - const[-1]["t_end_s"] <= 0.1 * (t[-1] - t[0]):
+            i0 = int(np.searchsorted(t, const[-1]["t_start_s"]))
     sl, out["stationary_stretch"] = stationary_stretch(t, x + 1j * y, speed, i0)
     sc1 = None
     if rotating and (phi is not None or d["kp"] is not None):
@@ -391,7 +416,7 @@ def _regime(d, out, speed) -> None:
         out["regime_timeline"] = [{"t_start_s": w.t_start, "t_end_s": w.t_end, "regime": w.regime,
                                    "speed_hz": w.rotor_speed_rad_s / TWO_PI} for w in wins]
         out["critical_speeds_hz"] = [{"speed_hz": c.speed_hz, "speed_hz_std": c.speed_hz_uncertainty,
-                                      "before": c.before, "after": c.after}
+                                      "before": c.before, "after": c.after, "time_s": c.time_s}
                                      for c in rg.critical_speeds(wins)]
     except SignalError as exc:
         notes.append(f"regime: {exc}")

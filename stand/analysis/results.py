@@ -25,8 +25,10 @@ class Analysis(Result):
     ``response_1x_m``, ``unbalance_gmm`` (``_std``), ``unbalance_angle_deg``,
     ``iso_grade``, ``programme``, ``runup`` (``bode``, ``resonance``, ``model_fit``),
     ``critical_speed_hz``, ``components`` (quasi-periodic lines), ``precession_hz``,
-    ``nutation_hz``, ``regime``, ``critical_speeds_hz``, ``notes``; and
-    ``regime_timeline`` (held, left out of the JSON as the CLI does).
+    ``nutation_hz``, ``regime``, ``critical_speeds_hz``, ``settling``, ``vibration_1x``,
+    ``ring_reading``, ``initial_unbalance_gmm`` and ``reduction`` (simulated planar runs),
+    ``truth_unbalance_gmm``, ``notes``; and ``regime_timeline`` (held, left out of the JSON
+    as the CLI does).  :attr:`channels` holds the arrays analysed (what a report draws).
 
     Tables for :meth:`to_frame`: ``"components"``, ``"regime_timeline"``,
     ``"critical_speeds_hz"``, ``"runup.bode"``, ``"programme.stretches"``.
@@ -38,6 +40,18 @@ class Analysis(Result):
     _json_exclude = ("regime_timeline",)
     _summary_keys = ("recording", "speed_hz", "natural_frequency_hz", "damping_ratio",
                     "unbalance_gmm", "regime")
+
+    def __init__(self, doc, channels=None):
+        super().__init__(doc)
+        self._channels = channels
+
+    @property
+    def channels(self):
+        """The arrays analysed (:func:`stand.analysis.sources.read_source`: ``t`` [s], ``x``,
+        ``y`` [m or the channel's SI unit], ``phi`` [rad], ``weights`` [rad], ``scene``,
+        ``rec_scene``, ``rings``, ...; None for a Bode table): what a report draws, not part
+        of the document."""
+        return self._channels
 
     def _draw(self, ax) -> None:
         bode = (self.get("runup") or {}).get("bode")

@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-__all__ = ["steady_start", "forward_start", "per_revolution", "plane_free_decay",
+__all__ = ["settling", "steady_start", "forward_start", "per_revolution", "plane_free_decay",
            "stationary_stretch"]
 
 TWO_PI = 2.0 * math.pi
@@ -181,3 +181,68 @@ def stationary_stretch(t, z, speed=None, start: int = 0, parts: int = 4):
     sl = slice(i0, n)
     return sl, {"t_start_s": float(t[i0]), "t_end_s": float(t[-1]),
                 "duration_s": float(t[-1] - t[i0]), "samples": int(n - i0), "rule": rule}
+
+
+def _events(scene, t_end):
+    """``(time [s], what)`` of the scene's events before ``t_end`` [s], in time order."""
+    ev = []
+    dr = scene.drive
+    if dr.kind == "speed" and dr.programme.shape[0] > 1 and dr.coast_down_start is None:
+        te = float(dr.programme[-1, 0])
+        if te < t_end:
+            ev.append((te, "end of the speed programme (constant speed reached)"))
+    for p in scene.perturbations:
+        if p.kind == "unbalance":
+            te = p.start + p.duration
+            ev.append((te, f"unbalance change to e = {p.eccentricity:.4g} m"
+                       + (" (end of the ramp)" if p.duration > 0 else "")))
+        elif p.kind == "impulse":
+            ev.append((p.start, "blow to the housing (impulse)"))
+        elif p.kind == "side_force":
+            ev.append((p.start, "side force applied"))
+            if p.end is not None and math.isfinite(p.end) and p.end < t_end:
+                ev.append((p.end, "side force removed"))
+    return sorted((e for e in ev if e[0] < t_end), key=lambda e: e[0])
+
+
+def settling(scene, t, x, y, notes) -> list:
+    """Settling after each event of a planar scene (``settling`` of the analysis; [] without
+    a planar scene).
+
+    The whirl envelope (largest whirl radius [m] over one natural period)
+    settles when it enters and stays within 5 % of its largest deviation from
+    its final value; times in s (``settling_time_s`` from the event).
+    """
+    from scipy.ndimage import maximum_filter1d
+
+    if getattr(scene, "kind", None) != "planar" or not scene.natural_frequency > 0:
+        return []
+    r = np.hypot(x, y)
+    T0 = TWO_PI / scene.natural_frequency
+    fs = (t.size - 1) / (t[-1] - t[0])
+    rms = maximum_filter1d(r, size=max(1, int(round(T0 * fs))), mode="nearest")
+    ev = _events(scene, float(t[-1]))
+    rows = []
+    for k, (te, what) in enumerate(ev):
+        tn = ev[k + 1][0] if k + 1 < len(ev) else float(t[-1])
+        sel = (t >= te) & (t <= tn)
+        if np.count_nonzero(sel) < 8 or tn - te < 2 * T0:
+            rows.append({"event": what, "time_s": te, "settled": False, "settling_time_s": None,
+                         "final_whirl_m": None, "tolerance_m": None})
+            continue
+        ts, rs = t[sel], rms[sel]
+        ref = ts >= tn - max(0.1 * (tn - te), T0)
+        rf = float(np.mean(rs[ref]))
+        tol = 0.05 * float(np.max(np.abs(rs - rf)))
+        out = np.nonzero(np.abs(rs - rf) > tol)[0]
+        t_set = float(ts[out[-1] + 1]) if out.size and out[-1] + 1 < ts.size else \
+            (float(ts[0]) if not out.size else None)
+        settled = t_set is not None and t_set < float(ts[ref][0])
+        rows.append({"event": what, "time_s": te, "settled": bool(settled),
+                     "settling_time_s": (t_set - te) if settled else None,
+                     "final_whirl_m": rf, "tolerance_m": tol})
+    if rows:
+        notes.append("settling time: the whirl envelope (largest whirl radius over one natural period) enters and stays in a "
+                     "band of 5 % of its largest deviation from its final value (mean over the "
+                     "last 10 % before the next event)")
+    return rows

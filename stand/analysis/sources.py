@@ -179,7 +179,66 @@ def from_run(rec):
     return dict(t=t, x=x, y=y, phi=phi, kp=None, weights=w, scene=scene, notes=notes,
                 angle=angle, speed_how="the recording's rotor angle" if phi is not None
                 else "no rotor angle", table=None, rec_scene=rscene, mass_kg=mass,
-                probes=pr if xy is not None else None)
+                probes=pr if xy is not None else None, truth=_truth(rec), rings=_rings(rec),
+                scene_name=str((getattr(rec, "attrs", None) or {}).get("scene_name")
+                               or getattr(rscene, "name", "") or ""),
+                solver=dict(getattr(rec, "solver", None) or getattr(rec, "stats", None) or {}))
+
+
+def _truth(rec):
+    """``(t [s], residual unbalance [kg m], complex)`` of a simulated planar run with weights
+    and instruments (the recording's ``truth/residual_unbalance``; in memory
+    :meth:`Run.residual_unbalance`, as its recording would hold), or None: what the
+    identified residual is checked against."""
+    t = np.asarray(rec.t)
+    if hasattr(rec, "shape"):                       # a Recording: the stored truth
+        shape = rec.shape("truth/residual_unbalance")
+        if shape is not None and len(shape) == 2 and shape[0] == t.size:
+            tr = np.asarray(rec.dataset("truth/residual_unbalance"), float)
+            return t, tr[:, 0] + 1j * tr[:, 1]
+        return None
+    scene = rec.scene
+    if not getattr(rec, "instruments", None):  # as its recording: truth with the instruments
+        return None
+    if getattr(scene, "kind", None) != "planar" or not getattr(scene.balancer, "count", 0):
+        return None
+    try:
+        psi = np.asarray(rec.residual_unbalance())
+    except (AttributeError, ValueError, IndexError):
+        return None
+    return (t, psi) if psi.shape == t.shape else None
+
+
+def _rings(rec):
+    """The screen's calibration rings of a recording or a run in memory: ``{"radius_m",
+    "gain", "offset_m", "test_speed_rad_s"}`` (the screen's optical gain and offset, the
+    speed the rings were drawn for), or None."""
+    import json
+
+    if hasattr(rec, "shape"):
+        if rec.shape("instruments/screen/ring_radius") is None:
+            return None
+        radius = np.asarray(rec.dataset("instruments/screen/ring_radius"), float)
+        attrs = rec.dataset_attrs("instruments/screen")
+        try:
+            st = json.loads(attrs.get("settings", "{}"))
+        except (TypeError, ValueError):
+            st = {}
+        ts = attrs.get("ring_test_speed_rad_s", None)
+    else:
+        outputs = getattr(rec, "instruments", None)
+        if not outputs or "screen" not in outputs or outputs["screen"].rings is None:
+            return None
+        from stand.instruments.pipeline import settings_dict
+
+        screen = outputs["screen"]
+        cam = screen.settings
+        radius = np.asarray(screen.rings["radius"], float)
+        st = settings_dict(cam.to_attrs() if hasattr(cam, "to_attrs") else cam)
+        ts = screen.rings["test_speed"]
+    return {"radius_m": radius, "gain": float(st.get("gain", 1.0)),
+            "offset_m": (float(st.get("offset_x", 0.0)), float(st.get("offset_y", 0.0))),
+            "test_speed_rad_s": None if ts is None else float(ts)}
 
 
 def no_weights(scene) -> bool:

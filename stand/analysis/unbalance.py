@@ -12,7 +12,7 @@ import numpy as np
 
 from dsp.errors import SignalError
 
-__all__ = ["line_1x", "unbalance", "iso_grade", "ring_reading"]
+__all__ = ["line_1x", "unbalance", "iso_grade", "ring_reading", "reduction"]
 
 TWO_PI = 2 * math.pi
 
@@ -65,6 +65,7 @@ def unbalance(out, scene, sc1, d, rmap, mass, grade, service_speed_rpm, notes) -
                    unbalance_angle_deg_std=math.degrees(_turn_std(est, sc1)))
         iso_grade(out, est.unbalance_gmm, est.unbalance_std_gmm, scene.rotor.mass,
                   sc1.speed_rad_s, grade, service_speed_rpm)
+        ring_reading(out, d)
         return
     if fit is not None:
         e, se, ang = fit["specific_unbalance_m"], fit["specific_unbalance_m_std"], \
@@ -129,7 +130,8 @@ def iso_grade(out, U_gmm, sU_gmm, mass, w_meas, grade, service_speed_rpm, per_kg
     out["iso_grade"] = {"grade_mm_s": g.grade_mm_s, "grade_mm_s_std": g.grade_std_mm_s,
                         "class": g.label, "target_mm_s": grade, "passed": g.passed,
                         "permissible_gmm": None if per_kg else getattr(g, "permissible_gmm", None),
-                        "service_speed_rpm": w_service * 60 / TWO_PI}
+                        "service_speed_rpm": w_service * 60 / TWO_PI,
+                        "mass_kg": None if per_kg else float(mass)}
 
 
 def ring_reading(out, d):
@@ -138,8 +140,10 @@ def ring_reading(out, d):
     from dsp.unbalance import unbalance_from_rings
 
     tab = d.get("table")
-    if tab is None or out.get("response_1x_m") is None:
+    if out.get("response_1x_m") is None:
         return None
+    if tab is None:
+        return _recorded_rings(out, d)
     meta = tab.metadata
     try:
         radii = [float(v) for v in str(meta["ring_radii_m"]).split(",")]
@@ -175,3 +179,70 @@ def ring_reading(out, d):
                                     "interpolated between the rings)")
     return rd
 
+
+
+def _recorded_rings(out, d):
+    """A recording's screen rings (``d["rings"]``, :func:`stand.analysis.sources.from_run`)
+    against the spot circle gain |1X| (the scene's capacity S: zone i -> i S/16)."""
+    from dsp.unbalance import unbalance_from_rings
+
+    rings, scene = d.get("rings"), d.get("rec_scene")
+    S = _capacity(scene)
+    if rings is None or not S > 0:
+        return None
+    gain, a, sa = rings["gain"], out["response_1x_m"], out.get("response_1x_m_std")
+    s_r = gain * sa if sa is not None and math.isfinite(sa) else None
+    try:
+        rd = unbalance_from_rings(gain * a, rings["radius_m"], S, radius_std_m=s_r or 0.0)
+    except (SignalError, ValueError) as exc:
+        out["notes"].append(f"ring reading: {exc}")
+        return None
+    ts = rings["test_speed_rad_s"]
+    out["ring_reading"] = {"circle_radius_mm": gain * a * 1e3,
+                           "circle_radius_mm_std": None if s_r is None else s_r * 1e3,
+                           "zone": rd.zone, "unbalance_gmm": rd.unbalance_gmm,
+                           "unbalance_gmm_std": rd.unbalance_std_gmm,
+                           "interpolated_gmm": rd.interpolated_kg_m * 1e6,
+                           "interpolated_gmm_std": (None if s_r is None
+                                                    else rd.interpolated_std_kg_m * 1e6),
+                           "off_scale": rd.off_scale,
+                           "ring_test_speed_hz": None if not ts else ts / TWO_PI}
+    w = (out.get("speed_hz") or 0.0) * TWO_PI
+    if ts and abs(ts - w) > 1e-3 * ts:
+        out["notes"].append("the calibration rings were drawn for another speed than the final "
+                            "one: the ring reading is not an unbalance reading")
+    return rd
+
+
+def _capacity(scene) -> float:
+    """The balancer's capacity S [kg m] of a planar scene (weights and bodies), 0 without."""
+    if getattr(scene, "kind", None) != "planar":
+        return 0.0
+    return float(scene.balancer.capacity + sum(b.body.capacity for b in scene.bodies))
+
+
+def reduction(out, d) -> None:
+    """``initial_unbalance_gmm`` (the scene's own rotor unbalance M e at the start: balancer
+    off) and ``reduction`` (balancer off / on: factor with its std and its lower bound at
+    2 sigma, percent, dB) of a simulated planar run whose residual was identified."""
+    from dsp import unbalance as ub
+
+    scene, t = d.get("rec_scene"), d["t"]
+    if getattr(scene, "kind", None) != "planar":
+        return
+    from stand.model.planar import rotor_unbalance
+
+    U0 = float(abs(rotor_unbalance(scene, np.array([t[0]]))[0]))
+    out["initial_unbalance_gmm"] = U0 * 1e6
+    U, sU = out.get("unbalance_gmm"), out.get("unbalance_gmm_std") or 0.0
+    if U is None or not scene.balancer.count or not U0:
+        return
+    U, sU = U * 1e-6, sU * 1e-6
+    r = ub.reduction_factor(U0, U, 0.0, sU)
+    out["reduction"] = {
+        "factor": r.factor if math.isfinite(r.factor) else None,
+        # first order holds while the residual is well above its std; below 3 sigma the
+        # factor is unbounded above: its lower bound says it
+        "factor_std": r.factor_std if math.isfinite(r.factor_std) and 3 * sU <= U else None,
+        "factor_lower_bound": U0 / (U + 2 * sU) if (U + 2 * sU) > 0 else None,
+        "percent": r.percent, "decibel": r.decibel if math.isfinite(r.decibel) else None}

@@ -36,8 +36,12 @@ def vibration_in_users_quantity(d, out) -> None:
     if out.get("response_1x_m_std") is not None:
         out["response_1x_m_std"] = out["response_1x_m_std"] / w ** k
     tab = d.get("table")
+    sa = out.get("response_1x_m_std")
+    rel = sa / disp if sa is not None and disp else None      # the 1X's relative std
+    v_rms = w * disp / math.sqrt(2.0) * 1e3
     doc = {"quantity": {"length": "displacement"}.get(q, q), "displacement_peak_m": disp,
-           "velocity_rms_mm_s": w * disp / math.sqrt(2.0) * 1e3,
+           "displacement_peak_m_std": sa, "velocity_rms_mm_s": v_rms,
+           "velocity_rms_mm_s_std": None if rel is None else v_rms * rel,
            "velocity_rms_note": "ISO 20816: RMS of the 1X vibration velocity w |z1x| / sqrt 2"}
     if tab is not None and "x" in tab.columns:
         spec = tab.columns["x"]
@@ -48,7 +52,8 @@ def vibration_in_users_quantity(d, out) -> None:
             scale = None
         if scale:
             peak = a / scale
+            value = peak / AMPLITUDE[conv] if conv else peak
             doc.update(unit=spec.unit, peak=peak, pk_pk=2 * peak, rms=peak / math.sqrt(2.0),
-                       value=peak / AMPLITUDE[conv] if conv else peak,
+                       value=value, value_std=None if rel is None else value * rel,
                        convention=conv or "pk")
     out["vibration_1x"] = doc

@@ -155,7 +155,8 @@ def report(source, *, html_path=None, json_path=None, grade: float = 6.3,
            columns: Optional[str] = None, pdf_path=None, tracks=None):
     """Balancing-quality report (:func:`stand.reports.balancing.balancing_report`) of a Run,
     a Recording or a path (``recording_map`` / ``columns`` for lab tables, as
-    :func:`analyze`).
+    :func:`analyze`): a view of :func:`analyze`'s result, whose document it embeds unchanged
+    as ``analysis`` -- every input ``analyze`` takes, ``report`` takes.
 
     A Run or a Recording is read where it is (nothing is written but what is asked for);
     ``html_path`` / ``json_path`` / ``pdf_path`` are written when given.  ``grade`` is the

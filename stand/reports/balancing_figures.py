@@ -1,5 +1,6 @@
-"""Figures of the balancing report (matplotlib's object API, no backend chosen), drawn only
-from the recording's data."""
+"""Figures of the balancing report (matplotlib's object API, no backend chosen), drawn from
+the analysis (:class:`stand.analysis.results.Analysis`: its Bode data) and the channels it
+analysed; the cameras' last frames from the recording."""
 from __future__ import annotations
 
 import math
@@ -7,109 +8,78 @@ import math
 import numpy as np
 
 from stand.reports.html import figure_png
-from stand.analysis.signals import per_revolution
 
 __all__ = ["figures", "polar_figures"]
 
 TWO_PI = 2.0 * math.pi
+#: the unit a channel of each quantity is drawn in: (name, SI factor to it)
+_UNITS = {"length": ("mm", 1e3), "velocity": ("mm/s", 1e3), "acceleration": ("m/s²", 1.0)}
 
 
-def figures(rec) -> dict:
-    """The report's figures, from the recording's data only.
+def figures(a, source=None) -> dict:
+    """The report's figures.
 
     Parameters
     ----------
-    rec : Record
-        The recording (:func:`stand.reports.balancing_input.load_record`).
+    a : stand.analysis.results.Analysis
+        The analysis (its ``channels``: times [s], x, y, rotor and weight angles [rad]).
+    source : path, Recording or Run, optional
+        Where the cameras' last frames are read from.
 
     Returns
     -------
     dict
-        ``{caption: PNG data URI}``: orbit (mm), 1X amplitude (mm) and phase
-        (deg) against speed (rev/s) when the speed varies, spectrogram (Hz),
-        weights' angles (deg), last camera frames.
+        ``{caption: PNG data URI}``: orbit (the channel's unit), 1X amplitude and phase
+        (deg) against speed (rev/s) and the polar plot of the 1X vectors when the speed
+        varies (or the Bode table's), spectrogram (Hz), weights' angles (deg), last camera
+        frames.
     """
     from matplotlib.figure import Figure
 
-    d, t, x, y, phi, speed, rotating = rec.data, rec.t, rec.x, rec.y, rec.phi, rec.speed, rec.rotating
-    i_st = rec.steady
+    ch = a.channels or {}
     figs = {}
-    inst = d["inst"]
-    # orbit / laser trace
-    fig = Figure(figsize=(9, 4.2))
-    axs = fig.subplots(1, 2)
-    if "ring_radius" in inst:
-        st = inst.get("screen_settings", {})
-        g = float(st.get("gain", 1.0))
-        ox, oy = float(st.get("offset_x", 0.0)), float(st.get("offset_y", 0.0))
-        X, Y, unit, sc = g * x + ox, g * y + oy, "screen, mm", 1e3
-    else:
-        X, Y, unit, sc = x, y, "shaft, mm", 1e3
-    sel = slice(i_st, None) if rotating and t.size - i_st > 8 else slice(int(0.7 * t.size), None)
-    for ax, s_, title in ((axs[0], slice(None), "whole record"),
-                          (axs[1], sel, "final stretch")):
-        ax.plot(X[s_] * sc, Y[s_] * sc, lw=0.6)
-        if "ring_radius" in inst:
-            th = np.linspace(0, TWO_PI, 200)
-            for rr in inst["ring_radius"]:
-                if rr > 0:
-                    ax.plot(rr * sc * np.cos(th), rr * sc * np.sin(th), color="0.75", lw=0.5)
-            if title == "final stretch":
-                lim = max(float(np.max(np.hypot(X[s_], Y[s_]))) * sc * 1.2,
-                          float(inst["ring_radius"][min(2, inst["ring_radius"].size - 1)]) * sc)
-                ax.set_xlim(-lim, lim)
-                ax.set_ylim(-lim, lim)
-        ax.set_aspect("equal", adjustable="box")
-        ax.set_xlabel(f"X ({unit})")
-        ax.set_ylabel(f"Y ({unit})")
-        ax.set_title(title)
-    figs["orbit / laser trace (rings: zones i S/16 when recorded)"] = figure_png(fig)
-
-    # 1X amplitude / phase vs speed for varying speed
-    if rotating:
-        try:
-            pr = per_revolution(t, x, y, phi)
-        except Exception:  # noqa: BLE001
-            pr = None
-        if pr is not None and np.ptp(pr[1]) > 0.05 * np.max(pr[1]):
-            tm, wr, vec = pr
-            phase = d.get("phase_referenced", True)    # no mark: a phase means nothing
-            fig = Figure(figsize=(8, 5 if phase else 3))
-            axs_b = fig.subplots(2 if phase else 1, 1, sharex=True, squeeze=False)[:, 0]
-            axs_b[0].semilogy(wr / TWO_PI, np.maximum(np.abs(vec), 1e-30) * 1e3, ".", ms=2)
-            axs_b[0].set_ylabel("1X amplitude (mm)")
-            if phase:
-                axs_b[1].plot(wr / TWO_PI, np.degrees(np.angle(vec)), ".", ms=2)
-                axs_b[1].set_ylabel("1X phase (deg)")
-            axs_b[-1].set_xlabel("rotor speed (rev/s)")
-            figs["1X amplitude and phase vs speed (one point per revolution)" if phase else
-                 "1X amplitude vs speed (one point per revolution; no reference mark: no phase)"] \
-                = figure_png(fig)
-
-    # spectrogram of the complex orbit
-    from scipy import signal as sg
-
-    fs = (t.size - 1) / (t[-1] - t[0])
-    nper = int(min(max(16, 2 ** round(math.log2(max(fs, 1.0)))), max(16, t.size // 4)))
-    nper = min(nper, t.size)
-    if t.size >= 16:
-        f, tt, Sxx = sg.spectrogram(x + 1j * y, fs=fs, nperseg=nper, noverlap=nper // 2,
-                                    return_onesided=False, detrend=False)
-        f = np.fft.fftshift(f)
-        Sxx = np.fft.fftshift(Sxx, axes=0)
-        fig = Figure(figsize=(8, 4))
-        ax = fig.subplots()
-        ax.pcolormesh(tt + t[0], f, 10 * np.log10(Sxx + 1e-30 + Sxx.max() * 1e-12),
-                      shading="auto", cmap="viridis")
-        if rotating:
-            ax.plot(t, speed / TWO_PI, "w--", lw=0.7)
-        ax.set_xlabel("time (s)")
-        ax.set_ylabel("frequency (Hz, + forward whirl)")
-        figs["spectrogram of the orbit x + i y (dashed: rotor speed)"] = figure_png(fig)
-
-    # weights' relative angles
-    rel = d.get("rel")
-    if rel is not None and rel.size:
+    q = ch.get("quantity", "length")
+    unit, sc = _UNITS.get(q, ("SI", 1.0))
+    t, x, y = ch.get("t"), ch.get("x"), ch.get("y")
+    if t is not None and t.size >= 2:
+        rings = ch.get("rings")
+        st = a.get("stationary_stretch") or {}
+        fig = Figure(figsize=(9, 4.2))
+        axs = fig.subplots(1, 2)
+        if rings is not None:
+            g, (ox, oy) = rings["gain"], rings["offset_m"]
+            X, Y, where = g * x + ox, g * y + oy, "screen"
+        else:
+            X, Y, where = x, y, "shaft" if q == "length" else q
+        tail = t >= st["t_start_s"] if st else t >= t[0] + 0.7 * (t[-1] - t[0])
+        for ax, sel, title in ((axs[0], slice(None), "whole record"),
+                               (axs[1], tail, "stationary stretch")):
+            ax.plot(X[sel] * sc, Y[sel] * sc, lw=0.6)
+            if rings is not None:
+                th = np.linspace(0, TWO_PI, 200)
+                for rr in rings["radius_m"]:
+                    if rr > 0:
+                        ax.plot(rr * sc * np.cos(th), rr * sc * np.sin(th), color="0.75", lw=0.5)
+                if title != "whole record":
+                    rr = rings["radius_m"]
+                    lim = max(float(np.max(np.hypot(X[sel], Y[sel]))) * sc * 1.2,
+                              float(rr[min(2, rr.size - 1)]) * sc)
+                    ax.set_xlim(-lim, lim)
+                    ax.set_ylim(-lim, lim)
+            ax.set_aspect("equal", adjustable="box")
+            ax.set_xlabel(f"X ({where}, {unit})")
+            ax.set_ylabel(f"Y ({where}, {unit})")
+            ax.set_title(title)
+        figs["orbit / laser trace (rings: zones i S/16 when recorded)"] = figure_png(fig)
+    bode = a.get("bode") or (a.get("runup") or {}).get("bode")
+    if bode and len(bode["speed_hz"]) > 1:
+        figs.update(_bode_figures(bode, unit if a.get("bode") is None else "mm",
+                                  sc if a.get("bode") is None else 1e3, a.get("critical_speed_hz")))
+    if t is not None and t.size >= 16:
+        figs.update(_spectrogram(t, x, y, ch.get("phi")))
+    w, phi = ch.get("weights"), ch.get("phi")
+    if w is not None and phi is not None and np.size(w):
+        rel = np.asarray(w).reshape(t.size, -1) - np.unwrap(phi)[:, None]
         fig = Figure(figsize=(8, 3.5))
         ax = fig.subplots()
         ax.plot(t, np.degrees(np.angle(np.exp(1j * rel))), ".", ms=1)
@@ -117,16 +87,100 @@ def figures(rec) -> dict:
         ax.set_ylabel("angle from the mark (deg)")
         ax.set_ylim(-180, 180)
         figs["weights' angles relative to the reference mark"] = figure_png(fig)
-
-    for key, cap in (("strobe_frame", "stroboscope frame (last recorded)"),
-                     ("screen_frame", "screen camera frame (last recorded)")):
-        if key in inst:
-            fig = Figure(figsize=(4, 4))
-            ax = fig.subplots()
-            ax.imshow(inst[key], cmap="gray", origin="upper")
-            ax.set_axis_off()
-            figs[cap] = figure_png(fig)
+    for cap, frame in _last_frames(source):
+        fig = Figure(figsize=(4, 4))
+        ax = fig.subplots()
+        ax.imshow(frame, cmap="gray", origin="upper")
+        ax.set_axis_off()
+        figs[cap] = figure_png(fig)
     return figs
+
+
+def _bode_figures(bode, unit, sc, critical_hz) -> dict:
+    """The 1X amplitude and phase against speed, and its polar plot (one point per
+    revolution of a run, one per row of a Bode table)."""
+    from matplotlib.figure import Figure
+
+    f = np.asarray(bode["speed_hz"], float)
+    amp = np.asarray(bode["amplitude_m"], float) * sc
+    ph = bode.get("phase_deg")
+    fig = Figure(figsize=(8, 5 if ph is not None else 3))
+    axs = fig.subplots(2 if ph is not None else 1, 1, sharex=True, squeeze=False)[:, 0]
+    axs[0].semilogy(f, np.maximum(amp, 1e-30), ".", ms=2)
+    axs[0].set_ylabel(f"1X amplitude ({unit})")
+    if ph is not None:
+        axs[1].plot(f, ph, ".", ms=2)
+        axs[1].set_ylabel("1X phase (deg)")
+    for ax in axs:
+        if critical_hz is not None:
+            ax.axvline(critical_hz, color="C3", ls="--", lw=0.8)
+    axs[-1].set_xlabel("rotor speed (rev/s; dashed: the identified critical speed)")
+    out = {("1X amplitude and phase vs speed (Bode plot)" if ph is not None else
+            "1X amplitude vs speed (no reference mark: no phase)"): figure_png(fig)}
+    if ph is not None:
+        z = amp * np.exp(1j * np.radians(np.asarray(ph, float)))
+        fig = Figure(figsize=(5, 5))
+        ax = fig.subplots()
+        ax.plot(z.real, z.imag, ".-", ms=2, lw=0.5)
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_xlabel(f"1X real part ({unit})")
+        ax.set_ylabel(f"1X imaginary part ({unit})")
+        out["1X polar plot (the vector's tip as the speed rises)"] = figure_png(fig)
+    return out
+
+
+def _spectrogram(t, x, y, phi) -> dict:
+    """The spectrogram of the complex orbit x + i y, with the rotor speed."""
+    from matplotlib.figure import Figure
+    from scipy import signal as sg
+
+    fs = (t.size - 1) / (t[-1] - t[0])
+    nper = int(min(max(16, 2 ** round(math.log2(max(fs, 1.0)))), max(16, t.size // 4)))
+    nper = min(nper, t.size)
+    f, tt, Sxx = sg.spectrogram(x + 1j * y, fs=fs, nperseg=nper, noverlap=nper // 2,
+                                return_onesided=False, detrend=False)
+    f = np.fft.fftshift(f)
+    Sxx = np.fft.fftshift(Sxx, axes=0)
+    fig = Figure(figsize=(8, 4))
+    ax = fig.subplots()
+    ax.pcolormesh(tt + t[0], f, 10 * np.log10(Sxx + 1e-30 + Sxx.max() * 1e-12),
+                  shading="auto", cmap="viridis")
+    if phi is not None:
+        ax.plot(t, np.gradient(np.unwrap(phi), t) / TWO_PI, "w--", lw=0.7)
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("frequency (Hz, + forward whirl)")
+    return {"spectrogram of the orbit x + i y (dashed: rotor speed)": figure_png(fig)}
+
+
+def _last_frames(source) -> list:
+    """``[(caption, image)]``: the stroboscope's and the screen camera's last frames of a
+    recording file or of a run in memory."""
+    out = []
+    caps = (("stroboscope", "stroboscope frame (last recorded)"),
+            ("screen", "screen camera frame (last recorded)"))
+    outputs = getattr(source, "instruments", None)
+    if outputs is not None and not hasattr(source, "shape"):          # a run in memory
+        for name, cap in caps:
+            if name in outputs and outputs[name].n_frames > 0:
+                out.append((cap, np.asarray(outputs[name].frame(outputs[name].n_frames - 1))))
+        return out
+    path = getattr(source, "path", source)
+    if not path:
+        return out
+    from pathlib import Path
+
+    from stand.lab.table import is_table
+
+    if not Path(path).is_file() or is_table(Path(path)):
+        return out
+    from stand.recording.hdf5 import read_recording
+
+    rec = source if hasattr(source, "shape") else read_recording(path)
+    for name, cap in caps:
+        shape = rec.shape(f"instruments/{name}/frames")
+        if shape is not None and len(shape) == 3 and shape[0] > 0:
+            out.append((cap, np.asarray(rec.dataset(f"instruments/{name}/frames", shape[0] - 1))))
+    return out
 
 
 def _polar(points, permissible_gmm, title):

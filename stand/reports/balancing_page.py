@@ -18,7 +18,7 @@ import html
 from typing import Mapping
 
 from stand.io.labels import label
-from stand.io.numbers import plain
+from stand.io.numbers import plain, with_uncertainty
 from stand.reports.tables import details as _details
 from stand.reports.tables import figure as _figure
 from stand.reports.tables import list_table as _list_table
@@ -90,10 +90,34 @@ def verdict(doc: Mapping) -> dict:
 
 QUALITY_KEYS = ("residual_unbalance_gmm", "residual_unbalance_angle_deg", "specific_unbalance_um",
                 "uncertainty_statement",
-                "residual_zone_label", "initial_unbalance_gmm", "initial_unbalance_source",
+                "unbalance_method", "residual_zone_label", "initial_unbalance_gmm",
+                "initial_unbalance_source",
                 "residual_speed_hz", "response_1x_m", "truth_residual_unbalance_gmm")
 ISO_KEYS = ("grade_mm_s", "service_speed_rpm", "permissible_residual_gmm",
             "permissible_specific_unbalance_um", "achieved_grade_mm_s", "achieved_class", "passed")
+
+
+def _given(rows: list) -> list:
+    """The summary rows that hold a value (what was not obtained is under All fields and in
+    the notes, not a column of dashes)."""
+    return [r for r in rows if r[1] != "—"]
+
+
+def vibration_rows(bq: Mapping) -> list:
+    """The 1X as the sensors measure it (their unit and amplitude convention) and as ISO 20816
+    vibration velocity (``vibration_1x`` of the analysis); the displacement is the
+    ``response_1x_m`` row."""
+    v = bq.get("vibration_1x") or {}
+    out = []
+    if v.get("unit") and v.get("quantity") != "displacement" and v.get("value") is not None:
+        std = v.get("value_std")
+        out.append((f"1X {v['quantity']} as the sensors measure it ({v.get('convention')})",
+                    plain(v["value"], v["unit"]) if std is None
+                    else with_uncertainty(v["value"], std, v["unit"])))
+    if v.get("velocity_rms_mm_s") is not None:
+        out.append((label("velocity_rms_mm_s"), show("velocity_rms_mm_s", v["velocity_rms_mm_s"],
+                                                      v.get("velocity_rms_mm_s_std"))))
+    return out
 
 
 def _critical_speeds(rows: list) -> str:
@@ -139,6 +163,7 @@ def page_body(doc: Mapping, figures: Mapping | None = None) -> str:
                                               ("quality", "Balancing quality")
                                               if single_plane_applies(doc) else
                                               ("two_plane", "Two-plane balancing"),
+                                              ("analysis", "Identification"),
                                               ("dynamics", "Dynamics"), ("warnings", "Warnings and notes"),
                                               ("details", "All fields"))) + "</nav>"]
     main = [(c, u) for c, u in figures.items() if any(c.startswith(m) for m in _MAIN_FIGS)]
@@ -149,8 +174,8 @@ def page_body(doc: Mapping, figures: Mapping | None = None) -> str:
     iso = bq.get("iso_21940_11") or {}
     if single_plane_applies(doc):
         parts.append("<h2 id='quality'>Balancing quality</h2>")
-        parts.append(_table(_rows(bq, QUALITY_KEYS)))
-        parts.append("<h3>ISO 21940-11</h3>" + _table(_rows(iso, ISO_KEYS)))
+        parts.append(_table(_given(_rows(bq, QUALITY_KEYS)) + vibration_rows(bq)))
+        parts.append("<h3>ISO 21940-11</h3>" + _table(_given(_rows(iso, ISO_KEYS))))
     red = bq.get("reduction") or {}
     if red.get("applicable"):
         f, lb = red.get("factor"), red.get("factor_lower_bound")
@@ -173,20 +198,21 @@ def page_body(doc: Mapping, figures: Mapping | None = None) -> str:
                                     "permissible_gmm", "passed", "passed_with_uncertainty"])
                      + _details("Screens and method", _nested({k: v for k, v in two.items()
                                                                if k != "planes"})))
-    lab = doc.get("lab_identification")
-    if lab:
-        parts.append("<h2 id='lab'>Identification from the lab record</h2>" + _table(_rows(lab, (
-            "speed_source", "critical_speed_hz", "critical_speed_method", "natural_frequency_hz",
-            "damping_ratio", "unbalance_gmm", "unbalance_angle_deg", "specific_unbalance_gmm_per_kg",
-            "unbalance_method", "mass_kg", "uncertainty_statement"))))
-        if lab.get("excluded_rows"):
-            parts.append("<h3>Rows left out of the analysis</h3>" + _list_table(lab["excluded_rows"]))
-        parts.append(_details("Input table, programme, resonance and model fit", _nested(
-            {k: lab[k] for k in ("input", "programme", "resonance", "model_fit") if lab.get(k)})))
+    a = doc.get("analysis") or {}
+    parts.append("<h2 id='analysis'>Identification (stand analyze)</h2>"
+                 "<p>Every identified number of this report is stand analyze's; its whole "
+                 "document is under All fields.</p>" + _table(_given(_rows(a, (
+                     "speed_source", "natural_frequency_method", "critical_speed_method")))))
+    if a.get("modes"):
+        parts.append("<h3>Resonances fitted in the table</h3>" + _list_table(a["modes"]))
+    excluded = (a.get("input") or {}).get("excluded")
+    if excluded:
+        parts.append("<h3>Rows left out of the analysis</h3>" + _list_table(excluded))
     dyn = doc.get("dynamics") or {}
     parts.append("<h2 id='dynamics'>Dynamics</h2>")
     nf = dyn.get("natural_frequency") or {}
-    parts.append(_table(_rows(nf) + [(label("final_regime"), show("final_regime", dyn.get("final_regime")))]))
+    parts.append(_table(_given(_rows(nf) + [(label("final_regime"),
+                                             show("final_regime", dyn.get("final_regime")))])))
     if dyn.get("critical_speeds"):
         parts.append(_critical_speeds(dyn["critical_speeds"]))
     if dyn.get("regime_timeline"):
@@ -205,6 +231,8 @@ def page_body(doc: Mapping, figures: Mapping | None = None) -> str:
         parts.append(_details("More figures", "".join(_figure(c, u) for c, u in rest), open_=True))
     parts.append("<h2 id='details'>All fields</h2>")
     for k, v in doc.items():
+        if k == "analysis":           # the file's name, as the header gives it, not its path
+            v = {**v, "recording": (doc.get("report") or {}).get("recording")}
         if isinstance(v, Mapping):
             parts.append(_details(label(k), _nested(v)))
     return "\n".join(parts)
@@ -213,7 +241,7 @@ def page_body(doc: Mapping, figures: Mapping | None = None) -> str:
 def pdf_tables(doc: Mapping) -> list:
     """``[(section title, [(label, text), ...]), ...]`` for :func:`stand.reports.pdf.write_pdf`."""
     bq = doc.get("balancing_quality") or {}
-    out = [("Balancing quality", _rows(bq, QUALITY_KEYS)),
+    out = [("Balancing quality", _rows(bq, QUALITY_KEYS) + vibration_rows(bq)),
            ("ISO 21940-11", _rows(bq.get("iso_21940_11") or {}, ISO_KEYS))] \
         if single_plane_applies(doc) else []
     for row in (doc.get("two_plane") or {}).get("planes", []):

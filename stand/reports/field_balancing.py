@@ -11,33 +11,37 @@ from __future__ import annotations
 
 import math
 
+from stand.io.numbers import plain, with_uncertainty
+
 __all__ = ["field_report", "write_field_report"]
 
 
-def _polar_text(a, deg, unit=""):
-    return f"{a:.4g}{(' ' + unit) if unit else ''} @ {deg:.1f}°"
+def _polar_text(a, deg, unit="", a_std=None, deg_std=None):
+    """``a ± s unit at deg ± s °`` with the one formatter (:mod:`stand.io.numbers`)."""
+    return (f"{with_uncertainty(a, a_std, unit)} at "
+            f"{with_uncertainty(deg, deg_std, '°', resolution=False)}")
 
 
 def _banner(res) -> dict:
     mu, vu, amp = res["mass_unit"], res["vibration_unit"], res["amplitude"]
-    corr = "; ".join(f"{p}: {_polar_text(c['mass'], c['angle_deg'], mu)}"
+    corr = "; ".join(f"{p}: {_polar_text(c['mass'], c['angle_deg'], mu, c.get('mass_std'), c.get('angle_std_deg'))}"
                      for p, c in res["corrections"].items())
-    lines = [f"worst vibration {res['worst_before']:.4g} {vu} {amp} before, "
-             f"{res['worst_after']:.4g} {vu} {amp} predicted after ({res['method']})",
-             f"influence matrix condition {res['condition']:.3g}"]
+    lines = [f"worst vibration {plain(res['worst_before'], f'{vu} {amp}')} before, "
+             f"{plain(res['worst_after'], f'{vu} {amp}')} predicted after ({res['method']})",
+             f"influence matrix condition {plain(res['condition'], sig=3)}"]
     lines += [f"warning: {w}" for w in res["warnings"]]
     iso = res.get("iso")
     status = "fail" if res["warnings"] else "info"
     if iso:
-        lines.append(f"initial unbalance {iso['initial_unbalance_g_mm']:.4g} g·mm "
+        lines.append(f"initial unbalance {plain(iso['initial_unbalance_g_mm'], 'g·mm')} "
                      f"({iso['initial_grade']}); after correction within its uncertainty "
-                     f"{iso['correction_uncertainty_g_mm']:.3g} g·mm ({iso['after_grade']})")
+                     f"{plain(iso['correction_uncertainty_g_mm'], 'g·mm', sig=3)} ({iso['after_grade']})")
         if iso.get("passed") is not None:
             status = "pass" if iso["passed"] and not res["warnings"] else "fail"
     for p, c in res["corrections"].items():
         if "split" in c:
             lines.append(f"{p} on holes: " + " + ".join(
-                f"{h['mass']:.4g} {mu} in hole {h['hole']} ({h['angle_deg']:.1f}°)"
+                f"{plain(h['mass'], mu)} in hole {h['hole']} ({plain(h['angle_deg'], '°')})"
                 for h in c["split"]))
     return {"status": status, "headline": f"corrections {corr}", "lines": lines}
 
@@ -68,7 +72,7 @@ def _figures(res) -> dict:
         for th, a, lab in pts:
             ax.plot([th], [a], "^", color="#888")
             ax.annotate(lab, (th, a), fontsize=7)
-        at = f" at {r['speed_rpm']:.6g} rpm" if r["speed_rpm"] is not None else ""
+        at = f" at {plain(r['speed_rpm'], 'rpm', sig=6)}" if r["speed_rpm"] is not None else ""
         ax.set_title(f"{r['sensor']}{at} [{vu} {res['amplitude']}]", fontsize=9)
         ax.legend(fontsize=7, loc="lower right")
         figs[f"{r['sensor']}{at}: vibration before and predicted after"] = figure_png(fig)
@@ -86,14 +90,14 @@ def field_report(res) -> dict:
             row["radius_mm"] = c["radius_mm"]
             row["unbalance_g_mm"] = c["unbalance_g_mm"]
         if "split" in c:
-            row["holes"] = " + ".join(f"{h['mass']:.4g} {mu} @ hole {h['hole']} "
-                                      f"({h['angle_deg']:.1f}°)" for h in c["split"])
+            row["holes"] = " + ".join(f"{plain(h['mass'], mu)} in hole {h['hole']} "
+                                      f"({plain(h['angle_deg'], '°')})" for h in c["split"])
         if "weights" in c:
             row["weights_at_hand"] = " + ".join(
-                f"{'+'.join(f'{x:g}' for x in w['pieces'])} {mu} @ "
-                + (f"hole {w['hole']} " if w["hole"] is not None else "")
-                + f"({w['angle_deg']:.1f}°)" for w in c["weights"]["placed"]) \
-                + f"; off by {c['weights']['error']:.3g} {mu}"
+                f"{'+'.join(plain(x) for x in w['pieces'])} {mu} "
+                + (f"in hole {w['hole']} " if w["hole"] is not None else "")
+                + f"({plain(w['angle_deg'], '°')})" for w in c["weights"]["placed"]) \
+                + f"; off by {plain(c['weights']['error'], mu, sig=3)}"
         corrections.append(row)
     runs = []
     for r in res["runs"]:
@@ -102,8 +106,7 @@ def field_report(res) -> dict:
                      "trial": ", ".join(f"{p} {_polar_text(t['mass'], t['angle_deg'], mu)}"
                                         for p, t in r["trial"].items())
                      + ("" if r["removed"] or not r["trial"] else " (left on)"),
-                     "readings": ", ".join(f"{s} {_polar_text(v['amplitude'], v['angle_deg'])}"
-                                           + (f" ±{v['std']:.2g}" if v["std"] > 0 else "")
+                     "readings": ", ".join(f"{s} {_polar_text(v['amplitude'], v['angle_deg'], '', v['std'] or None)}"
                                            for s, v in r["readings"].items())})
     residuals = [{"sensor": r["sensor"], "speed_rpm": r["speed_rpm"],
                   f"before_{vu}": r["before"], "before_deg": r["before_deg"],
@@ -131,7 +134,7 @@ def write_field_report(res, html_path=None, pdf=None, json_path=None) -> dict:
     figs = _figures(res)
     sections = ["corrections", "residuals", "runs", "influence", "iso_21940_11", "condition",
                 "warnings", "job", "method", "solver", "vibration", "mass_unit"]
-    plain = write_report("Field balancing", doc, html_path=html_path, json_path=json_path,
+    out = write_report("Field balancing", doc, html_path=html_path, json_path=json_path,
                          figures=figs, sections=[k for k in sections if k in doc], banner=banner)
     if pdf:
         from stand.reports.pdf import write_pdf
@@ -145,10 +148,8 @@ def write_field_report(res, html_path=None, pdf=None, json_path=None) -> dict:
         if doc.get("iso_21940_11"):
             tables.append(("ISO 21940-11", [(k, _short(v)) for k, v in doc["iso_21940_11"].items()]))
         write_pdf(pdf, "Field balancing", banner, figs, tables)
-    return plain
+    return out
 
 
 def _short(v) -> str:
-    if isinstance(v, float):
-        return f"{v:.6g}"
-    return str(v)
+    return plain(v, sig=6) if isinstance(v, float) else str(v)

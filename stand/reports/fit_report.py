@@ -15,7 +15,7 @@ from typing import Optional
 import numpy as np
 
 from stand.reports.html import figure_png, write_report
-from stand.io.numbers import with_uncertainty
+from stand.io.numbers import plain, with_uncertainty
 
 __all__ = ["fit_report", "fit_figures"]
 
@@ -61,7 +61,7 @@ def _one_x(ax, s, fit) -> None:
 
 def _value(d) -> str:
     if not d["identifiable"]:
-        return f"{d['value']:.6g} {d['unit']} (not identifiable)"
+        return f"{plain(d['value'], d['unit'], sig=6)} (not identifiable)"
     return with_uncertainty(d["value"], d["std"], d["unit"], resolution=False)
 
 
@@ -69,7 +69,7 @@ def _body(doc) -> str:
     e = html.escape
     f = doc["fit"]
     rows = "".join(f"<tr><td><code>{e(p)}</code></td><td class='num'>{e(_value(d))}</td>"
-                   f"<td class='num'>{d['start']:.6g}</td>"
+                   f"<td class='num'>{e(plain(d['start'], sig=6))}</td>"
                    f"<td>{'yes' if d['identifiable'] else 'no'}</td>"
                    f"<td>{e(d.get('note') or '')}</td></tr>" for p, d in doc["parameters"].items())
     parts = ["<h2 class='first'>Fitted values</h2><table><tr><th>scene value</th><th>fitted "
@@ -97,12 +97,13 @@ def _body(doc) -> str:
             f"<td class='num'>{v:+.3f}</td>" for v in row) + "</tr>"
             for p, row in zip(corr["paths"], corr["matrix"]))
         parts.append(f"<h2>Correlations</h2><table><tr><th></th>{head}</tr>{body}</table>")
-    segs = "".join(f"<tr><td class='num'>{s_['start_s']:.4g}-{s_['end_s']:.4g}</td><td class='num'>"
-                   f"{s_['chi2_dof']:.3g}</td></tr>" for s_ in f.get("segments") or [])
-    parts.append(f"<h2>The fit</h2><p>chi2/dof {f['chi2_dof']:.4g}; residual RMS "
-                 f"{f['rms_residual']:.4g} {e(f['rms_residual_unit'])}, noise {f['noise_std']:.3g} "
-                 f"{e(f['noise_std_unit'])}; {f['samples']} samples, {f['simulations']} "
-                 f"simulations in {f['wall_time_s']:.1f} s; rotor angle from "
+    segs = "".join(f"<tr><td class='num'>{plain(s_['start_s'])} – {plain(s_['end_s'])}</td>"
+                   f"<td class='num'>{plain(s_['chi2_dof'], sig=3)}</td></tr>"
+                   for s_ in f.get("segments") or [])
+    parts.append(f"<h2>The fit</h2><p>chi2/dof {plain(f['chi2_dof'])}; residual RMS "
+                 f"{e(plain(f['rms_residual'], f['rms_residual_unit']))}, noise "
+                 f"{e(plain(f['noise_std'], f['noise_std_unit'], sig=3))}; {f['samples']} samples, "
+                 f"{f['simulations']} simulations in {plain(f['wall_time_s'], 's', sig=2)}; rotor angle from "
                  f"{e(str(f.get('rotor_angle')))}.</p><table><tr><th>time [s]</th>"
                  f"<th>chi2/dof</th></tr>{segs}</table>")
     notes = "".join(f"<li>{e(n)}</li>" for n in doc.get("notes") or [])
@@ -116,7 +117,7 @@ def _banner(doc) -> dict:
     bad = [p for p, d in doc["parameters"].items() if not d["identifiable"]]
     ok = f.get("explained", False)
     lines = [f"record {doc['data']}, template {doc['scene']}",
-             f"chi2/dof {f['chi2_dof']:.3g}"
+             f"chi2/dof {plain(f['chi2_dof'], sig=3)}"
              + ("" if ok else f": the model does not explain the record "
                 f"({f.get('unexplained_where', 'all along')})")]
     if bad:

@@ -1,6 +1,7 @@
 """``stand.report``'s answer as a result object (:class:`stand.io.result.Result`): :class:`Report`."""
 from __future__ import annotations
 
+from stand.io.numbers import with_uncertainty
 from stand.io.result import Result
 
 __all__ = ["Report"]
@@ -34,7 +35,7 @@ class Report(Result):
                ("scene_name", repr(head.get("scene_name")))]
         for k in ("initial_unbalance_gmm", "residual_unbalance_gmm"):
             v = q.get(k)
-            out.append((k, "None" if v is None else f"{v:.6g}"))
+            out.append((k, with_uncertainty(v, q.get(k + "_std"), "g·mm")))
         out += [("passed", repr(self.passed)), ("warnings", str(len(self.get("warnings") or [])))]
         return out
 

@@ -12,7 +12,7 @@ from typing import Mapping
 from stand.io.labels import label, unit
 from stand.io.numbers import plain, with_uncertainty
 
-__all__ = ["show", "rows", "table", "list_table", "nested", "details", "figure"]
+__all__ = ["show", "rows", "table", "list_table", "nested", "std_parts", "details", "figure"]
 
 
 def show(key, value, std=None) -> str:
@@ -91,7 +91,9 @@ def nested(d: Mapping, raw=()) -> str:
     for k, v in d.items():
         if k.endswith("_std") and k[:-4] in d:
             continue
-        if isinstance(v, Mapping):
+        if isinstance(v, Mapping) and (k == "std_parts" or k.endswith("_std_parts")):
+            cell = std_parts(k, v)
+        elif isinstance(v, Mapping):
             cell = nested(v, raw) if k not in raw else nested_raw(v)
         elif isinstance(v, list) and v and all(isinstance(r, Mapping) for r in v):
             cell = list_table(v)
@@ -102,6 +104,21 @@ def nested(d: Mapping, raw=()) -> str:
         parts.append(f"<tr><th>{html.escape(label(k))}</th><td>{cell}</td></tr>")
     parts.append("</table>")
     return "".join(parts)
+
+
+def std_parts(key: str, d: Mapping) -> str:
+    """What a ± contains: ``X_std_parts`` = ``{source: std}`` in the unit of ``X``; ``std_parts``
+    = ``{X: {source: std}}``.  Each part is shown in its quantity's display unit."""
+    if key != "std_parts":
+        base = key[: -len("_std_parts")]
+        return "<table>" + "".join(
+            f"<tr><th>{html.escape(str(p).replace('_', ' ').capitalize())}</th>"
+            f"<td>{html.escape(show(base, v) if isinstance(v, (int, float)) else str(v))}</td></tr>"
+            for p, v in d.items()) + "</table>"
+    return "<table>" + "".join(
+        f"<tr><th>{html.escape(label(q))}</th><td>"
+        f"{std_parts(q + '_std_parts', v) if isinstance(v, Mapping) else html.escape(str(v))}</td></tr>"
+        for q, v in d.items()) + "</table>"
 
 
 def nested_raw(d: Mapping) -> str:

@@ -1,0 +1,205 @@
+"""One identification chain (issue 40): ``stand report`` is a view of ``stand analyze``'s result.
+
+For every lab sample (data_samples/daq/*.csv with their maps, data_samples/fit/*.csv,
+data_samples/recordings/*.h5) and every sample scene (data_samples/scenes/*.toml, run
+short), the numbers of ``stand analyze --json`` and of ``stand report --json`` are
+compared: the report's ``analysis`` section number by number, and the numbers the
+report presents (residual unbalance, 1X, ISO grade, natural frequency, critical speed)
+against the analysis' keys they show.  Both commands compute the same thing from the same
+file in the same process, deterministically: the tolerance is 1e-12 relative (a rounding
+of the last bits, should a BLAS sum change order), nothing physical.
+"""
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+from stand.cli.main import main
+from stand.io.result import flatten_numbers
+
+ROOT = Path(__file__).resolve().parents[1]
+SAMPLES = ROOT / "data_samples"
+REL = 1e-12
+
+
+def _lab_cases():
+    """``(id, file, map or None)`` of every lab sample: each map with the table its name
+    starts with (``daq_runup_no_speed.map.toml`` -> ``daq_runup.csv``)."""
+    cases = []
+    for folder in ("daq", "fit"):
+        tables = sorted((SAMPLES / folder).glob("*.csv"))
+        for m in sorted((SAMPLES / folder).glob("*.map.toml")):
+            stem = m.name[: -len(".map.toml")]
+            table = max((t for t in tables if stem.startswith(t.stem)), key=lambda t: len(t.stem))
+            cases.append(pytest.param(table, m, id=f"{folder}/{stem}"))
+    for h5 in sorted((SAMPLES / "recordings").glob("*.h5")):
+        cases.append(pytest.param(h5, None, id=f"recordings/{h5.stem}"))
+    return cases
+
+
+def _cli_json(capsys, *argv) -> dict:
+    assert main([str(a) for a in argv]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def _same(x, y, what):
+    if x is None or y is None:
+        assert x is None and y is None, (what, x, y)
+    elif isinstance(x, float) and math.isnan(x):
+        assert math.isnan(y), (what, x, y)
+    else:
+        assert y == pytest.approx(x, rel=REL, abs=0), (what, x, y)
+
+
+def check_same_numbers(analysis: dict, report: dict) -> int:
+    """The report's ``analysis`` is the analysis' document; the presented numbers are its
+    numbers.  Returns how many numbers were compared."""
+    got = report["analysis"]
+    a, b = dict(flatten_numbers(analysis)), dict(flatten_numbers(got))
+    assert set(a) == set(b), set(a) ^ set(b)
+    for k, v in a.items():
+        _same(v, b[k], k)
+    assert {k: v for k, v in analysis.items() if isinstance(v, str)} == \
+        {k: v for k, v in got.items() if isinstance(v, str)}
+    bq, dyn = report["balancing_quality"], report["dynamics"]
+    shown = [(bq["residual_unbalance_gmm"], analysis.get("unbalance_gmm"), "unbalance"),
+             (bq["residual_unbalance_gmm_std"], analysis.get("unbalance_gmm_std"), "its std"),
+             (bq["residual_unbalance_angle_deg"], analysis.get("unbalance_angle_deg"), "angle"),
+             (bq["response_1x_m"], analysis.get("response_1x_m"), "1X"),
+             (bq["residual_speed_hz"], analysis.get("speed_hz"), "speed"),
+             (bq["truth_residual_unbalance_gmm"], analysis.get("truth_unbalance_gmm"), "truth"),
+             (bq["ring_reading"], analysis.get("ring_reading"), "rings"),
+             (bq["vibration_1x"], analysis.get("vibration_1x"), "vibration"),
+             (bq["iso_21940_11"]["achieved_grade_mm_s"],
+              (analysis.get("iso_grade") or {}).get("grade_mm_s"), "ISO grade"),
+             (bq["iso_21940_11"]["permissible_residual_gmm"],
+              (analysis.get("iso_grade") or {}).get("permissible_gmm"), "permissible"),
+             (dyn["natural_frequency"]["identified_hz"], analysis.get("natural_frequency_hz"), "f0"),
+             (dyn["natural_frequency"]["damping_ratio"], analysis.get("damping_ratio"), "zeta"),
+             (dyn["settling"], analysis.get("settling") or [], "settling")]
+    st = analysis.get("stationary_stretch")
+    shown.append((bq["residual_window_s"] or None,
+                  [st["t_start_s"], st["t_end_s"]] if st else None, "window"))
+    resonance = [r for r in dyn["critical_speeds"] if "resonance" in r["source"]]
+    shown.append((resonance[0]["speed_hz"] if resonance else None,
+                  analysis.get("critical_speed_hz"), "critical speed"))
+    sync = [r["speed_hz"] for r in dyn["critical_speeds"] if "synchrony" in r["source"]]
+    shown.append((sync or None, [c["speed_hz"] for c in analysis["critical_speeds_hz"]] or None,
+                  "synchrony"))
+    n = len(a)
+    for x, y, what in shown:
+        if isinstance(x, (dict, list)):
+            fx, fy = dict(flatten_numbers(x)), dict(flatten_numbers(y))
+            assert set(fx) == set(fy), what
+            for k in fx:
+                _same(fy[k], fx[k], f"{what}.{k}")
+            n += len(fx)
+        else:
+            _same(y, x, what)
+            n += 1
+    return n
+
+
+def test_the_check_can_fail():
+    """A report whose presented unbalance, or whose analysis section, differs in the 10th
+    digit fails the comparison."""
+    doc = {"unbalance_gmm": 240.0, "unbalance_gmm_std": 0.2, "critical_speeds_hz": [],
+           "recording": "x"}
+    rep = {"analysis": dict(doc), "balancing_quality": {
+        "residual_unbalance_gmm": 240.0, "residual_unbalance_gmm_std": 0.2,
+        "residual_unbalance_angle_deg": None, "response_1x_m": None, "residual_speed_hz": None,
+        "truth_residual_unbalance_gmm": None, "ring_reading": None, "vibration_1x": None,
+        "iso_21940_11": {"achieved_grade_mm_s": None, "permissible_residual_gmm": None},
+        "residual_window_s": []},
+        "dynamics": {"natural_frequency": {"identified_hz": None, "damping_ratio": None},
+                     "settling": [], "critical_speeds": []}}
+    assert check_same_numbers(doc, rep) >= 2           # it passes as it is
+    bad = json.loads(json.dumps(rep))
+    bad["balancing_quality"]["residual_unbalance_gmm"] = 240.0 * (1 + 1e-10)
+    with pytest.raises(AssertionError):
+        check_same_numbers(doc, bad)
+    bad = json.loads(json.dumps(rep))
+    bad["analysis"]["unbalance_gmm_std"] = 0.21
+    with pytest.raises(AssertionError):
+        check_same_numbers(doc, bad)
+
+
+@pytest.mark.parametrize("path, rmap", _lab_cases())
+def test_lab_sample_same_numbers(path, rmap, capsys):
+    opts = ["--map", rmap] if rmap else []
+    analysis = _cli_json(capsys, "analyze", path, *opts, "--json")
+    report = _cli_json(capsys, "report", path, *opts, "--json")
+    assert check_same_numbers(analysis, report) > 10
+
+
+def test_acc_runup_report_states_the_1x_in_g_um_and_mm_s(capsys):
+    """The accelerometer record: the 1X in g, as displacement in µm and as ISO 20816
+    velocity in mm/s, the numbers of the analysis (not an acceleration labelled µm)."""
+    path, rmap = SAMPLES / "daq" / "acc_runup.csv", SAMPLES / "daq" / "acc_runup.map.toml"
+    report = _cli_json(capsys, "report", path, "--map", rmap, "--json")
+    vib = report["balancing_quality"]["vibration_1x"]
+    assert vib["quantity"] == "acceleration" and vib["unit"] == "g"
+    # the 1X acceleration a = w^2 d of the displacement d, in g (9.80665 m/s²)
+    w = 2 * math.pi * report["balancing_quality"]["residual_speed_hz"]
+    d = report["balancing_quality"]["response_1x_m"]
+    assert vib["peak"] == pytest.approx(w * w * d / 9.80665, rel=1e-9)
+    assert vib["velocity_rms_mm_s"] == pytest.approx(w * d / math.sqrt(2) * 1e3, rel=1e-9)
+    assert 30e-6 < d < 80e-6                      # a displacement of tens of µm, not 1.36 m
+    from stand.reports.balancing_page import vibration_rows
+
+    rows = dict(vibration_rows(report["balancing_quality"]))
+    assert any(v.endswith(" g") for v in rows.values()), rows
+    assert any(v.endswith("mm/s") for v in rows.values()), rows
+
+
+def test_bode_table_report_has_its_plots_and_identification(tmp_path):
+    """A Bode table gives a document with its Bode and polar plots and the f0, zeta, U and
+    critical speed of ``stand analyze``, each with its ±."""
+    path, rmap = SAMPLES / "daq" / "bode_table.csv", SAMPLES / "daq" / "bode_table.map.toml"
+    html, js = tmp_path / "b.html", tmp_path / "b.json"
+    assert main(["report", str(path), "--map", str(rmap), "-o", str(html),
+                 "--json-file", str(js)]) == 0
+    doc = json.loads(js.read_text("utf-8"))
+    a = doc["analysis"]
+    for key in ("natural_frequency_hz", "damping_ratio", "unbalance_gmm", "critical_speed_hz"):
+        assert a[key] is not None and a[key + "_std"] > 0, key
+    truth = json.loads((SAMPLES / "daq" / "bode_table.truth.json").read_text("utf-8"))
+    f0 = truth.get("natural_frequency_hz")
+    if f0 is not None:
+        assert abs(a["natural_frequency_hz"] - f0) < 5 * a["natural_frequency_hz_std"] + 1e-3 * f0
+    page = html.read_text("utf-8")
+    assert "Bode plot" in page and "1X polar plot" in page
+    assert doc["dynamics"]["natural_frequency"]["identified_hz"] == a["natural_frequency_hz"]
+
+
+#: scenes whose two commands take more than ~3 s each (the weights' regime windows, the
+#: theory, the cameras' frames): ``-m "not slow"`` leaves them out
+_SLOW = {"ball_friction", "stand_cameras", "body_compare_balls", "screen_video", "ball_stuck",
+         "ball_runup", "body_stress_pendulum_fast"}
+
+
+def _scene_cases():
+    out = []
+    for p in sorted((SAMPLES / "scenes").glob("*.toml")):
+        marks = [pytest.mark.slow] if p.stem in _SLOW else []
+        out.append(pytest.param(p, id=p.stem, marks=marks))
+    return out
+
+
+@pytest.mark.parametrize("scene", _scene_cases())
+def test_scene_same_numbers(scene, tmp_path, capsys):
+    """Each sample scene, run for 2 s (or less), written and read back by both commands."""
+    from stand.integrate.simulate import simulate
+    from stand.recording.hdf5 import write_recording
+    from stand.scene.parse import load_scene
+
+    s = load_scene(scene)
+    s = dataclasses.replace(s, run=dataclasses.replace(s.run, duration=min(s.run.duration, 2.0)))
+    h5 = write_recording(simulate(s), tmp_path / f"{scene.stem}.h5")
+    analysis = _cli_json(capsys, "analyze", h5, "--json")
+    report = _cli_json(capsys, "report", h5, "--json")
+    assert check_same_numbers(analysis, report) > 5
