@@ -25,8 +25,9 @@ import pandas as pd
 import pytest
 
 from stand.cli.main import main
-from stand.instruments.stroboscope import (LEVEL_FLOAT, LEVEL_INTERIOR, Stroboscope,
-                                           body_looks, render_strobe_frames, strobe_angles)
+from stand.instruments.strobe_readings import body_looks, strobe_angles
+from stand.instruments.strobe_render import LEVEL_FLOAT, LEVEL_INTERIOR, render_strobe_frames
+from stand.scene.strobe_settings import Stroboscope
 from stand.instruments.timing import shaft_velocity, wrap
 from stand.scene.parse import load_scene
 from stand.integrate.simulate import simulate

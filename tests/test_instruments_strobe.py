@@ -20,10 +20,10 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-from stand.instruments.stroboscope import (LEVEL_BALL, LEVEL_INTERIOR, Stroboscope,
-                                           default_ball_radius, flash_times, image_multiplicity,
-                                           multiplicity_for_ratio, reading_error,
-                                           render_strobe_frames, strobe_angles)
+from stand.instruments.strobe_readings import (flash_times, image_multiplicity,
+                                               multiplicity_for_ratio, strobe_angles)
+from stand.instruments.strobe_render import LEVEL_BALL, LEVEL_INTERIOR, render_strobe_frames
+from stand.scene.strobe_settings import Stroboscope, default_ball_radius, reading_error
 from stand.instruments.timing import wrap
 from stand.scene.model import SceneError, SpeedDrive
 from stand.scene.parse import Table, load_scene

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from stand.analysis.regime import classify
-from stand.scene.model import RunSettings, Scene, SpeedDrive
+from stand.scene.model import Scene, SpeedDrive
 from stand.integrate.simulate import simulate
 from stand.theories.planar.speedmap import SceneTheory, scene_theory
 

@@ -136,7 +136,3 @@ def model_channel(setup: Setup, theta, end: Optional[float] = None) -> np.ndarra
     if setup.order == 0:
         return zg
     return _derivative(zg[idx], off, setup.order)
-
-
-def has_finite(z) -> bool:
-    return bool(np.all(np.isfinite(z)))

@@ -16,7 +16,6 @@ from typing import Optional
 
 import numpy as np
 
-from stand.fitting.linear import LinearPart
 from stand.fitting.model_run import Setup, model_channel
 from stand.fitting.paths import FitError
 

@@ -6,11 +6,13 @@ imperfections -- and keeps the truth beside it:
 
 * :mod:`.screen`      -- laser beam along the shaft axis onto a screen, a camera
   filming it (frames with exposure, noise, quantisation), calibration rings;
-* :mod:`.stroboscope` -- the light slot flashing once per revolution;
+* :mod:`.strobe_readings`, :mod:`.strobe_render` -- the light slot flashing once per
+  revolution: what it shows, and its frames;
 * :mod:`.photogate`   -- the photo-element and pulse counter (period from the
   1st to the 3rd crossing);
 * :mod:`.probes`      -- keyphasor, tachometer, displacement probes.
 
-Settings are dataclasses with a ``from_table`` constructor that validates a
-``[instruments.<name>]`` TOML table with messages naming key, value and unit.
+Their settings are scene data (``stand/scene/*_settings.py``, ``screen_camera.py``): dataclasses
+with a ``from_table`` constructor that validates a ``[instruments.<name>]`` TOML table with
+messages naming key, value and unit.
 """

@@ -283,7 +283,7 @@ class StroboscopeOutput(InstrumentOutput):
     """
 
     def __init__(self, scene, traj):
-        from stand.instruments.stroboscope import drawn_weights
+        from stand.instruments.strobe_render import drawn_weights
 
         strobe = scene.instruments["stroboscope"]
         view, plane, self.names = plane_view(traj, scene, strobe)
@@ -308,7 +308,7 @@ class StroboscopeOutput(InstrumentOutput):
             return iter(self._frames)
         if self.note is not None:
             return iter(())
-        from stand.instruments.stroboscope import render_strobe_frames
+        from stand.instruments.strobe_render import render_strobe_frames
 
         return render_strobe_frames(self.view, self.settings, t_start=self.t_start,
                                     max_frames=MAX_STROBE_FRAMES)

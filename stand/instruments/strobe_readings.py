@@ -26,8 +26,8 @@ its free surface, whose centre is offset from the chamber centre by
 centre, ``kappa = r^2/(R^2 - r^2)``).
 
 The frames a camera films through the slot are drawn by
-:mod:`stand.instruments.strobe_render`; :mod:`stand.instruments.stroboscope`
-gathers both.
+:mod:`stand.instruments.strobe_render`; the settings are scene data
+(:mod:`stand.scene.strobe_settings`).
 """
 from __future__ import annotations
 

@@ -290,7 +290,6 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None,
     else a much tighter reference run of the same scene; fixed-step RK4 rows for
     the planar rotor only (a note says so otherwise).
     """
-    import math
 
     from stand.model.balancers.runup_closed_form import free_whirl_amplitudes, runup_closed_form_state
 

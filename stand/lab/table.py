@@ -34,7 +34,7 @@ from typing import Optional
 
 import numpy as np
 
-from stand.lab.recording_map import ROLES, ColumnSpec, MapError, RecordingMap, recognise
+from stand.lab.recording_map import ROLES, MapError, RecordingMap, recognise
 from stand.lab.limits import CELL_BYTES, MAX_COLUMNS, TableError, _memory_budget, check_shape  # noqa: F401
 from stand.lab.units import UnitError
 

@@ -47,7 +47,6 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 from scipy.special import fresnel, wofz
 
-from stand.model.balancers._params import PAPER
 from stand.model.balancers.liquid_float import LiquidFloatParams
 
 __all__ = [

@@ -104,8 +104,8 @@ import numpy as np
 from scipy import linalg
 
 from stand.model.rotors._build import finite
-from stand.model.rotors.platform_params import (SCENE_KEYS, Hanger, PlatformParams, default_hangers, default_params,
-                              quadrifilar_hangers, scene_params)
+from stand.model.rotors.platform_params import (Hanger, PlatformParams, default_hangers, default_params, quadrifilar_hangers,
+                              scene_params)
 from stand.model.rotors.structure import LinearRotor, Unbalance
 
 __all__ = [

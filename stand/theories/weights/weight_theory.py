@@ -375,7 +375,6 @@ def _liquid_chamber(p, omega, notes) -> dict:
 def _liquid_choice(p, omega, D0, notes) -> dict:
     """Width of the equilibrium zone (2.15) of each liquid of :data:`LIQUIDS`."""
     from stand.model.balancers import liquid_chamber as lc
-    from stand.theories.weights import liquid_chamber_quasi_static as lqs
 
     R, h = p.chamber_radius, p.chamber_height
     out = {"equation": "(2.15): sin(beta*) = 8 pi nu R xi/(V omega), xi = 2 pi (whole wall); "
