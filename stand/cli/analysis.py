@@ -60,7 +60,7 @@ def _analysis_lines(doc) -> list:
     """What ``stand analyze`` prints: each value the analysis gave, by its label
     (:mod:`stand.io.labels`), with its ± in the label's unit; nothing for what it did not give."""
     from stand.io.labels import label
-    from stand.io.numbers import plain, resolved
+    from stand.io.numbers import plain, resolved, with_uncertainty
 
     lines = [labelled(doc, k) for k in ("natural_frequency_hz", "damping_ratio", "speed_hz")]
     one_x = labelled(doc, "response_1x_m")
@@ -70,8 +70,9 @@ def _analysis_lines(doc) -> list:
     lines.append(one_x)
     vib = doc.get("vibration_1x") or {}
     if vib.get("quantity") not in (None, "displacement") and vib.get("peak") is not None:
-        lines.append(f"{label('vibration_1x')}: {vib['quantity']} {plain(vib['peak'], vib.get('unit', ''))} "
-                     "(peak)")
+        peak = with_uncertainty(vib["peak"], vib.get("value_std") if vib.get("convention") == "pk"
+                                else None, vib.get("unit", ""))
+        lines.append(f"{label('vibration_1x')}: {vib['quantity']} {peak} (peak)")
     if vib.get("velocity_rms_mm_s") is not None and resolved(doc.get("response_1x_m"),
                                                             doc.get("response_1x_m_std")):
         lines.append(labelled(vib, "velocity_rms_mm_s"))

@@ -239,6 +239,7 @@ LABELS = {
     "stretch": ("Stretch", "", 1.0),
     "peak_speed_hz": ("1X peak (raw)", "rev/s", 1.0),
     "sweep_rate_hz_s": ("Sweep rate", "rev/s²", 1.0),
+    "speed_range_hz": ("Speed range", "rev/s", 1.0),
     "lag_hz": ("Sweep lag removed", "rev/s", 1.0),
     "damping_ratio_used": ("Damping ratio used", "", 1.0),
     "direction": ("Direction", "", 1.0),
