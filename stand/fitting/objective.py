@@ -68,6 +68,7 @@ class Objective:
         self.setup = setup
         self.record = record
         self._mode_setups = None
+        self._G_at = None      #: (theta, n) where the angle sensitivity G was last made
         self.z = np.asarray(z)
         self.linear = linear
         self.steps = np.asarray(steps, float)
@@ -106,7 +107,9 @@ class Objective:
             self.on_eval(theta, float(r @ r))
         return r, Q, coef, m
 
-    def _map(self, items) -> list:
+    def simulate_many(self, items) -> list:
+        """Model signals of ``items`` = ``[(setup, theta, end time)]``, on the executor when there
+        is one (one chunk per worker) and more than one item; in order."""
         self.simulations += len(items)
         if self.executor is not None and len(items) > 1:
             k = min(len(items), self.executor.workers)
@@ -127,7 +130,7 @@ class Objective:
             tp = theta.copy()
             tp[j] += h
             items.append((self.setup, tp, self.end_time(n)))
-        outs = self._map(items)
+        outs = self.simulate_many(items)
         J = np.empty((n, len(items)), complex)
         for j, (o, h) in enumerate(zip(outs, self.steps)):
             o = np.asarray(o)[:n]
@@ -136,7 +139,7 @@ class Objective:
             J[:, j] = (o - base) / h
         return J
 
-    def angle_sensitivity(self, theta, n: int, scales=None, moved: float = 1e-3) -> None:
+    def angle_sensitivity(self, theta, n: int, scales=None, moved: float = 1e-3) -> bool:
         """Set the linear part's ``G``: the model signal's change per unit of each whitened
         error mode of the measured rotor angle, by simulations driven by the angle perturbed
         along the mode (a step of 1e-3 rad at its largest), over the first ``n`` samples.
@@ -144,18 +147,19 @@ class Objective:
         With ``scales`` (the parameters' scales), a ``G`` made over at least ``n`` samples at
         values within ``moved`` scales of ``theta`` is kept: the sensitivity changes with the
         values in proportion (1e-3 of it at most then), and the simulations are causal, so
-        the first ``n`` rows of a longer run's ``G`` are the shorter run's."""
+        the first ``n`` rows of a longer run's ``G`` are the shorter run's.  Returns whether ``G``
+        was made now (False: kept, or no angle modes)."""
         from stand.fitting.record import angle_programme
 
         lp, rec = self.linear(n), self.record
         if lp.modes is None or rec is None or rec.angle is None:
             lp.G = None
-            return
+            return False
         theta = np.asarray(theta, float)
-        at = getattr(self, "_G_at", None)
+        at = self._G_at
         if (scales is not None and at is not None and lp.G is not None and at[1] >= n
                 and np.all(np.abs(theta - at[0]) <= moved * np.asarray(scales, float))):
-            return
+            return False
         W = lp.modes.W
         if self._mode_setups is None:
             a = rec.angle
@@ -172,7 +176,7 @@ class Objective:
                 self._mode_setups.append((replace(self.setup, drive=replace(
                     drive, rest_until=self.setup.drive.rest_until)), h))
         base = self.signal(theta, n)
-        outs = self._map([(s_, theta, self.end_time(n)) for s_, _ in self._mode_setups])
+        outs = self.simulate_many([(s_, theta, self.end_time(n)) for s_, _ in self._mode_setups])
         G = np.zeros((rec.t.size, W.shape[1]), complex)
         for k, (o, (_, h)) in enumerate(zip(outs, self._mode_setups)):
             o = np.asarray(o)[:n]
@@ -180,6 +184,7 @@ class Objective:
                 G[:n, k] = (o - base) / h
         lp.G = G
         self._G_at = (theta.copy(), n)
+        return True
 
     def jacobian(self, theta, n: int):
         """The augmented residual's Jacobian (2n + K, P), projected off the linear nuisance."""

@@ -26,6 +26,7 @@ import copy
 import math
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 from typing import Optional
 
@@ -133,7 +134,7 @@ def _cost(obj, theta, n) -> float:
 def _batch_costs(obj, thetas, n) -> np.ndarray:
     """The costs of many parameter vectors on the first ``n`` samples (simulations together
     on the executor; a failed run costs infinity)."""
-    outs = obj._map([(obj.setup, th, obj.end_time(n)) for th in thetas])
+    outs = obj.simulate_many([(obj.setup, th, obj.end_time(n)) for th in thetas])
     lp = obj.linear(n)
     costs = np.full(len(thetas), np.inf)
     for i, m in enumerate(outs):
@@ -194,14 +195,12 @@ def _corner_costs(obj, theta, rec, setup, lp, trials):
     """The whole record's cost at ``theta`` with the keyphasor's corners at each of ``trials``
     (lists of times [s]; the angle's error modes left out: a comparison of corner places),
     the simulations together on the executor.  Returns ``(costs, records)``."""
-    from dataclasses import replace
-
     from stand.fitting.record import with_corners_at
 
     recs = [with_corners_at(rec, times) for times in trials]
     live = [i for i, r2 in enumerate(recs) if r2 is not None]
     end = float(setup.times[-1])
-    outs = obj._map([(replace(setup, drive=recs[i].drive), theta, end) for i in live])
+    outs = obj.simulate_many([(replace(setup, drive=recs[i].drive), theta, end) for i in live])
     costs = np.full(len(trials), np.inf)
     for i, m in zip(live, outs):
         r2 = recs[i]
@@ -242,7 +241,7 @@ def _place_corners(obj, theta, rec, setup, lp, progress):
     times = corner_times(rec.angle)
     if not times:
         return None
-    _say(progress, f"stand fit: placing the keyphasor angle's corner(s) at "
+    _say(progress, "stand fit: placing the keyphasor angle's corner(s) at "
          + ", ".join(f"{c:.3f}" for c in times) + " s by the vibration")
     costs, recs = _corner_costs(obj, theta, rec, setup, lp, [list(times)])
     best, best_rec = float(costs[0]), recs[0]
@@ -264,8 +263,6 @@ def _place_corners(obj, theta, rec, setup, lp, progress):
                           + ", ".join(f"{a:.3f}" for a in start) + " s (the pulses' best) to "
                           + ", ".join(f"{b:.3f}" for b in times) + " s, where the vibration "
                           "fits best")
-    from dataclasses import replace
-
     return (best_rec, replace(setup, drive=best_rec.drive),
             LinearPart(best_rec.phi(), lp.runout, angle_modes(best_rec.angle, best_rec.t),
                        lp.sigma))
@@ -416,9 +413,9 @@ def fit_scene(scene, data, free, *, recording_map=None, workers: Optional[int] =
         for n in stretches:
             if lp.modes is not None:
                 # over the whole record at once (kept while the values hardly move)
-                _say(progress, f"stand fit: the model's sensitivity to the rotor angle's "
-                     f"{lp.modes.count} error modes")
-                obj.angle_sensitivity(theta, n_all, scales)
+                if obj.angle_sensitivity(theta, n_all, scales):
+                    _say(progress, f"stand fit: the model's sensitivity to the rotor angle's "
+                         f"{lp.modes.count} error modes made")
             theta, cost = solve(theta, n, max_nfev, f"stretch to {rec.t[n - 1] - rec.t[0]:.3g} s")
             last = cost if n == rec.t.size else None
         n = rec.t.size
