@@ -220,6 +220,10 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
     """
     if not isinstance(job, FieldJob):
         job = read_job(job, influence)
+    if job.amplitude_only:
+        from .field_amplitude import balance_amplitude_only
+
+        return FieldBalance(balance_amplitude_only(job))
     method = method or job.method
     if not job.planes:
         raise ValueError("job: no correction plane (add [planes.P1] and a trial run per plane)")
