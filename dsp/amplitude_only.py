@@ -151,11 +151,22 @@ def four_run(reference, amplitudes, trial_mass, trial_angle_rad, sigma=0.0) -> F
             model = np.abs(p[0] + q * complex(p[1], p[2]))
             return np.concatenate([[p[0] - A0], model - Ak]) / ws
 
-        p0 = np.array([A0, h_lin.real, h_lin.imag])
-        fit = _lsq(res, p0, method="lm", xtol=1e-14, ftol=1e-14, gtol=1e-14)
-        p = fit.x
-        if p[0] < 0:                         # (a0, h) and (-a0, -h) show the same amplitudes
-            p = -p
+        # multi-start: the linear start, and corrections c = -a0/h all round the weight plane
+        # (bunched trial positions leave several local minima; the best one is kept)
+        R = [A0 / abs(h_lin)] if abs(h_lin) > 0 else []
+        R.append(A0 * float(np.mean(T)) / max(float(np.mean(np.abs(Ak - A0))), 1e-300))
+        starts = [np.array([A0, h_lin.real, h_lin.imag])]
+        for r_ in R:
+            for phi in np.radians(np.arange(0.0, 360.0, 30.0)):
+                h0 = -A0 / (r_ * np.exp(1j * phi)) if A0 > 0 and r_ > 0 else h_lin
+                starts.append(np.array([A0, h0.real, h0.imag]))
+        sols = []
+        for p0 in starts:
+            f = _lsq(res, p0, method="lm", xtol=1e-14, ftol=1e-14, gtol=1e-14)
+            pf = -f.x if f.x[0] < 0 else f.x      # (a0, h) and (-a0, -h) show the same amplitudes
+            sols.append((float(np.sum(f.fun ** 2)), pf, f.jac))
+        sols.sort(key=lambda x: x[0])
+        chi2, p, J = sols[0]
         h = complex(p[1], p[2])
         effect = float(np.max(T)) * abs(h)
         floor = MIN_EFFECT_SIGMA * float(np.max(sig[s])) if not exact else 1e-9 * max(A0, 1e-300)
@@ -164,27 +175,22 @@ def four_run(reference, amplitudes, trial_mass, trial_angle_rad, sigma=0.0) -> F
                              f"{float(np.max(np.abs(Ak - A0))):.3g} (reading resolution sigma "
                              f"{float(np.max(sig[s])):.3g}): trial mass too small, no measurable "
                              f"effect; repeat with a larger trial mass")
-        J = fit.jac
         cov = np.zeros((3, 3)) if exact else np.linalg.pinv(J.T @ J)
-        chi2 = float(np.sum(res(p) ** 2))
         rms.append(chi2)
-        # mirror of U across the trial positions' principal axis
         c = -p[0] / h
-        axis = np.angle(np.sum(q ** 2)) / 2.0
-        c_m = np.exp(2j * axis) * np.conj(c)
-        if abs(c_m - c) > 1e-9 * abs(c) and c_m != 0:
-            pm = _lsq(res, np.array([p[0], (-p[0] / c_m).real, (-p[0] / c_m).imag]),
-                      method="lm", xtol=1e-14, ftol=1e-14, gtol=1e-14)
-            hm = complex(pm.x[1], pm.x[2]) * np.sign(pm.x[0] or 1.0)
-            cm_fit = -abs(pm.x[0]) / hm if hm != 0 else c
-            chi2_m = float(np.sum(pm.fun ** 2))
-            far = abs(cm_fit - c) > 0.05 * abs(c)
-            thresh = MIRROR_CHI2 if not exact else 1e-12 * (1 + chi2)
-            if far and chi2_m - chi2 < thresh:
-                warns.append(f"sensor {s}: ambiguous trial positions: the mirror correction "
-                             f"{abs(cm_fit):.4g} @ {math.degrees(np.angle(cm_fit)) % 360:.1f} deg "
-                             f"fits the readings nearly as well (chi-square {chi2_m - chi2:.2g} "
-                             f"more); spread the trial angles (e.g. 0, 120, 240 deg)")
+        thresh = MIRROR_CHI2 if not exact else 1e-12 * (1 + chi2)
+        for chi2_m, pm, _ in sols[1:]:
+            hm = complex(pm[1], pm[2])
+            if hm == 0 or chi2_m - chi2 >= thresh:
+                continue
+            cm = -pm[0] / hm
+            if abs(cm - c) > 0.05 * abs(c):
+                warns.append(f"sensor {s}: ambiguous trial positions: a second correction "
+                             f"{abs(cm):.4g} @ {math.degrees(np.angle(cm)) % 360:.1f} deg (a mirror "
+                             f"of {abs(c):.4g} @ {math.degrees(np.angle(c)) % 360:.1f} deg) fits the "
+                             f"readings nearly as well (chi-square {chi2_m - chi2:.2g} more); "
+                             f"spread the trial angles (e.g. 0, 120, 240 deg)")
+                break
         params.append(p)
         covs.append(cov)
     a0 = np.array([p[0] for p in params])
