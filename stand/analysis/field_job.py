@@ -39,7 +39,7 @@ METHODS = ("least_squares", "weighted", "min_max")
 _KINDS = ("slow_roll", "reference", "trial")
 _NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 _POLAR = re.compile(rf"^\s*({_NUM})\s*([^@\s]*)\s*@\s*({_NUM})\s*(?:deg|°)?\s*$")
-_AMPLITUDE = re.compile(rf"^\s*({_NUM})\s*([^@\s]*)\s*$")     # a reading without a phase
+_AMPLITUDE = re.compile(rf"^\s*({_NUM})\s*([^@\s\d.+-][^@\s]*)?\s*$")   # a reading without phase
 
 
 def _vibration_quantity(unit: str, field_: str) -> tuple:
