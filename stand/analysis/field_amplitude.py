@@ -20,9 +20,10 @@ from .field_job import FieldJob
 __all__ = ["balance_amplitude_only"]
 
 
-def balance_amplitude_only(job: FieldJob) -> dict:
+def balance_amplitude_only(job: FieldJob, method: str = "least_squares") -> dict:
     """The :class:`~stand.analysis.field_balance.FieldBalance` document of an amplitude-only
-    job (SI inside, the job's display units out).
+    job (SI inside, the job's display units out); ``method`` other than the default is
+    not used (a warning says so).
 
     Raises
     ------
@@ -95,7 +96,9 @@ def balance_amplitude_only(job: FieldJob) -> dict:
             "worst_after": max(r["after"] for r in residuals),
             "influence": infl, "condition": 1.0,
             "ill_conditioned": {"planes": [], "sensors": []},
-            "warnings": fr.warnings,
+            "warnings": fr.warnings + ([f"method = \"{method}\" not used: amplitude-only readings "
+                                        f"are solved by the four-run method"]
+                                       if method != "least_squares" else []),
             "runs": [{"run": r.index, "kind": r.kind, "speed_rpm": None,
                       "trial": {p: {"mass": abs(t) / mf, "angle_deg": deg(np.angle(t)) % 360.0}
                                 for p, t in r.trial.items()}, "removed": r.removed,
