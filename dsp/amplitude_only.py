@@ -84,7 +84,8 @@ def _correction(a0, h):
     return complex(-np.sum(np.conj(h) * a0) / np.sum(np.abs(h) ** 2))
 
 
-def four_run(reference, amplitudes, trial_mass, trial_angle_rad, sigma=0.0) -> FourRun:
+def four_run(reference, amplitudes, trial_mass, trial_angle_rad, sigma=0.0,
+             sensors=None) -> FourRun:
     """One plane's correction from amplitude-only readings (the module docstring).
 
     Parameters
@@ -99,6 +100,8 @@ def four_run(reference, amplitudes, trial_mass, trial_angle_rad, sigma=0.0) -> F
         Angle of the trial mass in each run [rad], in the weights' sense.
     sigma : float or array (S, n + 1)
         Standard uncertainty of each reading [vibration unit], reference first (0: exact).
+    sensors : list of str, optional
+        Sensor names for the messages (default "sensor 0", ...).
 
     Returns
     -------
@@ -138,6 +141,7 @@ def four_run(reference, amplitudes, trial_mass, trial_angle_rad, sigma=0.0) -> F
     from scipy.optimize import least_squares as _lsq
 
     params, covs, warns, rms = [], [], [], []
+    names = list(sensors) if sensors is not None else [f"sensor {k}" for k in range(S)]
     for s in range(S):
         A0, Ak = ref[s], amp[s]
         # exact linear start: A_k^2 - A_0^2 = T_k^2 u + 2 A0 T_k (hr cos - hi sin)
@@ -171,7 +175,7 @@ def four_run(reference, amplitudes, trial_mass, trial_angle_rad, sigma=0.0) -> F
         effect = float(np.max(T)) * abs(h)
         floor = MIN_EFFECT_SIGMA * float(np.max(sig[s])) if not exact else 1e-9 * max(A0, 1e-300)
         if effect <= floor:
-            raise ValueError(f"sensor {s}: the trial runs change the amplitude by at most "
+            raise ValueError(f"{names[s]}: the trial runs change the amplitude by at most "
                              f"{float(np.max(np.abs(Ak - A0))):.3g} (reading resolution sigma "
                              f"{float(np.max(sig[s])):.3g}): trial mass too small, no measurable "
                              f"effect; repeat with a larger trial mass")
@@ -185,7 +189,7 @@ def four_run(reference, amplitudes, trial_mass, trial_angle_rad, sigma=0.0) -> F
                 continue
             cm = -pm[0] / hm
             if abs(cm - c) > 0.05 * abs(c):
-                warns.append(f"sensor {s}: ambiguous trial positions: a second correction "
+                warns.append(f"{names[s]}: ambiguous trial positions: a second correction "
                              f"{abs(cm):.4g} @ {math.degrees(np.angle(cm)) % 360:.1f} deg (a mirror "
                              f"of {abs(c):.4g} @ {math.degrees(np.angle(c)) % 360:.1f} deg) fits the "
                              f"readings nearly as well (chi-square {chi2_m - chi2:.2g} more); "

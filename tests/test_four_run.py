@@ -152,7 +152,7 @@ def _trials(*runs):
      ["3 or more distinct angles"]),
     (_HEAD + 'readings = { S1 = "8.8" }\n'
      + _trials(("20 @ 0", "8.8"), ("20 @ 120", "8.8"), ("20 @ 240", "8.8")),
-     ["trial mass too small"]),
+     ["S1: the trial runs", "trial mass too small"]),
     (_HEAD + 'readings = { S1 = "8.8" }\n[planes.P2]\n'
      + _trials(("20 @ 0", "13.6"), ("20 @ 120", "9.3"), ("20 @ 240", "5.9")),
      ["one plane", "@ angle"]),

@@ -63,7 +63,7 @@ def balance_amplitude_only(job: FieldJob, method: str = "least_squares") -> dict
     runs = [refs[0]] + trials
     A = np.array([[r.readings[s].real for r in runs] for s in sensors])
     sig = np.array([[r.std[s] for r in runs] for s in sensors])
-    fr = four_run(A[:, 0], A[:, 1:], T, th, sig)
+    fr = four_run(A[:, 0], A[:, 1:], T, th, sig, sensors=sensors)
 
     mf = job.mass_factor
     deg = math.degrees
