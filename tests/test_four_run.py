@@ -137,6 +137,15 @@ def test_sample_job_api_and_cli(capsys):
     assert "four_run" in out
 
 
+def test_sample_job_report_shows_amplitudes_without_angles(tmp_path):
+    html = tmp_path / "four_run.html"
+    assert main(["balance", str(SAMPLE), "-o", str(html)]) == 0
+    text = re.sub(r"<[^>]+>", " ", html.read_text())
+    # the meter's readings as written, with their rounding's sigma (0.1 / sqrt 12), no angle
+    assert "S1 13.600 ± 0.029" in text
+    assert not re.search(r"S1 13\.6\S* ± 0\.029 mm/s at", text)
+
+
 _HEAD = '[job]\nvibration_unit = "mm/s"\n[planes.P1]\n[[run]]\nkind = "reference"\n'
 
 

@@ -85,10 +85,6 @@ def balance_amplitude_only(job: FieldJob, method: str = "least_squares") -> dict
              "amplitude_std": float(fr.h_abs_std[i] / scale),
              "angle_deg": deg(np.angle(fr.h[i])) % 360.0} for i, s in enumerate(sensors)]
 
-    def fitted_deg(r, i):            # the fitted vibration's angle (reference's = 0)
-        w = r.trial.get(plane, 0.0)
-        return deg(np.angle(fr.a0[i] + fr.h[i] * w)) % 360.0
-
     return {"job": job.source, "method": "four_run", "solver": "scipy least_squares (amplitudes)",
             "phase": "none", "vibration_unit": job.vibration_unit, "amplitude": job.amplitude,
             "mass_unit": job.mass_unit, "corrections": {plane: c}, "residuals": residuals,
@@ -103,8 +99,8 @@ def balance_amplitude_only(job: FieldJob, method: str = "least_squares") -> dict
                       "trial": {p: {"mass": abs(t) / mf, "angle_deg": deg(np.angle(t)) % 360.0}
                                 for p, t in r.trial.items()}, "removed": r.removed,
                       "readings": {s: {"amplitude": float(job.to_display(r.readings[s].real)),
-                                       "angle_deg": fitted_deg(r, i),
+                                       "angle_deg": None,     # not measured
                                        "std": float(job.to_display(r.std[s]))}
-                                   for i, s in enumerate(sensors)}}
+                                   for s in sensors}}
                      for r in runs],
             "iso": None}
