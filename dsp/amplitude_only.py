@@ -14,7 +14,7 @@ Solved here as a weighted least-squares problem in ``(a0, Re h, Im h)`` per sens
 (scipy.optimize.least_squares, residuals ``(model - reading) / sigma``), started from the
 exact linear solution of the expanded circle equations
 ``A_k^2 - A_0^2 = T_k^2 |h|^2 + 2 A_0 T_k Re(exp(i theta_k) h)`` (linear in |h|^2, Re h,
-Im h).  The correction ``U = -a0 / h`` (one sensor) or, for several sensors, the least
+Im h) and from corrections all round the weight plane (the best minimum is kept).  The correction ``U = -a0 / h`` (one sensor) or, for several sensors, the least
 squares ``U = -sum conj(h_s) a0_s / sum |h_s|^2``; its angle is in the weights' sense, from
 the trial mass's zero.  Geometrically ``U`` is the point of the weight plane whose distances
 to the origin and to the trial positions are proportional to ``A_0`` and ``A_k``.
@@ -24,8 +24,9 @@ resolution ``r``: ``sigma = r / sqrt 12``) is propagated to first order (Gauss-N
 covariance ``(J^T J)^-1`` of the weighted residuals, then the Jacobian of ``U``).
 
 Ambiguity: fewer than three distinct trial angles leave two mirror solutions (refused);
-trial positions bunched together leave the mirror image of ``U`` across their axis fitting
-nearly as well (a warning, with the chi-square difference).
+trial positions bunched together leave a second minimum (near the mirror image of ``U``
+across their axis) fitting nearly as well: a warning naming it, with the chi-square
+difference.
 
 Units are the caller's (any consistent set); angles in radians.  numpy/scipy only.
 """
