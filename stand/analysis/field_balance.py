@@ -6,7 +6,8 @@ by earlier runs with ``removed = false``) and the slow-roll vector subtracted fr
 ``[V0, A] = D M^+`` with ``D`` the readings and ``M = [1; W_k]``: exact for one reference and
 one trial run per plane, least squares with more runs.  A known influence matrix
 (``[[influence]]``, ``--influence``) replaces ``A`` (trial runs at that speed are then not
-used); ``V0`` is the reference run's ``V - A W``.  The speeds are solved together (their rows stacked), and the corrections
+used); ``V0`` is the reference run's ``V - A W``.  A job of amplitude-only readings goes to
+:mod:`stand.analysis.field_amplitude` (the four-run method).  The speeds are solved together (their rows stacked), and the corrections
 (for the rotor with every trial removed) come from :mod:`dsp.influence_solve`.
 
 Uncertainties are propagated to first order from the repeated readings' scatter (central
@@ -220,6 +221,10 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
     """
     if not isinstance(job, FieldJob):
         job = read_job(job, influence)
+    if job.amplitude_only:
+        from .field_amplitude import balance_amplitude_only
+
+        return FieldBalance(balance_amplitude_only(job, method or job.method))
     method = method or job.method
     if not job.planes:
         raise ValueError("job: no correction plane (add [planes.P1] and a trial run per plane)")

@@ -7,7 +7,9 @@ The contract (README, "Field balancing"): ``[job]`` units and method, ``[planes.
 
 A reading is ``"amplitude @ angle"`` (the job's vibration unit and amplitude convention,
 degrees), or a list of them (repeated readings: their mean, and the scatter of the mean as
-the reading's standard uncertainty).  Everything is converted here, once: vibration to SI
+the reading's standard uncertainty).  A reading without ``@ angle`` (``"170"``) is
+amplitude-only (a plain vibration meter): a job whose readings all are is solved by the
+four-run method (:mod:`stand.analysis.field_amplitude`); a job mixing both is refused.  Everything is converted here, once: vibration to SI
 peak (m, m/s or m/s^2), masses to kg, speeds to rad/s, angles to radians.  The angular sense
 is the weights' (trial masses, corrections, ``[[influence]]``); the readings' angles are in the
 same sense (``phase = "lead"``, the default) or against it (``phase = "lag"``: a phase lag, as
@@ -37,6 +39,7 @@ METHODS = ("least_squares", "weighted", "min_max")
 _KINDS = ("slow_roll", "reference", "trial")
 _NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 _POLAR = re.compile(rf"^\s*({_NUM})\s*([^@\s]*)\s*@\s*({_NUM})\s*(?:deg|°)?\s*$")
+_AMPLITUDE = re.compile(rf"^\s*({_NUM})\s*([^@\s\d.+-][^@\s]*)?\s*$")   # a reading without phase
 
 
 def _vibration_quantity(unit: str, field_: str) -> tuple:
@@ -96,6 +99,7 @@ class FieldJob:
     rotor_mass: float = math.nan                     # kg (ISO 21940-11 grade)
     service_speed: float = math.nan                  # rad/s (default: the highest run speed)
     grade: float = math.nan                          # target grade G [mm/s]
+    amplitude_only: bool = False                     # readings without phase: four-run
 
     def to_display(self, v) -> np.ndarray:
         """SI peak vibration -> the job's unit and amplitude convention."""
@@ -120,6 +124,29 @@ def _polar(text, field_: str, unit_ok) -> tuple:
     if unit:
         unit_ok(unit, field_)
     return amp, math.radians(ang)
+
+
+def _amplitude_reading(vals, where, job, unit_ok) -> tuple:
+    """Amplitude-only readings (``"170"`` or a list of them) -> (mean amplitude, SI peak, as a
+    real complex; its standard uncertainty): the meter's rounding to the last written digit
+    (q / sqrt 12, averaged over n readings), or for repeated readings the scatter of the
+    mean if larger."""
+    a, res = [], []
+    for k, x in enumerate(vals):
+        f_ = where if len(vals) == 1 else f"{where}[{k}]"
+        m = _AMPLITUDE.match(str(x))
+        amp = float(m.group(1))
+        if not (math.isfinite(amp) and amp >= 0):
+            raise ValueError(f"{f_} = {x!r}: the amplitude must be finite and >= 0")
+        if m.group(2):
+            unit_ok(m.group(2), f_)
+        a.append(float(job.from_display(amp)))
+        res.append(_last_digit(m.group(1)) * float(job.from_display(1.0)) / math.sqrt(12.0))
+    a = np.array(a)
+    s = math.sqrt(float(np.mean(np.square(res))) / a.size)
+    if a.size > 1:
+        s = max(s, float(np.std(a, ddof=1)) / math.sqrt(a.size))
+    return complex(a.mean()), s
 
 
 def _last_digit(number: str) -> float:
@@ -303,6 +330,10 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
         vals = v if isinstance(v, list) else [v]
         if not vals:
             raise ValueError(f"{where}: an empty list of readings")
+        if all(_AMPLITUDE.match(str(x)) for x in vals):
+            phase_free.append(where)
+            return _amplitude_reading(vals, where, job, unit_ok)
+        phased.append(where)
         z, res = [], []
         for k, x in enumerate(vals):
             a, ph = _polar(x, where if len(vals) == 1 else f"{where}[{k}]", unit_ok)
@@ -319,6 +350,7 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
             s = max(s, math.sqrt((np.var(z.real, ddof=1) + np.var(z.imag, ddof=1)) / 2.0 / n))
         return complex(z.mean()), s
 
+    phase_free, phased = [], []       # readings written without / with '@ angle'
     runs = doc.get("run") or []
     if not isinstance(runs, list):
         raise ValueError("run: use [[run]] tables (an array of tables)")
@@ -356,6 +388,7 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
             vals, stds, w_rec = _recorded(t, where, source, job.sensors)
             for s in vals:
                 add(job.sensors, s)
+            phased.append(f"{where}.recording")
             speed = speed_of(t, where)
             job.runs.append(FieldRun(i, kind, w_rec if math.isnan(speed) else speed, trial,
                                      removed, vals, stds, trial_std))
@@ -370,6 +403,11 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
             vals[s], stds[s] = reading(v, f"{where}.readings.{s}")
         job.runs.append(FieldRun(i, kind, speed_of(t, where), trial, removed, vals, stds,
                                  trial_std))
+    if phase_free and phased:
+        raise ValueError(f"{phase_free[0]}: an amplitude-only reading, but {phased[0]} has a phase: "
+                         f"write every reading as \"amplitude @ angle\" or every one as "
+                         f"\"amplitude\" (amplitude-only balancing)")
+    job.amplitude_only = bool(phase_free)
 
     if influence_doc is not None:
         if not influence_doc.get("influence"):

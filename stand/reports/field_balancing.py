@@ -17,7 +17,10 @@ __all__ = ["field_report", "write_field_report"]
 
 
 def _polar_text(a, deg, unit="", a_std=None, deg_std=None):
-    """``a ± s unit at deg ± s °`` with the one formatter (:mod:`stand.io.numbers`)."""
+    """``a ± s unit at deg ± s °`` with the one formatter (:mod:`stand.io.numbers`); an
+    amplitude-only reading (``deg`` None) without the angle."""
+    if deg is None:
+        return with_uncertainty(a, a_std, unit)
     return (f"{with_uncertainty(a, a_std, unit)} at "
             f"{with_uncertainty(deg, deg_std, '°', resolution=False)}")
 
@@ -63,7 +66,7 @@ def _figures(res) -> dict:
             same = (r["speed_rpm"] is None or run["speed_rpm"] is None
                     or abs(run["speed_rpm"] - r["speed_rpm"]) <= 0.01 * r["speed_rpm"])
             rd = run["readings"].get(r["sensor"])
-            if same and rd and run["kind"] == "trial":
+            if same and rd and run["kind"] == "trial" and rd["angle_deg"] is not None:
                 pts.append((math.radians(rd["angle_deg"]), rd["amplitude"], f"run {run['run']}"))
         ax.plot([0, math.radians(r["before_deg"])], [0, r["before"]], "o-", color="#b00",
                 label="before")
