@@ -478,9 +478,10 @@ def test_recording_needs_displacement_unit(tmp_path):
         balance_job(job)
 
 
-def test_ill_conditioned_trial_runs_warn_on_the_command_line(tmp_path, capsys):
-    """Two planes whose trial runs move the sensors almost alike: exit 0, one warning line
-    naming both planes (and the JSON's ill_conditioned)."""
+def test_near_singular_planes_refused_on_the_command_line(tmp_path, capsys):
+    """Two planes whose trial runs move the sensors almost alike (condition ~ 800): the
+    corrections' ± exceed the corrections, so no number is given: exit 2, one line naming both
+    planes, the condition and what to do."""
     job = tmp_path / "ill.toml"
     job.write_text('[job]\nvibration_unit = "um"\nmass_unit = "g"\n'
                    '[[run]]\nkind = "reference"\nreadings = { S1 = "100 @ 0", S2 = "80 @ 30" }\n'
@@ -488,13 +489,97 @@ def test_ill_conditioned_trial_runs_warn_on_the_command_line(tmp_path, capsys):
                    'readings = { S1 = "150 @ 10", S2 = "120 @ 35" }\n'
                    '[[run]]\nkind = "trial"\ntrial = { P2 = "10 @ 0" }\n'
                    'readings = { S1 = "151 @ 10.2", S2 = "121 @ 35.1" }\n')
-    assert main(["balance", str(job), "--json"]) == 0
+    assert main(["balance", str(job), "--json"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "nearly singular" in err
+    assert "planes P1, P2" in err and "move a correction plane" in err
+    cond = float(err.split("condition ")[1].split(")")[0])
+    assert 100 < cond < 1e4
+
+
+# ------------------------------------------------------------------ bad jobs (issue 41, item 1)
+def _bk_with(old, new):
+    text = BK.read_text()
+    assert old in text
+    return text.replace(old, new)
+
+
+_REF = 'readings = { S1 = "170 @ 112", S2 = "53 @ 78" }'
+_T1 = 'S1 = "235 @ 94", S2 = "58 @ 68"'
+_T2 = 'S1 = "185 @ 115", S2 = "77 @ 104"'
+
+
+@pytest.mark.parametrize("name, old, new, words", [
+    ("no-effect trial", _T1, 'S1 = "170 @ 112", S2 = "53 @ 78"',
+     ["run[1] (trial)", "P1", "no measurable effect", "0 mm/s", "larger"]),
+    # a change of 0.1 mm/s at 170 mm/s is inside the readings' digits (± ~0.3 mm/s per degree)
+    ("trial within resolution", _T1, 'S1 = "170.1 @ 112", S2 = "53 @ 78"',
+     ["run[1] (trial)", "no measurable effect", "0.1 mm/s at S1"]),
+    ("sensor missing from the reference", _REF, 'readings = { S1 = "170 @ 112" }',
+     ["1 reference reading(s) for 2 planes", "underdetermined", "reference run's reading of S2"]),
+    ("near-singular pair of planes", _T2, 'S1 = "235.1 @ 94", S2 = "58.1 @ 68"',
+     ["nearly singular", "planes P1, P2", "move a correction plane"]),
+    ("overflowing angle", "170 @ 112", "170 @ 1e300",
+     ["run[0].readings.S1", "1e+300 deg", "-360 .. 360"]),
+    ("overflowing amplitude", "170 @ 112", "1e300 @ 112", ["run[0].readings.S1", "1e+300"]),
+])
+def test_bad_bk_job_is_one_line_error(tmp_path, capsys, name, old, new, words):
+    """The B&K job with one thing wrong: exit 2, one line naming run/plane/sensor and value;
+    the API raises the same ValueError (never a number from a singular system)."""
+    f = tmp_path / "job.toml"
+    f.write_text(_bk_with(old, new))
+    assert main(["balance", str(f)]) == 2, name
     cap = capsys.readouterr()
-    doc = json.loads(cap.out)
-    assert doc["condition"] > 100
-    assert doc["ill_conditioned"]["planes"] == ["P1", "P2"]
-    warn = [ln for ln in cap.err.splitlines() if "ill-conditioned" in ln]
-    assert len(warn) == 1 and "P1" in warn[0] and "P2" in warn[0]
+    err = cap.err.strip()
+    assert err.count("\n") == 0 and "error" in err and cap.out == ""
+    for w in words:
+        assert w in err, (name, w, err)
+    with pytest.raises(ValueError) as exc:
+        balance_job(f)
+    assert words[0] in str(exc.value)
+
+
+def test_deeply_nested_job_file_is_one_line_error(tmp_path, capsys):
+    f = tmp_path / "deep.toml"
+    f.write_text("[job]\nx = " + "[" * 5000 + "]" * 5000 + "\n")
+    assert main(["balance", str(f)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "nested too deeply" in err and "deep.toml" in err
+    with pytest.raises(ValueError, match="nested too deeply"):
+        balance_job(f)
+
+
+def test_reading_repeated_unchanged_is_a_named_warning(tmp_path, capsys):
+    """S1 of the second trial copied from the first: answered (exit 0) with one warning naming
+    the sensor and both runs."""
+    f = tmp_path / "job.toml"
+    f.write_text(_bk_with(_T2, 'S1 = "235 @ 94", S2 = "77 @ 104"'))
+    assert main(["balance", str(f)]) == 0
+    warn = [ln for ln in capsys.readouterr().err.splitlines() if "same reading" in ln]
+    assert len(warn) == 1 and "S1" in warn[0] and "run[1]" in warn[0] and "run[2]" in warn[0]
+    assert any("same reading" in w for w in balance_job(f)["warnings"])
+    assert not any("same reading" in w for w in balance_job(BK)["warnings"])
+
+
+def test_condition_is_the_true_one():
+    """A zero influence column or fewer rows than planes: condition inf (not the 1.99 or 1 a
+    column scaling of rounding noise gives)."""
+    A = np.array([[_p(78.43, 58.4), 1e-19 * _p(1, 30)], [_p(9.462, 10.2), 0.0]])
+    c = conditioning(A, ["P1", "P2"], ["S1", "S2"])
+    assert c.condition == np.inf and c.ill and c.planes == ("P2",)
+    assert conditioning(A[:1], ["P1", "P2"], ["S1"]).condition == np.inf
+    # a well-posed matrix keeps its value: columns scaled, then s_max / s_min
+    B = np.array([[2.0, 0.0], [0.0, 3.0]])
+    assert conditioning(B, ["P1", "P2"], ["S1", "S2"]).condition == pytest.approx(1.0)
+
+
+def test_singular_saved_influence_is_refused(tmp_path):
+    """An influence file whose P2 column is zero: refused naming P2, no min-norm answer."""
+    inf = tmp_path / "inf.toml"
+    inf.write_text('[job]\nvibration_unit = "mm/s"\nmass_unit = "g"\n[[influence]]\n'
+                   'S1 = { P1 = "78.4 @ 58.4", P2 = "0 @ 0" }\nS2 = { P1 = "9.5 @ 10", P2 = "0 @ 0" }\n')
+    with pytest.raises(ValueError, match="singular.*P2"):
+        balance_job(BK, influence=inf)
 
 
 # ------------------------------------------------------------------ the ± of the corrections

@@ -149,6 +149,45 @@ class _Chain:
                                      f"[[influence]] table / --influence FILE)")
             self.plan.append((speed, runs, sensors, slow[0] if slow else None, Ak))
         self.rows = [(s, speed) for speed, _, sensors, _, _ in self.plan for s in sensors]
+        if len(self.rows) < P:
+            ref = [r for r in job.runs if r.kind == "reference"]
+            miss = [s for s in job.sensors if not any(s in r.readings for r in ref)]
+            raise ValueError(f"run: {len(self.rows)} reference reading(s) for {P} planes "
+                             f"({', '.join(job.planes)}): underdetermined, infinitely many "
+                             f"corrections fit" + (f"; give the reference run's reading of "
+                                                   f"{', '.join(miss)}" if miss else
+                                                   "; add a sensor"))
+        self._check_trials()
+        self.notes += _repeated(job)
+
+    def _check_trials(self):
+        """Refuse a trial run whose change from the run before its trial (the reference, or the
+        trial run left on before it) is within 2 standard uncertainties at every sensor: its
+        influence column would be noise (or zero)."""
+        for speed, runs, sensors, _, Ak in self.plan:
+            if Ak is not None:
+                continue
+            for r in runs:
+                if r.kind != "trial":
+                    continue
+                own = np.zeros(len(self.job.planes), dtype=complex)
+                for p, t in r.trial.items():
+                    own[self.job.planes.index(p)] += t
+                base = [b for b in runs if b.index < r.index
+                        and np.allclose(self.added[b.index], self.added[r.index] - own)]
+                if not base:
+                    continue
+                b = base[-1]
+                d = np.array([abs(r.readings[s] - b.readings[s]) for s in sensors])
+                u = np.array([math.hypot(r.std[s], b.std[s]) for s in sensors])
+                if np.all(d <= 2.0 * math.sqrt(2.0) * u):
+                    k = int(np.argmax(d))
+                    raise ValueError(
+                        f"{r.label}: trial {', '.join(r.trial)} had no measurable effect (largest "
+                        f"change from {b.label}: {self.job.to_display(d[k]):.3g} "
+                        f"{self.job.vibration_unit} at {sensors[k]}, within 2 standard "
+                        f"uncertainties of the readings): trial mass too small, repeat the run "
+                        f"with a larger one")
 
     def _added(self, x) -> dict:
         """Run index -> the trial masses on the rotor during it [kg, complex per plane]
@@ -196,6 +235,20 @@ class _Chain:
         else:
             U = least_squares(A, V0, weights=w if method == "weighted" else None, max_mass=lim)
         return A, V0, U
+
+
+def _repeated(job: FieldJob) -> list:
+    """Warnings for a sensor's reading written identically in several runs (a copied line?)."""
+    out = []
+    for s in job.sensors:
+        seen = {}
+        for r in job.runs:
+            if s in r.readings:
+                seen.setdefault(r.readings[s], []).append(r.label)
+        out += [f"{s}: the same reading in {', '.join(labels)} (a copied reading? a trial "
+                f"changes every sensor's vibration a little): check it" for labels in
+                seen.values() if len(labels) > 1]
+    return out
 
 
 def _deg(z):
@@ -290,6 +343,19 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
     multi = len(chain.plan) > 1
     names = [f"{s}@{speed * _RPM:.6g}rpm" if multi else s for s, speed in chain.rows]
     cond = conditioning(A, job.planes, names)
+    if not math.isfinite(cond.condition):
+        raise ValueError(f"influence matrix is singular (condition inf): plane(s) "
+                         f"{', '.join(cond.planes)} have no effect distinct from the others' at "
+                         f"the sensors; repeat their trial runs with a larger trial mass, or "
+                         f"move a correction plane")
+    vague = [p for p in job.planes if corrections[p]["mass_std"] * 2.0 >= corrections[p]["mass"]]
+    if cond.ill and vague:
+        told = ", ".join(f"{p}: {corrections[p]['mass']:.3g} ± {corrections[p]['mass_std']:.2g} "
+                         f"{job.mass_unit}" for p in vague)
+        raise ValueError(f"influence matrix nearly singular (condition {cond.condition:.3g}): "
+                         f"planes {', '.join(cond.planes)} act nearly alike and the readings do "
+                         f"not determine the corrections ({told}): move a correction plane, "
+                         f"use larger trial masses or add a sensor")
     warnings = ([cond.message()] if cond.ill else []) + chain.notes
     if job.cap and method != "min_max":
         warnings.append("sensors' max_vibration caps are used by method = \"min_max\" only")

@@ -117,6 +117,9 @@ def _polar(text, field_: str, unit_ok) -> tuple:
     if not (math.isfinite(amp) and math.isfinite(ang)) or amp < 0:
         raise ValueError(f"{field_} = {text!r}: the amplitude must be finite and >= 0, the angle "
                          f"finite (deg)")
+    if abs(ang) > 360.0 or amp > 1e12:
+        raise ValueError(f"{field_} = {text!r}: " + (f"angle {ang:g} deg outside -360 .. 360 deg"
+                         if abs(ang) > 360.0 else f"amplitude {amp:g} above 1e12: not a reading"))
     if unit:
         unit_ok(unit, field_)
     return amp, math.radians(ang)
@@ -139,7 +142,7 @@ def _resolution_std(text, amplitude_si: float, display_to_si: float) -> float:
         return 0.0
     qa = _last_digit(m.group(1)) * display_to_si
     qp = math.radians(_last_digit(m.group(3)))
-    return math.sqrt((qa * qa + (amplitude_si * qp) ** 2) / 12.0 / 2.0)
+    return math.hypot(qa, amplitude_si * qp) / math.sqrt(24.0)
 
 
 def _weighing_std(text, mass_factor: float) -> float:
