@@ -65,6 +65,45 @@ def test_bk_cli_json_and_influence_roundtrip(tmp_path, capsys):
         assert doc2["corrections"][p]["mass"] == pytest.approx(doc["corrections"][p]["mass"], rel=1e-8)
 
 
+def test_saved_influence_keeps_its_uncertainty(tmp_path, capsys):
+    """--save-influence writes each coefficient's ± (first order: A = (V_j - V0) / T_j, so each
+    of Re and Im has std sqrt(s_j^2 + s_0^2 + |A|^2 s_T^2) / |T|) and the job that measured it,
+    and says so; a one-shot job reusing it carries that ± into its corrections."""
+    from stand.analysis.field_job import read_job
+
+    inf = tmp_path / "machine.toml"
+    assert main(["balance", str(BK), "--save-influence", str(inf)]) == 0
+    out = capsys.readouterr().out
+    assert f"saved to {inf}" in out and "±" in out and "measured by" in out
+    saved = tomllib.loads(inf.read_text())["influence"][0]
+    assert saved["measured_by"] == str(BK)
+    job = read_job(BK)
+    f = job.vib_factor * job.amp_factor                 # SI per mm/s pk
+    res = balance_job(BK)
+    for e in res["influence"]:
+        run = 1 if e["plane"] == "P1" else 2
+        s0, s1 = job.runs[0].std[e["sensor"]] / f, job.runs[run].std[e["sensor"]] / f
+        sT = job.runs[run].trial_std[e["plane"]] / job.mass_factor
+        want = np.sqrt(s0 ** 2 + s1 ** 2 + (e["amplitude"] * sT) ** 2) / 1.15
+        assert e["std"] == pytest.approx(want, rel=1e-3)
+        assert saved["std"][e["sensor"]][e["plane"]] == pytest.approx(want, rel=1e-3)
+    # one shot on the same reference readings: the ± of the measuring job, not the 4x
+    # smaller one of an exact matrix.  (A few % below it: in the measuring job the reference
+    # reading enters A and V0 alike, a correlation a next machine's reference does not share.)
+    one = tmp_path / "one_shot.toml"
+    one.write_text('[job]\nvibration_unit = "mm/s"\nmass_unit = "g"\n[[run]]\nkind = "reference"\n'
+                   'readings = { S1 = "170 @ 112", S2 = "53 @ 78" }\n')
+    reused = balance_job(one, influence=inf)
+    assert "bk_17_227" in reused["influence_measured_by"]
+    exact = tmp_path / "exact.toml"
+    exact.write_text("\n".join(ln for ln in inf.read_text().splitlines()
+                               if not ln.startswith("std =")))
+    bare = balance_job(one, influence=exact)
+    for p in ("P1", "P2"):
+        m, r, b = (x["corrections"][p]["mass_std"] for x in (res, reused, bare))
+        assert 0.9 * m <= r <= 1.1 * m and b < 0.5 * m
+
+
 def test_known_influence_in_job_and_units():
     """The issue's [[influence]] table, in µm pk-pk and oz: the answer scales with the units."""
     text = """

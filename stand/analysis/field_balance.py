@@ -94,8 +94,6 @@ class _Chain:
                 self.pos[("trial", r.index, p)] = len(self.x)
                 self.x.append(t)
                 self.sig.append(r.trial_std.get(p, 0.0))
-        self.x = np.array(self.x, dtype=complex)
-        self.sig = np.array(self.sig, dtype=float)
         self.added = self._added(self.x)
         self.plan = []
         self.notes = []
@@ -120,7 +118,7 @@ class _Chain:
             if len(slow) > 1:
                 raise ValueError(f"run: {len(slow)} slow-roll runs apply{at} "
                                  f"({', '.join(r.label for r in slow)}); give one per speed")
-            known = [m for w, m in self.job.influence
+            known = [k for k, (w, _) in enumerate(job.influence)
                      if _group_of(w, self.groups, "influence") == g]
             if len(known) > 1:
                 raise ValueError(f"influence: {len(known)} tables{at}; give one per speed")
@@ -130,13 +128,16 @@ class _Chain:
                     self.notes.append(f"trial runs{at} ({', '.join(r.label for r in ignored)}) "
                                       f"not used: the influence matrix{at} is given")
                 runs = refs
-                m = known[0]
+                m = job.influence[known[0]][1]
+                sd = job.influence_std[known[0]] if job.influence_std else {}
                 for s in sensors:
                     for p in job.planes:
                         if p not in m.get(s, {}):
                             raise ValueError(f"influence{at}: no coefficient of sensor {s} for "
                                              f"plane {p}")
-                Ak = np.array([[m[s][p] for p in job.planes] for s in sensors], dtype=complex)
+                # the coefficients are inputs with their ± (a saved influence's), like readings
+                Ak = np.array([[self._input(("A", g, s, p), m[s][p], sd.get(s, {}).get(p, 0.0))
+                                for p in job.planes] for s in sensors])
             else:
                 Ak = None
                 M = np.array([[1.0] + list(self.added[r.index]) for r in runs], dtype=complex).T
@@ -148,6 +149,8 @@ class _Chain:
                                      f"{', '.join(lack)}: give one trial run per plane (or an "
                                      f"[[influence]] table / --influence FILE)")
             self.plan.append((speed, runs, sensors, slow[0] if slow else None, Ak))
+        self.x = np.array(self.x, dtype=complex)
+        self.sig = np.array(self.sig, dtype=float)
         self.rows = [(s, speed) for speed, _, sensors, _, _ in self.plan for s in sensors]
         if len(self.rows) < P:
             ref = [r for r in job.runs if r.kind == "reference"]
@@ -159,6 +162,12 @@ class _Chain:
                                                    "; add a sensor"))
         self._check_trials()
         self.notes += _repeated(job)
+
+    def _input(self, key, value, std) -> int:
+        self.pos[key] = len(self.x)
+        self.x.append(value)
+        self.sig.append(std)
+        return self.pos[key]
 
     def _check_trials(self):
         """Refuse a trial run whose change from the run before its trial (the reference, or the
@@ -218,7 +227,7 @@ class _Chain:
                 X = D @ np.linalg.pinv(M)
                 V0, A = X[:, 0], X[:, 1:]
             else:
-                A = Ak
+                A = x[Ak]
                 V0 = (D - A @ W.T)[:, 0]          # the reference run alone
             A_all.append(A)
             V_all.append(V0)
@@ -280,6 +289,7 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
     A, V0, U = chain.solve(chain.x, method)
     P = len(job.planes)
     cov = np.zeros((P, 2, 2))
+    A_var = np.zeros(A.shape)             # pooled variance of each of Re and Im of A
     if np.any(chain.sig > 0):
         J = []
         for k in np.flatnonzero(chain.sig > 0):
@@ -288,8 +298,10 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
                 xp, xm = chain.x.copy(), chain.x.copy()
                 xp[k] += unit * h
                 xm[k] -= unit * h
-                dU = (chain.solve(xp, method)[2] - chain.solve(xm, method)[2]) / (2 * h)
-                J.append(dU * chain.sig[k])
+                Ap, _, Up = chain.solve(xp, method)
+                Am, _, Um = chain.solve(xm, method)
+                J.append((Up - Um) / (2 * h) * chain.sig[k])
+                A_var += np.abs((Ap - Am) / (2 * h) * chain.sig[k]) ** 2 / 2.0
         J = np.array(J)                                   # n x P (scaled by sigma)
         for j in range(P):
             g = np.vstack([J[:, j].real, J[:, j].imag])   # 2 x n
@@ -338,7 +350,8 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
         residuals.append(r)
     scale = job.vib_factor * job.amp_factor / mf
     infl = [{"speed_rpm": None if math.isnan(speed) else speed * _RPM, "sensor": s, "plane": p,
-             "amplitude": float(abs(A[i, j]) / scale), "angle_deg": _deg(A[i, j])}
+             "amplitude": float(abs(A[i, j]) / scale), "angle_deg": _deg(A[i, j]),
+             "std": float(math.sqrt(A_var[i, j]) / scale)}
             for i, (s, speed) in enumerate(chain.rows) for j, p in enumerate(job.planes)]
     multi = len(chain.plan) > 1
     names = [f"{s}@{speed * _RPM:.6g}rpm" if multi else s for s, speed in chain.rows]
@@ -363,7 +376,8 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
     if method == "min_max" or any(corrections[p]["mass"] >= corrections[p].get("max_mass", math.inf)
                                   * (1 - 1e-9) for p in job.planes):
         solver = "cvxpy CLARABEL" if cvxpy_available() else "scipy SLSQP"
-    doc = {"job": job.source, "method": method, "solver": solver, "phase": job.phase,
+    doc = {"job": job.source, "influence_measured_by": job.influence_source or job.source,
+           "method": method, "solver": solver, "phase": job.phase,
            "vibration_unit": job.vibration_unit, "amplitude": job.amplitude,
            "mass_unit": job.mass_unit,
            "corrections": corrections, "residuals": residuals,
@@ -413,8 +427,12 @@ def _iso(job: FieldJob, chain, corrections) -> dict | None:
 
 def influence_toml(res: FieldBalance) -> str:
     """The result's influence matrix as a job file's ``[[influence]]`` tables (with its
-    ``[job]`` units), for ``--influence FILE`` on the next machine of the type."""
+    ``[job]`` units, each coefficient's ``std`` (each of Re and Im) and the job that measured
+    it), for ``--influence FILE`` on the next machine of the type."""
+    import json
+
     lines = ["# influence coefficients saved by stand balance --save-influence",
+             "# std: standard uncertainty of each of Re and Im of a coefficient (its unit)",
              "[job]", f'vibration_unit = "{res["vibration_unit"]}"',
              f'amplitude = "{res["amplitude"]}"', f'mass_unit = "{res["mass_unit"]}"', ""]
     speeds = []
@@ -425,12 +443,16 @@ def influence_toml(res: FieldBalance) -> str:
         lines.append("[[influence]]")
         if sp is not None:
             lines.append(f'speed = "{sp:.10g} rpm"')
-        rows = {}
+        lines.append(f'measured_by = {json.dumps(res["influence_measured_by"])}')
+        rows, std = {}, {}
         for e in res["influence"]:
             if e["speed_rpm"] == sp:
                 rows.setdefault(e["sensor"], []).append(
                     f'"{e["plane"]}" = "{e["amplitude"]:.10g} @ {e["angle_deg"]:.10g}"')
+                std.setdefault(e["sensor"], []).append(f'"{e["plane"]}" = {e["std"]:.4g}')
         for s, cells in rows.items():
             lines.append(f'"{s}" = {{ {", ".join(cells)} }}')
+        lines.append("std = { " + ", ".join(f'"{s}" = {{ {", ".join(c)} }}'
+                                             for s, c in std.items()) + " }")
         lines.append("")
     return "\n".join(lines)

@@ -91,6 +91,8 @@ class FieldJob:
     cap: dict = field(default_factory=dict)          # sensor -> SI peak
     runs: list = field(default_factory=list)
     influence: list = field(default_factory=list)    # [(speed, {sensor: {plane: SI/kg}})]
+    influence_std: list = field(default_factory=list)  # per table {sensor: {plane: SI/kg}}
+    influence_source: str = ""                       # the job that measured a saved influence
     source: str = ""
     phase: str = "lead"
     rotor_mass: float = math.nan                     # kg (ISO 21940-11 grade)
@@ -383,7 +385,8 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
             add(job.sensors, s)
         for p in src.planes:
             add(job.planes, p)
-        job.influence = src.influence
+        job.influence, job.influence_std = src.influence, src.influence_std
+        job.influence_source = str(influence_doc["influence"][0].get("measured_by", ""))
         return job
     scale = vf * AMPLITUDES[amp] / job.mass_factor
     tables = doc.get("influence") or []
@@ -395,7 +398,7 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
             raise ValueError(f"{where}: expected a table")
         m = {}
         for s, row in t.items():
-            if s == "speed":
+            if s in ("speed", "std", "measured_by"):
                 continue
             if not isinstance(row, dict):
                 raise ValueError(f"{where}.{s}: e.g. {s} = {{ P1 = \"78.4 @ 58.4\" }}")
@@ -406,7 +409,26 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
                 add(job.planes, p)
                 m[s][p] = a * scale * complex(math.cos(ph), math.sin(ph))
         job.influence.append((speed_of(t, where), m))
+        job.influence_std.append(_influence_std(t.get("std", {}), m, scale, where))
     return job
+
+
+def _influence_std(table, m, scale, where) -> dict:
+    """``std = { S1 = { P1 = 0.51 } }`` of an ``[[influence]]`` table (each of Re and Im, the
+    coefficient's unit: vibration per mass) -> {sensor: {plane: SI}}; missing: exact (0)."""
+    if not isinstance(table, dict):
+        raise ValueError(f"{where}.std = {table!r}: e.g. std = {{ S1 = {{ P1 = 0.5 }} }}")
+    out = {}
+    for s, row in table.items():
+        if s not in m or not isinstance(row, dict):
+            raise ValueError(f"{where}.std.{s}: a table of the planes of sensor {s}'s coefficients")
+        for p, v in row.items():
+            if (p not in m[s] or isinstance(v, bool) or not isinstance(v, (int, float))
+                    or not (math.isfinite(v) and v >= 0)):
+                raise ValueError(f"{where}.std.{s}.{p} = {v!r}: a number >= 0 (the coefficient's "
+                                 f"standard uncertainty, its unit) for a coefficient of the table")
+            out.setdefault(s, {})[p] = float(v) * scale
+    return out
 
 
 def _recorded(t, where, source, declared):

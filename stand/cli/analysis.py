@@ -201,6 +201,9 @@ def cmd_balance(args) -> int:
                   pdf_path=args.pdf)
     if args.save_influence:
         save_influence(res, args.save_influence)
+        print(f"influence matrix (each coefficient with its ±, measured by "
+              f"{res['influence_measured_by']}) saved to {args.save_influence}",
+              file=sys.stderr if args.json else sys.stdout)
     print_warnings("balance", res["warnings"])
     if args.json:
         print_json(res.to_dict())
