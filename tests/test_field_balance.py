@@ -621,6 +621,62 @@ def test_singular_saved_influence_is_refused(tmp_path):
         balance_job(BK, influence=inf)
 
 
+# ------------------------------------------------------------------ check run and trim
+def test_check_run_trim_vs_numpy(capsys):
+    """Corrections installed with an error (10 % heavy, 8 deg off): the check run's vibration
+    exceeds the limit (1.5 x what the best correction leaves, 3 sensors for 2 planes); the trim
+    from the trial runs' influence equals numpy's least squares on the check readings and
+    brings the predicted residual below the limit.  Readings written to 15 digits: 1e-6."""
+    A = np.array([[_p(78.4, 58.4), _p(15.3, 145.3)], [_p(9.46, 10.2), _p(32.6, 142.4)],
+                  [_p(40.0, 200.0), _p(25.0, 20.0)]])
+    # an unbalance the planes can nearly cancel (what remains: 2 .. 3 um at each sensor)
+    V0 = -A @ np.array([_p(2.0, 236.0), _p(1.07, 122.0)]) + np.array([_p(2, 10), _p(3, 99),
+                                                                      _p(2.5, 250)])
+    U = -np.linalg.lstsq(A, V0, rcond=None)[0]
+    best = np.abs(V0 + A @ U)
+    limit = 1.5 * best.max()
+    C = U * 1.1 * np.exp(1j * np.radians(8.0))
+    T1, T2 = np.array([1.0, 0]), np.array([0, 1.0])
+    r0, r1, r2, rc = _simulate(A, V0, [np.zeros(2), T1, T2, C])
+    sens = ["S1", "S2", "S3"]
+    rd = lambda v: "{ " + ", ".join(f"{s} = {_fmt(v[i])}" for i, s in enumerate(sens)) + " }"  # noqa: E731
+    text = ('[job]\nvibration_unit = "um"\nmass_unit = "g"\n'
+            f'[[run]]\nkind = "reference"\nreadings = {rd(r0)}\n'
+            f'[[run]]\nkind = "trial"\ntrial = {{ P1 = "1 @ 0" }}\nreadings = {rd(r1)}\n'
+            f'[[run]]\nkind = "trial"\ntrial = {{ P2 = "1 @ 0" }}\nreadings = {rd(r2)}\n'
+            f'[[run]]\nkind = "check"\ncorrections = {{ P1 = {_fmt(C[0])}, P2 = {_fmt(C[1])} }}\n'
+            f'readings = {rd(rc)}\n')
+    ck = balance_job(_job(text))["check"]
+    assert ck["run"] == 3
+    measured = np.array([r["measured"] for r in ck["sensors"]])
+    assert measured == pytest.approx(np.abs(rc), rel=1e-6) and measured.max() > limit
+    # the prediction with the corrections installed: V0 + A C (the measurement agrees: linear)
+    assert [r["predicted"] for r in ck["sensors"]] == pytest.approx(np.abs(V0 + A @ C), rel=1e-6)
+    T = -np.linalg.lstsq(A, rc, rcond=None)[0]              # independent numpy solution
+    for j, p in enumerate(["P1", "P2"]):
+        assert ck["trim"][p]["mass"] == pytest.approx(abs(T[j]), rel=1e-6)
+        assert ck["trim"][p]["angle_deg"] == pytest.approx(np.degrees(np.angle(T[j])) % 360,
+                                                           abs=1e-4)
+    after = np.array([r["after_trim"] for r in ck["sensors"]])
+    assert after == pytest.approx(np.abs(rc + A @ T), rel=1e-6)
+    assert after.max() < limit
+    assert main(["balance", str(BK)]) == 0                  # no check run: no check lines
+    assert "check run" not in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("body, words", [
+    ('[[run]]\nkind = "check"\nreadings = { S1 = "1 @ 0" }\n', ["run[0].corrections", "check run"]),
+    ('[[run]]\nkind = "reference"\ncorrections = { P1 = "1 @ 0" }\nreadings = { S1 = "1 @ 0" }\n',
+     ["run[0].corrections", 'kind = "check"']),
+])
+def test_check_run_bad_input(tmp_path, capsys, body, words):
+    f = tmp_path / "job.toml"
+    f.write_text(body)
+    assert main(["balance", str(f)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and all(w in err for w in words), err
+
+
 # ------------------------------------------------------------------ the ± of the corrections
 # (the calibration over 24 rotors: ``field-readings`` in tests/test_uncertainty_lab.py)
 def test_trial_mass_weighed_to_its_digits():

@@ -98,7 +98,7 @@ class _Chain:
         self.plan = []
         self.notes = []
         for g, speed in enumerate(self.groups):
-            runs = [r for r in job.runs if r.kind != "slow_roll"
+            runs = [r for r in job.runs if r.kind not in ("slow_roll", "check")
                     and _group_of(r.speed, self.groups, r.label) == g]
             refs = [r for r in runs if r.kind == "reference"]
             at = "" if math.isnan(speed) else f" at {speed * _RPM:.6g} rpm"
@@ -209,7 +209,7 @@ class _Chain:
             for p in r.trial:
                 w[job.planes.index(p)] += x[self.pos[("trial", r.index, p)]]
             added[r.index] = w
-            if r.kind == "trial" and not r.removed:
+            if r.kind in ("trial", "check") and not r.removed:
                 on = w.copy()
         return added
 
@@ -396,7 +396,56 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
                                   for s, v in r.readings.items()}}
                     for r in job.runs]}
     doc["iso"] = _iso(job, chain, corrections)
+    doc["check"] = _check_and_trim(job, chain, A, V0, method)
     return FieldBalance(doc)
+
+
+def _check_and_trim(job: FieldJob, chain, A, V0, method) -> dict | None:
+    """The last ``check`` run (per speed): its measured vibration against the one predicted
+    with the corrections installed, ``V0 + A C``, and the trim ``T`` that minimises the
+    residual ``V_check + A T`` (the job's method; the influence of its trial runs or the given
+    one, not updated with the check run); None without a check run."""
+    last = []
+    for g in range(len(chain.plan)):
+        runs = [r for r in job.runs if r.kind == "check"
+                and _group_of(r.speed, chain.groups, r.label) == g]
+        last.append(runs[-1] if runs else None)
+    if not any(last):
+        return None
+    if not all(last):
+        at = [f"{e[0] * _RPM:.6g} rpm" for e, r in zip(chain.plan, last) if r is None]
+        raise ValueError(f"run: no check run at {', '.join(at)}; give one at every speed")
+    Vc, C = [], chain.added[last[-1].index]
+    for (speed, _, sensors, slow, _), r in zip(chain.plan, last):
+        miss = [s for s in sensors if s not in r.readings]
+        if miss:
+            raise ValueError(f"{r.label}.readings: no reading of {', '.join(miss)} (the "
+                             f"reference run has them)")
+        if not np.allclose(chain.added[r.index], C):
+            raise ValueError(f"{r.label}.corrections: differ from {last[-1].label}'s; the check "
+                             f"runs at the speeds must have the same masses on the rotor")
+        Vc += [r.readings[s] - (slow.readings.get(s, 0.0) if slow is not None else 0.0)
+               for s in sensors]
+    Vc = np.array(Vc)
+    w = np.array([job.weight.get(s, 1.0) for s, _ in chain.rows])
+    if method == "min_max":
+        caps = np.array([job.cap.get(s, math.inf) for s, _ in chain.rows])
+        T = min_max(A, Vc, weights=w, caps=caps)
+    else:
+        T = least_squares(A, Vc, weights=w if method == "weighted" else None)
+    pred, after, mf = V0 + A @ C, Vc + A @ T, job.mass_factor
+    rdeg = (lambda z: _deg(z)) if job.phase == "lead" else (lambda z: _deg(np.conj(z)))
+    disp = lambda z: float(job.to_display(abs(z)))  # noqa: E731
+    return {"run": last[-1].index,
+            "installed": {p: {"mass": abs(C[j]) / mf, "angle_deg": _deg(C[j])}
+                          for j, p in enumerate(job.planes) if C[j] != 0},
+            "sensors": [{"sensor": s, "speed_rpm": None if math.isnan(sp) else sp * _RPM,
+                         "measured": disp(Vc[i]), "measured_deg": rdeg(Vc[i]),
+                         "predicted": disp(pred[i]), "predicted_deg": rdeg(pred[i]),
+                         "after_trim": disp(after[i]), "after_trim_deg": rdeg(after[i])}
+                        for i, (s, sp) in enumerate(chain.rows)],
+            "trim": {p: {"mass": abs(T[j]) / mf, "angle_deg": _deg(T[j])}
+                     for j, p in enumerate(job.planes)}}
 
 
 def _iso(job: FieldJob, chain, corrections) -> dict | None:

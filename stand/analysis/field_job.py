@@ -2,8 +2,8 @@
 
 The contract (README, "Field balancing"): ``[job]`` units and method, ``[planes.NAME]``
 (radius, max_mass, holes), ``[sensors.NAME]`` (weight, max_vibration), ``[[run]]`` tables
-(``kind = "slow_roll" | "reference" | "trial"``, ``speed``, ``trial``, ``removed``,
-``readings``) and ``[[influence]]`` tables (a known influence matrix per speed).
+(``kind = "slow_roll" | "reference" | "trial" | "check"``, ``speed``, ``trial``, a check
+run's ``corrections`` (installed, left on), ``removed``, ``readings``) and ``[[influence]]`` tables (a known influence matrix per speed).
 
 A reading is ``"amplitude @ angle"`` (the job's vibration unit and amplitude convention,
 degrees), or a list of them (repeated readings: their mean, and the scatter of the mean as
@@ -34,7 +34,7 @@ MASS_UNITS = QUANTITIES["mass"]
 #: amplitude conventions -> factor to peak
 AMPLITUDES = AMPLITUDE
 METHODS = ("least_squares", "weighted", "min_max")
-_KINDS = ("slow_roll", "reference", "trial")
+_KINDS = ("slow_roll", "reference", "trial", "check")
 _NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 _POLAR = re.compile(rf"^\s*({_NUM})\s*([^@\s]*)\s*@\s*({_NUM})\s*(?:deg|°)?\s*$")
 
@@ -49,7 +49,8 @@ def _vibration_quantity(unit: str, field_: str) -> tuple:
 
 @dataclass
 class FieldRun:
-    """One run of the job: kind, speed [rad/s] (NaN: not given), trial masses [kg, complex],
+    """One run of the job: kind, speed [rad/s] (NaN: not given), trial masses [kg, complex]
+    (a ``check`` run's: the corrections installed, on for the runs after it),
     ``removed``, readings (sensor -> SI peak complex) and their standard uncertainties
     (sensor -> std of each of Re and Im, SI); ``trial_std``: plane -> std of each of Re and
     Im of the trial mass [kg] (its written digits)."""
@@ -330,26 +331,30 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
     for i, t in enumerate(runs):
         where = f"run[{i}]"
         _check_keys(t, ("kind", "speed", "trial", "removed", "readings", "name", "recording",
-                        "sensors", "t_start"), where)
+                        "sensors", "t_start", "corrections"), where)
         kind = str(t.get("kind", ""))
         if kind not in _KINDS:
             raise ValueError(f"{where}.kind = {t.get('kind')!r}: one of {', '.join(_KINDS)}")
         trial, trial_std = {}, {}
-        if kind == "trial":
-            tt = t.get("trial")
+        key = "corrections" if kind == "check" else "trial"    # masses put on in the run
+        if kind in ("trial", "check"):
+            tt = t.get(key)
             if not isinstance(tt, dict) or not tt:
-                raise ValueError(f"{where}.trial: a trial run needs e.g. trial = {{ P1 = \"1.15 @ 0\" }} "
-                                 f"(mass in {mu} @ angle deg)")
+                raise ValueError(f"{where}.{key}: a {kind} run needs e.g. {key} = "
+                                 f"{{ P1 = \"1.15 @ 0\" }} (mass in {mu} @ angle deg"
+                                 + (", the corrections installed before it)" if key != "trial"
+                                    else ")"))
             for p, x in tt.items():
-                a, ph = _polar(x, f"{where}.trial.{p}", mass_unit_ok)
+                a, ph = _polar(x, f"{where}.{key}.{p}", mass_unit_ok)
                 if not a > 0:
-                    raise ValueError(f"{where}.trial.{p} = {x!r}: the trial mass must be > 0 {mu}")
+                    raise ValueError(f"{where}.{key}.{p} = {x!r}: the mass must be > 0 {mu}")
                 add(job.planes, p)
                 trial[p] = a * job.mass_factor * complex(math.cos(ph), math.sin(ph))
                 trial_std[p] = _weighing_std(x, job.mass_factor)
-        elif "trial" in t:
-            raise ValueError(f"{where}.trial: only a run of kind = \"trial\" carries trial weights")
-        removed = t.get("removed", True)
+        for k_, owner in (("trial", "trial"), ("corrections", "check")):
+            if k_ in t and kind != owner:
+                raise ValueError(f"{where}.{k_}: only a run of kind = \"{owner}\" carries {k_}")
+        removed = t.get("removed", kind != "check")     # corrections stay on
         if not isinstance(removed, bool):
             raise ValueError(f"{where}.removed = {removed!r}: true or false")
         if "recording" in t:

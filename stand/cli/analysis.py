@@ -222,6 +222,19 @@ def cmd_balance(args) -> int:
         print(f"  {r['sensor']}{at}: {plain(r['before'])} -> {_after(r['after'], r['before'], vu)} "
               f"{res['amplitude']}"
               f" (predicted)")
+    ck = res.get("check")
+    if ck:
+        print(f"check run[{ck['run']}] (installed: " + ", ".join(
+            f"{p} {plain(c['mass'], mu)} @ {plain(c['angle_deg'], '°')}"
+            for p, c in ck["installed"].items()) + "):")
+        for r in ck["sensors"]:
+            at = f" at {plain(r['speed_rpm'], 'rpm', 6)}" if r["speed_rpm"] is not None else ""
+            print(f"  {r['sensor']}{at}: measured {plain(r['measured'])} @ "
+                  f"{plain(r['measured_deg'], '°')}, predicted {plain(r['predicted'])} @ "
+                  f"{plain(r['predicted_deg'], '°')} {vu} {res['amplitude']}; after trim "
+                  f"{_after(r['after_trim'], r['measured'], vu)} (predicted)")
+        print("  trim: " + ", ".join(f"{p} {plain(c['mass'], mu)} @ {plain(c['angle_deg'], '°')}"
+                                     for p, c in ck["trim"].items()))
     return 0
 
 
