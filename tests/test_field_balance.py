@@ -677,6 +677,35 @@ def test_check_run_bad_input(tmp_path, capsys, body, words):
     assert err.count("\n") == 0 and all(w in err for w in words), err
 
 
+# ------------------------------------------------------------------ trial validity and sizing
+def test_trial_validity_rule_and_suggested_trial_mass(tmp_path, capsys):
+    """B&K: trial 1 changes S1 by 235/170 - 1 = 38 %, trial 2 S2 by 77/53 - 1 = 45 %: both
+    valid, no warning.  A trial changing at most S2 53 -> 63 (19 %) and 78 -> 90 deg (12 deg;
+    S1 170 -> 172 @ 112) is named in a warning.  Suggested trial mass (10 % of the rotor
+    weight per plane): m = 0.1 M g / (P r w^2)."""
+    res = balance_job(BK)
+    v = {e["run"]: e for e in res["trial_validity"]}
+    assert v["run[1] (trial)"]["amplitude_change_pct"] == pytest.approx(100 * (235 / 170 - 1))
+    assert v["run[2] (trial)"]["amplitude_change_pct"] == pytest.approx(100 * (77 / 53 - 1))
+    assert all(e["valid"] for e in res["trial_validity"]) and res["trial_mass"] is None
+    f = tmp_path / "weak.toml"
+    f.write_text(BK.read_text().replace('S1 = "185 @ 115", S2 = "77 @ 104"',
+                                        'S1 = "172 @ 112", S2 = "63 @ 90"')
+                 .replace('method = "least_squares"', 'method = "least_squares"\n'
+                          'rotor_mass = "100 kg"\nservice_speed = "3000 rpm"')
+                 .replace("[planes.P1]\n[planes.P2]", '[planes.P1]\nradius = "100 mm"\n'
+                          '[planes.P2]\nradius = "50 mm"'))
+    res = balance_job(f)
+    w = [x for x in res["warnings"] if "run[2] (trial)" in x]
+    assert len(w) == 1 and "P2" in w[0] and "30 deg" in w[0] and "larger trial mass" in w[0]
+    e = {x["run"]: x for x in res["trial_validity"]}["run[2] (trial)"]
+    assert e["amplitude_change_pct"] == pytest.approx(100 * 10 / 53) and not e["valid"]
+    assert e["phase_change_deg"] == pytest.approx(12.0)
+    omega = 3000 * 2 * np.pi / 60
+    for p, r in (("P1", 0.1), ("P2", 0.05)):
+        assert res["trial_mass"][p] == pytest.approx(0.1 * 100 * 9.80665 / 2 / (r * omega ** 2) * 1e3)
+
+
 # ------------------------------------------------------------------ the ± of the corrections
 # (the calibration over 24 rotors: ``field-readings`` in tests/test_uncertainty_lab.py)
 def test_trial_mass_weighed_to_its_digits():

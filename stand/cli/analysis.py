@@ -222,6 +222,9 @@ def cmd_balance(args) -> int:
         print(f"  {r['sensor']}{at}: {plain(r['before'])} -> {_after(r['after'], r['before'], vu)} "
               f"{res['amplitude']}"
               f" (predicted)")
+    if res.get("trial_mass"):
+        print("  suggested trial mass (force 10 % of the rotor weight per plane): " + ", ".join(
+            f"{p} {plain(m, mu, 2)}" for p, m in res["trial_mass"].items()))
     ck = res.get("check")
     if ck:
         print(f"check run[{ck['run']}] (installed: " + ", ".join(
