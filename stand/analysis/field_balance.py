@@ -23,6 +23,7 @@ from dsp.influence_solve import conditioning, cvxpy_available, least_squares, mi
 from stand.io.result import Result
 
 from .field_job import FieldJob, read_job
+from .field_trials import TRIAL_RULE, trial_mass, trial_validity
 
 __all__ = ["FieldBalance", "balance_job", "influence_toml"]
 
@@ -401,51 +402,13 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
                     for r in job.runs]}
     doc["iso"] = _iso(job, chain, corrections)
     doc["check"] = _check_and_trim(job, chain, A, V0, method)
-    doc["trial_validity"] = _validity(job, chain)
+    doc["trial_validity"] = trial_validity(chain)
     doc["warnings"] += [f"{v['run']}: trial {', '.join(v['planes'])} changed the vibration by at "
                         f"most {v['amplitude_change_pct']:.3g} % and {v['phase_change_deg']:.3g} deg "
                         f"(rule: {TRIAL_RULE}): its influence is uncertain, repeat it with a larger "
                         f"trial mass" for v in doc["trial_validity"] if not v["valid"]]
-    doc["trial_mass"] = _trial_mass(job, chain)
+    doc["trial_mass"] = trial_mass(job, chain.groups)
     return FieldBalance(doc)
-
-
-#: a trial run is valid when at one sensor it changes the amplitude or the phase this much
-TRIAL_AMPLITUDE, TRIAL_PHASE_DEG = 0.25, 30.0
-TRIAL_RULE = "amplitude change >= 25 % or phase change >= 30 deg at one sensor"
-#: suggested trial mass: its centrifugal force ~10 % of the rotor weight carried by the plane
-TRIAL_FORCE = 0.10
-G_N = 9.80665
-
-
-def _validity(job: FieldJob, chain) -> list:
-    """Per trial run used (a run whose change from the run before its trial, as in
-    ``_check_trials``): the largest relative amplitude change and phase change over the
-    sensors, and whether it meets :data:`TRIAL_RULE`."""
-    out = []
-    for speed, runs, sensors, _, Ak in chain.plan:
-        for r, b in chain.baselines(runs) if Ak is None else ():
-            da = max(abs(abs(r.readings[s]) - abs(b.readings[s])) / max(abs(b.readings[s]), 1e-300)
-                     for s in sensors)
-            dp = max(abs(math.degrees(np.angle(r.readings[s] / b.readings[s])))
-                     if b.readings[s] != 0 and r.readings[s] != 0 else 180.0 for s in sensors)
-            out.append({"run": r.label, "planes": list(r.trial), "amplitude_change_pct": 100 * da,
-                        "phase_change_deg": dp,
-                        "valid": bool(da >= TRIAL_AMPLITUDE or dp >= TRIAL_PHASE_DEG)})
-    return out
-
-
-def _trial_mass(job: FieldJob, chain) -> dict | None:
-    """Suggested trial mass per plane [job mass unit]: ``m r w^2 = 0.1 M g / P`` (a
-    centrifugal force of 10 % of the rotor weight, shared by the P planes), at the service
-    speed (or the highest run speed); None without rotor_mass, a speed and every radius."""
-    speeds = [g for g in chain.groups if not math.isnan(g)]
-    w = job.service_speed if not math.isnan(job.service_speed) else max(speeds, default=math.nan)
-    if math.isnan(job.rotor_mass) or math.isnan(w) or any(p not in job.radius for p in job.planes):
-        return None
-    P = len(job.planes)
-    return {p: TRIAL_FORCE * job.rotor_mass * G_N / P / (job.radius[p] * w * w) / job.mass_factor
-            for p in job.planes}
 
 
 def _check_and_trim(job: FieldJob, chain, A, V0, method) -> dict | None:
