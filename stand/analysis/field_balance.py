@@ -366,7 +366,10 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
                          f"{', '.join(cond.planes)} have no effect distinct from the others' at "
                          f"the sensors; repeat their trial runs with a larger trial mass, or "
                          f"move a correction plane")
-    vague = [p for p in job.planes if corrections[p]["mass_std"] * 2.0 >= corrections[p]["mass"]]
+    # the ill-conditioned planes' corrections lost in their ± (2 sigma above the largest
+    # correction: a plane needing almost none is not a reason to refuse)
+    big = max(c["mass"] for c in corrections.values())
+    vague = [p for p in cond.planes if corrections[p]["mass_std"] * 2.0 >= big]
     if cond.ill and vague:
         told = ", ".join(f"{p}: {corrections[p]['mass']:.3g} ± {corrections[p]['mass_std']:.2g} "
                          f"{job.mass_unit}" for p in vague)
