@@ -677,6 +677,35 @@ def test_check_run_bad_input(tmp_path, capsys, body, words):
     assert err.count("\n") == 0 and all(w in err for w in words), err
 
 
+def test_trim_uncertainty_matches_monte_carlo(tmp_path):
+    """The trim's mass_std (first order through trial runs, weighing and check readings) agrees
+    with a Monte Carlo of T = -A^-1 V_check, A = (V_j - V0) / T_j, every input drawn with its
+    std (MC std error ~1 %, first-order bias ~ a few %: rel 0.1)."""
+    from stand.analysis.field_job import read_job
+
+    f = tmp_path / "check.toml"
+    f.write_text(BK.read_text() + '\n[[run]]\nkind = "check"\n'
+                 'corrections = { P1 = "1.8 @ 240", P2 = "1.0 @ 130" }\n'
+                 'readings = { S1 = "18 @ 300", S2 = "9 @ 200" }\n')
+    trim = balance_job(f)["check"]["trim"]
+    job = read_job(f)
+    rng = np.random.default_rng(7)
+    S = ["S1", "S2"]
+    draw = lambda r: np.array([r.readings[s] + r.std[s] * (rng.normal() + 1j * rng.normal())  # noqa: E731
+                               for s in S])
+    out = []
+    for _ in range(4000):
+        v0, v1, v2, vc = (draw(job.runs[k]) for k in range(4))
+        t = [job.runs[k].trial[p] + job.runs[k].trial_std[p] * (rng.normal() + 1j * rng.normal())
+             for k, p in ((1, "P1"), (2, "P2"))]
+        A = np.column_stack([(v1 - v0) / t[0], (v2 - v0) / t[1]])
+        out.append(np.abs(np.linalg.solve(A, -vc)) / job.mass_factor)
+    out = np.array(out)
+    for j, p in enumerate(["P1", "P2"]):
+        assert trim[p]["mass"] == pytest.approx(np.median(out[:, j]), rel=0.02)
+        assert trim[p]["mass_std"] == pytest.approx(np.std(out[:, j]), rel=0.1)
+
+
 # ------------------------------------------------------------------ trial validity and sizing
 def test_trial_validity_rule_and_suggested_trial_mass(tmp_path, capsys):
     """B&K: trial 1 changes S1 by 235/170 - 1 = 38 %, trial 2 S2 by 77/53 - 1 = 45 %: both

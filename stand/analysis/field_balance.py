@@ -429,7 +429,7 @@ def _check_and_trim(job: FieldJob, chain, A, V0, method) -> dict | None:
     if not all(last):
         at = [f"{e[0] * _RPM:.6g} rpm" for e, r in zip(chain.plan, last) if r is None]
         raise ValueError(f"run: no check run at {', '.join(at)}; give one at every speed")
-    Vc, C = [], chain.added[last[-1].index]
+    pc, C = [], chain.added[last[-1].index]       # positions in x of (check, slow roll)
     for (speed, _, sensors, slow, _), r in zip(chain.plan, last):
         miss = [s for s in sensors if s not in r.readings]
         if miss:
@@ -438,15 +438,28 @@ def _check_and_trim(job: FieldJob, chain, A, V0, method) -> dict | None:
         if not np.allclose(chain.added[r.index], C):
             raise ValueError(f"{r.label}.corrections: differ from {last[-1].label}'s; the check "
                              f"runs at the speeds must have the same masses on the rotor")
-        Vc += [r.readings[s] - (slow.readings.get(s, 0.0) if slow is not None else 0.0)
+        pc += [(chain.pos[(r.index, s)], chain.pos.get((slow.index, s)) if slow else None)
                for s in sensors]
-    Vc = np.array(Vc)
     w = np.array([job.weight.get(s, 1.0) for s, _ in chain.rows])
-    if method == "min_max":
-        caps = np.array([job.cap.get(s, math.inf) for s, _ in chain.rows])
-        T = min_max(A, Vc, weights=w, caps=caps)
-    else:
-        T = least_squares(A, Vc, weights=w if method == "weighted" else None)
+    caps = np.array([job.cap.get(s, math.inf) for s, _ in chain.rows])
+
+    def trim(x):
+        A_ = chain.matrices(x)[0]
+        vc = np.array([x[i] - (x[k] if k is not None else 0.0) for i, k in pc])
+        if method == "min_max":
+            return vc, min_max(A_, vc, weights=w, caps=caps)
+        return vc, least_squares(A_, vc, weights=w if method == "weighted" else None)
+
+    Vc, T = trim(chain.x)
+    var = np.zeros(len(T))       # first order, along each trim (as the corrections' mass_std)
+    for k in np.flatnonzero(chain.sig > 0):
+        for unit in (1.0, 1j):
+            h = 1e-6 * max(abs(chain.x[k]), chain.sig[k])
+            xp, xm = chain.x.copy(), chain.x.copy()
+            xp[k] += unit * h
+            xm[k] -= unit * h
+            dT = (trim(xp)[1] - trim(xm)[1]) / (2 * h) * chain.sig[k]
+            var += (dT * np.exp(-1j * np.angle(T))).real ** 2
     pred, after, mf = V0 + A @ C, Vc + A @ T, job.mass_factor
     rdeg = (lambda z: _deg(z)) if job.phase == "lead" else (lambda z: _deg(np.conj(z)))
     disp = lambda z: float(job.to_display(abs(z)))  # noqa: E731
@@ -458,7 +471,8 @@ def _check_and_trim(job: FieldJob, chain, A, V0, method) -> dict | None:
                          "predicted": disp(pred[i]), "predicted_deg": rdeg(pred[i]),
                          "after_trim": disp(after[i]), "after_trim_deg": rdeg(after[i])}
                         for i, (s, sp) in enumerate(chain.rows)],
-            "trim": {p: {"mass": abs(T[j]) / mf, "angle_deg": _deg(T[j])}
+            "trim": {p: {"mass": abs(T[j]) / mf, "angle_deg": _deg(T[j]),
+                         "mass_std": math.sqrt(var[j]) / mf}
                      for j, p in enumerate(job.planes)}}
 
 

@@ -236,8 +236,8 @@ def cmd_balance(args) -> int:
                   f"{plain(r['measured_deg'], '°')}, predicted {plain(r['predicted'])} @ "
                   f"{plain(r['predicted_deg'], '°')} {vu} {res['amplitude']}; after trim "
                   f"{_after(r['after_trim'], r['measured'], vu)} (predicted)")
-        print("  trim: " + ", ".join(f"{p} {plain(c['mass'], mu)} @ {plain(c['angle_deg'], '°')}"
-                                     for p, c in ck["trim"].items()))
+        print("  trim: " + ", ".join(f"{p} {with_uncertainty(c['mass'], c['mass_std'] or None, mu)}"
+                                     f" @ {plain(c['angle_deg'], '°')}" for p, c in ck["trim"].items()))
     return 0
 
 
