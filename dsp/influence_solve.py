@@ -324,10 +324,10 @@ def conditioning(A, planes, sensors) -> Conditioning:
     """:class:`Conditioning` of A (R x P) with the names of its P planes and R rows."""
     A = np.asarray(A, dtype=complex)
     n = np.linalg.norm(A, axis=0)
-    n = np.where(n > 0, n, 1.0)
+    n = np.where(n > 1e-12 * max(float(n.max(initial=0.0)), 1e-300), n, np.inf)  # 0 column: 0
     An = A / n[None, :]
     u, s, vh = np.linalg.svd(An, full_matrices=False)
-    cond = float(s[0] / s[-1]) if s[-1] > 0 else math.inf
+    cond = float(s[0] / s[-1]) if s[-1] > 1e-12 * s[0] and A.shape[0] >= A.shape[1] else math.inf
     ill = not cond <= ILL_CONDITION
     names_p, names_s = (), ()
     if ill and A.shape[1] > 1:

@@ -24,6 +24,7 @@ from dsp.influence_solve import conditioning, cvxpy_available, least_squares, mi
 from stand.io.result import Result
 
 from .field_job import FieldJob, read_job
+from .field_trials import TRIAL_RULE, trial_mass, trial_validity
 
 __all__ = ["FieldBalance", "balance_job", "influence_toml"]
 
@@ -95,13 +96,11 @@ class _Chain:
                 self.pos[("trial", r.index, p)] = len(self.x)
                 self.x.append(t)
                 self.sig.append(r.trial_std.get(p, 0.0))
-        self.x = np.array(self.x, dtype=complex)
-        self.sig = np.array(self.sig, dtype=float)
         self.added = self._added(self.x)
         self.plan = []
         self.notes = []
         for g, speed in enumerate(self.groups):
-            runs = [r for r in job.runs if r.kind != "slow_roll"
+            runs = [r for r in job.runs if r.kind not in ("slow_roll", "check")
                     and _group_of(r.speed, self.groups, r.label) == g]
             refs = [r for r in runs if r.kind == "reference"]
             at = "" if math.isnan(speed) else f" at {speed * _RPM:.6g} rpm"
@@ -121,7 +120,7 @@ class _Chain:
             if len(slow) > 1:
                 raise ValueError(f"run: {len(slow)} slow-roll runs apply{at} "
                                  f"({', '.join(r.label for r in slow)}); give one per speed")
-            known = [m for w, m in self.job.influence
+            known = [k for k, (w, _) in enumerate(job.influence)
                      if _group_of(w, self.groups, "influence") == g]
             if len(known) > 1:
                 raise ValueError(f"influence: {len(known)} tables{at}; give one per speed")
@@ -131,13 +130,16 @@ class _Chain:
                     self.notes.append(f"trial runs{at} ({', '.join(r.label for r in ignored)}) "
                                       f"not used: the influence matrix{at} is given")
                 runs = refs
-                m = known[0]
+                m = job.influence[known[0]][1]
+                sd = job.influence_std[known[0]] if job.influence_std else {}
                 for s in sensors:
                     for p in job.planes:
                         if p not in m.get(s, {}):
                             raise ValueError(f"influence{at}: no coefficient of sensor {s} for "
                                              f"plane {p}")
-                Ak = np.array([[m[s][p] for p in job.planes] for s in sensors], dtype=complex)
+                # the coefficients are inputs with their ± (a saved influence's), like readings
+                Ak = np.array([[self._input(("A", g, s, p), m[s][p], sd.get(s, {}).get(p, 0.0))
+                                for p in job.planes] for s in sensors])
             else:
                 Ak = None
                 M = np.array([[1.0] + list(self.added[r.index]) for r in runs], dtype=complex).T
@@ -149,7 +151,58 @@ class _Chain:
                                      f"{', '.join(lack)}: give one trial run per plane (or an "
                                      f"[[influence]] table / --influence FILE)")
             self.plan.append((speed, runs, sensors, slow[0] if slow else None, Ak))
+        self.x = np.array(self.x, dtype=complex)
+        self.sig = np.array(self.sig, dtype=float)
         self.rows = [(s, speed) for speed, _, sensors, _, _ in self.plan for s in sensors]
+        if len(self.rows) < P:
+            ref = [r for r in job.runs if r.kind == "reference"]
+            miss = [s for s in job.sensors if not any(s in r.readings for r in ref)]
+            raise ValueError(f"run: {len(self.rows)} reference reading(s) for {P} planes "
+                             f"({', '.join(job.planes)}): underdetermined, infinitely many "
+                             f"corrections fit" + (f"; give the reference run's reading of "
+                                                   f"{', '.join(miss)}" if miss else
+                                                   "; add a sensor"))
+        self._check_trials()
+        self.notes += _repeated(job)
+
+    def _input(self, key, value, std) -> int:
+        self.pos[key] = len(self.x)
+        self.x.append(value)
+        self.sig.append(std)
+        return self.pos[key]
+
+    def baselines(self, runs) -> list:
+        """``[(trial run, the run before its trial)]``: the latest earlier run with the masses
+        on the rotor but the trial's (the reference, or a trial run left on)."""
+        out = []
+        for r in runs:
+            if r.kind != "trial":
+                continue
+            own = np.zeros(len(self.job.planes), dtype=complex)
+            for p, t in r.trial.items():
+                own[self.job.planes.index(p)] += t
+            base = [b for b in runs if b.index < r.index
+                    and np.allclose(self.added[b.index], self.added[r.index] - own)]
+            if base:
+                out.append((r, base[-1]))
+        return out
+
+    def _check_trials(self):
+        """Refuse a trial run whose change from the run before its trial (the reference, or the
+        trial run left on before it) is within 2 standard uncertainties at every sensor: its
+        influence column would be noise (or zero)."""
+        for speed, runs, sensors, _, Ak in self.plan:
+            for r, b in self.baselines(runs) if Ak is None else ():
+                d = np.array([abs(r.readings[s] - b.readings[s]) for s in sensors])
+                u = np.array([math.hypot(r.std[s], b.std[s]) for s in sensors])
+                if np.all(d <= 2.0 * math.sqrt(2.0) * u):
+                    k = int(np.argmax(d))
+                    raise ValueError(
+                        f"{r.label}: trial {', '.join(r.trial)} had no measurable effect (largest "
+                        f"change from {b.label}: {self.job.to_display(d[k]):.3g} "
+                        f"{self.job.vibration_unit} at {sensors[k]}, within 2 standard "
+                        f"uncertainties of the readings): trial mass too small, repeat the run "
+                        f"with a larger one")
 
     def _added(self, x) -> dict:
         """Run index -> the trial masses on the rotor during it [kg, complex per plane]
@@ -162,7 +215,7 @@ class _Chain:
             for p in r.trial:
                 w[job.planes.index(p)] += x[self.pos[("trial", r.index, p)]]
             added[r.index] = w
-            if r.kind == "trial" and not r.removed:
+            if r.kind in ("trial", "check") and not r.removed:
                 on = w.copy()
         return added
 
@@ -180,7 +233,7 @@ class _Chain:
                 X = D @ np.linalg.pinv(M)
                 V0, A = X[:, 0], X[:, 1:]
             else:
-                A = Ak
+                A = x[Ak]
                 V0 = (D - A @ W.T)[:, 0]          # the reference run alone
             A_all.append(A)
             V_all.append(V0)
@@ -197,6 +250,20 @@ class _Chain:
         else:
             U = least_squares(A, V0, weights=w if method == "weighted" else None, max_mass=lim)
         return A, V0, U
+
+
+def _repeated(job: FieldJob) -> list:
+    """Warnings for a sensor's reading written identically in several runs (a copied line?)."""
+    out = []
+    for s in job.sensors:
+        seen = {}
+        for r in job.runs:
+            if s in r.readings:
+                seen.setdefault(r.readings[s], []).append(r.label)
+        out += [f"{s}: the same reading in {', '.join(labels)} (a copied reading? a trial "
+                f"changes every sensor's vibration a little): check it" for labels in
+                seen.values() if len(labels) > 1]
+    return out
 
 
 def _deg(z):
@@ -232,6 +299,7 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
     A, V0, U = chain.solve(chain.x, method)
     P = len(job.planes)
     cov = np.zeros((P, 2, 2))
+    A_var = np.zeros(A.shape)             # pooled variance of each of Re and Im of A
     if np.any(chain.sig > 0):
         J = []
         for k in np.flatnonzero(chain.sig > 0):
@@ -240,8 +308,10 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
                 xp, xm = chain.x.copy(), chain.x.copy()
                 xp[k] += unit * h
                 xm[k] -= unit * h
-                dU = (chain.solve(xp, method)[2] - chain.solve(xm, method)[2]) / (2 * h)
-                J.append(dU * chain.sig[k])
+                Ap, _, Up = chain.solve(xp, method)
+                Am, _, Um = chain.solve(xm, method)
+                J.append((Up - Um) / (2 * h) * chain.sig[k])
+                A_var += np.abs((Ap - Am) / (2 * h) * chain.sig[k]) ** 2 / 2.0
         J = np.array(J)                                   # n x P (scaled by sigma)
         for j in range(P):
             g = np.vstack([J[:, j].real, J[:, j].imag])   # 2 x n
@@ -290,11 +360,28 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
         residuals.append(r)
     scale = job.vib_factor * job.amp_factor / mf
     infl = [{"speed_rpm": None if math.isnan(speed) else speed * _RPM, "sensor": s, "plane": p,
-             "amplitude": float(abs(A[i, j]) / scale), "angle_deg": _deg(A[i, j])}
+             "amplitude": float(abs(A[i, j]) / scale), "angle_deg": _deg(A[i, j]),
+             "std": float(math.sqrt(A_var[i, j]) / scale)}
             for i, (s, speed) in enumerate(chain.rows) for j, p in enumerate(job.planes)]
     multi = len(chain.plan) > 1
     names = [f"{s}@{speed * _RPM:.6g}rpm" if multi else s for s, speed in chain.rows]
     cond = conditioning(A, job.planes, names)
+    if not math.isfinite(cond.condition):
+        raise ValueError(f"influence matrix is singular (condition inf): plane(s) "
+                         f"{', '.join(cond.planes)} have no effect distinct from the others' at "
+                         f"the sensors; repeat their trial runs with a larger trial mass, or "
+                         f"move a correction plane")
+    # the ill-conditioned planes' corrections lost in their ± (2 sigma above the largest
+    # correction: a plane needing almost none is not a reason to refuse)
+    big = max(c["mass"] for c in corrections.values())
+    vague = [p for p in cond.planes if corrections[p]["mass_std"] * 2.0 >= big]
+    if cond.ill and vague:
+        told = ", ".join(f"{p}: {corrections[p]['mass']:.3g} ± {corrections[p]['mass_std']:.2g} "
+                         f"{job.mass_unit}" for p in vague)
+        raise ValueError(f"influence matrix nearly singular (condition {cond.condition:.3g}): "
+                         f"planes {', '.join(cond.planes)} act nearly alike and the readings do "
+                         f"not determine the corrections ({told}): move a correction plane, "
+                         f"use larger trial masses or add a sensor")
     warnings = ([cond.message()] if cond.ill else []) + chain.notes
     if job.cap and method != "min_max":
         warnings.append("sensors' max_vibration caps are used by method = \"min_max\" only")
@@ -302,7 +389,8 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
     if method == "min_max" or any(corrections[p]["mass"] >= corrections[p].get("max_mass", math.inf)
                                   * (1 - 1e-9) for p in job.planes):
         solver = "cvxpy CLARABEL" if cvxpy_available() else "scipy SLSQP"
-    doc = {"job": job.source, "method": method, "solver": solver, "phase": job.phase,
+    doc = {"job": job.source, "influence_measured_by": job.influence_source or job.source,
+           "method": method, "solver": solver, "phase": job.phase,
            "vibration_unit": job.vibration_unit, "amplitude": job.amplitude,
            "mass_unit": job.mass_unit,
            "corrections": corrections, "residuals": residuals,
@@ -321,7 +409,76 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
                                   for s, v in r.readings.items()}}
                     for r in job.runs]}
     doc["iso"] = _iso(job, chain, corrections)
+    doc["check"] = _check_and_trim(job, chain, A, V0, method)
+    doc["trial_validity"] = trial_validity(chain)
+    doc["warnings"] += [f"{v['run']}: trial {', '.join(v['planes'])} changed the vibration by at "
+                        f"most {v['amplitude_change_pct']:.3g} % and {v['phase_change_deg']:.3g} deg "
+                        f"(rule: {TRIAL_RULE}): its influence is uncertain, repeat it with a larger "
+                        f"trial mass" for v in doc["trial_validity"] if not v["valid"]]
+    doc["trial_mass"] = trial_mass(job, chain.groups)
     return FieldBalance(doc)
+
+
+def _check_and_trim(job: FieldJob, chain, A, V0, method) -> dict | None:
+    """The last ``check`` run (per speed): its measured vibration against the one predicted
+    with the corrections installed, ``V0 + A C``, and the trim ``T`` that minimises the
+    residual ``V_check + A T`` (the job's method; the influence of its trial runs or the given
+    one, not updated with the check run); None without a check run."""
+    last = []
+    for g in range(len(chain.plan)):
+        runs = [r for r in job.runs if r.kind == "check"
+                and _group_of(r.speed, chain.groups, r.label) == g]
+        last.append(runs[-1] if runs else None)
+    if not any(last):
+        return None
+    if not all(last):
+        at = [f"{e[0] * _RPM:.6g} rpm" for e, r in zip(chain.plan, last) if r is None]
+        raise ValueError(f"run: no check run at {', '.join(at)}; give one at every speed")
+    pc, C = [], chain.added[last[-1].index]       # positions in x of (check, slow roll)
+    for (speed, _, sensors, slow, _), r in zip(chain.plan, last):
+        miss = [s for s in sensors if s not in r.readings]
+        if miss:
+            raise ValueError(f"{r.label}.readings: no reading of {', '.join(miss)} (the "
+                             f"reference run has them)")
+        if not np.allclose(chain.added[r.index], C):
+            raise ValueError(f"{r.label}.corrections: differ from {last[-1].label}'s; the check "
+                             f"runs at the speeds must have the same masses on the rotor")
+        pc += [(chain.pos[(r.index, s)], chain.pos.get((slow.index, s)) if slow else None)
+               for s in sensors]
+    w = np.array([job.weight.get(s, 1.0) for s, _ in chain.rows])
+    caps = np.array([job.cap.get(s, math.inf) for s, _ in chain.rows])
+
+    def trim(x):
+        A_ = chain.matrices(x)[0]
+        vc = np.array([x[i] - (x[k] if k is not None else 0.0) for i, k in pc])
+        if method == "min_max":
+            return vc, min_max(A_, vc, weights=w, caps=caps)
+        return vc, least_squares(A_, vc, weights=w if method == "weighted" else None)
+
+    Vc, T = trim(chain.x)
+    var = np.zeros(len(T))       # first order, along each trim (as the corrections' mass_std)
+    for k in np.flatnonzero(chain.sig > 0):
+        for unit in (1.0, 1j):
+            h = 1e-6 * max(abs(chain.x[k]), chain.sig[k])
+            xp, xm = chain.x.copy(), chain.x.copy()
+            xp[k] += unit * h
+            xm[k] -= unit * h
+            dT = (trim(xp)[1] - trim(xm)[1]) / (2 * h) * chain.sig[k]
+            var += (dT * np.exp(-1j * np.angle(T))).real ** 2
+    pred, after, mf = V0 + A @ C, Vc + A @ T, job.mass_factor
+    rdeg = (lambda z: _deg(z)) if job.phase == "lead" else (lambda z: _deg(np.conj(z)))
+    disp = lambda z: float(job.to_display(abs(z)))  # noqa: E731
+    return {"run": last[-1].index,
+            "installed": {p: {"mass": abs(C[j]) / mf, "angle_deg": _deg(C[j])}
+                          for j, p in enumerate(job.planes) if C[j] != 0},
+            "sensors": [{"sensor": s, "speed_rpm": None if math.isnan(sp) else sp * _RPM,
+                         "measured": disp(Vc[i]), "measured_deg": rdeg(Vc[i]),
+                         "predicted": disp(pred[i]), "predicted_deg": rdeg(pred[i]),
+                         "after_trim": disp(after[i]), "after_trim_deg": rdeg(after[i])}
+                        for i, (s, sp) in enumerate(chain.rows)],
+            "trim": {p: {"mass": abs(T[j]) / mf, "angle_deg": _deg(T[j]),
+                         "mass_std": math.sqrt(var[j]) / mf}
+                     for j, p in enumerate(job.planes)}}
 
 
 def _iso(job: FieldJob, chain, corrections) -> dict | None:
@@ -352,8 +509,12 @@ def _iso(job: FieldJob, chain, corrections) -> dict | None:
 
 def influence_toml(res: FieldBalance) -> str:
     """The result's influence matrix as a job file's ``[[influence]]`` tables (with its
-    ``[job]`` units), for ``--influence FILE`` on the next machine of the type."""
+    ``[job]`` units, each coefficient's ``std`` (each of Re and Im) and the job that measured
+    it), for ``--influence FILE`` on the next machine of the type."""
+    import json
+
     lines = ["# influence coefficients saved by stand balance --save-influence",
+             "# std: standard uncertainty of each of Re and Im of a coefficient (its unit)",
              "[job]", f'vibration_unit = "{res["vibration_unit"]}"',
              f'amplitude = "{res["amplitude"]}"', f'mass_unit = "{res["mass_unit"]}"', ""]
     speeds = []
@@ -364,12 +525,16 @@ def influence_toml(res: FieldBalance) -> str:
         lines.append("[[influence]]")
         if sp is not None:
             lines.append(f'speed = "{sp:.10g} rpm"')
-        rows = {}
+        lines.append(f'measured_by = {json.dumps(res["influence_measured_by"])}')
+        rows, std = {}, {}
         for e in res["influence"]:
             if e["speed_rpm"] == sp:
                 rows.setdefault(e["sensor"], []).append(
                     f'"{e["plane"]}" = "{e["amplitude"]:.10g} @ {e["angle_deg"]:.10g}"')
+                std.setdefault(e["sensor"], []).append(f'"{e["plane"]}" = {e["std"]:.4g}')
         for s, cells in rows.items():
             lines.append(f'"{s}" = {{ {", ".join(cells)} }}')
+        lines.append("std = { " + ", ".join(f'"{s}" = {{ {", ".join(c)} }}'
+                                             for s, c in std.items()) + " }")
         lines.append("")
     return "\n".join(lines)

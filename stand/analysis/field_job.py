@@ -2,8 +2,8 @@
 
 The contract (README, "Field balancing"): ``[job]`` units and method, ``[planes.NAME]``
 (radius, max_mass, holes), ``[sensors.NAME]`` (weight, max_vibration), ``[[run]]`` tables
-(``kind = "slow_roll" | "reference" | "trial"``, ``speed``, ``trial``, ``removed``,
-``readings``) and ``[[influence]]`` tables (a known influence matrix per speed).
+(``kind = "slow_roll" | "reference" | "trial" | "check"``, ``speed``, ``trial``, a check
+run's ``corrections`` (installed, left on), ``removed``, ``readings``) and ``[[influence]]`` tables (a known influence matrix per speed).
 
 A reading is ``"amplitude @ angle"`` (the job's vibration unit and amplitude convention,
 degrees), or a list of them (repeated readings: their mean, and the scatter of the mean as
@@ -36,7 +36,7 @@ MASS_UNITS = QUANTITIES["mass"]
 #: amplitude conventions -> factor to peak
 AMPLITUDES = AMPLITUDE
 METHODS = ("least_squares", "weighted", "min_max")
-_KINDS = ("slow_roll", "reference", "trial")
+_KINDS = ("slow_roll", "reference", "trial", "check")
 _NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 _POLAR = re.compile(rf"^\s*({_NUM})\s*([^@\s]*)\s*@\s*({_NUM})\s*(?:deg|°)?\s*$")
 _AMPLITUDE = re.compile(rf"^\s*({_NUM})\s*([^@\s\d.+-][^@\s]*)?\s*$")   # a reading without phase
@@ -52,7 +52,8 @@ def _vibration_quantity(unit: str, field_: str) -> tuple:
 
 @dataclass
 class FieldRun:
-    """One run of the job: kind, speed [rad/s] (NaN: not given), trial masses [kg, complex],
+    """One run of the job: kind, speed [rad/s] (NaN: not given), trial masses [kg, complex]
+    (a ``check`` run's: the corrections installed, on for the runs after it),
     ``removed``, readings (sensor -> SI peak complex) and their standard uncertainties
     (sensor -> std of each of Re and Im, SI); ``trial_std``: plane -> std of each of Re and
     Im of the trial mass [kg] (its written digits)."""
@@ -94,6 +95,8 @@ class FieldJob:
     cap: dict = field(default_factory=dict)          # sensor -> SI peak
     runs: list = field(default_factory=list)
     influence: list = field(default_factory=list)    # [(speed, {sensor: {plane: SI/kg}})]
+    influence_std: list = field(default_factory=list)  # per table {sensor: {plane: SI/kg}}
+    influence_source: str = ""                       # the job that measured a saved influence
     source: str = ""
     phase: str = "lead"
     rotor_mass: float = math.nan                     # kg (ISO 21940-11 grade)
@@ -121,6 +124,9 @@ def _polar(text, field_: str, unit_ok) -> tuple:
     if not (math.isfinite(amp) and math.isfinite(ang)) or amp < 0:
         raise ValueError(f"{field_} = {text!r}: the amplitude must be finite and >= 0, the angle "
                          f"finite (deg)")
+    if abs(ang) > 360.0 or amp > 1e12:
+        raise ValueError(f"{field_} = {text!r}: " + (f"angle {ang:g} deg outside -360 .. 360 deg"
+                         if abs(ang) > 360.0 else f"amplitude {amp:g} above 1e12: not a reading"))
     if unit:
         unit_ok(unit, field_)
     return amp, math.radians(ang)
@@ -166,7 +172,7 @@ def _resolution_std(text, amplitude_si: float, display_to_si: float) -> float:
         return 0.0
     qa = _last_digit(m.group(1)) * display_to_si
     qp = math.radians(_last_digit(m.group(3)))
-    return math.sqrt((qa * qa + (amplitude_si * qp) ** 2) / 12.0 / 2.0)
+    return math.hypot(qa, amplitude_si * qp) / math.sqrt(24.0)
 
 
 def _weighing_std(text, mass_factor: float) -> float:
@@ -357,26 +363,30 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
     for i, t in enumerate(runs):
         where = f"run[{i}]"
         _check_keys(t, ("kind", "speed", "trial", "removed", "readings", "name", "recording",
-                        "sensors", "t_start"), where)
+                        "sensors", "t_start", "corrections"), where)
         kind = str(t.get("kind", ""))
         if kind not in _KINDS:
             raise ValueError(f"{where}.kind = {t.get('kind')!r}: one of {', '.join(_KINDS)}")
         trial, trial_std = {}, {}
-        if kind == "trial":
-            tt = t.get("trial")
+        key = "corrections" if kind == "check" else "trial"    # masses put on in the run
+        if kind in ("trial", "check"):
+            tt = t.get(key)
             if not isinstance(tt, dict) or not tt:
-                raise ValueError(f"{where}.trial: a trial run needs e.g. trial = {{ P1 = \"1.15 @ 0\" }} "
-                                 f"(mass in {mu} @ angle deg)")
+                raise ValueError(f"{where}.{key}: a {kind} run needs e.g. {key} = "
+                                 f"{{ P1 = \"1.15 @ 0\" }} (mass in {mu} @ angle deg"
+                                 + (", the corrections installed before it)" if key != "trial"
+                                    else ")"))
             for p, x in tt.items():
-                a, ph = _polar(x, f"{where}.trial.{p}", mass_unit_ok)
+                a, ph = _polar(x, f"{where}.{key}.{p}", mass_unit_ok)
                 if not a > 0:
-                    raise ValueError(f"{where}.trial.{p} = {x!r}: the trial mass must be > 0 {mu}")
+                    raise ValueError(f"{where}.{key}.{p} = {x!r}: the mass must be > 0 {mu}")
                 add(job.planes, p)
                 trial[p] = a * job.mass_factor * complex(math.cos(ph), math.sin(ph))
                 trial_std[p] = _weighing_std(x, job.mass_factor)
-        elif "trial" in t:
-            raise ValueError(f"{where}.trial: only a run of kind = \"trial\" carries trial weights")
-        removed = t.get("removed", True)
+        for k_, owner in (("trial", "trial"), ("corrections", "check")):
+            if k_ in t and kind != owner:
+                raise ValueError(f"{where}.{k_}: only a run of kind = \"{owner}\" carries {k_}")
+        removed = t.get("removed", kind != "check")     # corrections stay on
         if not isinstance(removed, bool):
             raise ValueError(f"{where}.removed = {removed!r}: true or false")
         if "recording" in t:
@@ -418,7 +428,8 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
             add(job.sensors, s)
         for p in src.planes:
             add(job.planes, p)
-        job.influence = src.influence
+        job.influence, job.influence_std = src.influence, src.influence_std
+        job.influence_source = str(influence_doc["influence"][0].get("measured_by", ""))
         return job
     scale = vf * AMPLITUDES[amp] / job.mass_factor
     tables = doc.get("influence") or []
@@ -430,7 +441,7 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
             raise ValueError(f"{where}: expected a table")
         m = {}
         for s, row in t.items():
-            if s == "speed":
+            if s in ("speed", "std", "measured_by"):
                 continue
             if not isinstance(row, dict):
                 raise ValueError(f"{where}.{s}: e.g. {s} = {{ P1 = \"78.4 @ 58.4\" }}")
@@ -441,7 +452,26 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
                 add(job.planes, p)
                 m[s][p] = a * scale * complex(math.cos(ph), math.sin(ph))
         job.influence.append((speed_of(t, where), m))
+        job.influence_std.append(_influence_std(t.get("std", {}), m, scale, where))
     return job
+
+
+def _influence_std(table, m, scale, where) -> dict:
+    """``std = { S1 = { P1 = 0.51 } }`` of an ``[[influence]]`` table (each of Re and Im, the
+    coefficient's unit: vibration per mass) -> {sensor: {plane: SI}}; missing: exact (0)."""
+    if not isinstance(table, dict):
+        raise ValueError(f"{where}.std = {table!r}: e.g. std = {{ S1 = {{ P1 = 0.5 }} }}")
+    out = {}
+    for s, row in table.items():
+        if s not in m or not isinstance(row, dict):
+            raise ValueError(f"{where}.std.{s}: a table of the planes of sensor {s}'s coefficients")
+        for p, v in row.items():
+            if (p not in m[s] or isinstance(v, bool) or not isinstance(v, (int, float))
+                    or not (math.isfinite(v) and v >= 0)):
+                raise ValueError(f"{where}.std.{s}.{p} = {v!r}: a number >= 0 (the coefficient's "
+                                 f"standard uncertainty, its unit) for a coefficient of the table")
+            out.setdefault(s, {})[p] = float(v) * scale
+    return out
 
 
 def _recorded(t, where, source, declared):

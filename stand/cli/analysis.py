@@ -201,6 +201,9 @@ def cmd_balance(args) -> int:
                   pdf_path=args.pdf)
     if args.save_influence:
         save_influence(res, args.save_influence)
+        print(f"influence matrix (each coefficient with its ±, measured by "
+              f"{res['influence_measured_by']}) saved to {args.save_influence}",
+              file=sys.stderr if args.json else sys.stdout)
     print_warnings("balance", res["warnings"])
     if args.json:
         print_json(res.to_dict())
@@ -219,6 +222,22 @@ def cmd_balance(args) -> int:
         print(f"  {r['sensor']}{at}: {plain(r['before'])} -> {_after(r['after'], r['before'], vu)} "
               f"{res['amplitude']}"
               f" (predicted)")
+    if res.get("trial_mass"):
+        print("  suggested trial mass (force 10 % of the rotor weight per plane): " + ", ".join(
+            f"{p} {plain(m, mu, 2)}" for p, m in res["trial_mass"].items()))
+    ck = res.get("check")
+    if ck:
+        print(f"check run[{ck['run']}] (installed: " + ", ".join(
+            f"{p} {plain(c['mass'], mu)} @ {plain(c['angle_deg'], '°')}"
+            for p, c in ck["installed"].items()) + "):")
+        for r in ck["sensors"]:
+            at = f" at {plain(r['speed_rpm'], 'rpm', 6)}" if r["speed_rpm"] is not None else ""
+            print(f"  {r['sensor']}{at}: measured {plain(r['measured'])} @ "
+                  f"{plain(r['measured_deg'], '°')}, predicted {plain(r['predicted'])} @ "
+                  f"{plain(r['predicted_deg'], '°')} {vu} {res['amplitude']}; after trim "
+                  f"{_after(r['after_trim'], r['measured'], vu)} (predicted)")
+        print("  trim: " + ", ".join(f"{p} {with_uncertainty(c['mass'], c['mass_std'] or None, mu)}"
+                                     f" @ {plain(c['angle_deg'], '°')}" for p, c in ck["trim"].items()))
     return 0
 
 

@@ -54,3 +54,6 @@ def read_toml(source: Union[str, Path], what: str = "scene file",
         return tomllib.loads(text), text, label
     except tomllib.TOMLDecodeError as exc:
         raise error(f"{label or '<string>: '}TOML syntax error: {exc}") from None
+    except RecursionError:
+        raise error(f"{label or '<string>: '}TOML nested too deeply (arrays or inline tables "
+                    f"inside each other hundreds of levels deep): not a {what}") from None
