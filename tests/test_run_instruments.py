@@ -1,7 +1,7 @@
 """A run's instrument frames and readings in memory (issue 29, item 5): ``run.instruments``.
 
 Frames are rendered on demand and equal the recording's; nothing is written until
-``run.write``; the readings count what the run's duration says they must.
+``stand.save``; the readings count what the run's duration says they must.
 """
 import math
 from pathlib import Path
@@ -41,7 +41,7 @@ def test_nothing_is_written_until_write(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
 
     def no_file(*a, **k):
-        raise AssertionError("an HDF5 file was opened before run.write")
+        raise AssertionError("an HDF5 file was opened before stand.save")
 
     monkeypatch.setattr(h5py, "File", no_file)
     run = stand.run(stand.load(SCENES / "natural_frequency.toml"))

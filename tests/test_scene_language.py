@@ -501,8 +501,8 @@ def test_recordings_store_their_scene_language(tmp_path):
     assert stand.read(path).scene.linear_rotor().unbalances[0].angle == pytest.approx(40.0)
     # a text that declares [scene] language = 2 is read so, attribute or not
     sc = stand.load(weights_text("", unbalance_angle=40.0))
-    path = stand.run(dataclasses.replace(
-        sc, run=dataclasses.replace(sc.run, duration=0.05))).write(tmp_path / "declared.h5")
+    path = stand.save(stand.run(dataclasses.replace(
+        sc, run=dataclasses.replace(sc.run, duration=0.05))), tmp_path / "declared.h5")
     with h5py.File(path, "a") as f:
         del f.attrs["scene_language"]
     assert stand.read(path).scene.rotor.unbalance_angle == pytest.approx(math.radians(40.0))
