@@ -270,6 +270,20 @@ def _deg(z):
     return float(np.degrees(np.angle(z)) % 360.0)
 
 
+def _perturbed(chain, f):
+    """First-order propagation, one uncertain input at a time: for each reading (or known
+    coefficient) ``k`` with ``sig > 0`` and each of its real and imaginary parts, yields
+    ``(f(x + h u e_k), f(x - h u e_k), sig_k / 2h)`` -- the caller's central difference times that
+    scale is the output's change per standard uncertainty of the input."""
+    for k in np.flatnonzero(chain.sig > 0):
+        for unit in (1.0, 1j):
+            h = 1e-6 * max(abs(chain.x[k]), chain.sig[k])
+            xp, xm = chain.x.copy(), chain.x.copy()
+            xp[k] += unit * h
+            xm[k] -= unit * h
+            yield f(xp), f(xm), chain.sig[k] / (2 * h)
+
+
 def balance_job(job, influence=None, method=None) -> FieldBalance:
     """Corrections of a field-balancing job.
 
@@ -302,16 +316,9 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
     A_var = np.zeros(A.shape)             # pooled variance of each of Re and Im of A
     if np.any(chain.sig > 0):
         J = []
-        for k in np.flatnonzero(chain.sig > 0):
-            for unit in (1.0, 1j):
-                h = 1e-6 * max(abs(chain.x[k]), chain.sig[k])
-                xp, xm = chain.x.copy(), chain.x.copy()
-                xp[k] += unit * h
-                xm[k] -= unit * h
-                Ap, _, Up = chain.solve(xp, method)
-                Am, _, Um = chain.solve(xm, method)
-                J.append((Up - Um) / (2 * h) * chain.sig[k])
-                A_var += np.abs((Ap - Am) / (2 * h) * chain.sig[k]) ** 2 / 2.0
+        for (Ap, _, Up), (Am, _, Um), s in _perturbed(chain, lambda x: chain.solve(x, method)):
+            J.append((Up - Um) * s)
+            A_var += np.abs((Ap - Am) * s) ** 2 / 2.0
         J = np.array(J)                                   # n x P (scaled by sigma)
         for j in range(P):
             g = np.vstack([J[:, j].real, J[:, j].imag])   # 2 x n
@@ -457,14 +464,8 @@ def _check_and_trim(job: FieldJob, chain, A, V0, method) -> dict | None:
 
     Vc, T = trim(chain.x)
     var = np.zeros(len(T))       # first order, along each trim (as the corrections' mass_std)
-    for k in np.flatnonzero(chain.sig > 0):
-        for unit in (1.0, 1j):
-            h = 1e-6 * max(abs(chain.x[k]), chain.sig[k])
-            xp, xm = chain.x.copy(), chain.x.copy()
-            xp[k] += unit * h
-            xm[k] -= unit * h
-            dT = (trim(xp)[1] - trim(xm)[1]) / (2 * h) * chain.sig[k]
-            var += (dT * np.exp(-1j * np.angle(T))).real ** 2
+    for Tp, Tm, s in _perturbed(chain, lambda x: trim(x)[1]):
+        var += ((Tp - Tm) * s * np.exp(-1j * np.angle(T))).real ** 2
     pred, after, mf = V0 + A @ C, Vc + A @ T, job.mass_factor
     rdeg = (lambda z: _deg(z)) if job.phase == "lead" else (lambda z: _deg(np.conj(z)))
     disp = lambda z: float(job.to_display(abs(z)))  # noqa: E731
