@@ -25,6 +25,7 @@ from stand.io.result import Result
 
 from .field_job import FieldJob, read_job
 from .field_trials import TRIAL_RULE, trial_mass, trial_validity
+from .field_verdict import field_verdict, iso_grades
 
 __all__ = ["FieldBalance", "balance_job", "influence_toml"]
 
@@ -44,7 +45,7 @@ class FieldBalance(Result):
     def _draw(self, ax) -> None:
         for r in self["residuals"]:
             for key, mk in (("before", "o"), ("after", "x")):
-                th = math.radians(r[f"{key}_deg"])
+                th = math.radians(r[f"{key}_deg"] or 0.0)      # None: exactly zero
                 ax.plot([0, r[key] * math.cos(th)], [0, r[key] * math.sin(th)], marker=mk,
                         label=f"{r['sensor']} {key}")
         ax.set_aspect("equal")
@@ -270,6 +271,22 @@ def _deg(z):
     return float(np.degrees(np.angle(z)) % 360.0)
 
 
+def _vector(u, g, mf) -> dict:
+    """A correction-like vector ``u`` [kg] with its first-order changes ``g`` (one per standard
+    uncertainty of an input) -> mass (job unit), angle_deg and their standard uncertainties
+    (along the vector and across it)."""
+    a = abs(u)
+    cov = np.vstack([g.real, g.imag]) @ np.vstack([g.real, g.imag]).T
+    if a > 0:
+        gr, gn = np.array([u.real, u.imag]) / a, np.array([-u.imag, u.real]) / (a * a)
+        m_std = math.sqrt(max(float(gr @ cov @ gr), 0.0))
+        a_std = math.degrees(math.sqrt(max(float(gn @ cov @ gn), 0.0)))
+    else:
+        m_std, a_std = math.sqrt(max(np.trace(cov) / 2, 0.0)), 180.0
+    return {"mass": float(a / mf), "angle_deg": _deg(u), "mass_std": m_std / mf,
+            "angle_std_deg": a_std}
+
+
 def _perturbed(chain, f):
     """First-order propagation, one uncertain input at a time: for each reading (or known
     coefficient) ``k`` with ``sig > 0`` and each of its real and imaginary parts, yields
@@ -305,63 +322,60 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
     if job.amplitude_only:
         from .field_amplitude import balance_amplitude_only
 
-        return FieldBalance(balance_amplitude_only(job, method or job.method))
+        return _judged(job, balance_amplitude_only(job, method or job.method), [math.nan])
     method = method or job.method
     if not job.planes:
         raise ValueError("job: no correction plane (add [planes.P1] and a trial run per plane)")
     chain = _Chain(job)
     A, V0, U = chain.solve(chain.x, method)
     P = len(job.planes)
-    cov = np.zeros((P, 2, 2))
+    J = np.zeros((0, P), dtype=complex)   # d corrections per standard uncertainty, n x P
     A_var = np.zeros(A.shape)             # pooled variance of each of Re and Im of A
+    # ... of V0, and of the vibration the correction's uncertainty leaves on the machine (A dU)
+    V_var, R_var = np.zeros(len(V0)), np.zeros(len(V0))
     if np.any(chain.sig > 0):
         J = []
-        for (Ap, _, Up), (Am, _, Um), s in _perturbed(chain, lambda x: chain.solve(x, method)):
+        for (Ap, Vp, Up), (Am, Vm, Um), s in _perturbed(chain, lambda x: chain.solve(x, method)):
             J.append((Up - Um) * s)
             A_var += np.abs((Ap - Am) * s) ** 2 / 2.0
-        J = np.array(J)                                   # n x P (scaled by sigma)
-        for j in range(P):
-            g = np.vstack([J[:, j].real, J[:, j].imag])   # 2 x n
-            cov[j] = g @ g.T
+            V_var += np.abs((Vp - Vm) * s) ** 2 / 2.0
+            R_var += np.abs(A @ (Up - Um) * s) ** 2 / 2.0
+        J = np.array(J)
     mf = job.mass_factor
     corrections = {}
     for j, p in enumerate(job.planes):
-        u = U[j]
-        a = abs(u)
-        if a > 0:
-            gr = np.array([u.real, u.imag]) / a
-            gn = np.array([-u.imag, u.real]) / (a * a)
-            m_std = math.sqrt(max(float(gr @ cov[j] @ gr), 0.0))
-            a_std = math.degrees(math.sqrt(max(float(gn @ cov[j] @ gn), 0.0)))
-        else:
-            m_std, a_std = math.sqrt(max(np.trace(cov[j]) / 2, 0.0)), 180.0
-        c = {"mass": float(a / mf), "angle_deg": _deg(u), "mass_std": m_std / mf,
-             "angle_std_deg": a_std}
+        c = _vector(U[j], J[:, j], mf)
         if p in job.radius:
             c["radius_mm"] = job.radius[p] * 1e3
-            c["unbalance_g_mm"] = a * job.radius[p] * 1e6
+            c["unbalance_g_mm"] = abs(U[j]) * job.radius[p] * 1e6
         if p in job.max_mass:
             c["max_mass"] = job.max_mass[p] / mf
         if p in job.holes:
+            c["holes"] = job.holes[p]
             c["split"] = [{"hole": k, "angle_deg": math.degrees(ang), "mass": m / mf}
-                          for k, ang, m in split_onto_holes(u, job.holes[p])]
+                          for k, ang, m in split_onto_holes(U[j], job.holes[p])]
         if p in job.weights:
-            placed, err = split_onto_weights(u / mf, [w / mf for w in job.weights[p]],
+            placed, err = split_onto_weights(U[j] / mf, [w / mf for w in job.weights[p]],
                                              job.holes.get(p), max_pieces=job.max_pieces.get(p, 3))
             c["weights"] = {"placed": [{"hole": h, "angle_deg": math.degrees(ang), "mass": m,
                                         "pieces": list(pc)} for h, ang, m, pc in placed],
                             "error": err}
         corrections[p] = c
     R = V0 + A @ U
+    exact = bool(np.all(np.abs(R) <= 1e-9 * np.max(np.abs(V0))))   # as many readings as planes
+    if exact:
+        R = np.zeros_like(R)
 
     def rdeg(z):                      # a vibration's angle in the readings' own convention
-        return _deg(z if job.phase == "lead" else np.conj(z))
+        return _deg(z if job.phase == "lead" else np.conj(z)) if z != 0 else None
 
     residuals = []
     for i, (s, speed) in enumerate(chain.rows):
         r = {"sensor": s, "speed_rpm": None if math.isnan(speed) else speed * _RPM,
              "before": float(job.to_display(abs(V0[i]))), "before_deg": rdeg(V0[i]),
-             "after": float(job.to_display(abs(R[i]))), "after_deg": rdeg(R[i])}
+             "before_std": float(job.to_display(math.sqrt(V_var[i]))),
+             "after": float(job.to_display(abs(R[i]))), "after_deg": rdeg(R[i]),
+             "after_std": float(job.to_display(math.sqrt(R_var[i])))}
         if s in job.cap:
             r["max_vibration"] = float(job.to_display(job.cap[s]))
         residuals.append(r)
@@ -390,8 +404,6 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
                          f"not determine the corrections ({told}): move a correction plane, "
                          f"use larger trial masses or add a sensor")
     warnings = ([cond.message()] if cond.ill else []) + chain.notes
-    if job.cap and method != "min_max":
-        warnings.append("sensors' max_vibration caps are used by method = \"min_max\" only")
     solver = "numpy lstsq"
     if method == "min_max" or any(corrections[p]["mass"] >= corrections[p].get("max_mass", math.inf)
                                   * (1 - 1e-9) for p in job.planes):
@@ -402,7 +414,7 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
            "mass_unit": job.mass_unit,
            "corrections": corrections, "residuals": residuals,
            "worst_before": max(r["before"] for r in residuals),
-           "worst_after": max(r["after"] for r in residuals),
+           "worst_after": max(r["after"] for r in residuals), "exactly_determined": exact,
            "influence": infl, "condition": cond.condition,
            "ill_conditioned": {"planes": list(cond.planes), "sensors": list(cond.sensors)},
            "warnings": warnings,
@@ -415,7 +427,9 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
                                       "std": float(job.to_display(r.std[s]))}
                                   for s, v in r.readings.items()}}
                     for r in job.runs]}
-    doc["iso"] = _iso(job, chain, corrections)
+    if P == 2:                        # static part in both planes, couple part +-
+        doc["static_couple"] = {"static": _vector((U[0] + U[1]) / 2, (J[:, 0] + J[:, 1]) / 2, mf),
+                                "couple": _vector((U[0] - U[1]) / 2, (J[:, 0] - J[:, 1]) / 2, mf)}
     doc["check"] = _check_and_trim(job, chain, A, V0, method)
     doc["trial_validity"] = trial_validity(chain)
     doc["warnings"] += [f"{v['run']}: trial {', '.join(v['planes'])} changed the vibration by at "
@@ -423,6 +437,16 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
                         f"(rule: {TRIAL_RULE}): its influence is uncertain, repeat it with a larger "
                         f"trial mass" for v in doc["trial_validity"] if not v["valid"]]
     doc["trial_mass"] = trial_mass(job, chain.groups)
+    return _judged(job, doc, chain.groups)
+
+
+def _judged(job, doc, groups) -> FieldBalance:
+    """The answer with its ISO 21940-11 grades and its verdict (:mod:`.field_verdict`) at the
+    service speed (default: the highest run speed)."""
+    w = job.service_speed if not math.isnan(job.service_speed) else max(
+        (g for g in groups if not math.isnan(g)), default=math.nan)
+    doc["iso"] = iso_grades(job, doc["corrections"], w)
+    doc["verdict"] = field_verdict(job, doc, w)
     return FieldBalance(doc)
 
 
@@ -480,32 +504,6 @@ def _check_and_trim(job: FieldJob, chain, A, V0, method) -> dict | None:
             "trim": {p: {"mass": abs(T[j]) / mf, "angle_deg": _deg(T[j]),
                          "mass_std": math.sqrt(var[j]) / mf}
                      for j, p in enumerate(job.planes)}}
-
-
-def _iso(job: FieldJob, chain, corrections) -> dict | None:
-    """ISO 21940-11 grade of the initial unbalance (the corrections' sum of |U_j| r_j) and of
-    the correction's uncertainty (what may remain), when the rotor mass, a speed and every
-    plane's radius are known; None otherwise."""
-    from dsp.unbalance import iso_21940_grade
-
-    speeds = [g for g in chain.groups if not math.isnan(g)]
-    w = job.service_speed if not math.isnan(job.service_speed) else (max(speeds) if speeds
-                                                                      else math.nan)
-    if math.isnan(job.rotor_mass) or math.isnan(w) or any(p not in job.radius for p in job.planes):
-        return None
-    mf = job.mass_factor
-    U = sum(corrections[p]["mass"] * mf * job.radius[p] * 1e6 for p in job.planes)
-    sU = math.sqrt(sum((corrections[p]["mass_std"] * mf * job.radius[p] * 1e6) ** 2
-                       for p in job.planes))
-    target = None if math.isnan(job.grade) else job.grade
-    before = iso_21940_grade(U, job.rotor_mass, w, target)
-    after = iso_21940_grade(sU, job.rotor_mass, w, target)
-    return {"rotor_mass_kg": job.rotor_mass, "service_speed_rpm": w * _RPM,
-            "initial_unbalance_g_mm": U, "initial_grade_mm_s": before.grade_mm_s,
-            "initial_grade": before.label,
-            "correction_uncertainty_g_mm": sU, "after_grade_mm_s": after.grade_mm_s,
-            "after_grade": after.label, "target_grade_mm_s": target,
-            "permissible_g_mm": before.permissible_gmm, "passed": after.passed}
 
 
 def influence_toml(res: FieldBalance) -> str:

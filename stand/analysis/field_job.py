@@ -1,7 +1,7 @@
 """A field-balancing job file (``stand balance JOB.toml``): readings as a balancer shows them.
 
 The contract (README, "Field balancing"): ``[job]`` units and method, ``[planes.NAME]``
-(radius, max_mass, holes), ``[sensors.NAME]`` (weight, max_vibration), ``[[run]]`` tables
+(radius, max_mass, holes), ``[sensors.NAME]`` (weight, max_vibration, machine_class), ``[[run]]`` tables
 (``kind = "slow_roll" | "reference" | "trial" | "check"``, ``speed``, ``trial``, a check
 run's ``corrections`` (installed, left on), ``removed``, ``readings``) and ``[[influence]]`` tables (a known influence matrix per speed).
 
@@ -93,6 +93,7 @@ class FieldJob:
     max_pieces: dict = field(default_factory=dict)   # plane -> int
     weight: dict = field(default_factory=dict)       # sensor -> float
     cap: dict = field(default_factory=dict)          # sensor -> SI peak
+    zone_class: dict = field(default_factory=dict)   # sensor -> ISO 20816 machine class
     runs: list = field(default_factory=list)
     influence: list = field(default_factory=list)    # [(speed, {sensor: {plane: SI/kg}})]
     influence_std: list = field(default_factory=list)  # per table {sensor: {plane: SI/kg}}
@@ -254,8 +255,11 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
         except ValueError:
             raise ValueError(f"job.grade = {j['grade']!r}: an ISO 21940-11 grade such as "
                              f"\"G6.3\" (mm/s)") from None
-        if not (math.isfinite(job.grade) and job.grade > 0):
-            raise ValueError(f"job.grade = {j['grade']!r}: must be > 0 mm/s")
+        from dsp.unbalance import ISO_GRADES_MM_S
+
+        if not any(abs(job.grade - x) <= 1e-9 * x for x in ISO_GRADES_MM_S):
+            raise ValueError(f"job.grade = {j['grade']!r}: not an ISO 21940-11 grade (one of "
+                             f"{', '.join(f'G{x:g}' for x in ISO_GRADES_MM_S)})")
 
     def unit_ok(unit, field_):
         q, _ = _vibration_quantity(unit, field_)
@@ -300,8 +304,15 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
                                  f"stacked at one position)")
             job.max_pieces[name] = n
     for name, t in (doc.get("sensors") or {}).items():
-        _check_keys(t, ("weight", "max_vibration"), f"sensors.{name}")
+        _check_keys(t, ("weight", "max_vibration", "machine_class"), f"sensors.{name}")
         add(job.sensors, name)
+        if "machine_class" in t:
+            from .field_verdict import ZONES
+
+            if str(t["machine_class"]) not in ZONES:
+                raise ValueError(f"sensors.{name}.machine_class = {t['machine_class']!r}: one of "
+                                 f"{', '.join(ZONES)} (ISO 10816-1 classes, ISO 10816-3 groups)")
+            job.zone_class[name] = str(t["machine_class"])
         if "weight" in t:
             w = t["weight"]
             if isinstance(w, bool) or not isinstance(w, (int, float)) or not (math.isfinite(w)
