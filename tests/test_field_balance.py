@@ -427,8 +427,8 @@ def test_field_report_html_pdf_and_iso(tmp_path):
     html, pdf = tmp_path / "r.html", tmp_path / "r.pdf"
     assert main(["balance", str(job), "-o", str(html), "--pdf", str(pdf)]) == 0
     page = html.read_text()
-    assert "Field balancing" in page and "hole 7" in page and "ISO 21940-11" in page
-    assert page.count("data:image/png;base64,") == 2           # one polar plot per sensor
+    assert "Field balancing" in page and "holes 7 and 8" in page and "ISO 21940-11" in page
+    assert page.count("data:image/png;base64,") == 4   # a drawing per plane, a polar per sensor
     assert pdf.read_bytes()[:4] == b"%PDF"
     res = balance_job(job)
     iso = res["iso"]

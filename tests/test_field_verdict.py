@@ -188,3 +188,6 @@ def test_field_report_banner_figures_and_no_thin_section(tmp_path):
     assert not re.search(r"\de[-+]\d", text)          # no round-off like 2.776e-14
     assert "valid: amplitude 38.2 %, phase 18 °" in page.sections["Runs"]
     assert pdf.read_bytes()[:4] == b"%PDF"
+    pypdf = pytest.importorskip("pypdf")
+    first = pypdf.PdfReader(str(pdf)).pages[0].extract_text()
+    assert first.index("PASS") < first.index("P1: put 1.979 ± 0.031 g") < first.index("plane P1")

@@ -100,3 +100,27 @@ def test_stress_report_verdict_on_the_first_screen(tmp_path):
     assert main(["stress", "--catalogue", str(cat), "-o", str(out)]) == 1   # one case fails
     box = assert_clean_and_verdict_first(out)
     assert box["text"].startswith("1 of 2 cases failed: impossible"), box["text"]
+
+
+def test_field_balancing_report_banner_plane_drawings_and_polars(tmp_path):
+    """The B&K 17-227 job with rotor data: PASS/FAIL banner on the first screen, every plane
+    drawing and sensor polar plot loaded (natural size > 0), no empty or single-value section."""
+    out = tmp_path / "field.html"
+    assert main(["balance", "data_samples/balance/bk_17_227_verdict.toml", "-o", str(out)]) == 0
+    figs = ("img[alt^='plane P1']", "img[alt^='plane P2']", "img[alt^='sensor S1']",
+            "img[alt^='sensor S2']")
+    r = render(out, width=WIDTH, height=HEIGHT, selectors=("#verdict", "nav", "body") + figs)
+    assert r["console_errors"] == [] and r["requests"] == [] and r["network_errors"] == []
+    box = r["boxes"]["#verdict"]
+    assert box["text"].startswith("PASS") and box["top"] + box["height"] <= HEIGHT, box
+    for sel in figs:
+        assert r["boxes"][sel] is not None and r["boxes"][sel]["width"] > 100, sel
+    # each section as the reader sees it: a table whose rows hold at least two values
+    titles = r["boxes"]["nav"]["text"].split(" · ")
+    text = r["boxes"]["body"]["text"]
+    assert len(titles) >= 6
+    for k, t in enumerate(titles):
+        start = text.index("\n" + t + "\n") + len(t) + 2
+        end = text.index("\n" + titles[k + 1] + "\n", start) if k + 1 < len(titles) else None
+        rows = [line.split("\t") for line in text[start:end].splitlines()[1:]]
+        assert sum(bool(c.strip()) for row in rows for c in row[1:]) >= 2, (t, text[start:end])

@@ -362,12 +362,9 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
                             "error": err}
         corrections[p] = c
     R = V0 + A @ U
-    exact = bool(np.all(np.abs(R) <= 1e-9 * np.max(np.abs(V0))))   # as many readings as planes
-    if exact:
-        R = np.zeros_like(R)
 
     def rdeg(z):                      # a vibration's angle in the readings' own convention
-        return _deg(z if job.phase == "lead" else np.conj(z)) if z != 0 else None
+        return _deg(z if job.phase == "lead" else np.conj(z))
 
     residuals = []
     for i, (s, speed) in enumerate(chain.rows):
@@ -414,7 +411,7 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
            "mass_unit": job.mass_unit,
            "corrections": corrections, "residuals": residuals,
            "worst_before": max(r["before"] for r in residuals),
-           "worst_after": max(r["after"] for r in residuals), "exactly_determined": exact,
+           "worst_after": max(r["after"] for r in residuals),
            "influence": infl, "condition": cond.condition,
            "ill_conditioned": {"planes": list(cond.planes), "sensors": list(cond.sensors)},
            "warnings": warnings,
@@ -442,7 +439,14 @@ def balance_job(job, influence=None, method=None) -> FieldBalance:
 
 def _judged(job, doc, groups) -> FieldBalance:
     """The answer with its ISO 21940-11 grades and its verdict (:mod:`.field_verdict`) at the
-    service speed (default: the highest run speed)."""
+    service speed (default: the highest run speed); a predicted vibration that is round-off
+    (below 1e-9 of the largest before: as many readings as planes) is an exact 0 without angle."""
+    big = max(r["before"] for r in doc["residuals"])
+    doc["exactly_determined"] = all(r["after"] <= 1e-9 * big for r in doc["residuals"])
+    if doc["exactly_determined"]:
+        for r in doc["residuals"]:
+            r["after"], r["after_deg"] = 0.0, None
+        doc["worst_after"] = 0.0
     w = job.service_speed if not math.isnan(job.service_speed) else max(
         (g for g in groups if not math.isnan(g)), default=math.nan)
     doc["iso"] = iso_grades(job, doc["corrections"], w)

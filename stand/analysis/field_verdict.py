@@ -144,7 +144,7 @@ def field_verdict(job, doc: dict, speed: float) -> dict | None:
     with their ±) for ``job`` at the service ``speed`` [rad/s] (NaN: unknown): per plane the
     residual unbalance and per sensor the vibration, before and predicted after, each against
     its limit (module docstring); None when the job gives no limit.  ``passed``: every
-    predicted-after check met."""
+    predicted-after check met; ``headline`` and ``lines``: :func:`verdict_lines`."""
     unb = _unbalance(job, doc["corrections"], speed)
     vib = _vibration(job, doc["residuals"], speed)
     if not unb and not vib:
@@ -158,10 +158,12 @@ def field_verdict(job, doc: dict, speed: float) -> dict | None:
     if any(not r["limit_source"] == "max_vibration" for r in vib):
         notes.append("zones judge the broadband velocity RMS; the 1X vibration is part of it, "
                      "so a 1X PASS is necessary, not sufficient")
-    return {"passed": all(after), "unbalance": unb, "vibration": vib, "notes": notes}
+    v = {"passed": all(after), "unbalance": unb, "vibration": vib, "notes": notes}
+    v["headline"], v["lines"] = verdict_lines(v)
+    return v
 
 
-def verdict_lines(v: dict, mass_unit: str = "") -> tuple:
+def verdict_lines(v: dict) -> tuple:
     """(headline, lines) of a verdict as a person reads it: each limit, the value before and
     predicted after with its ±, the margin with its ± and PASS / FAIL."""
     def one(x, key, value, unit):

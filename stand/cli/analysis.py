@@ -210,10 +210,7 @@ def cmd_balance(args) -> int:
         return 0
     mu, vu = res["mass_unit"], res["vibration_unit"]
     if res.get("verdict"):                         # the verdict first
-        from stand.analysis.field_verdict import verdict_lines
-
-        head, lines = verdict_lines(res["verdict"])
-        print("\n  ".join([head] + lines))
+        print("\n  ".join([res["verdict"]["headline"]] + res["verdict"]["lines"]))
     print(f"field balancing ({res['method']}, {res['solver']}): condition {plain(res['condition'], sig=3)}")
     for p, c in res["corrections"].items():
         line = (f"  {p}: {with_uncertainty(c['mass'], c['mass_std'] or None, mu)} @ "

@@ -31,18 +31,17 @@ def _polar(a, deg, unit="", a_std=None, deg_std=None) -> str:
 
 def _vib(value, deg, std, unit, exact=False) -> str:
     if exact and value == 0.0:
-        return f"0 {unit} (exactly determined; ± {plain(std, sig=2)} from the correction's ±)"
+        return f"0 {unit} (exactly determined" + (f"; ± {plain(std, sig=2)} from the correction's ±)"
+                                                  if std else ")")
     return _polar(value, deg, unit, std)
 
 
 def _banner(res) -> dict:
-    from stand.analysis.field_verdict import verdict_lines
-
     mu = res["mass_unit"]
     put = [f"{p}: put {_put(c, mu)}" for p, c in res["corrections"].items()]
     v = res.get("verdict")
     if v:
-        head, lines = verdict_lines(v)
+        head, lines = v["headline"], v["lines"]
         status = "pass" if v["passed"] else "fail"
     else:
         head, lines, status = "No verdict: the job gives no limit (grade, max_vibration, " \
@@ -209,7 +208,7 @@ def write_field_report(res, html_path=None, pdf=None, json_path=None) -> dict:
     if pdf:
         from stand.reports.pdf import write_pdf
 
-        tables = [(title, [(r[0], "; ".join(f"{c}: {x}" if c else x
+        tables = [(title, [(r[0], "; ".join(f"{c}: {x}" if len(cols) > 2 else x
                                              for c, x in zip(cols[1:], r[1:]) if x))
                            for r in rows]) for _, title, cols, rows in sections]
         write_pdf(pdf, "Field balancing", banner, figs, tables)
