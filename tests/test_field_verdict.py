@@ -66,6 +66,20 @@ def test_bk_verdict_numbers_and_published_corrections():
     assert v["passed"] is True
 
 
+def test_lever_rule_shares_with_plane_positions(tmp_path):
+    """ISO 21940-11 7.3: U1 = U b2 / b, U2 = U b1 / b about the centre of mass, 30-70 %."""
+    f = _job(tmp_path, 'grade = "G6.3"', 'grade = "G6.3"\ncentre_of_mass = "150 mm"')
+    f.write_text(f.read_text().replace('holes = 12', 'holes = 12\nposition = "0 mm"')
+                 .replace('[planes.P2]', '[planes.P2]\nposition = "400 mm"'))
+    U = 1000 * 6.3 * 8 / W
+    u1, u2 = balance_job(f)["verdict"]["unbalance"]
+    assert u1["permissible_g_mm"] == pytest.approx(U * 250 / 400, rel=1e-12)
+    assert u2["permissible_g_mm"] == pytest.approx(U * 150 / 400, rel=1e-12)
+    f.write_text(f.read_text().replace('"150 mm"', '"50 mm"'))          # 87.5 % -> 70 %
+    u1, u2 = balance_job(f)["verdict"]["unbalance"]
+    assert (u1["permissible_g_mm"], u2["permissible_g_mm"]) == pytest.approx((0.7 * U, 0.3 * U))
+
+
 def test_tight_contract_limit_fails_naming_the_sensor(tmp_path, capsys):
     f = _job(tmp_path, 'max_vibration = "4 mm/s"', 'max_vibration = "1 mm/s"')
     res = balance_job(f)

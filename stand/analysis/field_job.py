@@ -103,6 +103,8 @@ class FieldJob:
     rotor_mass: float = math.nan                     # kg (ISO 21940-11 grade)
     service_speed: float = math.nan                  # rad/s (default: the highest run speed)
     grade: float = math.nan                          # target grade G [mm/s]
+    centre_of_mass: float = math.nan                 # m, axial (with the planes' position)
+    position: dict = field(default_factory=dict)     # plane -> axial position [m]
     amplitude_only: bool = False                     # readings without phase: four-run
 
     def to_display(self, v) -> np.ndarray:
@@ -218,7 +220,7 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
     _check_keys(doc, ("job", "planes", "sensors", "run", "influence"), "job file")
     j = doc.get("job", {})
     _check_keys(j, ("vibration_unit", "amplitude", "mass_unit", "method", "rotor_mass",
-                    "service_speed", "grade", "phase"), "[job]")
+                    "service_speed", "grade", "phase", "centre_of_mass"), "[job]")
     vu = str(j.get("vibration_unit", "um"))
     quantity, vf = _vibration_quantity(vu, "job.vibration_unit")
     amp = str(j.get("amplitude", "pk"))
@@ -248,6 +250,8 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
                                            default_unit="rpm")
         if not job.service_speed > 0:
             raise ValueError(f"job.service_speed = {j['service_speed']!r}: must be > 0 rpm")
+    if "centre_of_mass" in j:
+        job.centre_of_mass = parse_quantity(j["centre_of_mass"], "length", "job.centre_of_mass")
     if "grade" in j:
         g = str(j["grade"]).strip().upper()
         try:
@@ -275,8 +279,11 @@ def parse_job(doc: dict, source: str = "", influence_doc: Optional[dict] = None)
             names.append(str(name))
 
     for name, t in (doc.get("planes") or {}).items():
-        _check_keys(t, ("radius", "max_mass", "holes", "weights", "max_pieces"), f"planes.{name}")
+        _check_keys(t, ("radius", "max_mass", "holes", "weights", "max_pieces", "position"),
+                    f"planes.{name}")
         add(job.planes, name)
+        if "position" in t:
+            job.position[name] = parse_quantity(t["position"], "length", f"planes.{name}.position")
         if "radius" in t:
             r = parse_quantity(t["radius"], "length", f"planes.{name}.radius")
             if not r > 0:

@@ -2,9 +2,11 @@
 
 * **Residual unbalance per plane** (ISO 21940-11): the permissible residual unbalance
   ``U_per = 1000 G M / omega`` [g mm] (G [mm/s], M [kg], omega [rad/s] at the service speed;
-  :func:`dsp.unbalance.iso_21940_permissible`) is shared **equally** by the P correction
-  planes, ``U_per / P`` each: the standard's allocation in proportion to the bearing
-  distances needs the rotor's geometry, which a field job does not give.  Before: the
+  :func:`dsp.unbalance.iso_21940_permissible`) is shared between the planes: for two planes
+  with their axial ``position`` and the job's ``centre_of_mass``, by the standard's lever rule
+  about the centre of mass, each share within 30-70 % (ISO 21940-11 7.3,
+  :func:`dsp.two_plane.iso_two_plane_allocation`); without that geometry **equally**,
+  ``U_per / P`` each.  Before: the
   unbalance the correction cancels, ``m_j r_j`` and its ±; predicted after: 0, with what the
   correction leaves open (the rms length of its error vector, ``r_j sqrt(s_m^2 + (m s_a)^2)``).
 * **Vibration per sensor**: against ``max_vibration`` (a contract limit, the job's unit and
@@ -88,9 +90,19 @@ def _unbalance(job, corrections, speed) -> list:
             raise ValueError(f"{what}: needed with job.grade = G{job.grade:g} for the ISO "
                              f"21940-11 verdict (give it, e.g. rotor_mass = \"120 kg\", "
                              f"service_speed = \"3000 rpm\")")
-    share = iso_21940_permissible(job.grade, job.rotor_mass, speed) / len(job.planes)
+    U_per = iso_21940_permissible(job.grade, job.rotor_mass, speed)
+    shares = [U_per / len(job.planes)] * len(job.planes)
+    if _lever(job):
+        from dsp.two_plane import iso_two_plane_allocation
+
+        if len(set(job.position.values())) < 2:
+            raise ValueError(f"planes.{job.planes[1]}.position: the same as "
+                             f"planes.{job.planes[0]}.position; two planes lie apart")
+
+        shares = iso_two_plane_allocation(U_per, *(job.position[p] for p in job.planes),
+                                          centre=job.centre_of_mass)
     out = []
-    for p in job.planes:
+    for p, share in zip(job.planes, shares):
         if p not in job.radius:
             raise ValueError(f"planes.{p}.radius: needed with job.grade for the ISO 21940-11 "
                              f"verdict (the radius the correction mass sits at, e.g. \"150 mm\")")
@@ -103,6 +115,12 @@ def _unbalance(job, corrections, speed) -> list:
                     "after_g_mm": 0.0, "after_g_mm_std": after_std,
                     "after": _check(share, 0.0, after_std)})
     return out
+
+
+def _lever(job) -> bool:
+    """Whether the lever rule applies: two planes with positions and a centre of mass."""
+    return (len(job.planes) == 2 and all(p in job.position for p in job.planes)
+            and not math.isnan(job.centre_of_mass))
 
 
 def _vibration(job, residuals, service_speed) -> list:
@@ -153,8 +171,10 @@ def field_verdict(job, doc: dict, speed: float) -> dict | None:
     notes = [f"PASS: the margin (limit - value) is at least {K_GUARD:g} times its standard "
              f"uncertainty (guarded acceptance, ISO 14253-1)"]
     if unb:
-        notes.append(f"ISO 21940-11 G{job.grade:g}: U_per = 1000 G M / omega shared equally by "
-                     f"the {len(job.planes)} plane(s) (no bearing geometry in the job)")
+        notes.append(f"ISO 21940-11 G{job.grade:g}: U_per = 1000 G M / omega shared " + (
+            "by the lever rule about the centre of mass, each plane 30-70 % (7.3)" if _lever(job)
+            else f"equally by the {len(job.planes)} plane(s) (no plane positions and centre of "
+                 f"mass in the job)"))
     if any(not r["limit_source"] == "max_vibration" for r in vib):
         notes.append("zones judge the broadband velocity RMS; the 1X vibration is part of it, "
                      "so a 1X PASS is necessary, not sufficient")
