@@ -441,12 +441,11 @@ def _judged(job, doc, groups) -> FieldBalance:
     """The answer with its ISO 21940-11 grades and its verdict (:mod:`.field_verdict`) at the
     service speed (default: the highest run speed); a predicted vibration that is round-off
     (below 1e-9 of the largest before: as many readings as planes) is an exact 0 without angle."""
-    big = max(r["before"] for r in doc["residuals"])
-    doc["exactly_determined"] = all(r["after"] <= 1e-9 * big for r in doc["residuals"])
+    doc["exactly_determined"] = _exact(doc["residuals"], "before", "after")
     if doc["exactly_determined"]:
-        for r in doc["residuals"]:
-            r["after"], r["after_deg"] = 0.0, None
         doc["worst_after"] = 0.0
+    if doc.get("check"):
+        _exact(doc["check"]["sensors"], "measured", "after_trim")
     w = job.service_speed if not math.isnan(job.service_speed) else max(
         (g for g in groups if not math.isnan(g)), default=math.nan)
     doc["iso"] = iso_grades(job, doc["corrections"], w)
@@ -508,6 +507,16 @@ def _check_and_trim(job: FieldJob, chain, A, V0, method) -> dict | None:
             "trim": {p: {"mass": abs(T[j]) / mf, "angle_deg": _deg(T[j]),
                          "mass_std": math.sqrt(var[j]) / mf}
                      for j, p in enumerate(job.planes)}}
+
+
+def _exact(rows, ref, key) -> bool:
+    """Predicted vibrations ``key`` all round-off (below 1e-9 of the largest ``ref``) are set to
+    an exact 0 without angle; whether they were."""
+    big = max(r[ref] for r in rows)
+    exact = all(r[key] <= 1e-9 * big for r in rows)
+    for r in rows if exact else ():
+        r[key], r[f"{key}_deg"] = 0.0, None
+    return exact
 
 
 def influence_toml(res: FieldBalance) -> str:

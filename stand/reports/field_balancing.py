@@ -141,7 +141,8 @@ def field_sections(res) -> list:
     if ck:
         rows = [[r["sensor"], _polar(r["measured"], r["measured_deg"], unit),
                  _polar(r["predicted"], r["predicted_deg"], unit),
-                 _polar(r["after_trim"], r["after_trim_deg"], unit)] for r in ck["sensors"]]
+                 _vib(r["after_trim"], r["after_trim_deg"], None, unit, True)]
+                for r in ck["sensors"]]
         rows.append(["trim"] + ["; ".join(f"{p} {_put(c | {'angle_std_deg': None}, mu)}"
                                           for p, c in ck["trim"].items()), "", ""])
         out.append(("check", f"Check run {ck['run']} and trim", ["Sensor", "Measured",
