@@ -391,7 +391,7 @@ def test_simulated_stuck_balls_long_exposure_shows_k_minus_1_petals():
     from stand.scene.parse import load_scene
     from stand.integrate.simulate import simulate
     from stand.theories.planar.qp import qp_roots
-    from stand.analysis.verify import at_speed
+    from _verify import at_speed
 
     base = load_scene(Path(__file__).resolve().parents[1] / "data_samples" / "scenes" / "ball_stuck.toml")
     R = brentq(lambda r: r / qp_roots(r, 0.01, 0.05, 0.05)[0] - 3.0, 2.5, 3.2, xtol=1e-13)

@@ -14,7 +14,7 @@ from stand.integrate.simulate import simulate
 from stand.theories.planar import main_motion as mm
 from stand.theories.planar import qp
 from stand.theories.planar.speedmap import TheoryError, scene_theory
-from stand.analysis.verify import at_speed, check_thresholds
+from _verify import at_speed, check_thresholds
 
 from _helpers import theory_computed_once
 

@@ -15,10 +15,12 @@ from stand.model.planar import build_planar_model
 from stand.theories.rotating import rotating_rhs
 from stand.scene.model import RunSettings, SpeedDrive
 from stand.scene.parse import scene_from_dimensionless
-from stand.theories.planar.side import (
-    bits_of, identical_side_classes, is_stable, large_unbalance_coefficients,
-    main_motion_angles, maximally_balanced_motion, net_unbalance, side_motions, side_window,
-    stable_steady_motions, steady_deflection, steady_eigenvalues, steady_residual, steady_state,
+from stand.theories.planar.steady import (
+    bits_of, identical_side_classes, main_motion_angles, maximally_balanced_motion, net_unbalance,
+    side_motions, side_window, steady_deflection, steady_residual,
+)
+from stand.theories.planar.steady_stability import (
+    is_stable, large_unbalance_coefficients, stable_steady_motions, steady_eigenvalues, steady_state,
 )
 
 TAU = 2 * math.pi

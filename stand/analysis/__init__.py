@@ -8,7 +8,6 @@
 * :mod:`.two_plane` -- two-plane balancing from two laser screens;
 * :mod:`.signals`   -- signal helpers on one recorded run;
 * :mod:`.regime`    -- the motion regime at the end of a simulated run;
-* :mod:`.verify`    -- a theory's prediction checked by a simulation at one speed;
 * :mod:`.influence` -- influence-coefficient balancing from recordings;
 * :mod:`.tracking`  -- images to numbers: spot tracks, ring calibration, strobe angles;
 * :mod:`.batch`     -- many recordings in parallel, one summary table;

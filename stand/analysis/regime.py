@@ -59,7 +59,7 @@ def _maximally_balanced_residual(scene, R: float, e0: float) -> float:
     """|psi| of the e0 > 1 main motion at speed R (weights together on the light
     side, lagging by the damping angle of the corrected (5.64)); e0 - 1 when the
     theory does not apply (non-identical weights) or the motion does not exist."""
-    from stand.theories.planar.side import maximally_balanced_motion
+    from stand.theories.planar.steady import maximally_balanced_motion
 
     try:
         from stand.scene.dimensionless import dimensionless as _dimless

@@ -146,25 +146,35 @@ def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
         return _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoint,
                                  checkpoint_steps)
     model = build_planar_model(scene)
+    return _integrated(scene, model, initial_state(scene, model), _trajectory, method, rtol, atol,
+                       progress, extra_times, checkpoint, checkpoint_steps)
+
+
+def _integrated(scene, model, y0, answer, method, rtol, atol, progress, extra_times, checkpoint,
+                checkpoint_steps):
+    """Integrate a built ``model`` (planar or generic kernel) from ``y0`` over the scene's run,
+    sampled at its rate and at ``extra_times`` [s]; ``answer(scene, model, states, tau, stats)``
+    makes the Run (of the extra times: ``.extra``)."""
+    run = scene.run
     method, ratio, reason = choose_method(model, method)
-    w1 = model.omega_1
-    tau_end = run.duration * w1
-    ts_rec = sample_times(run.duration, run.sample_rate) * w1
-    ts, rec_idx, ex_idx = merge_times(ts_rec, extra_times, run.duration, w1)
-    n_samples = ts.size
-    y0 = initial_state(scene, model)
-    out = np.full((n_samples, model.size), np.nan)
+    if method == "numpy-DOP853" and not isinstance(model, PlanarModel):
+        raise SceneError("run.method = \"numpy-DOP853\": the pure-numpy reference path exists for "
+                         "the planar rotor only; use DOP853, Radau, BDF or LSODA")
+    w = model.omega_1
+    ts_rec = sample_times(run.duration, run.sample_rate) * w
+    ts, rec_idx, ex_idx = merge_times(ts_rec, extra_times, run.duration, w)
+    out = np.full((ts.size, model.size), np.nan)
     out[0] = y0
-    stats = SolverStats(method=method, rtol=rtol, atol=atol, stiffness_ratio=ratio, method_reason=reason)
-    k = integrate_model(scene, model, y0, tau_end, ts, out, stats, method, progress, checkpoint,
-                   checkpoint_steps)
+    stats = SolverStats(method=method, rtol=rtol, atol=atol, stiffness_ratio=ratio,
+                        method_reason=reason)
+    k = integrate_model(scene, model, y0, run.duration * w, ts, out, stats, method, progress,
+                        checkpoint, checkpoint_steps)
     if ex_idx is None:
-        return _trajectory(scene, model, out[:k], ts[:k], stats)
-    r = rec_idx[rec_idx < k]
-    e = ex_idx[ex_idx < k]
-    traj = _trajectory(scene, model, out[r], ts[r], stats)
-    traj.extra = _trajectory(scene, model, out[e], ts[e], stats)
-    return traj
+        return answer(scene, model, out[:k], ts[:k], stats)
+    r, e = rec_idx[rec_idx < k], ex_idx[ex_idx < k]
+    res = answer(scene, model, out[r], ts[r], stats)
+    res.extra = answer(scene, model, out[e], ts[e], stats)
+    return res
 
 
 def auto_method(scene: Scene) -> str:
@@ -173,20 +183,24 @@ def auto_method(scene: Scene) -> str:
         return "DOP853"
     if scene.kind == "planar" and not scene.generic_kernel:
         return choose_method(build_planar_model(scene), "auto")[0]
+    return choose_method(_generic_model(scene, scene.linear_rotor()), "auto")[0]
+
+
+def _generic_model(scene, rotor):
+    """The generic kernel's model of a scene's ``rotor`` (its LinearRotor) with its weights."""
     from stand.integrate.coupled import build_model
 
     d = scene.drive
     torque = d.kind == "torque"
-    return choose_method(build_model(
-        scene.linear_rotor(), scene.weights, d if torque else d.programme, bodies=scene.bodies,
-        inertia=scene.rotor.inertia_about_shaft if torque and scene.kind == "planar" else None),
-        "auto")[0]
+    return build_model(rotor, scene.weights, d if torque else d.programme, bodies=scene.bodies,
+                       inertia=scene.rotor.inertia_about_shaft
+                       if torque and scene.kind == "planar" else None)
 
 
 def _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoint,
                       checkpoint_steps) -> Run:
     """Any LinearRotor with its weights (stand.model.rotors.coupled_kernel) -> Run."""
-    from stand.integrate.coupled import build_model, initial_state as generic_initial
+    from stand.integrate.coupled import initial_state as generic_initial
 
     torque = scene.drive.kind == "torque"
     blows = [p for p in scene.perturbations if p.kind == "impulse"]
@@ -199,27 +213,15 @@ def _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoi
             raise SceneError("kernel = \"generic\": no exponential coast-down on the generic kernel")
         if torque and scene.rotor.inertia_about_shaft is None:
             raise SceneError("drive.type = \"torque\": rotor.inertia is required")
-    run = scene.run
     rotor = scene.linear_rotor()
-    weights = scene.weights
     try:
-        model = build_model(rotor, weights, scene.drive if torque else scene.drive.programme,
-                            bodies=scene.bodies,
-                            inertia=scene.rotor.inertia_about_shaft
-                            if torque and scene.kind == "planar" else None)
+        model = _generic_model(scene, rotor)
     except ValueError as exc:
         raise SceneError(str(exc)) from None
     if blows:
         model = _with_blows(model, scene, blows)
     if not torque and scene.drive.initial_angle:
         model.prog[:, 2] += scene.drive.initial_angle     # the programme's angle column
-    method, ratio, reason = choose_method(model, method)
-    if method == "numpy-DOP853":
-        raise SceneError("run.method = \"numpy-DOP853\": the pure-numpy reference path exists for "
-                         "the planar rotor only; use DOP853, Radau, BDF or LSODA")
-    w = model.omega_1
-    ts_rec = sample_times(run.duration, run.sample_rate) * w
-    ts, rec_idx, ex_idx = merge_times(ts_rec, extra_times, run.duration, w)
     q0 = qd0 = None
     ini = scene.initial
     if scene.kind == "planar":
@@ -229,19 +231,8 @@ def _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoi
         # the main plane's displacement and velocity: the least-norm coordinates giving them
         Tp = np.linalg.pinv(rotor.planes[scene.main_plane])
         q0, qd0 = Tp @ [ini.x, ini.y], Tp @ [ini.vx, ini.vy]
-    y0 = generic_initial(model, weights, q0, qd0)
-    out = np.full((ts.size, model.size), np.nan)
-    out[0] = y0
-    stats = SolverStats(method=method, rtol=rtol, atol=atol, stiffness_ratio=ratio,
-                        method_reason=reason)
-    k = integrate_model(scene, model, y0, run.duration * w, ts, out, stats, method, progress,
-                   checkpoint, checkpoint_steps)
-    if ex_idx is None:
-        return generic_run(scene, model, out[:k], ts[:k], stats)
-    r, e = rec_idx[rec_idx < k], ex_idx[ex_idx < k]
-    res = generic_run(scene, model, out[r], ts[r], stats)
-    res.extra = generic_run(scene, model, out[e], ts[e], stats)
-    return res
+    return _integrated(scene, model, generic_initial(model, scene.weights, q0, qd0), generic_run, method,
+                       rtol, atol, progress, extra_times, checkpoint, checkpoint_steps)
 
 
 def _with_blows(model, scene, blows):

@@ -60,15 +60,3 @@ class PlanarStructure:
     def natural_frequency(self) -> float:
         """omega_1 = sqrt(K_xx / M_Sigma) [rad/s] (5.12)."""
         return float(np.sqrt(self.stiffness[0, 0] / self.total_mass))
-
-    def steady_whirl(self, omega: float) -> complex:
-        """Steady response x + i y [m] to the unbalance alone at speed ``omega``.
-
-        Isotropic case, no weights: z = M e omega^2 e^{i beta} /
-        (c - M_Sigma omega^2 + i D omega), the closed form
-        e R^2 / sqrt((1 - R^2)^2 + (H R)^2) of the digest in dimensional form.
-        """
-        c = self.stiffness[0, 0]
-        d = self.damping[0, 0]
-        return (self.unbalance * omega ** 2 * np.exp(1j * self.unbalance_angle)
-                / (c - self.total_mass * omega ** 2 + 1j * d * omega))

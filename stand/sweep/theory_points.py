@@ -37,11 +37,11 @@ def _fail(row: dict, exc: BaseException) -> None:
 def _main_d(n: int, e0: float):
     """Configuration parameter d of the main motion (as :func:`scene_theory`); None if none."""
     from stand.theories.planar import main_motion as mm
-    from stand.theories.planar import side
+    from stand.theories.planar.steady import main_motion_angles
 
     if not e0 <= 1:
         return None
-    configs = [c for c in side.main_motion_angles(e0, n) if getattr(c, "balanced", True)]
+    configs = [c for c in main_motion_angles(e0, n) if getattr(c, "balanced", True)]
     return mm.d_from_angles(configs[0].alphas) if configs else None
 
 
@@ -107,7 +107,7 @@ def _main_and_qp(row: dict, sc, groups: dict, i: int) -> None:
 def _motions(row: dict, sc, opts: dict) -> None:
     """Stable motions (with the side motions when asked) and the critical speeds."""
     from stand.model.planar import build_planar_model
-    from stand.theories.planar import side
+    from stand.theories.planar.steady_stability import stable_steady_motions
     from stand.theories.planar.speedmap import MAX_WEIGHTS_FOR_SIDE
     from stand.scene.model import SpeedDrive
 
@@ -122,7 +122,7 @@ def _motions(row: dict, sc, opts: dict) -> None:
         sc_speed = sc if sc.drive.kind == "speed" else dataclasses.replace(
             sc, drive=SpeedDrive(np.array([[0.0, R * sc.natural_frequency]])))
         model = build_planar_model(sc_speed)
-        for rep in side.stable_steady_motions(model, R):
+        for rep in stable_steady_motions(model, R):
             if rep.stable and (rep.kind == "side" or not math.isfinite(d)):
                 motions.append(rep.label)
     row["theory.stable_motions"] = ";".join(sorted(set(motions)))

@@ -100,8 +100,3 @@ __all__ = [
     "to_fixed", "R_f_cardan", "R_f_ball_joint", "residual_parametric", "residual_unbalance",
     "residual_cubic", "residual_unbalance_now",
 ]
-
-
-# ---------------------------------------------------------------------------
-# parameters
-# ---------------------------------------------------------------------------

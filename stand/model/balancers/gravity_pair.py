@@ -84,8 +84,3 @@ from stand.model.balancers.gravity_pair_motion import energy, to_fixed, to_rotat
 __all__ = [
     "GravityPairParams", "to_rotating", "to_fixed", "energy",
 ]
-
-
-# ---------------------------------------------------------------------------
-# parameters
-# ---------------------------------------------------------------------------

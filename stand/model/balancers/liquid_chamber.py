@@ -106,9 +106,3 @@ __all__ = [
     "optimal_volume", "permissible_eccentricity_household", "permissible_eccentricity_general",
     "iso_grade_from_eccentricity", "eccentricity_from_iso_grade", "unbalance_coefficient",
 ]
-
-
-# --------------------------------------------------------------------------- parameters
-
-
-# --------------------------------------------------------------------------- damping

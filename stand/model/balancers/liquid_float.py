@@ -74,8 +74,3 @@ __all__ = [
     "LiquidFloatParams", "LinearSpeed", "StepSpeed", "GeneralSpeed",
     "stationary_amplitude", "initial_state", "steady_amplitudes", "FRAMES",
 ]
-
-
-# ---------------------------------------------------------------------------
-# parameters
-# ---------------------------------------------------------------------------

@@ -72,8 +72,3 @@ from stand.model.balancers.two_axis_motion import fixed_to_rotating, rotating_to
 __all__ = [
     "TwoAxisParams", "rotating_to_fixed", "fixed_to_rotating",
 ]
-
-
-# ---------------------------------------------------------------------------
-# parameters
-# ---------------------------------------------------------------------------

@@ -57,7 +57,7 @@ from stand.model.rotors._build import (axis_planes, finite, gyroscopic_pair, lis
 from stand.model.rotors.structure import LinearRotor
 
 __all__ = ["spherical_hinge", "cylindrical_hinge", "fixed_point_stand", "hinge_stiffnesses",
-           "spherical_hinge_delta", "spherical_hinge_criterion", "spherical_hinge_critical_speeds",
+           "spherical_hinge_delta", "spherical_hinge_criterion",
            "spherical_hinge_working_ranges", "spherical_hinge_natural_frequencies",
            "cylindrical_hinge_criterion", "cylindrical_hinge_critical_speed",
            "cylindrical_hinge_working_ranges", "FIXED_POINT_STAND"]
@@ -248,11 +248,6 @@ def spherical_hinge_working_ranges(A_xi: float, C: float, k1: float, k2: float):
         w3 = math.sqrt((s1 + math.sqrt(D)) / (2.0 * (A_xi * A_xi - C * C)))
         return np.array([w1, wt, w3]), [(w1, wt), (w3, math.inf)]
     return np.array([w1, wt]), [(w1, wt)]
-
-
-def spherical_hinge_critical_speeds(A_xi: float, C: float, k1: float, k2: float) -> np.ndarray:
-    """Critical speeds [rad/s] of :func:`spherical_hinge_working_ranges` (may be empty)."""
-    return spherical_hinge_working_ranges(A_xi, C, k1, k2)[0]
 
 
 def spherical_hinge_natural_frequencies(A_xi: float, C: float, k1: float, k2: float,

@@ -5,8 +5,8 @@ Modules (one idea each):
 
 * :mod:`.main_motion`  -- main (balancing) motions: characteristic polynomial
   (5.90), conservative form (5.98), critical speeds, closed forms (5.103)-(5.127);
-* :mod:`.side`         -- side motions (5.51)-(5.75), the e0 > 1 main motion, and
-  their stability from the rotating-frame Jacobian;
+* :mod:`.steady`       -- side motions (5.51)-(5.75) and the e0 > 1 main motion;
+  :mod:`.steady_stability` their stability from the rotating-frame Jacobian;
 * :mod:`.qp`           -- quasi-periodic motions: frequency equation (5.181),
   stability (5.210)-(5.216), escape speed, laser-spot law (5.237);
 * :mod:`.speedmap`     -- a scene's speed bands and chart; ``stand theory``.

@@ -3,8 +3,8 @@
 This answers a designer's first questions -- *from which speed does the
 balancer balance, what can go wrong below and above, what will the laser spot
 show?* -- for a scene, from the theory of :mod:`stand.theories.planar.main_motion`
-(main motion, (5.90)), :mod:`stand.theories.planar.side` (side motions and the e0 > 1
-main motion, rotating-frame Jacobian) and :mod:`stand.theories.planar.qp`
+(main motion, (5.90)), :mod:`stand.theories.planar.steady` (side motions and the e0 > 1
+main motion) with :mod:`~stand.theories.planar.steady_stability` (rotating-frame Jacobian) and :mod:`stand.theories.planar.qp`
 (quasi-periodic motions, (5.181)-(5.237)).
 
 Scope (the book's chapter 5 model): identical weights with a common relative
@@ -26,7 +26,7 @@ from stand.scene.dimensionless import dimensionless
 from stand.scene.model import Scene, SpeedDrive
 from stand.theories.planar import main_motion as mm
 from stand.theories.planar import qp
-from stand.theories.planar import side
+from stand.theories.planar import steady, steady_stability
 
 #: side motions are evaluated (finite-difference Jacobians) only up to this many weights
 MAX_WEIGHTS_FOR_SIDE = 8
@@ -176,7 +176,7 @@ def scene_theory(scene: Scene, R_max: float | None = None, n_grid: int = 240) ->
     # --- main motion: configuration parameter d
     d = None
     if e0 <= 1:
-        configs = [c for c in side.main_motion_angles(e0, n) if getattr(c, "balanced", True)]
+        configs = [c for c in steady.main_motion_angles(e0, n) if getattr(c, "balanced", True)]
         if configs:
             d = mm.d_from_angles(configs[0].alphas)
             if n >= 3 and not (n == 3 and e0 == 1):
@@ -218,7 +218,7 @@ def scene_theory(scene: Scene, R_max: float | None = None, n_grid: int = 240) ->
                 if mm.is_stable(R, Rt, h, H, d):
                     out.append("main")
         if n <= MAX_WEIGHTS_FOR_SIDE:
-            for rep in side.stable_steady_motions(model, R):
+            for rep in steady_stability.stable_steady_motions(model, R):
                 if rep.stable and (rep.kind == "side" or d is None):
                     out.append(rep.label)
         if qp_ok and R < R_star:
@@ -368,9 +368,9 @@ def _closed_forms(Rt, h, H, d, e0, n, f0) -> dict:
             out["qp_three_roots_from_R"] = thr.one_to_three
             out["qp_one_root_above_R"] = thr.three_to_one
         windows = {}
-        for c in side.identical_side_classes(n):
+        for c in steady.identical_side_classes(n):
             if abs(c.ek) > e0 and e0 > 0:
-                w = side.side_window(e0, c.ek, H)
+                w = steady.side_window(e0, c.ek, H)
                 if w is not None:
                     windows[f"side k={c.k}"] = {"R1": w[0], "R2": w[1], "hz": [w[0] * f0, w[1] * f0]}
         out["side_motion_gap_5_70"] = windows

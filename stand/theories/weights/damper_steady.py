@@ -28,7 +28,6 @@ if TYPE_CHECKING:
 __all__ = [
     "DamperSteady", "steady_quartic_roots", "steady_motions", "efficiency", "efficiency_approx",
     "critical_speeds_undamped", "jacobian", "eigenvalues", "is_stable", "fast_rotor_roots",
-    "stability_scan",
 ]
 
 
@@ -288,13 +287,3 @@ def fast_rotor_roots(p: DamperParams, phi: float) -> np.ndarray:
     return R * mu
 
 
-def stability_scan(p: DamperParams, speeds, label: int) -> np.ndarray:
-    """Largest real part of the roots of motion ``label`` over ``speeds`` [-]
-    (NaN where the motion does not exist).  Use it for the critical speeds of
-    (7.73)-(7.74), which the digest flags (E8) -- compute, do not trust the print."""
-    out = []
-    for R in np.asarray(speeds, dtype=float):
-        q = p.with_speed(float(R))
-        ms = [m for m in steady_motions(q) if m.label == label]
-        out.append(max(eigenvalues(q, m)[0].real for m in ms) if ms else math.nan)
-    return np.array(out)

@@ -279,16 +279,6 @@ class QuasiStaticResult:
     valid: bool
     flags: Tuple[str, ...]
 
-    @property
-    def D_gcm(self) -> float:
-        """Liquid unbalance in g cm."""
-        return self.D * 1e5
-
-    @property
-    def D0_gcm(self) -> float:
-        """Rotor unbalance in g cm."""
-        return self.D0 * 1e5
-
 
 def quasi_static_efficiency(p: LiquidChamberParams, omega: float, *, literal: bool = False,
                             g: float = G_STANDARD, gravity_tol: float = 0.1) -> QuasiStaticResult:

@@ -104,6 +104,17 @@ def _eig_summary(lam) -> dict:
     re = np.real(np.asarray(lam))
     return {"stable": bool(np.all(re < -STABILITY_TOL)), "max_real_part": float(re.max())}
 
+def _steady(p, notes, motions_of, row, equations: str) -> list:
+    """``row(m)`` of each steady motion ``motions_of(p)`` (mapped for JSON); a failure becomes a
+    note naming the book's ``equations``."""
+    out = []
+    try:
+        for m in motions_of(p):
+            out.append(to_jsonable(m) | row(m))
+    except (ValueError, ArithmeticError) as exc:
+        notes.append(f"steady motions {equations}: {_why(exc, p)}")
+    return out
+
 
 def _why(exc: Exception, p) -> str:
     """Why a part of the theory failed, for ``notes``."""
@@ -146,13 +157,8 @@ def _gravity_pair(p, notes) -> dict:
     from stand.theories.weights import gravity_pair_qp as gqp
 
     out = {"speed_R_omega": p.R_omega, "units": _BOOK_UNITS}
-    motions = []
-    try:
-        for m in gst.steady_motions(p):
-            motions.append(to_jsonable(m) | {"deflection": m.deflection}
-                           | _eig_summary(gst.eigenvalues(p, m)))
-    except (ValueError, ArithmeticError) as exc:
-        notes.append(f"steady motions (7.6)-(7.9): {_why(exc, p)}")
+    motions = _steady(p, notes, gst.steady_motions, lambda m: {"deflection": m.deflection}
+                      | _eig_summary(gst.eigenvalues(p, m)), "(7.6)-(7.9)")
     out["steady_motions"] = motions
     if 0.0 < p.e0 < 1.0:
         lo, hi = gst.side_band(p)
@@ -209,12 +215,9 @@ def _two_axis(p, notes) -> dict:
     from stand.theories.weights import two_axis_theory as th
 
     out = {"speed_R_omega": p.R_omega, "units": _BOOK_UNITS}
-    motions = []
-    try:
-        for m in st.steady_motions(p):
-            motions.append(to_jsonable(m) | {"stable": bool(m.stable), "max_real_part": m.max_re})
-    except (ValueError, ArithmeticError) as exc:
-        notes.append(f"steady motions (6.29)-(6.51): {_why(exc, p)}")
+    motions = _steady(p, notes, st.steady_motions, lambda m: {"stable": bool(m.stable),
+                                                              "max_real_part": m.max_re},
+                      "(6.29)-(6.51)")
     out["steady_motions"] = motions
     r0 = st.r0(p) if _D(p.R_omega, p.H) > 0 else math.inf
     eff = {"equation": "(6.40): n = r~/r~0 of a first-group motion", "deflection_without_balancer": r0}
@@ -254,13 +257,8 @@ def _damper(p, notes) -> dict:
     from stand.theories.weights.damper_steady import _Delta
 
     out = {"speed_R_omega": p.R_omega, "units": _BOOK_UNITS}
-    motions = []
-    try:
-        for m in dst.steady_motions(p):
-            motions.append(to_jsonable(m) | {"deflection": m.deflection}
-                           | _eig_summary(dst.eigenvalues(p, m)))
-    except (ValueError, ArithmeticError) as exc:
-        notes.append(f"steady motions (7.51)-(7.53): {_why(exc, p)}")
+    motions = _steady(p, notes, dst.steady_motions, lambda m: {"deflection": m.deflection}
+                      | _eig_summary(dst.eigenvalues(p, m)), "(7.51)-(7.53)")
     out["steady_motions"] = motions
     eff = {"equation": "(7.54): n = sqrt(Delta(0)/Delta(u)), u = cos(phi) the largest positive root "
                        "of (7.53) (the branch stable by (7.68))"}

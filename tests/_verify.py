@@ -4,8 +4,7 @@ For every critical speed of :func:`stand.theories.planar.speedmap.scene_theory` 
 scene is simulated at constant speeds a little below and a little above it
 (after a gentle run-up from rest, like the stand's own experiments), the final
 regime is classified (:func:`stand.analysis.regime.classify`), and compared with the
-motions the theory predicts to be stable there.  The reports issue shows the
-resulting table.
+motions the theory predicts to be stable there (a test helper: tests/test_theory_scene.py).
 """
 from __future__ import annotations
 
