@@ -166,7 +166,7 @@ class AccuracyReport:
             lines.append(f"{r.method:<8} {tol} {atol:>8} {r.max_error_m:>14.3e} "
                          f"{r.relative_error:>11.3e} {r.wall_time_s:>9.3f} {r.nfev:>10d} {r.n_steps:>8d} "
                          f"{drift:>17}" + ("" if r.success else "  FAILED"))
-        lines += [f"not applicable: {n}" for n in (self.notes or [])]
+        lines += [n if n.startswith("not applicable") else f"note: {n}" for n in self.notes or []]
         return "\n".join(lines)
 
 
@@ -263,6 +263,73 @@ class _LadderBudget:
         return tr
 
 
+#: a reference rung stops the ladder (round-off floor) when its steps (accepted + rejected) grow
+#: by more than this factor over the previous rung's (a method of order p needs 10^(1/p) <= 1.6
+#: for a tolerance 10x tighter)
+ROUNDOFF_GROWTH = 3.0
+
+
+def reference_ladder(budget: _LadderBudget, method: str, tight: float, loosest: float):
+    """The reference run of a scene without closed form, and its own error.
+
+    Runs ``method`` (chosen by the scene's stiffness, :func:`stand.integrate.simulate.auto_method`:
+    the compiled DOP853, or scipy's Radau with the compiled Jacobian when stiff) on a ladder of
+    tolerances, ten times tighter each rung, from ``max(loosest / 100, tight * 10)`` down to
+    ``tight``.  The ladder stops early, with a note, when the next rung would not fit the
+    steps left in ``budget`` (predicted from the growth between the last two rungs), when a rung
+    ran out of them, failed, or shows the round-off floor (:data:`ROUNDOFF_GROWTH`).
+
+    Returns
+    -------
+    tuple
+        ``(run, name, own error [m], notes)``: the tightest rung, its name (method, tolerance,
+        why this method), ``max |r_k - r_(k-1)|`` over the samples (the last two rungs: an
+        estimate of the tighter's error, dominated by the looser's) and the notes.
+    """
+    from stand.errors import BudgetExceeded
+
+    rungs, notes, why = [], [], None
+    rt = max(loosest * 1e-2, tight * 10)
+    while why is None:
+        try:
+            tr = budget.simulate(method=method, rtol=rt, atol=rt * 1e-2)
+        except BudgetExceeded as exc:
+            why = f"the rung at rtol {rt:.0e} ran out of the step budget ({exc})"
+            break
+        st = tr.stats
+        if not st.success:
+            why = f"the rung at rtol {rt:.0e} failed ({st.message})"
+            break
+        steps = int(st.n_steps) + int(st.n_rejected)
+        growth = steps / rungs[-1][2] if rungs else 1.0
+        rungs.append((rt, tr, steps))
+        if rt <= tight * 1.0001:
+            break
+        if growth > ROUNDOFF_GROWTH:
+            why = (f"the rung at rtol {rt:.0e} reached the round-off floor ({steps} steps, "
+                   f"{growth:.3g} x the previous rung's)")
+        elif steps * max(growth, 1.5) > budget.left:
+            why = (f"the next rung (rtol {rt / 10:.0e}) would take ~{steps * max(growth, 1.5):.3g} "
+                   f"steps, more than the {budget.left} left of the budget ({LADDER_BUDGET_RUNS} x "
+                   f"run.max_steps = {budget.scene.run.max_steps})")
+        rt /= 10
+    if len(rungs) < 2:
+        from stand.errors import BudgetExceeded
+
+        raise BudgetExceeded(f"no reference for the accuracy report: {why or 'one rung only'}")
+    (rt, tr, _), (rt0, tr0, _) = rungs[-1], rungs[-2]
+    k = min(len(tr.t), len(tr0.t))
+    err = float(np.max(np.abs(_position(tr)[:k] - _position(tr0)[:k])))
+    ratio = tr.stats.stiffness_ratio
+    name = (f"{method} at rtol {rt:.0e}, the tightest of a ladder from {rungs[0][0]:.0e}"
+            + (f" (stiffness ratio {ratio:.3g}: {'stiff' if method != 'DOP853' else 'non-stiff'})"
+               if ratio else ""))
+    if why is not None:
+        notes.append(f"reference at rtol {rt:.0e}, not the requested {tight:.0e}: {why}; its own "
+                     f"error ~ {err:.3g} m (against the rung at rtol {rt0:.0e})")
+    return tr, name, err, notes
+
+
 #: the fast ladder (``stand accuracy --fast``): tolerances and the reference's
 FAST_RTOLS = (1e-4, 1e-6)
 FAST_REFERENCE_RTOL = 1e-10
@@ -304,7 +371,7 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None,
     methods = [m for m in methods if m != "RK4"]
     if want_rk4 and (scene.kind != "planar" or scene.friction is not None):
         want_rk4 = False
-        notes.append(f"RK4 rows: the fixed-step RK4 loop runs the planar rotor's kernel only "
+        notes.append(f"not applicable: RK4 rows: the fixed-step RK4 loop runs the planar rotor's kernel only "
                      f"(this scene runs on the generic kernel: {scene.generic_kernel})")
     if scene.kind == "book" and "numpy-DOP853" in methods:
         methods.remove("numpy-DOP853")
@@ -340,12 +407,9 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None,
     else:
         tight = reference_rtol or (1e-12 if scene.kind == "book"
                                    else 1e-13 if ref_method == "DOP853" else 1e-11)
-        r1 = budget.simulate(method=ref_method, rtol=tight, atol=tight * 1e-2)
-        r2 = budget.simulate(method=ref_method, rtol=tight * 10, atol=tight * 1e-1)
+        r1, ref_name, ref_err, more = reference_ladder(budget, ref_method, tight, min(rtols, default=tight * 1e3))
         ref = _position(r1)
-        ref_name = f"{ref_method} at rtol {tight:.0e}"
-        k = min(len(r1.t), len(r2.t))
-        ref_err = float(np.max(np.abs(ref[:k] - _position(r2)[:k])))
+        notes += more
     scale = float(np.nanmax(np.abs(ref))) or 1.0
     # free-whirl constants (undamped run-up): compare at the last valid sample
     drift_ok = ru is not None and ru[0].n == 0.0
