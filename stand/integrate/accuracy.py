@@ -277,7 +277,8 @@ def reference_ladder(budget: _LadderBudget, method: str, tight: float, loosest: 
     tolerances, ten times tighter each rung, from ``max(loosest / 100, tight * 10)`` down to
     ``tight``.  The ladder stops early, with a note, when the next rung would not fit the
     steps left in ``budget`` (predicted from the growth between the last two rungs), when a rung
-    ran out of them, failed, or shows the round-off floor (:data:`ROUNDOFF_GROWTH`).
+    ran out of them, failed, or shows the round-off floor (:data:`ROUNDOFF_GROWTH`); a ladder
+    stopped after its first rung measures it against one rung ten times looser.
 
     Returns
     -------
@@ -308,15 +309,16 @@ def reference_ladder(budget: _LadderBudget, method: str, tight: float, loosest: 
         if growth > ROUNDOFF_GROWTH:
             why = (f"the rung at rtol {rt:.0e} reached the round-off floor ({steps} steps, "
                    f"{growth:.3g} x the previous rung's)")
-        elif steps * max(growth, 1.5) > budget.left:
+        elif steps * max(growth, 1.5) > min(budget.left, budget.scene.run.max_steps):
             why = (f"the next rung (rtol {rt / 10:.0e}) would take ~{steps * max(growth, 1.5):.3g} "
                    f"steps, more than the {budget.left} left of the budget ({LADDER_BUDGET_RUNS} x "
                    f"run.max_steps = {budget.scene.run.max_steps})")
         rt /= 10
-    if len(rungs) < 2:
-        from stand.errors import BudgetExceeded
-
-        raise BudgetExceeded(f"no reference for the accuracy report: {why or 'one rung only'}")
+    if len(rungs) == 1:      # one rung: its own error against a looser one
+        rt0 = rungs[0][0] * 10
+        rungs.insert(0, (rt0, budget.simulate(method=method, rtol=rt0, atol=rt0 * 1e-2), 0))
+    if not rungs:
+        raise BudgetExceeded(f"no reference for the accuracy report: {why}")
     (rt, tr, _), (rt0, tr0, _) = rungs[-1], rungs[-2]
     k = min(len(tr.t), len(tr0.t))
     err = float(np.max(np.abs(_position(tr)[:k] - _position(tr0)[:k])))
