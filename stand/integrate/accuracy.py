@@ -269,7 +269,7 @@ class _LadderBudget:
 ROUNDOFF_GROWTH = 3.0
 
 
-def reference_ladder(budget: _LadderBudget, method: str, tight: float, loosest: float):
+def reference_ladder(budget: _LadderBudget, method: str, tight: float, loosest: float, seed=None):
     """The reference run of a scene without closed form, and its own error.
 
     Runs ``method`` (chosen by the scene's stiffness, :func:`stand.integrate.simulate.auto_method`:
@@ -278,7 +278,8 @@ def reference_ladder(budget: _LadderBudget, method: str, tight: float, loosest: 
     ``tight``.  The ladder stops early, with a note, when the next rung would not fit the
     steps left in ``budget`` (predicted from the growth between the last two rungs), when a rung
     ran out of them, failed, or shows the round-off floor (:data:`ROUNDOFF_GROWTH`); a ladder
-    stopped after its first rung measures it against one rung ten times looser.
+    stopped after its first rung measures it against one rung ten times looser.  ``seed``: an
+    ``(rtol, run)`` of ``method`` already made (e.g. the run under test), the ladder's first rung.
 
     Returns
     -------
@@ -291,6 +292,9 @@ def reference_ladder(budget: _LadderBudget, method: str, tight: float, loosest: 
 
     rungs, notes, why = [], [], None
     rt = max(loosest * 1e-2, tight * 10)
+    if seed is not None and seed[0] > tight and seed[1].stats.success:
+        rungs.append((seed[0], seed[1], int(seed[1].stats.n_steps) + int(seed[1].stats.n_rejected)))
+        rt = max(seed[0] / 10, tight)
     while why is None:
         try:
             tr = budget.simulate(method=method, rtol=rt, atol=rt * 1e-2)
@@ -313,7 +317,7 @@ def reference_ladder(budget: _LadderBudget, method: str, tight: float, loosest: 
             why = (f"the next rung (rtol {rt / 10:.0e}) would take ~{steps * max(growth, 1.5):.3g} "
                    f"steps, more than the {budget.left} left of the budget ({LADDER_BUDGET_RUNS} x "
                    f"run.max_steps = {budget.scene.run.max_steps})")
-        rt /= 10
+        rt = max(rt / 10, tight)
     if len(rungs) == 1:      # one rung: its own error against a looser one
         rt0 = rungs[0][0] * 10
         rungs.insert(0, (rt0, budget.simulate(method=method, rtol=rt0, atol=rt0 * 1e-2), 0))
