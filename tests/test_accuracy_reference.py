@@ -101,3 +101,27 @@ def test_accuracy_walk_quick(path, capsys):
         # the reference resolves the errors it measures: its own is below the tightest run's
         assert "ladder" in doc["reference"]
         assert 0 < doc["reference_error_m"] < min(r["max_error_m"] for r in doc["rows"])
+
+
+def test_stress_reference_states_its_own_error(tmp_path):
+    """stand stress: a check-"reference" case's reference comes from the same ladder (the run at
+    the scene's rtol 1e-8 as its first rung), named, with its own error below the run's."""
+    from stand.reports.stress import run_stress
+
+    cat = tmp_path / "c.toml"
+    cat.write_text(f"""[[case]]
+name = "runup_reference"
+kind = "scene_file"
+check = "reference"
+tolerance = 1e-5
+reference_rtol = 1e-11
+time_budget_s = 60.0
+[case.params]
+path = "{SCENES / 'ball_runup.toml'}"
+duration = 2.0
+""")
+    (c,) = run_stress(cat)["cases"]
+    det = c["details"]
+    assert c["pass"], c["reason"]
+    assert det["reference"].startswith("DOP853 at rtol 1e-11") and "non-stiff" in det["reference"]
+    assert 0 < c["reference_error"] == det["reference_own_error"] < 0.1 * c["error"]
