@@ -284,13 +284,14 @@ def reference_ladder(budget: _LadderBudget, method: str, tight: float, loosest: 
     Returns
     -------
     tuple
-        ``(run, name, own error [m], notes)``: the tightest rung, its name (method, tolerance,
-        why this method), ``max |r_k - r_(k-1)|`` over the samples (the last two rungs: an
-        estimate of the tighter's error, dominated by the looser's) and the notes.
+        ``(run, name, own error [m], notes)``: the tightest rung (the one before a rung at the
+        round-off floor), its name (method, tolerance, why this method), ``max |r_k - r_(k-1)|``
+        over the samples (the last two rungs: an estimate of the reference's error, dominated
+        by the looser's) and the notes.
     """
     from stand.errors import BudgetExceeded
 
-    rungs, notes, why = [], [], None
+    rungs, notes, why, floor = [], [], None, False
     rt = max(loosest * 1e-2, tight * 10)
     if seed is not None and seed[0] > tight and seed[1].stats.success:
         rungs.append((seed[0], seed[1], int(seed[1].stats.n_steps) + int(seed[1].stats.n_rejected)))
@@ -311,6 +312,7 @@ def reference_ladder(budget: _LadderBudget, method: str, tight: float, loosest: 
         if rt <= tight * 1.0001:
             break
         if growth > ROUNDOFF_GROWTH:
+            floor = True
             why = (f"the rung at rtol {rt:.0e} reached the round-off floor ({steps} steps, "
                    f"{growth:.3g} x the previous rung's)")
         elif steps * max(growth, 1.5) > min(budget.left, budget.scene.run.max_steps):
@@ -323,15 +325,18 @@ def reference_ladder(budget: _LadderBudget, method: str, tight: float, loosest: 
         rungs.insert(0, (rt0, budget.simulate(method=method, rtol=rt0, atol=rt0 * 1e-2), 0))
     if not rungs:
         raise BudgetExceeded(f"no reference for the accuracy report: {why}")
-    (rt, tr, _), (rt0, tr0, _) = rungs[-1], rungs[-2]
+    if floor and seed is not None and rungs[-2][1] is seed[1]:
+        floor = False       # the rung before the floor is the run under test itself
+    (rt, tr, _), (rt0, tr0, _) = rungs[-2:][::-1] if not floor else rungs[-2:]
     k = min(len(tr.t), len(tr0.t))
     err = float(np.max(np.abs(_position(tr)[:k] - _position(tr0)[:k])))
     ratio = tr.stats.stiffness_ratio
-    name = (f"{method} at rtol {rt:.0e}, the tightest of a ladder from {rungs[0][0]:.0e}"
+    name = (f"{method} at rtol {rt:.0e}, from a ladder {rungs[0][0]:.0e} .. {rungs[-1][0]:.0e}"
             + (f" (stiffness ratio {ratio:.3g}: {'stiff' if method != 'DOP853' else 'non-stiff'})"
                if ratio else ""))
     if why is not None:
-        notes.append(f"reference at rtol {rt:.0e}, not the requested {tight:.0e}: {why}; its own "
+        notes.append(f"reference at rtol {rt:.0e}, not the requested {tight:.0e}: {why}"
+                     + ("; the rung before it is the reference" if floor else "") + "; its own "
                      f"error ~ {err:.3g} m (against the rung at rtol {rt0:.0e})")
     return tr, name, err, notes
 
