@@ -382,8 +382,8 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None,
     methods = [m for m in methods if m != "RK4"]
     if want_rk4 and (scene.kind != "planar" or scene.friction is not None):
         want_rk4 = False
-        notes.append(f"not applicable: RK4 rows: the fixed-step RK4 loop runs the planar rotor's kernel only "
-                     f"(this scene runs on the generic kernel: {scene.generic_kernel})")
+        notes.append("not applicable: RK4 rows: the fixed-step RK4 loop runs the planar rotor's "
+                     f"kernel only (this scene runs on the generic kernel: {scene.generic_kernel})")
     if scene.kind == "book" and "numpy-DOP853" in methods:
         methods.remove("numpy-DOP853")
     ref_method = "DOP853" if auto == "DOP853" else "Radau"
@@ -418,7 +418,8 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None,
     else:
         tight = reference_rtol or (1e-12 if scene.kind == "book"
                                    else 1e-13 if ref_method == "DOP853" else 1e-11)
-        r1, ref_name, ref_err, more = reference_ladder(budget, ref_method, tight, min(rtols, default=tight * 1e3))
+        r1, ref_name, ref_err, more = reference_ladder(budget, ref_method, tight,
+                                                       min(rtols, default=tight * 1e3))
         ref = _position(r1)
         notes += more
     scale = float(np.nanmax(np.abs(ref))) or 1.0
@@ -452,9 +453,9 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None,
             rows.append(AccuracyRow("RK4", float("nan"), float("nan"), err, err / scale, wall,
                                     nfev, nst, bool(np.all(np.isfinite(Z))), step_s=hh,
                                     free_whirl_drift=drift(Z, Zd)))
-    worst = min((r.max_error_m for r in rows if r.success), default=np.inf)
-    if ref_err > 0 and not ref_err < 0.1 * worst:
-        notes.append(f"the reference's own error ({ref_err:.3g} m) is not 10 x below the runs' errors "
-                     f"(the smallest {worst:.3g} m): the motion is sensitive to the tolerance "
+    smallest = min((r.max_error_m for r in rows if r.success), default=np.inf)
+    if ref_err > 0 and not ref_err < 0.1 * smallest:
+        notes.append(f"the reference's own error ({ref_err:.3g} m) is not 10 x below the runs' "
+                     f"errors (the smallest {smallest:.3g} m): the motion is sensitive to the tolerance "
                      "(e.g. weights settling elsewhere); the errors do not measure the methods")
     return AccuracyReport(scene.name, ref_name, ref_err, scale, rows, notes)
