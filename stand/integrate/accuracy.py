@@ -456,6 +456,7 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None,
     smallest = min((r.max_error_m for r in rows if r.success), default=np.inf)
     if ref_err > 0 and not ref_err < 0.1 * smallest:
         notes.append(f"the reference's own error ({ref_err:.3g} m) is not 10 x below the runs' "
-                     f"errors (the smallest {smallest:.3g} m): the motion is sensitive to the tolerance "
-                     "(e.g. weights settling elsewhere); the errors do not measure the methods")
+                     f"errors (the smallest {smallest:.3g} m): they do not measure the methods (the "
+                     "runs reach the round-off floor, or the motion is sensitive to the tolerance, "
+                     "e.g. weights settling elsewhere)")
     return AccuracyReport(scene.name, ref_name, ref_err, scale, rows, notes)
