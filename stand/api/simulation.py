@@ -75,11 +75,12 @@ def required_options(programme: str) -> tuple:
 
 
 def accuracy(scene, *, rtols: Optional[Sequence[float]] = None, methods=None, rk4_steps=None,
-             fast: bool = False, html_path=None, json_path=None):
+             fast: bool = False, duration: Optional[float] = None, html_path=None, json_path=None):
     """Error against run time over tolerances and methods (``stand accuracy``).
 
     ``rtols`` default to the standard ladder (``fast``: 1e-4, 1e-6 against a reference at
-    1e-10); ``methods`` are names of :data:`METHODS` or ``"RK4"`` (fixed steps ``rk4_steps``
+    1e-10); ``duration`` [s] runs only the scene's first seconds (a quick check of every
+    scene); ``methods`` are names of :data:`METHODS` or ``"RK4"`` (fixed steps ``rk4_steps``
     [s]).  With ``html_path`` / ``json_path`` the report is written
     (:func:`stand.reports.accuracy_report.accuracy_report`) and its JSON document returned;
     else an :class:`stand.integrate.accuracy.AccuracyReport` (``table()``, ``to_dict()``).
@@ -92,6 +93,14 @@ def accuracy(scene, *, rtols: Optional[Sequence[float]] = None, methods=None, rk
     if bad:
         raise ValueError(f"methods: unknown {', '.join(bad)}; valid: {', '.join(METHODS)}, RK4")
     scene = scene if not isinstance(scene, (str, os.PathLike)) else load(scene)
+    if duration is not None:
+        import dataclasses
+        import math
+
+        if not 0 < duration < math.inf:
+            raise ValueError(f"duration = {duration!r} s: must be > 0 and finite")
+        scene = dataclasses.replace(scene, run=dataclasses.replace(
+            scene.run, duration=min(float(duration), scene.run.duration)))
     if html_path or json_path:
         from stand.reports.accuracy_report import accuracy_report
 

@@ -109,6 +109,8 @@ def build_parser(handlers: dict) -> argparse.ArgumentParser:
     a.add_argument("--rk4-steps", default=None, help="RK4 steps [s], comma-separated")
     a.add_argument("--fast", action="store_true",
                    help="fast ladder: rtol 1e-4, 1e-6 against a reference at rtol 1e-10")
+    a.add_argument("--duration", type=float, default=None,
+                   help="run only the scene's first DURATION seconds (a quick check)")
     a.add_argument("-o", "--output", default=None,
                    help="write the report as self-contained HTML (work-precision plot, recommendation)")
     a.add_argument("--json-file", default=None, help="write the report's JSON to this file")

@@ -64,6 +64,7 @@ def cmd_accuracy(args) -> int:
         raise ValueError(f"--rk4-steps = {args.rk4_steps!r}: steps must be > 0 (s)")
     methods = args.methods.split(",") if args.methods else None
     rep = accuracy(scene, rtols=rtols, methods=methods, rk4_steps=steps, fast=args.fast,
+                   duration=args.duration,
                    html_path=args.output, json_path=args.json_file)
     if args.json:
         print_json(rep if isinstance(rep, dict) else rep.to_dict())

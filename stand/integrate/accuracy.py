@@ -166,7 +166,7 @@ class AccuracyReport:
             lines.append(f"{r.method:<8} {tol} {atol:>8} {r.max_error_m:>14.3e} "
                          f"{r.relative_error:>11.3e} {r.wall_time_s:>9.3f} {r.nfev:>10d} {r.n_steps:>8d} "
                          f"{drift:>17}" + ("" if r.success else "  FAILED"))
-        lines += [f"not applicable: {n}" for n in (self.notes or [])]
+        lines += [n if n.startswith("not applicable") else f"note: {n}" for n in self.notes or []]
         return "\n".join(lines)
 
 
@@ -263,6 +263,84 @@ class _LadderBudget:
         return tr
 
 
+#: a reference rung stops the ladder (round-off floor) when its steps (accepted + rejected) grow
+#: by more than this factor over the previous rung's (a method of order p needs 10^(1/p) <= 1.6
+#: for a tolerance 10x tighter)
+ROUNDOFF_GROWTH = 3.0
+
+
+def reference_ladder(budget: _LadderBudget, method: str, tight: float, loosest: float, seed=None):
+    """The reference run of a scene without closed form, and its own error.
+
+    Runs ``method`` (chosen by the scene's stiffness, :func:`stand.integrate.simulate.auto_method`:
+    the compiled DOP853, or scipy's Radau with the compiled Jacobian when stiff) on a ladder of
+    tolerances, ten times tighter each rung, from ``max(loosest / 100, tight * 10)`` down to
+    ``tight``.  The ladder stops early, with a note, when the next rung would not fit the
+    steps left in ``budget`` (predicted from the growth between the last two rungs), when a rung
+    ran out of them, failed, or shows the round-off floor (:data:`ROUNDOFF_GROWTH`); a ladder
+    stopped after its first rung measures it against one rung ten times looser.  ``seed``: an
+    ``(rtol, run)`` of ``method`` already made (e.g. the run under test), the ladder's first rung.
+
+    Returns
+    -------
+    tuple
+        ``(run, name, own error [m], notes)``: the tightest rung (the one before a rung at the
+        round-off floor), its name (method, tolerance, why this method), ``max |r_k - r_(k-1)|``
+        over the samples (the last two rungs: an estimate of the reference's error, dominated
+        by the looser's) and the notes.
+    """
+    from stand.errors import BudgetExceeded
+
+    rungs, notes, why, floor = [], [], None, False
+    rt = max(loosest * 1e-2, tight * 10)
+    if seed is not None and seed[0] > tight and seed[1].stats.success:
+        rungs.append((seed[0], seed[1], int(seed[1].stats.n_steps) + int(seed[1].stats.n_rejected)))
+        rt = max(seed[0] / 10, tight)
+    while why is None:
+        try:
+            tr = budget.simulate(method=method, rtol=rt, atol=rt * 1e-2)
+        except BudgetExceeded as exc:
+            why = f"the rung at rtol {rt:.0e} ran out of the step budget ({exc})"
+            break
+        st = tr.stats
+        if not st.success:
+            why = f"the rung at rtol {rt:.0e} failed ({st.message})"
+            break
+        steps = int(st.n_steps) + int(st.n_rejected)
+        growth = steps / rungs[-1][2] if rungs else 1.0
+        rungs.append((rt, tr, steps))
+        if rt <= tight * 1.0001:
+            break
+        if growth > ROUNDOFF_GROWTH:
+            floor = True
+            why = (f"the rung at rtol {rt:.0e} reached the round-off floor ({steps} steps, "
+                   f"{growth:.3g} x the previous rung's)")
+        elif steps * max(growth, 1.5) > min(budget.left, budget.scene.run.max_steps):
+            why = (f"the next rung (rtol {rt / 10:.0e}) would take ~{steps * max(growth, 1.5):.3g} "
+                   f"steps, more than the {budget.left} left of the budget ({LADDER_BUDGET_RUNS} x "
+                   f"run.max_steps = {budget.scene.run.max_steps})")
+        rt = max(rt / 10, tight)
+    if len(rungs) == 1:      # one rung: its own error against a looser one
+        rt0 = rungs[0][0] * 10
+        rungs.insert(0, (rt0, budget.simulate(method=method, rtol=rt0, atol=rt0 * 1e-2), 0))
+    if not rungs:
+        raise BudgetExceeded(f"no reference for the accuracy report: {why}")
+    if floor and seed is not None and rungs[-2][1] is seed[1]:
+        floor = False       # the rung before the floor is the run under test itself
+    (rt, tr, _), (rt0, tr0, _) = rungs[-2:][::-1] if not floor else rungs[-2:]
+    k = min(len(tr.t), len(tr0.t))
+    err = float(np.max(np.abs(_position(tr)[:k] - _position(tr0)[:k])))
+    ratio = tr.stats.stiffness_ratio
+    name = (f"{method} at rtol {rt:.0e}, from a ladder {rungs[0][0]:.0e} .. {rungs[-1][0]:.0e}"
+            + (f" (stiffness ratio {ratio:.3g}: {'stiff' if method != 'DOP853' else 'non-stiff'})"
+               if ratio else ""))
+    if why is not None:
+        notes.append(f"reference at rtol {rt:.0e}, not the requested {tight:.0e}: {why}"
+                     + ("; the rung before it is the reference" if floor else "") + "; its own "
+                     f"error ~ {err:.3g} m (against the rung at rtol {rt0:.0e})")
+    return tr, name, err, notes
+
+
 #: the fast ladder (``stand accuracy --fast``): tolerances and the reference's
 FAST_RTOLS = (1e-4, 1e-6)
 FAST_REFERENCE_RTOL = 1e-10
@@ -304,8 +382,8 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None,
     methods = [m for m in methods if m != "RK4"]
     if want_rk4 and (scene.kind != "planar" or scene.friction is not None):
         want_rk4 = False
-        notes.append(f"RK4 rows: the fixed-step RK4 loop runs the planar rotor's kernel only "
-                     f"(this scene runs on the generic kernel: {scene.generic_kernel})")
+        notes.append("not applicable: RK4 rows: the fixed-step RK4 loop runs the planar rotor's "
+                     f"kernel only (this scene runs on the generic kernel: {scene.generic_kernel})")
     if scene.kind == "book" and "numpy-DOP853" in methods:
         methods.remove("numpy-DOP853")
     ref_method = "DOP853" if auto == "DOP853" else "Radau"
@@ -340,12 +418,10 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None,
     else:
         tight = reference_rtol or (1e-12 if scene.kind == "book"
                                    else 1e-13 if ref_method == "DOP853" else 1e-11)
-        r1 = budget.simulate(method=ref_method, rtol=tight, atol=tight * 1e-2)
-        r2 = budget.simulate(method=ref_method, rtol=tight * 10, atol=tight * 1e-1)
+        r1, ref_name, ref_err, more = reference_ladder(budget, ref_method, tight,
+                                                       min(rtols, default=tight * 1e3))
         ref = _position(r1)
-        ref_name = f"{ref_method} at rtol {tight:.0e}"
-        k = min(len(r1.t), len(r2.t))
-        ref_err = float(np.max(np.abs(ref[:k] - _position(r2)[:k])))
+        notes += more
     scale = float(np.nanmax(np.abs(ref))) or 1.0
     # free-whirl constants (undamped run-up): compare at the last valid sample
     drift_ok = ru is not None and ru[0].n == 0.0
@@ -377,4 +453,10 @@ def accuracy(scene: Scene, rtols=DEFAULT_RTOLS, methods=None, rk4_steps=None,
             rows.append(AccuracyRow("RK4", float("nan"), float("nan"), err, err / scale, wall,
                                     nfev, nst, bool(np.all(np.isfinite(Z))), step_s=hh,
                                     free_whirl_drift=drift(Z, Zd)))
+    smallest = min((r.max_error_m for r in rows if r.success), default=np.inf)
+    if ref_err > 0 and not ref_err < 0.1 * smallest:
+        notes.append(f"the reference's own error ({ref_err:.3g} m) is not 10 x below the runs' "
+                     f"errors (the smallest {smallest:.3g} m): they do not measure the methods (the "
+                     "runs reach the round-off floor, or the motion is sensitive to the tolerance, "
+                     "e.g. weights settling elsewhere)")
     return AccuracyReport(scene.name, ref_name, ref_err, scale, rows, notes)

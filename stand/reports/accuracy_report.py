@@ -17,6 +17,7 @@ SCHEMA = {
     "scene": "string",
     "reference": {"name": "string", "own_error_m": "number|null", "scale_m": "number"},
     "runs": "list",
+    "notes": "list",
     "recommended": "object",
     "units": "object",
 }
@@ -191,6 +192,7 @@ def accuracy_report(scene, *, rtols=(1e-4, 1e-6, 1e-8, 1e-10), methods=None, rk4
         "reference": {"name": rep.reference, "own_error_m": rep.reference_error_m,
                       "scale_m": rep.scale_m},
         "runs": rows,
+        "notes": list(rep.notes or []),
         "recommended": recommend(rows, target),
         "units": {"max_error_m": "m (max over the samples of |r - r_ref|, r = x + i y)",
                   "relative_error": "max error / max |r_ref|", "wall_time_s": "s",
@@ -200,7 +202,7 @@ def accuracy_report(scene, *, rtols=(1e-4, 1e-6, 1e-8, 1e-10), methods=None, rk4
     doc["verdict"] = accuracy_banner(doc)
     figs = {"work-precision: error against wall time": _plot(rows, rep.scene)} if html_path else None
     plain = write_report(f"Error against run time: {rep.scene}", doc, html_path, json_path, figs,
-                         sections=("scene", "recommended", "reference", "runs", "units"),
+                         sections=("scene", "recommended", "reference", "notes", "runs", "units"),
                          banner=doc["verdict"])
     problems = check_schema(plain, SCHEMA)
     for i, r in enumerate(plain["runs"]):

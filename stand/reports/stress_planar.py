@@ -205,7 +205,15 @@ def _run_planar(case, scene, res):
 
 
 def _reference(case, scene, tr, res):
-    """Rerun at ``reference_rtol`` (same method): estimated error of the run.
+    """The reference run at ``reference_rtol``: estimated error of the run.
+
+    The reference's method suits the scene (:func:`stand.integrate.simulate.auto_method`: the
+    compiled DOP853, or Radau when stiff) and comes from a ladder of tolerances down to
+    ``reference_rtol`` (:func:`stand.integrate.accuracy.reference_ladder`; the run itself is its
+    first rung when it used that method), which states the reference's own error
+    (``details["reference_own_error"]``, relative to max |r_ref|; with check ``"reference"``
+    also the case's ``reference_error``) and stops short, with a note in
+    ``details["reference_notes"]``, at the step budget or the round-off floor.
 
     Returns
     -------
@@ -219,20 +227,25 @@ def _reference(case, scene, tr, res):
     CatalogueError
         Check ``"reference"`` without ``reference_rtol``.
     """
-    from stand.integrate.simulate import simulate
+    from stand.integrate.accuracy import _LadderBudget, reference_ladder
+    from stand.integrate.simulate import auto_method
 
     rr = case["reference_rtol"]
     if rr is None:
         if case["check"] == "reference":
             raise CatalogueError(f"case {case['name']!r}: check 'reference' needs field reference_rtol")
         return None
-    ref = simulate(scene, method=tr.stats.method, rtol=rr, atol=rr * 1e-2)
+    method = "DOP853" if auto_method(scene) == "DOP853" else "Radau"
+    seed = (tr.stats.rtol, tr) if tr.stats.method == method else None
+    ref, name, own, notes = reference_ladder(_LadderBudget(scene), method, rr, rr * 1e4, seed)
     d = rel_max(_shaft(tr), _shaft(ref))
-    res["details"].update(reference_rtol=rr, reference_difference=d,
+    own = own / (float(np.nanmax(np.abs(_shaft(ref)))) or 1.0)
+    res["details"].update(reference_rtol=rr, reference=name, reference_own_error=own,
+                          reference_difference=d,
                           reference_wall_time_s=float(ref.stats.wall_time),
-                          reference_success=bool(ref.stats.success))
+                          reference_success=bool(ref.stats.success), reference_notes=notes)
     if case["check"] == "reference":
-        res.update(oracle=f"converged reference: same method at rtol {rr:g}",
+        res.update(oracle=f"converged reference: {name}", reference_error=own,
                    error=d, error_measure="max |r - r_ref| / max |r_ref| [-]")
     return ref, d
 
@@ -323,8 +336,8 @@ def kind_dimensionless(case, res):
         res["details"].update(initial_value_J=float(Q[0]), scale_J=scale)
         res["_drift_checked"] = False
     ref = _reference(case, scene, tr, res)
-    if ref is not None:
-        res["reference_error"] = ref[1] if chk != "reference" else None
+    if ref is not None and chk != "reference":
+        res["reference_error"] = ref[1]
     return invalid
 
 
