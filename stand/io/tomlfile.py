@@ -41,8 +41,9 @@ def _text_depth(text: str) -> int:
 
 
 def _data_depth(data) -> int:
-    """Deepest nesting of dicts and lists in a parsed document (iterative: no recursion)."""
-    deepest, stack = 0, [(data, 1)]
+    """Deepest nesting of dicts and lists in a parsed document, the document itself 0
+    (iterative: no recursion)."""
+    deepest, stack = 0, [(data, 0)]
     while stack:
         obj, d = stack.pop()
         deepest = max(deepest, d)

@@ -214,9 +214,14 @@ def _mat_columns(name, v, out):
     out[name] = a.ravel()
 
 
-def _mat73_columns(f, out):
-    """Numeric datasets of a MATLAB v7.3 (HDF5) file; MATLAB stores them transposed."""
+def _mat73_columns(f, out, label):
+    """Numeric datasets of a MATLAB v7.3 (HDF5) file; MATLAB stores them transposed.  Their
+    declared shapes are checked against the memory budget before any is read."""
     import h5py
+
+    from stand.lab.limits import check_shape
+
+    found = []
 
     def visit(path, obj):
         if not isinstance(obj, h5py.Dataset) or path.startswith("#"):
@@ -225,19 +230,31 @@ def _mat73_columns(f, out):
             return
         if str(obj.attrs.get("MATLAB_class", b"double"), "ascii", "replace") in ("char", "cell"):
             return
-        a = obj[()]
-        _mat_columns(path, a.T if a.ndim == 2 else a, out)
+        found.append((path, obj))
 
     f.visititems(visit)
+    check_shape(label, sum(min(o.shape) if o.ndim == 2 else 1 for _, o in found),
+                max((max(o.shape) for _, o in found), default=0))
+    for path, obj in found:
+        a = obj[()]
+        _mat_columns(path, a.T if a.ndim == 2 else a, out)
 
 
 def read_mat(p: Path, label: str):
     import h5py
 
+    from stand.lab.limits import TableError
+
     out = {}
     if h5py.is_hdf5(str(p)):
-        with h5py.File(p, "r") as f:
-            _mat73_columns(f, out)
+        try:
+            with h5py.File(p, "r") as f:
+                _mat73_columns(f, out, label)
+        except (OSError, RuntimeError, KeyError, ValueError) as exc:
+            if isinstance(exc, TableError):
+                raise
+            raise _error(f"{label}: not a readable MATLAB v7.3 file "
+                         f"({' '.join(str(exc).split())})") from None
     else:
         import scipy.io
 
@@ -248,7 +265,7 @@ def read_mat(p: Path, label: str):
             check_shape(label, len(info), max((int(np.prod(s[1])) for s in info), default=0))
             data = scipy.io.loadmat(str(p), squeeze_me=False, struct_as_record=True)
         except Exception as exc:  # noqa: BLE001 -- MatReadError and the like: one clear line
-            if "TableError" in type(exc).__name__:
+            if isinstance(exc, TableError):
                 raise
             raise _error(f"{label}: not a readable MATLAB file ({' '.join(str(exc).split())})") \
                 from None
