@@ -228,7 +228,9 @@ def _mat73_columns(f, out, label):
             return
         if obj.dtype.kind not in "fiu" or obj.ndim > 2 or obj.size < 2:
             return
-        if str(obj.attrs.get("MATLAB_class", b"double"), "ascii", "replace") in ("char", "cell"):
+        cls = obj.attrs.get("MATLAB_class", b"double")
+        if (cls.decode("ascii", "replace") if isinstance(cls, bytes) else str(cls)) in ("char",
+                                                                                       "cell"):
             return
         found.append((path, obj))
 
@@ -250,7 +252,7 @@ def read_mat(p: Path, label: str):
         try:
             with h5py.File(p, "r") as f:
                 _mat73_columns(f, out, label)
-        except (OSError, RuntimeError, KeyError, ValueError) as exc:
+        except Exception as exc:  # noqa: BLE001 -- h5py's errors on a damaged file: one line
             if isinstance(exc, TableError):
                 raise
             raise _error(f"{label}: not a readable MATLAB v7.3 file "
