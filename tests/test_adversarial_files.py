@@ -151,7 +151,7 @@ def _cells(tmp: Path):
     good_x = xlsx_bytes(good_rows())
     # xlsx: the analyze command reads it; --columns maps the roles
     for label, blob in (
-            ("zip bomb (one sheet unzips to 20 MB)", xlsx_bytes([(1.5, 2.25)], repeat=450_000)),
+            ("zip bomb (one sheet unzips to 11 MB)", xlsx_bytes([(1.5, 2.25)], repeat=250_000)),
             ("declares 30,000,000 rows", xlsx_bytes(good_rows(), "A1:C30000000")),
             ("declares 20,000 columns", xlsx_bytes(good_rows(), "A1:ACOF401")),
             ("truncated", good_x[: len(good_x) // 2]),

@@ -29,15 +29,18 @@ MAX_TOML_DEPTH = 64          #: deepest nesting of tables and arrays (a scene ha
 _NOT_BRACKETS = re.compile(r'"""[\s\S]*?"""|\'\'\'[\s\S]*?\'\'\'|"(?:\\.|[^"\\\n])*"'
                            r"|'[^'\n]*'|#[^\n]*")
 _BRACKETS = re.compile(r"[\[\]{}]")
+_DOTTED = re.compile(r"[\w-]+(?:[ \t]*\.[ \t]*[\w-]+)+")
 
 
 def _text_depth(text: str) -> int:
-    """Deepest nesting of ``[`` / ``{`` in TOML text outside strings and comments."""
+    """Deepest nesting of ``[`` / ``{`` in TOML text outside strings and comments, or its
+    longest dotted key (``a.b.c``: 3), whichever is deeper."""
+    text = _NOT_BRACKETS.sub("", text)
     depth = deepest = 0
-    for m in _BRACKETS.finditer(_NOT_BRACKETS.sub("", text)):
+    for m in _BRACKETS.finditer(text):
         depth += 1 if m.group() in "[{" else -1
         deepest = max(deepest, depth)
-    return deepest
+    return max([deepest] + [m.group().count(".") + 1 for m in _DOTTED.finditer(text)])
 
 
 def _data_depth(data) -> int:
