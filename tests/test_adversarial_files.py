@@ -119,6 +119,24 @@ def mat73_path(p: Path, shape=None) -> Path:
     return p
 
 
+def pandas_h5_huge(p: Path, fmt: str, key: str, shape):
+    """A pandas HDF5 table whose values dataset declares ``shape`` (never written); None
+    without PyTables."""
+    import h5py
+    import pandas as pd
+
+    try:
+        pd.DataFrame(dict(zip(("time_s", "x_um", "y_um"), _signal()))).to_hdf(p, key="data",
+                                                                               format=fmt)
+    except ImportError:
+        return None
+    with h5py.File(p, "a") as f:
+        dt, attrs = f[key].dtype, dict(f[key].attrs)
+        del f[key]
+        f.create_dataset(key, shape=shape, dtype=dt, chunks=(1024,) + shape[1:]).attrs.update(attrs)
+    return p
+
+
 def deep(kind="array", n=5000) -> bytes:
     if kind == "array":
         return ("a = " + "[" * n + "]" * n + "\n").encode()
@@ -187,6 +205,12 @@ def _cells(tmp: Path):
         yield f"mat: {label}", ["analyze", p, "--columns", COLUMNS], [p], label != "v5 1e300"
     p = mat73_path(tmp / "m73_huge.mat", shape=(1, 10 ** 11))
     yield "mat: v7.3 declares 10^11 samples", ["analyze", p, "--columns", COLUMNS], [p], True
+    for fmt, key, shape in (("table", "data/table", (10 ** 11,)),
+                            ("fixed", "data/block0_values", (10 ** 11, 3))):
+        p = pandas_h5_huge(tmp / f"pandas_{fmt}.h5", fmt, key, shape)
+        if p is not None:
+            yield (f"pandas HDF5 {fmt}: declares {shape}", ["analyze", p, "--columns", COLUMNS],
+                   [p], True)
     # Bode tables (a map gives the roles)
     bode, bmap = DAQ / "bode_table.csv", DAQ / "bode_table.map.toml"
     for label, blob in (("1e300 amplitude", _sub(bode, "7.1259", "1e300")),
