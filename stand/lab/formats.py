@@ -140,8 +140,8 @@ def excel_text(p: Path, label: str, sheet=None) -> str:
     from stand.io.executor import progress_bar
     from stand.lab.limits import TableError, check_shape
 
-    openpyxl = _need("openpyxl", "openpyxl", label)
     _check_zip(p, label)
+    openpyxl = _need("openpyxl", "openpyxl", label)
     try:
         wb = openpyxl.load_workbook(p, read_only=True, data_only=True, keep_links=False)
     except Exception as exc:  # noqa: BLE001 -- a broken workbook: one clear line
