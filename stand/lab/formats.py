@@ -159,7 +159,7 @@ def excel_text(p: Path, label: str, sheet=None) -> str:
                          f"Excel's limit of {EXCEL_ROWS} x {EXCEL_COLUMNS}")
         check_shape(label, cols, rows)
         ws.reset_dimensions()     # the declared dimension may be wrong: read what is there
-        out, widths, last = [], [], 0
+        out, width, last = [], 0, 0      # (row as text, its cells); widest row; last with data
         bar = progress_bar(rows or EXCEL_ROWS, unit="rows", desc=f"reading {p.name}",
                            delay=PROGRESS_AFTER_S, leave=False)
         try:
@@ -168,13 +168,15 @@ def excel_text(p: Path, label: str, sheet=None) -> str:
                 while cells and not cells[-1]:
                     cells.pop()
                 if len(out) >= EXCEL_ROWS or len(cells) > EXCEL_COLUMNS:
-                    raise _error(f"{label}: sheet {name!r} has more than "
-                                 f"{EXCEL_ROWS if len(out) >= EXCEL_ROWS else EXCEL_COLUMNS} "
-                                 f"{'rows' if len(out) >= EXCEL_ROWS else 'columns'}, over "
-                                 f"Excel's limit")
-                out.append(cells)
-                widths.append(len(cells))
-                last = len(out) if cells else last
+                    over = ("rows", EXCEL_ROWS) if len(out) >= EXCEL_ROWS else ("columns",
+                                                                                EXCEL_COLUMNS)
+                    raise _error(f"{label}: sheet {name!r} has more than {over[1]} {over[0]}, "
+                                 f"over Excel's limit")
+                out.append((";".join(map(_quoted, cells)), len(cells)))
+                if cells:
+                    last, width = len(out), max(width, len(cells))
+                if len(out) % 65536 == 0:     # a sheet whose dimension lied: still bounded
+                    check_shape(label, width, len(out))
                 bar.update(1)
         finally:
             bar.close()
@@ -185,10 +187,7 @@ def excel_text(p: Path, label: str, sheet=None) -> str:
             from None
     finally:
         wb.close()
-    width = max(widths[:last], default=0)
-    check_shape(label, width, last)
-    return "".join(";".join(map(_quoted, cells + [""] * (width - len(cells)))) + "\n"
-                   for cells in out[:last])
+    return "".join(text + ";" * (width - max(n, 1)) + "\n" for text, n in out[:last])
 
 
 # ------------------------------------------------------------------ MATLAB
