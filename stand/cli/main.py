@@ -150,9 +150,12 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print(f"stand {args.command}: interrupted", file=sys.stderr)
         return 130
-    except MemoryError:
-        print(f"stand {args.command}: error: not enough memory for this run (reduce run.duration * "
-              "run.sample_rate or the number of weights)", file=sys.stderr)
+    except MemoryError:      # advice about a scene only where the command simulates one
+        simulates = args.command in ("run", "experiment", "accuracy", "sweep", "stress")
+        print(f"stand {args.command}: error: " + (
+            "not enough memory for this run (reduce run.duration * run.sample_rate or the number "
+            "of weights)" if simulates else _naming_the_input(args, "not enough memory to read it")),
+            file=sys.stderr)
         return 2
     except Exception as exc:  # last resort: a clear line, not a traceback
         print(f"stand {args.command}: internal error: {type(exc).__name__}: {exc} "

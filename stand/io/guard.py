@@ -11,6 +11,10 @@ path it was given is resolved and compared with every input path:
   unless ``--force``.
 
 The refusal is one :class:`OutputRefused` (a ``ValueError``) line naming both paths.
+
+:func:`memory_budget` is the one memory limit of every reader of a user's file (tables,
+recordings, TOML): what it may take is checked against the shapes the file declares,
+before any data is read.
 """
 from __future__ import annotations
 
@@ -18,7 +22,7 @@ import os
 from pathlib import Path
 from typing import Iterable, Optional
 
-__all__ = ["OutputRefused", "check_outputs", "file_kind", "KINDS"]
+__all__ = ["OutputRefused", "check_outputs", "file_kind", "KINDS", "memory_budget"]
 
 #: what each kind of output looks like: file endings, and a signature at the start
 KINDS = {
@@ -102,3 +106,12 @@ def check_outputs(inputs: Iterable, outputs: Iterable, force: bool = False) -> N
         if not force:
             raise OutputRefused(f"output {str(out)!r} exists and holds {have or 'unknown'} data, "
                                 f"not {kind}: give --force to replace it, or choose another output")
+
+
+def memory_budget() -> float:
+    """Bytes one input file may take while it is read [B]: a quarter of the physical memory
+    (8 GiB where the system does not say)."""
+    try:
+        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 4
+    except (ValueError, OSError, AttributeError):
+        return 2.0 ** 33 / 4

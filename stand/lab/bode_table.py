@@ -19,6 +19,8 @@ from stand.lab.units import AMPLITUDE, VIBRATION, UnitError
 
 __all__ = ["BodeTable", "read_bode_table", "is_bode_map"]
 
+MAX_VALUE = 1e12   #: a speed, amplitude or phase beyond this in its column's unit is no reading
+
 
 @dataclass
 class BodeTable:
@@ -88,7 +90,14 @@ def read_bode_table(path, rmap: RecordingMap) -> BodeTable:
             k = spec.si_factor(f"{role} = column {spec.column!r}")
         except (UnitError, MapError) as exc:
             raise TableError(f"{label}: {exc}") from None
-        num = pd.to_numeric(df[full], errors="coerce").to_numpy(float)
+        raw = df[full]
+        num = pd.to_numeric(raw, errors="coerce").to_numpy(float)
+        text = np.isnan(num) & raw.notna().to_numpy() & (raw.astype(str).str.strip() != "").to_numpy()
+        if (text | (np.abs(num) > MAX_VALUE)).any():
+            i = int(np.argmax(text | (np.abs(num) > MAX_VALUE)))
+            raise TableError(f"{label}: {role} = column {spec.column!r} ({spec.unit}), data row "
+                             f"{i + 1}: {str(raw.iloc[i])[:40]!r} is " + (
+                                 "not a number" if text[i] else f"above {MAX_VALUE:.0e}: not a reading"))
         cols[role], sig[role] = spec, num * k
     ok = np.isfinite(sig["speed"]) & np.isfinite(sig["amplitude"]) & np.isfinite(sig["phase"])
     if ok.sum() < 6:

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 __all__ = ["TableError", "check_shape", "MAX_COLUMNS", "CELL_BYTES"]
 
+from stand.io.guard import memory_budget as _memory_budget
+
 MAX_COLUMNS = 4096
 #: parsing a cell costs ~3 float64 copies; the table may use a quarter of the memory
 CELL_BYTES = 24
@@ -11,17 +13,6 @@ CELL_BYTES = 24
 
 class TableError(ValueError):
     """A table that cannot be analysed; one line naming the file, column and rows."""
-
-
-def _memory_budget() -> float:
-    """Bytes a table may take while it is read: a quarter of the physical memory (8 GiB
-    where the system does not say)."""
-    import os
-
-    try:
-        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 4
-    except (ValueError, OSError, AttributeError):
-        return 2.0 ** 33 / 4
 
 
 def check_shape(label: str, n_columns: int, n_rows: int) -> None:

@@ -49,6 +49,18 @@ def _pickled_names(raw) -> list:
     return names
 
 
+def _fits(label: str, ds) -> None:
+    """Refuse a dataset whose declared shape needs more than the memory budget to read (it and
+    the columns taken from it: twice its bytes)."""
+    from stand.io.guard import memory_budget
+
+    need = 2.0 * ds.size * ds.dtype.itemsize
+    if need > memory_budget():
+        raise RecordingError(f"{label}: dataset '{ds.name}' declares shape {ds.shape} "
+                             f"({need / 2 ** 30:.3g} GiB to read); the memory allows "
+                             f"{memory_budget() / 2 ** 30:.3g} GiB")
+
+
 def read_pandas_table(path, key: str):
     """A table written by ``DataFrame.to_hdf``, read with h5py: numeric columns only, nothing
     unpickled (pandas' own reader unpickles object columns: unsafe on a file from elsewhere).
@@ -82,11 +94,13 @@ def read_pandas_table(path, key: str):
                 if vals.dtype.kind not in "iufb" or vals.ndim != 2:
                     skipped += names                 # text (pickled object) columns
                     continue
+                _fits(label, vals)
                 a = vals[()]
                 for j, n in enumerate(names):
                     cols[n] = a[:, j]
         elif kind == "frame_table":
             t = g["table"]
+            _fits(label, t)
             data = t[()]
             for name in data.dtype.names:
                 if name == "index":

@@ -18,6 +18,7 @@ import h5py
 import numpy as np
 
 from stand.integrate.result import Run, SolverStats
+from stand.io.guard import memory_budget
 from stand.recording.layout import (DATASETS, FORMAT, FORMAT_VERSION, INSTRUMENTS, REQUIRED,
                                     SCREEN, V1_WEIGHTS, RecordingError, decode_attr,
                                     scene_language, truth_key)
@@ -132,6 +133,11 @@ def _read_dataset(f: "h5py.File", key: str, label: str, N: Optional[int],
     if obj.dtype.kind not in "fiu":
         raise RecordingError(f"{label}: dataset '{key}' has dtype {obj.dtype}, expected "
                              f"a numeric array")
+    budget = memory_budget() / 2         # the float64 copy and the arrays built from it
+    if obj.size * 8.0 > budget:
+        raise RecordingError(f"{label}: dataset '{key}' declares {obj.size} samples "
+                             f"({obj.size * 8 / 2 ** 30:.3g} GiB as float64); the memory allows "
+                             f"{budget / 2 ** 30:.3g} GiB per dataset: not readable on this machine")
     try:
         a = np.asarray(obj[()], dtype=np.float64)
     except (OSError, RuntimeError, ValueError, KeyError) as exc:
