@@ -1,0 +1,132 @@
+"""A real camera's imperfections, to draw and to undo: lens distortion, JPEG compression,
+lamp flicker, hot pixels, frame drops.
+
+One idea: what a lab camera does to the ideal image of the screen.  The stand draws them
+(``[instruments.screen]`` keys, docs/scene.md) through these functions, and the analysis
+undoes or allows for them with the same ones, so the two sides cannot disagree on a model.
+
+* Lens distortion: the radial Brown model of OpenCV (k1, k2; no tangential terms), about
+  the principal point ``centre_px`` with the focal length ``focal_px`` [px]:
+  x = (u - c_u) / f, r^2 = x^2 + y^2, x_d = x (1 + k1 r^2 + k2 r^4) -- so that
+  ``cv2.undistortPoints`` inverts it (:func:`undistort_points`).
+* JPEG at a quality 1..100 (``cv2.imencode`` / ``cv2.imdecode``, 8-bit frames).
+* Flicker: the room lamps' light modulated at twice the mains frequency; a frame's
+  brightness gain ``1 + depth cos(2 pi 2 f_mains t_mid + phase)`` at its mid-exposure time.
+* Hot pixels: a fixed set of pixels (the same in every frame) reading full scale.
+* Frame drops: :func:`dropped_frames` finds them in the frames' timestamps.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+__all__ = ["Lens", "distort_points", "undistort_points", "jpeg", "flicker_gain", "hot_pixels",
+           "dropped_frames"]
+
+
+@dataclass(frozen=True)
+class Lens:
+    """Radial lens distortion (OpenCV's k1, k2) of a camera.
+
+    Attributes
+    ----------
+    k1, k2 : float
+        Radial coefficients (1); k1 < 0 barrel, k1 > 0 pincushion.
+    focal_px : float
+        Focal length [px] that normalises the image radius (camera distance / pixel pitch).
+    centre_px : (float, float)
+        Principal point (u, v) [px]; the image centre ((W - 1)/2, (H - 1)/2) by convention.
+    """
+
+    k1: float
+    k2: float
+    focal_px: float
+    centre_px: tuple
+
+    @property
+    def matrix(self) -> np.ndarray:
+        """OpenCV's camera matrix K (3 x 3)."""
+        f, (cu, cv) = self.focal_px, self.centre_px
+        return np.array([[f, 0.0, cu], [0.0, f, cv], [0.0, 0.0, 1.0]])
+
+    @property
+    def coefficients(self) -> np.ndarray:
+        """OpenCV's distortion vector (k1, k2, p1, p2) with no tangential terms."""
+        return np.array([self.k1, self.k2, 0.0, 0.0])
+
+
+def distort_points(u, v, lens: Lens):
+    """Ideal (pinhole) pixel positions -> where the distorting lens puts them [px]."""
+    u, v = np.asarray(u, float), np.asarray(v, float)
+    (cu, cv), f = lens.centre_px, lens.focal_px
+    x, y = (u - cu) / f, (v - cv) / f
+    r2 = x * x + y * y
+    g = 1.0 + lens.k1 * r2 + lens.k2 * r2 * r2
+    return cu + f * x * g, cv + f * y * g
+
+
+def undistort_points(u, v, lens: Lens):
+    """Distorted pixel positions -> ideal (pinhole) ones [px] (``cv2.undistortPoints``,
+    iterated to 1e-10 of the normalised radius)."""
+    u, v = np.broadcast_arrays(np.asarray(u, float), np.asarray(v, float))
+    pts = np.stack([u.ravel(), v.ravel()], axis=-1).reshape(-1, 1, 2)
+    if pts.shape[0] == 0:
+        return u.copy(), v.copy()
+    crit = (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, 100, 1e-12)
+    K = lens.matrix
+    out = cv2.undistortPointsIter(pts, K, lens.coefficients, None, K, crit).reshape(-1, 2)
+    return out[:, 0].reshape(u.shape)[()], out[:, 1].reshape(u.shape)[()]
+
+
+def jpeg(image, quality: int) -> np.ndarray:
+    """An 8-bit image through JPEG at ``quality`` (1..100) and back."""
+    img = np.asarray(image)
+    if img.dtype != np.uint8:
+        raise ValueError(f"jpeg: an 8-bit image is needed, got {img.dtype}")
+    ok, buf = cv2.imencode(".jpg", img, [cv2.IMWRITE_JPEG_QUALITY, int(quality)])
+    if not ok:
+        raise ValueError(f"jpeg: OpenCV cannot encode at quality {quality!r}")
+    return cv2.imdecode(buf, cv2.IMREAD_UNCHANGED)
+
+
+def flicker_gain(t_mid, mains_hz: float, depth: float, phase: float = 0.0):
+    """Brightness gain (1) of frames at mid-exposure times ``t_mid`` [s]: the lamps' light
+    at twice the mains frequency ``mains_hz`` [Hz], modulation ``depth`` (0..1)."""
+    return 1.0 + depth * np.cos(2.0 * math.pi * 2.0 * mains_hz * np.asarray(t_mid, float) + phase)
+
+
+def hot_pixels(shape, count: int, seed: int) -> tuple:
+    """(rows, cols) of ``count`` hot pixels of a sensor of ``shape`` (H, W), fixed by ``seed``
+    (the same in every frame)."""
+    H, W = shape
+    idx = np.random.default_rng([int(seed), 0x407]).choice(H * W, size=int(count), replace=False)
+    return np.unravel_index(np.sort(idx), (H, W))
+
+
+def dropped_frames(times, frame_rate: float | None = None, tol: float = 0.25) -> dict:
+    """Frame drops in a sequence of frame timestamps [s].
+
+    The frame period is ``1 / frame_rate`` [Hz] or, not given, the median interval; a gap of
+    n periods (within ``tol`` of a period) after a frame means n - 1 frames dropped there.
+
+    Returns
+    -------
+    dict
+        ``count`` (frames dropped), ``after`` (indices of the frames followed by a gap),
+        ``missing`` (the dropped frames' times [s]), ``period_s``.
+    """
+    t = np.asarray(times, float)
+    t = t[np.isfinite(t)]
+    if t.size < 3:
+        return {"count": 0, "after": np.zeros(0, int), "missing": np.zeros(0), "period_s": math.nan}
+    d = np.diff(t)
+    T = 1.0 / float(frame_rate) if frame_rate else float(np.median(d))
+    n = np.rint(d / T).astype(int)
+    gap = (n >= 2) & (np.abs(d / T - n) < tol)
+    after = np.flatnonzero(gap)
+    missing = np.concatenate([t[i] + T * np.arange(1, n[i]) for i in after]) if after.size \
+        else np.zeros(0)
+    return {"count": int(np.sum(n[gap] - 1)), "after": after, "missing": missing, "period_s": T}
