@@ -92,12 +92,20 @@ def _project(H: np.ndarray, a, b):
 
 
 def screen_to_pixels(X, Y, cam: ScreenCamera):
-    """Screen [m] -> image [px] (u = column, v = row) through ``cam.homography``."""
-    return _project(cam.homography, X, Y)
+    """Screen [m] -> image [px] (u = column, v = row) through ``cam.homography``, then the
+    lens distortion (``cam.lens``)."""
+    from vision.camera_artefacts import distort_points
+
+    u, v = _project(cam.homography, X, Y)
+    return (u, v) if cam.lens is None else distort_points(u, v, cam.lens)
 
 
 def pixels_to_screen(u, v, cam: ScreenCamera):
     """Image [px] -> screen [m]; inverse of :func:`screen_to_pixels`."""
+    from vision.camera_artefacts import undistort_points
+
+    if cam.lens is not None:
+        u, v = undistort_points(u, v, cam.lens)
     return _project(cam.homography_inverse, u, v)
 
 
