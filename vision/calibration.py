@@ -32,6 +32,8 @@ import cv2
 import numpy as np
 from scipy.optimize import least_squares
 
+from .camera_artefacts import distort_points, undistort_points
+
 try:  # the package-wide error type, when the I/O module provides one
     from .io import VisionError  # type: ignore
 except Exception:  # pragma: no cover - depends on the parallel work on vision.io
@@ -213,6 +215,9 @@ class Calibration:
         larger of the pixel-noise covariance and the ring-clustered one, which counts
         a ring drawn too large or too small once, not once per pixel; 0 when not
         estimated).  A systematic error, common to every point mapped.
+    lens : the declared lens distortion (:class:`vision.camera_artefacts.Lens`) or None;
+        the homography maps to undistorted pixels, :func:`px_to_m` and :func:`m_to_px`
+        undo and apply it.
     """
     homography: np.ndarray
     scale: float
@@ -222,6 +227,7 @@ class Calibration:
     ring_radii_m: Optional[np.ndarray] = None
     rms_px: float = 0.0
     scale_std: float = 0.0
+    lens: Optional[object] = None
 
     @property
     def homography_inverse(self) -> np.ndarray:
@@ -248,13 +254,17 @@ def apply_homography(H, a, b):
 
 
 def px_to_m(u, v, cal: Calibration):
-    """Image (u, v) px -> screen (X, Y) m, origin at the ring centre."""
+    """Image (u, v) px -> screen (X, Y) m, origin at the ring centre (the lens's
+    distortion undone first)."""
+    if cal.lens is not None:
+        u, v = undistort_points(u, v, cal.lens)
     return apply_homography(cal.homography_inverse, u, v)
 
 
 def m_to_px(X, Y, cal: Calibration):
     """Screen (X, Y) m -> image (u, v) px."""
-    return apply_homography(cal.homography, X, Y)
+    u, v = apply_homography(cal.homography, X, Y)
+    return (u, v) if cal.lens is None else distort_points(u, v, cal.lens)
 
 
 def _jacobian(H, X=0.0, Y=0.0, h=1e-6):
@@ -293,8 +303,8 @@ def _finish(H, radii=None, rms_m=0.0) -> Calibration:
                        rms_px=float(rms_m / scale))
 
 
-def fit_homography(ellipses: Sequence[Ellipse], ring_radii_m, *, perspective: bool = True
-                   ) -> Calibration:
+def fit_homography(ellipses: Sequence[Ellipse], ring_radii_m, *, perspective: bool = True,
+                   lens=None) -> Calibration:
     """Fit the homography screen (m) -> image (px) to detected concentric rings.
 
     The detected rings (sorted by size) are matched to the positive entries of
@@ -303,7 +313,9 @@ def fit_homography(ellipses: Sequence[Ellipse], ring_radii_m, *, perspective: bo
     cut by the image border may be missing at the outside).  Unknowns: the
     inverse homography G (image -> screen, 8 parameters; 6 with
     ``perspective=False``); residuals: for every ring pixel, ink-weighted,
-    |G(u, v)| - r_i (the ring centre is the screen origin).
+    |G(u, v)| - r_i (the ring centre is the screen origin).  With a declared ``lens``
+    (:class:`vision.camera_artefacts.Lens`) the ring pixels are undistorted first
+    (``cv2.undistortPoints``) and the calibration keeps it.
 
     Raises
     ------
@@ -336,6 +348,8 @@ def fit_homography(ellipses: Sequence[Ellipse], ring_radii_m, *, perspective: bo
     r = r[best[1]:best[1] + len(ell)]
     U = np.concatenate([e.points[:, 0] for e in ell])
     V = np.concatenate([e.points[:, 1] for e in ell])
+    if lens is not None:
+        U, V = undistort_points(U, V, lens)
     Wt = np.sqrt(np.concatenate([e.weights for e in ell]))
     Rr = np.concatenate([np.full(e.points.shape[0], ri) for e, ri in zip(ell, r)])
     # initial guess: similarity from the ellipses' centres and sizes
@@ -377,7 +391,7 @@ def fit_homography(ellipses: Sequence[Ellipse], ring_radii_m, *, perspective: bo
 
     ring_of = np.concatenate([np.full(e.points.shape[0], k) for k, e in enumerate(ell)])
     std = _scale_std(scale_of, sol.x, sol.jac, sol.fun, ring_of)
-    return Calibration(**{**cal.__dict__, "scale_std": std})
+    return Calibration(**{**cal.__dict__, "scale_std": std, "lens": lens})
 
 
 def _scale_std(scale_of, q, J, f, cluster) -> float:

@@ -77,7 +77,7 @@ def undistort_points(u, v, lens: Lens):
         return u.copy(), v.copy()
     crit = (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, 100, 1e-12)
     K = lens.matrix
-    out = cv2.undistortPointsIter(pts, K, lens.coefficients, None, K, crit).reshape(-1, 2)
+    out = cv2.undistortPoints(pts, K, lens.coefficients, None, None, K, crit).reshape(-1, 2)
     return out[:, 0].reshape(u.shape)[()], out[:, 1].reshape(u.shape)[()]
 
 

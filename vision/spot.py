@@ -524,9 +524,7 @@ def _locate_near(img, prev: SpotResult, margin: float, kw: dict,
     r = locate(img, roi=roi, _inside_only=True, **kw)
     if r is None:
         return None   # the blob reaches the rectangle's border: search the whole frame
-    if "blank" in r.flags:
-        return r
-    if "missing" in r.flags:
+    if "missing" in r.flags:   # (a flat rectangle, e.g. a JPEG's background, too)
         return None
     hu2, hv2 = r.window
     if (r.u_px - hu2 - 1 < roi[0] or r.u_px + hu2 + 1 > roi[0] + roi[2] - 1
