@@ -24,7 +24,7 @@ import cv2
 import numpy as np
 
 __all__ = ["Lens", "distort_points", "undistort_points", "jpeg", "flicker_gain", "hot_pixels",
-           "dropped_frames"]
+           "dropped_frames", "declared_camera"]
 
 
 @dataclass(frozen=True)
@@ -130,3 +130,38 @@ def dropped_frames(times, frame_rate: float | None = None, tol: float = 0.25) ->
     missing = np.concatenate([t[i] + T * np.arange(1, n[i]) for i in after]) if after.size \
         else np.zeros(0)
     return {"count": int(np.sum(n[gap] - 1)), "after": after, "missing": missing, "period_s": T}
+
+
+def declared_camera(keys: dict, shape) -> tuple:
+    """``(lens or None, jpeg quality or None)`` that a lab declares for its camera in a ring
+    file (``key = value``): ``lens_k1``, ``lens_k2`` (1), ``lens_focal_px`` [px] and
+    optionally ``lens_centre_u_px``, ``lens_centre_v_px`` (default the centre of an image of
+    ``shape`` (H, W)); ``jpeg_quality`` (1..100).
+
+    Raises
+    ------
+    ValueError
+        A value out of range, or k1/k2 without the focal length (naming the key).
+    """
+    def num(key):
+        v = keys.get(key)
+        if v is None:
+            return None
+        try:
+            return float(v)
+        except (TypeError, ValueError):
+            raise ValueError(f"{key} = {v!r}: not a number") from None
+
+    q = num("jpeg_quality")
+    if q is not None and not (q == int(q) and 1 <= q <= 100):
+        raise ValueError(f"jpeg_quality = {q!r}: an integer 1..100")
+    k1, k2, f = num("lens_k1"), num("lens_k2"), num("lens_focal_px")
+    if k1 is None and k2 is None:
+        return None, None if q is None else int(q)
+    if f is None or not f > 0:
+        raise ValueError(f"lens_focal_px = {f!r}: the focal length [px] > 0 is needed with "
+                         "lens_k1, lens_k2")
+    H, W = shape[:2]
+    cu, cv = num("lens_centre_u_px"), num("lens_centre_v_px")
+    centre = ((W - 1) / 2.0 if cu is None else cu, (H - 1) / 2.0 if cv is None else cv)
+    return Lens(k1 or 0.0, k2 or 0.0, f, centre), None if q is None else int(q)

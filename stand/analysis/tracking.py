@@ -377,6 +377,7 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
     """
     from dsp.unbalance import unbalance_from_rings
     from vision.calibration import detect_rings, fit_homography, px_to_m
+    from vision.camera_artefacts import declared_camera, dropped_frames
     from vision.io import iter_frames
     from vision.spot import track
     from vision.trace import track_traces
@@ -392,6 +393,9 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
     og, expo, phi, capacity_gmm = _setup(source, group or SCREEN, ring_radii, optical_gain,
                                          exposure, capacity_gmm)
     pre = {"source": str(source)}
+    keys = read_ring_file(ring_radii) if ring_radii and _is_file(ring_radii) else {}  # declared:
+    lens, quality = declared_camera(keys, calibration_image(calibration).shape   # lens, JPEG
+                                    if calibration and "lens_k1" in keys else (1, 1))
     if group is not None:
         pre["screen"] = group.split("/", 1)[1]
     frames = iter_frames(source, progress=progress)
@@ -417,7 +421,7 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
     if trace:
         df = track_traces(frames, gain=gain, threshold=threshold, spot_sigma_px=spot_sigma)
     else:
-        df = track(frames, gain=gain, threshold=threshold, saturation=sat)
+        df = track(frames, gain=gain, threshold=threshold, saturation=sat, jpeg_quality=quality)
     if roi is not None and len(df):
         df["u_px"] += roi[0]
         df["v_px"] += roi[1]
@@ -426,6 +430,8 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
     if expo is not None:
         pre["exposure_s"] = repr(expo)
     df.attrs["preamble"] = pre
+    if "time" in df and (drops := dropped_frames(df["time"].to_numpy()))["count"]:
+        pre["dropped_frames"] = f"{drops['count']} (after frames {drops['after'].tolist()})"
     if not calibration:
         if rec is not None and not trace and len(df):
             _screen_columns(df, rec, group, optical_gain)
@@ -434,7 +440,7 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
     pre["ring_radii_m"] = ",".join(repr(float(r)) for r in radii)
     if capacity_gmm is not None:
         pre["capacity_gmm"] = repr(float(capacity_gmm))
-    cal = fit_homography(detect_rings(calibration_image(calibration)), radii)
+    cal = fit_homography(detect_rings(calibration_image(calibration)), radii, lens=lens)
     X, Y = (np.asarray(a) for a in px_to_m(df["u_px"].to_numpy(), df["v_px"].to_numpy(), cal))
     df["x_mm"], df["y_mm"] = X * 1e3, Y * 1e3
     df["scale_mm_per_px"] = cal.scale * 1e3
