@@ -12,7 +12,10 @@ undoes or allows for them with the same ones, so the two sides cannot disagree o
 * JPEG at a quality 1..100 (``cv2.imencode`` / ``cv2.imdecode``, 8-bit frames).
 * Flicker: the room lamps' light modulated at twice the mains frequency; a frame's
   brightness gain ``1 + depth cos(2 pi 2 f_mains t_mid + phase)`` at its mid-exposure time.
-* Hot pixels: a fixed set of pixels (the same in every frame) reading full scale.
+* Hot pixels: a fixed set of pixels (the same in every frame) reading full scale;
+  :func:`hot_pixel_map` finds them in the per-pixel median of frames
+  (:func:`vision.background.median_background`) and :func:`repair_hot_pixels` replaces
+  them by their neighbours' median (else the tracker may take one for a dim spot).
 * Frame drops: :func:`dropped_frames` finds them in the frames' timestamps.
 """
 from __future__ import annotations
@@ -24,7 +27,7 @@ import cv2
 import numpy as np
 
 __all__ = ["Lens", "distort_points", "undistort_points", "jpeg", "flicker_gain", "hot_pixels",
-           "dropped_frames", "declared_camera"]
+           "hot_pixel_map", "repair_hot_pixels", "dropped_frames", "declared_camera"]
 
 
 @dataclass(frozen=True)
@@ -104,6 +107,25 @@ def hot_pixels(shape, count: int, seed: int) -> tuple:
     H, W = shape
     idx = np.random.default_rng([int(seed), 0x407]).choice(H * W, size=int(count), replace=False)
     return np.unravel_index(np.sort(idx), (H, W))
+
+
+def hot_pixel_map(median, excess: float = 0.5) -> tuple:
+    """(rows, cols) of the hot pixels of a per-pixel median of frames [DN]: pixels above
+    their 3 x 3 neighbourhood's median by more than ``excess`` of the frame's range (a
+    moving spot is not in the median; a hot pixel is in every frame)."""
+    m = np.asarray(median, np.float32)
+    span = float(m.max() - np.percentile(m, 50))
+    return np.nonzero(m - cv2.medianBlur(m, 3) > excess * span) if span > 0 else (
+        np.zeros(0, int), np.zeros(0, int))
+
+
+def repair_hot_pixels(frame, hot) -> np.ndarray:
+    """A copy of ``frame`` with the pixels ``hot`` (rows, cols) set to their 3 x 3
+    neighbourhood's median."""
+    f = np.array(frame)
+    if len(hot[0]):
+        f[hot] = cv2.medianBlur(f if f.dtype == np.uint8 else f.astype(np.float32), 3)[hot]
+    return f
 
 
 def dropped_frames(times, frame_rate: float | None = None, tol: float = 0.25) -> dict:
