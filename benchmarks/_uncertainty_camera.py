@@ -54,13 +54,14 @@ def _draw(seed):
 
 
 def _path(seed, declared):
+    from stand.instruments.screen import lens_of
     from vision.calibration import detect_rings, fit_homography
     from vision.spot import track
 
     cam, frames, truth, rings, radii = _draw(seed)
     df = track(frames, gain=cam.electrons_per_dn, jpeg_quality=30 if declared else None)
     k = seed % FRAMES
-    cal = fit_homography(detect_rings(rings), radii, lens=cam.lens if declared else None)
+    cal = fit_homography(detect_rings(rings), radii, lens=lens_of(cam) if declared else None)
     return {"u": (df["u_px"][k] - truth[k, 0]) / df["u_std_px"][k],
             "v": (df["v_px"][k] - truth[k, 1]) / df["v_std_px"][k],
             "scale": (cal.scale - PITCH) / cal.scale_std}

@@ -14,7 +14,7 @@ import pytest
 from stand.errors import SceneError
 from stand.instruments.render import render_frames
 from stand.instruments.rings import render_ring_image
-from stand.instruments.screen import frame_truth, spot_positions
+from stand.instruments.screen import frame_truth, lens_of, spot_positions
 from stand.scene.screen_camera import ScreenCamera
 from vision.calibration import detect_rings, fit_homography, px_to_m
 from vision.background import median_background
@@ -59,7 +59,7 @@ def _scores(df, truth_px):
 def test_lens_distortion_is_opencvs_model_and_the_ring_calibration_undoes_it():
     cam = _camera(width=160, height=160, lens_k1=-0.3, lens_k2=0.05, offset_x=3e-4,
                   offset_y=-2e-4)
-    lens = cam.lens
+    lens = lens_of(cam)
     assert lens.focal_px == pytest.approx(1.4 * 160)          # camera distance / pitch
     u, v = np.meshgrid(np.linspace(0, 159, 7), np.linspace(0, 159, 7))
     ud, vd = distort_points(u, v, lens)

@@ -101,7 +101,7 @@ class ScreenCamera:
     lens_k1, lens_k2 : float
         Radial lens distortion (OpenCV's Brown model about the image centre, radius
         normalised by the focal length camera_distance / pixel_pitch [px];
-        :class:`vision.camera_artefacts.Lens`); default 0 (a pinhole).
+        ``lens_of`` of the screen instrument); default 0 (a pinhole).
     jpeg_quality : int or None
         Each frame through JPEG at this quality 1..100 (8-bit frames only); default None.
     flicker_depth, mains_frequency : float
@@ -249,16 +249,6 @@ class ScreenCamera:
         return np.array([[1.0 / p, cu * s / d, cu],
                          [0.0, cv * s / d - c / p, cv],
                          [0.0, s / d, 1.0]])
-
-    @cached_property
-    def lens(self):
-        """The lens distortion (:class:`vision.camera_artefacts.Lens`), None for a pinhole."""
-        from vision.camera_artefacts import Lens
-
-        if self.lens_k1 == 0 and self.lens_k2 == 0:
-            return None
-        return Lens(self.lens_k1, self.lens_k2, self.camera_distance / self.pixel_pitch,
-                    ((self.width - 1) / 2.0, (self.height - 1) / 2.0))
 
     @cached_property
     def homography_inverse(self) -> np.ndarray:
