@@ -28,7 +28,7 @@ FRAMES = 20
 PITCH = 1e-4          #: m of screen per px
 
 
-def _draw(seed):
+def _draw(seed, frames=True):
     from stand.instruments.render import render_frames
     from stand.instruments.rings import render_ring_image
     from stand.instruments.screen import frame_truth, spot_positions
@@ -48,7 +48,7 @@ def _draw(seed):
     screen_m, px = spot_positions(3e-3 * np.cos(ph), 3e-3 * np.sin(ph), ph, cam)
     truth = frame_truth(screen_m, px, cam)["centre_px"]
     g = flicker_gain(t + 0.5 * cam.exposure, cam.mains_frequency, cam.flicker_depth)
-    frames = list(render_frames(px, cam, gains=g))
+    frames = list(render_frames(px, cam, gains=g)) if frames else None
     radii = np.arange(13) * 0.45e-3
     return cam, frames, truth, render_ring_image(radii, cam), radii
 
@@ -77,4 +77,17 @@ def camera_undeclared(seed, workdir=None):
     return _path(seed, False)
 
 
-PATHS = {"camera": camera, "camera-undeclared": camera_undeclared}
+def camera_lens_estimated(seed, workdir=None):
+    """z of the ring scale with k1, k2 estimated from the rings (nothing declared but the
+    principal point, the image centre; the focal length normalising r: the image width)."""
+    from vision.calibration import detect_rings, fit_homography
+    from vision.camera_artefacts import Lens
+
+    cam, _, _, rings, radii = _draw(seed, frames=False)
+    start = Lens(0.0, 0.0, float(cam.width), ((cam.width - 1) / 2, (cam.height - 1) / 2))
+    cal = fit_homography(detect_rings(rings), radii, lens=start, estimate_lens=True)
+    return {"scale": (cal.scale - PITCH) / cal.scale_std}
+
+
+PATHS = {"camera": camera, "camera-undeclared": camera_undeclared,
+         "camera-lens-estimated": camera_lens_estimated}

@@ -18,7 +18,7 @@ from stand.instruments.screen import frame_truth, lens_of, spot_positions
 from stand.scene.screen_camera import ScreenCamera
 from vision.calibration import detect_rings, fit_homography, px_to_m
 from vision.background import median_background
-from vision.camera_artefacts import (declared_camera, distort_points, dropped_frames,
+from vision.camera_artefacts import (Lens, declared_camera, distort_points, dropped_frames,
                                      flicker_gain, hot_pixel_map, repair_hot_pixels,
                                      undistort_points)
 from vision.io import iter_frames
@@ -78,6 +78,11 @@ def test_lens_distortion_is_opencvs_model_and_the_ring_calibration_undoes_it():
     # undeclared, the barrel lens shrinks the outer rings: a scale off by many of its std
     blind = fit_homography(rings, radii)
     assert abs(blind.scale - PITCH) > 4 * blind.scale_std
+    # ... unless k1, k2 are estimated with the rings (principal point: the image centre;
+    # any normalising focal length): the scale within its (wider) +-
+    start = Lens(0.0, 0.0, 160.0, (79.5, 79.5))
+    est = fit_homography(rings, radii, lens=start, estimate_lens=True)
+    assert abs(est.scale - PITCH) < 2 * est.scale_std < 5e-3 * PITCH
 
 
 def test_declared_camera_keys():

@@ -24,6 +24,7 @@ The rotation of the screen about the ring centre cannot be seen from circles;
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import NamedTuple, Optional, Sequence
@@ -304,7 +305,7 @@ def _finish(H, radii=None, rms_m=0.0) -> Calibration:
 
 
 def fit_homography(ellipses: Sequence[Ellipse], ring_radii_m, *, perspective: bool = True,
-                   lens=None) -> Calibration:
+                   lens=None, estimate_lens: bool = False) -> Calibration:
     """Fit the homography screen (m) -> image (px) to detected concentric rings.
 
     The detected rings (sorted by size) are matched to the positive entries of
@@ -315,7 +316,10 @@ def fit_homography(ellipses: Sequence[Ellipse], ring_radii_m, *, perspective: bo
     ``perspective=False``); residuals: for every ring pixel, ink-weighted,
     |G(u, v)| - r_i (the ring centre is the screen origin).  With a declared ``lens``
     (:class:`vision.camera_artefacts.Lens`) the ring pixels are undistorted first
-    (``cv2.undistortPoints``) and the calibration keeps it.
+    (``cv2.undistortPoints``) and the calibration keeps it.  ``estimate_lens``: its k1, k2
+    are fitted too (from where ``lens`` starts them, its focal length and principal point
+    kept: the image centre and any normalising length, e.g. the image width), and the
+    scale's std carries their uncertainty.
 
     Raises
     ------
@@ -348,8 +352,12 @@ def fit_homography(ellipses: Sequence[Ellipse], ring_radii_m, *, perspective: bo
     r = r[best[1]:best[1] + len(ell)]
     U = np.concatenate([e.points[:, 0] for e in ell])
     V = np.concatenate([e.points[:, 1] for e in ell])
+    U_d, V_d = U, V
     if lens is not None:
         U, V = undistort_points(U, V, lens)
+    if estimate_lens and lens is None:
+        raise VisionError("fit_homography: estimate_lens needs a lens to start from (its "
+                          "focal length and principal point)")
     Wt = np.sqrt(np.concatenate([e.weights for e in ell]))
     Rr = np.concatenate([np.full(e.points.shape[0], ri) for e, ri in zip(ell, r)])
     # initial guess: similarity from the ellipses' centres and sizes
@@ -358,21 +366,30 @@ def fit_homography(ellipses: Sequence[Ellipse], ring_radii_m, *, perspective: bo
     v0 = float(np.average([e.centre[1] for e in ell], weights=sizes))
     # normalised pixel coordinates for conditioning
     L = max(float(np.max(sizes)), 1.0)
-    x, y = (U - u0) / L, (V - v0) / L
+
+    def xy(q):
+        if not estimate_lens:
+            return (U - u0) / L, (V - v0) / L
+        uu, vv = undistort_points(U_d, V_d, dataclasses.replace(lens, k1=q[n_h], k2=q[n_h + 1]))
+        return (uu - u0) / L, (vv - v0) / L
 
     def G_of(q):
         g = np.array([[q[0], q[1], q[2]], [q[3], q[4], q[5]],
                       [q[6], q[7], 1.0] if perspective else [0.0, 0.0, 1.0]])
         return g
 
+    n_h = 8 if perspective else 6
+
     def resid(q):
         g = G_of(q)
+        x, y = xy(q)
         w = g[2, 0] * x + g[2, 1] * y + 1.0
         X = (g[0, 0] * x + g[0, 1] * y + g[0, 2]) / w
         Y = (g[1, 0] * x + g[1, 1] * y + g[1, 2]) / w
         return (np.hypot(X, Y) - Rr / (p0 * L)) * Wt
 
-    q0 = np.array([1.0, 0.0, 0.0, 0.0, -1.0, 0.0] + ([0.0, 0.0] if perspective else []))
+    q0 = np.array([1.0, 0.0, 0.0, 0.0, -1.0, 0.0] + ([0.0, 0.0] if perspective else [])
+                  + ([lens.k1, lens.k2] if estimate_lens else []))
     sol = least_squares(resid, q0, method="lm", xtol=1e-12, ftol=1e-12)
     if not sol.success or not np.all(np.isfinite(sol.x)):
         raise VisionError(f"fit_homography: the fit failed ({sol.message})")
@@ -391,6 +408,8 @@ def fit_homography(ellipses: Sequence[Ellipse], ring_radii_m, *, perspective: bo
 
     ring_of = np.concatenate([np.full(e.points.shape[0], k) for k, e in enumerate(ell)])
     std = _scale_std(scale_of, sol.x, sol.jac, sol.fun, ring_of)
+    if estimate_lens:
+        lens = dataclasses.replace(lens, k1=float(sol.x[n_h]), k2=float(sol.x[n_h + 1]))
     return Calibration(**{**cal.__dict__, "scale_std": std, "lens": lens})
 
 
