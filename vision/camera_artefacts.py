@@ -23,11 +23,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import cv2
 import numpy as np
 
 __all__ = ["Lens", "distort_points", "undistort_points", "jpeg", "flicker_gain", "hot_pixels",
-           "hot_pixel_map", "repair_hot_pixels", "dropped_frames", "declared_camera"]
+           "sensor_artefacts", "hot_pixel_map", "repair_hot_pixels", "dropped_frames",
+           "declared_camera"]
 
 
 @dataclass(frozen=True)
@@ -74,6 +74,8 @@ def distort_points(u, v, lens: Lens):
 def undistort_points(u, v, lens: Lens):
     """Distorted pixel positions -> ideal (pinhole) ones [px] (``cv2.undistortPoints``,
     iterated to 1e-10 of the normalised radius)."""
+    import cv2   # (imported when used: a stand run without these artefacts does not need it)
+
     u, v = np.broadcast_arrays(np.asarray(u, float), np.asarray(v, float))
     pts = np.stack([u.ravel(), v.ravel()], axis=-1).reshape(-1, 1, 2)
     if pts.shape[0] == 0:
@@ -86,6 +88,8 @@ def undistort_points(u, v, lens: Lens):
 
 def jpeg(image, quality: int) -> np.ndarray:
     """An 8-bit image through JPEG at ``quality`` (1..100) and back."""
+    import cv2
+
     img = np.asarray(image)
     if img.dtype != np.uint8:
         raise ValueError(f"jpeg: an 8-bit image is needed, got {img.dtype}")
@@ -109,10 +113,25 @@ def hot_pixels(shape, count: int, seed: int) -> tuple:
     return np.unravel_index(np.sort(idx), (H, W))
 
 
+def sensor_artefacts(frame, *, saturation=None, hot=None, jpeg_quality=None, full_scale=255):
+    """``frame`` after the exposure, in place: clipped at ``saturation`` [DN] (a sensor that
+    clips below the full scale), the ``hot`` pixels (rows, cols) at ``full_scale``, then
+    JPEG at ``jpeg_quality``; each skipped when None."""
+    if saturation is not None:
+        np.minimum(frame, int(round(saturation)), out=frame)
+    if hot is not None and len(hot[0]):
+        frame[hot] = full_scale
+    if jpeg_quality is not None:
+        frame[...] = jpeg(frame, jpeg_quality)
+    return frame
+
+
 def hot_pixel_map(median, excess: float = 0.5) -> tuple:
     """(rows, cols) of the hot pixels of a per-pixel median of frames [DN]: pixels above
     their 3 x 3 neighbourhood's median by more than ``excess`` of the frame's range (a
     moving spot is not in the median; a hot pixel is in every frame)."""
+    import cv2
+
     m = np.asarray(median, np.float32)
     span = float(m.max() - np.percentile(m, 50))
     return np.nonzero(m - cv2.medianBlur(m, 3) > excess * span) if span > 0 else (
@@ -122,6 +141,8 @@ def hot_pixel_map(median, excess: float = 0.5) -> tuple:
 def repair_hot_pixels(frame, hot) -> np.ndarray:
     """A copy of ``frame`` with the pixels ``hot`` (rows, cols) set to their 3 x 3
     neighbourhood's median."""
+    import cv2
+
     f = np.array(frame)
     if len(hot[0]):
         f[hot] = cv2.medianBlur(f if f.dtype == np.uint8 else f.astype(np.float32), 3)[hot]

@@ -7,7 +7,7 @@ more than the pixel noise, which the compression smooths away together with the
 background's noise that :func:`vision.spot.locate` measures.  :func:`jpeg_centre_std`
 estimates it for one located spot: the ideal spot (a Gaussian of the located amplitude and
 width over the located background, quantised and clipped as the camera does) is drawn at
-a few sub-pixel shifts about the located centre in the frame's own block grid, put
+2 x 2 sub-pixel shifts about the located centre in the frame's own block grid, put
 through JPEG at the declared quality, and the Gaussian-weighted centroid (the locator's
 own, or its soft-window centroid when that was used) is read before and after; the RMS of the shifts' differences is the compression's
 standard uncertainty, added in quadrature to the noise's (:func:`widen_for_jpeg`).
@@ -24,7 +24,7 @@ from .centroid import gauss_centroid, recentre, spot_sigma
 
 __all__ = ["jpeg_centre_std", "widen_for_jpeg", "SHIFTS"]
 
-SHIFTS = 3          #: sub-pixel shifts per axis (a SHIFTS x SHIFTS grid over one pixel)
+SHIFTS = 2          #: sub-pixel shifts per axis (a SHIFTS x SHIFTS grid over one pixel)
 BLOCK = 8           #: px, JPEG's block
 
 

@@ -46,6 +46,7 @@ from typing import Iterator, Optional
 import numpy as np
 
 from stand._jit import njit
+from vision.camera_artefacts import hot_pixels, sensor_artefacts
 
 __all__ = ["render_frame", "render_frames", "render_long_exposure", "background_table",
            "frame_seed", "WINDOW_SIGMAS", "GUIDE_BITS"]
@@ -523,8 +524,10 @@ def render_frames(positions_px, cam, seed: Optional[int] = None, *, noise: bool 
     """
     seed = cam.seed if seed is None else int(seed)
     r = _Renderer(cam, noise, window)
-    look = _Finish(cam, noise)
     shape = (cam.height, cam.width)
+    look = functools.partial(sensor_artefacts, saturation=cam.saturation, full_scale=cam.max_dn,
+                             hot=hot_pixels(shape, cam.hot_pixels, cam.seed) if noise else None,
+                             jpeg_quality=cam.jpeg_quality if noise else None)   # docs/scene.md
     # the kernel always writes uint16 (one compiled specialisation); 8-bit frames
     # are copied out of it (~10 us per 640 x 480 frame)
     wide = cam.dtype == np.uint16
@@ -544,31 +547,6 @@ def render_frames(positions_px, cam, seed: Optional[int] = None, *, noise: bool 
             np.copyto(out, work, casting="unsafe")
         yield look(out)
 
-
-class _Finish:
-    """The camera's artefacts after the exposure (``[instruments.screen]``, docs/scene.md):
-    the sensor's clip level ``saturation``, ``hot_pixels`` at full scale, ``jpeg_quality``
-    (:mod:`vision.camera_artefacts`).  Noiseless frames get the clip level only."""
-
-    def __init__(self, cam, noise: bool):
-        from vision.camera_artefacts import hot_pixels
-
-        self.sat = cam.saturation
-        self.hot = hot_pixels((cam.height, cam.width), cam.hot_pixels, cam.seed) \
-            if noise and cam.hot_pixels else None
-        self.q = cam.jpeg_quality if noise else None
-        self.top = cam.max_dn
-
-    def __call__(self, out):
-        from vision.camera_artefacts import jpeg
-
-        if self.sat is not None:
-            np.minimum(out, int(round(self.sat)), out=out)
-        if self.hot is not None:
-            out[self.hot] = self.top
-        if self.q is not None:
-            out[...] = jpeg(out, self.q)
-        return out
 
 
 def render_long_exposure(positions_px, cam, seed: Optional[int] = None, *, noise: bool = True,
