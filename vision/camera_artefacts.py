@@ -27,7 +27,7 @@ import numpy as np
 
 __all__ = ["Lens", "distort_points", "undistort_points", "jpeg", "flicker_gain", "hot_pixels",
            "sensor_artefacts", "hot_pixel_map", "repair_hot_pixels", "dropped_frames",
-           "declared_camera"]
+           "declared_camera", "declared_keys"]
 
 
 @dataclass(frozen=True)
@@ -208,3 +208,16 @@ def declared_camera(keys: dict, shape) -> tuple:
     cu, cv = num("lens_centre_u_px"), num("lens_centre_v_px")
     centre = ((W - 1) / 2.0 if cu is None else cu, (H - 1) / 2.0 if cv is None else cv)
     return Lens(k1 or 0.0, k2 or 0.0, f, centre), None if q is None else int(q)
+
+
+def declared_keys(settings: dict) -> dict:
+    """The ring-file keys (:func:`declared_camera`) of a camera described by its settings
+    (``lens_k1``, ``lens_k2``, ``camera_distance`` [m], ``pixel_pitch`` [m/px],
+    ``jpeg_quality``; the stand's screen camera stores them): what a lab declares."""
+    out = {}
+    if settings.get("lens_k1") or settings.get("lens_k2"):
+        out.update({k: float(settings.get(k) or 0.0) for k in ("lens_k1", "lens_k2")},
+                   lens_focal_px=settings["camera_distance"] / settings["pixel_pitch"])
+    if settings.get("jpeg_quality"):
+        out["jpeg_quality"] = int(settings["jpeg_quality"])
+    return out

@@ -182,6 +182,7 @@ def write_screen_video(recording, output, *, screen: Optional[str] = None,
     import pandas as pd
 
     from stand.io.atomic import atomic_path, write_text
+    from vision.camera_artefacts import declared_keys
     from stand.recording.hdf5 import read_recording
     from stand.recording.layout import INSTRUMENTS, TRUTH, screen_group, truth_key
 
@@ -229,11 +230,7 @@ def write_screen_video(recording, output, *, screen: Optional[str] = None,
         rings["ring_radii_m"] = ",".join(repr(float(r)) for r in radii)
         if rec.shape(truth_key("capacity")) is not None:
             rings["capacity_gmm"] = repr(float(rec.dataset(truth_key("capacity"))) * 1e6)
-        if settings.get("lens_k1") or settings.get("lens_k2"):      # the lab's declared lens
-            rings.update({k: repr(float(settings[k])) for k in ("lens_k1", "lens_k2")},
-                         lens_focal_px=repr(settings["camera_distance"] / settings["pixel_pitch"]))
-        if settings.get("jpeg_quality"):
-            rings["jpeg_quality"] = str(int(settings["jpeg_quality"]))
+        rings.update({k: repr(v) for k, v in declared_keys(settings).items()})   # lens, JPEG
         test = rec.dataset_attrs(group).get("ring_test_speed_rad_s")
         if test is not None:
             rings["ring_test_speed_rad_s"] = repr(float(test))
