@@ -18,9 +18,9 @@ from stand.instruments.screen import frame_truth, lens_of, spot_positions
 from stand.scene.screen_camera import ScreenCamera
 from vision.calibration import detect_rings, fit_homography, px_to_m
 from vision.background import median_background
-from vision.camera_artefacts import (Lens, declared_camera, distort_points, dropped_frames,
-                                     flicker_gain, hot_pixel_map, repair_hot_pixels,
-                                     undistort_points)
+from vision.camera_artefacts import (Lens, declared_camera, declared_keys, distort_points,
+                                     dropped_frames, flicker_gain, hot_pixel_map,
+                                     repair_hot_pixels, undistort_points)
 from vision.io import iter_frames
 from vision.spot import track
 
@@ -91,6 +91,13 @@ def test_declared_camera_keys():
     assert (lens.k1, lens.k2, lens.focal_px, lens.centre_px, q) == (-0.25, 0.05, 358.4,
                                                                      (127.5, 127.5), 30)
     assert declared_camera({}, (1, 1)) == (None, None)
+    # what stand video writes in the ring file and stand track reads from a recording
+    cam = _camera(lens_k1=-0.25, lens_k2=0.05, jpeg_quality=30)
+    keys = declared_keys(cam.to_attrs())
+    assert keys == {"lens_k1": -0.25, "lens_k2": 0.05, "jpeg_quality": 30,
+                    "lens_focal_px": pytest.approx(1.4 * 128)}
+    assert declared_camera(keys, (128, 128))[0] == lens_of(cam)
+    assert declared_keys(_camera().to_attrs()) == {}
     with pytest.raises(ValueError, match="lens_focal_px"):
         declared_camera({"lens_k1": -0.2}, (64, 64))
     with pytest.raises(ValueError, match="jpeg_quality"):
