@@ -73,8 +73,9 @@ def test_lens_distortion_is_opencvs_model_and_the_ring_calibration_undoes_it():
     declared = fit_homography(rings, radii, lens=lens)
     assert abs(declared.scale - PITCH) < 2 * declared.scale_std      # within its +-
     assert declared.scale_std < 1e-3 * PITCH
-    X, Y = px_to_m(*distort_points(79.5 + 40, 79.5, lens), declared)  # 4 mm right of the image centre
-    assert X == pytest.approx(4e-3 - cam.offset_x, abs=3 * 40 * declared.scale_std + 2e-6)  # from the rings
+    X, Y = px_to_m(*distort_points(79.5 + 40, 79.5, lens), declared)  # 4 mm right of centre
+    # (the screen origin of the calibration is the rings' centre)
+    assert X == pytest.approx(4e-3 - cam.offset_x, abs=3 * 40 * declared.scale_std + 2e-6)
     # undeclared, the barrel lens shrinks the outer rings: a scale off by many of its std
     blind = fit_homography(rings, radii)
     assert abs(blind.scale - PITCH) > 4 * blind.scale_std

@@ -9,8 +9,10 @@ estimates it for one located spot: the ideal spot (a Gaussian of the located amp
 width over the located background, quantised and clipped as the camera does) is drawn at
 2 x 2 sub-pixel shifts about the located centre in the frame's own block grid, put
 through JPEG at the declared quality, and the Gaussian-weighted centroid (the locator's
-own, or its soft-window centroid when that was used) is read before and after; the RMS of the shifts' differences is the compression's
-standard uncertainty, added in quadrature to the noise's (:func:`widen_for_jpeg`).
+own, or its soft-window centroid when that was used) is read before and after; the RMS
+of the shifts' differences is the compression's standard uncertainty, added in
+quadrature to the noise's (:func:`widen_for_jpeg`).  Checked in
+``benchmarks/bench_uncertainty.py --paths camera`` (benchmarks/README.md).
 """
 from __future__ import annotations
 

@@ -180,7 +180,8 @@ def ring_radii_of(source, ring_radii: Optional[str] = None, group: str = SCREEN)
 
 
 def _screen_meta(source, group=SCREEN):
-    """(optical gain, exposure [s], frame rotor angles [rad] or None, settings) of a recording's screen."""
+    """(optical gain, exposure [s], frame rotor angles [rad] or None, settings) of a
+    recording's screen."""
     import json
 
     rec = _recording_of(source)
