@@ -318,3 +318,8 @@ def two_plane(seed, workdir, **kw):
 
 
 PATHS["two-plane"] = two_plane
+
+# ---------------------------------------------------------------- camera artefacts (issue 42)
+from _uncertainty_camera import PATHS as _CAMERA_PATHS  # noqa: E402  (lens, JPEG, flicker)
+
+PATHS.update(_CAMERA_PATHS)

@@ -38,9 +38,11 @@ rotor angle, scipy DOP853 at rtol 1e-11), written as a DAQ CSV and read by
 
 The image, track and line paths
 (``--paths lines,lines-close,sinusoids,precession,track-rings,two-plane``)
-are in :mod:`_uncertainty_images`; the other speed channels, the Bode table and the
-field balancer's readings (``--paths keyphasor-ttl,tachometer-analog,tachometer-rounded,
-encoder-360,bode-steady,field-readings``) in :mod:`_uncertainty_lab`.
+are in :mod:`_uncertainty_images`, the camera-artefact ones (``camera``,
+``camera-undeclared``, ``camera-lens-estimated``) in :mod:`_uncertainty_camera`; the
+other speed channels, the Bode table and the field balancer's readings (``--paths
+keyphasor-ttl,tachometer-analog,tachometer-rounded,encoder-360,bode-steady,field-readings``)
+in :mod:`_uncertainty_lab`.
 """
 from __future__ import annotations
 

@@ -24,6 +24,7 @@ The rotation of the screen about the ring centre cannot be seen from circles;
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import NamedTuple, Optional, Sequence
@@ -31,6 +32,8 @@ from typing import NamedTuple, Optional, Sequence
 import cv2
 import numpy as np
 from scipy.optimize import least_squares
+
+from .camera_artefacts import distort_points, undistort_points
 
 try:  # the package-wide error type, when the I/O module provides one
     from .io import VisionError  # type: ignore
@@ -213,6 +216,9 @@ class Calibration:
         larger of the pixel-noise covariance and the ring-clustered one, which counts
         a ring drawn too large or too small once, not once per pixel; 0 when not
         estimated).  A systematic error, common to every point mapped.
+    lens : the declared lens distortion (:class:`vision.camera_artefacts.Lens`) or None;
+        the homography maps to undistorted pixels, :func:`px_to_m` and :func:`m_to_px`
+        undo and apply it.
     """
     homography: np.ndarray
     scale: float
@@ -222,6 +228,7 @@ class Calibration:
     ring_radii_m: Optional[np.ndarray] = None
     rms_px: float = 0.0
     scale_std: float = 0.0
+    lens: Optional[object] = None
 
     @property
     def homography_inverse(self) -> np.ndarray:
@@ -248,13 +255,17 @@ def apply_homography(H, a, b):
 
 
 def px_to_m(u, v, cal: Calibration):
-    """Image (u, v) px -> screen (X, Y) m, origin at the ring centre."""
+    """Image (u, v) px -> screen (X, Y) m, origin at the ring centre (the lens's
+    distortion undone first)."""
+    if cal.lens is not None:
+        u, v = undistort_points(u, v, cal.lens)
     return apply_homography(cal.homography_inverse, u, v)
 
 
 def m_to_px(X, Y, cal: Calibration):
     """Screen (X, Y) m -> image (u, v) px."""
-    return apply_homography(cal.homography, X, Y)
+    u, v = apply_homography(cal.homography, X, Y)
+    return (u, v) if cal.lens is None else distort_points(u, v, cal.lens)
 
 
 def _jacobian(H, X=0.0, Y=0.0, h=1e-6):
@@ -293,8 +304,8 @@ def _finish(H, radii=None, rms_m=0.0) -> Calibration:
                        rms_px=float(rms_m / scale))
 
 
-def fit_homography(ellipses: Sequence[Ellipse], ring_radii_m, *, perspective: bool = True
-                   ) -> Calibration:
+def fit_homography(ellipses: Sequence[Ellipse], ring_radii_m, *, perspective: bool = True,
+                   lens=None, estimate_lens: bool = False) -> Calibration:
     """Fit the homography screen (m) -> image (px) to detected concentric rings.
 
     The detected rings (sorted by size) are matched to the positive entries of
@@ -303,7 +314,12 @@ def fit_homography(ellipses: Sequence[Ellipse], ring_radii_m, *, perspective: bo
     cut by the image border may be missing at the outside).  Unknowns: the
     inverse homography G (image -> screen, 8 parameters; 6 with
     ``perspective=False``); residuals: for every ring pixel, ink-weighted,
-    |G(u, v)| - r_i (the ring centre is the screen origin).
+    |G(u, v)| - r_i (the ring centre is the screen origin).  With a declared ``lens``
+    (:class:`vision.camera_artefacts.Lens`) the ring pixels are undistorted first
+    (``cv2.undistortPoints``) and the calibration keeps it.  ``estimate_lens``: its k1, k2
+    are fitted too (from where ``lens`` starts them, its focal length and principal point
+    kept: the image centre and any normalising length, e.g. the image width), and the
+    scale's std carries their uncertainty.
 
     Raises
     ------
@@ -336,6 +352,12 @@ def fit_homography(ellipses: Sequence[Ellipse], ring_radii_m, *, perspective: bo
     r = r[best[1]:best[1] + len(ell)]
     U = np.concatenate([e.points[:, 0] for e in ell])
     V = np.concatenate([e.points[:, 1] for e in ell])
+    U_d, V_d = U, V
+    if lens is not None:
+        U, V = undistort_points(U, V, lens)
+    if estimate_lens and lens is None:
+        raise VisionError("fit_homography: estimate_lens needs a lens to start from (its "
+                          "focal length and principal point)")
     Wt = np.sqrt(np.concatenate([e.weights for e in ell]))
     Rr = np.concatenate([np.full(e.points.shape[0], ri) for e, ri in zip(ell, r)])
     # initial guess: similarity from the ellipses' centres and sizes
@@ -344,21 +366,30 @@ def fit_homography(ellipses: Sequence[Ellipse], ring_radii_m, *, perspective: bo
     v0 = float(np.average([e.centre[1] for e in ell], weights=sizes))
     # normalised pixel coordinates for conditioning
     L = max(float(np.max(sizes)), 1.0)
-    x, y = (U - u0) / L, (V - v0) / L
+
+    def xy(q):
+        if not estimate_lens:
+            return (U - u0) / L, (V - v0) / L
+        uu, vv = undistort_points(U_d, V_d, dataclasses.replace(lens, k1=q[n_h], k2=q[n_h + 1]))
+        return (uu - u0) / L, (vv - v0) / L
 
     def G_of(q):
         g = np.array([[q[0], q[1], q[2]], [q[3], q[4], q[5]],
                       [q[6], q[7], 1.0] if perspective else [0.0, 0.0, 1.0]])
         return g
 
+    n_h = 8 if perspective else 6
+
     def resid(q):
         g = G_of(q)
+        x, y = xy(q)
         w = g[2, 0] * x + g[2, 1] * y + 1.0
         X = (g[0, 0] * x + g[0, 1] * y + g[0, 2]) / w
         Y = (g[1, 0] * x + g[1, 1] * y + g[1, 2]) / w
         return (np.hypot(X, Y) - Rr / (p0 * L)) * Wt
 
-    q0 = np.array([1.0, 0.0, 0.0, 0.0, -1.0, 0.0] + ([0.0, 0.0] if perspective else []))
+    q0 = np.array([1.0, 0.0, 0.0, 0.0, -1.0, 0.0] + ([0.0, 0.0] if perspective else [])
+                  + ([lens.k1, lens.k2] if estimate_lens else []))
     sol = least_squares(resid, q0, method="lm", xtol=1e-12, ftol=1e-12)
     if not sol.success or not np.all(np.isfinite(sol.x)):
         raise VisionError(f"fit_homography: the fit failed ({sol.message})")
@@ -377,7 +408,9 @@ def fit_homography(ellipses: Sequence[Ellipse], ring_radii_m, *, perspective: bo
 
     ring_of = np.concatenate([np.full(e.points.shape[0], k) for k, e in enumerate(ell)])
     std = _scale_std(scale_of, sol.x, sol.jac, sol.fun, ring_of)
-    return Calibration(**{**cal.__dict__, "scale_std": std})
+    if estimate_lens:
+        lens = dataclasses.replace(lens, k1=float(sol.x[n_h]), k2=float(sol.x[n_h + 1]))
+    return Calibration(**{**cal.__dict__, "scale_std": std, "lens": lens})
 
 
 def _scale_std(scale_of, q, J, f, cluster) -> float:

@@ -427,7 +427,7 @@ def _blur_locate(sub, labels, lab, box, level, noise, sat, amp, flags, frame_geo
 
 def track(frames: Iterable, *, background=None, threshold=None, window=None, gain=None,
           saturation=None, refine: str = "auto", margin: float = 16.0,
-          progress: bool = False):
+          progress: bool = False, jpeg_quality: Optional[int] = None):
     """Locate the spot in every frame; returns a pandas DataFrame.
 
     ``frames``: an iterable of 2-D arrays, or of :class:`vision.io.FrameRecord`
@@ -449,6 +449,9 @@ def track(frames: Iterable, *, background=None, threshold=None, window=None, gai
     Columns: frame, [time,] u_px, v_px, u_std_px, v_std_px, peak, method ("gaussian",
     "centroid" or "blur": the refinement used), flags (comma-separated sorted string,
     "" when none; "fit_failed": the blurred-spot fit was tried and the centroid kept), ok.
+
+    ``jpeg_quality``: the frames were JPEG-compressed at this quality; each centre's std
+    gets the compression's share (:func:`vision.compression.widen_for_jpeg`).
     """
     kw = dict(background=background, threshold=threshold, window=window, gain=gain,
               saturation=saturation, refine=refine)
@@ -476,6 +479,10 @@ def track(frames: Iterable, *, background=None, threshold=None, window=None, gai
             seen.clear()
         if r.blur is not None:
             start = (r.blur.amplitude, r.blur.sigma)
+        if jpeg_quality is not None:
+            from .compression import widen_for_jpeg
+
+            r = widen_for_jpeg(r, img, jpeg_quality)
         return r
 
     return frame_table(frames, measure, TRACK_COLUMNS, progress=progress)
@@ -517,9 +524,7 @@ def _locate_near(img, prev: SpotResult, margin: float, kw: dict,
     r = locate(img, roi=roi, _inside_only=True, **kw)
     if r is None:
         return None   # the blob reaches the rectangle's border: search the whole frame
-    if "blank" in r.flags:
-        return r
-    if "missing" in r.flags:
+    if "missing" in r.flags:   # (a flat rectangle, e.g. a JPEG's background, too)
         return None
     hu2, hv2 = r.window
     if (r.u_px - hu2 - 1 < roi[0] or r.u_px + hu2 + 1 > roi[0] + roi[2] - 1

@@ -17,6 +17,7 @@ from typing import Optional
 
 import numpy as np
 
+from vision.camera_artefacts import declared_keys
 from stand.recording.layout import INSTRUMENTS, STROBOSCOPE, instrument_key, screen_group
 from stand.recording.layout import SCREEN as SCREEN_NAME
 
@@ -179,19 +180,20 @@ def ring_radii_of(source, ring_radii: Optional[str] = None, group: str = SCREEN)
 
 
 def _screen_meta(source, group=SCREEN):
-    """(optical gain, exposure [s], frame rotor angles [rad] or None) of a recording's screen."""
+    """(optical gain, exposure [s], frame rotor angles [rad] or None, settings) of a
+    recording's screen."""
     import json
 
     rec = _recording_of(source)
     if rec is None or rec.shape(f"{group}/frames") is None:
-        return None, 0.0, None
+        return None, 0.0, None, {}
     try:
         settings = json.loads(rec.dataset_attrs(group).get("settings", "{}"))
     except (TypeError, ValueError):
         settings = {}
     phi = (np.asarray(rec.dataset(f"{group}/frame_rotor_angle"))
            if rec.shape(f"{group}/frame_rotor_angle") is not None else None)
-    return float(settings.get("gain", 1.0)), float(settings.get("exposure", 0.0)), phi
+    return float(settings.get("gain", 1.0)), float(settings.get("exposure", 0.0)), phi, settings
 
 
 def _shaft_columns(df, X, Y, gain, exposure, phi) -> None:
@@ -299,7 +301,7 @@ def _setup(source, group, ring_radii, optical_gain, exposure, capacity_gmm):
     angles or None, capacity [g mm] or None)`` -- the options first, then a ring file
     (``--ring-radii FILE``: its ``optical_gain``, ``exposure_s``, ``capacity_gmm``), then
     the source recording's camera."""
-    gain, expo, phi = _screen_meta(str(source).split(":")[0], group)
+    gain, expo, phi, settings = _screen_meta(str(source).split(":")[0], group)
     if gain is None:
         expo = None
     if ring_radii and _is_file(ring_radii):
@@ -317,7 +319,7 @@ def _setup(source, group, ring_radii, optical_gain, exposure, capacity_gmm):
         expo = float(exposure)
         if not (math.isfinite(expo) and expo >= 0):
             raise ValueError(f"--exposure = {exposure}: must be >= 0 (s)")
-    return gain, expo, phi, capacity_gmm
+    return gain, expo, phi, capacity_gmm, declared_keys(settings)   # the recorded camera's
 
 
 def track_frames(source, *, calibration=None, ring_radii=None, gain=None, threshold=None,
@@ -377,6 +379,7 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
     """
     from dsp.unbalance import unbalance_from_rings
     from vision.calibration import detect_rings, fit_homography, px_to_m
+    from vision.camera_artefacts import declared_camera, dropped_frames
     from vision.io import iter_frames
     from vision.spot import track
     from vision.trace import track_traces
@@ -389,9 +392,12 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
     rec = group = None
     if screen is not None:
         source, rec, group = _named_screen(source, screen)
-    og, expo, phi, capacity_gmm = _setup(source, group or SCREEN, ring_radii, optical_gain,
-                                         exposure, capacity_gmm)
+    og, expo, phi, capacity_gmm, keys = _setup(source, group or SCREEN, ring_radii, optical_gain,
+                                               exposure, capacity_gmm)
     pre = {"source": str(source)}
+    keys.update(read_ring_file(ring_radii) if ring_radii and _is_file(ring_radii) else {})
+    lens, quality = declared_camera(keys, calibration_image(calibration).shape   # lens, JPEG
+                                    if calibration and "lens_k1" in keys else (1, 1))
     if group is not None:
         pre["screen"] = group.split("/", 1)[1]
     frames = iter_frames(source, progress=progress)
@@ -417,7 +423,7 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
     if trace:
         df = track_traces(frames, gain=gain, threshold=threshold, spot_sigma_px=spot_sigma)
     else:
-        df = track(frames, gain=gain, threshold=threshold, saturation=sat)
+        df = track(frames, gain=gain, threshold=threshold, saturation=sat, jpeg_quality=quality)
     if roi is not None and len(df):
         df["u_px"] += roi[0]
         df["v_px"] += roi[1]
@@ -426,6 +432,8 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
     if expo is not None:
         pre["exposure_s"] = repr(expo)
     df.attrs["preamble"] = pre
+    if "time" in df and (drops := dropped_frames(df["time"].to_numpy()))["count"]:
+        pre["dropped_frames"] = f"{drops['count']} (after frames {drops['after'].tolist()})"
     if not calibration:
         if rec is not None and not trace and len(df):
             _screen_columns(df, rec, group, optical_gain)
@@ -434,7 +442,7 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
     pre["ring_radii_m"] = ",".join(repr(float(r)) for r in radii)
     if capacity_gmm is not None:
         pre["capacity_gmm"] = repr(float(capacity_gmm))
-    cal = fit_homography(detect_rings(calibration_image(calibration)), radii)
+    cal = fit_homography(detect_rings(calibration_image(calibration)), radii, lens=lens)
     X, Y = (np.asarray(a) for a in px_to_m(df["u_px"].to_numpy(), df["v_px"].to_numpy(), cal))
     df["x_mm"], df["y_mm"] = X * 1e3, Y * 1e3
     df["scale_mm_per_px"] = cal.scale * 1e3

@@ -185,13 +185,15 @@ class ScreenOutput(InstrumentOutput):
         the first exposure sub-sample [rad].
     truth : dict
         ``centre_px`` (F, 2) [px], ``centre_m`` (F, 2) [m], ``in_frame`` (F,), the spot's
-        exposure-averaged centre; ``exposure_time`` (F, K) [s].
+        exposure-averaged centre; ``exposure_time`` (F, K) [s]; ``brightness`` (F,) the
+        flicker's gain; ``frame_index`` (F,) each frame's place before the drops.
     px : ndarray (F, K, 2)
         Spot centre at each exposure sub-sample [px] (what the frames are drawn from).
     """
 
     def __init__(self, name: str, scene, traj, plan):
         from stand.instruments.screen import frame_truth, spot_positions
+        from vision.camera_artefacts import flicker_gain
 
         cam, starts, times, index = plan
         ex, plane, _ = plane_view(traj.extra, scene, cam)
@@ -211,6 +213,17 @@ class ScreenOutput(InstrumentOutput):
         self.truth = {key: np.asarray(truth[key])[:n_ok] for key in ("centre_px", "centre_m",
                                                                      "in_frame")}
         self.truth["exposure_time"] = times[:n_ok]
+        # the lamps' flicker at each mid-exposure; the frames the camera lost (the kept ones
+        # keep their timestamps; the truth keeps each kept frame's index in the full sequence)
+        self.truth["brightness"] = flicker_gain(starts[:n_ok] + 0.5 * cam.exposure,
+                                                cam.mains_frequency, cam.flicker_depth)
+        self.truth["frame_index"] = np.arange(n_ok)
+        if cam.drop_rate > 0:
+            keep = np.random.default_rng([cam.seed, 0xD809]).random(n_ok) >= cam.drop_rate
+            self.px = self.px[keep]
+            for d in (self.readings, self.truth):
+                d.update({k: np.asarray(a)[keep] for k, a in d.items()})
+        self.units.update(brightness="1", frame_index="1")
         self._scene = scene
 
     @property
@@ -230,13 +243,14 @@ class ScreenOutput(InstrumentOutput):
         from stand.instruments.render import render_frames
 
         i = self._index(i)
-        return next(render_frames(self.px[i:i + 1], self.settings, first_index=i))
+        return next(render_frames(self.px[i:i + 1], self.settings, first_index=i,
+                                  gains=self.truth["brightness"][i:i + 1]))
 
     def frames(self):
         """Every frame in order, rendered one at a time (a generator)."""
         from stand.instruments.render import render_frames
 
-        return render_frames(self.px, self.settings)
+        return render_frames(self.px, self.settings, gains=self.truth["brightness"])
 
     @functools.cached_property
     def rings(self) -> Optional[dict]:

@@ -46,6 +46,7 @@ from typing import Iterator, Optional
 import numpy as np
 
 from stand._jit import njit
+from vision.camera_artefacts import hot_pixels, sensor_artefacts
 
 __all__ = ["render_frame", "render_frames", "render_long_exposure", "background_table",
            "frame_seed", "WINDOW_SIGMAS", "GUIDE_BITS"]
@@ -453,9 +454,10 @@ def _settings(cam):
 class _Renderer:
     """Holds the workspace and tables for one camera; renders frame after frame."""
 
-    def __init__(self, cam, noise: bool = True, window: float = WINDOW_SIGMAS):
+    def __init__(self, cam, noise: bool = True, window: float = WINDOW_SIGMAS, gain: float = 1.0):
         self.cam, self.noise, self.window = cam, bool(noise), float(window)
         self.p = _settings(cam)
+        self.p["background"] *= gain          # the lamps' flicker lights the screen
         self.acc = np.zeros((cam.height, cam.width))
         if self.noise:
             self.thr, self.guide, self.kmin = background_table(
@@ -487,7 +489,7 @@ def _as_positions(block) -> tuple[np.ndarray, np.ndarray]:
 
 def render_frames(positions_px, cam, seed: Optional[int] = None, *, noise: bool = True,
                   weights=None, first_index: int = 0, reuse: bool = False,
-                  window: float = WINDOW_SIGMAS) -> Iterator[np.ndarray]:
+                  window: float = WINDOW_SIGMAS, gains=None) -> Iterator[np.ndarray]:
     """Render frames one by one (a generator: no (F, H, W) array in memory).
 
     Parameters
@@ -512,6 +514,9 @@ def render_frames(positions_px, cam, seed: Optional[int] = None, *, noise: bool 
         before asking for the next frame); default a new array per frame.
     window : float
         Drawing half-window in sigma.
+    gains : array (F,), optional
+        Brightness of each frame (1): the lamps' flicker
+        (:func:`vision.camera_artefacts.flicker_gain`) on the spot and the background.
 
     Yields
     ------
@@ -520,6 +525,9 @@ def render_frames(positions_px, cam, seed: Optional[int] = None, *, noise: bool 
     seed = cam.seed if seed is None else int(seed)
     r = _Renderer(cam, noise, window)
     shape = (cam.height, cam.width)
+    look = functools.partial(sensor_artefacts, saturation=cam.saturation, full_scale=cam.max_dn,
+                             hot=hot_pixels(shape, cam.hot_pixels, cam.seed) if noise else None,
+                             jpeg_quality=cam.jpeg_quality if noise else None)   # docs/scene.md
     # the kernel always writes uint16 (one compiled specialisation); 8-bit frames
     # are copied out of it (~10 us per 640 x 480 frame)
     wide = cam.dtype == np.uint16
@@ -531,11 +539,14 @@ def render_frames(positions_px, cam, seed: Optional[int] = None, *, noise: bool 
         wk = np.full(u.size, 1.0 / max(u.size, 1)) if w is None else w
         if wk.shape != u.shape:
             raise ValueError(f"weights: shape {wk.shape}, expected ({u.size},)")
+        g = 1.0 if gains is None else float(gains[f])
+        rf = r if g == 1.0 else _Renderer(cam, noise, window, g)   # flicker: spot and background
         out = buf if reuse else np.empty(shape, dtype=cam.dtype)
-        r.render(u, v, wk, frame_seed(seed, first_index + f), out if wide else work)
+        rf.render(u, v, wk * g, frame_seed(seed, first_index + f), out if wide else work)
         if not wide:
             np.copyto(out, work, casting="unsafe")
-        yield out
+        yield look(out)
+
 
 
 def render_long_exposure(positions_px, cam, seed: Optional[int] = None, *, noise: bool = True,

@@ -38,11 +38,13 @@ from typing import Optional
 
 import numpy as np
 
+from vision.camera_artefacts import Lens, distort_points, undistort_points
 from stand.scene.screen_camera import (  # noqa: F401 (settings read with the scene)
     ScreenCamera, SCREEN_KEYS, frame_times, exposure_times, TILT_LIMIT, DEFAULT_SUBSAMPLES)
 
-__all__ = ["ScreenCamera", "spot_on_screen", "screen_to_pixels", "pixels_to_screen",
-           "frame_times", "exposure_times", "spot_positions", "frame_truth", "SCREEN_KEYS",
+__all__ = ["ScreenCamera", "lens_of", "spot_on_screen", "screen_to_pixels",
+           "pixels_to_screen", "frame_times", "exposure_times", "spot_positions", "frame_truth",
+           "SCREEN_KEYS",
            "TILT_LIMIT", "DEFAULT_SUBSAMPLES"]
 
 
@@ -91,13 +93,29 @@ def _project(H: np.ndarray, a, b):
     return (H[0, 0] * a + H[0, 1] * b + H[0, 2]) / w, (H[1, 0] * a + H[1, 1] * b + H[1, 2]) / w
 
 
+def lens_of(cam: ScreenCamera):
+    """The camera's lens distortion (:class:`vision.camera_artefacts.Lens`: ``lens_k1``,
+    ``lens_k2``, focal length camera_distance / pixel_pitch [px], the image centre), None
+    for a pinhole."""
+    if cam.lens_k1 == 0 and cam.lens_k2 == 0:
+        return None
+    return Lens(cam.lens_k1, cam.lens_k2, cam.camera_distance / cam.pixel_pitch,
+                ((cam.width - 1) / 2.0, (cam.height - 1) / 2.0))
+
+
 def screen_to_pixels(X, Y, cam: ScreenCamera):
-    """Screen [m] -> image [px] (u = column, v = row) through ``cam.homography``."""
-    return _project(cam.homography, X, Y)
+    """Screen [m] -> image [px] (u = column, v = row) through ``cam.homography``, then the
+    lens distortion (:func:`lens_of`)."""
+    u, v = _project(cam.homography, X, Y)
+    lens = lens_of(cam)
+    return (u, v) if lens is None else distort_points(u, v, lens)
 
 
 def pixels_to_screen(u, v, cam: ScreenCamera):
     """Image [px] -> screen [m]; inverse of :func:`screen_to_pixels`."""
+    lens = lens_of(cam)
+    if lens is not None:
+        u, v = undistort_points(u, v, lens)
     return _project(cam.homography_inverse, u, v)
 
 

@@ -115,7 +115,7 @@ def _write_screen(f, scene, out: ScreenOutput) -> None:
         if rings["warning"] is not None:
             g.attrs["warning"] = rings["warning"]
     t = f.require_group(truth_key(name))
-    for key in ("centre_px", "centre_m", "in_frame", "exposure_time"):
+    for key in ("centre_px", "centre_m", "in_frame", "exposure_time", "brightness", "frame_index"):
         ds = t.create_dataset(key, data=out.truth[key])
         ds.attrs["units"] = out.units[key]
 

@@ -20,7 +20,10 @@ a tracker with.  For ``-o NAME.mp4`` it writes
   ``run_time_s`` (the same in the run's clock), ``u_px``, ``v_px`` (the
   exposure-averaged spot centre, ``truth/<screen>/centre_px``), ``in_frame``,
   ``clipped_px`` (pixels at full scale in the frame as rendered), ``blur_px``
-  (length of the spot's path during the exposure).
+  (length of the spot's path during the exposure; the lens's distortion left out),
+  ``brightness`` (the lamps' flicker), ``frame_index`` (before frame drops).
+  A camera with a lens distortion or JPEG declares them in ``NAME_rings.txt``
+  (``lens_k1``, ``lens_k2``, ``lens_focal_px``, ``jpeg_quality``), as a lab knows its camera.
 
 Quantiser.  H.264 at ``qp`` = 10 (the default) keeps the spot's pixels within
 ~3 DN and the camera's noise in part: 4-5 MB for 500 frames of 256 x 256 px, and
@@ -179,6 +182,7 @@ def write_screen_video(recording, output, *, screen: Optional[str] = None,
     import pandas as pd
 
     from stand.io.atomic import atomic_path, write_text
+    from vision.camera_artefacts import declared_keys
     from stand.recording.hdf5 import read_recording
     from stand.recording.layout import INSTRUMENTS, TRUTH, screen_group, truth_key
 
@@ -226,6 +230,7 @@ def write_screen_video(recording, output, *, screen: Optional[str] = None,
         rings["ring_radii_m"] = ",".join(repr(float(r)) for r in radii)
         if rec.shape(truth_key("capacity")) is not None:
             rings["capacity_gmm"] = repr(float(rec.dataset(truth_key("capacity"))) * 1e6)
+        rings.update({k: repr(v) for k, v in declared_keys(settings).items()})   # lens, JPEG
         test = rec.dataset_attrs(group).get("ring_test_speed_rad_s")
         if test is not None:
             rings["ring_test_speed_rad_s"] = repr(float(test))
@@ -241,6 +246,9 @@ def write_screen_video(recording, output, *, screen: Optional[str] = None,
     df = pd.DataFrame({"frame": np.arange(n), "time_s": np.arange(n) / fps, "run_time_s": start,
                        "u_px": centre[:, 0], "v_px": centre[:, 1], "in_frame": inside,
                        "clipped_px": clipped})
+    for k in ("brightness", "frame_index"):          # flicker's gain, place before drops
+        if rec.shape(f"{tname}/{k}") is not None:
+            df[k] = np.asarray(rec.dataset(f"{tname}/{k}"))[:n]
     if rec.shape(f"{tname}/exposure_time") is not None:
         blur = _blur_lengths(rec, group, settings, rec.dataset(f"{tname}/exposure_time")[:n])
         if blur is not None:

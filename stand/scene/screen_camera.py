@@ -98,6 +98,21 @@ class ScreenCamera:
         2**bit_depth - 1.
     seed : int
         Seed of the noise; frame f uses the stream (seed, f).
+    lens_k1, lens_k2 : float
+        Radial lens distortion (OpenCV's Brown model about the image centre, radius
+        normalised by the focal length camera_distance / pixel_pitch [px];
+        ``lens_of`` of the screen instrument); default 0 (a pinhole).
+    jpeg_quality : int or None
+        Each frame through JPEG at this quality 1..100 (8-bit frames only); default None.
+    flicker_depth, mains_frequency : float
+        Lamp flicker: each frame's brightness times 1 + depth cos(2 pi 2 f_mains t_mid)
+        (t_mid its mid-exposure time [s]); depth 0..1 (default 0), mains [Hz] (default 50).
+    hot_pixels : int
+        Pixels reading full scale in every frame (fixed by the seed); default 0.
+    saturation : float or None
+        DN at which the sensor clips, below full scale (default: full scale).
+    drop_rate : float
+        Probability that a frame is lost (the kept frames keep their timestamps); default 0.
     table : str
         Dotted name of the settings table, used in error messages.
     """
@@ -124,6 +139,14 @@ class ScreenCamera:
     electrons_per_dn: Optional[float] = number(None, "e-/DN", gt=0)
     bit_depth: int = integer(8, 8, 16)
     seed: int = integer(0, 0, 2 ** 63 - 1)
+    lens_k1: float = number(0.0, "1")
+    lens_k2: float = number(0.0, "1")
+    jpeg_quality: Optional[int] = integer(None, 1, 100, optional=True)
+    flicker_depth: float = number(0.0, "1", ge=0, lt=1)
+    mains_frequency: float = number(50.0, "Hz", gt=0)
+    hot_pixels: int = integer(0, 0, 1_000_000)
+    saturation: Optional[float] = number(None, "DN", gt=0, optional=True)
+    drop_rate: float = number(0.0, "1", ge=0, lt=1)
     table: str = field(default="instruments.screen", compare=False, repr=False)
 
     # ------------------------------------------------------------ validation
@@ -164,7 +187,12 @@ class ScreenCamera:
         default("background", float(round(0.03 * top)))
         default("read_noise", _READ_NOISE[self.bit_depth])
         default("electrons_per_dn", FULL_WELL / top)
-        check(self, self.table, ("peak", "background", "read_noise", "electrons_per_dn"))
+        check(self, self.table, ("peak", "background", "read_noise", "electrons_per_dn",
+                                 "lens_k1", "lens_k2", "jpeg_quality", "flicker_depth",
+                                 "mains_frequency", "hot_pixels", "saturation", "drop_rate"))
+        if self.jpeg_quality is not None and self.bit_depth != 8:
+            raise _bad(n("jpeg_quality"), self.jpeg_quality,
+                       f"JPEG needs 8-bit frames ({n('bit_depth')} = {self.bit_depth})")
         # the screen's horizon must stay outside the image
         Hinv = np.linalg.inv(self.homography)
         W1, H1 = self.width - 0.5, self.height - 0.5
