@@ -191,7 +191,8 @@ def _sweep(d, out, rotating) -> None:
                               derivative=VIBRATION[d.get("quantity", "length")],
                               damping_ratio=_scene_damping(scene),
                               runout_allowance_m=getattr(getattr(tab, "recording_map", None),
-                                                         "probe_runout_m", None))
+                                                         "probe_runout_m", None),
+                              channel_filter=d.get("channel_filter"), censored=d.get("censored"))
     if sw is None:
         return
     out["runup"] = sw
@@ -257,6 +258,8 @@ def _steady_1x(d, out, speed, rotating):
             if d.get("probes") is not None and d["scene"] is not None:
                 sc1 = _runout_removed(d, sc1, speed, sl, notes)
             sc1 = _mark_timing(d.get("angle"), sc1, t[sl], None if speed is None else speed[sl])
+            if d.get("channel_filter") is not None:       # the declared filter divided out
+                sc1 = _unfiltered(sc1, d["channel_filter"], notes)
             out["response_1x_m"] = sc1.amplitude_m
             out["response_1x_m_std"] = sc1.amplitude_std_m
             out["speed_hz"] = sc1.speed_rad_s / TWO_PI
@@ -338,6 +341,22 @@ def _runout_removed(d, sc1, speed, sl, notes):
                                phase_std_rad=s / a if a > 0 else math.pi, vector_std_m=s)
 
 
+def _unfiltered(sc1, flt, notes):
+    """The steady 1X with the channels' declared filter divided out: H(i w) at the 1X
+    speed (its gain and its phase lag)."""
+    import dataclasses
+
+    h = flt.response(sc1.speed_rad_s / TWO_PI)
+    v = sc1.vector_m / h
+    notes.append(f"declared filter ({flt.describe()}): the 1X divided by its response at "
+                 f"{sc1.speed_rad_s / TWO_PI:.4g} rev/s (gain {abs(h):.4g}, phase "
+                 f"{math.degrees(np.angle(h)):.3g} deg); the run-up model is fitted through it")
+    return dataclasses.replace(sc1, vector_m=v, amplitude_m=abs(v),
+                               amplitude_std_m=sc1.amplitude_std_m / abs(h),
+                               vector_std_m=sc1.vector_std_m / abs(h),
+                               phase_rad=math.atan2(v.imag, v.real))
+
+
 def _mark_timing(angle, sc1, t, speed):
     """The 1X phase's std with what the rotor angle leaves open over the stretch (a
     keyphasor's edge timing, an encoder's count: ``RotorAngle.angle_error``): the mean
@@ -379,6 +398,10 @@ def _components(d, out, sl, rotating) -> None:
                               "phase_deg_std": math.degrees(c.phase_std_rad),
                               "direction": c.direction} for c in dec.components]
         qp = dec.precession is not None
+        if not qp:          # without a precession the rotor-speed line is the 1X, no nutation
+            import dataclasses
+
+            dec = dataclasses.replace(dec, nutation=None)
         out.update(precession_hz=dec.precession_hz if qp else None,
                    precession_hz_std=dec.precession_std_hz if qp else None,
                    nutation_hz=dec.nutation_hz if dec.nutation is not None else None,

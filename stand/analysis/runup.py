@@ -88,13 +88,15 @@ def _fit_dict(fit, referenced: bool, mark_std_rad: float = 0.0) -> dict:
             "std_parts": _std_parts(fit, referenced, mark_std_rad),
             "offset_x_m": fit.offset_m.real, "offset_y_m": fit.offset_m.imag,
             "runout_m": abs(fit.runout_m), "residual_rms_m": fit.residual_rms_m,
-            "samples": fit.samples}
+            "samples": fit.samples, "delay_s": fit.delay_s or None,
+            "delay_s_std": fit.delay_s_std if fit.delay_s else None}
 
 
 def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bool] = None,
                          fit_model: bool = True, derivative: int = 0,
                          damping_ratio: Optional[float] = None,
-                         runout_allowance_m: Optional[float] = None) -> Optional[dict]:
+                         runout_allowance_m: Optional[float] = None, channel_filter=None,
+                         censored=None) -> Optional[dict]:
     """Identify what a swept record gives (module docstring).
 
     Parameters
@@ -117,6 +119,10 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
     runout_allowance_m : float, optional
         Without a speed channel: the probes' 1X runout [m] the ± allows for (a recording
         map's ``[probes] runout``); default :data:`RUNOUT_ALLOWANCE_M`.
+    channel_filter : dsp.artefacts.ChannelFilter, optional
+        The probes' declared filter: in the model fit, and divided out of the Bode vectors.
+    censored : ndarray of bool, optional
+        Samples (clipped) left out of the model fit and of the Bode data.
 
     Returns
     -------
@@ -145,10 +151,18 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
         if not any(s.kind in SWEEPS for s in prog.stretches):
             return None
         if fit_model:
+            args = (t[c], z[c], angle.angle_rad[c], angle.speed_rad_s[c],
+                    angle.acceleration_rad_s2[c])
+            kw = dict(derivative=derivative, angle_error=angle.angle_error,
+                      channel_filter=channel_filter,
+                      censored=None if censored is None else censored[c])
             try:
-                fit = fit_unbalance_response(t[c], z[c], angle.angle_rad[c], angle.speed_rad_s[c],
-                                             angle.acceleration_rad_s2[c], derivative=derivative,
-                                             angle_error=angle.angle_error)
+                fit = fit_unbalance_response(*args, **kw)
+                if ref:
+                    fit = _delay_checked(fit, lambda: fit_unbalance_response(*args, **kw,
+                                                                             fit_delay=True),
+                                         float(np.max(np.abs(angle.speed_rad_s[c]))),
+                                         channel_filter, notes)
             except SignalError as exc:
                 notes.append(f"run-up model fit: {exc}")
     else:
@@ -200,10 +214,23 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
     tm, w, v = pr
     if fit is not None:
         v = v - fit.runout_m
+    if channel_filter is not None:
+        v = v / channel_filter.response(w / TWO_PI)
+    if fit is not None and fit.delay_s:
+        v = v * np.exp(1j * w * fit.delay_s)
+    if censored is not None and censored[c].any():        # revolutions with clipped samples
+        tc = t[c][censored[c]]
+        hit = np.searchsorted(tc, tm + np.pi / w) > np.searchsorted(tc, tm - np.pi / w)
+        tm, w, v = tm[~hit], w[~hit], v[~hit]
+        if hit.any():
+            notes.append(f"1X vs speed: {int(hit.sum())} revolutions with clipped samples left "
+                         "out; no critical speed from the 1X peak (the fit gives it)")
     v = v / (1j * w) ** derivative            # the 1X of a velocity / acceleration -> displacement
     out["bode"] = {"t_s": tm.tolist(), "speed_hz": (w / TWO_PI).tolist(),
                    "amplitude_m": np.abs(v).tolist(),
                    "phase_deg": np.degrees(np.angle(v)).tolist() if ref else None}
+    if censored is not None and censored[c].any() and hit.any():
+        return out
     # the sweep-rate-corrected resonance, on the longest sweep stretch
     sweeps = [s for s in prog.stretches if s.kind in SWEEPS]
     s = max(sweeps, key=lambda s: s.duration_s)
@@ -230,6 +257,46 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
     except SignalError as exc:
         notes.append(f"resonance from the {s.kind}: {exc}")
     return out
+
+
+def _delay_checked(fit, refit, w_top: float, channel_filter, notes: list):
+    """The fit's delay test (:attr:`dsp.response_fit.ResponseFit.delay_s`, a score test at
+    zero): a delay of the probes behind the rotor angle beyond 3 std -- a phase growing as
+    w tau through the run-up, which the rotor's own bounded phase cannot make -- is fitted
+    (``refit``) and named in one note; the ± then allow for an unknown low-pass of that
+    delay (:func:`dsp.artefacts.delay_allowance`: its gain loss in e at the top speed, its
+    phase departure in the angle, both at the critical speed in zeta and f_1)."""
+    import dataclasses
+
+    from dsp.artefacts import delay_allowance
+
+    tau, s = fit.delay_test_s, fit.delay_test_s_std
+    if not (math.isfinite(s) and abs(tau) > 3 * s):
+        return fit
+    fit = refit()
+    f_top, fc = w_top / TWO_PI, fit.critical_speed_hz
+    loss, dphi = delay_allowance(abs(fit.delay_s), f_top)
+    loss_c, dphi_c = delay_allowance(abs(fit.delay_s), fc)
+    z0, f0 = fit.damping_ratio, fit.natural_frequency_hz
+    fit = dataclasses.replace(
+        fit, specific_unbalance_m_std=math.hypot(fit.specific_unbalance_m_std,
+                                                 loss * fit.specific_unbalance_m),
+        angle_rad_std=math.hypot(fit.angle_rad_std, dphi),
+        damping_ratio_std=math.hypot(fit.damping_ratio_std, loss_c * z0),
+        natural_frequency_hz_std=math.hypot(fit.natural_frequency_hz_std, dphi_c * z0 * f0),
+        critical_speed_hz_std=math.hypot(fit.critical_speed_hz_std, dphi_c * z0 * fc))
+    beyond = f" beyond the declared {channel_filter.describe()}" if channel_filter else ""
+    notes.append(
+        f"delay: the probes lag the rotor angle by {fit.delay_s * 1e3:.3g} ± "
+        f"{fit.delay_s_std * 1e3:.2g} ms{beyond} (the score test gave {tau * 1e3:.3g} ± "
+        f"{s * 1e3:.2g} ms: a phase growing as w tau through the run-up, which the rotor's own "
+        f"phase cannot make) -- an undeclared anti-alias filter or channel delay; fitted as a "
+        f"delay ({math.degrees(TWO_PI * fc * fit.delay_s):.3g} deg at the critical speed), the ± "
+        f"allow for a Butterworth or Bessel low-pass of order 2-8 with that delay (gain "
+        f"-{100 * loss:.2g} %, phase {math.degrees(dphi):.2g} deg at {f_top:.3g} rev/s); declare "
+        "the filter in the recording map (x, y: filter = {type, order, cutoff} or "
+        "{group_delay})")
+    return fit
 
 
 def _steady_line(t, z, parts: int = 4, k: float = 5.0, rtol: float = 2e-3) -> bool:
