@@ -249,6 +249,16 @@ def _steady_1x(d, out, speed, rotating):
         if const and t[-1] - const[-1]["t_end_s"] <= 0.1 * (t[-1] - t[0]):
             i0 = int(np.searchsorted(t, const[-1]["t_start_s"]))
     sl, out["stationary_stretch"] = stationary_stretch(t, x + 1j * y, speed, i0)
+    cens = d.get("censored")
+    if cens is not None and cens[sl].any():          # its longest stretch without clipping
+        ok = np.concatenate(([0], (~cens[sl]).astype(np.int8), [0]))
+        e = np.flatnonzero(np.diff(ok)).reshape(-1, 2)
+        a, b = e[int(np.argmax(e[:, 1] - e[:, 0]))] + sl.start
+        notes.append(f"steady 1X: clipped samples in the stationary stretch; its longest part "
+                     f"without them taken ({t[a]:.6g}-{t[b - 1]:.6g} s)")
+        sl = slice(int(a), int(b))
+        out["stationary_stretch"].update(t_start_s=float(t[a]), t_end_s=float(t[b - 1]),
+                                         duration_s=float(t[b - 1] - t[a]), samples=int(b - a))
     sc1 = None
     if rotating and (phi is not None or d["kp"] is not None):
         try:

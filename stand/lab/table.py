@@ -105,6 +105,7 @@ class LabTable:
                 "map": self.recording_map.source if self.recording_map.columns else None,
                 "recognised": list(self.recognised),
                 "rows_used": list(self.rows), "excluded": list(self.excluded),
+                "censored": list(self.censored_what),
                 "vibration_quantity": self.quantity}
 
 
