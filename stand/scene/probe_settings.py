@@ -173,15 +173,6 @@ class DisplacementProbes:
     group_delay: float = number(0.0, "s", ge=0, lt=0.1)
     adc_range: float = number(0.0, "m", ge=0)
 
-    @property
-    def channel_filter(self):
-        """The declared :class:`dsp.artefacts.ChannelFilter`, or None."""
-        from dsp.artefacts import ChannelFilter
-
-        if self.filter == "none":
-            return ChannelFilter("delay", delay_s=self.group_delay) if self.group_delay else None
-        return ChannelFilter(self.filter, self.filter_order, self.filter_cutoff, self.group_delay)
-
     def __post_init__(self):
         check(self, "instruments.probes")
         p = "instruments.probes."
