@@ -5,6 +5,10 @@
   (:meth:`ChannelFilter.response`, what divides a 1X phasor) and its action on sampled
   columns (:meth:`ChannelFilter.apply`, what a model's response goes through before it is
   compared with the record: the run-up fit of :mod:`dsp.response_fit`).
+* :func:`delay_checked` -- an undeclared filter or channel delay, found by the run-up fit's
+  score test for a delay (a phase growing as w tau, which a rotor's bounded phase cannot
+  make), fitted, named in one note, the ± widened by :func:`delay_allowance`;
+  :func:`unfiltered` -- a steady 1X with a declared filter divided out;
 * :func:`clipped` -- samples at a channel's rail (the probe or the ADC at the end of its
   range): censored, i.e. left out of a fit, not cut out of the time base;
   :func:`filled` bridges them for the steps that need every sample.
@@ -22,7 +26,8 @@ import numpy as np
 
 from dsp.errors import SignalError
 
-__all__ = ["ChannelFilter", "clipped", "filled", "delayed", "delay_allowance", "KINDS"]
+__all__ = ["ChannelFilter", "clipped", "filled", "delayed", "delay_allowance", "delay_checked",
+           "unfiltered", "KINDS"]
 
 KINDS = ("butterworth", "bessel", "delay")
 CLIP_RUN = 4     #: samples at the extreme value that make a rail
@@ -151,6 +156,60 @@ def delay_allowance(tau_s: float, f_hz: float, orders=range(2, 9)):
             loss = max(loss, 1.0 - abs(h))
             dphi = max(dphi, abs(np.angle(h * np.exp(2j * math.pi * f_hz * tau_s))))
     return float(loss), float(dphi)
+
+
+def delay_checked(fit, refit, w_top: float, channel_filter, notes: list):
+    """The fit's delay test (:attr:`dsp.response_fit.ResponseFit.delay_s`, a score test at
+    zero): a delay of the probes behind the rotor angle beyond 3 std -- a phase growing as
+    w tau through the run-up, which the rotor's own bounded phase cannot make -- is fitted
+    (``refit``) and named in one note; the ± then allow for an unknown low-pass of that
+    delay (:func:`dsp.artefacts.delay_allowance`: its gain loss in e at the top speed, its
+    phase departure in the angle, both at the critical speed in zeta and f_1)."""
+    import dataclasses
+
+    tau, s = fit.delay_test_s, fit.delay_test_s_std
+    if not (math.isfinite(s) and abs(tau) > 3 * s):
+        return fit
+    fit = refit()
+    f_top, fc = w_top / (2 * math.pi), fit.critical_speed_hz
+    loss, dphi = delay_allowance(abs(fit.delay_s), f_top)
+    loss_c, dphi_c = delay_allowance(abs(fit.delay_s), fc)
+    z0, f0 = fit.damping_ratio, fit.natural_frequency_hz
+    fit = dataclasses.replace(
+        fit, specific_unbalance_m_std=math.hypot(fit.specific_unbalance_m_std,
+                                                 loss * fit.specific_unbalance_m),
+        angle_rad_std=math.hypot(fit.angle_rad_std, dphi),
+        damping_ratio_std=math.hypot(fit.damping_ratio_std, loss_c * z0),
+        natural_frequency_hz_std=math.hypot(fit.natural_frequency_hz_std, dphi_c * z0 * f0),
+        critical_speed_hz_std=math.hypot(fit.critical_speed_hz_std, dphi_c * z0 * fc))
+    beyond = f" beyond the declared {channel_filter.describe()}" if channel_filter else ""
+    notes.append(
+        f"delay: the probes lag the rotor angle by {fit.delay_s * 1e3:.3g} ± "
+        f"{fit.delay_s_std * 1e3:.2g} ms{beyond} (the score test gave {tau * 1e3:.3g} ± "
+        f"{s * 1e3:.2g} ms: a phase growing as w tau through the run-up, which the rotor's own "
+        f"phase cannot make) -- an undeclared anti-alias filter or channel delay; fitted as a "
+        f"delay ({math.degrees(2 * math.pi * fc * fit.delay_s):.3g} deg at the critical speed), the ± "
+        f"allow for a Butterworth or Bessel low-pass of order 2-8 with that delay (gain "
+        f"-{100 * loss:.2g} %, phase {math.degrees(dphi):.2g} deg at {f_top:.3g} rev/s); declare "
+        "the filter in the recording map (x, y: filter = {type, order, cutoff} or "
+        "{group_delay})")
+    return fit
+
+
+def unfiltered(sc1, flt, notes):
+    """The steady 1X with the channels' declared filter divided out: H(i w) at the 1X
+    speed (its gain and its phase lag)."""
+    import dataclasses
+
+    h = flt.response(sc1.speed_rad_s / (2 * math.pi))
+    v = sc1.vector_m / h
+    notes.append(f"declared filter ({flt.describe()}): the 1X divided by its response at "
+                 f"{sc1.speed_rad_s / (2 * math.pi):.4g} rev/s (gain {abs(h):.4g}, phase "
+                 f"{math.degrees(np.angle(h)):.3g} deg); the run-up model is fitted through it")
+    return dataclasses.replace(sc1, vector_m=v, amplitude_m=abs(v),
+                               amplitude_std_m=sc1.amplitude_std_m / abs(h),
+                               vector_std_m=sc1.vector_std_m / abs(h),
+                               phase_rad=math.atan2(v.imag, v.real))
 
 
 def clipped(v, run: int = CLIP_RUN, rail=None) -> np.ndarray:

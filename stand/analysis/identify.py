@@ -269,7 +269,9 @@ def _steady_1x(d, out, speed, rotating):
                 sc1 = _runout_removed(d, sc1, speed, sl, notes)
             sc1 = _mark_timing(d.get("angle"), sc1, t[sl], None if speed is None else speed[sl])
             if d.get("channel_filter") is not None:       # the declared filter divided out
-                sc1 = _unfiltered(sc1, d["channel_filter"], notes)
+                from dsp.artefacts import unfiltered
+
+                sc1 = unfiltered(sc1, d["channel_filter"], notes)
             out["response_1x_m"] = sc1.amplitude_m
             out["response_1x_m_std"] = sc1.amplitude_std_m
             out["speed_hz"] = sc1.speed_rad_s / TWO_PI
@@ -349,22 +351,6 @@ def _runout_removed(d, sc1, speed, sl, notes):
     return dataclasses.replace(sc1, vector_m=v, amplitude_m=a, amplitude_std_m=s,
                                phase_rad=math.atan2(v.imag, v.real),
                                phase_std_rad=s / a if a > 0 else math.pi, vector_std_m=s)
-
-
-def _unfiltered(sc1, flt, notes):
-    """The steady 1X with the channels' declared filter divided out: H(i w) at the 1X
-    speed (its gain and its phase lag)."""
-    import dataclasses
-
-    h = flt.response(sc1.speed_rad_s / TWO_PI)
-    v = sc1.vector_m / h
-    notes.append(f"declared filter ({flt.describe()}): the 1X divided by its response at "
-                 f"{sc1.speed_rad_s / TWO_PI:.4g} rev/s (gain {abs(h):.4g}, phase "
-                 f"{math.degrees(np.angle(h)):.3g} deg); the run-up model is fitted through it")
-    return dataclasses.replace(sc1, vector_m=v, amplitude_m=abs(v),
-                               amplitude_std_m=sc1.amplitude_std_m / abs(h),
-                               vector_std_m=sc1.vector_std_m / abs(h),
-                               phase_rad=math.atan2(v.imag, v.real))
 
 
 def _mark_timing(angle, sc1, t, speed):

@@ -131,6 +131,7 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
         (each None when not obtained, with the reason in ``notes``); None when
         the record is not swept.
     """
+    from dsp.artefacts import delay_checked
     from dsp.errors import SignalError
     from dsp.response_fit import fit_response_without_speed, fit_unbalance_response
     from dsp.runup import resonance_from_runup, resonance_std
@@ -159,10 +160,10 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
             try:
                 fit = fit_unbalance_response(*args, **kw)
                 if ref:
-                    fit = _delay_checked(fit, lambda: fit_unbalance_response(*args, **kw,
-                                                                             fit_delay=True),
-                                         float(np.max(np.abs(angle.speed_rad_s[c]))),
-                                         channel_filter, notes)
+                    fit = delay_checked(fit, lambda: fit_unbalance_response(*args, **kw,
+                                                                            fit_delay=True),
+                                        float(np.max(np.abs(angle.speed_rad_s[c]))),
+                                        channel_filter, notes)
             except SignalError as exc:
                 notes.append(f"run-up model fit: {exc}")
     else:
@@ -257,46 +258,6 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
     except SignalError as exc:
         notes.append(f"resonance from the {s.kind}: {exc}")
     return out
-
-
-def _delay_checked(fit, refit, w_top: float, channel_filter, notes: list):
-    """The fit's delay test (:attr:`dsp.response_fit.ResponseFit.delay_s`, a score test at
-    zero): a delay of the probes behind the rotor angle beyond 3 std -- a phase growing as
-    w tau through the run-up, which the rotor's own bounded phase cannot make -- is fitted
-    (``refit``) and named in one note; the ± then allow for an unknown low-pass of that
-    delay (:func:`dsp.artefacts.delay_allowance`: its gain loss in e at the top speed, its
-    phase departure in the angle, both at the critical speed in zeta and f_1)."""
-    import dataclasses
-
-    from dsp.artefacts import delay_allowance
-
-    tau, s = fit.delay_test_s, fit.delay_test_s_std
-    if not (math.isfinite(s) and abs(tau) > 3 * s):
-        return fit
-    fit = refit()
-    f_top, fc = w_top / TWO_PI, fit.critical_speed_hz
-    loss, dphi = delay_allowance(abs(fit.delay_s), f_top)
-    loss_c, dphi_c = delay_allowance(abs(fit.delay_s), fc)
-    z0, f0 = fit.damping_ratio, fit.natural_frequency_hz
-    fit = dataclasses.replace(
-        fit, specific_unbalance_m_std=math.hypot(fit.specific_unbalance_m_std,
-                                                 loss * fit.specific_unbalance_m),
-        angle_rad_std=math.hypot(fit.angle_rad_std, dphi),
-        damping_ratio_std=math.hypot(fit.damping_ratio_std, loss_c * z0),
-        natural_frequency_hz_std=math.hypot(fit.natural_frequency_hz_std, dphi_c * z0 * f0),
-        critical_speed_hz_std=math.hypot(fit.critical_speed_hz_std, dphi_c * z0 * fc))
-    beyond = f" beyond the declared {channel_filter.describe()}" if channel_filter else ""
-    notes.append(
-        f"delay: the probes lag the rotor angle by {fit.delay_s * 1e3:.3g} ± "
-        f"{fit.delay_s_std * 1e3:.2g} ms{beyond} (the score test gave {tau * 1e3:.3g} ± "
-        f"{s * 1e3:.2g} ms: a phase growing as w tau through the run-up, which the rotor's own "
-        f"phase cannot make) -- an undeclared anti-alias filter or channel delay; fitted as a "
-        f"delay ({math.degrees(TWO_PI * fc * fit.delay_s):.3g} deg at the critical speed), the ± "
-        f"allow for a Butterworth or Bessel low-pass of order 2-8 with that delay (gain "
-        f"-{100 * loss:.2g} %, phase {math.degrees(dphi):.2g} deg at {f_top:.3g} rev/s); declare "
-        "the filter in the recording map (x, y: filter = {type, order, cutoff} or "
-        "{group_delay})")
-    return fit
 
 
 def _steady_line(t, z, parts: int = 4, k: float = 5.0, rtol: float = 2e-3) -> bool:
