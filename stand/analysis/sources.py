@@ -213,7 +213,31 @@ def from_run(rec):
                 probes=pr if xy is not None else None, truth=_truth(rec), rings=_rings(rec),
                 scene_name=str((getattr(rec, "attrs", None) or {}).get("scene_name")
                                or getattr(rscene, "name", "") or ""),
-                solver=dict(getattr(rec, "solver", None) or getattr(rec, "stats", None) or {}))
+                solver=dict(getattr(rec, "solver", None) or getattr(rec, "stats", None) or {}),
+                channel_filter=_probe_filter(rscene) if xy is not None else None,
+                censored=_clipped_probes(t, x, y, notes) if xy is not None else None)
+
+
+def _clipped_probes(t, x, y, notes):
+    """The probes' clipped samples (at their ADC range), bridged in x and y (in place) and
+    returned as the censoring mask, or None."""
+    from dsp.artefacts import clipped, filled
+
+    m = clipped(x) | clipped(y)
+    if not m.any():
+        return None
+    x[:], y[:] = filled(t, x, m), filled(t, y, m)
+    notes.append(f"clipped probe samples censored ({int(m.sum())}, {t[m][0]:.6g}-{t[m][-1]:.6g} "
+                 "s: left out of the model fit and of the 1X per revolution, the time base kept)")
+    return m
+
+
+def _probe_filter(scene):
+    """The probes' DAQ filter the scene declares (``[instruments.probes] filter``), or None."""
+    from stand.instruments.probes import channel_filter
+
+    probes = (getattr(scene, "instruments", None) or {}).get("probes")
+    return None if probes is None else channel_filter(probes)
 
 
 def _truth(rec):
