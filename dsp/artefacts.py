@@ -5,9 +5,9 @@
   (:meth:`ChannelFilter.response`, what divides a 1X phasor) and its action on sampled
   columns (:meth:`ChannelFilter.apply`, what a model's response goes through before it is
   compared with the record: the run-up fit of :mod:`dsp.response_fit`).
-* :func:`delay_checked` -- an undeclared filter or channel delay, found by the run-up fit's
-  score test for a delay (a phase growing as w tau, which a rotor's bounded phase cannot
-  make), fitted, named in one note, the ± widened by :func:`delay_allowance`;
+* :func:`delay_checked` -- an undeclared filter or channel delay, found by fitting a delay
+  in the run-up model (a phase growing as w tau, which a rotor's bounded phase cannot
+  make), named in one note, the ± widened by :func:`delay_allowance`;
   :func:`unfiltered` -- a steady 1X with a declared filter divided out;
 * :func:`clipped` -- samples at a channel's rail (the probe or the ADC at the end of its
   range): censored, i.e. left out of a fit, not cut out of the time base;
@@ -159,18 +159,18 @@ def delay_allowance(tau_s: float, f_hz: float, orders=range(2, 9)):
 
 
 def delay_checked(fit, refit, w_top: float, channel_filter, notes: list):
-    """The fit's delay test (:attr:`dsp.response_fit.ResponseFit.delay_s`, a score test at
-    zero): a delay of the probes behind the rotor angle beyond 3 std -- a phase growing as
-    w tau through the run-up, which the rotor's own bounded phase cannot make -- is fitted
-    (``refit``) and named in one note; the ± then allow for an unknown low-pass of that
+    """The delay test: ``refit`` fits a delay of the probes behind the rotor angle as well
+    (:attr:`dsp.response_fit.ResponseFit.delay_s`); beyond 3 std -- a phase growing as
+    w tau through the run-up, which the rotor's own bounded phase cannot make -- that fit
+    is taken and the delay named in one note; the ± then allow for an unknown low-pass of that
     delay (:func:`dsp.artefacts.delay_allowance`: its gain loss in e at the top speed, its
     phase departure in the angle, both at the critical speed in zeta and f_1)."""
     import dataclasses
 
-    tau, s = fit.delay_test_s, fit.delay_test_s_std
-    if not (math.isfinite(s) and abs(tau) > 3 * s):
+    fd = refit()
+    if not (math.isfinite(fd.delay_s_std) and abs(fd.delay_s) > 3 * fd.delay_s_std):
         return fit
-    fit = refit()
+    fit = fd
     f_top, fc = w_top / (2 * math.pi), fit.critical_speed_hz
     loss, dphi = delay_allowance(abs(fit.delay_s), f_top)
     loss_c, dphi_c = delay_allowance(abs(fit.delay_s), fc)
@@ -185,9 +185,9 @@ def delay_checked(fit, refit, w_top: float, channel_filter, notes: list):
     beyond = f" beyond the declared {channel_filter.describe()}" if channel_filter else ""
     notes.append(
         f"delay: the probes lag the rotor angle by {fit.delay_s * 1e3:.3g} ± "
-        f"{fit.delay_s_std * 1e3:.2g} ms{beyond} (the score test gave {tau * 1e3:.3g} ± "
-        f"{s * 1e3:.2g} ms: a phase growing as w tau through the run-up, which the rotor's own "
-        f"phase cannot make) -- an undeclared anti-alias filter or channel delay; fitted as a "
+        f"{fit.delay_s_std * 1e3:.2g} ms{beyond} (a phase growing as w tau through the run-up, "
+        f"which the rotor's own phase cannot make) -- an undeclared anti-alias filter or channel "
+        f"delay; fitted as a "
         f"delay ({math.degrees(2 * math.pi * fc * fit.delay_s):.3g} deg at the critical speed), the ± "
         f"allow for a Butterworth or Bessel low-pass of order 2-8 with that delay (gain "
         f"-{100 * loss:.2g} %, phase {math.degrees(dphi):.2g} deg at {f_top:.3g} rev/s); declare "

@@ -79,9 +79,6 @@ class ResponseFit:
         root sum of squares of its parts.
     delay_s, delay_s_std : float
         The channels' delay behind the rotor angle [s], fitted with ``fit_delay`` (else 0).
-    delay_test_s, delay_test_s_std : float
-        Without ``fit_delay``: the delay one Gauss-Newton step from zero finds, and its std
-        (a score test: beyond 3 std, the record says the channels lag the angle).
     """
 
     natural_frequency_hz: float
@@ -101,8 +98,6 @@ class ResponseFit:
     std_parts: dict = field(default_factory=dict)
     delay_s: float = 0.0
     delay_s_std: float = math.nan
-    delay_test_s: float = math.nan
-    delay_test_s_std: float = math.nan
 
 
 #: Gauss-Legendre nodes and weights on [0, 1] for the forcing integral over one sample step.
@@ -367,25 +362,13 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         J = np.hstack((J, np.vstack((extra.real, extra.imag))))
     r = r[keep]
 
-    def extras(JJ):
-        ex = {}
-        if runout_allowance_m and not (runout and order == 0):
-            ex["runout"] = _runout_part(JJ, np.exp(1j * phi[keep]), runout_allowance_m)
-        if angle_error is not None:
-            ex["rotor_angle"] = _propagated(JJ, -1j * (B[keep, 0] * c[0] + B[keep, 4] * c[4]),
-                                            w[keep], t[keep], angle_error)
-        return ex
-
-    covs, extra = _covariances(J, r, J.shape[1]), extras(J)
-    if not fit_delay:      # the delay's score test: one Gauss-Newton step from tau = 0
-        dm = np.gradient(B @ c, t)[keep]
-        Ja = np.hstack((J, np.concatenate((dm.real, dm.imag))[:, None]))
-        live = np.any(Ja != 0, axis=0)
-        step = np.zeros(Ja.shape[1])
-        step[live] = np.linalg.lstsq(Ja[:, live], np.concatenate((r.real, r.imag)), rcond=None)[0]
-        test, test_std = -float(step[-1]), max(_std(C + sum(extras(Ja).values()), Ja.shape[1] - 1,
-                                                  np.array([1.0]))
-                                             for C in _covariances(Ja, r, Ja.shape[1]))
+    covs = _covariances(J, r, J.shape[1])
+    extra = {}
+    if runout_allowance_m and not (runout and order == 0):
+        extra["runout"] = _runout_part(J, np.exp(1j * phi[keep]), runout_allowance_m)
+    if angle_error is not None:
+        extra["rotor_angle"] = _propagated(J, -1j * (B[keep, 0] * c[0] + B[keep, 4] * c[4]),
+                                           w[keep], t[keep], angle_error)
     noise_covs = covs
     covs = tuple(C + sum(extra.values()) for C in covs)
     q = c[0]
@@ -415,9 +398,7 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
                        offset_m=complex(c[3]), runout_m=complex(c[4]) if runout and order == 0 else 0j, residual_rms_m=float(np.sqrt(np.mean(np.abs(r) ** 2))),
                        samples=int(n), std_parts=parts, delay_s=tau,
                        delay_s_std=(max(_std(C, p.size - 1, np.array([1.0])) for C in covs)
-                                    if fit_delay else math.nan),
-                       delay_test_s=math.nan if fit_delay else test,
-                       delay_test_s_std=math.nan if fit_delay else test_std)
+                                    if fit_delay else math.nan))
 
 
 def _phase_basis(t, phi, knot_revolutions: float = 20.0):
