@@ -164,12 +164,18 @@ def delay_checked(fit, refit, w_top: float, channel_filter, notes: list):
     w tau through the run-up, which the rotor's own bounded phase cannot make -- that fit
     is taken and the delay named in one note; the ± then allow for an unknown low-pass of that
     delay (:func:`dsp.artefacts.delay_allowance`: its gain loss in e at the top speed, its
-    phase departure in the angle, both at the critical speed in zeta and f_1)."""
+    phase departure in the angle, both at the critical speed in zeta and f_1).  Not found,
+    the plain fit is kept with the two fits' difference of angle and e in their ±."""
     import dataclasses
 
     fd = refit()
     if not (math.isfinite(fd.delay_s_std) and abs(fd.delay_s) > 3 * fd.delay_s_std):
-        return fit
+        # not found: what a delay of that size would change stays in the ± (model choice)
+        da = abs((fd.angle_rad - fit.angle_rad + math.pi) % (2 * math.pi) - math.pi)
+        return dataclasses.replace(
+            fit, angle_rad_std=math.hypot(fit.angle_rad_std, da),
+            specific_unbalance_m_std=math.hypot(fit.specific_unbalance_m_std,
+                                                fd.specific_unbalance_m - fit.specific_unbalance_m))
     fit = fd
     f_top, fc = w_top / (2 * math.pi), fit.critical_speed_hz
     loss, dphi = delay_allowance(abs(fit.delay_s), f_top)
