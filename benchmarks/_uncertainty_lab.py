@@ -209,7 +209,51 @@ def field_readings(seed, workdir=None):
     return out
 
 
+def _daq(kind):
+    """The ``keyphasor-ttl`` run-up (500 samples/s) through one DAQ artefact (issue 42),
+    drawn with scipy, not the stand: ``daq-filter-declared`` / ``daq-filter-undeclared``
+    (the analog 4th-order 100 Hz Butterworth applied exactly by ``scipy.signal.lsim``,
+    declared in the map or not), ``daq-clipping`` (both channels clipped at 85 % of their
+    peak), ``daq-hum`` (15 um at 50 Hz + 5 um at 150 Hz on both), ``daq-drift`` (3 and
+    -2 um/s), ``daq-jitter`` (each keyphasor edge moved by its own N(0, 50 us))."""
+    def path(seed, workdir):
+        from scipy import signal
+
+        from oracles.runup_exact import write_csv
+
+        run, rng = _runup(seed, 500.0, 600)
+        off = rng.uniform(0.0, TWO_PI)
+        kp_phi = run.phi + off
+        if kind == "jitter":
+            k = np.rint(kp_phi / TWO_PI).astype(int)
+            kp_phi = kp_phi - np.gradient(run.phi, run.t) * rng.normal(0.0, 50e-6, k.max() + 1)[k]
+        run.kp = (np.where(np.mod(kp_phi, TWO_PI) < math.radians(30.0), 5.0, 0.0)
+                  + rng.normal(0.0, 0.02, run.t.size))
+        run.beta_deg = (run.beta_deg - math.degrees(off)) % 360.0
+        if kind.startswith("filter"):
+            ba = signal.butter(4, TWO_PI * 100.0, analog=True)
+            run.x, run.y = (v[0] + signal.lsim(ba, v - v[0], run.t)[1] for v in (run.x, run.y))
+        elif kind == "clipping":
+            run.x, run.y = (np.clip(v, -0.85 * np.max(np.abs(v)), 0.85 * np.max(np.abs(v)))
+                            for v in (run.x, run.y))
+        elif kind == "hum":
+            h = 15e-6 * np.sin(TWO_PI * 50 * run.t) + 5e-6 * np.sin(TWO_PI * 150 * run.t)
+            run.x, run.y = run.x + h, run.y + h
+        elif kind == "drift":
+            run.x, run.y = run.x + 3e-6 * run.t, run.y - 2e-6 * run.t
+        csv, rmap = write_csv(run, Path(workdir) / f"daq_{kind}{seed}.csv")
+        if kind == "filter-declared":
+            flt = 'filter = {type = "butterworth", order = 4, cutoff = "100 Hz"}'
+            rmap.write_text(rmap.read_text().replace(
+                'x = "x_um [um]"', f'x = {{column = "x_um", unit = "um", {flt}}}').replace(
+                'y = "y_um [um]"', f'y = {{column = "y_um", unit = "um", {flt}}}'))
+        return _runup_z(_analyze(csv, rmap), run)
+    return path
+
+
 PATHS = {"keyphasor-ttl": keyphasor_ttl, "keyphasor-ttl-steady": keyphasor_ttl_steady,
+         **{f"daq-{k}": _daq(k) for k in ("filter-declared", "filter-undeclared", "clipping",
+                                          "hum", "drift", "jitter")},
          "tachometer-analog": _tachometer("analog"),
          "tachometer-rounded": _tachometer("rounded"), "encoder-360": encoder_360,
          "bode-steady": bode_steady, "field-readings": field_readings}

@@ -77,6 +77,8 @@ class ResponseFit:
         channel leaves open: a keyphasor's timing, a tachometer's quantum, an encoder's
         count) and ``runout`` (a probe runout allowed for, not fitted); the std is the
         root sum of squares of its parts.
+    delay_s, delay_s_std : float
+        The channels' delay behind the rotor angle [s], fitted with ``fit_delay`` (else 0).
     """
 
     natural_frequency_hz: float
@@ -94,6 +96,8 @@ class ResponseFit:
     residual_rms_m: float
     samples: int
     std_parts: dict = field(default_factory=dict)
+    delay_s: float = 0.0
+    delay_s_std: float = math.nan
 
 
 #: Gauss-Legendre nodes and weights on [0, 1] for the forcing integral over one sample step.
@@ -193,7 +197,8 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
                            natural_frequency_guess_hz=None, damping_guess=0.05, runout=True,
                            covariance=True, angle_basis=None, angle_error=None,
                            derivative: int = 0, tolerance: float = 1e-12,
-                           runout_allowance_m: float = 0.0):
+                           runout_allowance_m: float = 0.0, channel_filter=None, censored=None,
+                           fit_delay: bool = False):
     """Fit omega_1, zeta, the specific unbalance and its angle to a swept record.
 
     Parameters
@@ -246,6 +251,16 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         linear in r (-(J'J)^-1 J' r e^{i phi}), enters the covariance as the RMS over a
         uniform gamma at |r| = ``runout_allowance_m`` (the worst angle then moves a
         quantity by sqrt(2) times that part).
+    channel_filter : dsp.artefacts.ChannelFilter, optional
+        The channels' declared filter (anti-alias low-pass, group delay): the model's
+        response goes through it before it meets the record, so f_1, zeta, e and the angle
+        are the rotor's.
+    censored : array_like of bool, optional
+        Samples left out of the fit (clipped), the time base kept whole.
+    fit_delay : bool
+        Fit a delay tau [s] of the channels behind the rotor angle as well (``delay_s``,
+        ``delay_s_std``): an undeclared filter or a channel skew shows as a phase growing
+        with the speed, w tau, which the rotor's bounded phase cannot make.
 
     Returns
     -------
@@ -259,6 +274,11 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
     """
     from scipy.optimize import least_squares
 
+    keep = np.ones(np.size(t), bool) if censored is None else ~np.asarray(censored, bool)
+    if keep.shape != np.shape(t) or keep.sum() < 64:
+        raise SignalError(f"censored: {int((~keep).sum())} of {keep.size} samples censored; the "
+                          "fit needs 64 others")
+    z = np.where(keep, z, np.mean(np.asarray(z)[keep]))
     t, z, dt = check_signal(t, z, "z", min_samples=64)
     phi = np.asarray(angle_rad, float)
     if phi.shape != t.shape or not np.all(np.isfinite(phi)):
@@ -272,7 +292,17 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
     rot = np.exp(1j * phi) if runout and order == 0 else np.zeros(t.size)
     forcing = _Forcing(t, phi, w, a)
     tt = t - t[0]
-    zc = z
+    zc = np.where(keep, z, 0.0)
+
+    def model(w0, zeta, tau=0.0):
+        B = _basis(w0, zeta, tt, forcing, rot, order)
+        if channel_filter is not None:
+            B = channel_filter.apply(t, B)
+        if tau:
+            from .artefacts import delayed
+
+            B = delayed(t, B, tau)
+        return B * keep[:, None]
     if natural_frequency_guess_hz is None:
         k = max(3, t.size // 200)
         ww = np.maximum(np.abs(w), 1e-9 + 1e-3 * np.max(np.abs(w))) ** order
@@ -286,53 +316,59 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
 
     def resid(p):
         w0, zeta = p[0] * w_guess, p[1]
-        _, r = _linear(_basis(w0, zeta, tt, forcing, rot, order), zc)
+        _, r = _linear(model(w0, zeta, p[2] * 1e-3 if fit_delay else 0.0), zc)
         return np.concatenate((r.real, r.imag)) / scale
 
-    p0 = np.array([1.0, float(damping_guess)])
-    sol = least_squares(resid, p0, bounds=([0.2, 1e-5], [5.0, 0.7]), x_scale=[0.01, 0.01],
+    p0 = np.array([1.0, float(damping_guess)] + [0.0] * fit_delay)
+    lo, hi = [0.2, 1e-5] + [-50.0] * fit_delay, [5.0, 0.7] + [50.0] * fit_delay
+    sol = least_squares(resid, p0, bounds=(lo, hi), x_scale=[0.01, 0.01] + [0.1] * fit_delay,
                         xtol=tolerance, ftol=tolerance, gtol=tolerance)
     w0, zeta = sol.x[0] * w_guess, float(sol.x[1])
+    tau = float(sol.x[2]) * 1e-3 if fit_delay else 0.0
     if not (0.95 * float(np.min(np.abs(w))) <= w0 <= 1.05 * wmax):
         raise SignalError(f"natural frequency: the fit gives {w0 / TWO_PI:.4g} Hz, outside the "
                           f"record's speeds ({np.min(np.abs(w)) / TWO_PI:.4g}-{wmax / TWO_PI:.4g} "
                           "rev/s); a record that does not pass the resonance does not determine it")
-    B = _basis(w0, zeta, tt, forcing, rot, order)
+    B = model(w0, zeta, tau)
     c, r = _linear(B, zc)
-    n = t.size
+    n = int(keep.sum())
     if not covariance:
         nan = math.nan
         shift = 1.0 / math.sqrt(1.0 - 2.0 * zeta * zeta) if zeta < 1 / math.sqrt(2) else nan
         return ResponseFit(w0 / TWO_PI, nan, zeta, nan, w0 * shift / TWO_PI, nan,
                            float(abs(c[0])), nan, float(np.angle(c[0])), nan, complex(c[3]),
                            complex(c[4]) if runout else 0j,
-                           float(np.sqrt(np.mean(np.abs(r) ** 2))), int(n))
+                           float(np.sqrt(np.sum(np.abs(r) ** 2) / n)), int(n), delay_s=tau)
     # covariance of all real parameters: (w0, zeta, Re/Im of the 5 complex coefficients)
     def full(p):
-        Bp = _basis(p[0], p[1], tt, forcing, rot, order)
-        cc = p[2::2] + 1j * p[3::2]
-        rr = zc - Bp @ cc
+        Bp = model(p[0], p[1], p[-1] if fit_delay else 0.0)
+        cc = p[2:2 + 2 * c.size:2] + 1j * p[3:3 + 2 * c.size:2]
+        rr = (zc - Bp @ cc)[keep]
         return np.concatenate((rr.real, rr.imag))
 
-    p = np.concatenate(([w0, zeta], np.column_stack((c.real, c.imag)).ravel()))
+    p = np.concatenate(([w0, zeta], np.column_stack((c.real, c.imag)).ravel(), [tau] * fit_delay))
     J = np.empty((2 * n, p.size))
     for j in range(p.size):
         h = 1e-6 * max(abs(p[j]), 1e-3 * (w0 if j == 0 else 1e-2 if j == 1 else scale))
+        if fit_delay and j == p.size - 1:
+            h = 1e-6
         pp, pm = p.copy(), p.copy()
         pp[j] += h
         pm[j] -= h
         J[:, j] = (full(pp) - full(pm)) / (2 * h)
     if angle_basis is not None:
         extra = -_angle_columns(t, phi, w, a, w0, zeta, 1.0 if runout and order == 0 else 0.0,
-                                c, angle_basis)
+                                c, angle_basis)[keep]
         J = np.hstack((J, np.vstack((extra.real, extra.imag))))
+    r = r[keep]
+
     covs = _covariances(J, r, J.shape[1])
     extra = {}
     if runout_allowance_m and not (runout and order == 0):
-        extra["runout"] = _runout_part(J, np.exp(1j * phi), runout_allowance_m)
+        extra["runout"] = _runout_part(J, np.exp(1j * phi[keep]), runout_allowance_m)
     if angle_error is not None:
-        extra["rotor_angle"] = _propagated(J, -1j * (B[:, 0] * c[0] + B[:, 4] * c[4]), w,
-                                           t, angle_error)
+        extra["rotor_angle"] = _propagated(J, -1j * (B[keep, 0] * c[0] + B[keep, 4] * c[4]),
+                                           w[keep], t[keep], angle_error)
     noise_covs = covs
     covs = tuple(C + sum(extra.values()) for C in covs)
     q = c[0]
@@ -360,7 +396,9 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
                        specific_unbalance_m=float(e), specific_unbalance_m_std=sd["e"],
                        angle_rad=float(math.atan2(q.imag, q.real)), angle_rad_std=sd["beta"],
                        offset_m=complex(c[3]), runout_m=complex(c[4]) if runout and order == 0 else 0j, residual_rms_m=float(np.sqrt(np.mean(np.abs(r) ** 2))),
-                       samples=int(n), std_parts=parts)
+                       samples=int(n), std_parts=parts, delay_s=tau,
+                       delay_s_std=(max(_std(C, p.size - 1, np.array([1.0])) for C in covs)
+                                    if fit_delay else math.nan))
 
 
 def _phase_basis(t, phi, knot_revolutions: float = 20.0):

@@ -292,3 +292,39 @@ sample_rate = 100.0
     assert sc.instruments["probes"].sample_rate == 100.0
     with pytest.raises(SceneError, match=r"instruments\.probes\.sample_rate"):
         load_scene(text.replace("sample_rate = 100.0", "sample_rate = 1000.0"))
+
+
+def test_probe_daq_artefacts(constant_speed):
+    """The DAQ's artefacts as the scene declares them (issue 42), each against what it is:
+    hum lines of their amplitude, a linear drift, the anti-alias filter as scipy's lsim of
+    the analog Butterworth on the same samples, the channel skew as the 1X phase a linear
+    interpolation 1 ms later gives, clipping at the ADC range."""
+    from scipy import signal
+
+    base = dict(sample_rate=200.0, noise_rms=0.0, runout=(0.0,), lsb=0.0)
+    clean = probe_signals(constant_speed, DisplacementProbes(**base))
+    t, s0 = clean["time"], clean["signal"]
+    k = t > 1.0                       # 2 s: whole periods of 15, 20 and 60 Hz
+
+    def line(v, f):                   # complex amplitude of a line at f [Hz] over k
+        return 2 * np.mean(v[k] * np.exp(-1j * TWO_PI * f * t[k]))
+
+    s = probe_signals(constant_speed, DisplacementProbes(**base, hum=(15e-6, 0.0, 5e-6),
+                                                         hum_frequency=20.0, drift=2e-6))["signal"] - s0
+    for i in range(2):
+        d = s[:, i] - 2e-6 * (t - t[0])
+        assert np.max(np.abs(d - 15e-6 * np.sin(TWO_PI * 20 * t) - 5e-6 * np.sin(TWO_PI * 60 * t))) < 1e-15
+        assert abs(line(d, 20.0)) == pytest.approx(15e-6, rel=1e-9)
+    sf = probe_signals(constant_speed, DisplacementProbes(**base, filter="butterworth",
+                                                          filter_cutoff=40.0))["signal"]
+    ba = signal.butter(4, TWO_PI * 40.0, analog=True)
+    for i in range(2):
+        ref = s0[0, i] + signal.lsim(ba, s0[:, i] - s0[0, i], t)[1]
+        assert np.max(np.abs(sf[:, i] - ref)) < 1e-9 * np.max(np.abs(s0))
+    sk = probe_signals(constant_speed, DisplacementProbes(**base, skew=1e-3))["signal"]
+    # probe 1 sampled 1 ms (0.2 of a sample interval) later: between its samples, linearly
+    assert np.allclose(sk[:-1, 1], 0.8 * s0[:-1, 1] + 0.2 * s0[1:, 1], rtol=0, atol=1e-9 * np.max(np.abs(s0)))
+    assert np.array_equal(sk[:, 0], s0[:, 0])
+    r = 0.8 * np.max(np.abs(s0))
+    sc = probe_signals(constant_speed, DisplacementProbes(**base, adc_range=r))["signal"]
+    assert np.array_equal(sc, np.clip(s0, -r, r)) and np.max(np.abs(sc)) == pytest.approx(r)

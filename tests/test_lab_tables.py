@@ -164,20 +164,32 @@ def test_no_clean_stretch_is_refused(tmp_path):
 
 
 # ------------------------------------------------------------------ partial analyses
-@pytest.mark.parametrize("case", ["gap", "nan", "clipped"])
+def test_clipped_samples_are_censored_not_cut(tmp_path):
+    """A knock triples the whirl for 0.3 s and the x channel's ADC saturates at +100 um: the
+    clipped samples are censored (named once, the time base whole), the 1X taken without them."""
+    df = _frame()
+    sl = slice(2000, 2300)
+    df.loc[sl, "disp_x_um"] = 12.0 + 3 * (df.loc[sl, "disp_x_um"] - 12.0)
+    df["disp_x_um"] = df["disp_x_um"].clip(upper=100.0)
+    p = tmp_path / "d.csv"
+    df.to_csv(p, index=False)
+    doc, err = analyze_json(p)
+    assert doc["input"]["excluded"] == [] and doc["input"]["rows_used"] == [1, len(df)]
+    assert len(doc["input"]["censored"]) == 1 and "'disp_x_um'" in doc["input"]["censored"][0]
+    assert "clipped at 100 um" in doc["input"]["censored"][0]
+    assert sum("clipped" in n for n in doc["notes"]) == 2    # the censoring, the steady 1X
+    _check_1x(doc)
+
+
+@pytest.mark.parametrize("case", ["gap", "nan"])
 def test_partial_analysis_states_the_excluded_rows(tmp_path, case):
     df = _frame()
     if case == "gap":
         df = df.drop(index=range(2000, 2100)).reset_index(drop=True)
         reason, rows = "gap of 101 ms", "2000-2001"
-    elif case == "nan":
+    else:
         df.loc[1999:2098, "disp_y_um"] = np.nan
         reason, rows = "column 'disp_y_um': empty or NaN", "2000-2099"
-    else:   # a knock triples the whirl for 0.3 s; the x channel's ADC saturates at +100 um
-        sl = slice(2000, 2300)
-        df.loc[sl, "disp_x_um"] = 12.0 + 3 * (df.loc[sl, "disp_x_um"] - 12.0)
-        df["disp_x_um"] = df["disp_x_um"].clip(upper=100.0)
-        reason, rows = "column 'disp_x_um': clipped at 100 um", None
     p = tmp_path / "d.csv"
     df.to_csv(p, index=False)
     doc, err = analyze_json(p)

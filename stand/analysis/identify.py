@@ -191,7 +191,8 @@ def _sweep(d, out, rotating) -> None:
                               derivative=VIBRATION[d.get("quantity", "length")],
                               damping_ratio=_scene_damping(scene),
                               runout_allowance_m=getattr(getattr(tab, "recording_map", None),
-                                                         "probe_runout_m", None))
+                                                         "probe_runout_m", None),
+                              channel_filter=d.get("channel_filter"), censored=d.get("censored"))
     if sw is None:
         return
     out["runup"] = sw
@@ -248,6 +249,16 @@ def _steady_1x(d, out, speed, rotating):
         if const and t[-1] - const[-1]["t_end_s"] <= 0.1 * (t[-1] - t[0]):
             i0 = int(np.searchsorted(t, const[-1]["t_start_s"]))
     sl, out["stationary_stretch"] = stationary_stretch(t, x + 1j * y, speed, i0)
+    cens = d.get("censored")
+    if cens is not None and cens[sl].any():          # its longest stretch without clipping
+        ok = np.concatenate(([0], (~cens[sl]).astype(np.int8), [0]))
+        e = np.flatnonzero(np.diff(ok)).reshape(-1, 2)
+        a, b = e[int(np.argmax(e[:, 1] - e[:, 0]))] + sl.start
+        notes.append(f"steady 1X: clipped samples in the stationary stretch; its longest part "
+                     f"without them taken ({t[a]:.6g}-{t[b - 1]:.6g} s)")
+        sl = slice(int(a), int(b))
+        out["stationary_stretch"].update(t_start_s=float(t[a]), t_end_s=float(t[b - 1]),
+                                         duration_s=float(t[b - 1] - t[a]), samples=int(b - a))
     sc1 = None
     if rotating and (phi is not None or d["kp"] is not None):
         try:
@@ -257,6 +268,10 @@ def _steady_1x(d, out, speed, rotating):
             if d.get("probes") is not None and d["scene"] is not None:
                 sc1 = _runout_removed(d, sc1, speed, sl, notes)
             sc1 = _mark_timing(d.get("angle"), sc1, t[sl], None if speed is None else speed[sl])
+            if d.get("channel_filter") is not None:       # the declared filter divided out
+                from dsp.artefacts import unfiltered
+
+                sc1 = unfiltered(sc1, d["channel_filter"], notes)
             out["response_1x_m"] = sc1.amplitude_m
             out["response_1x_m_std"] = sc1.amplitude_std_m
             out["speed_hz"] = sc1.speed_rad_s / TWO_PI
@@ -379,6 +394,10 @@ def _components(d, out, sl, rotating) -> None:
                               "phase_deg_std": math.degrees(c.phase_std_rad),
                               "direction": c.direction} for c in dec.components]
         qp = dec.precession is not None
+        if not qp:          # without a precession the rotor-speed line is the 1X, no nutation
+            import dataclasses
+
+            dec = dataclasses.replace(dec, nutation=None)
         out.update(precession_hz=dec.precession_hz if qp else None,
                    precession_hz_std=dec.precession_std_hz if qp else None,
                    nutation_hz=dec.nutation_hz if dec.nutation is not None else None,

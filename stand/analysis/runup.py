@@ -88,13 +88,15 @@ def _fit_dict(fit, referenced: bool, mark_std_rad: float = 0.0) -> dict:
             "std_parts": _std_parts(fit, referenced, mark_std_rad),
             "offset_x_m": fit.offset_m.real, "offset_y_m": fit.offset_m.imag,
             "runout_m": abs(fit.runout_m), "residual_rms_m": fit.residual_rms_m,
-            "samples": fit.samples}
+            "samples": fit.samples, "delay_s": fit.delay_s or None,
+            "delay_s_std": fit.delay_s_std if fit.delay_s else None}
 
 
 def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bool] = None,
                          fit_model: bool = True, derivative: int = 0,
                          damping_ratio: Optional[float] = None,
-                         runout_allowance_m: Optional[float] = None) -> Optional[dict]:
+                         runout_allowance_m: Optional[float] = None, channel_filter=None,
+                         censored=None) -> Optional[dict]:
     """Identify what a swept record gives (module docstring).
 
     Parameters
@@ -117,6 +119,10 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
     runout_allowance_m : float, optional
         Without a speed channel: the probes' 1X runout [m] the ± allows for (a recording
         map's ``[probes] runout``); default :data:`RUNOUT_ALLOWANCE_M`.
+    channel_filter : dsp.artefacts.ChannelFilter, optional
+        The probes' declared filter: in the model fit, and divided out of the Bode vectors.
+    censored : ndarray of bool, optional
+        Samples (clipped) left out of the model fit and of the Bode data.
 
     Returns
     -------
@@ -125,6 +131,7 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
         (each None when not obtained, with the reason in ``notes``); None when
         the record is not swept.
     """
+    from dsp.artefacts import delay_checked
     from dsp.errors import SignalError
     from dsp.response_fit import fit_response_without_speed, fit_unbalance_response
     from dsp.runup import resonance_from_runup, resonance_std
@@ -145,10 +152,18 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
         if not any(s.kind in SWEEPS for s in prog.stretches):
             return None
         if fit_model:
+            args = (t[c], z[c], angle.angle_rad[c], angle.speed_rad_s[c],
+                    angle.acceleration_rad_s2[c])
+            kw = dict(derivative=derivative, angle_error=angle.angle_error,
+                      channel_filter=channel_filter,
+                      censored=None if censored is None else censored[c])
             try:
-                fit = fit_unbalance_response(t[c], z[c], angle.angle_rad[c], angle.speed_rad_s[c],
-                                             angle.acceleration_rad_s2[c], derivative=derivative,
-                                             angle_error=angle.angle_error)
+                fit = fit_unbalance_response(*args, **kw)
+                if ref:
+                    fit = delay_checked(fit, lambda: fit_unbalance_response(*args, **kw,
+                                                                            fit_delay=True),
+                                        float(np.max(np.abs(angle.speed_rad_s[c]))),
+                                        channel_filter, notes)
             except SignalError as exc:
                 notes.append(f"run-up model fit: {exc}")
     else:
@@ -200,10 +215,23 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
     tm, w, v = pr
     if fit is not None:
         v = v - fit.runout_m
+    if channel_filter is not None:
+        v = v / channel_filter.response(w / TWO_PI)
+    if fit is not None and fit.delay_s:
+        v = v * np.exp(1j * w * fit.delay_s)
+    if censored is not None and censored[c].any():        # revolutions with clipped samples
+        tc = t[c][censored[c]]
+        hit = np.searchsorted(tc, tm + np.pi / w) > np.searchsorted(tc, tm - np.pi / w)
+        tm, w, v = tm[~hit], w[~hit], v[~hit]
+        if hit.any():
+            notes.append(f"1X vs speed: {int(hit.sum())} revolutions with clipped samples left "
+                         "out; no critical speed from the 1X peak (the fit gives it)")
     v = v / (1j * w) ** derivative            # the 1X of a velocity / acceleration -> displacement
     out["bode"] = {"t_s": tm.tolist(), "speed_hz": (w / TWO_PI).tolist(),
                    "amplitude_m": np.abs(v).tolist(),
                    "phase_deg": np.degrees(np.angle(v)).tolist() if ref else None}
+    if censored is not None and censored[c].any() and hit.any():
+        return out
     # the sweep-rate-corrected resonance, on the longest sweep stretch
     sweeps = [s for s in prog.stretches if s.kind in SWEEPS]
     s = max(sweeps, key=lambda s: s.duration_s)

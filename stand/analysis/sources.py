@@ -74,9 +74,13 @@ def from_table(p, recording_map):
     from stand.lab.table import read_table
 
     tab = read_table(p, recording_map)
-    notes = [f"excluded rows {e['rows']}: {e['reason']}" for e in tab.excluded]
+    notes = _excluded_notes(tab.excluded)
+    if tab.censored is not None:
+        notes.append(f"clipped samples censored ({int(tab.censored.sum())}, "
+                     f"{100 * tab.censored.mean():.2g} %: left out of the model fit and of the "
+                     "1X per revolution, the time base kept): " + "; ".join(tab.censored_what))
     angle, how = rotor_angle_of(tab, notes)
-    t, x, y = tab.t, tab.signals["x"], tab.signals["y"]
+    t, x, y, cens = tab.t, tab.signals["x"], tab.signals["y"], tab.censored
     phi = None
     if angle is not None and angle.referenced:
         c = angle.covered
@@ -84,6 +88,7 @@ def from_table(p, recording_map):
             notes.append(f"samples outside the first and last keyphasor pulse left out "
                          f"({int((~c).sum())})")
         t, x, y, phi = t[c], x[c], y[c], angle.angle_rad[c]
+        cens = None if cens is None else cens[c]
         from dataclasses import replace
 
         angle = replace(angle, angle_rad=angle.angle_rad[c], speed_rad_s=angle.speed_rad_s[c],
@@ -91,8 +96,34 @@ def from_table(p, recording_map):
                         covered=np.ones(int(c.sum()), bool))
     if tab.quantity != "length":
         notes.append(_SUPPORT_MODEL)
+    flt = {tab.columns[r].filter for r in ("x", "y") if r in tab.columns}
+    if len(flt) > 1:
+        from stand.lab.table import TableError
+
+        said = [tab.columns[r].filter for r in ("x", "y")]
+        raise TableError(f"{p}: x and y declare different filters ({said[0] and said[0].describe()}"
+                         f" / {said[1] and said[1].describe()}); both probes go through one filter")
     return dict(t=t, x=x, y=y, phi=phi, kp=None, weights=None, scene=None, notes=notes,
-                angle=angle, speed_how=how, table=tab, quantity=tab.quantity)
+                angle=angle, speed_how=how, table=tab, quantity=tab.quantity, censored=cens,
+                channel_filter=flt.pop() if flt else None)
+
+
+def _excluded_notes(excluded) -> list:
+    """One note per kind of excluded rows (the reason without its numbers), with the
+    count and the rows' range."""
+    import re
+
+    kinds = {}
+    for e in excluded:
+        kinds.setdefault(re.sub(r"-?\d[\d.e+-]*", "#", e["reason"]), []).append(e)
+    notes = []
+    for es in kinds.values():
+        if len(es) == 1:
+            notes.append(f"excluded rows {es[0]['rows']}: {es[0]['reason']}")
+        else:
+            notes.append(f"excluded rows {es[0]['rows']} ... {es[-1]['rows']} ({len(es)} places): "
+                         f"{es[0]['reason']} ...")
+    return notes
 
 
 _SUPPORT_MODEL = ("velocity / acceleration channels: taken as the motion of the rotor's centre "
@@ -182,7 +213,31 @@ def from_run(rec):
                 probes=pr if xy is not None else None, truth=_truth(rec), rings=_rings(rec),
                 scene_name=str((getattr(rec, "attrs", None) or {}).get("scene_name")
                                or getattr(rscene, "name", "") or ""),
-                solver=dict(getattr(rec, "solver", None) or getattr(rec, "stats", None) or {}))
+                solver=dict(getattr(rec, "solver", None) or getattr(rec, "stats", None) or {}),
+                channel_filter=_probe_filter(rscene) if xy is not None else None,
+                censored=_clipped_probes(t, x, y, notes) if xy is not None else None)
+
+
+def _clipped_probes(t, x, y, notes):
+    """The probes' clipped samples (at their ADC range), bridged in x and y (in place) and
+    returned as the censoring mask, or None."""
+    from dsp.artefacts import clipped, filled
+
+    m = clipped(x) | clipped(y)
+    if not m.any():
+        return None
+    x[:], y[:] = filled(t, x, m), filled(t, y, m)
+    notes.append(f"clipped probe samples censored ({int(m.sum())}, {t[m][0]:.6g}-{t[m][-1]:.6g} "
+                 "s: left out of the model fit and of the 1X per revolution, the time base kept)")
+    return m
+
+
+def _probe_filter(scene):
+    """The probes' DAQ filter the scene declares (``[instruments.probes] filter``), or None."""
+    from stand.instruments.probes import channel_filter
+
+    probes = (getattr(scene, "instruments", None) or {}).get("probes")
+    return None if probes is None else channel_filter(probes)
 
 
 def _truth(rec):

@@ -101,6 +101,15 @@ def tachometer_readings(traj, tach: Tachometer, t_start: Optional[float] = None,
 # ---------------------------------------------------------------- probes
 
 
+def channel_filter(probes: DisplacementProbes):
+    """The probes' DAQ filter as a :class:`dsp.artefacts.ChannelFilter`, or None."""
+    from dsp.artefacts import ChannelFilter
+
+    if probes.filter == "none":
+        return ChannelFilter("delay", delay_s=probes.group_delay) if probes.group_delay else None
+    return ChannelFilter(probes.filter, probes.filter_order, probes.filter_cutoff, probes.group_delay)
+
+
 def probe_signals(traj, probes: DisplacementProbes, seed: Optional[int] = None,
                   t_start: Optional[float] = None, t_end: Optional[float] = None) -> dict:
     """Sampled probe signals of a run.
@@ -152,7 +161,18 @@ def probe_signals(traj, probes: DisplacementProbes, seed: Optional[int] = None,
     rng = np.random.default_rng(probes.seed if seed is None else seed)
     noise = rng.normal(0.0, probes.noise_rms, disp.shape) if probes.noise_rms > 0 \
         else np.zeros_like(disp)
-    sig = disp + run + noise
+    sig = disp + run + noise + probes.drift * (tq - tq[0])[:, None]
+    for k, amp in enumerate(probes.hum, start=1):
+        sig += amp * np.sin(2 * math.pi * k * probes.hum_frequency * tq)[:, None]
+    if probes.skew:
+        from dsp.artefacts import delayed
+
+        sig = np.column_stack([delayed(tq, sig[:, i], -i * probes.skew) for i in range(a.size)])
+    flt = channel_filter(probes)
+    if flt is not None:
+        sig = flt.apply(tq, sig)
+    if probes.adc_range > 0:
+        sig = np.clip(sig, -probes.adc_range, probes.adc_range)
     if probes.lsb > 0:
         sig = np.rint(sig / probes.lsb) * probes.lsb
     return dict(time=tq, signal=sig, displacement=disp, runout=run, noise=noise,

@@ -12,6 +12,7 @@ should find the truth again (tests/test_lab_daq.py).
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from pathlib import Path
@@ -22,6 +23,9 @@ import numpy as np
 __all__ = ["daq_export", "daq_truth"]
 
 TWO_PI = 2.0 * math.pi
+#: the probes' settings that are DAQ artefacts (written into the truth)
+ARTEFACTS = ("noise_rms", "lsb", "hum", "hum_frequency", "drift", "skew", "filter", "filter_order",
+             "filter_cutoff", "group_delay", "adc_range")
 
 
 def daq_truth(scene) -> dict:
@@ -136,8 +140,14 @@ def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
     else:
         cols.update(_sensor_columns(rec, t, quantity, rng))
         offset_um = (0.0, 0.0)
+    inst = getattr(rec.scene, "instruments", None) or {}
     if keyphasor:
         phi = np.interp(t, np.asarray(rec.t), np.unwrap(np.asarray(rec.rotor_angle)))
+        kp = inst.get("keyphasor")
+        if kp is not None and kp.jitter > 0:       # each pulse early or late by its own draw
+            k = np.rint(phi / TWO_PI).astype(int)
+            dt = np.random.default_rng(kp.seed).normal(0.0, kp.jitter, k.max() - k.min() + 1)
+            phi = phi - np.gradient(phi, t) * dt[k - k.min()]
         cols["kp_V"] = [f"{v:.3f}".replace(".", ",") for v in _keyphasor_volts(phi, rng=rng)]
     if tachometer and rec.shape(instrument_key(TACHOMETER, "speed")) is not None:
         tt = np.asarray(rec.dataset(instrument_key(TACHOMETER, "time")), float)
@@ -164,6 +174,11 @@ def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
         truth = {"note": "truth written for planar scenes (the rigid rotor of daq_truth) only"}
     truth.update(offset_um=list(offset_um), source_recording=Path(str(rec.path)).name,
                  csv=Path(csv_path).name)
+    art = {k: v for k, v in dataclasses.asdict(inst["probes"]).items() if k in ARTEFACTS} \
+        if "probes" in inst else {}
+    if "keyphasor" in inst and keyphasor:
+        art["keyphasor_jitter"] = inst["keyphasor"].jitter
+    truth["artefacts"] = art       # SI: the probes' DAQ settings, as the scene declared them
     if truth_path is None:
         truth_path = str(Path(csv_path).with_suffix("")) + ".truth.json"
     write_text(truth_path, json.dumps(truth, indent=2) + "\n")

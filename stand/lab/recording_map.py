@@ -18,6 +18,10 @@ Two spellings of one map:
       x = {column = "disp_x_um", unit = "um"}
       y = {column = "probe_y", unit = "V", sensitivity = "7.87 V/mm"}
       keyphasor = {column = "kp_V", unit = "V"}       # threshold: default by Otsu's rule
+      # a vibration channel's DAQ: its anti-alias filter (or a converter's group delay,
+      # filter = {group_delay = "2.4 ms"}) and its ADC range (at or beyond: censored)
+      # x = {column = "disp_x_um", unit = "um", range = ["-400 um", "400 um"],
+      #      filter = {type = "butterworth", order = 4, cutoff = "100 Hz"}}
       speed = "tacho_rpm [rpm]"                       # the short form works too
       [rotor]
       mass = "6 kg"               # vibrating mass: unbalance in g mm (else per kg)
@@ -73,6 +77,10 @@ class ColumnSpec:
         A pulse channel's level between its two states (in its own unit).
     sensitivity_quantity : str or None
         What the sensitivity is per: ``length``, ``velocity`` or ``acceleration``.
+    filter : dsp.artefacts.ChannelFilter or None
+        The channel's declared filter (the analysis takes it out of the 1X and the fit).
+    rail : (float, float) or None
+        The channel's ADC range in its own unit: samples at or beyond it are censored.
     """
 
     role: str
@@ -81,6 +89,8 @@ class ColumnSpec:
     sensitivity_v_per_m: Optional[float] = None
     threshold: Optional[float] = None
     sensitivity_quantity: Optional[str] = None
+    filter: Optional[object] = None
+    rail: Optional[tuple] = None
 
     def quantity(self, field: str = "") -> str:
         """What the channel measures: a vibration channel's ``length`` (displacement),
@@ -236,7 +246,7 @@ def read_map(path) -> RecordingMap:
         if isinstance(v, str):
             cols[role] = _spec(role, v, where)
         elif isinstance(v, dict):
-            bad = set(v) - {"column", "unit", "sensitivity", "threshold"}
+            bad = set(v) - {"column", "unit", "sensitivity", "threshold", "filter", "range"}
             if bad or "column" not in v:
                 raise MapError(f"{where}: expected {{column = NAME, unit = UNIT[, sensitivity = "
                                f"\"7.87 V/mm\", threshold = LEVEL]}}, got keys {sorted(v)}")
@@ -250,7 +260,8 @@ def read_map(path) -> RecordingMap:
                     raise MapError(str(exc)) from None
             cols[role] = ColumnSpec(role, str(v["column"]), v.get("unit"), sens,
                                     None if v.get("threshold") is None else float(v["threshold"]),
-                                    sq)
+                                    sq, _filter(v.get("filter"), f"{where}.filter"),
+                                    _rail(v.get("range"), v.get("unit"), f"{where}.range"))
         else:
             raise MapError(f"{where} = {v!r}: a column name (\"NAME [unit]\") or a table")
     tab = data.get("table") or {}
@@ -291,6 +302,43 @@ def read_map(path) -> RecordingMap:
                             probe_runout_m=runout, source=str(path))
     except UnitError as exc:
         raise MapError(str(exc)) from None
+
+
+def _filter(v, where):
+    """``{type = "butterworth"|"bessel", order = N, cutoff = "100 Hz"}`` or ``{group_delay =
+    "2.4 ms"}`` (or both) -> :class:`dsp.artefacts.ChannelFilter`."""
+    from dsp.artefacts import ChannelFilter
+    from dsp.errors import SignalError
+
+    if v is None:
+        return None
+    keys = {"type", "order", "cutoff", "group_delay"}
+    if not isinstance(v, dict) or set(v) - keys or not ({"type", "group_delay"} & set(v)):
+        raise MapError(f"{where} = {v!r}: expected {{type = \"butterworth\" or \"bessel\", order = 4, "
+                       f"cutoff = \"100 Hz\"}} and/or {{group_delay = \"2.4 ms\"}}")
+    try:
+        delay = parse_quantity(v["group_delay"], "time", f"{where}.group_delay") \
+            if "group_delay" in v else 0.0
+        cut = parse_quantity(v["cutoff"], "speed", f"{where}.cutoff") / (2 * math.pi) \
+            if "cutoff" in v else 0.0
+        return ChannelFilter(str(v.get("type", "delay")), v.get("order", 0), cut, delay)
+    except (UnitError, SignalError) as exc:
+        raise MapError(f"{where}: {exc}") from None
+
+
+def _rail(v, unit, where):
+    """``range = ["-400 um", "400 um"]`` -> (low, high) in the channel's own ``unit``."""
+    if v is None:
+        return None
+    try:
+        lo, hi = (parse_quantity(q, "length", where) / factor("length", unit, where)
+                  if isinstance(q, str) else float(q) for q in v)
+    except (TypeError, ValueError, UnitError):
+        raise MapError(f"{where} = {v!r}: the ADC range as [LOW, HIGH], e.g. [\"-400 um\", "
+                       "\"400 um\"] (numbers: the channel's unit)") from None
+    if not lo < hi:
+        raise MapError(f"{where} = {v!r}: LOW must be below HIGH")
+    return (lo, hi)
 
 
 # ------------------------------------------------------------------ recognition

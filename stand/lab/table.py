@@ -18,9 +18,10 @@
      that goes back, a table with no usable stretch;
    * excluded (the longest clean stretch is analysed; the rest is listed in
      ``excluded`` and stated in the report): gaps in time (a step above 1.5x
-     the median), NaN or empty cells, clipped displacement channels (runs of
-     >= 4 samples at the channel's extreme value: the probe or the ADC at its
-     rail).
+     the median), NaN or empty cells;
+   * censored (kept in the time base, left out of the fit: ``censored``): clipped
+     vibration samples, at the channel's rail (its extreme value held for >= 4 samples,
+     :func:`dsp.artefacts.clipped`) or at or beyond the map's declared ADC ``range``.
 """
 from __future__ import annotations
 
@@ -42,7 +43,6 @@ __all__ = ["LabTable", "TableError", "read_table", "is_table_file", "is_table", 
            "check_shape", "decode_text"]
 
 TABLE_SUFFIXES = (".csv", ".tsv", ".txt", ".dat", ".parquet", ".pq", ".xlsx", ".xlsm", ".mat", ".tdms")
-CLIP_RUN = 4          #: samples at the extreme value that make a channel clipped
 GAP_FACTOR = 1.5      #: a time step above this x the median step is a gap
 MIN_ROWS = 2          #: fewest rows of a usable stretch
 #: the shape limits of a table, checked before it is parsed (issue 34: a reader's work is
@@ -77,6 +77,9 @@ class LabTable:
     quantity : str
         What ``x`` and ``y`` measure: ``length`` (displacement), ``velocity`` or
         ``acceleration``.
+    censored : ndarray of bool or None
+        Samples where ``x`` or ``y`` is clipped (bridged linearly in ``signals``, to be
+        left out of any fit), with ``censored_what``, one line per channel.
     """
 
     path: str
@@ -89,6 +92,8 @@ class LabTable:
     metadata: dict = field(default_factory=dict)
     recording_map: RecordingMap = field(default_factory=RecordingMap)
     quantity: str = "length"
+    censored: Optional[np.ndarray] = None
+    censored_what: list = field(default_factory=list)
 
     def input_summary(self) -> dict:
         """What was read, JSON-able (``stand analyze``'s ``input``)."""
@@ -100,6 +105,7 @@ class LabTable:
                 "map": self.recording_map.source if self.recording_map.columns else None,
                 "recognised": list(self.recognised),
                 "rows_used": list(self.rows), "excluded": list(self.excluded),
+                "censored": list(self.censored_what),
                 "vibration_quantity": self.quantity}
 
 
@@ -320,19 +326,6 @@ def _rows(a, b) -> str:
     return f"{a + 1}-{b}" if b - a > 1 else f"{a + 1}"
 
 
-def _clipped(v) -> np.ndarray:
-    """Samples of a channel stuck at its extreme value for >= CLIP_RUN samples."""
-    bad = np.zeros(v.size, bool)
-    fin = np.isfinite(v)
-    if fin.sum() < CLIP_RUN or np.nanmax(v) == np.nanmin(v):   # a constant channel is not clipped
-        return bad
-    for level in (np.nanmax(v), np.nanmin(v)):
-        for a, b in _runs(v == level):
-            if b - a >= CLIP_RUN:
-                bad[a:b] = True
-    return bad
-
-
 def read_table(path, recording_map: Optional[RecordingMap] = None,
                require=("x", "y")) -> LabTable:
     """Read a lab table into SI signals on its longest clean stretch (module docstring).
@@ -431,7 +424,7 @@ def read_table(path, recording_map: Optional[RecordingMap] = None,
                          f"data rows {i + 1}-{j + 1} ({t[i] * scale:.6g} -> {t[j] * scale:.6g} "
                          f"{tcol.unit}); {back.size} such place(s). Sort the table or split it")
     bad = np.zeros(n, bool)
-    reasons = []
+    reasons, clip = [], {}
     for role in ["time"] + [r for r in ROLES if r in sig]:
         v = t if role == "time" else sig[role]
         spec = cols[role]
@@ -440,11 +433,10 @@ def read_table(path, recording_map: Optional[RecordingMap] = None,
             reasons.append((a, b, f"column {spec.column!r}: empty or NaN"))
         bad |= nan
         if role in ("x", "y"):
-            clip = _clipped(v)
-            for a, b in _runs(clip):
-                lvl = v[a] / spec.si_factor("") if spec.unit not in ("V", "mV") else v[a]
-                reasons.append((a, b, f"column {spec.column!r}: clipped at {lvl:.6g} {spec.unit}"))
-            bad |= clip
+            from dsp.artefacts import clipped
+
+            k = spec.si_factor("")
+            clip[role] = clipped(v, rail=None if spec.rail is None else np.multiply(spec.rail, k))
     good = np.flatnonzero(~bad)
     cut = np.zeros(n, bool)                  # rows that start again after a gap in time
     if good.size >= 2:
@@ -478,9 +470,34 @@ def read_table(path, recording_map: Optional[RecordingMap] = None,
         if b < n:
             excluded.append({"rows": _rows(b, n), "t_start_s": _finite(t, b),
                              "t_end_s": _finite(t, n - 1), "reason": "after the longest clean stretch"})
+    cens, what = _censored(t[a:b], sig, clip, cols, a, b)
     return LabTable(path=label, t=t[a:b], signals={r: v[a:b] for r, v in sig.items()},
                     columns=cols, recognised=recognised, rows=(a + 1, b), excluded=excluded,
-                    metadata=meta, recording_map=rmap, quantity=quantity)
+                    metadata=meta, recording_map=rmap, quantity=quantity, censored=cens,
+                    censored_what=what)
+
+
+def _censored(t, sig, clip, cols, a, b):
+    """The clipped samples of x and y within rows a:b: ``(mask or None, one line per
+    channel)``; the channels bridged over them in ``sig`` (in place)."""
+    from dsp.artefacts import filled
+
+    mask, what = np.zeros(b - a, bool), []
+    for role, m in clip.items():
+        m = m[a:b]
+        if m.any():
+            spec, v = cols[role], sig[role]
+            k = spec.si_factor("")
+            lv = np.unique(v[a:b][m]) / k
+            what.append(f"column {spec.column!r}: {int(m.sum())} samples clipped at "
+                        f"{', '.join(f'{x:.6g}' for x in lv[:4])}{' ...' if lv.size > 4 else ''} "
+                        f"{spec.unit} ({len(_runs(m))} runs, {t[m][0]:.6g}-{t[m][-1]:.6g} s)")
+            mask |= m
+    if not mask.any():
+        return None, []
+    for role in clip:
+        sig[role][a:b] = filled(t, sig[role][a:b], mask)
+    return mask, what
 
 
 def _vibration_quantity(cols, label) -> str:

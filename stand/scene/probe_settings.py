@@ -10,8 +10,8 @@ from typing import Optional
 import numpy as np
 
 from stand.errors import SceneError
-from stand.scene.instrument_settings import (check, integer, keys, number, numbers, read_table, rebased,
-                        table_numbers)
+from stand.scene.instrument_settings import (check, choice, integer, keys, number, numbers, read_table,
+                                             rebased, table_numbers)
 
 TWO_PI = 2.0 * math.pi
 DEG = math.pi / 180.0
@@ -135,6 +135,25 @@ class DisplacementProbes:
         Probe directions [rad] (TOML: degrees); default (0, 90 deg) = x, y.
     seed : int
         Seed of the noise.
+
+    The DAQ's artefacts, each off by default (the analysis is told of them by a recording
+    map, or finds them: :mod:`dsp.artefacts`), applied in this order:
+
+    hum : tuple of float
+        Mains hum [m] at 1x, 2x, ... ``hum_frequency`` [Hz] (50 or 60), in phase on every
+        channel (a ground loop).
+    drift : float
+        DC drift [m/s], linear from the record's start.
+    skew : float
+        Channel-to-channel delay [s]: probe i is sampled i skew after probe 0
+        (a multiplexed converter).
+    filter, filter_order, filter_cutoff, group_delay :
+        Anti-alias low-pass (``none``, ``butterworth``, ``bessel``; order; cutoff [Hz];
+        scipy's analog filter through its first-order-hold twin) and a converter's group
+        delay [s] (:class:`dsp.artefacts.ChannelFilter`); the keyphasor is a digital line,
+        not filtered.
+    adc_range : float
+        The converter's range +-``adc_range`` [m] (0: none): beyond it the signal clips.
     """
 
     sample_rate: float = number(1000.0, "Hz", gt=0)
@@ -144,6 +163,15 @@ class DisplacementProbes:
     lsb: float = number(0.5e-6, "m", ge=0)
     angles: tuple = numbers((0.0, 0.5 * math.pi), "rad")
     seed: int = integer(0, 0)
+    hum: tuple = numbers((0.0,), "m", ge=0)
+    hum_frequency: float = number(50.0, "Hz", gt=0)
+    drift: float = number(0.0, "m/s")
+    skew: float = number(0.0, "s", ge=0, lt=0.01)
+    filter: str = choice("none", ("none", "butterworth", "bessel"))
+    filter_order: int = integer(4, 1, 10)
+    filter_cutoff: float = number(100.0, "Hz", gt=0)
+    group_delay: float = number(0.0, "s", ge=0, lt=0.1)
+    adc_range: float = number(0.0, "m", ge=0)
 
     def __post_init__(self):
         check(self, "instruments.probes")
@@ -182,11 +210,13 @@ class DisplacementProbes:
             runout = table_numbers(t, "runout", "m", list(d.runout), ge=0)
         phase = table_numbers(t, "runout_phase", "deg", None, length=len(runout))
         angles = table_numbers(t, "angles", "deg", [a / DEG for a in d.angles])
+        hum = (t.number("hum", "m", ge=0),) if "hum" in t and not isinstance(
+            t.data["hum"], (list, tuple)) else table_numbers(t, "hum", "m", list(d.hum), ge=0)
         if not angles:
             raise SceneError(f"{t.name('angles')} = []: give at least one probe direction (deg)")
         kw = dict(read_table(t, cls), runout=tuple(runout),
                   runout_phase=None if phase is None else tuple(v * DEG for v in phase),
-                  angles=tuple(a * DEG for a in angles))
+                  angles=tuple(a * DEG for a in angles), hum=tuple(hum))
         return rebased(cls, kw, "instruments.probes", t.path)
 
 

@@ -1,0 +1,252 @@
+"""A DAQ channel's own artefacts, on plain arrays: its filter, its clipping.
+
+* :class:`ChannelFilter` -- an anti-alias low-pass (analog Butterworth or Bessel of an order
+  and a cutoff) or a converter's fixed group delay: its complex response at a frequency
+  (:meth:`ChannelFilter.response`, what divides a 1X phasor) and its action on sampled
+  columns (:meth:`ChannelFilter.apply`, what a model's response goes through before it is
+  compared with the record: the run-up fit of :mod:`dsp.response_fit`).
+* :func:`delay_checked` -- an undeclared filter or channel delay, found by fitting a delay
+  in the run-up model (a phase growing as w tau, which a rotor's bounded phase cannot
+  make), named in one note, the ± widened by :func:`delay_allowance`;
+  :func:`unfiltered` -- a steady 1X with a declared filter divided out;
+* :func:`clipped` -- samples at a channel's rail (the probe or the ADC at the end of its
+  range): censored, i.e. left out of a fit, not cut out of the time base;
+  :func:`filled` bridges them for the steps that need every sample.
+
+Every filter is scipy's (``scipy.signal.butter`` / ``bessel`` with ``analog=True``); the
+sampled form is its first-order-hold twin (``cont2discrete(..., method="foh")``: exact for
+an input linear between samples, as ``scipy.signal.lsim`` takes it).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from dsp.errors import SignalError
+
+__all__ = ["ChannelFilter", "clipped", "filled", "delayed", "delay_allowance", "delay_checked",
+           "unfiltered", "KINDS"]
+
+KINDS = ("butterworth", "bessel", "delay")
+CLIP_RUN = 4     #: samples at the extreme value that make a rail
+
+
+@dataclass(frozen=True)
+class ChannelFilter:
+    """A channel's filter.
+
+    Attributes
+    ----------
+    kind : str
+        ``butterworth`` or ``bessel`` (analog low-pass; a Bessel's cutoff is its -3 dB
+        frequency, scipy's ``norm="mag"``) or ``delay`` (a pure group delay).
+    order : int
+        Low-pass order (1-10).
+    cutoff_hz : float
+        Low-pass cutoff [Hz].
+    delay_s : float
+        Group delay [s] (``delay``; added to a low-pass too, e.g. a converter's pipeline).
+    """
+
+    kind: str
+    order: int = 0
+    cutoff_hz: float = 0.0
+    delay_s: float = 0.0
+
+    def __post_init__(self):
+        if self.kind not in KINDS:
+            raise SignalError(f"filter type {self.kind!r}: one of {', '.join(KINDS)}")
+        if self.kind != "delay" and not (isinstance(self.order, int) and 1 <= self.order <= 10):
+            raise SignalError(f"filter order {self.order!r}: an integer 1-10")
+        if self.kind != "delay" and not (math.isfinite(self.cutoff_hz) and self.cutoff_hz > 0):
+            raise SignalError(f"filter cutoff {self.cutoff_hz!r} Hz: must be > 0")
+        if not (math.isfinite(self.delay_s) and 0 <= self.delay_s < 1):
+            raise SignalError(f"filter delay {self.delay_s!r} s: must be in [0, 1)")
+
+    def analog(self):
+        """``(b, a)`` of the analog low-pass in s [rad/s], or None for a pure delay."""
+        from scipy import signal
+
+        if self.kind == "delay":
+            return None
+        wc = 2 * math.pi * self.cutoff_hz
+        if self.kind == "bessel":
+            return signal.bessel(self.order, wc, analog=True, norm="mag")
+        return signal.butter(self.order, wc, analog=True)
+
+    def response(self, f_hz):
+        """Complex response H(i 2 pi f) at ``f_hz`` [Hz] (gain and phase; a lag is a
+        negative angle)."""
+        from scipy import signal
+
+        w = 2 * math.pi * np.abs(np.asarray(f_hz, float))
+        h = np.exp(-1j * w * self.delay_s)
+        ba = self.analog()
+        if ba is not None:
+            h = h * signal.freqs(*ba, worN=np.atleast_1d(w))[1].reshape(w.shape)
+        h = np.where(np.asarray(f_hz) < 0, np.conj(h), h)
+        return h if np.ndim(f_hz) else complex(h)
+
+    def describe(self) -> str:
+        s = (f"{self.kind} low-pass, order {self.order}, cutoff {self.cutoff_hz:g} Hz"
+             if self.kind != "delay" else "")
+        if self.delay_s:
+            s += (" + " if s else "") + f"group delay {self.delay_s * 1e3:g} ms"
+        return s
+
+    def apply(self, t, columns):
+        """The sampled columns (N or N x K, real or complex, uniform ``t`` [s]) as the
+        channel records them: the low-pass's first-order-hold twin from a steady start
+        (the first sample held before the record), then the delay by linear
+        interpolation (the first sample held before it)."""
+        from scipy import signal
+
+        t = np.asarray(t, float)
+        y = np.asarray(columns)
+        ba = self.analog()
+        if ba is not None:
+            dt = float(np.median(np.diff(t)))
+            bd, ad, _ = signal.cont2discrete(ba, dt, method="foh")
+            bd = np.ravel(bd)
+            zi = signal.lfilter_zi(bd, ad)
+            shape = (-1,) + (1,) * (y.ndim - 1)
+            y = signal.lfilter(bd, ad, y, axis=0, zi=zi.reshape(shape) * y[:1])[0]
+        if self.delay_s:
+            y = delayed(t, y, self.delay_s)
+        return y
+
+
+def delayed(t, columns, tau: float):
+    """``columns(t - tau)`` by linear interpolation (the first sample held before ``t[0]``)."""
+    t = np.asarray(t, float)
+    y = np.asarray(columns)
+    ts = t - tau
+    flat = y.reshape(t.size, -1)
+    out = np.empty_like(flat)
+    for k in range(flat.shape[1]):
+        c = flat[:, k]
+        out[:, k] = np.interp(ts, t, c.real) + (1j * np.interp(ts, t, c.imag)
+                                                if np.iscomplexobj(c) else 0.0)
+    return out.reshape(y.shape)
+
+
+def delay_allowance(tau_s: float, f_hz: float, orders=range(2, 9)):
+    """What a pure delay leaves out of an unknown low-pass that has it.
+
+    A delay ``tau_s`` [s] found between the vibration channels and the rotor angle is the
+    low-frequency group delay of some filter; over the Butterworth and Bessel low-passes of
+    ``orders`` whose group delay at DC is ``tau_s``, the largest gain loss and phase
+    departure from ``-2 pi f tau`` at ``f_hz`` [Hz].
+
+    Returns
+    -------
+    (float, float)
+        Gain loss 1 - |H| [-] and phase departure [rad], both >= 0.
+    """
+    if not tau_s > 0:
+        return 0.0, 0.0
+    loss, dphi = 0.0, 0.0
+    for kind in ("butterworth", "bessel"):
+        for n in orders:
+            unit = ChannelFilter(kind, int(n), 1.0)
+            tau1 = -np.angle(unit.response(1e-4)) / (2 * math.pi * 1e-4)    # [s] at 1 Hz cutoff
+            h = ChannelFilter(kind, int(n), tau1 / tau_s).response(f_hz)
+            loss = max(loss, 1.0 - abs(h))
+            dphi = max(dphi, abs(np.angle(h * np.exp(2j * math.pi * f_hz * tau_s))))
+    return float(loss), float(dphi)
+
+
+def delay_checked(fit, refit, w_top: float, channel_filter, notes: list):
+    """The delay test: ``refit`` fits a delay of the probes behind the rotor angle as well
+    (:attr:`dsp.response_fit.ResponseFit.delay_s`); beyond 3 std -- a phase growing as
+    w tau through the run-up, which the rotor's own bounded phase cannot make -- that fit
+    is taken and the delay named in one note; the ± then allow for an unknown low-pass of that
+    delay (:func:`dsp.artefacts.delay_allowance`: its gain loss in e at the top speed, its
+    phase departure in the angle, both at the critical speed in zeta and f_1).  Not found,
+    the plain fit is kept with the two fits' difference of angle and e in their ±."""
+    import dataclasses
+
+    fd = refit()
+    if not (math.isfinite(fd.delay_s_std) and abs(fd.delay_s) > 3 * fd.delay_s_std):
+        # not found: what a delay of that size would change stays in the ± (model choice)
+        da = abs((fd.angle_rad - fit.angle_rad + math.pi) % (2 * math.pi) - math.pi)
+        return dataclasses.replace(
+            fit, angle_rad_std=math.hypot(fit.angle_rad_std, da),
+            specific_unbalance_m_std=math.hypot(fit.specific_unbalance_m_std,
+                                                fd.specific_unbalance_m - fit.specific_unbalance_m))
+    fit = fd
+    f_top, fc = w_top / (2 * math.pi), fit.critical_speed_hz
+    loss, dphi = delay_allowance(abs(fit.delay_s), f_top)
+    loss_c, dphi_c = delay_allowance(abs(fit.delay_s), fc)
+    z0, f0 = fit.damping_ratio, fit.natural_frequency_hz
+    fit = dataclasses.replace(
+        fit, specific_unbalance_m_std=math.hypot(fit.specific_unbalance_m_std,
+                                                 loss * fit.specific_unbalance_m),
+        angle_rad_std=math.hypot(fit.angle_rad_std, dphi),
+        damping_ratio_std=math.hypot(fit.damping_ratio_std, loss_c * z0),
+        natural_frequency_hz_std=math.hypot(fit.natural_frequency_hz_std, dphi_c * z0 * f0),
+        critical_speed_hz_std=math.hypot(fit.critical_speed_hz_std, dphi_c * z0 * fc))
+    beyond = f" beyond the declared {channel_filter.describe()}" if channel_filter else ""
+    notes.append(
+        f"delay: the probes lag the rotor angle by {fit.delay_s * 1e3:.3g} ± "
+        f"{fit.delay_s_std * 1e3:.2g} ms{beyond} (a phase growing as w tau through the run-up, "
+        f"which the rotor's own phase cannot make) -- an undeclared anti-alias filter or channel "
+        f"delay; fitted as a "
+        f"delay ({math.degrees(2 * math.pi * fc * fit.delay_s):.3g} deg at the critical speed), the ± "
+        f"allow for a Butterworth or Bessel low-pass of order 2-8 with that delay (gain "
+        f"-{100 * loss:.2g} %, phase {math.degrees(dphi):.2g} deg at {f_top:.3g} rev/s); declare "
+        "the filter in the recording map (x, y: filter = {type, order, cutoff} or "
+        "{group_delay})")
+    return fit
+
+
+def unfiltered(sc1, flt, notes):
+    """The steady 1X with the channels' declared filter divided out: H(i w) at the 1X
+    speed (its gain and its phase lag)."""
+    import dataclasses
+
+    h = flt.response(sc1.speed_rad_s / (2 * math.pi))
+    v = sc1.vector_m / h
+    notes.append(f"declared filter ({flt.describe()}): the 1X divided by its response at "
+                 f"{sc1.speed_rad_s / (2 * math.pi):.4g} rev/s (gain {abs(h):.4g}, phase "
+                 f"{math.degrees(np.angle(h)):.3g} deg); the run-up model is fitted through it")
+    return dataclasses.replace(sc1, vector_m=v, amplitude_m=abs(v),
+                               amplitude_std_m=sc1.amplitude_std_m / abs(h),
+                               vector_std_m=sc1.vector_std_m / abs(h),
+                               phase_rad=math.atan2(v.imag, v.real))
+
+
+def clipped(v, run: int = CLIP_RUN, rail=None) -> np.ndarray:
+    """Samples of a channel at its rail: its extreme value held for >= ``run`` samples
+    somewhere (then every sample at that value is at the rail), or outside a declared
+    ``rail = (low, high)`` (in the channel's unit; at or beyond it is censored)."""
+    v = np.asarray(v, float)
+    bad = np.zeros(v.size, bool)
+    fin = np.isfinite(v)
+    if rail is not None:
+        lo, hi = rail
+        return fin & ((v <= lo) | (v >= hi))
+    if fin.sum() < run or np.nanmax(v) == np.nanmin(v):     # a constant channel is not clipped
+        return bad
+    for level in (np.nanmax(v), np.nanmin(v)):
+        at = np.concatenate(([0], (v == level).astype(np.int8), [0]))
+        d = np.flatnonzero(np.diff(at))
+        if np.any(d[1::2] - d[::2] >= run):
+            bad |= v == level
+    return bad
+
+
+def filled(t, v, mask):
+    """``v`` with its ``mask``-ed samples bridged linearly from their neighbours (for the
+    steps that need every sample; a fit leaves them out instead)."""
+    v = np.asarray(v, float)
+    mask = np.asarray(mask, bool)
+    if not mask.any():
+        return v
+    if mask.all():
+        raise SignalError("every sample is censored")
+    out = v.copy()
+    out[mask] = np.interp(np.asarray(t)[mask], np.asarray(t)[~mask], v[~mask])
+    return out
