@@ -92,12 +92,18 @@ def _iter_hdf5(path, dataset):
             yield i, t, np.asarray(img)
 
 
-def _iter_video(path):
+def _iter_video(path, threads: int = 0):
+    """(index, time [s], gray image) of every frame; ``threads``: FFmpeg's decoding threads
+    (0: its default)."""
     import cv2
 
     if not os.path.isfile(path):
         raise VisionError(f"{path}: no such video file")
-    cap = cv2.VideoCapture(path)
+    cap = None
+    if threads > 0:
+        cap = cv2.VideoCapture(path, cv2.CAP_FFMPEG, [cv2.CAP_PROP_N_THREADS, threads])
+    if cap is None or not cap.isOpened():
+        cap = cv2.VideoCapture(path)
     try:
         if not cap.isOpened():
             raise VisionError(f"{path}: cv2.VideoCapture cannot open it (corrupt or unsupported)")
@@ -225,7 +231,8 @@ def iter_frames(source, dataset: str = DEFAULT_DATASET, *,
         Show a tqdm progress bar when tqdm is installed.
     ahead : int
         Video files and images are decoded by a thread up to ``ahead`` frames ahead of
-        the consumer (:func:`read_ahead`); 0: decoded in the caller's thread, on demand.
+        the consumer (:func:`read_ahead`; a video by one FFmpeg thread: the other cores are
+        the tracker's); 0: decoded in the caller's thread, on demand (FFmpeg's own threads).
 
     Yields
     ------
@@ -238,9 +245,9 @@ def iter_frames(source, dataset: str = DEFAULT_DATASET, *,
         (mid-stream).  Blank frames are yielded (see the module docstring).
     """
     first = None
-    items = _open(source, dataset)
+    items = _open(source, dataset, ahead > 0)
     if ahead > 0 and getattr(items, "__name__", "") in ("_iter_video", "_iter_images"):
-        items = read_ahead(items, ahead)
+        items = read_ahead(items, ahead)       # (decoded by OpenCV, which releases the GIL)
     for i, t, img in _with_progress(items, progress):
         img = np.asarray(img)
         if img.ndim != 2:
@@ -311,7 +318,7 @@ def frame_table(frames: Iterable, measure: Callable, columns: Sequence[str], *,
     return df
 
 
-def _open(source, dataset):
+def _open(source, dataset, one_decoder_thread=False):
     if isinstance(source, np.ndarray):
         arr = source if source.ndim == 3 else source[None]
         return ((i, math.nan, arr[i]) for i in range(arr.shape[0]))
@@ -342,4 +349,5 @@ def _open(source, dataset):
         return _iter_images([p])
     if not p.is_file():
         raise VisionError(f"{path}: no such file")
-    return _iter_video(path)
+    # read ahead: the reading thread is the decoder's parallelism, the other cores track
+    return _iter_video(path, 1 if one_decoder_thread else 0)
