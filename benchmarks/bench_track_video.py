@@ -8,8 +8,8 @@ Videos: ``data_samples/video/screen.mp4`` (500 frames of 256 x 256 px, H.264; 30
 them saturated arcs up to 95 px long; truth ``screen_truth.csv``), or the one given, and
 a synthetic high-speed recording (:func:`synthetic_video`: 1280 x 1024 px, 2000 frames/s,
 the spot whirling at 50 rev/s on a 150 px circle, exposure 1/4 of the frame period: 5.9 px
-arcs; lossless FFV1 written with OpenCV; its truth is the exposure-averaged centre of the
-drawn positions).
+arcs; lossless FFV1 in Matroska, written with OpenCV; its truth is the exposure-averaged
+centre of the drawn positions).
 
 The process runs on ``--cores`` CPUs (``os.sched_setaffinity``; OpenCV one thread).  Rows:
 
@@ -68,10 +68,10 @@ def decode_and_track(path, ahead=None):
 
 def synthetic_video(folder, n_frames=300, width=1280, height=1024, fps=2000.0, rev_s=50.0,
                     radius=150.0, exposure=0.25, sigma=2.5, seed=3):
-    """Write ``folder/whirl_1280x1024.avi`` (FFV1, gray) and its truth; returns the video's
-    path and the truth (n_frames, 2) [px]: a spot of sigma ``sigma`` [px] whirling at
-    ``rev_s`` [rev/s] on a circle of ``radius`` [px] about the frame's centre (plus a slow
-    drift of the centre), filmed at ``fps`` [frames/s] with an exposure of ``exposure``
+    """Write ``folder/whirl_1280x1024.mkv`` (FFV1, gray; Matroska: AVI cannot time 2000
+    frames/s) and its truth; returns the video's path and the truth (n_frames, 2) [px]: a
+    spot of sigma ``sigma`` [px] whirling at ``rev_s`` [rev/s] on a circle of ``radius``
+    [px] about the frame's centre (plus a slow drift of the centre), filmed at ``fps`` [frames/s] with an exposure of ``exposure``
     frame periods (16 sub-positions per exposure; the camera noise of
     :class:`vision.artificial.Camera`, 8 bits)."""
     from vision import artificial as art
@@ -84,7 +84,7 @@ def synthetic_video(folder, n_frames=300, width=1280, height=1024, fps=2000.0, r
     cv = 0.5 * height + 12.0 * np.cos(2.0 * math.pi * 0.4 * t)
     px = np.stack([cu + radius * np.cos(th), cv + radius * np.sin(th)], axis=-1)
     truth = art.exposure_centre(px)
-    path = str(Path(folder) / f"whirl_{width}x{height}.avi")
+    path = str(Path(folder) / f"whirl_{width}x{height}.mkv")
     w = cv2.VideoWriter(path, cv2.CAP_FFMPEG, cv2.VideoWriter_fourcc(*"FFV1"), fps,
                         (width, height), [cv2.VIDEOWRITER_PROP_IS_COLOR, 0])
     if not w.isOpened():
@@ -114,7 +114,8 @@ def bench(path, repeats, truth=None):
     print(f"\n{Path(path).name}: {n} frames, best of {repeats}, load {os.getloadavg()[0]:.1f}")
     print("| step | frames/s | ms/frame |")
     print("|---|---:|---:|")
-    print(f"| decode alone (cv2.VideoCapture, 1 thread, + gray) | {fps_dec:.0f} | {1e3 / fps_dec:.3f} |")
+    print(f"| decode alone (cv2.VideoCapture, 1 thread, + gray) | {fps_dec:.0f} | "
+          f"{1e3 / fps_dec:.3f} |")
     print(f"| decode + track (read-ahead thread) | {fps_trk:.0f} | {1e3 / fps_trk:.3f} |")
     print(f"| decode + track (sequential) | {fps_seq:.0f} | {1e3 / fps_seq:.3f} |")
     print(f"CPU time of decode + track (process_time): {1e3 * c_trk / n:.3f} ms/frame")
@@ -126,14 +127,16 @@ def bench(path, repeats, truth=None):
           + f"; frames not ok: {int((~df['ok']).sum())}")
     if truth is not None:
         e = np.hypot(df["u_px"].to_numpy() - truth[:, 0], df["v_px"].to_numpy() - truth[:, 1])
-        print(f"RMS error vs truth: {math.sqrt(np.nanmean(e ** 2)):.4f} px (max {np.nanmax(e):.4f})")
+        print(f"RMS error vs truth: {math.sqrt(np.nanmean(e ** 2)):.4f} px "
+              f"(max {np.nanmax(e):.4f})")
 
 
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("video", nargs="?", default=str(SAMPLE))
     ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--truth", default=None, help="truth CSV (default: NAME_truth.csv beside the video)")
+    ap.add_argument("--truth", default=None,
+                    help="truth CSV (default: NAME_truth.csv beside the video)")
     ap.add_argument("--no-synthetic", action="store_true", help="skip the 1280 x 1024 video")
     ap.add_argument("--frames", type=int, default=300, help="frames of the synthetic video")
     ap.add_argument("--cores", type=int, default=2, help="CPUs the process may use")
@@ -148,7 +151,8 @@ def main():
     from vision.spot import locate
     first = cv2.VideoCapture(str(path)).read()[1]
     locate(cv2.cvtColor(first, cv2.COLOR_BGR2GRAY), refine="blur")   # compile / load the kernel
-    print(f"first call (numba import + kernel compile or cache load): {time.perf_counter() - t0:.2f} s; "
+    print(f"first call (numba import + kernel compile or cache load): "
+          f"{time.perf_counter() - t0:.2f} s; "
           f"blurred-spot fit: {'numba' if _blur_kernel.compiled_available() else 'numpy'}; "
           f"{len(os.sched_getaffinity(0))} CPU(s)")
     truth = Path(args.truth) if args.truth else path.with_name(path.stem + "_truth.csv")
