@@ -71,8 +71,8 @@ def synthetic_video(folder, n_frames=300, width=1280, height=1024, fps=2000.0, r
     """Write ``folder/whirl_1280x1024.mkv`` (FFV1, gray; Matroska: AVI cannot time 2000
     frames/s) and its truth; returns the video's path and the truth (n_frames, 2) [px]: a
     spot of sigma ``sigma`` [px] whirling at ``rev_s`` [rev/s] on a circle of ``radius``
-    [px] about the frame's centre (plus a slow drift of the centre), filmed at ``fps`` [frames/s] with an exposure of ``exposure``
-    frame periods (16 sub-positions per exposure; the camera noise of
+    [px] about the frame's centre (plus a slow drift of the centre), filmed at ``fps``
+    [frames/s] with an exposure of ``exposure`` frame periods (16 sub-positions per exposure; the camera noise of
     :class:`vision.artificial.Camera`, 8 bits)."""
     from vision import artificial as art
 
