@@ -72,8 +72,8 @@ def synthetic_video(folder, n_frames=300, width=1280, height=1024, fps=2000.0, r
     frames/s) and its truth; returns the video's path and the truth (n_frames, 2) [px]: a
     spot of sigma ``sigma`` [px] whirling at ``rev_s`` [rev/s] on a circle of ``radius``
     [px] about the frame's centre (plus a slow drift of the centre), filmed at ``fps``
-    [frames/s] with an exposure of ``exposure`` frame periods (16 sub-positions per exposure; the camera noise of
-    :class:`vision.artificial.Camera`, 8 bits)."""
+    [frames/s] with an exposure of ``exposure`` frame periods (16 sub-positions per
+    exposure; the camera noise of :class:`vision.artificial.Camera`, 8 bits)."""
     from vision import artificial as art
 
     cam = art.Camera(width=width, height=height, sigma_px=sigma)
