@@ -23,7 +23,9 @@ The warm ``stand run`` uses the precompiled kernels (built by the first run or b
 
 * ``--kinds``: one warm ``stand run`` per sample scene kind (planar, spatial, flexible,
   platform, bodies; :data:`KIND_SCENES`), whole process minus the run's own integration
-  time (printed by the command), as a ratio to the baseline (goal <= 1.0).
+  time (printed by the command), as a ratio to the baseline (goal <= 1.0): medians of
+  ``--repeat`` rounds, the kinds' and the baseline's (taken between the kinds), with the
+  load average beside them.
 
 Usage: ``python benchmarks/bench_startup.py [--repeat 5] [--cold] [--fallback] [--kinds]``
 """
@@ -56,11 +58,12 @@ KIND_SCENES = ("ball_runup", "family_spatial", "family_flexible", "platform_pape
 
 
 def run_minus_integration(argv, repeat):
-    """Best of ``repeat`` whole-process ``stand run`` times minus the integration time it prints
-    (``[..., 0.05 s]``): (whole, integration) of the best round [s]."""
+    """Median over ``repeat`` whole-process ``stand run`` times of the time minus the
+    integration time it prints (``[..., 0.05 s]``): (whole, integration) of the median round
+    [s] (a median: the machine may be shared and noisy)."""
     import re
 
-    best = (float("inf"), 0.0)
+    rounds = []
     for _ in range(repeat):
         t0 = time.perf_counter()
         r = subprocess.run(argv, capture_output=True, text=True, cwd=ROOT)
@@ -68,22 +71,21 @@ def run_minus_integration(argv, repeat):
         if r.returncode not in (0, 1):
             raise SystemExit(f"{' '.join(map(str, argv))}: exit {r.returncode}\n{r.stderr}")
         m = re.search(r", ([0-9.]+) s\]", r.stdout)
-        integ = float(m.group(1)) if m else 0.0
-        if t - integ < best[0] - best[1]:
-            best = (t, integ)
-    return best
+        rounds.append((t, float(m.group(1)) if m else 0.0))
+    rounds.sort(key=lambda w: w[0] - w[1])
+    return rounds[len(rounds) // 2]
 
 
-def wall(argv, repeat, env=None):
-    best = float("inf")
+def wall(argv, repeat, env=None, stat=min):
+    times = []
     for _ in range(repeat):
         t0 = time.perf_counter()
         r = subprocess.run(argv, capture_output=True, text=True, cwd=ROOT,
                            env=None if env is None else {**os.environ, **env})
-        best = min(best, time.perf_counter() - t0)
+        times.append(time.perf_counter() - t0)
         if r.returncode not in (0, 1):
             raise SystemExit(f"{' '.join(map(str, argv))}: exit {r.returncode}\n{r.stderr}")
-    return best
+    return stat(times)
 
 
 def drop_compiled_caches():
@@ -146,11 +148,15 @@ def main():
         kinds = []
         if a.kinds:
             subprocess.run([*stand, "warmup", "--all"], capture_output=True, cwd=ROOT)
+            base_runs = []
             for name in KIND_SCENES:
                 argv = [*stand, "run", ROOT / "data_samples" / "scenes" / f"{name}.toml", "-o",
                         out, "--force"]
                 wall(argv, 1)                                          # warm the caches
+                base_runs.append(wall([py, "-c", "import numpy, scipy.integrate, h5py"],
+                                      a.repeat, stat=np.median))
                 kinds.append((name, *run_minus_integration(argv, a.repeat)))
+            kind_base, load = float(np.median(base_runs)), os.getloadavg()
         fallback = None
         if a.fallback:
             code = FALLBACK.format(scene=str(SCENE))
@@ -168,10 +174,12 @@ def main():
     for name, t in rows:
         print(f"{name:<48}{t:>10.3f}{t / base:>12.2f}")
     if kinds:
-        print(f"\n{'stand run <scene> -o r.h5 (warm)':<32}{'whole [s]':>10}{'integration':>12}"
+        print(f"\nmedians of {a.repeat}: baseline {kind_base:.3f} s; load average "
+              f"{load[0]:.1f} {load[1]:.1f} {load[2]:.1f} on {os.cpu_count()} CPUs")
+        print(f"{'stand run <scene> -o r.h5 (warm)':<32}{'whole [s]':>10}{'integration':>12}"
               f"{'(whole - integration) / baseline':>34}")
         for name, t, integ in kinds:
-            print(f"{name:<32}{t:>10.3f}{integ:>12.3f}{(t - integ) / base:>34.2f}")
+            print(f"{name:<32}{t:>10.3f}{integ:>12.3f}{(t - integ) / kind_base:>34.2f}")
         print()
     print(f"{'in process: stand.run + write':<48}{inproc:>10.3f}")
     print(f"{'in process: integration alone':<48}{integ:>10.4f}")

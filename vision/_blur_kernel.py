@@ -512,7 +512,8 @@ def compiled_fit():
             mod["_EVALUATE"] = kern
             for name in ("n_points", "_bound", "_evaluate", "_cholesky_solve", "_lm", "_score"):
                 mod[name] = jit(mod[name])
-            _compiled_fit = jit(fit_loops)
+            # nogil: a read-ahead thread decodes the next frames meanwhile (vision.io)
+            _compiled_fit = numba.njit(cache=True, error_model="numpy", nogil=True)(fit_loops)
     return _compiled_fit or None
 
 

@@ -18,18 +18,23 @@ from __future__ import annotations
 import glob
 import math
 import os
+import queue
+import threading
 from pathlib import Path
 from typing import Callable, Iterable, Iterator, NamedTuple, Sequence
 
 import numpy as np
 
-__all__ = ["VisionError", "FrameRecord", "iter_frames", "frame_table", "DEFAULT_DATASET",
-           "VIDEO_SUFFIXES", "IMAGE_SUFFIXES", "HDF5_SUFFIXES"]
+__all__ = ["VisionError", "FrameRecord", "iter_frames", "read_ahead", "frame_table",
+           "DEFAULT_DATASET", "VIDEO_SUFFIXES", "IMAGE_SUFFIXES", "HDF5_SUFFIXES", "READ_AHEAD"]
 
 DEFAULT_DATASET = "instruments/screen/frames"
 HDF5_SUFFIXES = {".h5", ".hdf5", ".hdf"}
 VIDEO_SUFFIXES = {".avi", ".mp4", ".mkv", ".mov", ".mpg", ".mpeg", ".wmv", ".webm", ".m4v"}
 IMAGE_SUFFIXES = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".pgm", ".ppm"}
+#: frames a decoder thread reads ahead of the consumer (video files and images: OpenCV
+#: releases the GIL while it decodes, so decoding overlaps the tracking of earlier frames)
+READ_AHEAD = 16
 
 
 class VisionError(ValueError):
@@ -87,12 +92,18 @@ def _iter_hdf5(path, dataset):
             yield i, t, np.asarray(img)
 
 
-def _iter_video(path):
+def _iter_video(path, threads: int = 0):
+    """(index, time [s], gray image) of every frame; ``threads``: FFmpeg's decoding threads
+    (0: its default)."""
     import cv2
 
     if not os.path.isfile(path):
         raise VisionError(f"{path}: no such video file")
-    cap = cv2.VideoCapture(path)
+    cap = None
+    if threads > 0:
+        cap = cv2.VideoCapture(path, cv2.CAP_FFMPEG, [cv2.CAP_PROP_N_THREADS, threads])
+    if cap is None or not cap.isOpened():
+        cap = cv2.VideoCapture(path)
     try:
         if not cap.isOpened():
             raise VisionError(f"{path}: cv2.VideoCapture cannot open it (corrupt or unsupported)")
@@ -148,8 +159,59 @@ def _iter_images(paths):
         yield i, math.nan, img
 
 
+def read_ahead(items: Iterable, depth: int = READ_AHEAD) -> Iterator:
+    """The items of ``items``, produced by a background thread up to ``depth`` ahead of the
+    consumer (a bounded queue: memory for ``depth`` items at most).
+
+    Same items in the same order as iterating ``items`` directly; an exception raised by
+    ``items`` is raised here, at the position where it occurred.  Closing this generator
+    early (``break``, garbage collection) stops the thread and closes ``items`` (e.g. releases
+    a video file).
+    """
+    q: queue.Queue = queue.Queue(maxsize=max(int(depth), 1))
+    stop = threading.Event()
+    end = object()
+
+    def put(x) -> bool:
+        while not stop.is_set():
+            try:
+                q.put(x, timeout=0.05)
+                return True
+            except queue.Full:
+                pass
+        return False
+
+    def produce():
+        it = iter(items)
+        try:
+            for x in it:
+                if not put((x, None)):
+                    return
+            put((end, None))
+        except BaseException as exc:   # noqa: BLE001 - handed to the consumer, raised there
+            put((end, exc))
+        finally:
+            close = getattr(it, "close", None)
+            if close is not None:
+                close()
+
+    worker = threading.Thread(target=produce, name="vision-read-ahead", daemon=True)
+    worker.start()
+    try:
+        while True:
+            x, exc = q.get()
+            if exc is not None:
+                raise exc
+            if x is end:
+                return
+            yield x
+    finally:
+        stop.set()
+        worker.join()
+
+
 def iter_frames(source, dataset: str = DEFAULT_DATASET, *,
-                progress: bool = False) -> Iterator[FrameRecord]:
+                progress: bool = False, ahead: int = READ_AHEAD) -> Iterator[FrameRecord]:
     """Stream gray frames from ``source``, one at a time.
 
     Parameters
@@ -167,6 +229,10 @@ def iter_frames(source, dataset: str = DEFAULT_DATASET, *,
         HDF5 dataset path (default ``instruments/screen/frames``).
     progress : bool
         Show a tqdm progress bar when tqdm is installed.
+    ahead : int
+        Video files and images are decoded by a thread up to ``ahead`` frames ahead of
+        the consumer (:func:`read_ahead`; a video by one FFmpeg thread: the other cores are
+        the tracker's); 0: decoded in the caller's thread, on demand (FFmpeg's own threads).
 
     Yields
     ------
@@ -179,7 +245,10 @@ def iter_frames(source, dataset: str = DEFAULT_DATASET, *,
         (mid-stream).  Blank frames are yielded (see the module docstring).
     """
     first = None
-    for i, t, img in _with_progress(_open(source, dataset), progress):
+    items = _open(source, dataset, ahead > 0)
+    if ahead > 0 and getattr(items, "__name__", "") in ("_iter_video", "_iter_images"):
+        items = read_ahead(items, ahead)       # (decoded by OpenCV, which releases the GIL)
+    for i, t, img in _with_progress(items, progress):
         img = np.asarray(img)
         if img.ndim != 2:
             raise VisionError(f"frame {i}: expected a 2-D gray image, shape {img.shape}")
@@ -249,7 +318,7 @@ def frame_table(frames: Iterable, measure: Callable, columns: Sequence[str], *,
     return df
 
 
-def _open(source, dataset):
+def _open(source, dataset, one_decoder_thread=False):
     if isinstance(source, np.ndarray):
         arr = source if source.ndim == 3 else source[None]
         return ((i, math.nan, arr[i]) for i in range(arr.shape[0]))
@@ -280,4 +349,5 @@ def _open(source, dataset):
         return _iter_images([p])
     if not p.is_file():
         raise VisionError(f"{path}: no such file")
-    return _iter_video(path)
+    # read ahead: the reading thread is the decoder's parallelism, the other cores track
+    return _iter_video(path, 1 if one_decoder_thread else 0)
