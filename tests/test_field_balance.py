@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 from dsp.influence_solve import least_squares, min_max, split_onto_holes, conditioning
-from stand.analysis.field_balance import balance_job, influence_toml
+from stand.analysis.field_balance import balance_job
+from stand.analysis.field_influence_file import influence_toml
 from stand.analysis.field_job import parse_job
 from stand.cli.main import main
 from stand.io.tomlfile import tomllib
@@ -87,21 +88,30 @@ def test_saved_influence_keeps_its_uncertainty(tmp_path, capsys):
         want = np.sqrt(s0 ** 2 + s1 ** 2 + (e["amplitude"] * sT) ** 2) / 1.15
         assert e["std"] == pytest.approx(want, rel=1e-3)
         assert saved["std"][e["sensor"]][e["plane"]] == pytest.approx(want, rel=1e-3)
-    # one shot on the same reference readings: the ± of the measuring job, not the 4x
-    # smaller one of an exact matrix.  (A few % below it: in the measuring job the reference
-    # reading enters A and V0 alike, a correlation a next machine's reference does not share.)
+    # one shot on the same reference readings (the measuring job's own reference: the file's
+    # [[measured_run]] give back its trial runs, and the correlation of A with V0): the ± of
+    # the measuring job exactly, not the 4x smaller one of an exact matrix.
     one = tmp_path / "one_shot.toml"
     one.write_text('[job]\nvibration_unit = "mm/s"\nmass_unit = "g"\n[[run]]\nkind = "reference"\n'
                    'readings = { S1 = "170 @ 112", S2 = "53 @ 78" }\n')
     reused = balance_job(one, influence=inf)
     assert "bk_17_227" in reused["influence_measured_by"]
     exact = tmp_path / "exact.toml"
-    exact.write_text("\n".join(ln for ln in inf.read_text().splitlines()
-                               if not ln.startswith("std =")))
+    exact.write_text("\n".join(ln for ln in inf.read_text().partition("[[measured_run]]")[0]
+                               .splitlines() if not ln.startswith("std =")))
     bare = balance_job(one, influence=exact)
     for p in ("P1", "P2"):
         m, r, b = (x["corrections"][p]["mass_std"] for x in (res, reused, bare))
-        assert 0.9 * m <= r <= 1.1 * m and b < 0.5 * m
+        assert r == pytest.approx(m, rel=1e-9) and b < 0.5 * m
+    # a next machine (its own reference): the coefficients with their ±, carried -- the
+    # correction's ± from the influence alone is at least that of the coefficients' ± times
+    # |U| / |A| (first order), far above the exact matrix's
+    nxt = tmp_path / "next.toml"
+    nxt.write_text(one.read_text().replace('"170 @ 112"', '"160 @ 100"'))
+    other, other_bare = balance_job(nxt, influence=inf), balance_job(nxt, influence=exact)
+    for p in ("P1", "P2"):
+        m, r, b = (x["corrections"][p]["mass_std"] for x in (res, other, other_bare))
+        assert 0.8 * m <= r <= 1.2 * m and b < 0.5 * r
 
 
 def test_known_influence_in_job_and_units():

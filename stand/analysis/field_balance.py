@@ -517,36 +517,3 @@ def _exact(rows, ref, key) -> bool:
     for r in rows if exact else ():
         r[key], r[f"{key}_deg"] = 0.0, None
     return exact
-
-
-def influence_toml(res: FieldBalance) -> str:
-    """The result's influence matrix as a job file's ``[[influence]]`` tables (with its
-    ``[job]`` units, each coefficient's ``std`` (each of Re and Im) and the job that measured
-    it), for ``--influence FILE`` on the next machine of the type."""
-    import json
-
-    lines = ["# influence coefficients saved by stand balance --save-influence",
-             "# std: standard uncertainty of each of Re and Im of a coefficient (its unit)",
-             "[job]", f'vibration_unit = "{res["vibration_unit"]}"',
-             f'amplitude = "{res["amplitude"]}"', f'mass_unit = "{res["mass_unit"]}"', ""]
-    speeds = []
-    for e in res["influence"]:
-        if e["speed_rpm"] not in speeds:
-            speeds.append(e["speed_rpm"])
-    for sp in speeds:
-        lines.append("[[influence]]")
-        if sp is not None:
-            lines.append(f'speed = "{sp:.10g} rpm"')
-        lines.append(f'measured_by = {json.dumps(res["influence_measured_by"])}')
-        rows, std = {}, {}
-        for e in res["influence"]:
-            if e["speed_rpm"] == sp:
-                rows.setdefault(e["sensor"], []).append(
-                    f'"{e["plane"]}" = "{e["amplitude"]:.10g} @ {e["angle_deg"]:.10g}"')
-                std.setdefault(e["sensor"], []).append(f'"{e["plane"]}" = {e["std"]:.4g}')
-        for s, cells in rows.items():
-            lines.append(f'"{s}" = {{ {", ".join(cells)} }}')
-        lines.append("std = { " + ", ".join(f'"{s}" = {{ {", ".join(c)} }}'
-                                             for s, c in std.items()) + " }")
-        lines.append("")
-    return "\n".join(lines)

@@ -525,5 +525,12 @@ def read_job(path, influence: Optional[str] = None) -> FieldJob:
     doc, _, label = read_toml(path, what="job file", error=ValueError)
     inf = None
     if influence is not None:
+        from .field_influence_file import linked_runs
+
         inf, _, _ = read_toml(influence, what="influence file", error=ValueError)
+        runs = linked_runs(doc, inf)
+        if runs is not None:          # the measuring job's own reference: that job, its ±
+            job = parse_job({**doc, "run": runs}, str(path))
+            job.influence_source = str((inf.get("influence") or [{}])[0].get("measured_by", ""))
+            return job
     return parse_job(doc, str(path), inf)

@@ -107,10 +107,15 @@ def influence(reference, trials, trial_weights, sensors):
 def save_influence(balance, path) -> None:
     """Write a field balancing's influence matrix (TOML) for the next machine of the type
     (``stand balance --influence``)."""
-    from stand.analysis.field_balance import influence_toml
+    from stand.analysis.field_influence_file import influence_toml
     from stand.io.atomic import write_text
+    from stand.io.tomlfile import read_toml
 
-    write_text(path, influence_toml(balance))
+    try:                          # the measuring job's runs as written (see influence_toml)
+        runs = read_toml(balance["job"], what="job file", error=ValueError)[0].get("run")
+    except (ValueError, OSError, TypeError):
+        runs = None
+    write_text(path, influence_toml(balance, runs))
 
 
 def daq(recording, output, *, truth=None, offset_um=(35.0, -20.0), quantity: str = "displacement",
