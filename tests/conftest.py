@@ -1,13 +1,17 @@
 """Test-session hooks.
 
 * Compile ahead, once, before the test processes start: every model kind's kernels
-  (numba's cache and the precompiled modules), one process per kind in parallel, so
-  that pytest-xdist's workers load them instead of each compiling the same kernels.
+  (numba's cache and the precompiled modules), the screen renderer, the blurred-spot and
+  line fits, one process each, as many at a time as there are cores, so that
+  pytest-xdist's workers load them instead of each compiling the same kernels.
+* The full sweeps and calibrations are marked ``full`` and left out by default
+  (pyproject ``addopts``); ``pytest -m full`` runs them (benchmarks/README.md).
 * Print the adversarial harness' table at the end of the run (tests/test_adversarial.py
   records it as a user property; this works under pytest-xdist).
 """
 import subprocess
 import sys
+import time
 
 _TABLES = []
 
@@ -28,11 +32,24 @@ def pytest_terminal_summary(terminalreporter):
 def pytest_configure(config):
     if hasattr(config, "workerinput"):   # an xdist worker: the controller compiled already
         return
+    import os
+
     from stand.model.kernels import KIND_NAMES
 
-    code = "from stand.api.warmup import warmup; warmup(kinds=[{k}], say=lambda s: None)"
-    procs = [subprocess.Popen([sys.executable, "-c", code.format(k=k)]) for k in sorted(KIND_NAMES)]
-    procs.append(subprocess.Popen([sys.executable, "-c", "from vision.blur import warm; warm()"]))
-    procs.append(subprocess.Popen([sys.executable, "-c", "from dsp._line_kernel import warm; warm()"]))
-    for p in procs:
+    kind = "from stand.api.warmup import warmup; warmup(kinds=[{k}], say=lambda s: None)"
+    # the generic kind compiles longest: first; the screen renderer too (else each worker
+    # JIT-compiles it and the command line starts a background build of it mid-run)
+    codes = [kind.format(k=k) for k in sorted(KIND_NAMES, reverse=True)]
+    codes += ["from stand.integrate import precompiled\n"
+              "try: precompiled.build('stand.instruments.render:render_frame')\n"
+              "except Exception: pass   # no C compiler: numba's JIT on first use",
+              "from vision.blur import warm; warm()", "from dsp._line_kernel import warm; warm()"]
+    # as many at a time as there are cores: no faster with more, and each holds ~0.8 GB
+    at_once, running = max(1, os.cpu_count() or 1), []
+    for code in codes:
+        while len(running) >= at_once:
+            running = [p for p in running if p.poll() is None]
+            time.sleep(0.05)
+        running.append(subprocess.Popen([sys.executable, "-c", code]))
+    for p in running:
         p.wait()

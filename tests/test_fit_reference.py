@@ -42,7 +42,7 @@ def _check(fit, truth: Stand, z_max=3.0, rel=0.02):
     return zs
 
 
-@pytest.mark.parametrize("seed", [1, 2])
+@pytest.mark.parametrize("seed", [1, pytest.param(2, marks=pytest.mark.full)])  # 2: `-m full`
 def test_fit_recovers_the_reference_stand(tmp_path, seed):
     truth = Stand(**SHORT)
     rec = record(truth, duration=DURATION, seed=seed)

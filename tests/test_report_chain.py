@@ -35,7 +35,10 @@ def _lab_cases():
         for m in sorted((SAMPLES / folder).glob("*.map.toml")):
             stem = m.name[: -len(".map.toml")]
             table = max((t for t in tables if stem.startswith(t.stem)), key=lambda t: len(t.stem))
-            cases.append(pytest.param(table, m, id=f"{folder}/{stem}"))
+            # the no-speed fit (~15 s): its analysis is tested in test_lab_daq.py, the chain on
+            # daq_runup; the chain on it runs with `-m full`
+            marks = [pytest.mark.full] if stem == "daq_runup_no_speed" else []
+            cases.append(pytest.param(table, m, id=f"{folder}/{stem}", marks=marks))
     for h5 in sorted((SAMPLES / "recordings").glob("*.h5")):
         cases.append(pytest.param(h5, None, id=f"recordings/{h5.stem}"))
     return cases
@@ -180,12 +183,16 @@ def test_bode_table_report_has_its_plots_and_identification(tmp_path):
 #: theory, the cameras' frames): ``-m "not slow"`` leaves them out
 _SLOW = {"ball_friction", "stand_cameras", "body_compare_balls", "screen_video", "ball_stuck",
          "ball_runup", "body_stress_pendulum_fast"}
+#: of those, the ones whose kind another case already walks (balls: ball_runup; cameras:
+#: recordings/stand_cameras above): run with ``-m full`` only (10-20 s each)
+_FULL = {"ball_friction", "ball_stuck", "body_compare_balls", "screen_video", "stand_cameras"}
 
 
 def _scene_cases():
     out = []
     for p in sorted((SAMPLES / "scenes").glob("*.toml")):
         marks = [pytest.mark.slow] if p.stem in _SLOW else []
+        marks += [pytest.mark.full] if p.stem in _FULL else []
         out.append(pytest.param(p, id=p.stem, marks=marks))
     return out
 
