@@ -239,7 +239,8 @@ def _amplitude(p, patch, mask, level, clipped) -> float:
 
 
 def initial_guesses(patch: np.ndarray, mask: np.ndarray, level: float, clipped: np.ndarray,
-                    sigma: Optional[float] = None, amplitude: Optional[float] = None) -> list:
+                    sigma: Optional[float] = None, amplitude: Optional[float] = None,
+                    engine: str = "auto") -> list:
     """Starting parameters from the blob's moments (patch coordinates, internal form
     (m_u, m_v, h_u, h_v, kappa, a2, a3, ln A, ln s)): one or two candidates, the fit
     starts from the better.
@@ -251,8 +252,27 @@ def initial_guesses(patch: np.ndarray, mask: np.ndarray, level: float, clipped: 
     * for a long blob (l > 5 s) also the arc of an algebraic circle fit.
 
     ``sigma`` [px] and ``amplitude`` [DN] (e.g. the previous frame's fit) replace
-    the moment estimates of s and A.
+    the moment estimates of s and A.  ``engine``: as in :func:`fit_blurred_spot` (the
+    compiled loops of :mod:`vision._blur_start` or numpy: the same numbers).
     """
+    from ._blur_start import compiled_start
+
+    shrink = 0.8 if clipped.any() else 1.0
+    fast = compiled_start() if engine != "numpy" else None
+    if fast is not None:
+        out = list(fast(np.ascontiguousarray(patch, dtype=np.float64), mask, float(level),
+                        float(sigma or 0.0), shrink, MAX_SWEEP))
+        if not out:
+            raise ValueError("blob: no signal above the background")
+    else:
+        out = _moment_guesses(patch, mask, level, shrink, sigma)
+    for p in out:
+        p[IA] = math.log(amplitude) if amplitude else _amplitude(p, patch, mask, level, clipped)
+    return out
+
+
+def _moment_guesses(patch, mask, level, shrink, sigma) -> list:
+    """:func:`initial_guesses` in numpy, without the amplitude."""
     H, W = patch.shape
     w = np.where(mask, np.maximum(patch - level, 0.0), 0.0)
     tot = float(w.sum())
@@ -272,8 +292,7 @@ def initial_guesses(patch: np.ndarray, mask: np.ndarray, level: float, clipped: 
     lam1, lam2 = 0.5 * tr + disc, max(0.5 * tr - disc, 0.0)
     ang = 0.5 * math.atan2(2.0 * cuv, cuu - cvv)
     tu, tv = math.cos(ang), math.sin(ang)
-    # a clipped core flattens the profile: its across variance overestimates s^2
-    shrink = 0.8 if clipped.any() else 1.0
+    # a clipped core flattens the profile (shrink): its across variance overestimates s^2
     s0 = sigma if sigma else max(math.sqrt(lam2) * shrink, 0.7)
     # (clipping widens both directions alike: the difference stays l^2 / 3)
     ell = math.sqrt(max(3.0 * (lam1 - lam2), 0.0))
@@ -291,8 +310,6 @@ def initial_guesses(patch: np.ndarray, mask: np.ndarray, level: float, clipped: 
             el, cu_, cv_, ka, s_arc = arc
             s1 = sigma if sigma else max(s_arc * shrink, 0.7)
             out.append(np.array([mu, mv, el * cu_, el * cv_, ka, 0.0, 0.0, 0.0, math.log(s1)]))
-    for p in out:
-        p[IA] = math.log(amplitude) if amplitude else _amplitude(p, patch, mask, level, clipped)
     return out
 
 
@@ -358,7 +375,7 @@ def fit_blurred_spot(patch, mask, level: float, *, saturation: Optional[float] =
         sat_eff = math.inf
     pi, pj = np.nonzero(mask)
     if p0 is None:
-        starts = initial_guesses(patch, mask, level, clipped, sigma, amplitude)
+        starts = initial_guesses(patch, mask, level, clipped, sigma, amplitude, engine)
     else:
         p = np.array(p0, float)
         if p.shape != (N_PARAMS,):
