@@ -395,12 +395,15 @@ def fit_blurred_spot(patch, mask, level: float, *, saturation: Optional[float] =
     # sandwich covariance B^-1 M B^-1 (robust to the bright pixels' shot noise), scaled
     # by n / dof; m_u, m_v come first among the fitted parameters
     f = np.flatnonzero(free)
-    Bi = _inv(JTJ[np.ix_(f, f)])
-    cov = Bi @ MJ[np.ix_(f, f)] @ Bi * (n_pix / dof)
-    su, sv = math.sqrt(max(cov[0, 0], 0.0)), math.sqrt(max(cov[1, 1], 0.0))
+    Bc = _inv(JTJ[f][:, f])[:2]           # the rows of m_u, m_v (B^-1 is symmetric)
+    cov = np.einsum("ia,ab,ib->i", Bc, MJ[f][:, f], Bc) * (n_pix / dof)
+    su, sv = math.sqrt(max(cov[0], 0.0)), math.sqrt(max(cov[1], 0.0))
     return BlurFit(float(p[0]), float(p[1]), su, sv, (float(p[2]), float(p[3])), float(p[4]),
                    (float(p[5]), float(p[6])), math.exp(p[IA]), math.exp(p[IS]), float(s2),
                    n_pix, int(clipped.sum()), int(it), bool(converged))
+
+
+_FITS = {}      # engine -> the compiled fit, once found (a per-frame lookup in a video)
 
 
 def _fit_function(engine: str = "auto"):
@@ -408,13 +411,15 @@ def _fit_function(engine: str = "auto"):
     (numba imported on the first call, ``cache=True``), "numpy" the plain Python loop over
     the numpy normal equations (:mod:`vision._blur_numpy`), "auto" the first available.
     Raises RuntimeError for "numba" without it."""
+    if engine in _FITS:
+        return _FITS[engine]
     from ._blur_kernel import compiled_fit
     from ._blur_numpy import python_fit
 
     if engine in ("auto", "numba"):
         fit = compiled_fit()
         if fit is not None:
-            return fit
+            return _FITS.setdefault(engine, fit)
         if engine == "numba":
             raise RuntimeError("engine='numba': numba is not available (or disabled)")
     return python_fit()
