@@ -440,6 +440,8 @@ def warm() -> str:
     _fit_function(engine)(patch, pi, pj, np.zeros(pi.size, np.bool_), 8.0, np.inf, start,
                           34.0, np.array([0.35, math.pi, 0.5, 4000.0]), np.array([2e-3, 1e-2]),
                           40, 6.0)
+    initial_guesses(patch, np.ones(patch.shape, bool), 8.0, np.zeros(patch.shape, bool),
+                    engine=engine)          # the compiled starting values too
     return engine
 
 
