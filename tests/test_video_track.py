@@ -90,6 +90,27 @@ def test_numpy_fallback_gives_the_compiled_numbers():
     assert abs(a.sigma - b.sigma) < 1e-4 and abs(a.amplitude / b.amplitude - 1) < 1e-4
 
 
+@pytest.mark.parametrize("R, turns, n_starts", [(30.0, 0.24, 2), (30.0, 0.03, 1)])
+def test_compiled_starting_values_are_the_numpy_ones(R, turns, n_starts):
+    """vision._blur_start (moments, curvature, circle fit in loops) = initial_guesses' numpy
+    path to rounding, for a long arc (two starts: segment and circle) and a short one."""
+    pytest.importorskip("numba")
+    from vision._blur_start import compiled_start
+    from vision.blur import initial_guesses
+
+    if compiled_start() is None:
+        pytest.skip("numba disabled")
+    cam, px, truth = _arc(R, turns, 12000.0)
+    patch = art.spot_frame(px, cam, np.random.default_rng(1)).astype(float)[40:120, 40:120]
+    mask = cv2.dilate((patch > 20.0).astype(np.uint8), np.ones((9, 9), np.uint8)).astype(bool)
+    clipped = mask & (patch >= 251.0)
+    for sigma in (None, 2.1):
+        a = initial_guesses(patch, mask, 8.0, clipped, sigma, 9000.0, engine="numba")
+        b = initial_guesses(patch, mask, 8.0, clipped, sigma, 9000.0, engine="numpy")
+        assert len(a) == len(b) == n_starts
+        np.testing.assert_allclose(np.array(a), np.array(b), rtol=1e-9, atol=1e-9)
+
+
 def test_a_path_the_model_cannot_draw_falls_back_visibly():
     """Three turns in one exposure (a long-exposure circle): no arc fits it; the frame keeps
     the centroid, and its flags say so (no frame falls back silently)."""

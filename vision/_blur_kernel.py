@@ -460,21 +460,23 @@ def fit_loops(patch, pi, pj, clipped, level, sat_eff, starts, size, c, tol, max_
     MJ = np.empty((NP, NP))
     p = np.empty(NP)
     cost = np.inf
-    tJ = np.empty((NP, NP))
-    tg = np.empty(NP)
-    tM = np.empty((NP, NP))
     q = np.empty(NP)
+    many = starts.shape[0] > 1      # then the costs alone, the matrices at the best start
     for k in range(starts.shape[0]):
         q[:] = starts[k]
         q[5] = 0.0
         q[6] = 0.0
-        ck = _evaluate(patch, pi, pj, clipped, level, sat_eff, q, c, tJ, tg, tM)
+        if many:
+            n = n_points(math.sqrt(q[2] * q[2] + q[3] * q[3]), math.exp(q[8]), c[0], c[3])
+            ck = _EVALUATE(patch, pi, pj, clipped, level, sat_eff, q, n, n < 0, n < 0, JTJ, g,
+                           MJ)
+        else:
+            ck = _evaluate(patch, pi, pj, clipped, level, sat_eff, q, c, JTJ, g, MJ)
         if ck < cost or k == 0:
             cost = ck
             p[:] = q
-            JTJ[:, :] = tJ
-            g[:] = tg
-            MJ[:, :] = tM
+    if many:
+        cost = _evaluate(patch, pi, pj, clipped, level, sat_eff, p, c, JTJ, g, MJ)
     free = np.ones(NP, np.bool_)
     free[5] = False
     free[6] = False

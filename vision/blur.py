@@ -239,7 +239,8 @@ def _amplitude(p, patch, mask, level, clipped) -> float:
 
 
 def initial_guesses(patch: np.ndarray, mask: np.ndarray, level: float, clipped: np.ndarray,
-                    sigma: Optional[float] = None, amplitude: Optional[float] = None) -> list:
+                    sigma: Optional[float] = None, amplitude: Optional[float] = None,
+                    engine: str = "auto") -> list:
     """Starting parameters from the blob's moments (patch coordinates, internal form
     (m_u, m_v, h_u, h_v, kappa, a2, a3, ln A, ln s)): one or two candidates, the fit
     starts from the better.
@@ -251,8 +252,27 @@ def initial_guesses(patch: np.ndarray, mask: np.ndarray, level: float, clipped: 
     * for a long blob (l > 5 s) also the arc of an algebraic circle fit.
 
     ``sigma`` [px] and ``amplitude`` [DN] (e.g. the previous frame's fit) replace
-    the moment estimates of s and A.
+    the moment estimates of s and A.  ``engine``: as in :func:`fit_blurred_spot` (the
+    compiled loops of :mod:`vision._blur_start` or numpy: the same numbers).
     """
+    from ._blur_start import compiled_start
+
+    shrink = 0.8 if clipped.any() else 1.0
+    fast = compiled_start() if engine != "numpy" else None
+    if fast is not None:
+        out = list(fast(np.ascontiguousarray(patch, dtype=np.float64), mask, float(level),
+                        float(sigma or 0.0), shrink, MAX_SWEEP))
+        if not out:
+            raise ValueError("blob: no signal above the background")
+    else:
+        out = _moment_guesses(patch, mask, level, shrink, sigma)
+    for p in out:
+        p[IA] = math.log(amplitude) if amplitude else _amplitude(p, patch, mask, level, clipped)
+    return out
+
+
+def _moment_guesses(patch, mask, level, shrink, sigma) -> list:
+    """:func:`initial_guesses` in numpy, without the amplitude."""
     H, W = patch.shape
     w = np.where(mask, np.maximum(patch - level, 0.0), 0.0)
     tot = float(w.sum())
@@ -272,8 +292,7 @@ def initial_guesses(patch: np.ndarray, mask: np.ndarray, level: float, clipped: 
     lam1, lam2 = 0.5 * tr + disc, max(0.5 * tr - disc, 0.0)
     ang = 0.5 * math.atan2(2.0 * cuv, cuu - cvv)
     tu, tv = math.cos(ang), math.sin(ang)
-    # a clipped core flattens the profile: its across variance overestimates s^2
-    shrink = 0.8 if clipped.any() else 1.0
+    # a clipped core flattens the profile (shrink): its across variance overestimates s^2
     s0 = sigma if sigma else max(math.sqrt(lam2) * shrink, 0.7)
     # (clipping widens both directions alike: the difference stays l^2 / 3)
     ell = math.sqrt(max(3.0 * (lam1 - lam2), 0.0))
@@ -291,8 +310,6 @@ def initial_guesses(patch: np.ndarray, mask: np.ndarray, level: float, clipped: 
             el, cu_, cv_, ka, s_arc = arc
             s1 = sigma if sigma else max(s_arc * shrink, 0.7)
             out.append(np.array([mu, mv, el * cu_, el * cv_, ka, 0.0, 0.0, 0.0, math.log(s1)]))
-    for p in out:
-        p[IA] = math.log(amplitude) if amplitude else _amplitude(p, patch, mask, level, clipped)
     return out
 
 
@@ -358,7 +375,7 @@ def fit_blurred_spot(patch, mask, level: float, *, saturation: Optional[float] =
         sat_eff = math.inf
     pi, pj = np.nonzero(mask)
     if p0 is None:
-        starts = initial_guesses(patch, mask, level, clipped, sigma, amplitude)
+        starts = initial_guesses(patch, mask, level, clipped, sigma, amplitude, engine)
     else:
         p = np.array(p0, float)
         if p.shape != (N_PARAMS,):
@@ -378,12 +395,15 @@ def fit_blurred_spot(patch, mask, level: float, *, saturation: Optional[float] =
     # sandwich covariance B^-1 M B^-1 (robust to the bright pixels' shot noise), scaled
     # by n / dof; m_u, m_v come first among the fitted parameters
     f = np.flatnonzero(free)
-    Bi = _inv(JTJ[np.ix_(f, f)])
-    cov = Bi @ MJ[np.ix_(f, f)] @ Bi * (n_pix / dof)
-    su, sv = math.sqrt(max(cov[0, 0], 0.0)), math.sqrt(max(cov[1, 1], 0.0))
+    Bc = _inv(JTJ[f][:, f])[:2]           # the rows of m_u, m_v (B^-1 is symmetric)
+    cov = np.einsum("ia,ab,ib->i", Bc, MJ[f][:, f], Bc) * (n_pix / dof)
+    su, sv = math.sqrt(max(cov[0], 0.0)), math.sqrt(max(cov[1], 0.0))
     return BlurFit(float(p[0]), float(p[1]), su, sv, (float(p[2]), float(p[3])), float(p[4]),
                    (float(p[5]), float(p[6])), math.exp(p[IA]), math.exp(p[IS]), float(s2),
                    n_pix, int(clipped.sum()), int(it), bool(converged))
+
+
+_FITS = {}      # engine -> the compiled fit, once found (a per-frame lookup in a video)
 
 
 def _fit_function(engine: str = "auto"):
@@ -391,13 +411,15 @@ def _fit_function(engine: str = "auto"):
     (numba imported on the first call, ``cache=True``), "numpy" the plain Python loop over
     the numpy normal equations (:mod:`vision._blur_numpy`), "auto" the first available.
     Raises RuntimeError for "numba" without it."""
+    if engine in _FITS:
+        return _FITS[engine]
     from ._blur_kernel import compiled_fit
     from ._blur_numpy import python_fit
 
     if engine in ("auto", "numba"):
         fit = compiled_fit()
         if fit is not None:
-            return fit
+            return _FITS.setdefault(engine, fit)
         if engine == "numba":
             raise RuntimeError("engine='numba': numba is not available (or disabled)")
     return python_fit()
@@ -418,6 +440,8 @@ def warm() -> str:
     _fit_function(engine)(patch, pi, pj, np.zeros(pi.size, np.bool_), 8.0, np.inf, start,
                           34.0, np.array([0.35, math.pi, 0.5, 4000.0]), np.array([2e-3, 1e-2]),
                           40, 6.0)
+    initial_guesses(patch, np.ones(patch.shape, bool), 8.0, np.zeros(patch.shape, bool),
+                    engine=engine)          # the compiled starting values too
     return engine
 
 

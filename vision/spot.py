@@ -228,9 +228,13 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
         if np.any(stats[others, cv2.CC_STAT_AREA] >= MIN_BLOB_AREA) and areas.size > 1:
             flags.add("second_blob")
     bx, by, bw, bh = stats[lab, :4]
-    if _inside_only and (bx <= 0 and x0 > 0 or by <= 0 and y0 > 0
-                         or bx + bw >= sub.shape[1] and x0 + sub.shape[1] < W
-                         or by + bh >= sub.shape[0] and y0 + sub.shape[0] < H):
+
+    def near_roi_border(pad):   # within pad px of the ROI's border inside the frame
+        return _inside_only and (bx <= pad and x0 > 0 or by <= pad and y0 > 0
+                                 or bx + bw + pad >= sub.shape[1] and x0 + sub.shape[1] < W
+                                 or by + bh + pad >= sub.shape[0] and y0 + sub.shape[0] < H)
+
+    if near_roi_border(0):
         return None       # the blob reaches the ROI's border inside the frame: search it all
     if window is None:
         hu = 1.25 * 0.5 * bw + 1.0
@@ -249,6 +253,8 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
         elongated = (abs(int(bw) - int(bh)) > max(2, 0.25 * max(bw, bh))
                      or stats[lab, cv2.CC_STAT_AREA] < FILL_ROUND * bw * bh)
         if refine == "blur" or clipped or elongated:
+            if near_roi_border(ARC_PAD + 1):   # its fit's window would reach the border
+                return None                    # (_locate_near): not worth fitting here
             r = _blur_locate(sub, labels, lab, (bx, by, bw, bh), level, noise, censor, amp, flags,
                              (x0, y0, W, H), blur_start)
             if r is not None:

@@ -1,0 +1,189 @@
+"""Starting values of the blurred-spot fit as loops that numba compiles.
+
+:func:`start_loops` is :func:`vision.blur.initial_guesses` without the amplitude step
+(the blob's moments, the third moment's curvature and, for a long blob, the weighted
+algebraic circle fit) in one pass of plain loops: the numpy version makes some thirty
+numpy calls per blob, about 0.4 ms of Python holding the GIL per video frame, while a
+read-ahead thread decodes the next frames (:mod:`vision.io`).  The same numbers to
+rounding (``tests/test_vision_spot.py``).  :func:`compiled_start` compiles it (numba,
+``cache=True``, ``nogil=True``) or returns None when numba is missing or disabled
+(``STAND_DISABLE_JIT`` / ``NUMBA_DISABLE_JIT``): the numpy version then runs.  This
+module imports nothing of ``vision`` (numba's cache is invalidated per source file).
+"""
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+
+__all__ = ["start_loops", "compiled_start"]
+
+_compiled = None        # None: not tried yet; False: unavailable; else the dispatcher
+
+
+def start_loops(patch, mask, level, sigma, shrink, max_sweep):
+    """Starting parameters (rows of (m_u, m_v, h_u, h_v, kappa, a2, a3, 0, ln s), patch
+    coordinates [px]) of the blob ``mask`` of ``patch`` [DN] above ``level`` [DN]:
+    (1, 9) for a segment, (2, 9) with the circle fit's arc, (0, 9) without signal.
+    ``sigma`` [px] replaces the moment estimate of s when > 0; ``shrink``: factor of the
+    across-width estimate of s (a clipped core widens the blob)."""
+    H, W = patch.shape
+    tot = 0.0
+    su = 0.0
+    sv = 0.0
+    for i in range(H):
+        for j in range(W):
+            if mask[i, j]:
+                x = patch[i, j] - level
+                if x > 0:
+                    tot += x
+                    su += x * j
+                    sv += x * i
+    if not tot > 0:
+        return np.empty((0, 9))
+    mu = su / tot
+    mv = sv / tot
+    cuu = 0.0
+    cvv = 0.0
+    cuv = 0.0
+    for i in range(H):
+        for j in range(W):
+            if mask[i, j] and patch[i, j] - level > 0:
+                x = patch[i, j] - level
+                du = j - mu
+                dv = i - mv
+                cuu += x * du * du
+                cvv += x * dv * dv
+                cuv += x * du * dv
+    cuu /= tot
+    cvv /= tot
+    cuv /= tot
+    tr = cuu + cvv
+    det = cuu * cvv - cuv * cuv
+    disc = math.sqrt(max(0.25 * tr * tr - det, 0.0))
+    lam1 = 0.5 * tr + disc
+    lam2 = max(0.5 * tr - disc, 0.0)
+    ang = 0.5 * math.atan2(2.0 * cuv, cuu - cvv)
+    tu = math.cos(ang)
+    tv = math.sin(ang)
+    s0 = sigma if sigma > 0 else max(math.sqrt(lam2) * shrink, 0.7)
+    ell = math.sqrt(max(3.0 * (lam1 - lam2), 0.0))
+    kap = 0.0
+    if ell > 2.0 * s0:
+        m3 = 0.0
+        for i in range(H):
+            for j in range(W):
+                if mask[i, j] and patch[i, j] - level > 0:
+                    du = j - mu
+                    dv = i - mv
+                    t = du * tu + dv * tv
+                    m3 += (patch[i, j] - level) * (-du * tv + dv * tu) * (t * t - lam1)
+        kap = m3 / tot * 45.0 / (2.0 * ell ** 4)
+        kap = max(min(kap, 0.5 * max_sweep / ell), -0.5 * max_sweep / ell)
+    arc = np.empty(5)
+    k = 2 if ell > 5.0 * s0 and _circle(patch, mask, level, mu, mv, tot, max_sweep, arc) else 1
+    out = np.zeros((k, 9))
+    out[0, 0] = mu
+    out[0, 1] = mv
+    out[0, 2] = ell * tu
+    out[0, 3] = ell * tv
+    out[0, 4] = kap
+    out[0, 8] = math.log(s0)
+    if k == 2:
+        out[1, 0] = mu
+        out[1, 1] = mv
+        out[1, 2] = arc[0] * arc[1]
+        out[1, 3] = arc[0] * arc[2]
+        out[1, 4] = arc[3]
+        out[1, 8] = math.log(sigma if sigma > 0 else max(arc[4] * shrink, 0.7))
+    return out
+
+
+def _circle(patch, mask, level, mu, mv, tot, max_sweep, arc):
+    """:func:`vision.blur._circle_guess` in loops: ``arc`` = (l, t_u, t_v, kappa, radial sd);
+    False when there is no circle (singular system, or practically straight)."""
+    H, W = patch.shape
+    a = np.zeros((3, 3))
+    r = np.zeros(3)
+    for i in range(H):
+        for j in range(W):
+            if mask[i, j] and patch[i, j] - level > 0:
+                w = patch[i, j] - level
+                m = (j - mu, i - mv, 1.0)
+                z = m[0] * m[0] + m[1] * m[1]
+                for p in range(3):
+                    r[p] -= w * m[p] * z
+                    for q in range(3):
+                        a[p, q] += w * m[p] * m[q]
+    det = (a[0, 0] * (a[1, 1] * a[2, 2] - a[1, 2] * a[2, 1])
+           - a[0, 1] * (a[1, 0] * a[2, 2] - a[1, 2] * a[2, 0])
+           + a[0, 2] * (a[1, 0] * a[2, 1] - a[1, 1] * a[2, 0]))
+    if det == 0.0:
+        return False
+    x = np.empty(3)
+    for c in range(3):        # Cramer's rule
+        b = a.copy()
+        for p in range(3):
+            b[p, c] = r[p]
+        x[c] = (b[0, 0] * (b[1, 1] * b[2, 2] - b[1, 2] * b[2, 1])
+                - b[0, 1] * (b[1, 0] * b[2, 2] - b[1, 2] * b[2, 0])
+                + b[0, 2] * (b[1, 0] * b[2, 1] - b[1, 1] * b[2, 0])) / det
+    cu = -0.5 * x[0]
+    cv = -0.5 * x[1]
+    R2 = cu * cu + cv * cv - x[2]
+    if not 0 < R2 < 1e8:
+        return False
+    R = math.sqrt(R2)
+    c0 = 0.0
+    s0 = 0.0
+    for i in range(H):
+        for j in range(W):
+            if mask[i, j] and patch[i, j] - level > 0:
+                w = patch[i, j] - level
+                an = math.atan2(i - mv - cv, j - mu - cu)
+                c0 += w * math.cos(an)
+                s0 += w * math.sin(an)
+    c0 /= tot
+    s0 /= tot
+    mid = math.atan2(s0, c0)
+    C = min(math.sqrt(c0 * c0 + s0 * s0), 1.0)
+    b = min(math.sqrt(max(6.0 * (1.0 - C), 0.0)), max_sweep)   # sin(b)/b = C, by Newton
+    for _ in range(8):
+        if b < 1e-6:
+            break
+        fp = (b * math.cos(b) - math.sin(b)) / (b * b)
+        if fp == 0:
+            break
+        b = min(max(b - (math.sin(b) / b - C) / fp, 1e-6), max_sweep)
+    sd = 0.0
+    for i in range(H):
+        for j in range(W):
+            if mask[i, j] and patch[i, j] - level > 0:
+                rad = math.hypot(j - mu - cu, i - mv - cv) - R
+                sd += (patch[i, j] - level) * rad * rad
+    arc[0] = R * b
+    arc[1] = -math.sin(mid)
+    arc[2] = math.cos(mid)
+    arc[3] = 1.0 / R
+    arc[4] = math.sqrt(sd / tot)
+    return True
+
+
+def compiled_start():
+    """:func:`start_loops` compiled by numba (``cache=True``, ``nogil=True``; numba
+    imported on the first call), or None when numba is missing or disabled."""
+    global _compiled
+    if _compiled is None:
+        _compiled = False
+        if not any(os.environ.get(k, "") not in ("", "0")
+                   for k in ("STAND_DISABLE_JIT", "NUMBA_DISABLE_JIT")):
+            try:
+                import numba
+            except ImportError:
+                pass
+            else:
+                jit = numba.njit(cache=True, error_model="numpy", nogil=True)
+                globals()["_circle"] = jit(_circle)
+                _compiled = jit(start_loops)
+    return _compiled or None
