@@ -31,8 +31,16 @@ if str(BENCH) not in sys.path:
 from _uncertainty_lab import PATHS  # noqa: E402
 
 
-@pytest.mark.parametrize("path", ["keyphasor-ttl", "keyphasor-ttl-steady", "tachometer-analog",
-                                  "tachometer-rounded", "encoder-360"])
+#: one keyphasor and one tachometer path in the default run; the other variants of the same
+#: speed sources (20-35 s each) with ``-m full`` (all of them: benchmarks/bench_uncertainty.py)
+_FULL = [pytest.mark.full]
+
+
+@pytest.mark.parametrize("path", ["keyphasor-ttl",
+                                  pytest.param("keyphasor-ttl-steady", marks=_FULL),
+                                  pytest.param("tachometer-analog", marks=_FULL),
+                                  "tachometer-rounded",
+                                  pytest.param("encoder-360", marks=_FULL)])
 def test_runup_paths_are_calibrated(path, tmp_path):
     zs = [PATHS[path](seed, tmp_path) for seed in range(6)]
     for k in zs[0]:
