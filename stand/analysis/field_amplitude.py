@@ -15,7 +15,7 @@ import numpy as np
 from dsp.amplitude_only import four_run
 from dsp.influence_solve import split_onto_holes
 
-from .field_job import FieldJob
+from .field_job import FieldJob, reference_sensors
 
 __all__ = ["balance_amplitude_only"]
 
@@ -43,24 +43,17 @@ def balance_amplitude_only(job: FieldJob, method: str = "least_squares") -> dict
     if bad:
         raise ValueError(f"{bad[0]}: a slow-roll vector cannot be subtracted from amplitude-only "
                          f"readings; remove the run or give phases (\"amplitude @ angle\")")
-    refs = [r for r in job.runs if r.kind == "reference"]
-    if len(refs) != 1:
-        raise ValueError(f"run: {len(refs)} reference run(s); the four-run method needs exactly one "
-                         f"kind = \"reference\"")
     trials = [r for r in job.runs if r.kind == "trial"]
+    ref, sensors = reference_sensors([r for r in job.runs if r.kind in ("reference", "trial")],
+                                     job.sensors, need="the four-run method needs exactly one "
+                                     "kind = \"reference\"")
     kept = [r.label for r in trials if not r.removed]
     if kept:
         raise ValueError(f"{kept[0]}.removed = false: the four-run method moves one trial mass; "
                          f"remove it before the next run")
-    sensors = [s for s in job.sensors if s in refs[0].readings]
-    for r in trials:
-        miss = [s for s in sensors if s not in r.readings]
-        if miss:
-            raise ValueError(f"{r.label}.readings: no reading of {', '.join(miss)} (the reference "
-                             f"run has them)")
     T = np.array([abs(r.trial[plane]) for r in trials])
     th = np.array([np.angle(r.trial[plane]) for r in trials])
-    runs = [refs[0]] + trials
+    runs = [ref] + trials
     A = np.array([[r.readings[s].real for r in runs] for s in sensors])
     sig = np.array([[r.std[s] for r in runs] for s in sensors])
     fr = four_run(A[:, 0], A[:, 1:], T, th, sig, sensors=sensors)

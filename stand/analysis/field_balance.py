@@ -23,7 +23,7 @@ from dsp.influence_solve import conditioning, cvxpy_available, least_squares, mi
     split_onto_holes, split_onto_weights
 from stand.io.result import Result
 
-from .field_job import FieldJob, read_job
+from .field_job import FieldJob, read_job, reference_sensors
 from .field_trials import TRIAL_RULE, trial_mass, trial_validity
 from .field_verdict import field_verdict, iso_grades
 
@@ -103,17 +103,8 @@ class _Chain:
         for g, speed in enumerate(self.groups):
             runs = [r for r in job.runs if r.kind not in ("slow_roll", "check")
                     and _group_of(r.speed, self.groups, r.label) == g]
-            refs = [r for r in runs if r.kind == "reference"]
             at = "" if math.isnan(speed) else f" at {speed * _RPM:.6g} rpm"
-            if len(refs) != 1:
-                raise ValueError(f"run: {len(refs)} reference run(s){at}; give exactly one "
-                                 f"kind = \"reference\" per speed")
-            sensors = [s for s in job.sensors if s in refs[0].readings]
-            for r in runs:
-                miss = [s for s in sensors if s not in r.readings]
-                if miss:
-                    raise ValueError(f"{r.label}.readings: no reading of {', '.join(miss)} "
-                                     f"(the reference run{at} has them)")
+            ref, sensors = reference_sensors(runs, job.sensors, at)
             slow = [r for r in job.runs if r.kind == "slow_roll"
                     and (math.isnan(r.speed) or _group_of(r.speed, self.groups, r.label) == g)]
             own = [r for r in slow if not math.isnan(r.speed)]
@@ -130,7 +121,7 @@ class _Chain:
                 if ignored:
                     self.notes.append(f"trial runs{at} ({', '.join(r.label for r in ignored)}) "
                                       f"not used: the influence matrix{at} is given")
-                runs = refs
+                runs = [ref]
                 m = job.influence[known[0]][1]
                 sd = job.influence_std[known[0]] if job.influence_std else {}
                 for s in sensors:

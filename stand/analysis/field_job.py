@@ -518,6 +518,24 @@ def _recorded(t, where, source, declared):
     return vals, stds, float(np.mean([c.speed_rad_s for c in comps]))
 
 
+def reference_sensors(runs, order, at: str = "",
+                      need: str = "give exactly one kind = \"reference\" per speed"):
+    """``(reference run, sensors)`` of a set of runs at one speed: exactly one reference run,
+    and every other run reads every sensor the reference reads (else a one-line error naming
+    the run and the sensors; ``order``: the job's sensors, in their order; ``at``: " at N rpm"
+    or ""; ``need``: what to do about the count)."""
+    refs = [r for r in runs if r.kind == "reference"]
+    if len(refs) != 1:
+        raise ValueError(f"run: {len(refs)} reference run(s){at}; {need}")
+    sensors = [s for s in order if s in refs[0].readings]
+    for r in runs:
+        miss = [s for s in sensors if s not in r.readings]
+        if miss:
+            raise ValueError(f"{r.label}.readings: no reading of {', '.join(miss)} "
+                             f"(the reference run{at} has them)")
+    return refs[0], sensors
+
+
 def read_job(path, influence: Optional[str] = None) -> FieldJob:
     """Read a job file (and, with ``influence``, a saved influence file) -> :class:`FieldJob`."""
     from stand.io.tomlfile import read_toml
