@@ -87,7 +87,7 @@ B_KIND, B_PLANE, B_OFF, B_M, B_L, B_A, B_B, B_H1, B_H2, B_GA, B_LAM, B_TAU, B_KC
 N_BCOL = 14
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _tilt_terms(sp, rb, y, o, wref, Om, gx, gy):
     """Offsets' derivatives D_phi, D_alpha, velocity acceleration c and generalised forces Q."""
     m, l, ga = sp[rb + B_M], sp[rb + B_L], sp[rb + B_GA]
@@ -105,7 +105,7 @@ def _tilt_terms(sp, rb, y, o, wref, Om, gx, gy):
     return dpx, dpy, dax, day, cx, cy, qph, qal
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _sphere_terms(sp, rb, y, o, wref, Om, gx, gy):
     """Unit direction n, absolute angular velocity W [rad/s] and the known part G of W'."""
     m, l, A = sp[rb + B_M], sp[rb + B_L], sp[rb + B_A]
@@ -123,7 +123,7 @@ def _sphere_terms(sp, rb, y, o, wref, Om, gx, gy):
     return n0, n1, n2, W0, W1, W2, G0, G1, G2
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _lag_sigma(sp, rb, y, o, zx, zy, zdx, zdy, Om, dOm):
     """Offset sigma [m], its rate and its acceleration without the plane's acceleration."""
     Ls, tl = sp[rb + B_LS], sp[rb + B_TAU]
@@ -135,7 +135,7 @@ def _lag_sigma(sp, rb, y, o, zx, zy, zdx, zdy, Om, dOm):
     return sx, sy, sdx, sdy, sddx, sddy
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def body_reaction(sp, rb, y, wref, Om, dOm, gx, gy, zx, zy, zdx, zdy, Rr, oR):
     """Fill ``Rr[oR:oR + 6] = [R00, R01, R10, R11, r0, r1]``: the reaction ``F = R a + r``
     [kg, N] of the body whose row starts at ``sp[rb]``.
@@ -190,7 +190,7 @@ def body_reaction(sp, rb, y, wref, Om, dOm, gx, gy, zx, zy, zdx, zdy, Rr, oR):
         Rr[oR + 5] = m * kap * sddy + m * gy
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def body_derivatives(sp, rb, y, dy, wref, Om, dOm, gx, gy, zx, zy, zdx, zdy, ax, ay):
     """Write the body's scaled state derivatives into ``dy`` given the plane point's
     absolute acceleration ``(ax, ay)`` [m/s^2]."""

@@ -128,7 +128,7 @@ def with_locked_weights(rotor: LinearRotor, weights: Sequence,
     return dataclasses.replace(rotor, M=M)
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy):
     """Regularised Coulomb moment [N m] on weight j (stand.model.balancers.friction)."""
     muk = wt[j, W_MUK]
@@ -145,13 +145,13 @@ def _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy):
     return mu * N * l * x / math.sqrt(1.0 + x * x)
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def drive_moment(t, phi, Om, sp):
     """Drive torque M_drive [N m] of the book's models 1-3 (section 5.1.1) at time t [s]."""
     return drive_torque_law(sp[H_DMODEL], sp[H_TQ], sp[H_C1], sp[H_C2], sp[H_WT], t, phi, Om)
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def body_spin_moment(sp, rb, y, wref, Om):
     """Moment [N m] about the shaft that body weight ``rb`` exerts on the rotor: the
     reaction of its turn drag (TILT: H2 (alpha' - Omega); SPHERE: the z-component
@@ -165,7 +165,7 @@ def body_spin_moment(sp, rb, y, wref, Om):
     return 0.0
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def rhs_generic(tau, y, dy, sp, wt, prog):
     """Right-hand side of a LinearRotor with weights (module docstring), scaled time."""
     n = int(sp[H_N])

@@ -34,10 +34,12 @@ Two ways to solve it, equal to round-off (tests/test_rotors_coupled.py):
 
 The rotor's matrices are applied by :func:`rotor_forces` according to their packed kind
 (:func:`matrix_kind`: zero, diagonal or dense), so the modal models' diagonal K and D cost
-O(n).  Everything works in a flat buffer at given offsets and allocates nothing (inlined into
-the right-hand side, called millions of times); the loops run over views of it, so the callers
-compile it without numba's reference counting (``_nrt=False``, as :mod:`stand.model.kernels`
-does), which would count every view.
+O(n).  Everything works in a flat buffer at given offsets and allocates nothing (called from
+the right-hand side, millions of times); the loops run over views of it, so it is compiled
+without numba's reference counting (``_nrt=False``, as :mod:`stand.model.kernels` does),
+which would count every view.  Called, not inlined at numba's IR level: inlining the right-
+hand side and its helpers into each of the compiled loops (DOP853 three times, RK4 four,
+Jacobian, evaluation) cost minutes of compilation per install for no measurable speed.
 """
 from __future__ import annotations
 
@@ -78,7 +80,7 @@ def plane_parts(M: np.ndarray, T: np.ndarray, F: np.ndarray) -> tuple:
     return Minv, kind, W, T @ W
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def dot(sp, oa, buf, ov, lo, hi):
     """``sum_k sp[oa + k] buf[ov + k]`` over lo <= k < hi, in four partial sums: without
     fast-math the compiler keeps a sum's order, so one accumulator is a chain of dependent
@@ -99,7 +101,7 @@ def dot(sp, oa, buf, ov, lo, hi):
     return (a0 + a1) + (a2 + a3)
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def t_dot(sp, oT, oTr, r, n, buf, ov):
     """Row r of the stacked plane maps times the vector at ``buf[ov:]``, over the row's
     nonzero columns (``sp[oTr + 2 r]`` to ``sp[oTr + 2 r + 1]``, :func:`row_ranges`: a
@@ -108,7 +110,7 @@ def t_dot(sp, oT, oTr, r, n, buf, ov):
     return dot(sp, oT + r * n, buf, ov, lo, hi)
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def mat_row(sp, oa, kind, i, n, buf, ov):
     """Row i of the n x n matrix at ``sp[oa:]`` (of the given kind) times the vector at
     ``buf[ov:]``."""
@@ -119,7 +121,7 @@ def mat_row(sp, oa, kind, i, n, buf, ov):
     return 0.0
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def rotor_forces(sp, buf, n, oGR, oK, kK, oD, kD, oG, kG, Om, oq, oqd, of):
     """The rotor's own forces ``f_s = g - K q - (D + Omega G) q'`` [N] at ``buf[of:]`` (K, D, G
     applied by their kinds; q, q' at ``buf[oq:]``, ``buf[oqd:]``)."""
@@ -130,7 +132,7 @@ def rotor_forces(sp, buf, n, oGR, oK, kK, oD, kD, oG, kG, Om, oq, oqd, of):
             - Om * mat_row(sp, oG, kG, i, n, buf, oqd)
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def minv_apply(sp, oa, kind, n, buf, of, ou):
     """``u = M^-1 f`` (M^-1 at ``sp[oa:]``, diagonal or dense) into ``buf[ou:]``."""
     u = buf[ou:ou + n]
@@ -138,7 +140,7 @@ def minv_apply(sp, oa, kind, n, buf, of, ou):
         u[i] = mat_row(sp, oa, kind, i, n, buf, of)
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def solve_small(buf, oA, of, ox, n):
     """Solve ``A x = f`` held in the flat buffer (A row-major at ``oA``, f at ``of``, x
     written at ``ox``; A and f overwritten): Gaussian elimination with partial pivoting,
@@ -180,7 +182,7 @@ def solve_small(buf, oA, of, ox, n):
         buf[ox + k] = acc / buf[oA + k * n + k]
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def solve_general(sp, buf, n, npl, oM, oT, oTr, oF, of, ofp, oC, oA, ox, otx, free, ob, og, fn, jp):
     """Assemble ``A = M + F^T C T`` (and the phi'' row and column when ``free``) and
     eliminate; f_s at ``buf[of:]`` (overwritten), f_p, C (P blocks of 4, row-major), b,
@@ -227,7 +229,7 @@ def solve_general(sp, buf, n, npl, oM, oT, oTr, oF, of, ofp, oC, oA, ox, otx, fr
     return buf[ox + n] if free else 0.0
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def solve_planes(sp, buf, n, npl, oMi, kMi, oT, oTr, oW, oS, of, ofp, oC, oE, ou, ox, otx, free, ob, og,
                  fn, jp):
     """The same solution by the Woodbury identity (module docstring): M^-1 (kind ``kMi``),
