@@ -456,6 +456,11 @@ def warm() -> str:
                           40, 6.0)
     initial_guesses(patch, np.ones(patch.shape, bool), 8.0, np.zeros(patch.shape, bool),
                     engine=engine)          # the compiled starting values too
+    if engine == "numba":                   # and the tracker's one-call preparation
+        from ._blur_start import compiled_blob_inputs
+
+        compiled_blob_inputs()(patch, np.ones(patch.shape, np.int32), 1, 0, 0,
+                               np.ones((3, 3), np.uint8), 255.0, 8.0, 0.0, MAX_SWEEP)
     return engine
 
 

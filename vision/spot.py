@@ -391,7 +391,7 @@ def _blur_locate(sub, labels, lab, box, level, noise, sat, amp, flags, frame_geo
         if fast is not None:    # mask, pixels and starting values in one compiled call
             patch = sub[i0:i1, j0:j1].astype(np.float64)
             mask, pi, pj, clip, starts = fast(
-                patch, labels, lab, i0, j0, _PAD_KERNEL, math.inf if sat is None else float(sat),
+                patch, labels, int(lab), i0, j0, _PAD_KERNEL, math.inf if sat is None else float(sat),
                 float(level), float(sig0 or 0.0), MAX_SWEEP)
             f = fit_prepared(patch, mask, pi, pj, clip, starts, level, sat, amp0)
         else:
