@@ -111,6 +111,50 @@ def test_compiled_starting_values_are_the_numpy_ones(R, turns, n_starts):
         np.testing.assert_allclose(np.array(a), np.array(b), rtol=1e-9, atol=1e-9)
 
 
+def test_compiled_blob_inputs_and_covariance_are_the_numpy_ones():
+    """The tracker's one-call preparation (vision._blur_start.blob_inputs: cv2.dilate's mask,
+    np.nonzero's pixels, the clipped ones, the starting values) and the fit from it give
+    fit_blurred_spot's numbers; the centre's std (the sandwich inside the compiled fit) is
+    numpy's B^-1 M B^-1 to rounding."""
+    pytest.importorskip("numba")
+    from vision import blur
+    from vision._blur_start import compiled_blob_inputs
+    from vision.spot import _PAD_KERNEL
+
+    if compiled_blob_inputs() is None:
+        pytest.skip("numba disabled")
+    cam, px, truth = _arc(30.0, 0.24, 12000.0)
+    sub = art.spot_frame(px, cam, np.random.default_rng(2))
+    labels = np.zeros(sub.shape, np.int32)
+    labels[sub > 40] = 3
+    i0, i1, j0, j1 = 40, 120, 45, 118
+    patch = sub[i0:i1, j0:j1].astype(np.float64)
+    mask, pi, pj, clip, starts = compiled_blob_inputs()(
+        patch, labels, 3, i0, j0, _PAD_KERNEL, 251.0, 8.0, 0.0, blur.MAX_SWEEP)
+    ref = cv2.dilate((labels[i0:i1, j0:j1] == 3).astype(np.uint8), _PAD_KERNEL).astype(bool)
+    assert np.array_equal(mask, ref) and ref.sum() > 300
+    ri, rj = np.nonzero(ref)
+    assert np.array_equal(pi, ri) and np.array_equal(pj, rj)
+    assert np.array_equal(clip, patch[ri, rj] >= 251.0) and clip.sum() > 20
+    a = blur.fit_prepared(patch, mask, pi, pj, clip, starts, 8.0, 251.0, 9000.0)
+    b = fit_blurred_spot(patch, mask, 8.0, saturation=251.0, amplitude=9000.0)
+    assert (a.u, a.v, a.u_std, a.v_std) == pytest.approx((b.u, b.v, b.u_std, b.v_std), rel=1e-12)
+    # the std against numpy's sandwich at the fitted parameters (a2, a3 held or free)
+    from vision import _blur_kernel as kernel
+
+    kernel.compiled_fit()     # (binds the module's _evaluate to the compiled loops)
+    p = np.array([a.u, a.v, *a.half_path, a.curvature, *a.shape, math.log(a.amplitude),
+                  math.log(a.sigma)])
+    JTJ, g, MJ = np.empty((9, 9)), np.empty(9), np.empty((9, 9))
+    consts = np.array([blur.MIN_SIGMA, blur.MAX_SWEEP, blur.MAX_SHAPE, blur.MAX_POINTS])
+    kernel._evaluate(patch, pi, pj, clip, 8.0, 250.5, p, consts, JTJ, g, MJ)
+    free = np.ones(9, bool) if any(a.shape) else np.r_[[True] * 5, False, False, True, True]
+    f = np.flatnonzero(free)
+    Bc = np.linalg.inv(JTJ[f][:, f])[:2]
+    var = np.einsum("ia,ab,ib->i", Bc, MJ[f][:, f], Bc) * pi.size / (pi.size - f.size)
+    np.testing.assert_allclose([a.u_std, a.v_std], np.sqrt(var), rtol=1e-8)
+
+
 def test_a_path_the_model_cannot_draw_falls_back_visibly():
     """Three turns in one exposure (a long-exposure circle): no arc fits it; the frame keeps
     the centroid, and its flags say so (no frame falls back silently)."""
