@@ -6,7 +6,7 @@
 clipped pixels censored (module docstring of :mod:`vision.blur`), by loops over
 the pixels and, for each, over the path points within a few sigma of it -- about
 20 us for a still spot and 0.3 ms for an 80 px arc; :func:`fit_loops` the whole
-Levenberg-Marquardt fit with its score test.  :func:`compiled_fit` compiles them
+Levenberg-Marquardt fit with its score test and the centre's sandwich covariance.  :func:`compiled_fit` compiles them
 (numba, ``cache=True``; numba imported only then).
 
 The numpy twin of the normal equations (the separable sums as matrix products

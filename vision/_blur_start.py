@@ -7,8 +7,11 @@ numpy calls per blob, about 0.4 ms of Python holding the GIL per video frame, wh
 read-ahead thread decodes the next frames (:mod:`vision.io`).  The same numbers to
 rounding (``tests/test_vision_spot.py``).  :func:`compiled_start` compiles it (numba,
 ``cache=True``, ``nogil=True``) or returns None when numba is missing or disabled
-(``STAND_DISABLE_JIT`` / ``NUMBA_DISABLE_JIT``): the numpy version then runs.  This
-module imports nothing of ``vision`` (numba's cache is invalidated per source file).
+(``STAND_DISABLE_JIT`` / ``NUMBA_DISABLE_JIT``): the numpy version then runs.
+:func:`blob_inputs` adds what the tracker did around it in numpy (the blob's dilated mask,
+its pixels, the clipped ones): one compiled call per fitted blob
+(:func:`compiled_blob_inputs`; ``tests/test_video_track.py``).  This module imports
+nothing of ``vision`` (numba's cache is invalidated per source file).
 """
 from __future__ import annotations
 
