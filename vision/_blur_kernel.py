@@ -6,7 +6,7 @@
 clipped pixels censored (module docstring of :mod:`vision.blur`), by loops over
 the pixels and, for each, over the path points within a few sigma of it -- about
 20 us for a still spot and 0.3 ms for an 80 px arc; :func:`fit_loops` the whole
-Levenberg-Marquardt fit with its score test.  :func:`compiled_fit` compiles them
+Levenberg-Marquardt fit with its score test and the centre's sandwich covariance.  :func:`compiled_fit` compiles them
 (numba, ``cache=True``; numba imported only then).
 
 The numpy twin of the normal equations (the separable sums as matrix products
@@ -445,15 +445,49 @@ def _score(JTJ, g, MJ, free):
     return out
 
 
+def _centre_cov(JTJ, MJ, free):
+    """(var m_u, var m_v) of the sandwich ``B^-1 M B^-1`` over the ``free`` parameters
+    (B = J^T J, M = sum r^2 J J^T; m_u, m_v always free), unscaled: B is scaled to a
+    unit diagonal first, so the Cholesky solve's ridge stays at rounding level."""
+    nf = 0
+    for a in range(NP):
+        if free[a]:
+            nf += 1
+    f = np.empty(nf, np.int64)
+    k = 0
+    for a in range(NP):
+        if free[a]:
+            f[k] = a
+            k += 1
+    d = np.empty(nf)
+    for a in range(nf):
+        x = JTJ[f[a], f[a]]
+        d[a] = 1.0 / math.sqrt(x) if x > 0 else 1.0
+    B = np.empty((nf, nf))
+    X = np.zeros((nf, 2))
+    for a in range(nf):
+        for b in range(nf):
+            B[a, b] = JTJ[f[a], f[b]] * d[a] * d[b]
+    X[0, 0] = d[0]
+    X[1, 1] = d[1]
+    _cholesky_solve(B, X)               # rows m_u, m_v of B^-1 (scaled back below)
+    out = np.zeros(2)
+    for c in range(2):
+        for a in range(nf):
+            for b in range(nf):
+                out[c] += X[a, c] * d[a] * MJ[f[a], f[b]] * X[b, c] * d[b]
+    return out
+
+
 def fit_loops(patch, pi, pj, clipped, level, sat_eff, starts, size, c, tol, max_iter,
               score_limit):
     """The whole fit after the starting values: the best start by cost; LM with the
     path's shape terms (a2, a3; indices 5, 6) held at 0; the score test; LM with them
-    free when it exceeds ``score_limit``.
+    free when it exceeds ``score_limit``; the centre's covariance (:func:`_centre_cov`).
 
     Returns
     -------
-    p (9,), cost, J^T J, sum r^2 J J^T, free (bool 9), iterations, converged
+    p (9,), cost, (var m_u, var m_v) unscaled, free (bool 9), iterations, converged
     """
     JTJ = np.empty((NP, NP))
     g = np.empty(NP)
@@ -488,11 +522,12 @@ def fit_loops(patch, pi, pj, clipped, level, sat_eff, starts, size, c, tol, max_
         cost, it2, converged = _lm(patch, pi, pj, clipped, level, sat_eff, p, cost, JTJ, g,
                                    MJ, free, size, c, tol, max_iter)
         it += it2
-    return p, cost, JTJ, MJ, free, it, converged
+    return p, cost, _centre_cov(JTJ, MJ, free), free, it, converged
 
 
 _PY.update({name: globals()[name] for name in ("path", "n_points", "_bound", "_evaluate",
-                                                 "_cholesky_solve", "_lm", "_score")})
+                                                 "_cholesky_solve", "_lm", "_score",
+                                                 "_centre_cov")})
 
 
 _compiled_fit = None    # None: not tried yet; False: unavailable; else the dispatcher
@@ -512,7 +547,8 @@ def compiled_fit():
             jit = numba.njit(cache=True, error_model="numpy")
             mod = globals()
             mod["_EVALUATE"] = kern
-            for name in ("n_points", "_bound", "_evaluate", "_cholesky_solve", "_lm", "_score"):
+            for name in ("n_points", "_bound", "_evaluate", "_cholesky_solve", "_lm", "_score",
+                         "_centre_cov"):
                 mod[name] = jit(mod[name])
             # nogil: a read-ahead thread decodes the next frames meanwhile (vision.io)
             _compiled_fit = numba.njit(cache=True, error_model="numpy", nogil=True)(fit_loops)

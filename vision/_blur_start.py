@@ -7,8 +7,11 @@ numpy calls per blob, about 0.4 ms of Python holding the GIL per video frame, wh
 read-ahead thread decodes the next frames (:mod:`vision.io`).  The same numbers to
 rounding (``tests/test_vision_spot.py``).  :func:`compiled_start` compiles it (numba,
 ``cache=True``, ``nogil=True``) or returns None when numba is missing or disabled
-(``STAND_DISABLE_JIT`` / ``NUMBA_DISABLE_JIT``): the numpy version then runs.  This
-module imports nothing of ``vision`` (numba's cache is invalidated per source file).
+(``STAND_DISABLE_JIT`` / ``NUMBA_DISABLE_JIT``): the numpy version then runs.
+:func:`blob_inputs` adds what the tracker did around it in numpy (the blob's dilated mask,
+its pixels, the clipped ones): one compiled call per fitted blob
+(:func:`compiled_blob_inputs`; ``tests/test_video_track.py``).  This module imports
+nothing of ``vision`` (numba's cache is invalidated per source file).
 """
 from __future__ import annotations
 
@@ -17,9 +20,9 @@ import os
 
 import numpy as np
 
-__all__ = ["start_loops", "compiled_start"]
+__all__ = ["start_loops", "blob_inputs", "compiled_start", "compiled_blob_inputs"]
 
-_compiled = None        # None: not tried yet; False: unavailable; else the dispatcher
+_compiled = None        # None: not tried yet; else (start_loops, blob_inputs) compiled, or Nones
 
 
 def start_loops(patch, mask, level, sigma, shrink, max_sweep):
@@ -170,12 +173,65 @@ def _circle(patch, mask, level, mu, mv, tot, max_sweep, arc):
     return True
 
 
+def blob_inputs(patch, labels, lab, i0, j0, kernel, censor, level, sigma, max_sweep):
+    """The blurred-spot fit's inputs for the blob ``lab`` of ``labels`` whose rows i0..,
+    columns j0.. ``patch`` [DN] covers, in one pass (what :func:`vision.spot._blur_locate`
+    and :func:`vision.blur.fit_blurred_spot` do with some twenty numpy calls): the mask
+    (the blob dilated by ``kernel``, as ``cv2.dilate``), its pixels (rows, columns;
+    ``np.nonzero``'s order), which of them are clipped (>= ``censor``) and
+    :func:`start_loops`' rows.  Returns (mask, pi, pj, clipped, starts)."""
+    H, W = patch.shape
+    kr = kernel.shape[0] // 2
+    kc = kernel.shape[1] // 2
+    mask = np.zeros((H, W), np.bool_)
+    for i in range(H):
+        for j in range(W):
+            if labels[i0 + i, j0 + j] == lab:
+                for a in range(kernel.shape[0]):
+                    ii = i - a + kr
+                    if ii < 0 or ii >= H:
+                        continue
+                    for b in range(kernel.shape[1]):
+                        jj = j - b + kc
+                        if kernel[a, b] and 0 <= jj < W:
+                            mask[ii, jj] = True
+    n = 0
+    for i in range(H):
+        for j in range(W):
+            if mask[i, j]:
+                n += 1
+    pi = np.empty(n, np.int64)
+    pj = np.empty(n, np.int64)
+    clipped = np.zeros(n, np.bool_)
+    k = 0
+    shrink = 1.0
+    for i in range(H):
+        for j in range(W):
+            if mask[i, j]:
+                pi[k] = i
+                pj[k] = j
+                if patch[i, j] >= censor:
+                    clipped[k] = True
+                    shrink = 0.8       # a clipped core widens the blob (initial_guesses)
+                k += 1
+    return mask, pi, pj, clipped, start_loops(patch, mask, level, sigma, shrink, max_sweep)
+
+
+def compiled_blob_inputs():
+    """:func:`blob_inputs` compiled (as :func:`compiled_start`), or None."""
+    return _compiled_pair()[1]
+
+
 def compiled_start():
     """:func:`start_loops` compiled by numba (``cache=True``, ``nogil=True``; numba
     imported on the first call), or None when numba is missing or disabled."""
+    return _compiled_pair()[0]
+
+
+def _compiled_pair():
     global _compiled
     if _compiled is None:
-        _compiled = False
+        _compiled = (None, None)
         if not any(os.environ.get(k, "") not in ("", "0")
                    for k in ("STAND_DISABLE_JIT", "NUMBA_DISABLE_JIT")):
             try:
@@ -184,6 +240,8 @@ def compiled_start():
                 pass
             else:
                 jit = numba.njit(cache=True, error_model="numpy", nogil=True)
-                globals()["_circle"] = jit(_circle)
-                _compiled = jit(start_loops)
-    return _compiled or None
+                mod = globals()
+                mod["_circle"] = jit(_circle)
+                mod["start_loops"] = jit(start_loops)
+                _compiled = (mod["start_loops"], jit(blob_inputs))
+    return _compiled

@@ -70,7 +70,7 @@ from typing import Optional
 
 import numpy as np
 
-__all__ = ["BlurFit", "fit_blurred_spot", "initial_guesses", "arc_points", "model_image",
+__all__ = ["BlurFit", "fit_blurred_spot", "fit_prepared", "initial_guesses", "arc_points", "model_image",
            "warm", "compile_needed", "MAX_ITER", "CENTRE_TOL"]
 
 MAX_ITER = 40           #: Levenberg-Marquardt iterations at most
@@ -314,15 +314,6 @@ def _moment_guesses(patch, mask, level, shrink, sigma) -> list:
 
 
 # ---------------------------------------------------------------- fit
-def _inv(M):
-    """Inverse of a small symmetric matrix; the pseudo-inverse when it is singular
-    (a still spot leaves the path's direction undetermined)."""
-    try:
-        return np.linalg.inv(M)
-    except np.linalg.LinAlgError:
-        return np.linalg.pinv(M)
-
-
 def fit_blurred_spot(patch, mask, level: float, *, saturation: Optional[float] = None,
                      p0=None, sigma: Optional[float] = None, amplitude: Optional[float] = None,
                      max_iter: int = MAX_ITER, engine: str = "auto") -> BlurFit:
@@ -382,25 +373,48 @@ def fit_blurred_spot(patch, mask, level: float, *, saturation: Optional[float] =
             raise ValueError(f"p0: expected {N_PARAMS} parameters, got shape {p.shape}")
         p[IA], p[IS] = math.log(max(p[IA], 1e-6)), math.log(max(p[IS], MIN_SIGMA))
         starts = [p]
-    run = _fit_function(engine)
-    consts = np.array([MIN_SIGMA, MAX_SWEEP, MAX_SHAPE, MAX_POINTS], float)
-    tol = np.array([CENTRE_TOL, COST_TOL])
-    p, cost, JTJ, MJ, free, it, converged = run(
-        patch, pi.astype(np.int64), pj.astype(np.int64), clipped[pi, pj], float(level), sat_eff,
-        np.array(starts, float), math.hypot(*patch.shape), consts, tol, int(max_iter),
-        float(SCORE_LIMIT))
-    free = np.asarray(free, bool)
-    dof = max(n_pix - int(free.sum()), 1)
-    s2 = cost / dof
-    # sandwich covariance B^-1 M B^-1 (robust to the bright pixels' shot noise), scaled
-    # by n / dof; m_u, m_v come first among the fitted parameters
-    f = np.flatnonzero(free)
-    Bc = _inv(JTJ[f][:, f])[:2]           # the rows of m_u, m_v (B^-1 is symmetric)
-    cov = np.einsum("ia,ab,ib->i", Bc, MJ[f][:, f], Bc) * (n_pix / dof)
-    su, sv = math.sqrt(max(cov[0], 0.0)), math.sqrt(max(cov[1], 0.0))
-    return BlurFit(float(p[0]), float(p[1]), su, sv, (float(p[2]), float(p[3])), float(p[4]),
-                   (float(p[5]), float(p[6])), math.exp(p[IA]), math.exp(p[IS]), float(s2),
-                   n_pix, int(clipped.sum()), int(it), bool(converged))
+    return _fit(patch, pi.astype(np.int64), pj.astype(np.int64), clipped[pi, pj], level, sat_eff,
+                np.array(starts, float), max_iter, engine)
+
+
+def fit_prepared(patch, mask, pi, pj, clipped, starts, level: float,
+                 saturation: Optional[float], amplitude: Optional[float] = None) -> BlurFit:
+    """:func:`fit_blurred_spot` (compiled engine) from the inputs
+    :func:`vision._blur_start.blob_inputs` prepared in one compiled pass: the mask's pixels
+    ``pi``, ``pj`` (int64), which are ``clipped`` (bool), the starting rows (ln A filled
+    here: ``amplitude`` [DN], else by least squares)."""
+    if pi.size < 2 * N_PARAMS:
+        raise ValueError(f"mask: {pi.size} pixels, need at least {2 * N_PARAMS}")
+    if not starts.shape[0]:
+        raise ValueError("blob: no signal above the background")
+    if amplitude:
+        starts[:, IA] = math.log(amplitude)
+    else:
+        cl = mask & (patch >= saturation) if saturation is not None else np.zeros_like(mask)
+        for p in starts:
+            p[IA] = _amplitude(p, patch, mask, level, cl)
+    sat_eff = math.inf if saturation is None else float(saturation) - 0.5
+    return _fit(patch, pi, pj, clipped, level, sat_eff, starts, MAX_ITER, "auto")
+
+
+_CONSTS = np.array([MIN_SIGMA, MAX_SWEEP, MAX_SHAPE, MAX_POINTS], float)
+_TOL = np.array([CENTRE_TOL, COST_TOL])
+
+
+def _fit(patch, pi, pj, clipped, level, sat_eff, starts, max_iter, engine) -> BlurFit:
+    """The fit (:func:`_fit_function`) from its starting rows; the centre's sandwich
+    covariance scaled by n / dof."""
+    p, cost, var, free, it, converged = _fit_function(engine)(
+        patch, pi, pj, clipped, float(level), sat_eff, starts, math.hypot(*patch.shape),
+        _CONSTS, _TOL, int(max_iter), float(SCORE_LIMIT))
+    n_pix = pi.size
+    dof = max(n_pix - int(np.count_nonzero(free)), 1)
+    scale = n_pix / dof
+    return BlurFit(float(p[0]), float(p[1]), math.sqrt(max(var[0] * scale, 0.0)),
+                   math.sqrt(max(var[1] * scale, 0.0)), (float(p[2]), float(p[3])),
+                   float(p[4]), (float(p[5]), float(p[6])), math.exp(p[IA]), math.exp(p[IS]),
+                   float(cost / dof), n_pix, int(np.count_nonzero(clipped)), int(it),
+                   bool(converged))
 
 
 _FITS = {}      # engine -> the compiled fit, once found (a per-frame lookup in a video)
@@ -442,6 +456,11 @@ def warm() -> str:
                           40, 6.0)
     initial_guesses(patch, np.ones(patch.shape, bool), 8.0, np.zeros(patch.shape, bool),
                     engine=engine)          # the compiled starting values too
+    if engine == "numba":                   # and the tracker's one-call preparation
+        from ._blur_start import compiled_blob_inputs
+
+        compiled_blob_inputs()(patch, np.ones(patch.shape, np.int32), 1, 0, 0,
+                               np.ones((3, 3), np.uint8), 255.0, 8.0, 0.0, MAX_SWEEP)
     return engine
 
 

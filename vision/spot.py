@@ -377,19 +377,28 @@ def _blur_locate(sub, labels, lab, box, level, noise, sat, amp, flags, frame_geo
     """The blurred-spot fit (:func:`vision.blur.fit_blurred_spot`) of the blob ``lab``
     (pixels >= ``sat`` censored); a :class:`SpotResult` with method "blur", or None when
     the fit fails (module docstring, step 4c)."""
-    from .blur import fit_blurred_spot
+    from ._blur_start import compiled_blob_inputs
+    from .blur import MAX_SWEEP, fit_blurred_spot, fit_prepared
 
     bx, by, bw, bh = (int(a) for a in box)
     x0, y0, W, H = frame_geom
     Hs, Ws = sub.shape
     i0, i1 = max(by - ARC_PAD, 0), min(by + bh + ARC_PAD, Hs)
     j0, j1 = max(bx - ARC_PAD, 0), min(bx + bw + ARC_PAD, Ws)
-    comp = (labels[i0:i1, j0:j1] == lab).astype(np.uint8)
-    mask = cv2.dilate(comp, _PAD_KERNEL).astype(bool)
-    patch = sub[i0:i1, j0:j1]
     amp0, sig0 = (None, None) if start is None else start
+    fast = compiled_blob_inputs()
     try:
-        f = fit_blurred_spot(patch, mask, level, saturation=sat, sigma=sig0, amplitude=amp0)
+        if fast is not None:    # mask, pixels and starting values in one compiled call
+            patch = sub[i0:i1, j0:j1].astype(np.float64)
+            mask, pi, pj, clip, starts = fast(
+                patch, labels, int(lab), i0, j0, _PAD_KERNEL, math.inf if sat is None else float(sat),
+                float(level), float(sig0 or 0.0), MAX_SWEEP)
+            f = fit_prepared(patch, mask, pi, pj, clip, starts, level, sat, amp0)
+        else:
+            comp = (labels[i0:i1, j0:j1] == lab).astype(np.uint8)
+            mask = cv2.dilate(comp, _PAD_KERNEL).astype(bool)
+            patch = sub[i0:i1, j0:j1]
+            f = fit_blurred_spot(patch, mask, level, saturation=sat, sigma=sig0, amplitude=amp0)
     except ValueError:
         return None
     size = max(bw, bh)
@@ -404,12 +413,15 @@ def _blur_locate(sub, labels, lab, box, level, noise, sat, amp, flags, frame_geo
     # the fit against the plain centroid of the blob: without clipping the centroid is
     # the exposure average too, so they must agree within the noise; with clipping they
     # differ by the centroid's bias (< 1 px)
-    w = np.where(mask, np.maximum(patch.astype(np.float64) - level, 0.0), 0.0)
-    tot = float(w.sum())
-    xs = np.arange(w.shape[1], dtype=np.float64)
-    ys = np.arange(w.shape[0], dtype=np.float64)
-    cu = float(w.sum(axis=0) @ xs) / tot
-    cv = float(w.sum(axis=1) @ ys) / tot
+    if fast is not None and f.n_clipped >= 2:
+        cu, cv = float(starts[0, 0]), float(starts[0, 1])     # start_loops' centroid
+    else:
+        w = np.where(mask, np.maximum(patch.astype(np.float64) - level, 0.0), 0.0)
+        tot = float(w.sum())
+        xs = np.arange(w.shape[1], dtype=np.float64)
+        ys = np.arange(w.shape[0], dtype=np.float64)
+        cu = float(w.sum(axis=0) @ xs) / tot
+        cv = float(w.sum(axis=1) @ ys) / tot
     d = math.hypot(f.u - cu, f.v - cv)
     if f.n_clipped >= 2:
         if d > 1.0 + 0.05 * size:
