@@ -286,8 +286,11 @@ def test_O4_table_rows(n):
 
 
 @pytest.mark.slow
+@pytest.mark.full
 @pytest.mark.parametrize("n", [1, 2, 3, 4, 6, 8, 10, 20, 50])
 def test_O4_table_rows_remaining(n):
+    """The other nine rows (``-m full``); the default run checks the same closed form and
+    extrema against rows n = 0, 5, 100 (test_O4_table_rows)."""
     _check_table_row(n)
 
 
