@@ -21,8 +21,14 @@ SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 KINDS = ["two_axis_pendulum", "coupled_pair", "damper", "liquid_float", "liquid_chamber"]
 
 
-@pytest.mark.parametrize("kind", KINDS)
-def test_every_command_on_the_body_sample(kind, tmp_path, capsys):
+# the report's HTML (its seven figures, ~2 s of matplotlib) on the first kind; the JSON it is
+# rendered from on every kind; the HTML of the other four kinds under `-m full`
+CASES = ([pytest.param(k, k == KINDS[0], id=k) for k in KINDS]
+         + [pytest.param(k, True, id=f"{k}-html", marks=pytest.mark.full) for k in KINDS[1:]])
+
+
+@pytest.mark.parametrize("kind, html", CASES)
+def test_every_command_on_the_body_sample(kind, html, tmp_path, capsys):
     scene = SCENES / f"body_{kind}.toml"
     rec = tmp_path / "r.h5"
     assert main(["run", str(scene), "-o", str(rec), "--no-progress"]) == 0
@@ -33,7 +39,9 @@ def test_every_command_on_the_body_sample(kind, tmp_path, capsys):
     an = json.loads(_last_json(capsys))
     assert an["speed_hz"] == pytest.approx(30.0, rel=1e-6)
     rj = tmp_path / "rep.json"
-    assert main(["report", str(rec), "-o", str(tmp_path / "rep"), "--json-file", str(rj)]) == 0
+    assert main(["report", str(rec), "--json-file", str(rj)]
+                + (["-o", str(tmp_path / "rep.html")] if html else [])) == 0
+    assert (tmp_path / "rep.html").exists() == html
     rep = json.loads(rj.read_text())
     assert main(["accuracy", str(scene), "--fast"]) == 0
     r = stand.read(rec)

@@ -170,9 +170,23 @@ def test_body_scene_case_errors_and_validity(tmp_path):
 
 
 # ------------------------------------------------------------------ sweep
-def test_sample_sweep_over_the_fill_volume(tmp_path):
-    spec = load_sweep(SWEEPS / "body_liquid_volume.toml")
+@pytest.mark.parametrize("whole", [False, pytest.param(True, marks=pytest.mark.full)],
+                         ids=["extremes_at_30", "whole"])
+def test_sample_sweep_over_the_fill_volume(tmp_path, whole):
+    """The sample sweep; by default its two extreme volumes at 30 rev/s (2 of its 8 run-ups:
+    every check below but the 15 rev/s group), the whole sweep under ``-m full``."""
+    path = SWEEPS / "body_liquid_volume.toml"
+    spec = load_sweep(path)
     assert spec.columns == ["weights[0].fill_volume", "speed"] and spec.n_points == 8
+    if not whole:
+        text = path.read_text()
+        for old, new in (("[1.0e-4, 2.0e-4, 4.0e-4, 8.0e-4]", "[1.0e-4, 8.0e-4]"),
+                         ("[15.0, 30.0]", "[30.0]"),
+                         ('"../scenes/', f'"{SCENES.as_posix()}/')):
+            assert old in text
+            text = text.replace(old, new)
+        spec = load_sweep(text)
+        assert spec.n_points == 2
     df = run_sweep(spec, tmp_path / "vol.parquet", scheduler="serial", progress=False)
     assert (df["status"] == "ok").all(), df["error"].tolist()
     assert (df["sim.regime"] == "steady").all()

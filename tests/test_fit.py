@@ -154,16 +154,18 @@ def test_a_record_that_moves_nothing_determines_nothing(tmp_path):
         assert "not identifiable" in " ".join(fit["notes"])
 
 
-def test_cli_fit_json_and_refusals(tmp_path):
+def test_cli_fit_json_and_refusals(tmp_path, capsys):
+    """``stand fit --json -o``, run in this process (stand.cli.main.main, as the program runs
+    it); the refusals' exit code and one-line message once through the program itself."""
+    from stand.cli.main import main
+
     csv, m, _ = _record(tmp_path, SHORT, fs=400.0)
     t = tmp_path / "template.toml"
     t.write_text(SHORT.replace("stiffness = 1613.09", "stiffness = 1700.0"))
-    cmd = [sys.executable, "-m", "stand", "fit", str(t), str(csv), "--map", str(m),
-           "--free", "supports.stiffness", "--workers", "1"]
-    p = subprocess.run(cmd + ["--json", "-o", str(tmp_path / "f.toml")], capture_output=True,
-                       text=True, cwd=ROOT, timeout=300)
-    assert p.returncode == 0, p.stderr
-    doc = json.loads(p.stdout)
+    cmd = ["fit", str(t), str(csv), "--map", str(m), "--free", "supports.stiffness",
+           "--workers", "1"]
+    assert main(cmd + ["--json", "-o", str(tmp_path / "f.toml")]) == 0
+    doc = json.loads(capsys.readouterr().out)
     d = doc["parameters"]["supports.stiffness"]
     assert set(d) >= {"value", "std", "unit", "identifiable"} and d["unit"] == "N/m"
     assert abs(d["value"] - 1613.09) < 4 * d["std"]
@@ -172,10 +174,9 @@ def test_cli_fit_json_and_refusals(tmp_path):
     assert (tmp_path / "f.toml").exists()
     # an output that is an input: refused before any work, the input untouched
     before = t.read_text()
-    p = subprocess.run(cmd + ["-o", str(t)], capture_output=True, text=True, cwd=ROOT,
-                       timeout=120)
-    assert p.returncode == 2 and t.read_text() == before
-    # a path the scene does not have: one line naming it
-    p = subprocess.run(cmd[:-4] + ["--free", "supports.stifness"], capture_output=True,
-                       text=True, cwd=ROOT, timeout=120)
+    assert main(cmd + ["-o", str(t)]) == 2 and t.read_text() == before
+    capsys.readouterr()
+    # a path the scene does not have: one line naming it (the program's exit code and stderr)
+    p = subprocess.run([sys.executable, "-m", "stand"] + cmd[:-4] + ["--free", "supports.stifness"],
+                       capture_output=True, text=True, cwd=ROOT, timeout=120)
     assert p.returncode == 2 and "stifness" in p.stderr and len(p.stderr.strip().splitlines()) == 1

@@ -56,9 +56,12 @@ def test_fit_recovers_the_reference_stand(tmp_path, seed):
     assert "critical_speed" in rows and abs(rows["critical_speed"]["difference_sigma"]) < 5
 
 
+@pytest.mark.full
 def test_fit_of_the_sample_as_the_readme_says(tmp_path):
     """data_samples/fit: the reference's 16-s run-up (seed 7) and the lab's template; the
-    README's command and numbers."""
+    README's command and numbers.  ``-m full`` (a 16-s record, ~30 s of fitting): the same
+    oracle, free values and checks run by default on the shorter record of
+    test_fit_recovers_the_reference_stand[1]."""
     import json
     from pathlib import Path
 
@@ -73,19 +76,25 @@ def test_fit_of_the_sample_as_the_readme_says(tmp_path):
     assert stand.load(out).balancer.drag[0] == pytest.approx(truth.drag, rel=1e-3)
 
 
-def test_fit_finds_the_balls_rolling_friction(tmp_path):
+@pytest.mark.parametrize("rotor_free", [False, pytest.param(True, marks=pytest.mark.full)],
+                         ids=["weights", "weights_and_rotor"])
+def test_fit_finds_the_balls_rolling_friction(tmp_path, rotor_free):
     """Rolling resistance 3e-3: the balls stop short of balance (a residual whirl of order
-    mu l); the template's friction 1.5x too large, drag x2.5, eccentricity x0.7."""
+    mu l); the template's friction 1.5x too large, drag x2.5.  By default the weights' two
+    values are free (the rotor's as recorded: ~20 s of fitting); under ``-m full`` also the
+    rotor's eccentricity (x0.7) and unbalance angle (+35 deg) (~35 s)."""
     truth = Stand(friction=3e-3, **SHORT)
     rec = record(truth, duration=DURATION, seed=3)
     last = rec["t"] > DURATION - 1.0
     assert np.mean(np.hypot(rec["x_true"], rec["y_true"])[last]) > 5e-5   # short of balance
     csv, m = write_record(rec, truth, tmp_path / "fric.csv")
-    tmpl = template_scene(truth, tmp_path / "template.toml", duration=DURATION,
-                          perturb={"friction": 1.5, "drag": 2.5, "eccentricity": 0.7,
-                                   "unbalance_angle": 35.0})
-    fit = stand.fit(tmpl, csv, "rotor.eccentricity,rotor.unbalance_angle,balancer.drag,"
-                    "balancer.friction", recording_map=m, workers=1)
+    perturb = {"friction": 1.5, "drag": 2.5}
+    free = "balancer.drag,balancer.friction"
+    if rotor_free:
+        perturb.update(eccentricity=0.7, unbalance_angle=35.0)
+        free = "rotor.eccentricity,rotor.unbalance_angle," + free
+    tmpl = template_scene(truth, tmp_path / "template.toml", duration=DURATION, perturb=perturb)
+    fit = stand.fit(tmpl, csv, free, recording_map=m, workers=1)
     d = fit["parameters"]["balancer.friction"]
     assert d["identifiable"] and np.isfinite(d["std"]) and d["std"] > 0
     assert abs(d["value"] - truth.friction) < 0.1 * truth.friction, d

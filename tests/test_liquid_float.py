@@ -207,8 +207,14 @@ def fast_sweep(psi, n, **kw):
     return LiquidFloatParams(**d)
 
 
-@pytest.mark.parametrize("psi", [1.0, 0.7, 0.5])
-@pytest.mark.parametrize("n", [0.0, 1.0, 2.0, 5.0, 20.0, 100.0])
+#: by default one (psi, n) per psi: the undamped kernel (n = 0, both kernels compared), a
+#: moderate and a heavy damping; the other 15 of the 3 x 6 grid under `-m full`
+O3_DEFAULT = {(1.0, 0.0), (0.7, 5.0), (0.5, 100.0)}
+O3_CASES = [pytest.param(psi, n, marks=() if (psi, n) in O3_DEFAULT else pytest.mark.full)
+            for n in (0.0, 1.0, 2.0, 5.0, 20.0, 100.0) for psi in (1.0, 0.7, 0.5)]
+
+
+@pytest.mark.parametrize("psi, n", O3_CASES)
 def test_O3_closed_form_vs_ode_fast_sweep(psi, n):
     p = fast_sweep(psi, n)
     te = np.linspace(0.0, p.time_at_z(1.4 * math.sqrt(psi)), 1501)
@@ -286,8 +292,11 @@ def test_O4_table_rows(n):
 
 
 @pytest.mark.slow
+@pytest.mark.full
 @pytest.mark.parametrize("n", [1, 2, 3, 4, 6, 8, 10, 20, 50])
 def test_O4_table_rows_remaining(n):
+    """The other nine rows (``-m full``); the default run checks the same closed form and
+    extrema against rows n = 0, 5, 100 (test_O4_table_rows)."""
     _check_table_row(n)
 
 

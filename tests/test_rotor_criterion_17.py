@@ -20,7 +20,7 @@ from stand.model.rotors.flexible import (flexible_shaft, shaft_criterion, shaft_
 from stand.model.rotors.structure import (criterion_matrices, generalised_working_ranges,
                                     sign_changes, synchronous_poles, working_ranges)
 
-from _helpers import stand_stdout
+from _helpers import stand_stdout, theory_computed_once
 
 HZ = 2 * math.pi
 
@@ -44,14 +44,21 @@ def test_the_fixed_grid_alone_misses_the_gap():
     assert not np.any(np.abs(old / HZ - 925.8) < 0.05)
 
 
+@pytest.fixture(scope="module")
+def shaft8():
+    """The 8-mode shaft as a LinearRotor and its working ranges over 1-2000 Hz (the generic
+    search at its default grid), computed once for the two tests that read them."""
+    rot = flexible_shaft(L, MPL, EJ8, 8, planes={"balancer": A8})
+    return rot, working_ranges(rot, "balancer", HZ * 1.0, HZ * 2000.0)
+
+
 @pytest.mark.parametrize("how", ["closed_form_truncated", "linear_rotor"])
-def test_narrow_gap_next_to_a_pole_is_found(how):
+def test_narrow_gap_next_to_a_pole_is_found(how, shaft8):
     z, pole = _gap_zero()
     assert z / HZ == pytest.approx(925.80, abs=5e-3) and pole / HZ == pytest.approx(925.93, abs=1e-9)
     lo, hi = HZ * 1.0, HZ * 2000.0
     if how == "linear_rotor":
-        rot = flexible_shaft(L, MPL, EJ8, 8, planes={"balancer": A8})
-        crit, ranges = working_ranges(rot, "balancer", lo, hi)
+        crit, ranges = shaft8[1]
     else:
         crit, ranges = shaft_working_ranges(A8, L, MPL, EJ8, hi, lo=lo, n_modes=8)
     assert np.min(np.abs(crit - z)) <= 1e-10 * z
@@ -73,12 +80,11 @@ def test_synchronous_poles_are_the_natural_frequencies():
                                rtol=1e-12)
 
 
-def test_every_sign_change_of_the_dense_criterion_is_reported():
+def test_every_sign_change_of_the_dense_criterion_is_reported(shaft8):
     """Between two reported critical speeds the criterion keeps its sign (checked on a
     grid 10x denser than the scan, with the poles' sides)."""
-    rot = flexible_shaft(L, MPL, EJ8, 8, planes={"balancer": A8})
     lo, hi = HZ * 1.0, HZ * 2000.0
-    crit, _ = working_ranges(rot, "balancer", lo, hi)
+    crit, _ = shaft8[1]
     edges = np.concatenate([[lo], crit, [hi]])
     for a, b in zip(edges[:-1], edges[1:]):
         x = np.geomspace(a * (1 + 1e-9), b * (1 - 1e-9), 400)
@@ -151,7 +157,9 @@ def test_theory_json_holds_the_generalised_criterion(scene003):
 
     from stand.model.rotors.spatial import two_support_rotor
     path, sc = scene003
-    out = stand_stdout("theory", path, "--json", "--no-floquet")
+    with theory_computed_once():    # the JSON and the text below: one theory of the scene
+        out = stand_stdout("theory", path, "--json", "--no-floquet")
+        txt = stand_stdout("theory", path, "--no-floquet")
     doc = json.loads(out)
     gc = doc["generalised_criterion"]
     assert gc["planes"] == ["balancer1", "balancer2"]
@@ -178,7 +186,6 @@ def test_theory_json_holds_the_generalised_criterion(scene003):
     for w in (0.5 * w40[0], 0.5 * (w40[0] + w40[1]), 1.5 * w40[1]):
         assert _definite(bare, planes, w) == ts.is_stable(w)
     # and the text of stand theory prints it
-    txt = stand_stdout("theory", path, "--no-floquet")
     assert "generalised criterion, planes balancer1, balancer2" in txt
     assert f"{gc['onsets_hz'][0]:.6g}" in txt
 

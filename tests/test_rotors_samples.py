@@ -8,8 +8,10 @@ import pytest
 
 from stand.cli.main import main
 import stand
-from stand.theories.rotors import family_theory
+from stand.theories import rotors as rotor_theory
 from stand.scene.structure_tables import ROTOR_TYPES
+
+from _helpers import theory_computed_once
 
 SAMPLES = sorted(glob.glob("data_samples/scenes/family_*.toml") +
                  ["data_samples/scenes/platform_paper004.toml"])
@@ -24,7 +26,9 @@ def test_one_sample_per_rotor_type():
 @pytest.mark.parametrize("path", SAMPLES)
 def test_sample_theory_and_short_run(path, capsys):
     sc = stand.load(path)
-    th = family_theory(sc, floquet=False)
+    with theory_computed_once():   # `stand theory` below reads this one (same numbers)
+        th = rotor_theory.family_theory(sc, floquet=False)
+        assert main(["theory", path, "--no-floquet"]) == 0
     json.dumps(th)
     top = sc.drive.programme[-1, 1] / (2 * 3.141592653589793)
     plane = sc.weights[0].plane
@@ -34,7 +38,6 @@ def test_sample_theory_and_short_run(path, capsys):
     short = dataclasses.replace(sc, run=dataclasses.replace(sc.run, duration=0.5))
     run = stand.run(short)
     assert run.success and run.t[-1] == pytest.approx(0.5)
-    assert main(["theory", path, "--no-floquet"]) == 0
     # a [structure] type = "planar" scene is the chapter-5 planar rotor (scene language, issue 40):
     # `stand theory` gives its speed bands; the other rotor types their working ranges
     want = "stable motions by speed band" if sc.kind == "planar" else "working ranges"

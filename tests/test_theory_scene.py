@@ -6,7 +6,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from stand.cli.main import main
 from stand.analysis.regime import classify
 from stand.scene.model import RunSettings, SpeedDrive
 from stand.scene.parse import load_scene, scene_from_dimensionless
@@ -16,16 +15,25 @@ from stand.theories.planar import qp
 from stand.theories.planar.speedmap import TheoryError, scene_theory
 from _verify import at_speed, check_thresholds
 
-from _helpers import theory_computed_once
+from _helpers import stand_stdout, theory_computed_once
 
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 
 
 @pytest.fixture(scope="module")
-def runup():
-    """ball_runup.toml and its speed map (computed once for the tests that read it)."""
+def runup(tmp_path_factory):
+    """ball_runup.toml and its speed map, computed once for the tests that read it, by
+    ``stand theory --json --plot`` (the map drawn from the one the JSON was made of); returns
+    ``(scene, theory, JSON document, PNG path)``."""
+    from stand.theories.planar import speedmap
+
     sc = load_scene(SCENES / "ball_runup.toml")
-    return sc, scene_theory(sc)
+    png = tmp_path_factory.mktemp("theory") / "map.png"
+    with theory_computed_once() as cache:
+        out = stand_stdout("theory", SCENES / "ball_runup.toml", "--json", "--plot", png)
+        th = speedmap.scene_theory(sc)          # the command's, from the cache
+    assert len(cache) == 1                      # one computation: the JSON, the plot and th
+    return sc, th, json.loads(out), png
 
 
 @pytest.fixture(scope="module")
@@ -35,11 +43,8 @@ def stuck():
     return sc, scene_theory(sc)
 
 
-def test_stand_theory_json_ball_runup(capsys, tmp_path):
-    png = tmp_path / "map.png"
-    with theory_computed_once():   # --plot draws the speed map the JSON was made of: computed once
-        assert main(["theory", str(SCENES / "ball_runup.toml"), "--json", "--plot", str(png)]) == 0
-    doc = json.loads(capsys.readouterr().out)
+def test_stand_theory_json_ball_runup(runup):
+    _, _, doc, png = runup
     assert png.stat().st_size > 1000
     f0 = doc["natural_frequency_hz"]
     assert f0 == pytest.approx(3.0, rel=1e-4)  # the stand's 3 Hz with all masses
@@ -125,7 +130,7 @@ def test_balancing_decay_rate_is_the_least_damped_eigenvalue():
 
 @pytest.mark.slow
 def test_theory_vs_simulation_on_both_sides_of_each_threshold(runup):
-    sc, th = runup
+    sc, th = runup[:2]
     checks = check_thresholds(sc, th)      # th is scene_theory(sc), what it computes by default
     assert len(checks) == 2 * len(th.critical_speeds)
     bad = [c for c in checks if not c.match]
@@ -159,7 +164,7 @@ def test_band_between_two_close_thresholds_is_kept():
 def test_torque_drive_is_analysed_at_its_target_speed(runup):
     import dataclasses as dc
     from stand.scene.model import TorqueDrive
-    s, a = runup
+    s, a = runup[:2]
     st = dc.replace(s, rotor=dc.replace(s.rotor, inertia=0.05),
                     drive=TorqueDrive("speed_feedback", c1=0.5, target_speed=2 * np.pi * 15))
     b = scene_theory(st)
