@@ -198,8 +198,8 @@ def test_fit_uncertainty_matches_the_scatter_over_noise_seeds():
 
 
 def test_fit_without_speed_gets_the_magnitude():
-    # 400 samples/s: the errors (1.6e-4 of U, 3e-5 of f0; 1.5e-5 and 2e-6 at 1 kHz) stay far
-    # inside the bounds, which a wrong angle estimate (a slipped revolution) breaks by far
+    # 400 samples/s (15 per revolution at the top speed): the errors (1.6e-4 of U, 3e-5 of f0;
+    # 1.5e-5 and 2e-6 at 1 kHz) stay far inside the bounds
     t, z, phi, w, a = _runup_record(fs=400.0, noise=1e-6, offset=2e-5)
     r, ra = fit_response_without_speed(t, z)
     assert ra.estimated and not ra.referenced
