@@ -6,12 +6,21 @@
   pytest-xdist's workers load them instead of each compiling the same kernels.
 * The full sweeps and calibrations are marked ``full`` and left out by default
   (pyproject ``addopts``); ``pytest -m full`` runs them (benchmarks/README.md).
+* One BLAS thread per test process (set before numpy is imported).
 * Print the adversarial harness' table at the end of the run (tests/test_adversarial.py
   records it as a user property; this works under pytest-xdist).
 """
+import os
 import subprocess
 import sys
 import time
+
+# One BLAS thread per test process, as the command line has (stand/cli/main.py), set before
+# any test module imports numpy: pytest-xdist's parallelism is processes and the tests'
+# matrices are small; OpenBLAS' threads spinning on a busy 2-core machine cost a run-up fit
+# 6x its CPU (2.0 s instead of 0.32 s).  A value set in the environment is kept.
+for _v in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS", "VECLIB_MAXIMUM_THREADS"):
+    os.environ.setdefault(_v, "1")
 
 _TABLES = []
 

@@ -2,6 +2,7 @@
 rotor's equation through scipy.signal.lsim), each with what the analysis must do about it
 (issue 42): a declared filter is fitted through, an undeclared one is found as a delay and
 named, clipped samples are censored, hum and drift leave the fit within its ±."""
+import functools
 import math
 
 import numpy as np
@@ -17,6 +18,12 @@ K = 3.0      # |value - truth| <= K std (the issue-30 standard: |z| < 2 in >= 85
 
 
 def _record(seed=1, noise=1.5e-6):
+    """:func:`_simulated_record`, computed once per argument (0.3 s) and copied."""
+    return tuple(v.copy() for v in _simulated_record(seed, noise))
+
+
+@functools.lru_cache(maxsize=None)
+def _simulated_record(seed, noise):
     """A run-up 3 -> 15 rev/s at 2 rev/s^2 of the rigid rotor (x'' + 2 zeta w0 x' + w0^2 x =
     e (phi'^2 cos(phi + beta) + phi'' sin(phi + beta)), same in y), probes' white noise."""
     t = np.arange(0.0, T, 1.0 / (10 * FS))     # lsim's linear forcing: 10x finer, then sampled

@@ -31,8 +31,22 @@ def analyze(*argv):
 
 
 @pytest.fixture(scope="module")
-def with_keyphasor():
-    return analyze("--map", DAQ / "daq_runup.map.toml")
+def report_of_the_sample(tmp_path_factory):
+    """`stand report` of the sample with its map, once: (its JSON, its page)."""
+    tmp = tmp_path_factory.mktemp("daq_report")
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        code = main(["report", str(DAQ / "daq_runup.csv"), "--map", str(DAQ / "daq_runup.map.toml"),
+                     "-o", str(tmp / "r.html"), "--json-file", str(tmp / "r.json")])
+    assert code == 0, err.getvalue()
+    return json.loads((tmp / "r.json").read_text()), (tmp / "r.html").read_text()
+
+
+@pytest.fixture(scope="module")
+def with_keyphasor(report_of_the_sample):
+    """`stand analyze --json --map` of the sample: the report's "analysis" is that document
+    unchanged (checked equal, 2026-11-29), so the one analysis serves both."""
+    return report_of_the_sample[0]["analysis"]
 
 
 def test_unbalance_critical_speed_and_natural_frequency(with_keyphasor):
@@ -80,7 +94,14 @@ def test_the_std_says_what_it_contains(with_keyphasor):
     assert "keyphasor_scatter" in fit["std_parts"]["unbalance_angle_deg"]
 
 
-def test_without_a_speed_channel(with_keyphasor):
+@pytest.mark.full
+def test_without_a_speed_channel():
+    """Under ``-m full`` (the fit without a speed channel on the sample's 30 000 samples: 13
+    model fits, 6 s of CPU).  Its code path in the default run: the no-speed analysis through
+    ``stand analyze --map`` in test_uncertainty_exact.py
+    (test_noise_free_runup_without_a_speed_channel_is_exact) and the runout allowance's
+    coverage in test_uncertainty_calibration.py
+    (test_stated_std_covers_the_truth_without_a_speed_channel_with_probe_runout)."""
     d = analyze("--map", DAQ / "daq_runup_no_speed.map.toml")
     assert "estimated" in d["speed_source"]
     assert d["unbalance_gmm"] == pytest.approx(TRUTH["unbalance_gmm"], rel=0.03)
@@ -104,13 +125,8 @@ def test_tachometer_without_keyphasor():
     assert d["programme"]["kind"] == "run-up + constant"
 
 
-def test_report_of_the_sample(tmp_path):
-    out, err = io.StringIO(), io.StringIO()
-    with redirect_stdout(out), redirect_stderr(err):
-        code = main(["report", str(DAQ / "daq_runup.csv"), "--map", str(DAQ / "daq_runup.map.toml"),
-                     "-o", str(tmp_path / "r.html"), "--json-file", str(tmp_path / "r.json")])
-    assert code == 0, err.getvalue()
-    rep = json.loads((tmp_path / "r.json").read_text())
+def test_report_of_the_sample(report_of_the_sample):
+    rep, page = report_of_the_sample
     bq = rep["balancing_quality"]
     assert bq["residual_unbalance_gmm"] == pytest.approx(TRUTH["unbalance_gmm"], rel=0.02)
     assert rep["header"]["rotor_mass_kg"] == 6.0
@@ -118,7 +134,6 @@ def test_report_of_the_sample(tmp_path):
         TRUTH["natural_frequency_hz"], rel=0.002)
     lab = rep["analysis"]                     # stand analyze's document, unchanged
     assert lab["critical_speed_hz"] == pytest.approx(TRUTH["critical_speed_hz"], rel=0.005)
-    page = (tmp_path / "r.html").read_text()
     assert "1X amplitude and phase vs speed" in page and "spectrogram" in page
 
 

@@ -41,8 +41,12 @@ def test_weight_model_recording_reads_its_shaft():
     assert any("weight-model" in n for n in rec.notes)
 
 
-@pytest.mark.parametrize("name", ["v1_planar.h5", "v1_family.h5", "v1_weight_model.h5"])
+@pytest.mark.parametrize("name", [pytest.param("v1_planar.h5", marks=pytest.mark.full),
+                                  "v1_family.h5", "v1_weight_model.h5"])
 def test_old_recordings_analyse_and_report(name, tmp_path, capsys):
+    """The planar one under ``-m full`` (its report computes ball_runup's whole speed map,
+    7 s of CPU): its old layout is read in test_format_1_planar_recording_reads_with_its_scene,
+    and the two other cases here take an old file through `stand analyze` and `stand report`."""
     path = DATA / name
     assert main(["analyze", str(path)]) == 0
     assert main(["report", str(path), "-o", str(tmp_path / "r.html"),

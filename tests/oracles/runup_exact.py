@@ -5,8 +5,11 @@ The complex equation (monograph ch. 5, rotor without weights)
     z'' + 2 zeta w0 z' + w0^2 z = e (phi'^2 - i phi'') e^{i (phi + beta)},
 
 with a prescribed rotor angle phi(t) = 2 pi (f_start t + rate t^2 / 2) (constant
-angular acceleration), from rest at t = 0, integrated by scipy's DOP853 at
-rtol 1e-11 in real form.  The keyphasor is a trapezoidal once-per-revolution pulse
+angular acceleration), from rest at t = 0, solved exactly in its two modes
+(:func:`forced_response`: each sample interval's forcing integral by 8-point
+Gauss-Legendre, ~1e-13 relative; it agrees with scipy's DOP853 at rtol 1e-11 to that
+solver's tolerance, and takes milliseconds where DOP853 with a Python right-hand side
+took seconds).  The keyphasor is a trapezoidal once-per-revolution pulse
 whose leading edge is a ramp linear in the rotor angle, centred on the mark: its
 50 % level (IEEE 181 reference level) is crossed exactly when phi = 0 mod 2 pi.
 """
@@ -16,9 +19,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import solve_ivp
+from scipy.signal import lfilter
 
-__all__ = ["ExactRunup", "exact_runup", "write_csv"]
+__all__ = ["ExactRunup", "exact_runup", "forced_response", "write_csv"]
 
 TWO_PI = 2.0 * math.pi
 
@@ -45,6 +48,30 @@ class ExactRunup:
         return self.f0_hz / math.sqrt(1.0 - 2.0 * self.zeta ** 2)
 
 
+def forced_response(t, force, w0, zeta, nodes=8):
+    """z [m] and z' [m/s] of z'' + 2 zeta w0 z' + w0^2 z = force(t) from rest at t[0].
+
+    ``t`` uniform [s]; ``force(t)`` [m/s^2] vectorised, complex.  In the modes
+    lam = -zeta w0 +- i w0 sqrt(1 - zeta^2) (zeta < 1), z = a1 + a2 with
+    a_j' = lam_j a_j +- force / (lam1 - lam2): over one sample interval dt exactly
+    a_j(t + dt) = e^{lam_j dt} a_j(t) + int_0^dt e^{lam_j (dt - s)} (...) force(t + s) ds,
+    the integral by ``nodes``-point Gauss-Legendre (error ~ (omega dt)^(2 nodes) / (2 nodes)!,
+    below 1e-13 at 10 samples per revolution), the recursion by ``lfilter``.
+    """
+    t = np.asarray(t, float)
+    dt = t[1] - t[0]
+    assert np.allclose(np.diff(t), dt, rtol=1e-9, atol=0), "uniform samples only"
+    lam = -zeta * w0 + np.array([1j, -1j]) * w0 * math.sqrt(1.0 - zeta * zeta)
+    x, wq = np.polynomial.legendre.leggauss(nodes)
+    s = 0.5 * dt * (x + 1.0)
+    f = force(t[:-1, None] + s[None, :])                   # (intervals, nodes)
+    modes = []
+    for lj, sign in zip(lam, (1.0, -1.0)):
+        g = f @ (np.exp(lj * (dt - s)) * wq * 0.5 * dt) * (sign / (lam[0] - lam[1]))
+        modes.append(lfilter([1.0], [1.0, -np.exp(lj * dt)], np.r_[0.0, g]))
+    return modes[0] + modes[1], lam[0] * modes[0] + lam[1] * modes[1]
+
+
 def exact_runup(*, f0_hz=18.5, zeta=0.04, e_m=150e-6, beta_deg=70.0, mass_kg=2.0,
                 f_start_hz=6.0, f_end_hz=32.0, duration_s=26.0, samples_per_rev_max=10.0,
                 fs_hz=None, noise_m=0.0, seed=0, offset_m=0j, runout_m=0j) -> ExactRunup:
@@ -60,19 +87,14 @@ def exact_runup(*, f0_hz=18.5, zeta=0.04, e_m=150e-6, beta_deg=70.0, mass_kg=2.0
     def phi(t):
         return TWO_PI * (f_start_hz * t + 0.5 * rate * t * t)
 
-    def rhs(t, s):
-        x, y, vx, vy = s
+    def force(t):
         p1 = TWO_PI * (f_start_hz + rate * t)
-        p2 = TWO_PI * rate
-        f = e_m * (p1 * p1 - 1j * p2) * np.exp(1j * (phi(t) + beta))
-        return [vx, vy, f.real - 2 * zeta * w0 * vx - w0 * w0 * x,
-                f.imag - 2 * zeta * w0 * vy - w0 * w0 * y]
+        return e_m * (p1 * p1 - 1j * TWO_PI * rate) * np.exp(1j * (phi(t) + beta))
 
     t = np.arange(0.0, duration_s, 1.0 / fs)
-    sol = solve_ivp(rhs, (0.0, t[-1]), [0.0, 0.0, 0.0, 0.0], method="DOP853", t_eval=t,
-                    rtol=1e-11, atol=1e-16, max_step=0.05 / f_end_hz)
+    z = forced_response(t, force, w0, zeta)[0]
     ro = complex(runout_m) * np.exp(1j * phi(t))
-    x, y = sol.y[0] + offset_m.real + ro.real, sol.y[1] + offset_m.imag + ro.imag
+    x, y = z.real + offset_m.real + ro.real, z.imag + offset_m.imag + ro.imag
     if noise_m:
         rng = np.random.default_rng(seed)
         x = x + noise_m * rng.standard_normal(t.size)
