@@ -62,10 +62,9 @@ def test_unbalance_from_filmed_spot_within_2_percent(tmp_path):
 def test_stuck_balls_frequencies_from_filmed_spot_within_0_1_percent(tmp_path):
     base = load_scene(SCENES / "ball_stuck.toml")
     # filmed from 30 s (stuck-ball motion established) to 40 s: 600 frames.  The frequency
-    # estimates' spread scales as T^-1.5 N^-0.5; over 15 s (35 s before) the nutation was
-    # found to ~5e-7 (1.4e-7 over 35 s), over these 10 s ~2.3 x that, ~1.1e-6; the precession
-    # to 8e-6 either way (the same offset from the linear root): the 0.1 % acceptance is still
-    # >100 x their error
+    # estimates' spread scales as T^-1.5 N^-0.5; over these 10 s the nutation is found to
+    # 4.9e-7 (5.0e-7 over 15 s, 1.4e-7 over 35 s) and the precession to 7.9e-6 (8e-6 either
+    # way: the same offset from the linear root): the 0.1 % acceptance is still >100 x their error
     run = dataclasses.replace(base.run, duration=40.0, sample_rate=200.0)
     sc = dataclasses.replace(base, run=run)
     cam = ScreenCamera(pixel_pitch=1.5e-4, width=320, height=320, gain=1.0, frame_rate=60.0,
