@@ -224,3 +224,41 @@ def assert_result_contract(res, cli_doc=None):
     text = repr(res)
     assert text.startswith(f"{cls.__name__}(") and len(text) < 400
     assert "<table>" in res._repr_html_()
+
+
+# ------------------------------------------------------------------ property tests: a share by default
+class Properties:
+    """Hypothesis properties that try a share of their examples in the default run and all of
+    them under ``-m full`` (issue 43): ``@props(SETTINGS)`` in place of ``@SETTINGS`` (outside
+    ``@given``) runs the property with ``max(minimum, max_examples // divisor)`` examples
+    (derandomized: the same ones each run); ``test_x = props.full_test()`` at the end of the module
+    is one test per property, marked ``full``, that runs it with ``SETTINGS`` unchanged."""
+
+    def __init__(self, divisor: int = 8, minimum: int = 8):
+        self.divisor, self.minimum, self.full = divisor, minimum, {}
+
+    def __call__(self, full_settings):
+        from hypothesis import settings
+
+        def decorate(test):
+            self.full[test.__name__] = (test, full_settings)
+            n = max(self.minimum, full_settings.max_examples // self.divisor)
+            return settings(full_settings, max_examples=min(n, full_settings.max_examples))(test)
+        return decorate
+
+    def full_test(self):
+        import pytest
+        from hypothesis import given, settings
+
+        @pytest.mark.full
+        @pytest.mark.parametrize("name", sorted(self.full))
+        def test_property_with_all_its_examples(name, request):
+            """The property ``name`` with its full example count (its default-run test tries a
+            share of them, the same code paths)."""
+            test, full_settings = self.full[name]
+            handle = test.hypothesis
+            strategies = handle._given_kwargs       # hypothesis' record of the @given arguments
+            again = settings(full_settings)(given(**strategies)(handle.inner_test))
+            fixtures = [p for p in inspect.signature(handle.inner_test).parameters if p not in strategies]
+            again(**{p: request.getfixturevalue(p) for p in fixtures})
+        return test_property_with_all_its_examples

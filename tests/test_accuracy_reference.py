@@ -19,7 +19,9 @@ SCENES = ROOT / "data_samples" / "scenes"
 STIFF = (SCENES / "ball_runup.toml").read_text()
 STIFF = re.sub(r"(?m)^drag = .*$", "drag = 500.0", STIFF)
 STIFF = re.sub(r"(?m)^programme = .*$", "programme = [[0.0, 5.0]]", STIFF)
-STIFF = re.sub(r"(?m)^duration = .*$", "duration = 0.5", STIFF)
+#: 0.2 s (one revolution, 41 samples): the stiffness ratio is the parameters', not the duration's, and
+#: the stated error keeps its relation to the true one (own / true ~ 10 at 0.2 s as at 0.5 s)
+STIFF = re.sub(r"(?m)^duration = .*$", "duration = 0.2", STIFF)
 
 
 def _independent(scene, rtol):

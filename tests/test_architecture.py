@@ -11,6 +11,7 @@ Importing a module does not count as importing its package's ``__init__`` (as in
 from __future__ import annotations
 
 import ast
+import functools
 import re
 from pathlib import Path
 import pytest
@@ -73,8 +74,21 @@ def import_targets(tree, here: str, mods) -> list:
     return targets
 
 
+@functools.lru_cache(maxsize=None)
+def _tree(path: Path):
+    """A source file's syntax tree, parsed once per test process (the files do not change
+    during a run; the checks below walk the same trees)."""
+    return ast.parse(path.read_text(), filename=str(path))
+
+
 def import_graph() -> dict:
-    """Module -> set of the package's modules it imports (anywhere in its source, strings too)."""
+    """Module -> set of the package's modules it imports (anywhere in its source, strings too);
+    a fresh copy of the graph read once per test process."""
+    return {name: set(edges) for name, edges in _import_graph().items()}
+
+
+@functools.lru_cache(maxsize=None)
+def _import_graph() -> dict:
     mods = _modules()
 
     def owner(name):  # the longest prefix of ``name`` that is a module of ours
@@ -85,7 +99,7 @@ def import_graph() -> dict:
     graph = {}
     for name, (path, is_pkg) in mods.items():
         here = name if is_pkg else name.rpartition(".")[0]
-        tree = ast.parse(path.read_text(), filename=str(path))
+        tree = _tree(path)
         edges = {o for o in map(owner, import_targets(tree, here, mods)) if o and o != name}
         graph[name] = edges
     return graph
@@ -170,7 +184,7 @@ def test_equations_of_motion_are_written_once():
     three modules of stand/; the books' own forms are test oracles (tests/oracles/)."""
     owners = set()
     for path in (ROOT / "stand").rglob("*.py"):
-        for node in ast.walk(ast.parse(path.read_text())):
+        for node in ast.walk(_tree(path)):
             if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and re.search(
                     r"(^|_)rhs($|_)", node.name):
                 owners.add(str(path.relative_to(ROOT)))

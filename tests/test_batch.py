@@ -49,6 +49,8 @@ def test_errors(tmp_path):
 def test_dask_local_cluster(folder):
     from dask.distributed import LocalCluster
 
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as lc:
+    # one worker process: the distributed path (scheduler, a worker process, results back) at
+    # the start-up cost of one process (the pool's parallelism: test_folder_summary_in_parallel)
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as lc:
         df = run_batch(expand_sources(str(folder / "run*.h5")), analyze_row, scheduler=lc.scheduler_address)
     assert (df["status"] == "ok").all() and len(df) == 3

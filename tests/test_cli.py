@@ -16,6 +16,31 @@ ROOT = Path(__file__).resolve().parents[1]
 SCENES = ROOT / "data_samples" / "scenes"
 
 
+@pytest.fixture(scope="module", autouse=True)
+def _analysis_computed_once():
+    """The identification of a recording (stand.analysis.identify.analyze, seconds for the lab
+    run-up) computed once per (recording, arguments) in this module and a deep copy handed to
+    each caller: ``stand analyze``, ``analyze --json`` and ``stand report`` of one recording
+    each check their own printing and serialisation of the same numbers (the analysis itself:
+    test_lab_daq.py, test_report_chain.py).  Its callers import it at call time."""
+    import copy
+
+    from stand.analysis import identify
+
+    cache = {}
+    original = identify.analyze
+
+    def once(*args, **kwargs):
+        key = repr((args, sorted(kwargs.items())))
+        if key not in cache:
+            cache[key] = original(*args, **kwargs)
+        return copy.deepcopy(cache[key])
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(identify, "analyze", once)
+        yield cache
+
+
 def test_run_ball_runup_json_and_recording(tmp_path, capsys):
     out = tmp_path / "r.h5"
     rc = main(["run", str(SCENES / "ball_runup.toml"), "-o", str(out), "--json", "--no-progress"])

@@ -10,6 +10,7 @@ from __future__ import annotations
 import hashlib
 import io
 import os
+from contextlib import contextmanager
 import resource
 import shutil
 import signal
@@ -26,22 +27,38 @@ from _helpers import wait_for
 SCENES = Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
 
 
-def _stand(*argv, limit_bytes=None, **kw):
-    def preexec():
-        if limit_bytes is not None:   # a full disk, as the process sees it
-            signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
-            resource.setrlimit(resource.RLIMIT_FSIZE, (limit_bytes, limit_bytes))
-    return subprocess.run([sys.executable, "-m", "stand", *map(str, argv)], capture_output=True,
-                          text=True, preexec_fn=preexec, timeout=300, **kw)
-
-
 def _stand_here(*argv) -> int:
-    """``stand <argv>`` in this process: for the set-up steps (a recording, a previous
-    output, the uninterrupted reference) that need no process of their own."""
+    """``stand <argv>`` in this process (the command's own code, without a Python start);
+    only the kill -9 below needs a process of its own."""
     from stand.cli.main import main
 
     with redirect_stdout(io.StringIO()), redirect_stderr(io.StringIO()):
         return main([str(a) for a in argv])
+
+
+def _stand_err(*argv) -> tuple:
+    """``stand <argv>`` in this process: (exit code, stderr)."""
+    from stand.cli.main import main
+
+    err = io.StringIO()
+    with redirect_stdout(io.StringIO()), redirect_stderr(err):
+        code = main([str(a) for a in argv])
+    return code, err.getvalue()
+
+
+@contextmanager
+def _file_size_limit(limit_bytes: int):
+    """A full disk, as this process sees it: writes past ``limit_bytes`` of a file fail with
+    EFBIG ("File too large"; SIGXFSZ ignored).  Only the soft limit is lowered, and put back
+    when the block ends."""
+    soft, hard = resource.getrlimit(resource.RLIMIT_FSIZE)
+    old = signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    resource.setrlimit(resource.RLIMIT_FSIZE, (limit_bytes, hard))
+    try:
+        yield
+    finally:
+        resource.setrlimit(resource.RLIMIT_FSIZE, (soft, hard))
+        signal.signal(signal.SIGXFSZ, old)
 
 
 def _digest(p: Path) -> str:
@@ -73,10 +90,11 @@ def test_full_disk_keeps_the_previous_output(tmp_path, command):
         assert _stand_here("report", rec, "-o", out) == 0
         argv = ("report", rec, "-o", out)
     before = _digest(out)
-    r = _stand(*argv, limit_bytes=20_000)
-    assert r.returncode == 2, r.stderr
-    lines = r.stderr.strip().splitlines()
-    assert len(lines) == 1 and "File too large" in lines[0] and str(out) in lines[0], r.stderr
+    with _file_size_limit(20_000):
+        code, err = _stand_err(*argv)
+    assert code == 2, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "File too large" in lines[0] and str(out) in lines[0], err
     assert _digest(out) == before
     assert _leftovers(tmp_path) == []
 
@@ -103,13 +121,13 @@ def test_read_only_output_folder_is_a_clear_error(tmp_path):
     if undo is None:
         pytest.skip("cannot make a folder read-only here (root without chattr)")
     try:
-        r = _stand("run", scene, "-o", out)
+        code, err = _stand_err("run", scene, "-o", out)
     finally:
         undo()
-    assert r.returncode == 2, r.stderr
-    lines = r.stderr.strip().splitlines()
-    assert len(lines) == 1 and str(out) in lines[0], r.stderr
-    assert "not permitted" in lines[0] or "Permission denied" in lines[0], r.stderr
+    assert code == 2, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and str(out) in lines[0], err
+    assert "not permitted" in lines[0] or "Permission denied" in lines[0], err
     assert _digest(out) == before and _leftovers(out_dir) == []
 
 
@@ -117,7 +135,7 @@ def test_batch_report_killed_then_rerun_equals_an_uninterrupted_run(tmp_path):
     scene = _short_scene(tmp_path, duration=1.0)   # 1 s: each report ~0.2 s instead of ~0.4 s
     recs = tmp_path / "recs"
     recs.mkdir()
-    for k in range(6):
+    for k in range(3):    # the killed run stops after the first report: two left to resume
         assert _stand_here("run", scene, "-o", recs / f"r{k}.h5") == 0
     clean_dir, killed_dir = tmp_path / "clean", tmp_path / "killed"
     clean_dir.mkdir()
@@ -135,8 +153,9 @@ def test_batch_report_killed_then_rerun_equals_an_uninterrupted_run(tmp_path):
     for html in killed_dir.glob("*.html"):
         assert html.read_text().rstrip().endswith("</html>")
     assert not (killed_dir / "s.csv").exists()
-    assert _stand("report", recs, "-o", killed_dir, "--summary", killed_dir / "s.csv",
-                  "--workers", "1").returncode == 0
+    # the rerun: the command's own code, in this process
+    assert _stand_here("report", recs, "-o", killed_dir, "--summary", killed_dir / "s.csv",
+                       "--workers", "1") == 0
     a = pd.read_csv(clean_dir / "s.csv").drop(columns=["report"])
     b = pd.read_csv(killed_dir / "s.csv").drop(columns=["report"])
     pd.testing.assert_frame_equal(a, b)

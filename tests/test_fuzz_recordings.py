@@ -31,11 +31,13 @@ from stand.recording.hdf5 import DATASETS, Recording, RecordingError, read_recor
 from stand.integrate.result import Run, SolverStats
 from stand.scene.parse import load_scene
 
-from _helpers import toml_text
+from _helpers import Properties, toml_text
 
 FAST = settings(max_examples=120, deadline=20_000, derandomize=True, database=None,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
                                        HealthCheck.function_scoped_fixture])
+#: each property: an eighth of its examples by default, all under ``-m full`` (issue 43)
+PROPS = Properties()
 TIME_BOUND = 30.0  #: s, for one ``stand analyze`` of a small file
 
 SCENE = toml_text(
@@ -108,7 +110,7 @@ def check_read(path: Path):
 
 
 # ---------------------------------------------------------------- HDF5: truncation, bytes
-@FAST
+@PROPS(FAST)
 @given(st.floats(0.0, 1.0), st.sampled_from(["rot", "free"]))
 def test_truncated_recordings_are_clear_errors(originals, tmp_path_factory, frac, which):
     src = originals[which]
@@ -123,7 +125,7 @@ def test_truncated_recordings_are_clear_errors(originals, tmp_path_factory, frac
         assert code == 2
 
 
-@settings(FAST, max_examples=60)
+@PROPS(settings(FAST, max_examples=60))
 @given(st.binary(max_size=2000), st.sampled_from(["run.h5", "run.hdf5", "run", "run.csv"]))
 def test_arbitrary_bytes_are_clear_errors(tmp_path_factory, blob, name):
     p = tmp_path_factory.mktemp("by") / name
@@ -135,7 +137,7 @@ def test_arbitrary_bytes_are_clear_errors(tmp_path_factory, blob, name):
         assert code == 2
 
 
-@settings(FAST, max_examples=60)
+@PROPS(settings(FAST, max_examples=60))
 @given(st.integers(0, 10 ** 9), st.binary(min_size=1, max_size=64))
 def test_overwritten_bytes_in_the_data_are_clear_errors_or_read(originals, tmp_path_factory,
                                                                 where, junk):
@@ -206,7 +208,7 @@ def _mutate(path: Path, key: str, kind: str):
             f.create_dataset(key, data=_replacement(kind, a))
 
 
-@FAST
+@PROPS(FAST)
 @given(st.sampled_from(KEYS), BAD_ARRAYS, st.sampled_from(["rot", "free"]))
 def test_changed_datasets_are_read_or_named(originals, tmp_path_factory, key, kind, which):
     p = tmp_path_factory.mktemp("ds") / "mut.h5"
@@ -223,7 +225,7 @@ def test_changed_datasets_are_read_or_named(originals, tmp_path_factory, key, ki
         assert code == 2
 
 
-@FAST
+@PROPS(FAST)
 @given(st.lists(st.sampled_from(KEYS + ["shaft", "rotor", "weights", "planes"]), min_size=1, max_size=4,
                 unique=True), st.sampled_from(["rot", "free"]))
 def test_deleted_datasets_and_groups_are_read_or_named(originals, tmp_path_factory, keys, which):
@@ -255,7 +257,7 @@ ATTR_VALUES = st.one_of(
 )
 
 
-@FAST
+@PROPS(FAST)
 @given(st.sampled_from(["scene", "solver", "format", "format_version", "version", "scene_name",
                         "created"]), ATTR_VALUES, st.sampled_from(["rot", "free"]))
 def test_changed_root_attributes_are_read_or_named(originals, tmp_path_factory, attr, value, which):
@@ -269,7 +271,7 @@ def test_changed_root_attributes_are_read_or_named(originals, tmp_path_factory, 
     check_analyze(p)
 
 
-@FAST
+@PROPS(FAST)
 @given(st.sampled_from(KEYS), st.sampled_from(["units", "description"]), ATTR_VALUES)
 def test_changed_dataset_attributes_are_read(originals, tmp_path_factory, key, attr, value):
     p = tmp_path_factory.mktemp("da") / "dattr.h5"
@@ -383,7 +385,7 @@ def _write_csv(path: Path, cols: dict, mutation: str, data) -> None:
         path.write_text(text)
 
 
-@FAST
+@PROPS(FAST)
 @given(CSV_MUTATIONS, st.booleans(), st.data())
 def test_csv_inputs_of_stand_analyze(tmp_path_factory, mutation, rotating, data):
     p = tmp_path_factory.mktemp("csv") / "run.csv"
@@ -398,7 +400,7 @@ def test_csv_inputs_of_stand_analyze(tmp_path_factory, mutation, rotating, data)
         assert col in err
 
 
-@settings(FAST, max_examples=60)
+@PROPS(settings(FAST, max_examples=60))
 @given(st.lists(st.lists(st.one_of(st.floats(), st.integers(), st.text(max_size=4)),
                          min_size=3, max_size=4), max_size=30),
        st.sampled_from(["t_s,x_m,y_m", "t_s,x_m,y_m,rotor_angle_rad", "t_s,x_m,y_m,keyphasor"]))
@@ -469,3 +471,6 @@ def test_values_near_the_float_limit_give_null_with_a_note(tmp_path):
         assert not (isinstance(v, float) and not math.isfinite(v))
     if doc["response_1x_m"] is None:
         assert any("response_1x_m: not finite" in n for n in doc["notes"])
+
+
+test_property_with_all_its_examples = PROPS.full_test()

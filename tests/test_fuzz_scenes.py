@@ -26,10 +26,14 @@ from stand.scene.model import Scene as FamilyScene
 from stand.scene.model import METHODS, Scene, SceneError
 from stand.scene.parse import load_scene, parse_scene
 
+from _helpers import Properties
+
 FAST = settings(max_examples=200, deadline=10_000, derandomize=True, database=None,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
                                        HealthCheck.filter_too_much])
 SLOW = settings(FAST, max_examples=30, deadline=None)
+#: each property: an eighth of its examples by default, all under ``-m full`` (issue 43)
+PROPS = Properties()
 
 DEG = math.pi / 180
 TWO_PI = 2 * math.pi
@@ -369,7 +373,7 @@ def parse_or_scene_error(doc, parse=parse_scene):
 
 
 # ---------------------------------------------------------------- properties: valid scenes
-@FAST
+@PROPS(FAST)
 @given(valid_docs())
 def test_valid_documents_parse_and_keep_their_values(doc):
     sc = parse_scene(copy.deepcopy(doc), text="x")
@@ -398,7 +402,7 @@ def test_valid_documents_parse_and_keep_their_values(doc):
     assert len(sc.perturbations) == len(doc.get("perturbation", []))
 
 
-@FAST
+@PROPS(FAST)
 @given(valid_docs())
 def test_load_scene_of_the_toml_text_equals_parse_scene(doc):
     text = to_toml(doc)
@@ -411,7 +415,7 @@ def test_load_scene_of_the_toml_text_equals_parse_scene(doc):
 
 
 # ---------------------------------------------------------------- properties: invalid scenes
-@FAST
+@PROPS(FAST)
 @given(st.data())
 def test_a_bad_value_in_any_field_is_a_scene_error_naming_the_key(data):
     doc = data.draw(valid_docs())
@@ -438,7 +442,7 @@ def test_a_bad_value_in_any_field_is_a_scene_error_naming_the_key(data):
     check_scene_error_names(res, key)
 
 
-@FAST
+@PROPS(FAST)
 @given(st.data())
 def test_an_unknown_key_or_table_is_named(data):
     doc = data.draw(valid_docs())
@@ -465,7 +469,7 @@ REQUIRED_KEYS = {"rotor": ["mass"], "run": ["duration", "sample_rate"], "drive":
                  "dimensionless": ["n", "Rt", "h", "H", "e0"]}
 
 
-@FAST
+@PROPS(FAST)
 @given(st.data())
 def test_a_missing_table_or_required_key_is_named(data):
     doc = data.draw(valid_docs())
@@ -484,7 +488,7 @@ def test_a_missing_table_or_required_key_is_named(data):
     check_scene_error_names(res, expect, *(["[rotor]"] if table == "dimensionless" else []))
 
 
-@FAST
+@PROPS(FAST)
 @given(st.data())
 def test_a_table_of_the_wrong_type_is_named(data):
     doc = data.draw(valid_docs())
@@ -496,7 +500,7 @@ def test_a_table_of_the_wrong_type_is_named(data):
     check_scene_error_names(res, table)
 
 
-@FAST
+@PROPS(FAST)
 @given(valid_docs(), st.sampled_from(["rotor.mass", "rotor.eccentricity", "supports.damping",
                                       "run.duration", "run.sample_rate", "initial.x",
                                       "drive.rotor_drag", "balancer.radius", "balancer.mass",
@@ -516,7 +520,7 @@ def test_extreme_magnitudes_parse_or_are_refused_clearly(doc, key, value):
         assert isinstance(res, Scene)
 
 
-@FAST
+@PROPS(FAST)
 @given(st.recursive(st.none() | st.booleans() | st.integers() | fl(-1e3, 1e3) | st.text(max_size=5),
                     lambda ch: st.lists(ch, max_size=3) | st.dictionaries(st.text(max_size=6), ch,
                                                                            max_size=3),
@@ -526,7 +530,7 @@ def test_arbitrary_documents_never_crash(doc):
     assert isinstance(res, (Scene, SceneError))
 
 
-@FAST
+@PROPS(FAST)
 @given(st.dictionaries(st.sampled_from(["scene", "rotor", "supports", "balancer", "drive", "run",
                                         "initial", "dimensionless", "instruments", "perturbation"]),
                        st.dictionaries(st.sampled_from(
@@ -543,7 +547,7 @@ def test_documents_with_the_right_table_names_never_crash(doc):
 
 
 # ---------------------------------------------------------------- TOML text and files
-@FAST
+@PROPS(FAST)
 @given(valid_docs(), st.data())
 def test_corrupted_toml_text_is_a_scene_error_or_a_scene(doc, data):
     text = to_toml(doc)
@@ -567,7 +571,7 @@ def test_corrupted_toml_text_is_a_scene_error_or_a_scene(doc, data):
         assert isinstance(sc, Scene)
 
 
-@FAST
+@PROPS(FAST)
 @given(st.text(max_size=200))
 def test_arbitrary_text_is_a_scene_error(text):
     try:
@@ -578,7 +582,7 @@ def test_arbitrary_text_is_a_scene_error(text):
         assert isinstance(sc, Scene)
 
 
-@settings(FAST, max_examples=50)
+@PROPS(settings(FAST, max_examples=50))
 @given(st.binary(max_size=300))
 def test_scene_files_with_arbitrary_bytes_are_scene_errors_naming_the_file(tmp_path_factory, blob):
     p = tmp_path_factory.mktemp("sc") / "rig.toml"
@@ -645,7 +649,7 @@ def family_docs(draw):
     return doc
 
 
-@FAST
+@PROPS(FAST)
 @given(family_docs())
 def test_valid_family_scenes_parse(doc):
     fs = parse_family_scene(copy.deepcopy(doc))
@@ -657,7 +661,7 @@ def test_valid_family_scenes_parse(doc):
 FAMILY_BAD = st.one_of(WRONG_TYPES, NOT_FINITE, HUGE_INT, st.just(-1.0), st.just(0.0))
 
 
-@FAST
+@PROPS(FAST)
 @given(family_docs(), st.data())
 def test_family_scene_bad_structure_values_name_the_key(doc, data):
     key = data.draw(st.sampled_from([k for k in doc["structure"] if k != "type"]))
@@ -672,7 +676,7 @@ def test_family_scene_bad_structure_values_name_the_key(doc, data):
     check_scene_error_names(res, key)
 
 
-@FAST
+@PROPS(FAST)
 @given(family_docs(), st.data())
 def test_family_scene_bad_weights_and_tables_are_scene_errors(doc, data):
     what = data.draw(st.sampled_from(["structure", "weights", "plane", "friction", "rolling",
@@ -706,7 +710,7 @@ def test_family_scene_bad_weights_and_tables_are_scene_errors(doc, data):
     assert str(res)
 
 
-@FAST
+@PROPS(FAST)
 @given(st.recursive(st.none() | st.booleans() | st.integers() | fl(-1e3, 1e3) | st.text(max_size=5),
                     lambda ch: st.lists(ch, max_size=3) | st.dictionaries(
                         st.sampled_from(["structure", "type", "mass", "weights", "drive", "run",
@@ -730,7 +734,7 @@ def warm():
     return simulate
 
 
-@SLOW
+@PROPS(SLOW)
 @given(valid_docs())
 def test_valid_scenes_simulate_to_a_clear_status_in_bounded_time(warm, doc):
     sc = parse_scene(doc)
@@ -805,3 +809,6 @@ def test_family_scene_without_a_programme():
     doc["drive"] = {}
     with pytest.raises(SceneError, match=r"drive\.programme: missing required key"):
         parse_family_scene(doc)
+
+
+test_property_with_all_its_examples = PROPS.full_test()

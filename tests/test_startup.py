@@ -33,13 +33,28 @@ def _python(code: str, env=None) -> str:
     return r.stdout
 
 
-def _modules_after(argv) -> set:
-    """Top-level modules imported by ``stand ARGV`` run in a fresh process."""
-    code = ("import sys, json\nfrom stand.cli.main import main\n"
-            f"try:\n    main({list(map(str, argv))!r})\nexcept SystemExit:\n    pass\n"
-            "print('@@' + json.dumps(sorted({m.split('.')[0] for m in sys.modules})))")
-    out = _python(code)
-    return set(json.loads(out.split("@@")[-1]))
+def _modules_after(argv, *more) -> set:
+    """Top-level modules imported by ``stand ARGV`` run in a fresh process (``more``: further
+    commands run after it in the same process; a list of sets then, one after each command:
+    the modules of the first and all that the later ones added)."""
+    code = "import sys, json\nfrom stand.cli.main import main\n"
+    for a in (argv, *more):
+        code += (f"try:\n    main({list(map(str, a))!r})\nexcept SystemExit:\n    pass\n"
+                 "print('@@' + json.dumps(sorted({m.split('.')[0] for m in sys.modules})))\n")
+    sets = [set(json.loads(part.splitlines()[0])) for part in _python(code).split("@@")[1:]]
+    return sets if more else sets[0]
+
+
+@pytest.fixture(scope="module")
+def built():
+    """The precompiled planar and generic kernels and the screen renderer, built once for this
+    module (one process; a no-op where they exist); the reason if this machine cannot build."""
+    reason = precompiled.available()
+    if reason is None:
+        _python("from stand.integrate.kernel_set import kernels\nfrom stand.integrate import "
+                "precompiled\nkernels(0, build=True)\nkernels(1, build=True)\n"
+                "precompiled.build('stand.instruments.render:render_frame')")
+    return reason
 
 
 HEAVY = {"numba", "pandas", "dask", "matplotlib", "cv2", "llvmlite"}
@@ -50,16 +65,14 @@ def test_help_imports_nothing_heavy():
     assert not mods & (HEAVY | {"scipy", "h5py"}), mods & (HEAVY | {"scipy", "h5py"})
 
 
-def test_theory_and_analyze_import_no_numba_pandas_dask_matplotlib():
+def test_theory_and_analyze_import_no_numba_pandas_dask_matplotlib(built):
     """(``stand theory`` evaluates the right-hand side in its residual checks: from the
-    precompiled kernel, built here first if this machine can build it.)"""
-    if precompiled.available() is None:
-        _python("from stand.integrate.kernel_set import kernels\nkernels(0, build=True)")
-        assert not _modules_after(["theory", RUNUP]) & HEAVY
-    else:
-        assert not _modules_after(["theory", RUNUP]) & (HEAVY - {"numba", "llvmlite"})
+    precompiled kernel, built here first if this machine can build it.)  One process: analyze
+    first (its own modules), then theory (the modules of both)."""
     rec = ROOT / "data_samples" / "recordings" / "stand_cameras.h5"
-    assert not _modules_after(["analyze", rec]) & HEAVY
+    analyze, both = _modules_after(["analyze", rec], ["theory", RUNUP])
+    assert not analyze & HEAVY
+    assert not both & (HEAVY if built is None else HEAVY - {"numba", "llvmlite"})
 
 
 def test_importing_the_kernels_does_not_import_numba():
@@ -132,11 +145,10 @@ def test_precompiled_and_jit_kernels_agree(scene, duration, monkeypatch):
     assert np.max(np.abs(sa - sb) / scale) <= 1e-12
 
 
-def test_warm_run_imports_no_numba():
+def test_warm_run_imports_no_numba(built):
     """With the precompiled kernel present, a whole `stand run` never imports numba."""
-    if precompiled.available() is not None:
-        pytest.skip(f"precompiling unavailable: {precompiled.available()}")
-    _python("from stand.integrate.kernel_set import kernels\nkernels(0, build=True)")
+    if built is not None:
+        pytest.skip(f"precompiling unavailable: {built}")
     out = _python(
         "import sys, tempfile, os, stand\nsc = stand.load(%r)\n"
         "from dataclasses import replace\nsc = replace(sc, run=replace(sc.run, duration=1.0))\n"
@@ -370,14 +382,12 @@ def test_kernel_set_dop853_takes_lists_and_checks_its_workspace():
 
 
 @pytest.mark.parametrize("name", ["family_spatial", "body_liquid_float"])
-def test_warm_run_of_every_kind_imports_no_numba(name, tmp_path):
+def test_warm_run_of_every_kind_imports_no_numba(name, tmp_path, built):
     """A generic-kernel scene with a screen camera (frames rendered) and bodies: with the
     precompiled generic kernel and renderer, the whole `stand run` imports neither numba nor
     scipy.special (issue 33)."""
-    if precompiled.available() is not None:
-        pytest.skip(f"precompiling unavailable: {precompiled.available()}")
-    _python("from stand.integrate.kernel_set import kernels\nfrom stand.integrate import "
-            "precompiled\nkernels(1, build=True)\nprecompiled.build('stand.instruments.render:render_frame')")
+    if built is not None:
+        pytest.skip(f"precompiling unavailable: {built}")
     code = ("import sys\nfrom stand.cli.main import main\n"
             f"rc = main(['run', {str(SCENES / (name + '.toml'))!r}, '-o', "
             f"{str(tmp_path / 'r.h5')!r}, '--force'])\n"

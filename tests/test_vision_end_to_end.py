@@ -43,7 +43,9 @@ def _film(scene, cam, path):
 def test_unbalance_from_filmed_spot_within_2_percent(tmp_path):
     base = load_scene(SCENES / "no_balancer.toml")
     w = 2 * math.pi * 15.0
-    run = dataclasses.replace(base.run, duration=14.0, sample_rate=2000.0)
+    # filmed from 8 s (transient gone) to 11 s: 360 frames; the estimate is off by 8e-5 over
+    # these 3 s as over 6 s (a systematic, not a noise-limited error): 2 % is >100 x it
+    run = dataclasses.replace(base.run, duration=11.0, sample_rate=2000.0)
     sc = dataclasses.replace(base, drive=SpeedDrive(np.array([[0.0, w]])), run=run)
     cam = ScreenCamera(pixel_pitch=2e-4, width=320, height=320, gain=1.5, frame_rate=120.0,
                        exposure=2e-4, subsamples=1, spot_diameter=1.6e-3, start_time=8.0, seed=5)
@@ -59,14 +61,14 @@ def test_unbalance_from_filmed_spot_within_2_percent(tmp_path):
 
 def test_stuck_balls_frequencies_from_filmed_spot_within_0_1_percent(tmp_path):
     base = load_scene(SCENES / "ball_stuck.toml")
-    # filmed from 25 s (stuck-ball motion established) to 40 s: 900 frames.  The frequency
-    # estimates' spread scales as T^-1.5 N^-0.5; over these 15 s (35 s before) the nutation is
-    # found to ~5e-7 (1.4e-7 over 35 s) and the precession to 8e-6 either way (the same
-    # offset from the linear root): the 0.1 % acceptance is still >100 x their error
+    # filmed from 30 s (stuck-ball motion established) to 40 s: 600 frames.  The frequency
+    # estimates' spread scales as T^-1.5 N^-0.5; over these 10 s the nutation is found to
+    # 4.9e-7 (5.0e-7 over 15 s, 1.4e-7 over 35 s) and the precession to 7.9e-6 (8e-6 either
+    # way: the same offset from the linear root): the 0.1 % acceptance is still >100 x their error
     run = dataclasses.replace(base.run, duration=40.0, sample_rate=200.0)
     sc = dataclasses.replace(base, run=run)
     cam = ScreenCamera(pixel_pitch=1.5e-4, width=320, height=320, gain=1.0, frame_rate=60.0,
-                       exposure=2e-4, subsamples=1, spot_diameter=1.2e-3, start_time=25.0, seed=6)
+                       exposure=2e-4, subsamples=1, spot_diameter=1.2e-3, start_time=30.0, seed=6)
     t, x, y, phi, ok = _film(sc, cam, tmp_path / "st.h5")
     assert ok.mean() > 0.99
     f1 = sc.natural_frequency / (2 * math.pi)
