@@ -44,7 +44,8 @@ def keyphasor_pulses(traj, kp: Keyphasor, t_start: Optional[float] = None,
     Roots of the cubic Hermite interpolant of (rotor_angle, rotor_speed); exact
     to rounding when the angle is at most quadratic in time between samples
     (a prescribed piecewise-linear speed programme, away from its kinks).
-    ``jitter`` adds Gaussian noise (seeded by ``seed`` or ``kp.seed``).
+    ``jitter`` adds Gaussian noise (seeded by ``seed`` or ``kp.seed``); ``bounce`` adds that
+    many pulses ``k bounce_time`` after each (a chattering contact).
     """
     t0, t1 = time_window(traj, t_start, t_end)
     tp = crossing_times(traj.t, traj.rotor_angle, traj.rotor_speed, kp.mark_angle, direction=1)
@@ -52,6 +53,8 @@ def keyphasor_pulses(traj, kp: Keyphasor, t_start: Optional[float] = None,
     if kp.jitter > 0 and tp.size:
         rng = np.random.default_rng(kp.seed if seed is None else seed)
         tp = np.sort(tp + rng.normal(0.0, kp.jitter, tp.size))
+    if kp.bounce:
+        tp = np.sort((tp[:, None] + kp.bounce_time * np.arange(kp.bounce + 1)).ravel())
     return tp
 
 

@@ -148,7 +148,14 @@ def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
             k = np.rint(phi / TWO_PI).astype(int)
             dt = np.random.default_rng(kp.seed).normal(0.0, kp.jitter, k.max() - k.min() + 1)
             phi = phi - np.gradient(phi, t) * dt[k - k.min()]
-        cols["kp_V"] = [f"{v:.3f}".replace(".", ",") for v in _keyphasor_volts(phi, rng=rng)]
+        kv = _keyphasor_volts(phi, rng=None if kp is not None and kp.bounce else rng)
+        if kp is not None and kp.bounce:           # the contact chatters after each true edge
+            from dsp.pulses import bounced
+
+            k = np.arange(math.ceil(phi[0] / TWO_PI), math.floor(phi[-1] / TWO_PI) + 1)
+            kv = bounced(t, kv, np.interp(k * TWO_PI, phi, t), kp.bounce, kp.bounce_time, 0.0)
+            kv = kv + rng.normal(0.0, 0.01, kv.shape)
+        cols["kp_V"] = [f"{v:.3f}".replace(".", ",") for v in kv]
     if tachometer and rec.shape(instrument_key(TACHOMETER, "speed")) is not None:
         tt = np.asarray(rec.dataset(instrument_key(TACHOMETER, "time")), float)
         sp = np.asarray(rec.dataset(instrument_key(TACHOMETER, "speed")), float) * 60.0 / TWO_PI
@@ -177,7 +184,8 @@ def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
     art = {k: v for k, v in dataclasses.asdict(inst["probes"]).items() if k in ARTEFACTS} \
         if "probes" in inst else {}
     if "keyphasor" in inst and keyphasor:
-        art["keyphasor_jitter"] = inst["keyphasor"].jitter
+        art.update(keyphasor_jitter=inst["keyphasor"].jitter, keyphasor_bounce=inst["keyphasor"].bounce,
+                   keyphasor_bounce_time=inst["keyphasor"].bounce_time)
     truth["artefacts"] = art       # SI: the probes' DAQ settings, as the scene declared them
     if truth_path is None:
         truth_path = str(Path(csv_path).with_suffix("")) + ".truth.json"

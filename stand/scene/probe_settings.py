@@ -32,18 +32,25 @@ class Keyphasor:
         Rms timing jitter of the pulses [s] (0: ideal).
     seed : int
         Seed of the jitter.
+    bounce : int
+        Contact bounce: extra pulses after each true edge (0: none).
+    bounce_time : float
+        Time between the bounce's edges [s] (the k-th extra edge ``k bounce_time`` after the true one).
     """
 
     mark_angle: float = number(0.0, "rad", toml=("deg", DEG))
     jitter: float = number(0.0, "s", ge=0)
     seed: int = integer(0, 0)
+    bounce: int = integer(0, 0, 20)
+    bounce_time: float = number(0.002, "s", gt=0, lt=0.1)
 
     def __post_init__(self):
         check(self, "instruments.keyphasor")
 
     @classmethod
     def from_table(cls, t) -> "Keyphasor":
-        """``[instruments.keyphasor]``: ``mark_angle`` [deg], ``jitter`` [s], ``seed``."""
+        """``[instruments.keyphasor]``: ``mark_angle`` [deg], ``jitter`` [s], ``seed``, ``bounce``,
+        ``bounce_time`` [s]."""
         t.allow(KEYPHASOR_KEYS)
         return rebased(cls, read_table(t, cls), "instruments.keyphasor", t.path)
 
