@@ -105,12 +105,14 @@ def tachometer_readings(traj, tach: Tachometer, t_start: Optional[float] = None,
 
 
 def channel_filter(probes: DisplacementProbes):
-    """The probes' DAQ filter as a :class:`dsp.artefacts.ChannelFilter`, or None."""
+    """The probes' DAQ filter and sensor response as a :class:`dsp.artefacts.ChannelFilter`, or None."""
     from dsp.artefacts import ChannelFilter
 
-    if probes.filter == "none":
-        return ChannelFilter("delay", delay_s=probes.group_delay) if probes.group_delay else None
-    return ChannelFilter(probes.filter, probes.filter_order, probes.filter_cutoff, probes.group_delay)
+    p = probes
+    if p.filter == "none" and not (p.group_delay or p.resonance_frequency or p.highpass_cutoff):
+        return None
+    return ChannelFilter(p.filter, p.filter_order, p.filter_cutoff, p.group_delay,
+                         p.resonance_frequency, p.resonance_q, p.highpass_cutoff)
 
 
 def probe_signals(traj, probes: DisplacementProbes, seed: Optional[int] = None,
