@@ -126,3 +126,65 @@ def test_map_declares_the_sensor_response(tmp_path):
     assert (f.resonance_hz, f.highpass_hz) == pytest.approx((2000.0, 0.5), rel=1e-12)
     with pytest.raises(MapError, match=r"x.filter: sensor resonance q 0.2: must be >= 0.5"):
         _filter({"resonance": "2000 Hz", "q": 0.2}, "x.filter")
+
+
+# ---------------------------------------------------------------- camera auto-gain
+
+
+def _camera(**kw):
+    from stand.scene.screen_camera import ScreenCamera
+
+    base = dict(pixel_pitch=1e-4, width=96, height=96, frame_rate=47.0, exposure=0.002,
+                subsamples=4, spot_diameter=0.8e-3, peak=150.0, background=8.0, seed=3)
+    return ScreenCamera(**{**base, **kw})
+
+
+def _spot(cam, n, radius_m=2.5e-3, f_hz=11.7):
+    """Spot centre px (n, K, 2) on a circle at ``f_hz`` rev/s, its truth centre px (n, 2), the
+    sub-sample times (n, K) [s]."""
+    from stand.instruments.screen import frame_truth, spot_positions
+
+    t = np.arange(n) / cam.frame_rate
+    T = t[:, None] + (np.arange(cam.subsamples) + 0.5) / cam.subsamples * cam.exposure
+    w = 2 * math.pi * f_hz
+    screen_m, px = spot_positions(radius_m * np.cos(w * T), radius_m * np.sin(w * T), w * T, cam)
+    return px, frame_truth(screen_m, px, cam)["centre_px"], T
+
+
+def _scores(df, truth_px):
+    e = np.c_[df["u_px"] - truth_px[:, 0], df["v_px"] - truth_px[:, 1]]
+    s = np.c_[df["u_std_px"], df["v_std_px"]]
+    return math.sqrt(np.mean(e ** 2)), math.sqrt(np.mean(s ** 2))
+
+
+def test_auto_gain_follows_a_step_with_its_time_constant():
+    from vision.camera_artefacts import auto_gain
+
+    assert np.array_equal(auto_gain(np.ones(5), 0.02, 0.1), np.ones(5))
+    assert np.array_equal(auto_gain([1.0, 2.0, 2.0], 0.02, 0.0), np.ones(3))
+    light = np.r_[1.0, np.full(60, 2.0)]                    # the lamps doubled after frame 0
+    g = auto_gain(light, 0.02, 0.1)
+    n = np.arange(1, 61)
+    # log g_n = -log 2 (1 - exp(-(n - 1) dt / tau)): brightness back to the set point
+    np.testing.assert_allclose(np.log(g[1:]), -math.log(2) * (1 - np.exp(-(n - 1) * 0.02 / 0.1)),
+                               rtol=1e-12, atol=1e-15)
+
+
+def test_auto_gain_chasing_the_flicker_into_saturation_keeps_the_track_right():
+    from stand.instruments.render import render_frames
+    from vision.camera_artefacts import auto_gain, flicker_gain
+    from vision.spot import track
+
+    cam = _camera(flicker_depth=0.3, auto_gain_time=0.03, peak=200.0, saturation=230.0)
+    px, truth, T = _spot(cam, 30)
+    light = flicker_gain(T[:, 0] + 0.5 * cam.exposure, cam.mains_frequency, cam.flicker_depth)
+    g = light * auto_gain(light, cam.frame_period, cam.auto_gain_time)
+    assert np.max(np.abs(g / light - 1)) > 0.1                # the gain chases the flicker late
+    frames = list(render_frames(px, cam, gains=g))
+    clipped = sum(int(f.max()) == 230 for f in frames)
+    # the flicker alone (peak 200 x 1.3 at most ... 230) clips none; chased late, some frames
+    assert 3 <= clipped < len(frames)
+    df = track(frames, gain=cam.electrons_per_dn, saturation=230.0)
+    assert df["ok"].all()
+    rms, std = _scores(df, truth)
+    assert rms <= 1.5 * std

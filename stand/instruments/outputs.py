@@ -186,14 +186,15 @@ class ScreenOutput(InstrumentOutput):
     truth : dict
         ``centre_px`` (F, 2) [px], ``centre_m`` (F, 2) [m], ``in_frame`` (F,), the spot's
         exposure-averaged centre; ``exposure_time`` (F, K) [s]; ``brightness`` (F,) the
-        flicker's gain; ``frame_index`` (F,) each frame's place before the drops.
+        flicker's gain times the auto-exposure's; ``frame_index`` (F,) each frame's place
+        before the drops.
     px : ndarray (F, K, 2)
         Spot centre at each exposure sub-sample [px] (what the frames are drawn from).
     """
 
     def __init__(self, name: str, scene, traj, plan):
         from stand.instruments.screen import frame_truth, spot_positions
-        from vision.camera_artefacts import flicker_gain
+        from vision.camera_artefacts import auto_gain, flicker_gain
 
         cam, starts, times, index = plan
         ex, plane, _ = plane_view(traj.extra, scene, cam)
@@ -215,8 +216,9 @@ class ScreenOutput(InstrumentOutput):
         self.truth["exposure_time"] = times[:n_ok]
         # the lamps' flicker at each mid-exposure; the frames the camera lost (the kept ones
         # keep their timestamps; the truth keeps each kept frame's index in the full sequence)
-        self.truth["brightness"] = flicker_gain(starts[:n_ok] + 0.5 * cam.exposure,
-                                                cam.mains_frequency, cam.flicker_depth)
+        light = flicker_gain(starts[:n_ok] + 0.5 * cam.exposure, cam.mains_frequency,
+                             cam.flicker_depth)         # times the auto-exposure's gain
+        self.truth["brightness"] = light * auto_gain(light, cam.frame_period, cam.auto_gain_time)
         self.truth["frame_index"] = np.arange(n_ok)
         if cam.drop_rate > 0:
             keep = np.random.default_rng([cam.seed, 0xD809]).random(n_ok) >= cam.drop_rate
