@@ -81,7 +81,8 @@ def _screen_columns(df, rec, group, optical_gain=None) -> None:
         if not gain > 0:
             raise ValueError(f"--optical-gain = {optical_gain}: must be > 0")
         if "time" in df:
-            df["t_s"] = df["time"] + 0.5 * float(st.get("exposure", 0.0))    # mid-exposure
+            df["t_s"] = df["time"] + 0.5 * float(st.get("exposure", 0.0)) \
+                + float(st.get("line_time", 0.0)) * df["v_px"]   # mid-exposure of the spot's row
         df["x_m"], df["y_m"] = X / gain, Y / gain
         if rec.shape(f"{group}/frame_rotor_angle") is not None:
             phi = np.asarray(rec.dataset(f"{group}/frame_rotor_angle"), float)

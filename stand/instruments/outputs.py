@@ -175,6 +175,25 @@ class InstrumentOutput:
         return f"{type(self).__name__}({self.name!r}, plane={self.plane!r}, {self._describe()})"
 
 
+def _rolling_rows(ex, times, cam, v_px):
+    """A rolling shutter's spot: px (F, H, K, 2) at each row's exposure sub-sample times
+    (``times`` (F, K) [s] plus row x ``cam.line_time``), and ``(screen_m, px)`` (F, K, 2) at
+    the times of each frame's spot row (from ``v_px``, refined once at its own time), and
+    those times (F, K)."""
+    from scipy.interpolate import CubicSpline
+
+    from stand.instruments.screen import spot_positions
+
+    splines = [CubicSpline(ex.t, a) for a in (ex.x, ex.y, np.unwrap(ex.rotor_angle))]
+    at = lambda T: spot_positions(*(s(T) for s in splines), cam)  # noqa: E731
+    rows = at(times[:, None, :] + cam.line_time * np.arange(cam.height)[None, :, None])[1]
+    for _ in range(2):
+        T = times + cam.line_time * np.clip(v_px, 0, cam.height - 1)[:, None]
+        spot = at(T)
+        v_px = spot[1][..., 1].mean(axis=1)
+    return rows, spot, T
+
+
 class ScreenOutput(InstrumentOutput):
     """A screen camera's frames (the laser spot) and their truth (spot centre).
 
@@ -214,6 +233,12 @@ class ScreenOutput(InstrumentOutput):
         self.truth = {key: np.asarray(truth[key])[:n_ok] for key in ("centre_px", "centre_m",
                                                                      "in_frame")}
         self.truth["exposure_time"] = times[:n_ok]
+        self.rows = None
+        if cam.line_time > 0:        # rolling shutter: the truth is the spot at its own row's times
+            self.rows, spot, self.truth["exposure_time"] = _rolling_rows(
+                ex, times[:n_ok], cam, self.truth["centre_px"][:, 1])
+            self.truth.update({k: np.asarray(v) for k, v in frame_truth(*spot, cam).items()
+                               if k in ("centre_px", "centre_m", "in_frame")})
         # the lamps' flicker at each mid-exposure; the frames the camera lost (the kept ones
         # keep their timestamps; the truth keeps each kept frame's index in the full sequence)
         light = flicker_gain(starts[:n_ok] + 0.5 * cam.exposure, cam.mains_frequency,
@@ -223,6 +248,7 @@ class ScreenOutput(InstrumentOutput):
         if cam.drop_rate > 0:
             keep = np.random.default_rng([cam.seed, 0xD809]).random(n_ok) >= cam.drop_rate
             self.px = self.px[keep]
+            self.rows = None if self.rows is None else self.rows[keep]
             for d in (self.readings, self.truth):
                 d.update({k: np.asarray(a)[keep] for k, a in d.items()})
         self.units.update(brightness="1", frame_index="1")
@@ -246,13 +272,14 @@ class ScreenOutput(InstrumentOutput):
 
         i = self._index(i)
         return next(render_frames(self.px[i:i + 1], self.settings, first_index=i,
-                                  gains=self.truth["brightness"][i:i + 1]))
+                                  gains=self.truth["brightness"][i:i + 1],
+                                  rows=None if self.rows is None else self.rows[i:i + 1]))
 
     def frames(self):
         """Every frame in order, rendered one at a time (a generator)."""
         from stand.instruments.render import render_frames
 
-        return render_frames(self.px, self.settings, gains=self.truth["brightness"])
+        return render_frames(self.px, self.settings, gains=self.truth["brightness"], rows=self.rows)
 
     @functools.cached_property
     def rings(self) -> Optional[dict]:
