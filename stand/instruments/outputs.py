@@ -183,9 +183,17 @@ def _rolling_rows(ex, times, cam, v_px):
     from scipy.interpolate import CubicSpline
 
     from stand.instruments.screen import spot_positions
+    from stand.instruments.timing import sample_trajectory, shaft_velocity
 
-    splines = [CubicSpline(ex.t, a) for a in (ex.x, ex.y, np.unwrap(ex.rotor_angle))]
-    at = lambda T: spot_positions(*(s(T) for s in splines), cam)  # noqa: E731
+    try:                      # cubic Hermite with the state's velocities (as the probes)
+        vel = shaft_velocity(ex)
+
+        def at(T):            # the last frame's late rows: held at the run's end
+            s = sample_trajectory(ex, np.clip(T, ex.t[0], ex.t[-1]).ravel(), vel)
+            return spot_positions(*(a.reshape(T.shape) for a in (s.x, s.y, s.rotor_angle)), cam)
+    except ValueError:        # a view without the state: a cubic spline through the samples
+        splines = [CubicSpline(ex.t, a) for a in (ex.x, ex.y, np.unwrap(ex.rotor_angle))]
+        at = lambda T: spot_positions(*(s(T) for s in splines), cam)  # noqa: E731
     rows = at(times[:, None, :] + cam.line_time * np.arange(cam.height)[None, :, None])[1]
     for _ in range(2):
         T = times + cam.line_time * np.clip(v_px, 0, cam.height - 1)[:, None]
