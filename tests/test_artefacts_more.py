@@ -216,3 +216,26 @@ def test_rolling_shutter_rows_drawn_at_their_time_and_the_track_retimed():
     rms, std = _scores(df, truth)
     assert rms <= 1.5 * std
     assert _scores(df, global_truth)[0] > 100 * std
+
+
+def test_screen_output_rows_are_the_trajectory_at_each_rows_times():
+    """The recording side of the rolling shutter (stand.instruments.outputs._rolling_rows):
+    each row's spot and the truth at the spot row's times, from a sampled circular whirl."""
+    from stand.instruments.outputs import _rolling_rows
+    from stand.instruments.screen import spot_positions
+
+    cam = _camera(line_time=60e-6)
+    w, R = 2 * math.pi * 11.7, 2.5e-3
+    t = np.arange(0.0, 0.5, 1 / 400.0)                        # 34 samples per whirl
+    ex = SimpleNamespace(t=t, x=R * np.cos(w * t), y=R * np.sin(w * t), rotor_angle=w * t,
+                         rotor_speed=np.full(t.size, w), vx=-R * w * np.sin(w * t), vy=R * w * np.cos(w * t),
+                         weight_angle=np.zeros((t.size, 0)), weight_speed=np.zeros((t.size, 0)))
+    _, _, T = _spot(cam, 5)
+    T = T + 0.05
+    rows, (spot_m, spot_px), Tv = _rolling_rows(ex, T, cam, np.full(5, 40.0))
+    Tr = T[:, None, :] + cam.line_time * np.arange(cam.height)[None, :, None]
+    exact = spot_positions(R * np.cos(w * Tr), R * np.sin(w * Tr), w * Tr, cam)[1]
+    assert np.max(np.abs(rows - exact)) < 2e-3                # px: Hermite at 34 samples per whirl
+    v = spot_px[..., 1].mean(axis=1)                          # the truth's row is its own
+    np.testing.assert_allclose(Tv, T + cam.line_time * v[:, None], atol=0.01 * cam.line_time)
+    assert np.ptp(Tv - T) > 10 * cam.line_time                # the rows differ frame to frame

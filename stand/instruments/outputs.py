@@ -178,8 +178,9 @@ class InstrumentOutput:
 def _rolling_rows(ex, times, cam, v_px):
     """A rolling shutter's spot: px (F, H, K, 2) at each row's exposure sub-sample times
     (``times`` (F, K) [s] plus row x ``cam.line_time``), and ``(screen_m, px)`` (F, K, 2) at
-    the times of each frame's spot row (from ``v_px``, refined once at its own time), and
-    those times (F, K)."""
+    the times of each frame's spot row (from ``v_px``, iterated to the row the spot is in at
+    those times; converges while the spot moves less than a row per line time), and those
+    times (F, K)."""
     from scipy.interpolate import CubicSpline
 
     from stand.instruments.screen import spot_positions
@@ -195,7 +196,7 @@ def _rolling_rows(ex, times, cam, v_px):
         splines = [CubicSpline(ex.t, a) for a in (ex.x, ex.y, np.unwrap(ex.rotor_angle))]
         at = lambda T: spot_positions(*(s(T) for s in splines), cam)  # noqa: E731
     rows = at(times[:, None, :] + cam.line_time * np.arange(cam.height)[None, :, None])[1]
-    for _ in range(2):
+    for _ in range(8):        # the fixed point v = v(t + v line_time): the spot's own row
         T = times + cam.line_time * np.clip(v_px, 0, cam.height - 1)[:, None]
         spot = at(T)
         v_px = spot[1][..., 1].mean(axis=1)
