@@ -239,3 +239,15 @@ def test_screen_output_rows_are_the_trajectory_at_each_rows_times():
     v = spot_px[..., 1].mean(axis=1)                          # the truth's row is its own
     np.testing.assert_allclose(Tv, T + cam.line_time * v[:, None], atol=0.01 * cam.line_time)
     assert np.ptp(Tv - T) > 10 * cam.line_time                # the rows differ frame to frame
+
+
+def test_declared_line_time_retimes_the_track():
+    import pandas as pd
+
+    from stand.analysis.tracking import _shaft_columns
+    from vision.camera_artefacts import declared_keys
+
+    assert declared_keys({"line_time": 2e-5}) == {"line_time": 2e-5} and declared_keys({"line_time": 0.0}) == {}
+    df = pd.DataFrame({"time": [0.0, 0.04], "v_px": [10.0, 300.0]})
+    _shaft_columns(df, np.zeros(2), np.zeros(2), 1.0, 0.002, None, 2e-5)
+    np.testing.assert_allclose(df["t_s"], [0.001 + 2e-4, 0.041 + 6e-3], rtol=1e-12)

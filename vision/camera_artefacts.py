@@ -231,11 +231,14 @@ def declared_camera(keys: dict, shape) -> tuple:
 def declared_keys(settings: dict) -> dict:
     """The ring-file keys (:func:`declared_camera`) of a camera described by its settings
     (``lens_k1``, ``lens_k2``, ``camera_distance`` [m], ``pixel_pitch`` [m/px],
-    ``jpeg_quality``; the stand's screen camera stores them): what a lab declares."""
+    ``jpeg_quality``, ``line_time`` [s per row]; the stand's screen camera stores them): what a
+    lab declares."""
     out = {}
     if settings.get("lens_k1") or settings.get("lens_k2"):
         out.update({k: float(settings.get(k) or 0.0) for k in ("lens_k1", "lens_k2")},
                    lens_focal_px=settings["camera_distance"] / settings["pixel_pitch"])
     if settings.get("jpeg_quality"):
         out["jpeg_quality"] = int(settings["jpeg_quality"])
+    if settings.get("line_time"):            # a rolling shutter: each spot timed by its row
+        out["line_time"] = float(settings["line_time"])
     return out
