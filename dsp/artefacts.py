@@ -1,7 +1,8 @@
 """A DAQ channel's own artefacts, on plain arrays: its filter, its clipping.
 
 * :class:`ChannelFilter` -- an anti-alias low-pass (analog Butterworth or Bessel of an order
-  and a cutoff) or a converter's fixed group delay: its complex response at a frequency
+  and a cutoff) or a converter's fixed group delay, and the sensor's own response (a
+  mounted resonance, a high-pass): its complex response at a frequency
   (:meth:`ChannelFilter.response`, what divides a 1X phasor) and its action on sampled
   columns (:meth:`ChannelFilter.apply`, what a model's response goes through before it is
   compared with the record: the run-up fit of :mod:`dsp.response_fit`).
@@ -29,7 +30,7 @@ from dsp.errors import SignalError
 __all__ = ["ChannelFilter", "clipped", "filled", "delayed", "delay_allowance", "delay_checked",
            "unfiltered", "KINDS"]
 
-KINDS = ("butterworth", "bessel", "delay")
+KINDS = ("butterworth", "bessel", "delay", "none")
 CLIP_RUN = 4     #: samples at the extreme value that make a rail
 
 
@@ -41,40 +42,61 @@ class ChannelFilter:
     ----------
     kind : str
         ``butterworth`` or ``bessel`` (analog low-pass; a Bessel's cutoff is its -3 dB
-        frequency, scipy's ``norm="mag"``) or ``delay`` (a pure group delay).
+        frequency, scipy's ``norm="mag"``), ``delay`` (a pure group delay) or ``none`` (no
+        low-pass: the sensor's own response below only).
     order : int
         Low-pass order (1-10).
     cutoff_hz : float
         Low-pass cutoff [Hz].
     delay_s : float
         Group delay [s] (``delay``; added to a low-pass too, e.g. a converter's pipeline).
+    resonance_hz, resonance_q : float
+        The sensor's mounted resonance [Hz] (0: none) and its quality factor [-]: a
+        second-order response w_r^2 / (s^2 + s w_r / Q + w_r^2), flat at low frequency, Q at
+        w_r (an accelerometer on its mount).
+    highpass_hz : float
+        The sensor's or its amplifier's first-order high-pass corner [Hz] (0: none; s / (s + w_h)).
     """
 
     kind: str
     order: int = 0
     cutoff_hz: float = 0.0
     delay_s: float = 0.0
+    resonance_hz: float = 0.0
+    resonance_q: float = 30.0
+    highpass_hz: float = 0.0
 
     def __post_init__(self):
         if self.kind not in KINDS:
             raise SignalError(f"filter type {self.kind!r}: one of {', '.join(KINDS)}")
-        if self.kind != "delay" and not (isinstance(self.order, int) and 1 <= self.order <= 10):
+        lowpass = self.kind in ("butterworth", "bessel")
+        if lowpass and not (isinstance(self.order, int) and 1 <= self.order <= 10):
             raise SignalError(f"filter order {self.order!r}: an integer 1-10")
-        if self.kind != "delay" and not (math.isfinite(self.cutoff_hz) and self.cutoff_hz > 0):
+        for name, v, low in (("resonance", self.resonance_hz, 0.0), ("high-pass", self.highpass_hz, 0.0),
+                             ("resonance q", self.resonance_q, 0.5)):
+            if not (math.isfinite(v) and v >= low):
+                raise SignalError(f"sensor {name} {v!r}{' Hz' if low == 0 else ''}: must be >= {low:g}")
+        if lowpass and not (math.isfinite(self.cutoff_hz) and self.cutoff_hz > 0):
             raise SignalError(f"filter cutoff {self.cutoff_hz!r} Hz: must be > 0")
         if not (math.isfinite(self.delay_s) and 0 <= self.delay_s < 1):
             raise SignalError(f"filter delay {self.delay_s!r} s: must be in [0, 1)")
 
     def analog(self):
-        """``(b, a)`` of the analog low-pass in s [rad/s], or None for a pure delay."""
+        """``(b, a)`` of the analog low-pass times the sensor's resonance and high-pass, in s
+        [rad/s], or None for a pure delay."""
         from scipy import signal
 
-        if self.kind == "delay":
-            return None
-        wc = 2 * math.pi * self.cutoff_hz
-        if self.kind == "bessel":
-            return signal.bessel(self.order, wc, analog=True, norm="mag")
-        return signal.butter(self.order, wc, analog=True)
+        b, a = np.ones(1), np.ones(1)
+        if self.kind in ("butterworth", "bessel"):
+            wc = 2 * math.pi * self.cutoff_hz
+            b, a = (signal.bessel(self.order, wc, analog=True, norm="mag") if self.kind == "bessel"
+                    else signal.butter(self.order, wc, analog=True))
+        if self.resonance_hz:
+            wr = 2 * math.pi * self.resonance_hz
+            b, a = b * wr * wr, np.polymul(a, [1.0, wr / self.resonance_q, wr * wr])
+        if self.highpass_hz:
+            b, a = np.polymul(b, [1.0, 0.0]), np.polymul(a, [1.0, 2 * math.pi * self.highpass_hz])
+        return None if a.size == 1 else (b, a)
 
     def response(self, f_hz):
         """Complex response H(i 2 pi f) at ``f_hz`` [Hz] (gain and phase; a lag is a
@@ -90,11 +112,13 @@ class ChannelFilter:
         return h if np.ndim(f_hz) else complex(h)
 
     def describe(self) -> str:
-        s = (f"{self.kind} low-pass, order {self.order}, cutoff {self.cutoff_hz:g} Hz"
-             if self.kind != "delay" else "")
-        if self.delay_s:
-            s += (" + " if s else "") + f"group delay {self.delay_s * 1e3:g} ms"
-        return s
+        parts = [f"{self.kind} low-pass, order {self.order}, cutoff {self.cutoff_hz:g} Hz"
+                 if self.kind in ("butterworth", "bessel") else "",
+                 f"group delay {self.delay_s * 1e3:g} ms" if self.delay_s else "",
+                 f"sensor resonance {self.resonance_hz:g} Hz, Q {self.resonance_q:g}"
+                 if self.resonance_hz else "",
+                 f"high-pass {self.highpass_hz:g} Hz" if self.highpass_hz else ""]
+        return " + ".join(p for p in parts if p)
 
     def apply(self, t, columns):
         """The sampled columns (N or N x K, real or complex, uniform ``t`` [s]) as the
@@ -193,12 +217,12 @@ def delay_checked(fit, refit, w_top: float, channel_filter, notes: list):
         f"delay: the probes lag the rotor angle by {fit.delay_s * 1e3:.3g} ± "
         f"{fit.delay_s_std * 1e3:.2g} ms{beyond} (a phase growing as w tau through the run-up, "
         f"which the rotor's own phase cannot make) -- an undeclared anti-alias filter or channel "
-        f"delay; fitted as a "
+        f"delay (or a sensor's mounted resonance, which also lifts the gain: not in the ±); fitted as a "
         f"delay ({math.degrees(2 * math.pi * fc * fit.delay_s):.3g} deg at the critical speed), the ± "
         f"allow for a Butterworth or Bessel low-pass of order 2-8 with that delay (gain "
         f"-{100 * loss:.2g} %, phase {math.degrees(dphi):.2g} deg at {f_top:.3g} rev/s); declare "
-        "the filter in the recording map (x, y: filter = {type, order, cutoff} or "
-        "{group_delay})")
+        "the filter in the recording map (x, y: filter = {type, order, cutoff}, {group_delay} or "
+        "{resonance, q})")
     return fit
 
 

@@ -3,7 +3,8 @@ spline through them.
 
 :func:`pulse_times` finds the leading edges of a keyphasor or photo-gate channel (Otsu's
 two-level threshold, Schmitt hysteresis, the 50 % crossing interpolated between samples);
-:func:`repair_pulses` fills in missed and drops double pulses; :func:`_pulse_spline` is
+:func:`repair_pulses` fills in missed and drops double pulses; :func:`debounced` merges a
+contact's bounce into the edge before it (:func:`bounced` draws it); :func:`_pulse_spline` is
 the angle through (pulse k, 2 pi k) that :func:`dsp.speed.angle_from_pulses` and
 :func:`dsp.pulse_timing.retime_pulses` use.  Also importable from :mod:`dsp.speed`.
 """
@@ -16,7 +17,7 @@ import numpy as np
 from .errors import SignalError, check_times
 from .rotor_angle import TWO_PI
 
-__all__ = ["otsu_threshold", "pulse_times", "repair_pulses"]
+__all__ = ["otsu_threshold", "pulse_times", "repair_pulses", "debounced", "bounced"]
 
 
 def otsu_threshold(v) -> float:
@@ -180,6 +181,50 @@ def repair_pulses(pulses, window: int = 7):
             inserted += m - 1
         out.append(p[i + 1])
     return np.asarray(out), inserted, dropped
+
+
+def debounced(pulses, *, hold_off: float = 0.4, window: int = 8):
+    """A contact's bounce merged into the true edge before it.
+
+    A pulse less than ``hold_off`` times the once-per-revolution period after the last kept
+    pulse is a bounce of it and is dropped.  The period is the median of the last three kept
+    intervals (each divided by the number of periods it spans: a missed pulse does not double
+    it), at the start the longest of the first ``window`` intervals (the bounces' short intervals cannot pull it down as they pull a
+    median when there are several per revolution).
+
+    Returns
+    -------
+    (ndarray, int)
+        The kept pulse times [s] and the number merged.
+    """
+    p = np.asarray(pulses, float)
+    if p.size < 3:
+        return p, 0
+    kept, per, periods = [p[0]], float(np.max(np.diff(p[:window + 1]))), []
+    for x in p[1:]:
+        d = x - kept[-1]
+        if d >= hold_off * per:
+            kept.append(x)
+            periods.append(d / max(1, round(d / per)))     # a missed pulse's interval halved
+            per = float(np.median(periods[-3:]))
+    return np.asarray(kept), int(p.size - len(kept))
+
+
+def bounced(t, v, edges, count: int, bounce_time: float, low: float):
+    """A pulse channel ``v`` at times ``t`` [s] with contact bounce after each true edge
+    (``edges`` [s]): ``count`` extra rising edges at ``edges + k bounce_time`` (k = 1..count),
+    each after the contact opened (``low``) for the quarter ``bounce_time`` before it, closed
+    again at the level the edge reached in the samples before the first opening."""
+    t = np.asarray(t, float)
+    out = np.array(v, float)
+    if count <= 0:
+        return out
+    edges = np.asarray(edges, float)
+    i0, lo, hi = (np.searchsorted(t, edges + c * bounce_time) for c in (0.0, 0.75, count))
+    for te, e, a, b in zip(edges, i0, lo, hi):
+        high = out[e:a].max() if a > e else out[min(e, t.size - 1)]
+        out[a:b] = np.where((t[a:b] - te) / bounce_time % 1.0 < 0.75, high, low)
+    return out
 
 
 def _lsq_cubic(x, y, n_int, knots_at=None, w=None):

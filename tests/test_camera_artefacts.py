@@ -185,11 +185,6 @@ def test_dropped_frames_found_from_timestamps():
     assert dropped_frames(t)["count"] == 0
 
 
-def test_rolling_shutter_is_not_a_key():
-    with pytest.raises(TypeError):
-        _camera(line_time=3e-5)
-
-
 # ---------------------------------------------------------------- the committed sample
 def test_lab_sample_track_and_rings_within_their_std():
     """data_samples/video/screen_lab.avi (lens k1 -0.25, k2 0.05; JPEG 30; 100 Hz flicker):

@@ -12,6 +12,8 @@ undoes or allows for them with the same ones, so the two sides cannot disagree o
 * JPEG at a quality 1..100 (``cv2.imencode`` / ``cv2.imdecode``, 8-bit frames).
 * Flicker: the room lamps' light modulated at twice the mains frequency; a frame's
   brightness gain ``1 + depth cos(2 pi 2 f_mains t_mid + phase)`` at its mid-exposure time.
+* Auto-gain: the camera's exposure/gain follows the frames' mean brightness with a time
+  constant (:func:`auto_gain`), chasing the flicker a frame late.
 * Hot pixels: a fixed set of pixels (the same in every frame) reading full scale;
   :func:`hot_pixel_map` finds them in the per-pixel median of frames
   (:func:`vision.background.median_background`) and :func:`repair_hot_pixels` replaces
@@ -25,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Lens", "distort_points", "undistort_points", "jpeg", "flicker_gain", "hot_pixels",
+__all__ = ["Lens", "distort_points", "undistort_points", "jpeg", "flicker_gain", "auto_gain", "hot_pixels",
            "sensor_artefacts", "hot_pixel_map", "repair_hot_pixels", "dropped_frames",
            "declared_camera", "declared_keys"]
 
@@ -103,6 +105,22 @@ def flicker_gain(t_mid, mains_hz: float, depth: float, phase: float = 0.0):
     """Brightness gain (1) of frames at mid-exposure times ``t_mid`` [s]: the lamps' light
     at twice the mains frequency ``mains_hz`` [Hz], modulation ``depth`` (0..1)."""
     return 1.0 + depth * np.cos(2.0 * math.pi * 2.0 * mains_hz * np.asarray(t_mid, float) + phase)
+
+
+def auto_gain(light, frame_period: float, time_constant: float) -> np.ndarray:
+    """The gain (1) an auto-exposure gives frames of relative scene ``light`` (1): it meters
+    each frame's mean brightness (light times gain; the mean of a frame is proportional to
+    its light) and moves its gain in the log domain toward its set point, the first frame's
+    brightness, by ``1 - exp(-frame_period / time_constant)`` of the way per frame
+    (``frame_period``, ``time_constant`` [s]; 0: no auto-gain, all ones)."""
+    light = np.asarray(light, float)
+    g = np.ones(light.size)
+    if not time_constant > 0:
+        return g
+    alpha = 1.0 - math.exp(-frame_period / time_constant)
+    for f in range(1, light.size):
+        g[f] = g[f - 1] * (light[f - 1] * g[f - 1] / light[0]) ** -alpha
+    return g
 
 
 def hot_pixels(shape, count: int, seed: int) -> tuple:
@@ -213,11 +231,14 @@ def declared_camera(keys: dict, shape) -> tuple:
 def declared_keys(settings: dict) -> dict:
     """The ring-file keys (:func:`declared_camera`) of a camera described by its settings
     (``lens_k1``, ``lens_k2``, ``camera_distance`` [m], ``pixel_pitch`` [m/px],
-    ``jpeg_quality``; the stand's screen camera stores them): what a lab declares."""
+    ``jpeg_quality``, ``line_time`` [s per row]; the stand's screen camera stores them): what a
+    lab declares."""
     out = {}
     if settings.get("lens_k1") or settings.get("lens_k2"):
         out.update({k: float(settings.get(k) or 0.0) for k in ("lens_k1", "lens_k2")},
                    lens_focal_px=settings["camera_distance"] / settings["pixel_pitch"])
     if settings.get("jpeg_quality"):
         out["jpeg_quality"] = int(settings["jpeg_quality"])
+    if settings.get("line_time"):            # a rolling shutter: each spot timed by its row
+        out["line_time"] = float(settings["line_time"])
     return out

@@ -81,7 +81,8 @@ def _screen_columns(df, rec, group, optical_gain=None) -> None:
         if not gain > 0:
             raise ValueError(f"--optical-gain = {optical_gain}: must be > 0")
         if "time" in df:
-            df["t_s"] = df["time"] + 0.5 * float(st.get("exposure", 0.0))    # mid-exposure
+            df["t_s"] = df["time"] + 0.5 * float(st.get("exposure", 0.0)) \
+                + float(st.get("line_time", 0.0)) * df["v_px"]   # mid-exposure of the spot's row
         df["x_m"], df["y_m"] = X / gain, Y / gain
         if rec.shape(f"{group}/frame_rotor_angle") is not None:
             phi = np.asarray(rec.dataset(f"{group}/frame_rotor_angle"), float)
@@ -196,14 +197,14 @@ def _screen_meta(source, group=SCREEN):
     return float(settings.get("gain", 1.0)), float(settings.get("exposure", 0.0)), phi, settings
 
 
-def _shaft_columns(df, X, Y, gain, exposure, phi) -> None:
-    """Columns that ``stand analyze`` reads from a track: ``t_s`` (mid-exposure), ``x_m``,
-    ``y_m`` (shaft displacement = screen displacement / optical gain) and ``rotor_angle_rad``
-    when the source recording has the keyphasor angle of each frame."""
+def _shaft_columns(df, X, Y, gain, exposure, phi, line_time=0.0) -> None:
+    """Columns that ``stand analyze`` reads from a track: ``t_s`` (mid-exposure of the spot's row
+    with a rolling shutter's ``line_time`` [s]), ``x_m``, ``y_m`` (shaft displacement = screen
+    displacement / optical gain), ``rotor_angle_rad`` (the recording's per frame)."""
     if gain is None:
         return
     if "time" in df:
-        df["t_s"] = df["time"] + 0.5 * (exposure or 0.0)          # mid-exposure
+        df["t_s"] = df["time"] + 0.5 * (exposure or 0.0) + line_time * df["v_px"]   # the row's mid-exposure
     df["x_m"], df["y_m"] = X / gain, Y / gain
     if phi is not None and len(phi) == len(df):
         df["rotor_angle_rad"] = phi                                # at the start of each exposure
@@ -451,7 +452,7 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
     pre["scale_mm_per_px"] = repr(float(cal.scale) * 1e3)
     pre["scale_std_mm_per_px"] = repr(float(cal.scale_std) * 1e3)
     if not trace:
-        _shaft_columns(df, X, Y, og, expo, phi)
+        _shaft_columns(df, X, Y, og, expo, phi, float(keys.get("line_time") or 0.0))
         if rec is not None:
             df["screen"] = group.split("/", 1)[1]
         return df

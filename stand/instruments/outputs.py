@@ -175,6 +175,34 @@ class InstrumentOutput:
         return f"{type(self).__name__}({self.name!r}, plane={self.plane!r}, {self._describe()})"
 
 
+def _rolling_rows(ex, times, cam, v_px):
+    """A rolling shutter's spot: px (F, H, K, 2) at each row's exposure sub-sample times
+    (``times`` (F, K) [s] plus row x ``cam.line_time``), and ``(screen_m, px)`` (F, K, 2) at
+    the times of each frame's spot row (from ``v_px``, iterated to the row the spot is in at
+    those times; converges while the spot moves less than a row per line time), and those
+    times (F, K)."""
+    from scipy.interpolate import CubicSpline
+
+    from stand.instruments.screen import spot_positions
+    from stand.instruments.timing import sample_trajectory, shaft_velocity
+
+    try:                      # cubic Hermite with the state's velocities (as the probes)
+        vel = shaft_velocity(ex)
+
+        def at(T):            # the last frame's late rows: held at the run's end
+            s = sample_trajectory(ex, np.clip(T, ex.t[0], ex.t[-1]).ravel(), vel)
+            return spot_positions(*(a.reshape(T.shape) for a in (s.x, s.y, s.rotor_angle)), cam)
+    except ValueError:        # a view without the state: a cubic spline through the samples
+        splines = [CubicSpline(ex.t, a) for a in (ex.x, ex.y, np.unwrap(ex.rotor_angle))]
+        at = lambda T: spot_positions(*(s(T) for s in splines), cam)  # noqa: E731
+    rows = at(times[:, None, :] + cam.line_time * np.arange(cam.height)[None, :, None])[1]
+    for _ in range(8):        # the fixed point v = v(t + v line_time): the spot's own row
+        T = times + cam.line_time * np.clip(v_px, 0, cam.height - 1)[:, None]
+        spot = at(T)
+        v_px = spot[1][..., 1].mean(axis=1)
+    return rows, spot, T
+
+
 class ScreenOutput(InstrumentOutput):
     """A screen camera's frames (the laser spot) and their truth (spot centre).
 
@@ -186,14 +214,15 @@ class ScreenOutput(InstrumentOutput):
     truth : dict
         ``centre_px`` (F, 2) [px], ``centre_m`` (F, 2) [m], ``in_frame`` (F,), the spot's
         exposure-averaged centre; ``exposure_time`` (F, K) [s]; ``brightness`` (F,) the
-        flicker's gain; ``frame_index`` (F,) each frame's place before the drops.
+        flicker's gain times the auto-exposure's; ``frame_index`` (F,) each frame's place
+        before the drops.
     px : ndarray (F, K, 2)
         Spot centre at each exposure sub-sample [px] (what the frames are drawn from).
     """
 
     def __init__(self, name: str, scene, traj, plan):
         from stand.instruments.screen import frame_truth, spot_positions
-        from vision.camera_artefacts import flicker_gain
+        from vision.camera_artefacts import auto_gain, flicker_gain
 
         cam, starts, times, index = plan
         ex, plane, _ = plane_view(traj.extra, scene, cam)
@@ -213,14 +242,22 @@ class ScreenOutput(InstrumentOutput):
         self.truth = {key: np.asarray(truth[key])[:n_ok] for key in ("centre_px", "centre_m",
                                                                      "in_frame")}
         self.truth["exposure_time"] = times[:n_ok]
+        self.rows = None
+        if cam.line_time > 0:        # rolling shutter: the truth is the spot at its own row's times
+            self.rows, spot, self.truth["exposure_time"] = _rolling_rows(
+                ex, times[:n_ok], cam, self.truth["centre_px"][:, 1])
+            self.truth.update({k: np.asarray(v) for k, v in frame_truth(*spot, cam).items()
+                               if k in ("centre_px", "centre_m", "in_frame")})
         # the lamps' flicker at each mid-exposure; the frames the camera lost (the kept ones
         # keep their timestamps; the truth keeps each kept frame's index in the full sequence)
-        self.truth["brightness"] = flicker_gain(starts[:n_ok] + 0.5 * cam.exposure,
-                                                cam.mains_frequency, cam.flicker_depth)
+        light = flicker_gain(starts[:n_ok] + 0.5 * cam.exposure, cam.mains_frequency,
+                             cam.flicker_depth)         # times the auto-exposure's gain
+        self.truth["brightness"] = light * auto_gain(light, cam.frame_period, cam.auto_gain_time)
         self.truth["frame_index"] = np.arange(n_ok)
         if cam.drop_rate > 0:
             keep = np.random.default_rng([cam.seed, 0xD809]).random(n_ok) >= cam.drop_rate
             self.px = self.px[keep]
+            self.rows = None if self.rows is None else self.rows[keep]
             for d in (self.readings, self.truth):
                 d.update({k: np.asarray(a)[keep] for k, a in d.items()})
         self.units.update(brightness="1", frame_index="1")
@@ -244,13 +281,14 @@ class ScreenOutput(InstrumentOutput):
 
         i = self._index(i)
         return next(render_frames(self.px[i:i + 1], self.settings, first_index=i,
-                                  gains=self.truth["brightness"][i:i + 1]))
+                                  gains=self.truth["brightness"][i:i + 1],
+                                  rows=None if self.rows is None else self.rows[i:i + 1]))
 
     def frames(self):
         """Every frame in order, rendered one at a time (a generator)."""
         from stand.instruments.render import render_frames
 
-        return render_frames(self.px, self.settings, gains=self.truth["brightness"])
+        return render_frames(self.px, self.settings, gains=self.truth["brightness"], rows=self.rows)
 
     @functools.cached_property
     def rings(self) -> Optional[dict]:

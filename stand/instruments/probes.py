@@ -44,7 +44,8 @@ def keyphasor_pulses(traj, kp: Keyphasor, t_start: Optional[float] = None,
     Roots of the cubic Hermite interpolant of (rotor_angle, rotor_speed); exact
     to rounding when the angle is at most quadratic in time between samples
     (a prescribed piecewise-linear speed programme, away from its kinks).
-    ``jitter`` adds Gaussian noise (seeded by ``seed`` or ``kp.seed``).
+    ``jitter`` adds Gaussian noise (seeded by ``seed`` or ``kp.seed``); ``bounce`` adds that
+    many pulses ``k bounce_time`` after each (a chattering contact).
     """
     t0, t1 = time_window(traj, t_start, t_end)
     tp = crossing_times(traj.t, traj.rotor_angle, traj.rotor_speed, kp.mark_angle, direction=1)
@@ -52,6 +53,8 @@ def keyphasor_pulses(traj, kp: Keyphasor, t_start: Optional[float] = None,
     if kp.jitter > 0 and tp.size:
         rng = np.random.default_rng(kp.seed if seed is None else seed)
         tp = np.sort(tp + rng.normal(0.0, kp.jitter, tp.size))
+    if kp.bounce:
+        tp = np.sort((tp[:, None] + kp.bounce_time * np.arange(kp.bounce + 1)).ravel())
     return tp
 
 
@@ -102,12 +105,14 @@ def tachometer_readings(traj, tach: Tachometer, t_start: Optional[float] = None,
 
 
 def channel_filter(probes: DisplacementProbes):
-    """The probes' DAQ filter as a :class:`dsp.artefacts.ChannelFilter`, or None."""
+    """The probes' DAQ filter and sensor response as a :class:`dsp.artefacts.ChannelFilter`, or None."""
     from dsp.artefacts import ChannelFilter
 
-    if probes.filter == "none":
-        return ChannelFilter("delay", delay_s=probes.group_delay) if probes.group_delay else None
-    return ChannelFilter(probes.filter, probes.filter_order, probes.filter_cutoff, probes.group_delay)
+    p = probes
+    if p.filter == "none" and not (p.group_delay or p.resonance_frequency or p.highpass_cutoff):
+        return None
+    return ChannelFilter(p.filter, p.filter_order, p.filter_cutoff, p.group_delay,
+                         p.resonance_frequency, p.resonance_q, p.highpass_cutoff)
 
 
 def probe_signals(traj, probes: DisplacementProbes, seed: Optional[int] = None,

@@ -489,7 +489,7 @@ def _as_positions(block) -> tuple[np.ndarray, np.ndarray]:
 
 def render_frames(positions_px, cam, seed: Optional[int] = None, *, noise: bool = True,
                   weights=None, first_index: int = 0, reuse: bool = False,
-                  window: float = WINDOW_SIGMAS, gains=None) -> Iterator[np.ndarray]:
+                  window: float = WINDOW_SIGMAS, gains=None, rows=None) -> Iterator[np.ndarray]:
     """Render frames one by one (a generator: no (F, H, W) array in memory).
 
     Parameters
@@ -517,6 +517,10 @@ def render_frames(positions_px, cam, seed: Optional[int] = None, *, noise: bool 
     gains : array (F,), optional
         Brightness of each frame (1): the lamps' flicker
         (:func:`vision.camera_artefacts.flicker_gain`) on the spot and the background.
+    rows : array (F, H, K, 2), optional
+        A rolling shutter: the spot [px] at each row's own exposure sub-sample times; each
+        row the spot reaches (``positions_px`` +- the window) is drawn from them (one render
+        per such row, only when given).
 
     Yields
     ------
@@ -543,6 +547,13 @@ def render_frames(positions_px, cam, seed: Optional[int] = None, *, noise: bool 
         rf = r if g == 1.0 else _Renderer(cam, noise, window, g)   # flicker: spot and background
         out = buf if reuse else np.empty(shape, dtype=cam.dtype)
         rf.render(u, v, wk * g, frame_seed(seed, first_index + f), out if wide else work)
+        if rows is not None:          # rolling shutter: the rows the spot reaches, each at its time
+            vv, reach = np.asarray(rows[f])[..., 1], window * max(cam.sigma_px) + 1.0
+            lo, hi = min(v.min(), vv.min()) - reach, max(v.max(), vv.max()) + reach
+            band = np.empty_like(work if not wide else out)
+            for k in range(max(0, int(lo)), min(shape[0], int(hi) + 1)):
+                rf.render(*_as_positions(rows[f][k]), wk * g, frame_seed(seed, first_index + f), band)
+                (out if wide else work)[k] = band[k]
         if not wide:
             np.copyto(out, work, casting="unsafe")
         yield look(out)

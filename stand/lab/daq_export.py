@@ -25,7 +25,8 @@ __all__ = ["daq_export", "daq_truth"]
 TWO_PI = 2.0 * math.pi
 #: the probes' settings that are DAQ artefacts (written into the truth)
 ARTEFACTS = ("noise_rms", "lsb", "hum", "hum_frequency", "drift", "skew", "filter", "filter_order",
-             "filter_cutoff", "group_delay", "adc_range")
+             "filter_cutoff", "group_delay", "adc_range", "resonance_frequency", "resonance_q",
+             "highpass_cutoff")
 
 
 def daq_truth(scene) -> dict:
@@ -68,8 +69,9 @@ def _keyphasor_volts(angle, high=5.0, width_deg=10.0, edge_deg=6.0, noise_v=0.01
     return v
 
 
-def _sensor_columns(rec, t, quantity, rng) -> dict:
-    """Velocity [mm/s] or acceleration [g] columns of the rotor centre's recorded motion."""
+def _sensor_columns(rec, t, quantity, rng, flt=None) -> dict:
+    """Velocity [mm/s] or acceleration [g] columns of the rotor centre's recorded motion,
+    through the sensor's response ``flt`` (:func:`stand.instruments.probes.channel_filter`)."""
     from scipy.interpolate import CubicSpline
 
     k, scale, names = {"velocity": (1, 1e3, ("vel_x_mm_s", "vel_y_mm_s")),
@@ -78,6 +80,7 @@ def _sensor_columns(rec, t, quantity, rng) -> dict:
     for v, name in zip((rec.x, rec.y), names):
         d = CubicSpline(np.asarray(rec.t, float), np.asarray(v, float))(t, k) * scale
         d = d + rng.normal(0.0, 0.01 * float(np.std(d)), d.shape)
+        d = d if flt is None else flt.apply(t, d)
         out[name] = [f"{x:.6g}".replace(".", ",") for x in d]
     return out
 
@@ -138,7 +141,10 @@ def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
         for k, name in enumerate(("disp_x_um", "disp_y_um")):
             cols[name] = [f"{v:.2f}".replace(".", ",") for v in sig[:, k] * 1e6 + offset_um[k]]
     else:
-        cols.update(_sensor_columns(rec, t, quantity, rng))
+        from stand.instruments.probes import channel_filter
+
+        probes = (getattr(rec.scene, "instruments", None) or {}).get("probes")
+        cols.update(_sensor_columns(rec, t, quantity, rng, probes and channel_filter(probes)))
         offset_um = (0.0, 0.0)
     inst = getattr(rec.scene, "instruments", None) or {}
     if keyphasor:
@@ -148,7 +154,14 @@ def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
             k = np.rint(phi / TWO_PI).astype(int)
             dt = np.random.default_rng(kp.seed).normal(0.0, kp.jitter, k.max() - k.min() + 1)
             phi = phi - np.gradient(phi, t) * dt[k - k.min()]
-        cols["kp_V"] = [f"{v:.3f}".replace(".", ",") for v in _keyphasor_volts(phi, rng=rng)]
+        kv = _keyphasor_volts(phi, rng=None if kp is not None and kp.bounce else rng)
+        if kp is not None and kp.bounce:           # the contact chatters after each true edge
+            from dsp.pulses import bounced
+
+            k = np.arange(math.ceil(phi[0] / TWO_PI), math.floor(phi[-1] / TWO_PI) + 1)
+            kv = bounced(t, kv, np.interp(k * TWO_PI, phi, t), kp.bounce, kp.bounce_time, 0.0)
+            kv = kv + rng.normal(0.0, 0.01, kv.shape)
+        cols["kp_V"] = [f"{v:.3f}".replace(".", ",") for v in kv]
     if tachometer and rec.shape(instrument_key(TACHOMETER, "speed")) is not None:
         tt = np.asarray(rec.dataset(instrument_key(TACHOMETER, "time")), float)
         sp = np.asarray(rec.dataset(instrument_key(TACHOMETER, "speed")), float) * 60.0 / TWO_PI
@@ -177,7 +190,8 @@ def daq_export(recording, csv_path, *, truth_path: Optional[str] = None,
     art = {k: v for k, v in dataclasses.asdict(inst["probes"]).items() if k in ARTEFACTS} \
         if "probes" in inst else {}
     if "keyphasor" in inst and keyphasor:
-        art["keyphasor_jitter"] = inst["keyphasor"].jitter
+        art.update(keyphasor_jitter=inst["keyphasor"].jitter, keyphasor_bounce=inst["keyphasor"].bounce,
+                   keyphasor_bounce_time=inst["keyphasor"].bounce_time)
     truth["artefacts"] = art       # SI: the probes' DAQ settings, as the scene declared them
     if truth_path is None:
         truth_path = str(Path(csv_path).with_suffix("")) + ".truth.json"

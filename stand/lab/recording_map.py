@@ -19,7 +19,8 @@ Two spellings of one map:
       y = {column = "probe_y", unit = "V", sensitivity = "7.87 V/mm"}
       keyphasor = {column = "kp_V", unit = "V"}       # threshold: default by Otsu's rule
       # a vibration channel's DAQ: its anti-alias filter (or a converter's group delay,
-      # filter = {group_delay = "2.4 ms"}) and its ADC range (at or beyond: censored)
+      # filter = {group_delay = "2.4 ms"}; a sensor's resonance = "2000 Hz", q = 30, highpass =
+      # "0.5 Hz" in the same table) and its ADC range (at or beyond: censored)
       # x = {column = "disp_x_um", unit = "um", range = ["-400 um", "400 um"],
       #      filter = {type = "butterworth", order = 4, cutoff = "100 Hz"}}
       speed = "tacho_rpm [rpm]"                       # the short form works too
@@ -305,24 +306,31 @@ def read_map(path) -> RecordingMap:
 
 
 def _filter(v, where):
-    """``{type = "butterworth"|"bessel", order = N, cutoff = "100 Hz"}`` or ``{group_delay =
-    "2.4 ms"}`` (or both) -> :class:`dsp.artefacts.ChannelFilter`."""
+    """``{type = "butterworth"|"bessel", order = N, cutoff = "100 Hz"}``, ``{group_delay =
+    "2.4 ms"}``, the sensor's ``{resonance = "2000 Hz", q = 30, highpass = "0.5 Hz"}`` (any of
+    them together) -> :class:`dsp.artefacts.ChannelFilter`."""
     from dsp.artefacts import ChannelFilter
     from dsp.errors import SignalError
 
     if v is None:
         return None
-    keys = {"type", "order", "cutoff", "group_delay"}
-    if not isinstance(v, dict) or set(v) - keys or not ({"type", "group_delay"} & set(v)):
+    keys = {"type", "order", "cutoff", "group_delay", "resonance", "q", "highpass"}
+    if not isinstance(v, dict) or set(v) - keys or not ({"type", "group_delay", "resonance",
+                                                          "highpass"} & set(v)):
         raise MapError(f"{where} = {v!r}: expected {{type = \"butterworth\" or \"bessel\", order = 4, "
-                       f"cutoff = \"100 Hz\"}} and/or {{group_delay = \"2.4 ms\"}}")
+                       f"cutoff = \"100 Hz\"}} and/or {{group_delay = \"2.4 ms\"}} and/or the "
+                       f"sensor's {{resonance = \"2000 Hz\", q = 30, highpass = \"0.5 Hz\"}}")
+
+    def hz(key):
+        return parse_quantity(v[key], "speed", f"{where}.{key}") / (2 * math.pi) if key in v else 0.0
+
     try:
         delay = parse_quantity(v["group_delay"], "time", f"{where}.group_delay") \
             if "group_delay" in v else 0.0
-        cut = parse_quantity(v["cutoff"], "speed", f"{where}.cutoff") / (2 * math.pi) \
-            if "cutoff" in v else 0.0
-        return ChannelFilter(str(v.get("type", "delay")), v.get("order", 0), cut, delay)
-    except (UnitError, SignalError) as exc:
+        kind = str(v.get("type", "delay" if "group_delay" in v else "none"))
+        return ChannelFilter(kind, v.get("order", 0), hz("cutoff"), delay, hz("resonance"),
+                             float(v.get("q", 30.0)), hz("highpass"))
+    except (UnitError, SignalError, TypeError, ValueError) as exc:
         raise MapError(f"{where}: {exc}") from None
 
 

@@ -29,6 +29,7 @@ def rotor_angle_of(table, notes: list):
     """
     from dsp.errors import SignalError
     from dsp.pulse_timing import pulse_timing_std, retime_pulses
+    from dsp.pulses import debounced
     from dsp.speed import angle_from_pulses, angle_from_speed, pulse_times, repair_pulses
     from dsp.speed_channels import angle_from_encoder
 
@@ -50,6 +51,11 @@ def rotor_angle_of(table, notes: list):
             else:
                 p = pulse_times(t, v, threshold=spec.threshold, name=f"column {spec.column!r}")
                 how = "leading edges"
+            p, merged = debounced(p)
+            if merged:
+                notes.append(f"keyphasor column {spec.column!r}: {merged} contact-bounce pulse(s) "
+                             "merged into the edge before them (hold-off: 0.4 of the local "
+                             "once-per-revolution period)")
             p, added, dropped = repair_pulses(p)
             if added or dropped:
                 notes.append(f"keyphasor column {spec.column!r}: {added} missed pulse(s) filled in, "

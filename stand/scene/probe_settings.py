@@ -32,18 +32,25 @@ class Keyphasor:
         Rms timing jitter of the pulses [s] (0: ideal).
     seed : int
         Seed of the jitter.
+    bounce : int
+        Contact bounce: extra pulses after each true edge (0: none).
+    bounce_time : float
+        Time between the bounce's edges [s] (the k-th extra edge ``k bounce_time`` after the true one).
     """
 
     mark_angle: float = number(0.0, "rad", toml=("deg", DEG))
     jitter: float = number(0.0, "s", ge=0)
     seed: int = integer(0, 0)
+    bounce: int = integer(0, 0, 20)
+    bounce_time: float = number(0.002, "s", gt=0, lt=0.1)
 
     def __post_init__(self):
         check(self, "instruments.keyphasor")
 
     @classmethod
     def from_table(cls, t) -> "Keyphasor":
-        """``[instruments.keyphasor]``: ``mark_angle`` [deg], ``jitter`` [s], ``seed``."""
+        """``[instruments.keyphasor]``: ``mark_angle`` [deg], ``jitter`` [s], ``seed``, ``bounce``,
+        ``bounce_time`` [s]."""
         t.allow(KEYPHASOR_KEYS)
         return rebased(cls, read_table(t, cls), "instruments.keyphasor", t.path)
 
@@ -154,6 +161,9 @@ class DisplacementProbes:
         not filtered.
     adc_range : float
         The converter's range +-``adc_range`` [m] (0: none): beyond it the signal clips.
+    resonance_frequency, resonance_q, highpass_cutoff :
+        The sensor's own response, before the DAQ's filter: a mounted resonance [Hz] (0: none)
+        of quality factor ``resonance_q`` and a first-order high-pass corner [Hz] (0: none).
     """
 
     sample_rate: float = number(1000.0, "Hz", gt=0)
@@ -172,6 +182,9 @@ class DisplacementProbes:
     filter_cutoff: float = number(100.0, "Hz", gt=0)
     group_delay: float = number(0.0, "s", ge=0, lt=0.1)
     adc_range: float = number(0.0, "m", ge=0)
+    resonance_frequency: float = number(0.0, "Hz", ge=0)
+    resonance_q: float = number(30.0, "1", ge=0.5)
+    highpass_cutoff: float = number(0.0, "Hz", ge=0)
 
     def __post_init__(self):
         check(self, "instruments.probes")

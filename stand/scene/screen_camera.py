@@ -113,6 +113,12 @@ class ScreenCamera:
         DN at which the sensor clips, below full scale (default: full scale).
     drop_rate : float
         Probability that a frame is lost (the kept frames keep their timestamps); default 0.
+    auto_gain_time : float
+        Auto-exposure time constant [s] (0: fixed exposure): the gain follows the frames'
+        mean brightness (``vision.camera_artefacts.auto_gain``); default 0.
+    line_time : float
+        Rolling shutter: row r's exposure starts r line_time [s] after row 0's; default 0
+        (a global shutter).
     table : str
         Dotted name of the settings table, used in error messages.
     """
@@ -147,6 +153,8 @@ class ScreenCamera:
     hot_pixels: int = integer(0, 0, 1_000_000)
     saturation: Optional[float] = number(None, "DN", gt=0, optional=True)
     drop_rate: float = number(0.0, "1", ge=0, lt=1)
+    auto_gain_time: float = number(0.0, "s", ge=0)
+    line_time: float = number(0.0, "s per row", ge=0)
     table: str = field(default="instruments.screen", compare=False, repr=False)
 
     # ------------------------------------------------------------ validation
@@ -189,7 +197,8 @@ class ScreenCamera:
         default("electrons_per_dn", FULL_WELL / top)
         check(self, self.table, ("peak", "background", "read_noise", "electrons_per_dn",
                                  "lens_k1", "lens_k2", "jpeg_quality", "flicker_depth",
-                                 "mains_frequency", "hot_pixels", "saturation", "drop_rate"))
+                                 "mains_frequency", "hot_pixels", "saturation", "drop_rate",
+                                 "auto_gain_time", "line_time"))
         if self.jpeg_quality is not None and self.bit_depth != 8:
             raise _bad(n("jpeg_quality"), self.jpeg_quality,
                        f"JPEG needs 8-bit frames ({n('bit_depth')} = {self.bit_depth})")
