@@ -2,7 +2,9 @@
 
 Each cell must succeed or print a "not applicable: why" line with exit 0; no
 cell is skipped silently.  The runs are shortened (same physics, fewer
-seconds) so that the matrix stays within seconds per scene.
+seconds) so that the matrix stays within seconds per scene.  The default run
+walks one scene per model kind and weight family (``_DEFAULT``), ``-m full``
+every sample scene.
 """
 from __future__ import annotations
 
