@@ -46,7 +46,7 @@ NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
 def _theory_once_per_scene():
     """The run-up's chapter-5 theory is asked for by each report of its recording: computed
     once (tests/_helpers.py, theory_computed_once; issue 43's five-minute suite)."""
-    with theory_computed_once():
+    with theory_computed_once(shared=True):   # the sample's theory: once per process
         yield
 
 

@@ -24,7 +24,7 @@ SAMPLE = ROOT / "data_samples" / "recordings" / "stand_cameras.h5"
 def _theory_once_per_scene():
     """The sample's chapter-5 theory, asked for by each report of it (the page, the folder's,
     the PDF's): computed once (tests/_helpers.py, theory_computed_once; issue 43)."""
-    with theory_computed_once():
+    with theory_computed_once(shared=True):   # the sample's theory: once per process
         yield
 
 

@@ -32,7 +32,7 @@ def _theory_once_per_scene():
     a run, its recording and the sample): computed once per scene and arguments
     (tests/_helpers.py, theory_computed_once; issue 43's five-minute suite); every result
     and command still runs its own code on it."""
-    with theory_computed_once():
+    with theory_computed_once(shared=True):   # the sample's theory: once per process
         yield
 
 
