@@ -122,8 +122,12 @@ def _memoized(fn, cache: dict):
     return wrapper
 
 
+#: the theories kept for the whole test process (``theory_computed_once(shared=True)``)
+_SHARED_THEORIES: dict = {}
+
+
 @contextmanager
-def theory_computed_once():
+def theory_computed_once(shared: bool = False):
     """Within the block, the chapter-5 speed map (planar_theory.speedmap.scene_theory) and
     the structure theory (rotors.run.family_theory) of a scene are computed once per
     (scene, arguments) and a deep copy of that result is handed to every later caller
@@ -134,11 +138,13 @@ def theory_computed_once():
     The first caller's computation is the real one; their results are checked against the
     physics, without this, in test_theory_scene.py, test_rotors_*.py, test_report_*.py.
     Every caller imports them at call time from their modules, where they are replaced;
-    the originals are put back when the block ends."""
+    the originals are put back when the block ends.  ``shared``: the results are kept for
+    the test process, so the modules that ask for it share them (the sample recording's
+    theory: once per pytest-xdist worker)."""
     from stand.theories.planar import speedmap
     from stand.theories import rotors as rotors_run
 
-    cache: dict = {}
+    cache: dict = _SHARED_THEORIES if shared else {}
     saved = speedmap.scene_theory, rotors_run.family_theory
     speedmap.scene_theory = _memoized(saved[0], cache)
     rotors_run.family_theory = _memoized(saved[1], cache)

@@ -2,7 +2,9 @@
 
 Each cell must succeed or print a "not applicable: why" line with exit 0; no
 cell is skipped silently.  The runs are shortened (same physics, fewer
-seconds) so that the matrix stays within seconds per scene.
+seconds) so that the matrix stays within seconds per scene.  The default run
+walks one scene per model kind and weight family (``_DEFAULT``), ``-m full``
+every sample scene.
 """
 from __future__ import annotations
 
@@ -72,17 +74,17 @@ def _theory_once_per_scene():
         yield
 
 
-#: scenes whose kind another scene of the matrix already walks (cameras: screen_video,
-#: stand_cameras; DAQ: daq_runup; balls: ball_runup; influence: influence_reference; stress:
-#: stress_platform_fast, stress_flexible_10modes): their cells run with ``-m full`` only
-#: (6-12 s each; issue 43's five-minute suite)
-_FULL = {"screen_lab", "daq_lab", "ball_stuck", "ball_friction", "influence_trial1",
-         "influence_trial2", "paper003_two_screens", "body_compare_balls",
-         "body_stress_damper_singular"}
+#: the scenes walked by default: one per model kind and weight family, each command's code
+#: path on each (planar rotor with balls and the screen, stroboscope and keyphasor:
+#: family_planar; planar rotor with a body weight: body_two_axis_pendulum; a structure of the
+#: family on the generic kernel: family_spatial; a book weight model: weight_two_axis).  Every
+#: other sample scene repeats a kind these walk and runs with ``-m full`` (2-10 s each; issue
+#: 43's five-minute suite); the other scenes' physics is tested in their own modules.
+_DEFAULT = {"family_planar", "body_two_axis_pendulum", "family_spatial", "weight_two_axis"}
 
 
 @pytest.fixture(scope="module", params=[pytest.param(p, marks=[pytest.mark.full]
-                                                     if Path(p).stem in _FULL else [])
+                                                     if Path(p).stem not in _DEFAULT else [])
                                         for p in SCENES], ids=lambda p: Path(p).stem)
 def short_scene(request, tmp_path_factory):
     d = tmp_path_factory.mktemp(Path(request.param).stem)
