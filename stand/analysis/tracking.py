@@ -82,7 +82,7 @@ def _screen_columns(df, rec, group, optical_gain=None) -> None:
             raise ValueError(f"--optical-gain = {optical_gain}: must be > 0")
         if "time" in df:
             df["t_s"] = df["time"] + 0.5 * float(st.get("exposure", 0.0)) \
-                + float(st.get("line_time", 0.0)) * df["v_px"]   # mid-exposure of the spot's row
+                + float(st.get("line_time", 0.0)) * df["v_px"].fillna(0.0)   # the spot's row
         df["x_m"], df["y_m"] = X / gain, Y / gain
         if rec.shape(f"{group}/frame_rotor_angle") is not None:
             phi = np.asarray(rec.dataset(f"{group}/frame_rotor_angle"), float)
@@ -204,7 +204,7 @@ def _shaft_columns(df, X, Y, gain, exposure, phi, line_time=0.0) -> None:
     if gain is None:
         return
     if "time" in df:
-        df["t_s"] = df["time"] + 0.5 * (exposure or 0.0) + line_time * df["v_px"]   # the row's mid-exposure
+        df["t_s"] = df["time"] + 0.5 * (exposure or 0.0) + line_time * df["v_px"].fillna(0.0)   # the row's
     df["x_m"], df["y_m"] = X / gain, Y / gain
     if phi is not None and len(phi) == len(df):
         df["rotor_angle_rad"] = phi                                # at the start of each exposure
