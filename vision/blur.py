@@ -351,7 +351,7 @@ def fit_blurred_spot(patch, mask, level: float, *, saturation: Optional[float] =
     ValueError
         Shapes that differ, a blob without signal, a mask of fewer than 2 x 9 pixels.
     """
-    patch = np.asarray(patch, dtype=np.float64)
+    patch = np.ascontiguousarray(patch, dtype=np.float64)   # one compiled specialisation
     mask = np.asarray(mask, dtype=bool)
     if patch.ndim != 2 or mask.shape != patch.shape:
         raise ValueError(f"patch {patch.shape} and mask {mask.shape}: expected the same 2-D shape")
