@@ -151,14 +151,7 @@ def _circle(patch, mask, level, mu, mv, tot, max_sweep, arc):
     s0 /= tot
     mid = math.atan2(s0, c0)
     C = min(math.sqrt(c0 * c0 + s0 * s0), 1.0)
-    b = min(math.sqrt(max(6.0 * (1.0 - C), 0.0)), max_sweep)   # sin(b)/b = C, by Newton
-    for _ in range(8):
-        if b < 1e-6:
-            break
-        fp = (b * math.cos(b) - math.sin(b)) / (b * b)
-        if fp == 0:
-            break
-        b = min(max(b - (math.sin(b) / b - C) / fp, 1e-6), max_sweep)
+    b = half_sweep(C, max_sweep)
     sd = 0.0
     for i in range(H):
         for j in range(W):
@@ -228,6 +221,21 @@ def compiled_start():
     return _compiled_pair()[0]
 
 
+def half_sweep(C, max_sweep):
+    """Half the arc's angular sweep b [rad] from the mean resultant length C (1) of its points'
+    angles about the circle's centre: sin(b)/b = C by Newton from the small-angle start,
+    clipped to ``max_sweep`` [rad] (plain floats: the numpy path calls it as Python)."""
+    b = min(math.sqrt(max(6.0 * (1.0 - C), 0.0)), max_sweep)
+    for _ in range(8):
+        if b < 1e-6:
+            break
+        fp = (b * math.cos(b) - math.sin(b)) / (b * b)
+        if fp == 0:
+            break
+        b = min(max(b - (math.sin(b) / b - C) / fp, 1e-6), max_sweep)
+    return b
+
+
 def _compiled_pair():
     global _compiled
     if _compiled is None:
@@ -241,6 +249,7 @@ def _compiled_pair():
             else:
                 jit = numba.njit(cache=True, error_model="numpy", nogil=True)
                 mod = globals()
+                mod["half_sweep"] = jit(half_sweep)
                 mod["_circle"] = jit(_circle)
                 mod["start_loops"] = jit(start_loops)
                 _compiled = (mod["start_loops"], jit(blob_inputs))

@@ -70,6 +70,10 @@ from typing import Optional
 
 import numpy as np
 
+from ._blur_start import half_sweep as _half_sweep
+
+half_sweep = getattr(_half_sweep, "py_func", _half_sweep)   # the plain function, compiled or not
+
 __all__ = ["BlurFit", "fit_blurred_spot", "fit_prepared", "initial_guesses", "arc_points", "model_image",
            "warm", "compile_needed", "MAX_ITER", "CENTRE_TOL"]
 
@@ -210,14 +214,7 @@ def _circle_guess(w, du, dv, tot):
     s0 = float((ww * np.sin(ang)).sum()) / tot
     mid = math.atan2(s0, c0)
     C = min(math.hypot(c0, s0), 1.0)
-    b = min(math.sqrt(max(6.0 * (1.0 - C), 0.0)), MAX_SWEEP)   # sin(b)/b = C, by Newton
-    for _ in range(8):
-        if b < 1e-6:
-            break
-        fp = (b * math.cos(b) - math.sin(b)) / (b * b)
-        if fp == 0:
-            break
-        b = min(max(b - (math.sin(b) / b - C) / fp, 1e-6), MAX_SWEEP)
+    b = half_sweep(C, MAX_SWEEP)                               # sin(b)/b = C
     rad = np.hypot(x - cu, y - cv) - R
     sd = math.sqrt(float((ww * rad * rad).sum()) / tot)
     return R * b, -math.sin(mid), math.cos(mid), 1.0 / R, sd
