@@ -189,10 +189,9 @@ def _normal_equations_loops(patch, pi, pj, clipped, level, sat_eff, p, n, want_j
             r = patch[i, j] - level - A * m
             cost += r * r
             continue
-        jr = Jm[na]
-        for c in range(NP):
-            jr[c] = 0.0
+        # the row's sums in locals (registers), in the order of the points
         m = 0.0
+        j0 = j1 = j2 = j3 = j4 = j5 = j6 = j8 = 0.0
         for k in range(n):
             if j < jlo[k] or j > jhi[k] or i < ilo[k] or i > ihi[k]:
                 continue
@@ -201,18 +200,27 @@ def _normal_equations_loops(patch, pi, pj, clipped, level, sat_eff, p, n, want_j
             m += gvk * guk
             t1 = gvk * du_[k, j]
             t2 = dv_[k, i] * guk
-            jr[0] += t1
-            jr[1] += t2
-            for c in range(5):
-                jr[2 + c] += pu[c, k] * t1 + pv[c, k] * t2
-            jr[8] += gvk * su[k, j] + sv[k, i] * guk
+            j0 += t1
+            j1 += t2
+            j2 += pu[0, k] * t1 + pv[0, k] * t2
+            j3 += pu[1, k] * t1 + pv[1, k] * t2
+            j4 += pu[2, k] * t1 + pv[2, k] * t2
+            j5 += pu[3, k] * t1 + pv[3, k] * t2
+            j6 += pu[4, k] * t1 + pv[4, k] * t2
+            j8 += gvk * su[k, j] + sv[k, i] * guk
         full = level + A * m
         r = (sat_eff - full) if clipped[q] else (patch[i, j] - full)
         cost += r * r
-        for c in range(7):
-            jr[c] *= A
+        jr = Jm[na]
+        jr[0] = A * j0
+        jr[1] = A * j1
+        jr[2] = A * j2
+        jr[3] = A * j3
+        jr[4] = A * j4
+        jr[5] = A * j5
+        jr[6] = A * j6
         jr[7] = A * m               # d / d ln A
-        jr[8] *= A * s              # d / d ln s
+        jr[8] = j8 * (A * s)        # d / d ln s
         rr[na] = r
         na += 1
     if want_jac:
