@@ -224,23 +224,27 @@ def _normal_equations_loops(patch, pi, pj, clipped, level, sat_eff, p, n, want_j
         rr[na] = r
         na += 1
     if want_jac:
+        # pixel by pixel into the 45 + 45 + 9 sums (each summed in the pixels' order, as a
+        # sum per entry would be: the same numbers; the entries' additions interleave)
         for a in range(NP):
+            g[a] = 0.0
             for b in range(a + 1):
-                t = 0.0
-                tm = 0.0
-                for q in range(na):
-                    x = Jm[q, a] * Jm[q, b]
-                    t += x
-                    tm += x * rr[q] * rr[q]
-                JTJ[a, b] = t
-                JTJ[b, a] = t
-                if want_meat:
-                    MJ[a, b] = tm
-                    MJ[b, a] = tm
-            t = 0.0
-            for q in range(na):
-                t += Jm[q, a] * rr[q]
-            g[a] = t
+                JTJ[a, b] = 0.0
+                MJ[a, b] = 0.0
+        for q in range(na):
+            r = rr[q]
+            for a in range(NP):
+                ja = Jm[q, a]
+                for b in range(a + 1):
+                    x = ja * Jm[q, b]
+                    JTJ[a, b] += x
+                    if want_meat:
+                        MJ[a, b] += x * r * r
+                g[a] += ja * r
+        for a in range(NP):
+            for b in range(a):
+                JTJ[b, a] = JTJ[a, b]
+                MJ[b, a] = MJ[a, b]
     return cost
 
 
