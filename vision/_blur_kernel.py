@@ -316,8 +316,12 @@ def _lm(patch, pi, pj, clipped, level, sat_eff, p, cost, JTJ, g, MJ, free, size,
         max_iter):
     """Levenberg-Marquardt over the ``free`` parameters from ``p`` (with its cost and
     matrices, updated in place).  Returns (cost, iterations, converged): converged when
-    an accepted step moved the centre < tol[0] px and lowered the cost by <= tol[1] of
-    it, or no better point lies within tol[0] px."""
+    a step moves the centre < tol[0] px and lowers the cost by <= tol[1] of it, or no
+    better point lies within tol[0] px.  That last step is taken without evaluating the
+    model there (the decrease the linear model predicts): one evaluation of ~6 saved per
+    fit; the matrices (so the centre's covariance and the score test) stay those of the
+    point one step before (the step < tol[0] px, the stds within a few % of the final
+    point's: ``tests/test_video_track.py``)."""
     lam = 1e-3
     q = np.empty(NP)
     A = np.empty((NP, NP))
@@ -344,6 +348,23 @@ def _lm(patch, pi, pj, clipped, level, sat_eff, p, cost, JTJ, g, MJ, free, size,
         for a in range(NP):
             q[a] = p[a] + step[a, 0]
         _bound(q, size, c)
+        moved = math.sqrt((q[0] - p[0]) ** 2 + (q[1] - p[1]) ** 2)
+        if moved < tol[0]:
+            # the last step taken without evaluating it: the cost's decrease the linear
+            # model predicts, 2 d.g - d^T B d, against the stop's (the matrices stay p's)
+            gain = 0.0
+            for a in range(NP):
+                if free[a]:
+                    da = q[a] - p[a]
+                    gain += 2.0 * da * g[a]
+                    for b in range(NP):
+                        if free[b]:
+                            gain -= da * JTJ[a, b] * (q[b] - p[b])
+            if 0.0 <= gain <= tol[1] * (cost - gain):
+                p[:] = q
+                cost -= gain
+                converged = True
+                break
         # the trial's Jacobian too: an accepted step (the usual case) needs it next
         new_cost = _evaluate(patch, pi, pj, clipped, level, sat_eff, q, c, nJ, ng, nM)
         moved = math.sqrt((q[0] - p[0]) ** 2 + (q[1] - p[1]) ** 2)
