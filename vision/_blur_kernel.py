@@ -226,11 +226,9 @@ def _normal_equations_loops(patch, pi, pj, clipped, level, sat_eff, p, n, want_j
     if want_jac:
         # pixel by pixel into the 45 + 45 + 9 sums (each summed in the pixels' order, as a
         # sum per entry would be: the same numbers; the entries' additions interleave)
-        for a in range(NP):
-            g[a] = 0.0
-            for b in range(a + 1):
-                JTJ[a, b] = 0.0
-                MJ[a, b] = 0.0
+        JTJ[:, :] = 0.0
+        MJ[:, :] = 0.0
+        g[:] = 0.0
         for q in range(na):
             r = rr[q]
             for a in range(NP):
@@ -317,11 +315,9 @@ def _lm(patch, pi, pj, clipped, level, sat_eff, p, cost, JTJ, g, MJ, free, size,
     """Levenberg-Marquardt over the ``free`` parameters from ``p`` (with its cost and
     matrices, updated in place).  Returns (cost, iterations, converged): converged when
     a step moves the centre < tol[0] px and lowers the cost by <= tol[1] of it, or no
-    better point lies within tol[0] px.  That last step is taken without evaluating the
-    model there (the decrease the linear model predicts): one evaluation of ~6 saved per
-    fit; the matrices (so the centre's covariance and the score test) stay those of the
-    point one step before (the step < tol[0] px, the stds within a few % of the final
-    point's: ``tests/test_video_track.py``)."""
+    better point lies within tol[0] px.  That last step is taken unevaluated (its cost the
+    linear model's): one evaluation of ~6 saved per fit; the matrices (the covariance, the
+    score test) stay those of the point one step before (stds within a few %)."""
     lam = 1e-3
     q = np.empty(NP)
     A = np.empty((NP, NP))
