@@ -257,7 +257,7 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
         elongated = (abs(int(bw) - int(bh)) > max(2, 0.25 * max(bw, bh))
                      or stats[lab, cv2.CC_STAT_AREA] < FILL_ROUND * bw * bh)
         if refine == "blur" or clipped or elongated:
-            if near_roi_border(ARC_PAD + 1):   # its fit's window would reach the border
+            if near_roi_border(FIT_PAD + 1):   # its fit's window would reach the border
                 return None                    # (_locate_near): not worth fitting here
             r = _blur_locate(sub, labels, lab, (bx, by, bw, bh), level, noise, censor, amp, flags,
                              (x0, y0, W, H), blur_start)
