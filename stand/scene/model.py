@@ -102,6 +102,10 @@ class Balancer:
         Initial angles relative to the rotor's reference mark [rad].
     initial_speeds : ndarray
         Initial speeds relative to the rotor [rad/s].
+    rolling : bool
+        Balls rolling without slip on the rotor's track (``inertia`` = 7/5 m l^2): the
+        spin part of the inertia acts on the angle relative to the rotor
+        (:attr:`spin_inertia`).
     """
 
     type: str = "none"
@@ -111,6 +115,7 @@ class Balancer:
     inertia: np.ndarray = field(default_factory=lambda: np.zeros(0))
     initial_angles: np.ndarray = field(default_factory=lambda: np.zeros(0))
     initial_speeds: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    rolling: bool = False
 
     @property
     def count(self) -> int:
@@ -131,6 +136,15 @@ class Balancer:
         if self.type == "balls":
             return self.drag * self.radius ** 2
         return np.asarray(self.drag, dtype=float)
+
+    @property
+    def spin_inertia(self) -> np.ndarray:
+        """J_s,j [kg*m^2]: the part of J_j that turns with the weight's angle relative to the
+        rotor, J_j - m_j l_j^2 = 2/5 m_j l_j^2 for rolling balls, 0 otherwise (a pendulum's
+        J is about the shaft, absolute; stand.model.weights)."""
+        if not self.rolling:
+            return np.zeros(self.count)
+        return np.asarray(self.inertia, float) - self.mass * self.radius ** 2
 
 
 @dataclass(frozen=True)

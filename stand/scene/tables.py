@@ -146,7 +146,8 @@ def supports_table(t: _Table) -> Supports:
 def balancer_table(t: _Table) -> Balancer:
     """Balls or pendulums: the planar ``[balancer]`` and each ball/pendulum ``[[weights]]``
     (one reader, one meaning).  ``rolling = true`` (balls only): balls rolling without slip,
-    inertia 7/5 m l^2 (j = 5/7).  Their dry friction is :func:`friction_table`."""
+    inertia 7/5 m l^2 (j = 5/7), of it 2/5 m l^2 on the angle relative to the rotor
+    (:attr:`Balancer.spin_inertia`, stand.model.weights).  Their dry friction is :func:`friction_table`."""
     t.allow(BALANCER_KEYS)
     kind = t.string("type", ("balls", "pendulums", "none"))
     if kind == "none":
@@ -192,7 +193,7 @@ def balancer_table(t: _Table) -> Balancer:
         angles = (360.0 * np.arange(n) / n if angles is None else angles) * DEG
     speeds = t.per_weight("initial_speeds", n, count_key, "rev/s", 0.0)
     return Balancer(type=kind, mass=m, radius=l, drag=drag, inertia=np.asarray(J, float),
-                    initial_angles=angles, initial_speeds=speeds * TWO_PI)
+                    initial_angles=angles, initial_speeds=speeds * TWO_PI, rolling=bool(rolling))
 
 
 def friction_table(t: _Table) -> Optional[Friction]:

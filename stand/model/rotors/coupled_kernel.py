@@ -29,7 +29,12 @@ summed) and :mod:`stand.model.rotors.coupled_solve` solves M + F^T C T either as
 the Woodbury identity on the constant M (O(planes x n) with a diagonal M); K, D and G are
 applied by their kind (zero, diagonal, dense).  The cost is linear in the number of weights.
 The weights are point masses in their plane (their own transverse moments of
-inertia are neglected, as in the book's linear models).
+inertia are neglected, as in the book's linear models).  A rolling ball's spin inertia
+J_s = J_j - m_j l_j^2 acts on its angle relative to the rotor (:mod:`stand.model.weights`):
+its row gains ``+ J_s phi''`` (a known moment under a speed programme) and, on a free
+rotor, the spin row ``+ J_s (phi'' - psi_j'')`` -- with psi_j'' eliminated, the column
+``b`` and row ``gamma`` below gain ``-(m_j l_j J_s / J_j) n_j``, J_p gains
+``J_s (1 - J_s / J_j)`` and the right side ``-(J_s / J_j)(m_j l_j n_j . g_p + M_r,j)``.
 
 **Torque drive** (the rotor angle phi and speed Omega = phi' are states, the last two
 of ``y``; header flag ``H_FREE`` = index of phi, 0 for a speed programme, whose path is
@@ -107,9 +112,10 @@ H_OTR = 35
 N_HEAD = 36
 DRIVE_MODELS = {"constant": 0, "speed_feedback": 1, "angle_feedback": 2}
 # weight table columns: plane, mass, radius, inertia, drag, friction (kinetic,
-# static, slip speed, dwell, release), index of its adhesion state (-1: none)
-W_PLANE, W_M, W_L, W_J, W_H, W_MUK, W_MUS, W_VS, W_TD, W_TR, W_Z = range(11)
-N_WCOL = 11
+# static, slip speed, dwell, release), index of its adhesion state (-1: none), spin inertia
+# J_s on the angle relative to the rotor (rolling balls, stand.model.weights; 0: none)
+W_PLANE, W_M, W_L, W_J, W_H, W_MUK, W_MUS, W_VS, W_TD, W_TR, W_Z, W_JS = range(12)
+N_WCOL = 12
 
 
 def with_locked_weights(rotor: LinearRotor, weights: Sequence,
@@ -246,6 +252,7 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
             fn -= s * (si * gx - c * gy)
     # weights: plane inertia C_p += m I - k2 n n^T and plane forces (the angle's cosine, sine
     # and the resisting moment are kept for the weights' own accelerations below)
+    jp = sp[H_JP]
     for j in range(nw):
         p = int(wt[j, W_PLANE])
         m = wt[j, W_M]
@@ -268,6 +275,18 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         buf[oc4 + 1] += k2 * si * c
         buf[oc4 + 2] += k2 * si * c
         buf[oc4 + 3] += m - k2 * c * c
+        Js = wt[j, W_JS]
+        if Js != 0.0:   # rolling ball: + J_s phi'' in its row, the reaction on the rotor
+            r = m * l * Js / J
+            buf[ofp + 2 * p] += r * dOm * si
+            buf[ofp + 2 * p + 1] -= r * dOm * c
+            if free:
+                buf[ob + 2 * p] -= r * si
+                buf[ob + 2 * p + 1] += r * c
+                buf[og + 2 * p] -= r * si
+                buf[og + 2 * p + 1] += r * c
+                jp += Js * (1.0 - Js / J)
+                fn -= Js / J * (m * l * ng + Mr)
     # body weights (stand.model.rotors.bodies_kernel): reaction F = R a + r on their plane point
     for bi in range(nb):
         rb = oB + bi * N_BCOL
@@ -289,7 +308,6 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
             buf[oC + 4 * pl + k] -= buf[oR + k]
         buf[ofp + 2 * pl] += buf[oR + 4]
         buf[ofp + 2 * pl + 1] += buf[oR + 5]
-    jp = sp[H_JP]
     if free:
         for j in range(nw):
             fn += buf[om + j]       # the weights' drag and friction act back on the rotor
@@ -320,8 +338,8 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         p = int(wt[j, W_PLANE])
         apx, apy = buf[otx + 2 * p], buf[otx + 2 * p + 1]
         ml = wt[j, W_M] * wt[j, W_L]
-        psidd = (ml * (buf[os_ + j] * (apx - gx) - buf[oc + j] * (apy - gy)) - buf[om + j]) \
-            / wt[j, W_J]
+        psidd = (ml * (buf[os_ + j] * (apx - gx) - buf[oc + j] * (apy - gy)) - buf[om + j]
+                 + wt[j, W_JS] * dOm) / wt[j, W_J]
         dy[n + j] = y[ns + n + j]
         dy[ns + n + j] = (psidd - dOm) / (wref * wref)
         iz = int(wt[j, W_Z])
@@ -484,12 +502,13 @@ def build_model(rotor: LinearRotor, weights: Sequence, programme,
         b = w.balancer
         p = names.index(w.plane)
         H = b.moment_drag
+        Js = getattr(b, "spin_inertia", np.zeros(b.count))
         fr = w.friction
         for k in range(b.count):
             m = _positive(f"weights[{w.plane}].mass[{k}]", b.mass[k], "kg")
             l = _positive(f"weights[{w.plane}].radius[{k}]", b.radius[k], "m")
             J = _positive(f"weights[{w.plane}].inertia[{k}]", b.inertia[k], "kg m^2")
-            row = [p, m, l, J, float(H[k]), 0.0, 0.0, 1.0, 1.0, 1.0, -1.0]
+            row = [p, m, l, J, float(H[k]), 0.0, 0.0, 1.0, 1.0, 1.0, -1.0, float(Js[k])]
             if fr is not None:
                 row[W_MUK:W_TR + 1] = [fr.kinetic, fr.static, fr.slip_speed, fr.dwell_time,
                                        fr.release_time]
