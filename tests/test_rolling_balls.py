@@ -5,10 +5,8 @@ reacts on the rotor's angle: the conservative stand keeps its energy, and the pl
 kernel, its numpy reference and the generic kernel agree."""
 from __future__ import annotations
 
-import dataclasses
 
 import numpy as np
-import pytest
 
 import stand
 from stand.integrate.simulate import simulate

@@ -106,6 +106,10 @@ class Balancer:
         Balls rolling without slip on the rotor's track (``inertia`` = 7/5 m l^2): the
         spin part of the inertia acts on the angle relative to the rotor
         (:attr:`spin_inertia`).
+    ball_radius, contact_stiffness, contact_damping : float
+        Ball-ball contact (balls only, off when ``ball_radius`` is 0): the balls' own radius
+        r [m], a linear spring-dashpot k [N/m], c [N*s/m] along the line of centres of two
+        neighbours closer than 2 r (stand.model.rotors.coupled_kernel).
     """
 
     type: str = "none"
@@ -116,6 +120,9 @@ class Balancer:
     initial_angles: np.ndarray = field(default_factory=lambda: np.zeros(0))
     initial_speeds: np.ndarray = field(default_factory=lambda: np.zeros(0))
     rolling: bool = False
+    ball_radius: float = 0.0
+    contact_stiffness: float = 0.0
+    contact_damping: float = 0.0
 
     @property
     def count(self) -> int:
@@ -490,6 +497,8 @@ class Scene:
                        + ")")
         if self.friction is not None:
             why.append("dry friction of the balancer's weights")
+        if self.balancer.ball_radius > 0:
+            why.append("ball-ball contact")
         return " and ".join(why)
 
     @property

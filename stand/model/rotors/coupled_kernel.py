@@ -36,6 +36,9 @@ rotor, the spin row ``+ J_s (phi'' - psi_j'')`` -- with psi_j'' eliminated, the 
 ``b`` and row ``gamma`` below gain ``-(m_j l_j J_s / J_j) n_j``, J_p gains
 ``J_s (1 - J_s / J_j)`` and the right side ``-(J_s / J_j)(m_j l_j n_j . g_p + M_r,j)``.
 
+**Ball-ball contact**: :mod:`stand.model.rotors.weight_table` (internal moments between
+neighbouring balls of a race, beside their drag).
+
 **Torque drive** (the rotor angle phi and speed Omega = phi' are states, the last two
 of ``y``; header flag ``H_FREE`` = index of phi, 0 for a speed programme, whose path is
 unchanged).  The book's free rotor of section 5.1.1 ((5.1)-(5.10); digest ch5 sections
@@ -91,6 +94,8 @@ from stand.model.rotors.bodies_kernel import (B_H1, B_H2, B_KIND, B_OFF, B_PLANE
 from stand.model.rotors.coupled_solve import (matrix_kind, plane_parts, rotor_forces, row_ranges,
                                              solve_general, solve_planes, t_dot)
 from stand.model.rotors.structure import LinearRotor
+from stand.model.rotors.weight_table import (N_WCOL, W_H, W_J, W_JS, W_L, W_M, W_MUK, W_MUS, W_NEXT,
+                                           W_PLANE, W_TD, W_TR, W_VS, W_Z, contact_moments)
 
 __all__ = ["CoupledModel", "build_model", "rhs_generic", "scratch_size",
            "with_locked_weights"]
@@ -107,15 +112,11 @@ H_FREE, H_JP, H_DMODEL, H_TQ, H_C1, H_C2, H_WT, H_H0, H_W0 = range(17, 26)
 # (stand.model.rotors.coupled_solve): offsets of M^-1, W = M^-1 F^T, S = T M^-1 F^T, the kinds
 # (zero, diagonal, dense) of K, D, G and M^-1, and whether to solve in the planes' space
 H_OS, H_OMI, H_OW, H_OSS, H_KK, H_KD, H_KG, H_KMI, H_FAST = range(26, 35)
-# offset of the plane maps' rows' nonzero column ranges (coupled_solve.row_ranges)
-H_OTR = 35
-N_HEAD = 36
+# offset of the plane maps' rows' nonzero column ranges (coupled_solve.row_ranges); ball-ball
+# contact anywhere (1.0) or not (0.0: no contact work)
+H_OTR, H_CONTACT = 35, 36
+N_HEAD = 37
 DRIVE_MODELS = {"constant": 0, "speed_feedback": 1, "angle_feedback": 2}
-# weight table columns: plane, mass, radius, inertia, drag, friction (kinetic,
-# static, slip speed, dwell, release), index of its adhesion state (-1: none), spin inertia
-# J_s on the angle relative to the rotor (rolling balls, stand.model.weights; 0: none)
-W_PLANE, W_M, W_L, W_J, W_H, W_MUK, W_MUS, W_VS, W_TD, W_TR, W_Z, W_JS = range(12)
-N_WCOL = 12
 
 
 def with_locked_weights(rotor: LinearRotor, weights: Sequence,
@@ -253,6 +254,9 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
     # weights: plane inertia C_p += m I - k2 n n^T and plane forces (the angle's cosine, sine
     # and the resisting moment are kept for the weights' own accelerations below)
     jp = sp[H_JP]
+    contact = sp[H_CONTACT] != 0.0
+    if contact:
+        contact_moments(wt, y, n, ns, wref, buf, om)
     for j in range(nw):
         p = int(wt[j, W_PLANE])
         m = wt[j, W_M]
@@ -267,6 +271,8 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         k2 = m * m * l * l / J
         ng = si * gx - c * gy
         Mr = H * ad + _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy)
+        if contact:
+            Mr += buf[om + j]
         buf[oc + j], buf[os_ + j], buf[om + j] = c, si, Mr
         buf[ofp + 2 * p] += m * gx + m * l * psid * psid * c - k2 * ng * si - m * l * Mr / J * si
         buf[ofp + 2 * p + 1] += m * gy + m * l * psid * psid * si + k2 * ng * c + m * l * Mr / J * c
@@ -498,17 +504,26 @@ def build_model(rotor: LinearRotor, weights: Sequence, programme,
     cap = 0.0
     nw_total = sum(w.balancer.count for w in weights)
     n_adh = 0
+    nxt = {}
     for w in weights:
         b = w.balancer
         p = names.index(w.plane)
         H = b.moment_drag
         Js = getattr(b, "spin_inertia", np.zeros(b.count))
+        r_ball = float(getattr(b, "ball_radius", 0.0))
+        if r_ball > 0.0:        # neighbours in the race, in the order of the initial angles
+            order = len(rows) + np.argsort(np.mod(b.initial_angles, 2.0 * math.pi), kind="stable")
+            nxt.update(zip(order[:-1], order[1:]))
+            if b.count > 2:
+                nxt[order[-1]] = order[0]
         fr = w.friction
         for k in range(b.count):
             m = _positive(f"weights[{w.plane}].mass[{k}]", b.mass[k], "kg")
             l = _positive(f"weights[{w.plane}].radius[{k}]", b.radius[k], "m")
             J = _positive(f"weights[{w.plane}].inertia[{k}]", b.inertia[k], "kg m^2")
-            row = [p, m, l, J, float(H[k]), 0.0, 0.0, 1.0, 1.0, 1.0, -1.0, float(Js[k])]
+            row = [p, m, l, J, float(H[k]), 0.0, 0.0, 1.0, 1.0, 1.0, -1.0, float(Js[k]),
+                   r_ball, getattr(b, "contact_stiffness", 0.0), getattr(b, "contact_damping", 0.0),
+                   -1.0]
             if fr is not None:
                 row[W_MUK:W_TR + 1] = [fr.kinetic, fr.static, fr.slip_speed, fr.dwell_time,
                                        fr.release_time]
@@ -518,6 +533,8 @@ def build_model(rotor: LinearRotor, weights: Sequence, programme,
             rows.append(row)
             cap += m * l
     wt = np.array(rows, dtype=float).reshape(-1, N_WCOL)
+    for j, k in nxt.items():
+        wt[j, W_NEXT] = k
     # coordinate scales: the high-speed response to the larger of the capacity
     # and the unbalance, per coordinate (floor 1e-3 of the largest)
     cap += sum(b.body.capacity for b in bodies)
@@ -542,6 +559,7 @@ def build_model(rotor: LinearRotor, weights: Sequence, programme,
         ub.shape[0], omega_ref
     off = N_HEAD
     head[H_NB] = bt.shape[0]
+    head[H_CONTACT] = float(bool(nxt))
     if drive is not None:
         head[H_FREE] = 2 * (n + wt.shape[0]) + n_adh + nbs
         head[H_JP], head[H_DMODEL] = inertia, DRIVE_MODELS[drive.model]
