@@ -58,6 +58,10 @@ def test_contact_keys():
         stand.load(SCENE.format(contact="contact_stiffness = 1e4"))
     with pytest.raises(SceneError, match=r"ball_radius = -0\.01.*m"):
         stand.load(SCENE.format(contact="ball_radius = -0.01\ncontact_stiffness = 1e4"))
+    coast = SCENE.format(contact=CONTACT).replace(
+        "[1.0, 2.0]]", "[1.0, 2.0]]\ncoast_down = {start = 5.0, time_constant = 2.0}")
+    with pytest.raises(SceneError, match=r"ball_radius \(ball-ball contact\) run on the generic"):
+        stand.load(coast)
     pend = SCENE.format(contact=CONTACT).replace('"balls"', '"pendulums"')
     with pytest.raises(SceneError, match="only for balls"):
         stand.load(pend)
