@@ -103,13 +103,10 @@ class Balancer:
     initial_speeds : ndarray
         Initial speeds relative to the rotor [rad/s].
     rolling : bool
-        Balls rolling without slip on the rotor's track (``inertia`` = 7/5 m l^2): the
-        spin part of the inertia acts on the angle relative to the rotor
-        (:attr:`spin_inertia`).
-    ball_radius, contact_stiffness, contact_damping : float
-        Ball-ball contact (balls only, off when ``ball_radius`` is 0): the balls' own radius
-        r [m], a linear spring-dashpot k [N/m], c [N*s/m] along the line of centres of two
-        neighbours closer than 2 r (stand.model.rotors.coupled_kernel).
+        Balls rolling without slip (``inertia`` = 7/5 m l^2, :attr:`spin_inertia`).
+    ball_radius, contact_stiffness, contact_damping, race_eccentricity, race_eccentricity_angle
+        Balls only (stand.model.rotors.weight_table): contact (off when ``ball_radius`` is
+        0) r [m], k [N/m], c [N*s/m]; the race's centre off the shaft [m] at [rad].
     """
 
     type: str = "none"
@@ -123,6 +120,8 @@ class Balancer:
     ball_radius: float = 0.0
     contact_stiffness: float = 0.0
     contact_damping: float = 0.0
+    race_eccentricity: float = 0.0
+    race_eccentricity_angle: float = 0.0
 
     @property
     def count(self) -> int:
@@ -499,6 +498,8 @@ class Scene:
             why.append("dry friction of the balancer's weights")
         if self.balancer.ball_radius > 0:
             why.append("ball-ball contact")
+        if self.balancer.race_eccentricity > 0:
+            why.append("race eccentricity")
         return " and ".join(why)
 
     @property

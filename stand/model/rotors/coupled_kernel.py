@@ -95,7 +95,8 @@ from stand.model.rotors.coupled_solve import (matrix_kind, plane_parts, rotor_fo
                                              solve_general, solve_planes, t_dot)
 from stand.model.rotors.structure import LinearRotor
 from stand.model.rotors.weight_table import (N_WCOL, W_H, W_J, W_JS, W_L, W_M, W_MUK, W_MUS, W_NEXT,
-                                           W_PLANE, W_TD, W_TR, W_VS, W_Z, contact_moments)
+                                           W_ER, W_PLANE, W_TD, W_TR, W_VS, W_Z, contact_moments,
+                                           race_gravity)
 
 __all__ = ["CoupledModel", "build_model", "rhs_generic", "scratch_size",
            "with_locked_weights"]
@@ -269,13 +270,16 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         psid = Om + ad
         c, si = math.cos(psi), math.sin(psi)
         k2 = m * m * l * l / J
-        ng = si * gx - c * gy
-        Mr = H * ad + _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy)
+        gjx, gjy = gx, gy
+        if wt[j, W_ER] != 0.0:      # eccentric race (speed programme): g_j = g_p - o''
+            gjx, gjy = race_gravity(wt, j, phi, Om, dOm, gx, gy)
+        ng = si * gjx - c * gjy
+        Mr = H * ad + _friction_moment(wt, j, y, m, l, psid, ad, c, si, gjx, gjy)
         if contact:
             Mr += buf[om + j]
         buf[oc + j], buf[os_ + j], buf[om + j] = c, si, Mr
-        buf[ofp + 2 * p] += m * gx + m * l * psid * psid * c - k2 * ng * si - m * l * Mr / J * si
-        buf[ofp + 2 * p + 1] += m * gy + m * l * psid * psid * si + k2 * ng * c + m * l * Mr / J * c
+        buf[ofp + 2 * p] += m * gjx + m * l * psid * psid * c - k2 * ng * si - m * l * Mr / J * si
+        buf[ofp + 2 * p + 1] += m * gjy + m * l * psid * psid * si + k2 * ng * c + m * l * Mr / J * c
         oc4 = oC + 4 * p
         buf[oc4] += m - k2 * si * si
         buf[oc4 + 1] += k2 * si * c
@@ -344,7 +348,10 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         p = int(wt[j, W_PLANE])
         apx, apy = buf[otx + 2 * p], buf[otx + 2 * p + 1]
         ml = wt[j, W_M] * wt[j, W_L]
-        psidd = (ml * (buf[os_ + j] * (apx - gx) - buf[oc + j] * (apy - gy)) - buf[om + j]
+        gjx, gjy = gx, gy
+        if wt[j, W_ER] != 0.0:
+            gjx, gjy = race_gravity(wt, j, phi, Om, dOm, gx, gy)
+        psidd = (ml * (buf[os_ + j] * (apx - gjx) - buf[oc + j] * (apy - gjy)) - buf[om + j]
                  + wt[j, W_JS] * dOm) / wt[j, W_J]
         dy[n + j] = y[ns + n + j]
         dy[ns + n + j] = (psidd - dOm) / (wref * wref)
@@ -511,6 +518,10 @@ def build_model(rotor: LinearRotor, weights: Sequence, programme,
         H = b.moment_drag
         Js = getattr(b, "spin_inertia", np.zeros(b.count))
         r_ball = float(getattr(b, "ball_radius", 0.0))
+        er = float(getattr(b, "race_eccentricity", 0.0))
+        if er and drive is not None:
+            raise ValueError(f"weights[{w.plane}].race_eccentricity = {er!r} m: with a speed "
+                             f"programme only (a free rotor's phi'' is not coupled to the race)")
         if r_ball > 0.0:        # neighbours in the race, in the order of the initial angles
             order = len(rows) + np.argsort(np.mod(b.initial_angles, 2.0 * math.pi), kind="stable")
             nxt.update(zip(order[:-1], order[1:]))
@@ -523,7 +534,7 @@ def build_model(rotor: LinearRotor, weights: Sequence, programme,
             J = _positive(f"weights[{w.plane}].inertia[{k}]", b.inertia[k], "kg m^2")
             row = [p, m, l, J, float(H[k]), 0.0, 0.0, 1.0, 1.0, 1.0, -1.0, float(Js[k]),
                    r_ball, getattr(b, "contact_stiffness", 0.0), getattr(b, "contact_damping", 0.0),
-                   -1.0]
+                   -1.0, er, getattr(b, "race_eccentricity_angle", 0.0)]
             if fr is not None:
                 row[W_MUK:W_TR + 1] = [fr.kinetic, fr.static, fr.slip_speed, fr.dwell_time,
                                        fr.release_time]
