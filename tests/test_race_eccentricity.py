@@ -61,3 +61,10 @@ def test_race_keys_are_checked():
         "unbalance_angle = 0.0\ninertia = 0.05")
     with pytest.raises(SceneError, match="race_eccentricity run on the generic kernel: a speed"):
         stand.load(torque)
+
+
+def test_theory_says_the_race_is_outside_it():
+    from stand.theories.scene import theory
+
+    na = theory(_scene()).not_applicable
+    assert any("race eccentricity of balancer (0.0001 m)" in x for x in na), na
