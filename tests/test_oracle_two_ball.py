@@ -1,4 +1,4 @@
-"""The independent two-ball recording (tests/oracles/two_ball_stand.py) against the stand.
+"""The independent two-ball recording (tests/oracles/two_ball_record.py) against the stand.
 
 The oracle is written from the physics digest (ch5 (5.4), (5.7) corrected), in SI, over
 the absolute coordinates (x, y, psi_1..psi_n) with the full mass matrix solved at every
@@ -33,7 +33,7 @@ import numpy as np
 import pytest
 
 import stand
-from oracles.two_ball_stand import (UNIVERSAL, family_scene_text, record, scene_text,
+from oracles.two_ball_record import (UNIVERSAL, family_scene_text, record, scene_text,
                                     template_scene, write_record)
 
 SHORT = ((0.0, 0.0), (3.0, 15.0))     # through f0 = 3 Hz at 0.6 s, then 15 rev/s
