@@ -16,6 +16,9 @@ its heavy side, phi_j = phi + alpha_j the weights' absolute angles::
     phi''   + h0 phi' + sum nu_j (phi' - phi_j')
             - mu0 (xi'' sin(phi+beta) - eta'' cos(phi+beta)) = m_rot   (free rotor)
 
+Rolling balls add ``- rho_j phi''`` to their row and ``+ kappa_j (phi'' - phi_j'')`` to the
+rotor's (their spin inertia on the angle relative to the rotor, :mod:`stand.model.weights`).
+
 The signs are the corrected ones: '+phi_j'^2 cos' in the xi equation (printed
 '-' in (5.16)-(5.36)), '+Me(...)' in the y equation (printed '-' in (5.7)), and
 the drag reaction nu_j = H_j/(omega_1 J_0) (printed inverted in (5.16)).
@@ -38,7 +41,7 @@ from stand._jit import njit
 from stand.model.programme import (build_table, breakpoints, drive_torque_law, programme_kinematics,
                         programme_kinematics_many, rotor_kinematics)
 from stand.model.structure import PlanarStructure
-from stand.model.weights import EPS, H, MU, NU, weight_table
+from stand.model.weights import EPS, H, KAPPA, MU, NU, RHO, weight_table
 
 # layout of the scalar parameter vector ``sp``
 D11, D12, D21, D22, K11, K12, K21, K22 = range(8)
@@ -344,6 +347,13 @@ def rhs_planar(tau, y, dy, sp, wt, prog):
     a12 = 0.0
     a22 = 1.0
     b3 = 0.0
+    # rolling balls (rho_j, kappa_j != 0): sum eps rho (sin, cos) phi_j, the rotor row's
+    # sum kappa mu (sin, cos) phi_j and its phi'' coefficient
+    sr = 0.0
+    cr = 0.0
+    k1 = 0.0
+    k2 = 0.0
+    a33 = 1.0
     for j in range(n):
         aj = phi + y[2 + j]
         da = y[nq + 2 + j]
@@ -362,14 +372,23 @@ def rhs_planar(tau, y, dy, sp, wt, prog):
         b1 += e * (wj * wj * cj + sj * g)
         b2 += e * (wj * wj * sj - cj * g)
         b3 += wt[j, NU] * da
+        rho = wt[j, RHO]
+        if rho != 0.0:
+            sr += e * rho * sj
+            cr += e * rho * cj
+            kap = wt[j, KAPPA]
+            k1 += kap * wt[j, MU] * sj
+            k2 += kap * wt[j, MU] * cj
+            a33 += kap * (1.0 - rho)
+            b3 += kap * g
     if free:
         # 3x3 Schur complement: unknowns (xi'', eta'', phi'')
-        a13 = -wy
-        a23 = wx
+        a13 = -wy - sr
+        a23 = wx + cr
         mu0 = sp[MU0]
-        a31 = -mu0 * wy
-        a32 = mu0 * wx
-        b3 += drive_torque(tau, phi, dphi, sp) - sp[H0] * dphi
+        a31 = (-mu0 * wy - k1) / a33
+        a32 = (mu0 * wx + k2) / a33
+        b3 = (b3 + drive_torque(tau, phi, dphi, sp) - sp[H0] * dphi) / a33
         det = (a11 * (a22 - a23 * a32) - a12 * (a12 - a23 * a31)
                + a13 * (a12 * a32 - a22 * a31))
         x1 = (b1 * (a22 - a23 * a32) - a12 * (b2 - a23 * b3) + a13 * (b2 * a32 - a22 * b3)) / det
@@ -378,13 +397,15 @@ def rhs_planar(tau, y, dy, sp, wt, prog):
     else:
         b1 += wy * ddphi
         b2 -= wx * ddphi
+        b1 += sr * ddphi
+        b2 -= cr * ddphi
         det = a11 * a22 - a12 * a12
         x1 = (b1 * a22 - a12 * b2) / det
         x2 = (a11 * b2 - a12 * b1) / det
     for j in range(n):
         sj = dy[2 + j]
         cj = dy[nq + 2 + j]
-        ddj = -wt[j, H] * y[nq + 2 + j] + wt[j, MU] * (x1 * sj - x2 * cj)
+        ddj = -wt[j, H] * y[nq + 2 + j] + wt[j, MU] * (x1 * sj - x2 * cj) + wt[j, RHO] * ddphi
         dy[nq + 2 + j] = ddj - ddphi
     for i in range(nq):
         dy[i] = y[nq + i]
@@ -418,7 +439,7 @@ def rhs_planar_numpy(tau, y, sp, wt, prog):
     pj = phi + alpha
     wj = dphi + dalpha
     s, c = np.sin(pj), np.cos(pj)
-    eps, mu, hh, nu = wt[:, EPS], wt[:, MU], wt[:, H], wt[:, NU]
+    eps, mu, hh, nu, rho, kap = wt[:, EPS], wt[:, MU], wt[:, H], wt[:, NU], wt[:, RHO], wt[:, KAPPA]
     m = n + 2 + (1 if free else 0)
     A = np.zeros((m, m))
     b = np.zeros(m)
@@ -440,11 +461,14 @@ def rhs_planar_numpy(tau, y, sp, wt, prog):
         A[n + 1, n + 2] = wx
         A[n + 2, n] = -sp[MU0] * wy
         A[n + 2, n + 1] = sp[MU0] * wx
-        A[n + 2, n + 2] = 1.0
+        A[n + 2, n + 2] = 1.0 + np.sum(kap)
+        A[n + 2, :n] = -kap
+        A[np.arange(n), n + 2] = -rho
         b[n + 2] = drive_torque(tau, phi, dphi, sp) - sp[H0] * dphi + np.sum(nu * dalpha)
     else:
         b[n] += wy * ddphi_known
         b[n + 1] -= wx * ddphi_known
+        b[:n] += rho * ddphi_known
     acc = np.linalg.solve(A, b)
     ddphi = acc[n + 2] if free else ddphi_known
     dy = np.empty_like(y)

@@ -102,6 +102,11 @@ class Balancer:
         Initial angles relative to the rotor's reference mark [rad].
     initial_speeds : ndarray
         Initial speeds relative to the rotor [rad/s].
+    rolling : bool
+        Balls rolling without slip (``inertia`` = 7/5 m l^2, :attr:`spin_inertia`).
+    ball_radius, contact_stiffness, contact_damping, race_eccentricity, race_eccentricity_angle
+        Balls only (stand.model.rotors.weight_table): contact (off when ``ball_radius`` is
+        0) r [m], k [N/m], c [N*s/m]; the race's centre off the shaft [m] at [rad].
     """
 
     type: str = "none"
@@ -111,6 +116,12 @@ class Balancer:
     inertia: np.ndarray = field(default_factory=lambda: np.zeros(0))
     initial_angles: np.ndarray = field(default_factory=lambda: np.zeros(0))
     initial_speeds: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    rolling: bool = False
+    ball_radius: float = 0.0
+    contact_stiffness: float = 0.0
+    contact_damping: float = 0.0
+    race_eccentricity: float = 0.0
+    race_eccentricity_angle: float = 0.0
 
     @property
     def count(self) -> int:
@@ -131,6 +142,15 @@ class Balancer:
         if self.type == "balls":
             return self.drag * self.radius ** 2
         return np.asarray(self.drag, dtype=float)
+
+    @property
+    def spin_inertia(self) -> np.ndarray:
+        """J_s,j [kg*m^2]: the part of J_j that turns with the weight's angle relative to the
+        rotor, J_j - m_j l_j^2 = 2/5 m_j l_j^2 for rolling balls, 0 otherwise (a pendulum's
+        J is about the shaft, absolute; stand.model.weights)."""
+        if not self.rolling:
+            return np.zeros(self.count)
+        return np.asarray(self.inertia, float) - self.mass * self.radius ** 2
 
 
 @dataclass(frozen=True)
@@ -476,6 +496,10 @@ class Scene:
                        + ")")
         if self.friction is not None:
             why.append("dry friction of the balancer's weights")
+        if self.balancer.ball_radius > 0:
+            why.append("ball-ball contact")
+        if self.balancer.race_eccentricity > 0:
+            why.append("race eccentricity")
         return " and ".join(why)
 
     @property

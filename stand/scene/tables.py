@@ -56,8 +56,10 @@ FRICTION_FIELDS = {
 }
 FRICTION_KEYS = tuple(FRICTION_FIELDS)
 #: keys of the planar ``[balancer]`` and of a ball/pendulum ``[[weights]]`` table (+ ``plane``)
+CONTACT_KEYS = ("ball_radius", "contact_stiffness", "contact_damping", "race_eccentricity",
+                "race_eccentricity_angle")
 BALANCER_KEYS = ("type", "count", "mass", "radius", "drag", "inertia",
-                 "initial_angles", "initial_speeds") + FRICTION_KEYS + ("rolling",)
+                 "initial_angles", "initial_speeds") + FRICTION_KEYS + ("rolling",) + CONTACT_KEYS
 SPEED_KEYS = ("type", "programme", "programme_dimensionless", "coast_down", "rotor_drag")
 TORQUE_KEYS = ("type", "model", "rotor_drag", "initial_speed")
 TORQUE_MODEL_KEYS = {
@@ -146,7 +148,8 @@ def supports_table(t: _Table) -> Supports:
 def balancer_table(t: _Table) -> Balancer:
     """Balls or pendulums: the planar ``[balancer]`` and each ball/pendulum ``[[weights]]``
     (one reader, one meaning).  ``rolling = true`` (balls only): balls rolling without slip,
-    inertia 7/5 m l^2 (j = 5/7).  Their dry friction is :func:`friction_table`."""
+    inertia 7/5 m l^2 (j = 5/7), of it 2/5 m l^2 on the angle relative to the rotor
+    (:attr:`Balancer.spin_inertia`, stand.model.weights).  Their dry friction is :func:`friction_table`."""
     t.allow(BALANCER_KEYS)
     kind = t.string("type", ("balls", "pendulums", "none"))
     if kind == "none":
@@ -164,6 +167,21 @@ def balancer_table(t: _Table) -> Balancer:
     if rolling and kind != "balls":
         raise SceneError(f"{t.name('rolling')} = true: only for balls ({t.name('type')} = "
                          f'"{kind}"; give a pendulum\'s inertia)')
+    for k in CONTACT_KEYS:
+        if k in t and kind != "balls":
+            raise SceneError(f"{t.name(k)} = {_fmt(t.data[k])}: only for balls (contact, race)")
+    r = t.number("ball_radius", "m", 0.0, gt=0)
+    if r == 0.0 and any(k in t for k in CONTACT_KEYS[1:3]):
+        raise SceneError(f"{t.name('ball_radius')}: missing (m, the balls' own radius): the "
+                         f"contact keys need it")
+    if r and "contact_stiffness" not in t:
+        raise SceneError(f"{t.name('contact_stiffness')}: missing (N/m, the contact's spring; "
+                         f"{t.name('ball_radius')} = {_fmt(r)} turns the contact on)")
+    contact = dict(ball_radius=r, contact_stiffness=t.number("contact_stiffness", "N/m", 0.0, gt=0),
+                   contact_damping=t.number("contact_damping", "N*s/m", 0.0, ge=0),
+                   race_eccentricity=t.number("race_eccentricity", "m", 0.0, ge=0),
+                   race_eccentricity_angle=_angle(t.name("race_eccentricity_angle"),
+                                                  t.data.get("race_eccentricity_angle", 0.0)))
     n = t.integer("count", minimum=1, maximum=MAX_WEIGHTS)
     count_key = t.name("count")
     m = t.per_weight("mass", n, count_key, "kg", gt=0)
@@ -192,7 +210,7 @@ def balancer_table(t: _Table) -> Balancer:
         angles = (360.0 * np.arange(n) / n if angles is None else angles) * DEG
     speeds = t.per_weight("initial_speeds", n, count_key, "rev/s", 0.0)
     return Balancer(type=kind, mass=m, radius=l, drag=drag, inertia=np.asarray(J, float),
-                    initial_angles=angles, initial_speeds=speeds * TWO_PI)
+                    initial_angles=angles, initial_speeds=speeds * TWO_PI, rolling=bool(rolling), **contact)
 
 
 def friction_table(t: _Table) -> Optional[Friction]:

@@ -73,10 +73,18 @@ def _friction_notes(scene) -> list:
     its steady motions are those of viscous drag only."""
     out = []
     for w in scene.weights if scene.kind != "book" else ():
-        f = w.friction
+        f, b = w.friction, w.balancer
+        where = "balancer" if scene.kind == "planar" else f"the weights in plane {w.plane}"
+        if getattr(b, "ball_radius", 0.0) > 0:
+            out.append(f"ball-ball contact of {where} (ball_radius = {b.ball_radius:g} m): outside "
+                       "the theory, whose balls are points free to share an angle")
+        if getattr(b, "race_eccentricity", 0.0) > 0:
+            out.append(f"race eccentricity of {where} ({b.race_eccentricity:g} m): outside the "
+                       "theory; above the critical speed the balls hold the race's centre on the "
+                       f"axis, a residual whirl of {b.race_eccentricity:g} m "
+                       "(stand.model.rotors.weight_table)")
         if f is None or not (f.kinetic > 0 or f.static > 0):
             continue
-        where = "balancer" if scene.kind == "planar" else f"the weights in plane {w.plane}"
         mu_l = max(f.kinetic, 0.0) * float(max(w.balancer.radius))
         out.append(f"dry friction of {where} (friction = {f.kinetic:g}"
                    + (f", static_friction = {f.static:g}" if f.sticks else "")

@@ -29,7 +29,15 @@ summed) and :mod:`stand.model.rotors.coupled_solve` solves M + F^T C T either as
 the Woodbury identity on the constant M (O(planes x n) with a diagonal M); K, D and G are
 applied by their kind (zero, diagonal, dense).  The cost is linear in the number of weights.
 The weights are point masses in their plane (their own transverse moments of
-inertia are neglected, as in the book's linear models).
+inertia are neglected, as in the book's linear models).  A rolling ball's spin inertia
+J_s = J_j - m_j l_j^2 acts on its angle relative to the rotor (:mod:`stand.model.weights`):
+its row gains ``+ J_s phi''`` (a known moment under a speed programme) and, on a free
+rotor, the spin row ``+ J_s (phi'' - psi_j'')`` -- with psi_j'' eliminated, the column
+``b`` and row ``gamma`` below gain ``-(m_j l_j J_s / J_j) n_j``, J_p gains
+``J_s (1 - J_s / J_j)`` and the right side ``-(J_s / J_j)(m_j l_j n_j . g_p + M_r,j)``.
+
+**Ball-ball contact**: :mod:`stand.model.rotors.weight_table` (internal moments between
+neighbouring balls of a race, beside their drag).
 
 **Torque drive** (the rotor angle phi and speed Omega = phi' are states, the last two
 of ``y``; header flag ``H_FREE`` = index of phi, 0 for a speed programme, whose path is
@@ -86,6 +94,9 @@ from stand.model.rotors.bodies_kernel import (B_H1, B_H2, B_KIND, B_OFF, B_PLANE
 from stand.model.rotors.coupled_solve import (matrix_kind, plane_parts, rotor_forces, row_ranges,
                                              solve_general, solve_planes, t_dot)
 from stand.model.rotors.structure import LinearRotor
+from stand.model.rotors.weight_table import (N_WCOL, W_H, W_J, W_JS, W_L, W_M, W_MUK, W_MUS, W_NEXT,
+                                           W_ER, W_PLANE, W_TD, W_TR, W_VS, W_Z, contact_moments,
+                                           race_gravity)
 
 __all__ = ["CoupledModel", "build_model", "rhs_generic", "scratch_size",
            "with_locked_weights"]
@@ -102,14 +113,11 @@ H_FREE, H_JP, H_DMODEL, H_TQ, H_C1, H_C2, H_WT, H_H0, H_W0 = range(17, 26)
 # (stand.model.rotors.coupled_solve): offsets of M^-1, W = M^-1 F^T, S = T M^-1 F^T, the kinds
 # (zero, diagonal, dense) of K, D, G and M^-1, and whether to solve in the planes' space
 H_OS, H_OMI, H_OW, H_OSS, H_KK, H_KD, H_KG, H_KMI, H_FAST = range(26, 35)
-# offset of the plane maps' rows' nonzero column ranges (coupled_solve.row_ranges)
-H_OTR = 35
-N_HEAD = 36
+# offset of the plane maps' rows' nonzero column ranges (coupled_solve.row_ranges); ball-ball
+# contact anywhere (1.0) or not (0.0: no contact work)
+H_OTR, H_CONTACT = 35, 36
+N_HEAD = 37
 DRIVE_MODELS = {"constant": 0, "speed_feedback": 1, "angle_feedback": 2}
-# weight table columns: plane, mass, radius, inertia, drag, friction (kinetic,
-# static, slip speed, dwell, release), index of its adhesion state (-1: none)
-W_PLANE, W_M, W_L, W_J, W_H, W_MUK, W_MUS, W_VS, W_TD, W_TR, W_Z = range(11)
-N_WCOL = 11
 
 
 def with_locked_weights(rotor: LinearRotor, weights: Sequence,
@@ -246,6 +254,10 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
             fn -= s * (si * gx - c * gy)
     # weights: plane inertia C_p += m I - k2 n n^T and plane forces (the angle's cosine, sine
     # and the resisting moment are kept for the weights' own accelerations below)
+    jp = sp[H_JP]
+    contact = sp[H_CONTACT] != 0.0
+    if contact:
+        contact_moments(wt, y, n, ns, wref, buf, om)
     for j in range(nw):
         p = int(wt[j, W_PLANE])
         m = wt[j, W_M]
@@ -258,16 +270,33 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         psid = Om + ad
         c, si = math.cos(psi), math.sin(psi)
         k2 = m * m * l * l / J
-        ng = si * gx - c * gy
-        Mr = H * ad + _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy)
+        gjx, gjy = gx, gy
+        if wt[j, W_ER] != 0.0:      # eccentric race (speed programme): g_j = g_p - o''
+            gjx, gjy = race_gravity(wt, j, phi, Om, dOm, gx, gy)
+        ng = si * gjx - c * gjy
+        Mr = H * ad + _friction_moment(wt, j, y, m, l, psid, ad, c, si, gjx, gjy)
+        if contact:
+            Mr += buf[om + j]
         buf[oc + j], buf[os_ + j], buf[om + j] = c, si, Mr
-        buf[ofp + 2 * p] += m * gx + m * l * psid * psid * c - k2 * ng * si - m * l * Mr / J * si
-        buf[ofp + 2 * p + 1] += m * gy + m * l * psid * psid * si + k2 * ng * c + m * l * Mr / J * c
+        buf[ofp + 2 * p] += m * gjx + m * l * psid * psid * c - k2 * ng * si - m * l * Mr / J * si
+        buf[ofp + 2 * p + 1] += m * gjy + m * l * psid * psid * si + k2 * ng * c + m * l * Mr / J * c
         oc4 = oC + 4 * p
         buf[oc4] += m - k2 * si * si
         buf[oc4 + 1] += k2 * si * c
         buf[oc4 + 2] += k2 * si * c
         buf[oc4 + 3] += m - k2 * c * c
+        Js = wt[j, W_JS]
+        if Js != 0.0:   # rolling ball: + J_s phi'' in its row, the reaction on the rotor
+            r = m * l * Js / J
+            buf[ofp + 2 * p] += r * dOm * si
+            buf[ofp + 2 * p + 1] -= r * dOm * c
+            if free:
+                buf[ob + 2 * p] -= r * si
+                buf[ob + 2 * p + 1] += r * c
+                buf[og + 2 * p] -= r * si
+                buf[og + 2 * p + 1] += r * c
+                jp += Js * (1.0 - Js / J)
+                fn -= Js / J * (m * l * ng + Mr)
     # body weights (stand.model.rotors.bodies_kernel): reaction F = R a + r on their plane point
     for bi in range(nb):
         rb = oB + bi * N_BCOL
@@ -289,7 +318,6 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
             buf[oC + 4 * pl + k] -= buf[oR + k]
         buf[ofp + 2 * pl] += buf[oR + 4]
         buf[ofp + 2 * pl + 1] += buf[oR + 5]
-    jp = sp[H_JP]
     if free:
         for j in range(nw):
             fn += buf[om + j]       # the weights' drag and friction act back on the rotor
@@ -320,8 +348,11 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         p = int(wt[j, W_PLANE])
         apx, apy = buf[otx + 2 * p], buf[otx + 2 * p + 1]
         ml = wt[j, W_M] * wt[j, W_L]
-        psidd = (ml * (buf[os_ + j] * (apx - gx) - buf[oc + j] * (apy - gy)) - buf[om + j]) \
-            / wt[j, W_J]
+        gjx, gjy = gx, gy
+        if wt[j, W_ER] != 0.0:
+            gjx, gjy = race_gravity(wt, j, phi, Om, dOm, gx, gy)
+        psidd = (ml * (buf[os_ + j] * (apx - gjx) - buf[oc + j] * (apy - gjy)) - buf[om + j]
+                 + wt[j, W_JS] * dOm) / wt[j, W_J]
         dy[n + j] = y[ns + n + j]
         dy[ns + n + j] = (psidd - dOm) / (wref * wref)
         iz = int(wt[j, W_Z])
@@ -480,16 +511,30 @@ def build_model(rotor: LinearRotor, weights: Sequence, programme,
     cap = 0.0
     nw_total = sum(w.balancer.count for w in weights)
     n_adh = 0
+    nxt = {}
     for w in weights:
         b = w.balancer
         p = names.index(w.plane)
         H = b.moment_drag
+        Js = getattr(b, "spin_inertia", np.zeros(b.count))
+        r_ball = float(getattr(b, "ball_radius", 0.0))
+        er = float(getattr(b, "race_eccentricity", 0.0))
+        if er and drive is not None:
+            raise ValueError(f"weights[{w.plane}].race_eccentricity = {er!r} m: with a speed "
+                             f"programme only (a free rotor's phi'' is not coupled to the race)")
+        if r_ball > 0.0:        # neighbours in the race, in the order of the initial angles
+            order = len(rows) + np.argsort(np.mod(b.initial_angles, 2.0 * math.pi), kind="stable")
+            nxt.update(zip(order[:-1], order[1:]))
+            if b.count > 2:
+                nxt[order[-1]] = order[0]
         fr = w.friction
         for k in range(b.count):
             m = _positive(f"weights[{w.plane}].mass[{k}]", b.mass[k], "kg")
             l = _positive(f"weights[{w.plane}].radius[{k}]", b.radius[k], "m")
             J = _positive(f"weights[{w.plane}].inertia[{k}]", b.inertia[k], "kg m^2")
-            row = [p, m, l, J, float(H[k]), 0.0, 0.0, 1.0, 1.0, 1.0, -1.0]
+            row = [p, m, l, J, float(H[k]), 0.0, 0.0, 1.0, 1.0, 1.0, -1.0, float(Js[k]),
+                   r_ball, getattr(b, "contact_stiffness", 0.0), getattr(b, "contact_damping", 0.0),
+                   -1.0, er, getattr(b, "race_eccentricity_angle", 0.0)]
             if fr is not None:
                 row[W_MUK:W_TR + 1] = [fr.kinetic, fr.static, fr.slip_speed, fr.dwell_time,
                                        fr.release_time]
@@ -499,6 +544,8 @@ def build_model(rotor: LinearRotor, weights: Sequence, programme,
             rows.append(row)
             cap += m * l
     wt = np.array(rows, dtype=float).reshape(-1, N_WCOL)
+    for j, k in nxt.items():
+        wt[j, W_NEXT] = k
     # coordinate scales: the high-speed response to the larger of the capacity
     # and the unbalance, per coordinate (floor 1e-3 of the largest)
     cap += sum(b.body.capacity for b in bodies)
@@ -523,6 +570,7 @@ def build_model(rotor: LinearRotor, weights: Sequence, programme,
         ub.shape[0], omega_ref
     off = N_HEAD
     head[H_NB] = bt.shape[0]
+    head[H_CONTACT] = float(bool(nxt))
     if drive is not None:
         head[H_FREE] = 2 * (n + wt.shape[0]) + n_adh + nbs
         head[H_JP], head[H_DMODEL] = inertia, DRIVE_MODELS[drive.model]
