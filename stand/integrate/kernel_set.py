@@ -117,18 +117,16 @@ class _Announce:
 
 def _checked(kind: int, source: str, loop, ev, jac) -> KernelSet:
     """A kernel set around compiled entry points that take exactly C-contiguous float64
-    arrays (int64 for the statistics) and plain scalars: inputs are converted, and an array
-    written in place that is not in that form is written through a C-contiguous copy (never
-    numba's type-dispatching call: another layout would compile another specialisation,
-    seconds, for the same numbers)."""
+    arrays (int64 for the statistics) and plain scalars: inputs are converted, an array written
+    in place in another form goes through a C-contiguous copy (never numba's type dispatch,
+    which would compile another specialisation, seconds, for the same numbers)."""
     c = np.ascontiguousarray
 
     def ok(a, dt=np.float64):
         return a.dtype == dt and a.flags.c_contiguous and a.flags.writeable
 
     def through_copies(call, *pairs):
-        """``call(*arrays)`` for the (array, dtype) ``pairs``, an array not C-contiguous of
-        its dtype replaced by such a copy and copied back after the call."""
+        """``call(*arrays)`` of the (array, dtype) ``pairs``, each in that form or a copy."""
         use = [a if ok(a, dt) else np.array(a, dt, order="C") for a, dt in pairs]
         result = call(*use)
         for (a, _), u in zip(pairs, use):
