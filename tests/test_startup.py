@@ -48,9 +48,11 @@ def _modules_after(argv, *more) -> set:
 @pytest.fixture(scope="module")
 def built():
     """The precompiled planar and generic kernels and the screen renderer, built once for this
-    module (one process; a no-op where they exist); the reason if this machine cannot build."""
+    module (one process, started only if one is missing: the warm-up of tests/conftest.py
+    builds them); the reason if this machine cannot build."""
     reason = precompiled.available()
-    if reason is None:
+    if reason is None and any(precompiled.load(k) is None
+                              for k in (0, 1, "stand.instruments.render:render_frame")):
         _python("from stand.integrate.kernel_set import kernels\nfrom stand.integrate import "
                 "precompiled\nkernels(0, build=True)\nkernels(1, build=True)\n"
                 "precompiled.build('stand.instruments.render:render_frame')")
