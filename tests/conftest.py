@@ -33,9 +33,14 @@ def pytest_runtest_logreport(report):
 
 
 def pytest_terminal_summary(terminalreporter):
-    for table in _TABLES:
+    if _TABLES:            # one table per command (one test each): their header once
         terminalreporter.write_sep("-", "adversarial harness")
-        terminalreporter.write_line(table)
+        head = _TABLES[0].splitlines()[0]
+        terminalreporter.write_line(head)
+        for table in sorted(_TABLES):
+            for line in table.splitlines():
+                if line != head:
+                    terminalreporter.write_line(line)
 
 
 def pytest_configure(config):

@@ -407,9 +407,21 @@ def _fast(command: str, label: str, seen: set) -> bool:
     return True
 
 
-def run_harness(tmp: Path, one_per_kind: bool = False) -> tuple:
-    """All cells (``one_per_kind``: the first of each :func:`cell_kind`, :func:`_fast`); returns
-    (rows, table text)."""
+def select(catalogue, one_per_kind: bool) -> list:
+    """The cells of ``catalogue`` (a list of :func:`cells`) that a run tries: all, or
+    (``one_per_kind``) the first of each :func:`cell_kind` (:func:`_fast`)."""
+    if not one_per_kind:
+        return list(catalogue)
+    seen, chosen = set(), []
+    for cell in catalogue:
+        if _fast(cell[0], cell[1], seen):
+            chosen.append(cell)
+            seen.add(cell_kind(cell[0], cell[1]))
+    return chosen
+
+
+def run_cells(chosen) -> list:
+    """Run the cells ``chosen`` (command, input label, argv, inputs); one row each."""
     import warnings
 
     from stand.api.warmup import warmup
@@ -419,14 +431,23 @@ def run_harness(tmp: Path, one_per_kind: bool = False) -> tuple:
     rows = []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        seen = set()
-        for cmd, label, argv, inputs in cells(tmp):
-            if one_per_kind and not _fast(cmd, label, seen):
-                continue
-            seen.add(cell_kind(cmd, label))
+        for cmd, label, argv, inputs in chosen:
             r = run_cell(argv, inputs)
             r.update(command=cmd, input=label)
             rows.append(r)
+    return rows
+
+
+def run_harness(tmp: Path, one_per_kind: bool = False) -> tuple:
+    """All cells (``one_per_kind``: the first of each :func:`cell_kind`); returns (rows, table
+    text)."""
+    rows = run_cells(select(list(cells(tmp)), one_per_kind))
+    return rows, _table(rows)
+
+
+def _table(rows, total: bool = True) -> str:
+    """The harness' table: per command the cells tried, the clear errors, the partial results
+    and the bad outcomes (crash, hang, unclear, changed input), and (``total``) their sum."""
     table = {}
     for r in rows:
         t = table.setdefault(r["command"], {"tried": 0, "clear error": 0, "partial result": 0,
@@ -438,13 +459,11 @@ def run_harness(tmp: Path, one_per_kind: bool = False) -> tuple:
             t["bad"] += 1
     lines = [f"{'command':<22}{'tried':>7}{'clear error':>13}{'partial result':>16}"
              f"{'crash/hang/unclear/changed':>28}"]
-    for cmd, t in table.items():
+    tot = {k: sum(t[k] for t in table.values()) for k in ("tried", "clear error", "partial result", "bad")}
+    for cmd, t in [*table.items(), *([("all", tot)] if total else [])]:
         lines.append(f"{cmd:<22}{t['tried']:>7}{t['clear error']:>13}{t['partial result']:>16}"
                      f"{t['bad']:>28}")
-    tot = {k: sum(t[k] for t in table.values()) for k in ("tried", "clear error", "partial result", "bad")}
-    lines.append(f"{'all':<22}{tot['tried']:>7}{tot['clear error']:>13}{tot['partial result']:>16}"
-                 f"{tot['bad']:>28}")
-    return rows, "\n".join(lines)
+    return "\n".join(lines)
 
 
 def _report_ahead(folder: Path) -> None:
@@ -461,21 +480,43 @@ def _report_ahead(folder: Path) -> None:
         assert main(["report", str(folder / "good.h5"), "-o", str(folder / "good.html")]) == 0
 
 
+#: every command of the catalogue, one test each (pytest-xdist spreads them over its workers)
+COMMANDS = ("run", "theory", "accuracy", "accuracy RK4", "experiment", "sweep", "analyze", "report",
+            "snapshot", "track", "track --calibration", "strobe")
+
+
+@pytest.fixture(scope="module")
+def catalogue(tmp_path_factory):
+    """Every cell of the catalogue, its input files written once per test process."""
+    return list(cells(tmp_path_factory.mktemp("adversarial")))
+
+
+def test_the_catalogue_crosses_every_command(catalogue):
+    """The catalogue's size (the fast run: one cell per command and mutation kind, 308 cells;
+    ``-m full``: ~800) and its commands: each is one test below."""
+    assert len(select(catalogue, True)) >= 300 and len(catalogue) >= 700
+    assert {cell[0] for cell in catalogue} == set(COMMANDS)
+
+
 @pytest.mark.parametrize("one_per_kind", [True, pytest.param(False, marks=pytest.mark.full)],
                          ids=["one cell per kind", "every cell"])
-def test_every_command_against_the_bad_input_catalogue(tmp_path, record_property, one_per_kind):
-    """Fast: one cell per command and mutation kind (308 of ~800; ``_fast``); ``-m full``: every
-    cell."""
+@pytest.mark.parametrize("command", COMMANDS)
+def test_every_command_against_the_bad_input_catalogue(command, one_per_kind, catalogue, tmp_path,
+                                                       record_property):
+    """``command`` against its cells of the catalogue.  Fast: one cell per mutation kind
+    (``_fast``); ``-m full``: every cell."""
     t0 = time.perf_counter()
+    chosen = [cell for cell in select(catalogue, one_per_kind) if cell[0] == command]
     # the damaged recordings are all of one scene: its speed map, which every report of
     # them draws in its dynamics section, is computed once (_helpers.theory_computed_once)
     with theory_computed_once():
-        _report_ahead(tmp_path / "ahead")
-        rows, table = run_harness(tmp_path, one_per_kind)
+        if command == "report":
+            _report_ahead(tmp_path / "ahead")
+        rows = run_cells(chosen)
     wall = time.perf_counter() - t0
-    record_property("adversarial_table", f"adversarial harness ({wall:.0f} s):\n{table}")
+    record_property("adversarial_table", f"{_table(rows, total=False)}   ({wall:.0f} s)")
     bad = [r for r in rows if r["verdict"] not in ("clear error", "partial result")]
-    assert len(rows) >= (300 if one_per_kind else 700)
+    assert chosen, f"no cell of {command!r} in the catalogue"
     assert not bad, "\n".join(f"{r['command']} / {r['input']}: {r['verdict']}  ({' '.join(r['argv'])})"
                               for r in bad[:40])
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024

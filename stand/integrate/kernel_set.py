@@ -117,41 +117,43 @@ class _Announce:
 
 def _checked(kind: int, source: str, loop, ev, jac) -> KernelSet:
     """A kernel set around compiled entry points that take exactly C-contiguous float64
-    arrays (int64 for the statistics) and plain scalars: inputs are converted, and arrays
-    written in place that are not in that form go to numba's type-dispatching call."""
+    arrays (int64 for the statistics) and plain scalars: inputs are converted, an array written
+    in place in another form goes through a C-contiguous copy (never numba's type dispatch,
+    which would compile another specialisation, seconds, for the same numbers)."""
     c = np.ascontiguousarray
 
     def ok(a, dt=np.float64):
         return a.dtype == dt and a.flags.c_contiguous and a.flags.writeable
 
+    def through_copies(call, *pairs):
+        """``call(*arrays)`` of the (array, dtype) ``pairs``, each in that form or a copy."""
+        use = [a if ok(a, dt) else np.array(a, dt, order="C") for a, dt in pairs]
+        result = call(*use)
+        for (a, _), u in zip(pairs, use):
+            if u is not a:
+                a[...] = u
+        return result
+
+    F = np.float64
+
     def dop853(sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_step, ts, k_next, out,
                stats, max_steps, limit):
-        if not (ok(y) and ok(f) and ok(out) and ok(stats, np.int64)):
-            from stand.integrate.dop853 import dop853_loop, workspace
-            return dop853_loop(kind, c(sp, float), c(wt, float), c(prog, float), float(t), y, f,
-                               float(h_abs), float(t_end), float(rtol), float(atol),
-                               c(cap, float), float(max_step), c(ts, float), int(k_next), out,
-                               stats, int(max_steps), float(limit), workspace(y.size))
-        return loop(c(sp, float), c(wt, float), c(prog, float), float(t), y, f, float(h_abs),
-                    float(t_end), float(rtol), float(atol), c(cap, float), float(max_step),
-                    c(ts, float), int(k_next), out, stats, int(max_steps), float(limit))
+        return through_copies(lambda y, f, out, stats: loop(
+            c(sp, F), c(wt, F), c(prog, F), float(t), y, f, float(h_abs), float(t_end),
+            float(rtol), float(atol), c(cap, F), float(max_step), c(ts, F), int(k_next), out,
+            stats, int(max_steps), float(limit)), (y, F), (f, F), (out, F), (stats, np.int64))
 
     # the entry point itself, for a caller that has made every array C-contiguous float64
     # (int64 statistics) and passes plain floats and ints
     dop853.unchecked = loop
 
     def evaluate(t, y, dy, sp, wt, prog):
-        if not ok(dy):
-            from stand.model.kernels import evaluate as dispatch
-            return dispatch(kind, float(t), c(y, float), dy, c(sp, float), c(wt, float),
-                            c(prog, float))
-        ev(float(t), c(y, float), dy, c(sp, float), c(wt, float), c(prog, float))
+        through_copies(lambda dy: ev(float(t), c(y, F), dy, c(sp, F), c(wt, F), c(prog, F)),
+                       (dy, F))
 
     def jacobian(t, y, f0, sp, wt, prog, J):
-        if not ok(J):
-            from stand.integrate.jacobian import jac_fd
-            return jac_fd(kind, t, y, f0, sp, wt, prog, J)
-        jac()(float(t), c(y, float), c(f0, float), c(sp, float), c(wt, float), c(prog, float), J)
+        through_copies(lambda J: jac()(float(t), c(y, F), c(f0, F), c(sp, F), c(wt, F),
+                                       c(prog, F), J), (J, F))
 
     return KernelSet(kind, source, dop853, evaluate, jacobian)
 
