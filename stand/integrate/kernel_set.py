@@ -147,6 +147,8 @@ def _checked(kind: int, source: str, loop, ev, jac) -> KernelSet:
                             c(prog, float))
         ev(float(t), c(y, float), dy, c(sp, float), c(wt, float), c(prog, float))
 
+    evaluate.unchecked = ev     # as dop853.unchecked
+
     def jacobian(t, y, f0, sp, wt, prog, J):
         if not ok(J):
             from stand.integrate.jacobian import jac_fd
