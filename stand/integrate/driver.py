@@ -59,13 +59,10 @@ class Checkpoint:
     """State of an interrupted compiled-DOP853 run in an ``.npz`` file (no pickle)."""
 
     def __init__(self, path, fingerprint: str):
-        import os
-
         self.path = Path(path)
         self.fp = fingerprint
         if not self.path.resolve().parent.is_dir():
             raise FileNotFoundError(f"checkpoint directory of {str(self.path)!r} does not exist")
-        self._os = os
 
     def load(self):
         if not self.path.exists():

@@ -123,8 +123,7 @@ def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
         kernel does not have (:attr:`stand.scene.model.Scene.generic_kernel`: body weights,
         dry friction) always runs on the generic kernel (``"planar"`` is refused).
     planes_only : bool
-        Return ``(planes, stats)`` instead of a Run: every plane's (x, y) [m] at ``extra_times``
-        only, without the Run and its summary (a fit's thousands of simulations).
+        Return ``(planes, stats)``: every plane's (x, y) [m] at ``extra_times``, no Run (a fit).
 
     Returns
     -------
@@ -157,8 +156,7 @@ def _integrated(scene, model, y0, answer, method, rtol, atol, progress, extra_ti
                 checkpoint_steps, planes_only=False):
     """Integrate a built ``model`` (planar or generic kernel) from ``y0`` over the scene's run,
     sampled at its rate and at ``extra_times`` [s]; ``answer(scene, model, states, tau, stats)``
-    makes the Run (of the extra times: ``.extra``); ``planes_only``: ``(planes, stats)`` of the
-    extra times."""
+    makes the Run (of the extra times: ``.extra``; ``planes_only``: ``(planes, stats)`` of them)."""
     run = scene.run
     method, ratio, reason = choose_method(model, method)
     if method == "numpy-DOP853" and not isinstance(model, PlanarModel):

@@ -376,10 +376,8 @@ def unbalance_independent_threshold(Rt, h, H, *, R_min=R_MIN_DEFAULT, R_max=R_MA
         warnings.simplefilter("ignore", StabilityWarning)
         if not all(is_stable(R_max, Rt, h, H, d) for d in ds):
             return math.inf
-    # the grid's best point without scanning every d: every 4th d (and the cluster at d = 1),
-    # then every d between the evaluated neighbours of the best so far, until its neighbours
-    # on the grid are evaluated (the same point as the full grid's where the last critical
-    # speed is unimodal in d on the coarse spacing: every sample scene, the book's tables)
+    # the grid's best d from every 4th d (and those near 1), then the d between the evaluated
+    # neighbours of the best, until both are evaluated (unimodal on that spacing: as scanning all)
     vals = np.full(ds.size, np.nan)
     todo = np.nonzero((np.arange(ds.size) % 4 == 0) | (ds > 0.95) | (ds == ds[-1]))[0]
     while todo.size:
