@@ -16,7 +16,7 @@ import numpy as np
 
 from stand.fitting.paths import FitError, scene_with
 
-__all__ = ["Setup", "model_channel", "simulate_setup", "NUISANCE"]
+__all__ = ["Setup", "model_channel", "NUISANCE"]
 
 #: the shaft's initial state at the record's first sample, fitted beside the scene values
 #: (the record rarely starts at rest: its first keyphasor pulse comes after the run-up began)
@@ -111,26 +111,19 @@ def _derivative(z, off, order):
     return wa * z[0] + wb * z[1] + wc * z[2]
 
 
-def simulate_setup(setup: Setup, theta, end: Optional[float] = None):
-    """The Run of ``theta`` sampled at the record's times (``run.extra``), and those times."""
+def model_channel(setup: Setup, theta, end: Optional[float] = None) -> np.ndarray:
+    """The model's sensor signal x + i y at the record's samples up to ``end`` [s], in the
+    record's quantity (SI); NaN where the run stopped early."""
     from stand.integrate.simulate import simulate
 
     sc = setup.scene(np.asarray(theta, float), end)
     t, grid, idx, off = _stencils(setup.times, setup.order, end)
-    run = simulate(sc, extra_times=grid)
-    return run, t, grid, idx, off
-
-
-def model_channel(setup: Setup, theta, end: Optional[float] = None) -> np.ndarray:
-    """The model's sensor signal x + i y at the record's samples up to ``end`` [s], in the
-    record's quantity (SI); NaN where the run stopped early."""
-    run, t, grid, idx, off = simulate_setup(setup, theta, end)
-    ex = run.extra
-    plane = setup.plane or run.main_plane
-    if plane not in ex.planes:
+    planes, _ = simulate(sc, extra_times=grid, planes_only=True)
+    plane = setup.plane or sc.main_plane
+    if plane not in planes:
         raise FitError(f"the record's sensors look at plane {plane!r}; the scene's planes: "
-                       f"{', '.join(ex.planes)}")
-    xy = ex.planes[plane]
+                       f"{', '.join(planes)}")
+    xy = planes[plane]
     zg = np.full(grid.size, np.nan + 0j)
     zg[:xy.shape[0]] = xy[:, 0] + 1j * xy[:, 1]
     if setup.order == 0:

@@ -231,7 +231,8 @@ def scene_with(doc, values: dict, stem: str = ""):
     """The Scene of the document ``doc`` with ``values`` ({path: number}) written in."""
     from stand.scene.parse import parse
 
-    d = copy.deepcopy(doc)
+    d = dict(doc)                        # a copy of the tables written in, the rest shared
+    d.update({k: copy.deepcopy(doc[k]) for k in {_steps(p)[0][0] for p in values} if k in doc})
     for path, v in values.items():
         set_value(d, path, float(v))
     try:

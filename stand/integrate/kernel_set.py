@@ -151,6 +151,8 @@ def _checked(kind: int, source: str, loop, ev, jac) -> KernelSet:
         through_copies(lambda dy: ev(float(t), c(y, F), dy, c(sp, F), c(wt, F), c(prog, F)),
                        (dy, F))
 
+    evaluate.unchecked = ev     # as dop853.unchecked
+
     def jacobian(t, y, f0, sp, wt, prog, J):
         through_copies(lambda J: jac()(float(t), c(y, F), c(f0, F), c(sp, F), c(wt, F),
                                        c(prog, F), J), (J, F))

@@ -89,7 +89,7 @@ def choose_method(model: PlanarModel, requested: str) -> tuple[str, float, str]:
 def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
              atol: float | None = None, progress: bool = False,
              extra_times=None, checkpoint=None, checkpoint_steps: int = CHUNK_STEPS,
-             kernel: str = "auto") -> Run:
+             kernel: str = "auto", planes_only: bool = False) -> Run:
     """Integrate a scene (any structure, any weights).
 
     Parameters
@@ -122,6 +122,8 @@ def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
         path; used to check that both agree).  A planar scene with what the planar
         kernel does not have (:attr:`stand.scene.model.Scene.generic_kernel`: body weights,
         dry friction) always runs on the generic kernel (``"planar"`` is refused).
+    planes_only : bool
+        Return ``(planes, stats)``: every plane's (x, y) [m] at ``extra_times``, no Run (a fit).
 
     Returns
     -------
@@ -144,17 +146,17 @@ def simulate(scene: Scene, method: str | None = None, rtol: float | None = None,
         if kernel == "planar" and scene.kind == "planar":
             raise SceneError(f'kernel = "planar": {scene.generic_kernel} run on the generic kernel')
         return _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoint,
-                                 checkpoint_steps)
+                                 checkpoint_steps, planes_only)
     model = build_planar_model(scene)
     return _integrated(scene, model, initial_state(scene, model), _trajectory, method, rtol, atol,
-                       progress, extra_times, checkpoint, checkpoint_steps)
+                       progress, extra_times, checkpoint, checkpoint_steps, planes_only)
 
 
 def _integrated(scene, model, y0, answer, method, rtol, atol, progress, extra_times, checkpoint,
-                checkpoint_steps):
+                checkpoint_steps, planes_only=False):
     """Integrate a built ``model`` (planar or generic kernel) from ``y0`` over the scene's run,
     sampled at its rate and at ``extra_times`` [s]; ``answer(scene, model, states, tau, stats)``
-    makes the Run (of the extra times: ``.extra``)."""
+    makes the Run (of the extra times: ``.extra``; ``planes_only``: ``(planes, stats)`` of them)."""
     run = scene.run
     method, ratio, reason = choose_method(model, method)
     if method == "numpy-DOP853" and not isinstance(model, PlanarModel):
@@ -169,6 +171,12 @@ def _integrated(scene, model, y0, answer, method, rtol, atol, progress, extra_ti
                         method_reason=reason)
     k = integrate_model(scene, model, y0, run.duration * w, ts, out, stats, method, progress,
                         checkpoint, checkpoint_steps)
+    if planes_only:
+        y = out[ex_idx[ex_idx < k]]
+        if isinstance(model, PlanarModel):
+            return {"balancer": y[:, :2] * model.length}, stats
+        q = y[:, :model.n] * model.scale                # as stand.integrate.coupled.samples_si
+        return {p: q @ model.rotor.planes[p].T for p in model.plane_names}, stats
     if ex_idx is None:
         return answer(scene, model, out[:k], ts[:k], stats)
     r, e = rec_idx[rec_idx < k], ex_idx[ex_idx < k]
@@ -198,7 +206,7 @@ def _generic_model(scene, rotor):
 
 
 def _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoint,
-                      checkpoint_steps) -> Run:
+                      checkpoint_steps, planes_only=False) -> Run:
     """Any LinearRotor with its weights (stand.model.rotors.coupled_kernel) -> Run."""
     from stand.integrate.coupled import initial_state as generic_initial
 
@@ -232,7 +240,7 @@ def _simulate_generic(scene, method, rtol, atol, progress, extra_times, checkpoi
         Tp = np.linalg.pinv(rotor.planes[scene.main_plane])
         q0, qd0 = Tp @ [ini.x, ini.y], Tp @ [ini.vx, ini.vy]
     return _integrated(scene, model, generic_initial(model, scene.weights, q0, qd0), generic_run, method,
-                       rtol, atol, progress, extra_times, checkpoint, checkpoint_steps)
+                       rtol, atol, progress, extra_times, checkpoint, checkpoint_steps, planes_only)
 
 
 def _with_blows(model, scene, blows):

@@ -372,10 +372,21 @@ def unbalance_independent_threshold(Rt, h, H, *, R_min=R_MIN_DEFAULT, R_max=R_MA
 
     ds = np.unique(np.concatenate([np.linspace(0.0, 1.0, max(int(n_d), 3)),
                                    1.0 - np.geomspace(1e-4, 0.05, 8)]))
-    vals = np.array([last(d) for d in ds])
-    if np.any(np.isinf(vals) & (vals > 0)):
-        return math.inf
-    j = int(np.argmax(vals))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", StabilityWarning)
+        if not all(is_stable(R_max, Rt, h, H, d) for d in ds):
+            return math.inf
+    # the grid's best d from every 4th d (and those near 1), then the d between the evaluated
+    # neighbours of the best, until both are evaluated (unimodal on that spacing: as scanning all)
+    vals = np.full(ds.size, np.nan)
+    todo = np.nonzero((np.arange(ds.size) % 4 == 0) | (ds > 0.95) | (ds == ds[-1]))[0]
+    while todo.size:
+        vals[todo] = [last(ds[i]) for i in todo]
+        j = int(np.nanargmax(vals))
+        done = np.nonzero(~np.isnan(vals))[0]
+        a, b = done[done < j], done[done > j]
+        todo = np.arange(a[-1] + 1 if a.size else 0, b[0] if b.size else ds.size)
+        todo = todo[np.isnan(vals[todo])]
     best = vals[j]
     lo, hi = ds[max(j - 1, 0)], ds[min(j + 1, ds.size - 1)]
     if hi > lo:
