@@ -232,7 +232,8 @@ def test_screen_output_rows_are_the_trajectory_at_each_rows_times():
                          weight_angle=np.zeros((t.size, 0)), weight_speed=np.zeros((t.size, 0)))
     _, _, T = _spot(cam, 5)
     T = T + 0.05
-    rows, (spot_m, spot_px), Tv = _rolling_rows(ex, T, cam, np.full(5, 40.0))
+    rows_at, (spot_m, spot_px), Tv = _rolling_rows(ex, T, cam, np.full(5, 40.0))
+    rows = rows_at(T)
     Tr = T[:, None, :] + cam.line_time * np.arange(cam.height)[None, :, None]
     exact = spot_positions(R * np.cos(w * Tr), R * np.sin(w * Tr), w * Tr, cam)[1]
     assert np.max(np.abs(rows - exact)) < 2e-3                # px: Hermite at 34 samples per whirl
