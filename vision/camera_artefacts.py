@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["Lens", "distort_points", "undistort_points", "jpeg", "flicker_gain", "auto_gain", "hot_pixels",
-           "sensor_artefacts", "hot_pixel_map", "repair_hot_pixels", "dropped_frames",
+           "sensor_artefacts", "hot_pixel_map", "repair_hot_pixels", "stuck_pixels_repaired", "dropped_frames",
            "declared_camera", "declared_keys"]
 
 
@@ -165,6 +165,32 @@ def repair_hot_pixels(frame, hot) -> np.ndarray:
     if len(hot[0]):
         f[hot] = cv2.medianBlur(f if f.dtype == np.uint8 else f.astype(np.float32), 3)[hot]
     return f
+
+
+def stuck_pixels_repaired(frames, lookahead: int = 9):
+    """``(frames, count)``: the frames (arrays or records with ``.image``) with their stuck
+    pixels replaced by their 3 x 3 neighbourhood's median (:func:`repair_hot_pixels`), and how
+    many there are.  A stuck pixel is constant over frames: the same value in each of the
+    first ``lookahead`` frames (the read noise moves every live pixel), above its 3 x 3
+    neighbourhood's median by half the frames' brightest above the median there (a moving
+    spot is not held; a spot wider than a pixel is never a 3 x 3 outlier)."""
+    import itertools
+
+    it = iter(frames)
+    head = list(itertools.islice(it, lookahead))
+    hot = (np.zeros(0, int),) * 2
+    if len(head) >= 3:
+        import cv2
+
+        stack = np.array([getattr(f, "image", f) for f in head])
+        m = stack.min(axis=0).astype(np.float32)      # half the brightest's height, held
+        hot = np.nonzero((m - cv2.medianBlur(m, 3) > 0.5 * (float(stack.max()) - np.median(m)))
+                         & (np.ptp(stack, axis=0) == 0))
+    if not len(hot[0]):
+        return itertools.chain(head, it), 0
+    fix = lambda f: (f._replace(image=repair_hot_pixels(f.image, hot)) if hasattr(f, "image")  # noqa: E731
+                     else repair_hot_pixels(f, hot))
+    return map(fix, itertools.chain(head, it)), int(len(hot[0]))
 
 
 def dropped_frames(times, frame_rate: float | None = None, tol: float = 0.25) -> dict:
