@@ -107,19 +107,21 @@ def flicker_gain(t_mid, mains_hz: float, depth: float, phase: float = 0.0):
     return 1.0 + depth * np.cos(2.0 * math.pi * 2.0 * mains_hz * np.asarray(t_mid, float) + phase)
 
 
-def auto_gain(light, frame_period: float, time_constant: float) -> np.ndarray:
+def auto_gain(light, frame_period: float, time_constant: float, set_point=None) -> np.ndarray:
     """The gain (1) an auto-exposure gives frames of relative scene ``light`` (1): it meters
     each frame's mean brightness (light times gain; the mean of a frame is proportional to
-    its light) and moves its gain in the log domain toward its set point, the first frame's
-    brightness, by ``1 - exp(-frame_period / time_constant)`` of the way per frame
-    (``frame_period``, ``time_constant`` [s]; 0: no auto-gain, all ones)."""
+    its light) and moves its gain in the log domain toward its ``set_point`` (a brightness
+    relative to light 1 at gain 1; default None: the first frame's), by
+    ``1 - exp(-frame_period / time_constant)`` of the way per frame (``frame_period``,
+    ``time_constant`` [s]; 0: no auto-gain, all ones).  The first frame has gain 1."""
     light = np.asarray(light, float)
     g = np.ones(light.size)
     if not time_constant > 0:
         return g
     alpha = 1.0 - math.exp(-frame_period / time_constant)
+    ref = light[0] if set_point is None else float(set_point)
     for f in range(1, light.size):
-        g[f] = g[f - 1] * (light[f - 1] * g[f - 1] / light[0]) ** -alpha
+        g[f] = g[f - 1] * (light[f - 1] * g[f - 1] / ref) ** -alpha
     return g
 
 

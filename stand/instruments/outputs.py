@@ -252,7 +252,8 @@ class ScreenOutput(InstrumentOutput):
         # keep their timestamps; the truth keeps each kept frame's index in the full sequence)
         light = flicker_gain(starts[:n_ok] + 0.5 * cam.exposure, cam.mains_frequency,
                              cam.flicker_depth)         # times the auto-exposure's gain
-        self.truth["brightness"] = light * auto_gain(light, cam.frame_period, cam.auto_gain_time)
+        self.truth["brightness"] = light * auto_gain(light, cam.frame_period, cam.auto_gain_time,
+                                                     cam.auto_gain_target and cam.auto_gain_target / cam.background)
         self.truth["frame_index"] = np.arange(n_ok)
         if cam.drop_rate > 0:
             keep = np.random.default_rng([cam.seed, 0xD809]).random(n_ok) >= cam.drop_rate

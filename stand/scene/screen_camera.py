@@ -116,6 +116,9 @@ class ScreenCamera:
     auto_gain_time : float
         Auto-exposure time constant [s] (0: fixed exposure): the gain follows the frames'
         mean brightness (``vision.camera_artefacts.auto_gain``); default 0.
+    auto_gain_target : float or None
+        The background level [DN] the auto-exposure holds (its set point; the frames' mean is
+        the background's plus the spot's small share); default None: the first frame's.
     line_time : float
         Rolling shutter: row r's exposure starts r line_time [s] after row 0's; default 0
         (a global shutter).
@@ -154,6 +157,7 @@ class ScreenCamera:
     saturation: Optional[float] = number(None, "DN", gt=0, optional=True)
     drop_rate: float = number(0.0, "1", ge=0, lt=1)
     auto_gain_time: float = number(0.0, "s", ge=0)
+    auto_gain_target: Optional[float] = number(None, "DN", gt=0, optional=True)
     line_time: float = number(0.0, "s per row", ge=0)
     table: str = field(default="instruments.screen", compare=False, repr=False)
 
@@ -198,7 +202,10 @@ class ScreenCamera:
         check(self, self.table, ("peak", "background", "read_noise", "electrons_per_dn",
                                  "lens_k1", "lens_k2", "jpeg_quality", "flicker_depth",
                                  "mains_frequency", "hot_pixels", "saturation", "drop_rate",
-                                 "auto_gain_time", "line_time"))
+                                 "auto_gain_time", "auto_gain_target", "line_time"))
+        if self.auto_gain_target is not None and not self.background > 0:
+            raise _bad(n("auto_gain_target"), self.auto_gain_target,
+                       f"an auto-exposure set point needs a background > 0 ({n('background')})")
         if self.jpeg_quality is not None and self.bit_depth != 8:
             raise _bad(n("jpeg_quality"), self.jpeg_quality,
                        f"JPEG needs 8-bit frames ({n('bit_depth')} = {self.bit_depth})")
