@@ -222,10 +222,11 @@ def dropped_frames(times, frame_rate: float | None = None, tol: float = 0.25) ->
 
 
 def declared_camera(keys: dict, shape) -> tuple:
-    """``(lens or None, jpeg quality or None)`` that a lab declares for its camera in a ring
+    """``(lens or None, compression or None)`` that a lab declares for its camera in a ring
     file (``key = value``): ``lens_k1``, ``lens_k2`` (1), ``lens_focal_px`` [px] and
     optionally ``lens_centre_u_px``, ``lens_centre_v_px`` (default the centre of an image of
-    ``shape`` (H, W)); ``jpeg_quality`` (1..100).
+    ``shape`` (H, W)); ``jpeg_quality`` (1..100: the compression is that int) or ``h264_qp``
+    (0..51: ``("h264", qp)``; :func:`vision.compression.compressed`).
 
     Raises
     ------
@@ -241,19 +242,22 @@ def declared_camera(keys: dict, shape) -> tuple:
         except (TypeError, ValueError):
             raise ValueError(f"{key} = {v!r}: not a number") from None
 
-    q = num("jpeg_quality")
+    q, qp = num("jpeg_quality"), num("h264_qp")
     if q is not None and not (q == int(q) and 1 <= q <= 100):
         raise ValueError(f"jpeg_quality = {q!r}: an integer 1..100")
+    if qp is not None and not (qp == int(qp) and 0 <= qp <= 51):
+        raise ValueError(f"h264_qp = {qp!r}: an integer 0..51")
+    quality = ("h264", int(qp)) if qp is not None else None if q is None else int(q)
     k1, k2, f = num("lens_k1"), num("lens_k2"), num("lens_focal_px")
     if k1 is None and k2 is None:
-        return None, None if q is None else int(q)
+        return None, quality
     if f is None or not f > 0:
         raise ValueError(f"lens_focal_px = {f!r}: the focal length [px] > 0 is needed with "
                          "lens_k1, lens_k2")
     H, W = shape[:2]
     cu, cv = num("lens_centre_u_px"), num("lens_centre_v_px")
     centre = ((W - 1) / 2.0 if cu is None else cu, (H - 1) / 2.0 if cv is None else cv)
-    return Lens(k1 or 0.0, k2 or 0.0, f, centre), None if q is None else int(q)
+    return Lens(k1 or 0.0, k2 or 0.0, f, centre), quality
 
 
 def declared_keys(settings: dict) -> dict:
@@ -267,6 +271,8 @@ def declared_keys(settings: dict) -> dict:
                    lens_focal_px=settings["camera_distance"] / settings["pixel_pitch"])
     if settings.get("jpeg_quality"):
         out["jpeg_quality"] = int(settings["jpeg_quality"])
+    if settings.get("h264_qp") is not None:      # the frames went through H.264 at this qp
+        out["h264_qp"] = int(settings["h264_qp"])
     if settings.get("line_time"):            # a rolling shutter: each spot timed by its row
         out["line_time"] = float(settings["line_time"])
     return out

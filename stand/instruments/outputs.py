@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import itertools
 import math
 from collections.abc import Mapping
 from typing import Optional
@@ -277,13 +278,14 @@ class ScreenOutput(InstrumentOutput):
         return self.readings["frame_time"]
 
     def frame(self, i: int) -> np.ndarray:
-        """Frame ``i`` (height, width) [DN], rendered now: the recording's frame ``i``."""
+        """Frame ``i`` (height, width) [DN], rendered now (after H.264: the sequence up to it)."""
         from stand.instruments.render import render_frames
 
         i = self._index(i)
+        if self.settings.h264_qp is not None:
+            return next(itertools.islice(self.frames(), i, None))
         return next(render_frames(self.px[i:i + 1], self.settings, first_index=i,
-                                  gains=self.truth["brightness"][i:i + 1],
-                                  rows=self.rows(i, i + 1)))
+                                  gains=self.truth["brightness"][i:i + 1], rows=self.rows(i, i + 1)))
 
     def rows(self, i0: int, i1: int):
         """Frames i0..i1-1's spot px (., H, K, 2) at each row's times (None: global shutter)."""
@@ -291,15 +293,13 @@ class ScreenOutput(InstrumentOutput):
 
     def frames(self, chunk: int = 32):
         """Every frame in order, rendered one at a time (a generator; a rolling shutter's rows
-        computed ``chunk`` frames at a time, so memory stays bounded)."""
-        from stand.instruments.render import render_frames
+        computed ``chunk`` frames at a time, so memory stays bounded; then H.264 if set)."""
+        from stand.instruments.render import h264_frames, render_frames
 
-        if self._rows is None:
-            return render_frames(self.px, self.settings, gains=self.truth["brightness"])
-        return (f for i in range(0, self.n_frames, chunk)
-                for f in render_frames(self.px[i:i + chunk], self.settings, first_index=i,
-                                       gains=self.truth["brightness"][i:i + chunk],
-                                       rows=self.rows(i, i + chunk)))
+        out = (f for i in range(0, self.n_frames, chunk)
+               for f in render_frames(self.px[i:i + chunk], self.settings, first_index=i,
+                                      gains=self.truth["brightness"][i:i + chunk], rows=self.rows(i, i + chunk)))
+        return out if self.settings.h264_qp is None else h264_frames(out, self.settings)
 
     @functools.cached_property
     def rings(self) -> Optional[dict]:
