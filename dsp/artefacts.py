@@ -276,8 +276,8 @@ def sensor_checked(fit, refit, speeds_hz, channel_filter, notes: list, threshold
     parameters) when the record has one -- a gain rising with the speed, a phase leading as
     1 / w at low speed, neither of which the rotor makes.  That fit is then taken; a resonance
     in it (Q >= 0.5, below 20 times the top speed) is made exact (the record refitted through
-    it as a declared filter, the high-pass free again), the ± widened by the two fits'
-    difference; one note names it (replacing the delay note it explains).  ``speeds_hz``
+    it as a declared filter, the high-pass free again), the ± the larger of the two fits'
+    (the quasi-steady one's holds the resonance's own freedom) widened by their difference; one note names it (replacing the delay note it explains).  ``speeds_hz``
     (lowest, highest) [Hz] of the record; ``channel_filter`` the declared one or None."""
     import dataclasses
 
@@ -297,7 +297,8 @@ def sensor_checked(fit, refit, speeds_hz, channel_filter, notes: list, threshold
         keys = ("natural_frequency_hz", "damping_ratio", "critical_speed_hz", "specific_unbalance_m")
         d = {k: abs(getattr(fx, k) - getattr(fs, k)) for k in keys}
         d["angle_rad"] = abs((fx.angle_rad - fs.angle_rad + math.pi) % (2 * math.pi) - math.pi)
-        out = dataclasses.replace(fx, **{k + "_std": math.hypot(getattr(fx, k + "_std"), v)
+        out = dataclasses.replace(fx, **{k + "_std": math.hypot(max(getattr(fx, k + "_std"),
+                                                                    getattr(fs, k + "_std")), v)
                                          for k, v in d.items()})
     shown = ChannelFilter("none", **res, highpass_hz=out.sensor[2] if out.sensor[2] > HIGHPASS_MIN * lo else 0.0)
     if shown.highpass_hz:       # its corner comes from where the rotor's response is weakest
