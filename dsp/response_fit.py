@@ -79,6 +79,9 @@ class ResponseFit:
         root sum of squares of its parts.
     delay_s, delay_s_std : float
         The channels' delay behind the rotor angle [s], fitted with ``fit_delay`` (else 0).
+    sensor : tuple
+        With ``fit_sensor``: the response of :func:`dsp.artefacts.sensor_response` fitted
+        (``lag_s2`` [s^2], ``lag_s`` [s], ``highpass_hz`` [Hz]); else empty.
     """
 
     natural_frequency_hz: float
@@ -98,6 +101,7 @@ class ResponseFit:
     std_parts: dict = field(default_factory=dict)
     delay_s: float = 0.0
     delay_s_std: float = math.nan
+    sensor: tuple = ()
 
 
 #: Gauss-Legendre nodes and weights on [0, 1] for the forcing integral over one sample step.
@@ -198,7 +202,7 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
                            covariance=True, angle_basis=None, angle_error=None,
                            derivative: int = 0, tolerance: float = 1e-12,
                            runout_allowance_m: float = 0.0, channel_filter=None, censored=None,
-                           fit_delay: bool = False):
+                           fit_delay: bool = False, fit_sensor: bool = False):
     """Fit omega_1, zeta, the specific unbalance and its angle to a swept record.
 
     Parameters
@@ -261,6 +265,12 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         Fit a delay tau [s] of the channels behind the rotor angle as well (``delay_s``,
         ``delay_s_std``): an undeclared filter or a channel skew shows as a phase growing
         with the speed, w tau, which the rotor's bounded phase cannot make.
+    fit_sensor : bool
+        Fit an undeclared sensor response as well (``sensor``: the parameters of
+        :func:`dsp.artefacts.sensor_response`, each >= 0, applied quasi-steadily: each
+        column times the response at its own frequency): a mounted resonance lifts the
+        gain as the speed grows, a high-pass leads the phase as 1 / w at low speed; the
+        rotor's own response makes neither.
 
     Returns
     -------
@@ -294,10 +304,23 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
     tt = t - t[0]
     zc = np.where(keep, z, 0.0)
 
-    def model(w0, zeta, tau=0.0):
+    def model(w0, zeta, tau=0.0, sensor=()):
         B = _basis(w0, zeta, tt, forcing, rot, order)
         if channel_filter is not None:
             B = channel_filter.apply(t, B)
+        if len(sensor) and any(sensor):    # the DC offset column (3) stays as it is
+            from .artefacts import highpassed, sensor_response
+
+            s2, s1, fh = _sensor_si(sensor)
+            wd = w0 * math.sqrt(max(1.0 - zeta * zeta, 1e-12))
+            if s2 or s1:    # quasi-steady: each column times the response at its own frequency
+                h = sensor_response(np.abs(np.c_[w, np.full((w.size, 2), wd), w]) / TWO_PI, s2, s1)
+                B = B * np.insert(h, 3, 1.0, axis=1)
+            if fh:          # exact: a high-pass's lead changes faster than the sweep at low speed
+                cols = [0, 1, 2, 4]
+                B[:, cols] = highpassed(t, B[:, cols], fh, [w[0], wd, wd, w[0]], [0, 1, 1, 0])
+        if len(sensor):     # the high-pass's state before the record, unknown: e^{-w_h t}
+            B = np.column_stack((B, np.exp(-TWO_PI * sensor[2] * tt) if sensor[2] > 0 else 0 * tt))
         if tau:
             from .artefacts import delayed
 
@@ -314,22 +337,26 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         raise SignalError("natural frequency: no start value (the rotor does not turn)")
     scale = float(np.std(z)) or 1.0
 
+    ns = 3 * bool(fit_sensor)      # sensor: lag [ms^2], lag [ms], high-pass [Hz], all >= 0
+
     def resid(p):
         w0, zeta = p[0] * w_guess, p[1]
-        _, r = _linear(model(w0, zeta, p[2] * 1e-3 if fit_delay else 0.0), zc)
+        _, r = _linear(model(w0, zeta, p[2] * 1e-3 if fit_delay else 0.0, p[p.size - ns:]), zc)
         return np.concatenate((r.real, r.imag)) / scale
 
-    p0 = np.array([1.0, float(damping_guess)] + [0.0] * fit_delay)
-    lo, hi = [0.2, 1e-5] + [-50.0] * fit_delay, [5.0, 0.7] + [50.0] * fit_delay
-    sol = least_squares(resid, p0, bounds=(lo, hi), x_scale=[0.01, 0.01] + [0.1] * fit_delay,
+    p0 = np.array([1.0, float(damping_guess)] + [0.0] * (fit_delay + ns))
+    lo = [0.2, 1e-5] + [-50.0] * fit_delay + [0.0] * ns
+    hi = [5.0, 0.7] + [50.0] * fit_delay + [1e3, 50.0, 5.0][:ns]
+    sol = least_squares(resid, p0, bounds=(lo, hi), x_scale=[0.01, 0.01] + [0.1] * (fit_delay + ns),
                         xtol=tolerance, ftol=tolerance, gtol=tolerance)
     w0, zeta = sol.x[0] * w_guess, float(sol.x[1])
     tau = float(sol.x[2]) * 1e-3 if fit_delay else 0.0
+    sensor = tuple(float(v) for v in sol.x[sol.x.size - ns:]) if ns else ()
     if not (0.95 * float(np.min(np.abs(w))) <= w0 <= 1.05 * wmax):
         raise SignalError(f"natural frequency: the fit gives {w0 / TWO_PI:.4g} Hz, outside the "
                           f"record's speeds ({np.min(np.abs(w)) / TWO_PI:.4g}-{wmax / TWO_PI:.4g} "
                           "rev/s); a record that does not pass the resonance does not determine it")
-    B = model(w0, zeta, tau)
+    B = model(w0, zeta, tau, sensor)
     c, r = _linear(B, zc)
     n = int(keep.sum())
     if not covariance:
@@ -338,19 +365,23 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         return ResponseFit(w0 / TWO_PI, nan, zeta, nan, w0 * shift / TWO_PI, nan,
                            float(abs(c[0])), nan, float(np.angle(c[0])), nan, complex(c[3]),
                            complex(c[4]) if runout else 0j,
-                           float(np.sqrt(np.sum(np.abs(r) ** 2) / n)), int(n), delay_s=tau)
+                           float(np.sqrt(np.sum(np.abs(r) ** 2) / n)), int(n), delay_s=tau,
+                           sensor=_sensor_si(sensor))
     # covariance of all real parameters: (w0, zeta, Re/Im of the 5 complex coefficients)
+    m = 2 + 2 * c.size       # (w0, zeta, coefficients), then the delay [s] and the sensor's
+
     def full(p):
-        Bp = model(p[0], p[1], p[-1] if fit_delay else 0.0)
-        cc = p[2:2 + 2 * c.size:2] + 1j * p[3:3 + 2 * c.size:2]
+        Bp = model(p[0], p[1], p[m] if fit_delay else 0.0, p[p.size - ns:])
+        cc = p[2:m:2] + 1j * p[3:m:2]
         rr = (zc - Bp @ cc)[keep]
         return np.concatenate((rr.real, rr.imag))
 
-    p = np.concatenate(([w0, zeta], np.column_stack((c.real, c.imag)).ravel(), [tau] * fit_delay))
+    p = np.concatenate(([w0, zeta], np.column_stack((c.real, c.imag)).ravel(), [tau] * fit_delay,
+                        sensor))
     J = np.empty((2 * n, p.size))
     for j in range(p.size):
         h = 1e-6 * max(abs(p[j]), 1e-3 * (w0 if j == 0 else 1e-2 if j == 1 else scale))
-        if fit_delay and j == p.size - 1:
+        if j >= m:
             h = 1e-6
         pp, pm = p.copy(), p.copy()
         pp[j] += h
@@ -397,8 +428,13 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
                        angle_rad=float(math.atan2(q.imag, q.real)), angle_rad_std=sd["beta"],
                        offset_m=complex(c[3]), runout_m=complex(c[4]) if runout and order == 0 else 0j, residual_rms_m=float(np.sqrt(np.mean(np.abs(r) ** 2))),
                        samples=int(n), std_parts=parts, delay_s=tau,
-                       delay_s_std=(max(_std(C, p.size - 1, np.array([1.0])) for C in covs)
-                                    if fit_delay else math.nan))
+                       delay_s_std=(max(_std(C, m, np.array([1.0])) for C in covs)
+                                    if fit_delay else math.nan), sensor=_sensor_si(sensor))
+
+
+def _sensor_si(sensor):
+    """The fitted sensor response (lag [ms^2], lag [ms], high-pass [Hz]) in SI (s^2, s, Hz)."""
+    return (sensor[0] * 1e-6, sensor[1] * 1e-3, float(sensor[2])) if len(sensor) else ()
 
 
 def _phase_basis(t, phi, knot_revolutions: float = 20.0):

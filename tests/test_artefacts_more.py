@@ -170,6 +170,21 @@ def test_auto_gain_follows_a_step_with_its_time_constant():
                                rtol=1e-12, atol=1e-15)
 
 
+def test_auto_gain_target_is_the_set_point_it_moves_to():
+    """``auto_gain_target`` (DN) over the background (DN) is the set point: from gain 1 the
+    gain goes there in the log domain with the time constant; a background of 0 is refused."""
+    from stand.errors import SceneError
+    from vision.camera_artefacts import auto_gain
+
+    g = auto_gain(np.ones(61), 0.02, 0.1, set_point=2.0)
+    n = np.arange(61)
+    np.testing.assert_allclose(np.log(g), math.log(2) * (1 - np.exp(-n * 0.02 / 0.1)), rtol=1e-12)
+    assert np.array_equal(auto_gain(np.ones(5), 0.02, 0.1, set_point=None), np.ones(5))
+    assert _camera(auto_gain_time=0.1, auto_gain_target=16.0).auto_gain_target == 16.0
+    with pytest.raises(SceneError, match=r"instruments.screen.auto_gain_target = 16.*background > 0"):
+        _camera(auto_gain_time=0.1, auto_gain_target=16.0, background=0.0)
+
+
 def test_auto_gain_chasing_the_flicker_into_saturation_keeps_the_track_right():
     from stand.instruments.render import render_frames
     from vision.camera_artefacts import auto_gain, flicker_gain
@@ -232,7 +247,8 @@ def test_screen_output_rows_are_the_trajectory_at_each_rows_times():
                          weight_angle=np.zeros((t.size, 0)), weight_speed=np.zeros((t.size, 0)))
     _, _, T = _spot(cam, 5)
     T = T + 0.05
-    rows, (spot_m, spot_px), Tv = _rolling_rows(ex, T, cam, np.full(5, 40.0))
+    rows_at, (spot_m, spot_px), Tv = _rolling_rows(ex, T, cam, np.full(5, 40.0))
+    rows = rows_at(T)
     Tr = T[:, None, :] + cam.line_time * np.arange(cam.height)[None, :, None]
     exact = spot_positions(R * np.cos(w * Tr), R * np.sin(w * Tr), w * Tr, cam)[1]
     assert np.max(np.abs(rows - exact)) < 2e-3                # px: Hermite at 34 samples per whirl
@@ -251,3 +267,26 @@ def test_declared_line_time_retimes_the_track():
     df = pd.DataFrame({"time": [0.0, 0.04], "v_px": [10.0, 300.0]})
     _shaft_columns(df, np.zeros(2), np.zeros(2), 1.0, 0.002, None, 2e-5)
     np.testing.assert_allclose(df["t_s"], [0.001 + 2e-4, 0.041 + 6e-3], rtol=1e-12)
+
+
+def test_rolling_shutter_frames_rendered_per_chunk_are_the_same():
+    """ScreenOutput.frames computes the rows' spot per chunk of frames (memory bounded, not
+    one (F, H, K, 2) array): bit-identical to rendering every frame from the whole array."""
+    from stand.instruments.outputs import ScreenOutput, _rolling_rows
+    from stand.instruments.render import render_frames
+
+    cam = _camera(line_time=60e-6, width=48, height=48)
+    w, R = 2 * math.pi * 11.7, 2.5e-3
+    t = np.arange(0.0, 0.5, 1 / 400.0)
+    ex = SimpleNamespace(t=t, x=R * np.cos(w * t), y=R * np.sin(w * t), rotor_angle=w * t,
+                         rotor_speed=np.full(t.size, w), vx=-R * w * np.sin(w * t), vy=R * w * np.cos(w * t),
+                         weight_angle=np.zeros((t.size, 0)), weight_speed=np.zeros((t.size, 0)))
+    px, _, T = _spot(cam, 7)
+    rows_at = _rolling_rows(ex, T, cam, np.full(7, 24.0))[0]
+    out = object.__new__(ScreenOutput)
+    out.px, out.settings, out._rows, out._row_times = px, cam, rows_at, T
+    out.truth = {"brightness": np.linspace(0.9, 1.1, 7)}
+    whole = list(render_frames(px, cam, gains=out.truth["brightness"], rows=rows_at(T)))
+    chunked = list(out.frames(chunk=3))
+    assert len(chunked) == 7 and all(np.array_equal(a, b) for a, b in zip(whole, chunked))
+    assert np.array_equal(out.frame(4), whole[4])

@@ -205,3 +205,21 @@ def test_lab_sample_track_and_rings_within_their_std():
     rms, std = _scores(df, truth[["u_px", "v_px"]].to_numpy())
     assert rms <= RATIO_MAX * std
     assert (VIDEO / "screen_lab.avi").stat().st_size < 2e6
+
+
+def test_stand_track_repairs_stuck_pixels_and_says_how_many():
+    """`stand track` (stand.analysis.tracking.track_frames) finds the 12 hot pixels as constant
+    over the first frames and replaces them before locating: the track within 1.5x its std
+    (unrepaired it is > 5 px off, test above), one preamble line with the count."""
+    from stand.analysis.tracking import track_frames
+    from vision.camera_artefacts import stuck_pixels_repaired
+
+    cam = _camera(hot_pixels=12)
+    frames, truth, _, _ = _frames(cam, n=20)
+    df = track_frames(np.stack(frames), gain=cam.electrons_per_dn)
+    assert df.attrs["preamble"]["stuck_pixels"].startswith("12 ")
+    assert df["ok"].all()
+    rms, std = _scores(df, truth)
+    assert rms <= RATIO_MAX * std
+    clean, n = stuck_pixels_repaired(_frames(_camera(), n=20)[0])     # none: frames unchanged
+    assert n == 0 and all(np.array_equal(a, b) for a, b in zip(clean, _frames(_camera(), n=20)[0]))

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["Lens", "distort_points", "undistort_points", "jpeg", "flicker_gain", "auto_gain", "hot_pixels",
-           "sensor_artefacts", "hot_pixel_map", "repair_hot_pixels", "dropped_frames",
+           "sensor_artefacts", "hot_pixel_map", "repair_hot_pixels", "stuck_pixels_repaired", "dropped_frames",
            "declared_camera", "declared_keys"]
 
 
@@ -107,19 +107,21 @@ def flicker_gain(t_mid, mains_hz: float, depth: float, phase: float = 0.0):
     return 1.0 + depth * np.cos(2.0 * math.pi * 2.0 * mains_hz * np.asarray(t_mid, float) + phase)
 
 
-def auto_gain(light, frame_period: float, time_constant: float) -> np.ndarray:
+def auto_gain(light, frame_period: float, time_constant: float, set_point=None) -> np.ndarray:
     """The gain (1) an auto-exposure gives frames of relative scene ``light`` (1): it meters
     each frame's mean brightness (light times gain; the mean of a frame is proportional to
-    its light) and moves its gain in the log domain toward its set point, the first frame's
-    brightness, by ``1 - exp(-frame_period / time_constant)`` of the way per frame
-    (``frame_period``, ``time_constant`` [s]; 0: no auto-gain, all ones)."""
+    its light) and moves its gain in the log domain toward its ``set_point`` (a brightness
+    relative to light 1 at gain 1; default None: the first frame's), by
+    ``1 - exp(-frame_period / time_constant)`` of the way per frame (``frame_period``,
+    ``time_constant`` [s]; 0: no auto-gain, all ones).  The first frame has gain 1."""
     light = np.asarray(light, float)
     g = np.ones(light.size)
     if not time_constant > 0:
         return g
     alpha = 1.0 - math.exp(-frame_period / time_constant)
+    ref = light[0] if set_point is None else float(set_point)
     for f in range(1, light.size):
-        g[f] = g[f - 1] * (light[f - 1] * g[f - 1] / light[0]) ** -alpha
+        g[f] = g[f - 1] * (light[f - 1] * g[f - 1] / ref) ** -alpha
     return g
 
 
@@ -167,6 +169,32 @@ def repair_hot_pixels(frame, hot) -> np.ndarray:
     return f
 
 
+def stuck_pixels_repaired(frames, lookahead: int = 9):
+    """``(frames, count)``: the frames (arrays or records with ``.image``) with their stuck
+    pixels replaced by their 3 x 3 neighbourhood's median (:func:`repair_hot_pixels`), and how
+    many there are.  A stuck pixel is constant over frames: the same value in each of the
+    first ``lookahead`` frames (the read noise moves every live pixel), above its 3 x 3
+    neighbourhood's median by half the frames' brightest above the median there (a moving
+    spot is not held; a spot wider than a pixel is never a 3 x 3 outlier)."""
+    import itertools
+
+    it = iter(frames)
+    head = list(itertools.islice(it, lookahead))
+    hot = (np.zeros(0, int),) * 2
+    if len(head) >= 3:
+        import cv2
+
+        stack = np.array([getattr(f, "image", f) for f in head])
+        m = stack.min(axis=0).astype(np.float32)      # half the brightest's height, held
+        hot = np.nonzero((m - cv2.medianBlur(m, 3) > 0.5 * (float(stack.max()) - np.median(m)))
+                         & (np.ptp(stack, axis=0) == 0))
+    if not len(hot[0]):
+        return itertools.chain(head, it), 0
+    fix = lambda f: (f._replace(image=repair_hot_pixels(f.image, hot)) if hasattr(f, "image")  # noqa: E731
+                     else repair_hot_pixels(f, hot))
+    return map(fix, itertools.chain(head, it)), int(len(hot[0]))
+
+
 def dropped_frames(times, frame_rate: float | None = None, tol: float = 0.25) -> dict:
     """Frame drops in a sequence of frame timestamps [s].
 
@@ -194,10 +222,11 @@ def dropped_frames(times, frame_rate: float | None = None, tol: float = 0.25) ->
 
 
 def declared_camera(keys: dict, shape) -> tuple:
-    """``(lens or None, jpeg quality or None)`` that a lab declares for its camera in a ring
+    """``(lens or None, compression or None)`` that a lab declares for its camera in a ring
     file (``key = value``): ``lens_k1``, ``lens_k2`` (1), ``lens_focal_px`` [px] and
     optionally ``lens_centre_u_px``, ``lens_centre_v_px`` (default the centre of an image of
-    ``shape`` (H, W)); ``jpeg_quality`` (1..100).
+    ``shape`` (H, W)); ``jpeg_quality`` (1..100: the compression is that int) or ``h264_qp``
+    (0..51: ``("h264", qp)``; :func:`vision.compression.compressed`).
 
     Raises
     ------
@@ -213,19 +242,22 @@ def declared_camera(keys: dict, shape) -> tuple:
         except (TypeError, ValueError):
             raise ValueError(f"{key} = {v!r}: not a number") from None
 
-    q = num("jpeg_quality")
+    q, qp = num("jpeg_quality"), num("h264_qp")
     if q is not None and not (q == int(q) and 1 <= q <= 100):
         raise ValueError(f"jpeg_quality = {q!r}: an integer 1..100")
+    if qp is not None and not (qp == int(qp) and 0 <= qp <= 51):
+        raise ValueError(f"h264_qp = {qp!r}: an integer 0..51")
+    quality = ("h264", int(qp)) if qp is not None else None if q is None else int(q)
     k1, k2, f = num("lens_k1"), num("lens_k2"), num("lens_focal_px")
     if k1 is None and k2 is None:
-        return None, None if q is None else int(q)
+        return None, quality
     if f is None or not f > 0:
         raise ValueError(f"lens_focal_px = {f!r}: the focal length [px] > 0 is needed with "
                          "lens_k1, lens_k2")
     H, W = shape[:2]
     cu, cv = num("lens_centre_u_px"), num("lens_centre_v_px")
     centre = ((W - 1) / 2.0 if cu is None else cu, (H - 1) / 2.0 if cv is None else cv)
-    return Lens(k1 or 0.0, k2 or 0.0, f, centre), None if q is None else int(q)
+    return Lens(k1 or 0.0, k2 or 0.0, f, centre), quality
 
 
 def declared_keys(settings: dict) -> dict:
@@ -239,6 +271,8 @@ def declared_keys(settings: dict) -> dict:
                    lens_focal_px=settings["camera_distance"] / settings["pixel_pitch"])
     if settings.get("jpeg_quality"):
         out["jpeg_quality"] = int(settings["jpeg_quality"])
+    if settings.get("h264_qp") is not None:      # the frames went through H.264 at this qp
+        out["h264_qp"] = int(settings["h264_qp"])
     if settings.get("line_time"):            # a rolling shutter: each spot timed by its row
         out["line_time"] = float(settings["line_time"])
     return out

@@ -474,8 +474,9 @@ def track(frames: Iterable, *, background=None, threshold=None, window=None, gai
     "centroid" or "blur": the refinement used), flags (comma-separated sorted string,
     "" when none; "fit_failed": the blurred-spot fit was tried and the centroid kept), ok.
 
-    ``jpeg_quality``: the frames were JPEG-compressed at this quality; each centre's std
-    gets the compression's share (:func:`vision.compression.widen_for_jpeg`).
+    ``jpeg_quality``: the frames were JPEG-compressed at this quality (or H.264 at
+    ``("h264", qp)``); each centre's std gets the compression's share
+    (:func:`vision.compression.widen_for_jpeg`).
     """
     kw = dict(background=background, threshold=threshold, window=window, gain=gain,
               saturation=saturation, refine=refine)

@@ -131,7 +131,7 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
         (each None when not obtained, with the reason in ``notes``); None when
         the record is not swept.
     """
-    from dsp.artefacts import delay_checked
+    from dsp.artefacts import delay_checked, sensor_checked
     from dsp.errors import SignalError
     from dsp.response_fit import fit_response_without_speed, fit_unbalance_response
     from dsp.runup import resonance_from_runup, resonance_std
@@ -164,6 +164,9 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
                                                                             fit_delay=True),
                                         float(np.max(np.abs(angle.speed_rad_s[c]))),
                                         channel_filter, notes)
+                    fit = sensor_checked(fit, lambda **k: fit_unbalance_response(*args, **{**kw, **k}),
+                                         np.percentile(np.abs(angle.speed_rad_s[c]), [0, 100]) / TWO_PI,
+                                         channel_filter, notes)
             except SignalError as exc:
                 notes.append(f"run-up model fit: {exc}")
     else:

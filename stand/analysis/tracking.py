@@ -380,7 +380,7 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
     """
     from dsp.unbalance import unbalance_from_rings
     from vision.calibration import detect_rings, fit_homography, px_to_m
-    from vision.camera_artefacts import declared_camera, dropped_frames
+    from vision.camera_artefacts import declared_camera, dropped_frames, stuck_pixels_repaired
     from vision.io import iter_frames
     from vision.spot import track
     from vision.trace import track_traces
@@ -401,7 +401,8 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
                                     if calibration and "lens_k1" in keys else (1, 1))
     if group is not None:
         pre["screen"] = group.split("/", 1)[1]
-    frames = iter_frames(source, progress=progress)
+    frames, stuck = stuck_pixels_repaired(iter_frames(source, progress=progress))   # first
+    pre.update({"stuck_pixels": f"{stuck} (each replaced by its 3 x 3 neighbours' median)"} if stuck else {})
     sat = offsets = None
     if background is not None:
         bg, pre["background"] = _background_image(source, background)

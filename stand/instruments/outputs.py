@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import itertools
 import math
 from collections.abc import Mapping
 from typing import Optional
@@ -176,11 +177,11 @@ class InstrumentOutput:
 
 
 def _rolling_rows(ex, times, cam, v_px):
-    """A rolling shutter's spot: px (F, H, K, 2) at each row's exposure sub-sample times
-    (``times`` (F, K) [s] plus row x ``cam.line_time``), and ``(screen_m, px)`` (F, K, 2) at
-    the times of each frame's spot row (from ``v_px``, iterated to the row the spot is in at
-    those times; converges while the spot moves less than a row per line time), and those
-    times (F, K)."""
+    """A rolling shutter's spot: a function of exposure sub-sample times (f, K) [s] giving px
+    (f, H, K, 2) at each row's times (those plus row x ``cam.line_time``: called per chunk of
+    frames, so no (F, H, K, 2) array is held), and ``(screen_m, px)`` (F, K, 2) at the times of
+    each frame's spot row (from ``v_px``, iterated to the row the spot is in at those times;
+    converges while the spot moves less than a row per line time), and those times (F, K)."""
     from scipy.interpolate import CubicSpline
 
     from stand.instruments.screen import spot_positions
@@ -195,7 +196,7 @@ def _rolling_rows(ex, times, cam, v_px):
     except ValueError:        # a view without the state: a cubic spline through the samples
         splines = [CubicSpline(ex.t, a) for a in (ex.x, ex.y, np.unwrap(ex.rotor_angle))]
         at = lambda T: spot_positions(*(s(T) for s in splines), cam)  # noqa: E731
-    rows = at(times[:, None, :] + cam.line_time * np.arange(cam.height)[None, :, None])[1]
+    rows = lambda T: at(T[:, None, :] + cam.line_time * np.arange(cam.height)[None, :, None])[1]  # noqa: E731
     for _ in range(8):        # the fixed point v = v(t + v line_time): the spot's own row
         T = times + cam.line_time * np.clip(v_px, 0, cam.height - 1)[:, None]
         spot = at(T)
@@ -242,9 +243,9 @@ class ScreenOutput(InstrumentOutput):
         self.truth = {key: np.asarray(truth[key])[:n_ok] for key in ("centre_px", "centre_m",
                                                                      "in_frame")}
         self.truth["exposure_time"] = times[:n_ok]
-        self.rows = None
+        self._rows, self._row_times = None, times[:n_ok]
         if cam.line_time > 0:        # rolling shutter: the truth is the spot at its own row's times
-            self.rows, spot, self.truth["exposure_time"] = _rolling_rows(
+            self._rows, spot, self.truth["exposure_time"] = _rolling_rows(
                 ex, times[:n_ok], cam, self.truth["centre_px"][:, 1])
             self.truth.update({k: np.asarray(v) for k, v in frame_truth(*spot, cam).items()
                                if k in ("centre_px", "centre_m", "in_frame")})
@@ -252,12 +253,13 @@ class ScreenOutput(InstrumentOutput):
         # keep their timestamps; the truth keeps each kept frame's index in the full sequence)
         light = flicker_gain(starts[:n_ok] + 0.5 * cam.exposure, cam.mains_frequency,
                              cam.flicker_depth)         # times the auto-exposure's gain
-        self.truth["brightness"] = light * auto_gain(light, cam.frame_period, cam.auto_gain_time)
+        self.truth["brightness"] = light * auto_gain(light, cam.frame_period, cam.auto_gain_time,
+                                                     cam.auto_gain_target and cam.auto_gain_target / cam.background)
         self.truth["frame_index"] = np.arange(n_ok)
         if cam.drop_rate > 0:
             keep = np.random.default_rng([cam.seed, 0xD809]).random(n_ok) >= cam.drop_rate
             self.px = self.px[keep]
-            self.rows = None if self.rows is None else self.rows[keep]
+            self._row_times = self._row_times[keep]
             for d in (self.readings, self.truth):
                 d.update({k: np.asarray(a)[keep] for k, a in d.items()})
         self.units.update(brightness="1", frame_index="1")
@@ -276,19 +278,28 @@ class ScreenOutput(InstrumentOutput):
         return self.readings["frame_time"]
 
     def frame(self, i: int) -> np.ndarray:
-        """Frame ``i`` (height, width) [DN], rendered now: the recording's frame ``i``."""
+        """Frame ``i`` (height, width) [DN], rendered now (after H.264: the sequence up to it)."""
         from stand.instruments.render import render_frames
 
         i = self._index(i)
+        if self.settings.h264_qp is not None:
+            return next(itertools.islice(self.frames(), i, None))
         return next(render_frames(self.px[i:i + 1], self.settings, first_index=i,
-                                  gains=self.truth["brightness"][i:i + 1],
-                                  rows=None if self.rows is None else self.rows[i:i + 1]))
+                                  gains=self.truth["brightness"][i:i + 1], rows=self.rows(i, i + 1)))
 
-    def frames(self):
-        """Every frame in order, rendered one at a time (a generator)."""
-        from stand.instruments.render import render_frames
+    def rows(self, i0: int, i1: int):
+        """Frames i0..i1-1's spot px (., H, K, 2) at each row's times (None: global shutter)."""
+        return None if self._rows is None else self._rows(self._row_times[i0:i1])
 
-        return render_frames(self.px, self.settings, gains=self.truth["brightness"], rows=self.rows)
+    def frames(self, chunk: int = 32):
+        """Every frame in order, rendered one at a time (a generator; a rolling shutter's rows
+        computed ``chunk`` frames at a time, so memory stays bounded; then H.264 if set)."""
+        from stand.instruments.render import h264_frames, render_frames
+
+        out = (f for i in range(0, self.n_frames, chunk)
+               for f in render_frames(self.px[i:i + chunk], self.settings, first_index=i,
+                                      gains=self.truth["brightness"][i:i + chunk], rows=self.rows(i, i + chunk)))
+        return out if self.settings.h264_qp is None else h264_frames(out, self.settings)
 
     @functools.cached_property
     def rings(self) -> Optional[dict]:

@@ -560,6 +560,27 @@ def render_frames(positions_px, cam, seed: Optional[int] = None, *, noise: bool 
 
 
 
+def h264_frames(frames, cam):
+    """The rendered 8-bit ``frames`` through H.264 at ``cam.h264_qp`` and back
+    (:func:`vision.compression.h264`, at the camera's frame rate).
+
+    Raises
+    ------
+    SceneError
+        PyAV is not installed (naming the key and ``pip install av``).
+    """
+    try:
+        import av  # noqa: F401
+    except ImportError:
+        from stand.errors import SceneError
+
+        raise SceneError(f"{cam.table}.h264_qp = {cam.h264_qp}: H.264 needs PyAV: pip install av "
+                         "(or pip install 'autobalancer-stand[video]')") from None
+    from vision.compression import h264
+
+    return h264(frames, cam.h264_qp, cam.frame_rate)
+
+
 def render_long_exposure(positions_px, cam, seed: Optional[int] = None, *, noise: bool = True,
                          weights=None, index: int = 0,
                          window: float = WINDOW_SIGMAS) -> np.ndarray:

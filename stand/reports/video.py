@@ -70,9 +70,11 @@ def _encode_h264(frames, path: str, fps: float, qp: int) -> None:
                          "OpenCV only)") from None
     from fractions import Fraction
 
+    from vision.compression import h264_options
+
     rate = Fraction(fps).limit_denominator(1000)
     with av.open(path, "w", format="mp4") as out:
-        st = out.add_stream("libx264", rate=rate, options={"qp": str(int(qp)), "tune": "psnr"})
+        st = out.add_stream("libx264", rate=rate, options=h264_options(qp))
         st.codec_context.thread_count = 1
         first = True
         for img in frames:

@@ -116,6 +116,12 @@ class ScreenCamera:
     auto_gain_time : float
         Auto-exposure time constant [s] (0: fixed exposure): the gain follows the frames'
         mean brightness (``vision.camera_artefacts.auto_gain``); default 0.
+    h264_qp : int or None
+        The frames through H.264 at this constant quantiser 0..51 (x264 through PyAV, the
+        optional extra ``video``; 8-bit frames only) and decoded back; default None.
+    auto_gain_target : float or None
+        The background level [DN] the auto-exposure holds (its set point; the frames' mean is
+        the background's plus the spot's small share); default None: the first frame's.
     line_time : float
         Rolling shutter: row r's exposure starts r line_time [s] after row 0's; default 0
         (a global shutter).
@@ -154,6 +160,8 @@ class ScreenCamera:
     saturation: Optional[float] = number(None, "DN", gt=0, optional=True)
     drop_rate: float = number(0.0, "1", ge=0, lt=1)
     auto_gain_time: float = number(0.0, "s", ge=0)
+    auto_gain_target: Optional[float] = number(None, "DN", gt=0, optional=True)
+    h264_qp: Optional[int] = integer(None, 0, 51, optional=True)
     line_time: float = number(0.0, "s per row", ge=0)
     table: str = field(default="instruments.screen", compare=False, repr=False)
 
@@ -198,10 +206,14 @@ class ScreenCamera:
         check(self, self.table, ("peak", "background", "read_noise", "electrons_per_dn",
                                  "lens_k1", "lens_k2", "jpeg_quality", "flicker_depth",
                                  "mains_frequency", "hot_pixels", "saturation", "drop_rate",
-                                 "auto_gain_time", "line_time"))
-        if self.jpeg_quality is not None and self.bit_depth != 8:
-            raise _bad(n("jpeg_quality"), self.jpeg_quality,
-                       f"JPEG needs 8-bit frames ({n('bit_depth')} = {self.bit_depth})")
+                                 "auto_gain_time", "auto_gain_target", "line_time", "h264_qp"))
+        if self.auto_gain_target is not None and not self.background > 0:
+            raise _bad(n("auto_gain_target"), self.auto_gain_target,
+                       f"an auto-exposure set point needs a background > 0 ({n('background')})")
+        for key in ("jpeg_quality", "h264_qp"):
+            if getattr(self, key) is not None and self.bit_depth != 8:
+                raise _bad(n(key), getattr(self, key),
+                           f"{key[:4].upper()} needs 8-bit frames ({n('bit_depth')} = {self.bit_depth})")
         # the screen's horizon must stay outside the image
         Hinv = np.linalg.inv(self.homography)
         W1, H1 = self.width - 0.5, self.height - 0.5
