@@ -45,8 +45,7 @@ def derivatives(kind, t, y, dy, sp, wt, prog):
 def evaluate(kind, t, y, dy, sp, wt, prog):
     """:func:`derivatives` compiled for calls from Python (one specialisation per kind).
 
-    Without reference counting, as the DOP853 loop: the planar right-hand side, inlined
-    into both, is then compiled once."""
+    Without reference counting, as the DOP853 loop (the right-hand sides allocate nothing)."""
     literally(kind)
     derivatives(kind, t, y, dy, sp, wt, prog)
 
@@ -59,34 +58,21 @@ def _register(numba):
         f = kernel_of(kind)
         return getattr(f, "dispatcher", f)   # a stand-in made before numba was imported
 
-    # The planar right-hand side is inlined into the calling loop by LLVM (forceinline: a
-    # call, its arrays passed field by field, cost 5 % of a run, and inlined the loop's
-    # stage sums vectorise).  numba's own IR inlining would do the same at 5-10 times the
-    # compile time.  It takes the reference-counting flag of the caller that compiles it
-    # first; inlined into the DOP853 loop (none) the counts are dropped either way.
-    @overload(derivatives, jit_options={"error_model": "numpy", "forceinline": True})
-    def _planar_inline(kind, t, y, dy, sp, wt, prog):
-        if isinstance(kind, types.IntegerLiteral) and kind.literal_value == PLANAR:
-            f = function_of(PLANAR)
-
-            def impl(kind, t, y, dy, sp, wt, prog):
-                f(t, y, dy, sp, wt, prog)
-
-            return impl
-        return None
-
-    # Any other kind: a call (the generic right-hand side is ten times larger).  It allocates
-    # nothing (its scratch block is the tail of sp), so without reference counting: the atomic
-    # counts of its array arguments, passed on to every inlined helper, cost a fifth of a
-    # 20-coordinate call (issue 33).
-    @overload(derivatives, jit_options={"error_model": "numpy", "_nrt": False})
+    # The call goes straight to the kind's right-hand side: the one-line impl is inlined by
+    # numba (inline="always": no function of its own, which numba would compile once per
+    # caller's flags and which would carry its own machine code of the whole right-hand side).
+    # The planar right-hand side is compiled with forceinline (stand.model.planar): LLVM
+    # inlines it into the calling loop (a call, its arrays passed field by field, cost 5 % of
+    # a run, and inlined the loop's stage sums vectorise).  Any other kind: a call (the generic
+    # right-hand side is ten times larger; it allocates nothing, so compiled without reference
+    # counting: the atomic counts of its array arguments cost a fifth of a 20-coordinate
+    # call, issue 33).
+    @overload(derivatives, inline="always")
     def _kernel_of_literal_kind(kind, t, y, dy, sp, wt, prog):
         if not isinstance(kind, types.IntegerLiteral):
             raise numba.core.errors.TypingError(
                 "stand.model.kernels.derivatives: the model kind must be a compile-time constant "
                 "(numba.literally(kind) in the calling kernel)")
-        if kind.literal_value == PLANAR:
-            return None
         f = function_of(kind.literal_value)
 
         def impl(kind, t, y, dy, sp, wt, prog):
