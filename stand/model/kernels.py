@@ -57,7 +57,7 @@ def _register(numba):
 
     def kernel_type(context, kind):
         f = kernel_of(kind.literal_value)
-        return context.resolve_value_type(getattr(f, "dispatcher", f))   # a stand-in: its dispatcher
+        return context.resolve_value_type(getattr(f, "dispatcher", f))  # a stand-in: its dispatcher
 
     # The call goes straight to the kind's right-hand side, typed and lowered here as numba
     # lowers a call of a compiled function: no function of its own in between (an overload's
