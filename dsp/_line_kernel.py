@@ -340,7 +340,8 @@ def separate_peaks(X, peaks, nus, n):
             mag[q] = abs(x)
         nu = (peaks[k] + hann_delta(mag[0], mag[1], mag[2])) / n
         new[k] = nu - 1.0 if nu >= 0.5 else nu
-    nus[:] = new
+    for k in range(K):
+        nus[k] = new[k]
 
 
 def fit_lines(z, nus, psums, max_iter, min_line_snr):
@@ -353,7 +354,8 @@ def fit_lines(z, nus, psums, max_iter, min_line_snr):
         Zmat = z.reshape((nb, BLOCK))
     else:
         zp = np.zeros(nb * BLOCK, dtype=np.complex128)
-        zp[:n] = z
+        for i in range(n):
+            zp[i] = z[i]
         Zmat = zp.reshape((nb, BLOCK))
     zz = sum_sq(z)
     P = 3 * K
@@ -414,11 +416,12 @@ def fit_lines(z, nus, psums, max_iter, min_line_snr):
         if cost_t > cost * (1 + 1e-12):
             converged = True                   # no step lowers the cost: as converged as it gets
             break
-        nus[:] = trial
+        for k in range(K):
+            nus[k] = trial[k]
         c = ct
         cost = cost_t
-        G[:] = Gt
-        Z1[:] = Z1t
+        G, Gt = Gt, G                          # Gt, Z1t are rewritten before they are read
+        Z1, Z1t = Z1t, Z1
     if not converged:
         return DECLINED, nus, c, Ai, cost
     var = np.empty(K)
@@ -453,11 +456,15 @@ def fit_acceptable(nus, c, var, cost, n, min_line_snr):
     for k in range(K):
         if not (-0.5 <= nus[k] < 0.5) or not (var[k] > 0.0):
             return False
-    srt = np.sort(nus)
-    for k in range(K - 1):
-        if srt[k + 1] - srt[k] < 0.5 / n:
-            return False
-    if K > 1 and srt[0] + 1.0 - srt[K - 1] < 0.5 / n:
+    # two within half a bin: some pair is iff two neighbours in sorted order are (no sort:
+    # numba's compiles for seconds)
+    lo, hi = math.inf, -math.inf
+    for k in range(K):
+        lo, hi = min(lo, nus[k]), max(hi, nus[k])
+        for j in range(k + 1, K):
+            if abs(nus[j] - nus[k]) < 0.5 / n:
+                return False
+    if K > 1 and lo + 1.0 - hi < 0.5 / n:
         return False
     noise = max(cost, 1e-300 * n) / n
     for k in range(K):

@@ -51,13 +51,14 @@ def pytest_configure(config):
     from stand.model.kernels import KIND_NAMES
 
     kind = "from stand.api.warmup import warmup; warmup(kinds=[{k}], say=lambda s: None)"
-    # the generic kind compiles longest: first; the screen renderer too (else each worker
-    # JIT-compiles it and the command line starts a background build of it mid-run)
+    # longest first (CPU seconds from a cold cache, 2026-11-29, benchmarks/README.md): the
+    # generic kind, the planar kind, the blurred-spot fit, the line fit, the screen renderer
+    # (else each worker JIT-compiles it and the command line starts a background build of it)
     codes = [kind.format(k=k) for k in sorted(KIND_NAMES, reverse=True)]
-    codes += ["from stand.integrate import precompiled\n"
+    codes += ["from vision.blur import warm; warm()", "from dsp._line_kernel import warm; warm()",
+              "from stand.integrate import precompiled\n"
               "try: precompiled.build('stand.instruments.render:render_frame')\n"
-              "except Exception: pass   # no C compiler: numba's JIT on first use",
-              "from vision.blur import warm; warm()", "from dsp._line_kernel import warm; warm()"]
+              "except Exception: pass   # no C compiler: numba's JIT on first use"]
     # as many at a time as there are cores: no faster with more, and each holds ~0.8 GB
     at_once, running = max(1, os.cpu_count() or 1), []
     for code in codes:

@@ -269,7 +269,7 @@ def _compiled_kernel():
             except ImportError:
                 pass
             else:
-                jit = numba.njit(cache=True, error_model="numpy")
+                jit = numba.njit(cache=True, error_model="numpy", nogil=True)
                 globals()["path"] = jit(path)      # the kernel calls the compiled helpers
                 globals()["_profile_row"] = jit(_profile_row)
                 _compiled = jit(_normal_equations_loops)
@@ -573,7 +573,7 @@ def compiled_fit():
         if kern is not None:
             import numba
 
-            jit = numba.njit(cache=True, error_model="numpy")
+            jit = numba.njit(cache=True, error_model="numpy", nogil=True)
             mod = globals()
             mod["_EVALUATE"] = kern
             for name in ("n_points", "_bound", "_evaluate", "_cholesky_solve", "_lm", "_score",

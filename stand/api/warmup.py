@@ -4,7 +4,7 @@
   precompiled (:mod:`stand.integrate.precompiled`), or compiled into numba's cache
   where precompiling is impossible;
 * with ``--all`` also numba's cache of the other compiled functions, for every
-  kind: the fixed-step RK4 loop (``stand accuracy``), the finite-difference
+  kind: the fixed-step RK4 loop (``stand accuracy``, planar scenes), the finite-difference
   Jacobian (Radau/BDF/LSODA runs) and the right-hand side evaluation;
 * the screen renderer (``stand run`` of a scene with a screen camera) is precompiled too;
 * the blurred-spot fit of ``stand track`` (:mod:`vision.blur`, about 10 s the first time);
@@ -18,12 +18,13 @@ import time
 import numpy as np
 
 from stand import _jit
-from stand.model.kernels import KIND_NAMES
+from stand.model.kernels import KIND_NAMES, PLANAR
 
 
 def _jit_extras(kind: int) -> None:
-    """Compile (or load) the RK4 loop and the finite-difference Jacobian of ``kind`` for the
-    argument types the stand passes (C-contiguous float64 arrays, Python floats and ints)."""
+    """Compile (or load) the RK4 loop (planar only) and the finite-difference Jacobian of
+    ``kind`` for the argument types the stand passes (C-contiguous float64 arrays, Python
+    floats and ints)."""
     numba = _jit.import_numba()
     from numba import typeof, types
 
@@ -34,7 +35,8 @@ def _jit_extras(kind: int) -> None:
     lit = types.literal(kind)
     a1, a2 = typeof(np.zeros(1)), typeof(np.zeros((1, 1)))
     f8, i8 = types.float64, types.int64
-    rk4_loop.compile((lit, a1, a2, a2, a1, f8, i8, i8, a2))
+    if kind == PLANAR:   # RK4 error reports take planar scenes only (stand.integrate.accuracy)
+        rk4_loop.compile((lit, a1, a2, a2, a1, f8, i8, i8, a2))
     jac_fd.compile((lit, f8, a1, a1, a1, a2, a2, a2))
     evaluate.compile((lit, f8, a1, a1, a1, a2, a2))
     del numba

@@ -14,7 +14,9 @@ from stand.model.kernels import derivatives
 __all__ = ["jac_fd"]
 
 
-@njit(cache=True)
+# the RK4 loop's flags (stand.integrate.rk4): the inlined planar right-hand side is compiled
+# once for both (numba compiles an overload once per set of the caller's flags)
+@njit(cache=True, error_model="numpy")
 def jac_fd(kind, t, y, f0, sp, wt, prog, J):
     """Forward-difference Jacobian of model ``kind``'s right-hand side into ``J``."""
     literally(kind)

@@ -28,7 +28,8 @@ def rk4_loop(kind, sp, wt, prog, y, h, n_steps, every, out):
     k3 = np.empty(n)
     k4 = np.empty(n)
     tmp = np.empty(n)
-    out[0, :] = y
+    for i in range(n):      # (loops, not out[0, :] = y: a slice assignment compiles numba's
+        out[0, i] = y[i]    # shape-mismatch message, seconds of string code on a cold start)
     row = 1
     t = 0.0
     for s in range(n_steps):
@@ -46,6 +47,7 @@ def rk4_loop(kind, sp, wt, prog, y, h, n_steps, every, out):
             y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         t = (s + 1) * h
         if (s + 1) % every == 0 and row < out.shape[0]:
-            out[row, :] = y
+            for i in range(n):
+                out[row, i] = y[i]
             row += 1
     return 4 * n_steps

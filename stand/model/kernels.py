@@ -45,54 +45,45 @@ def derivatives(kind, t, y, dy, sp, wt, prog):
 def evaluate(kind, t, y, dy, sp, wt, prog):
     """:func:`derivatives` compiled for calls from Python (one specialisation per kind).
 
-    Without reference counting, as the DOP853 loop: the planar right-hand side, inlined
-    into both, is then compiled once."""
+    Without reference counting, as the DOP853 loop (the right-hand sides allocate nothing)."""
     literally(kind)
     derivatives(kind, t, y, dy, sp, wt, prog)
 
 
 def _register(numba):
     from numba.core import types
-    from numba.extending import overload
+    from numba.core.imputils import lower_builtin
+    from numba.core.typing.templates import AbstractTemplate, infer_global, signature
 
-    def function_of(kind):
-        f = kernel_of(kind)
-        return getattr(f, "dispatcher", f)   # a stand-in made before numba was imported
+    def kernel_type(context, kind):
+        f = kernel_of(kind.literal_value)
+        return context.resolve_value_type(getattr(f, "dispatcher", f))  # a stand-in: its dispatcher
 
-    # The planar right-hand side is inlined into the calling loop by LLVM (forceinline: a
-    # call, its arrays passed field by field, cost 5 % of a run, and inlined the loop's
-    # stage sums vectorise).  numba's own IR inlining would do the same at 5-10 times the
-    # compile time.  It takes the reference-counting flag of the caller that compiles it
-    # first; inlined into the DOP853 loop (none) the counts are dropped either way.
-    @overload(derivatives, jit_options={"error_model": "numpy", "forceinline": True})
-    def _planar_inline(kind, t, y, dy, sp, wt, prog):
-        if isinstance(kind, types.IntegerLiteral) and kind.literal_value == PLANAR:
-            f = function_of(PLANAR)
+    # The call goes straight to the kind's right-hand side, typed and lowered here as numba
+    # lowers a call of a compiled function: no function of its own in between (an overload's
+    # implementation is compiled once per caller's set of flags, each with its own machine
+    # code of the whole right-hand side).  The planar right-hand side is compiled with
+    # forceinline (stand.model.planar): LLVM inlines it into the calling loop (a call, its
+    # arrays passed field by field, cost 5 % of a run, and inlined the loop's stage sums
+    # vectorise).  Any other kind: a call (the generic right-hand side is ten times larger; it
+    # allocates nothing, so compiled without reference counting: the atomic counts of its
+    # array arguments cost a fifth of a 20-coordinate call, issue 33).
+    @infer_global(derivatives)
+    class _Derivatives(AbstractTemplate):
+        def generic(self, args, kws):
+            if kws or not args or not isinstance(args[0], types.IntegerLiteral):
+                raise numba.core.errors.TypingError(
+                    "stand.model.kernels.derivatives: the model kind must be a compile-time "
+                    "constant (numba.literally(kind) in the calling kernel)")
+            kernel_type(self.context, args[0]).get_call_type(self.context, args[1:], {})
+            return signature(types.none, *args)
 
-            def impl(kind, t, y, dy, sp, wt, prog):
-                f(t, y, dy, sp, wt, prog)
-
-            return impl
-        return None
-
-    # Any other kind: a call (the generic right-hand side is ten times larger).  It allocates
-    # nothing (its scratch block is the tail of sp), so without reference counting: the atomic
-    # counts of its array arguments, passed on to every inlined helper, cost a fifth of a
-    # 20-coordinate call (issue 33).
-    @overload(derivatives, jit_options={"error_model": "numpy", "_nrt": False})
-    def _kernel_of_literal_kind(kind, t, y, dy, sp, wt, prog):
-        if not isinstance(kind, types.IntegerLiteral):
-            raise numba.core.errors.TypingError(
-                "stand.model.kernels.derivatives: the model kind must be a compile-time constant "
-                "(numba.literally(kind) in the calling kernel)")
-        if kind.literal_value == PLANAR:
-            return None
-        f = function_of(kind.literal_value)
-
-        def impl(kind, t, y, dy, sp, wt, prog):
-            f(t, y, dy, sp, wt, prog)
-
-        return impl
+    @lower_builtin(derivatives, types.IntegerLiteral, types.VarArg(types.Any))
+    def _call(context, builder, sig, args):
+        rhs = kernel_type(context.typing_context, sig.args[0])
+        rsig = rhs.get_call_type(context.typing_context, sig.args[1:], {})
+        context.get_function(rhs, rsig)(builder, args[1:])
+        return context.get_dummy_value()
 
 
 when_numba(_register)

@@ -316,7 +316,9 @@ def drive_torque(tau, phi, dphi, sp):
     return drive_torque_law(sp[MODEL], sp[MROT], sp[C1], sp[C2], sp[WTARGET], tau, phi, dphi)
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+# compiled once, on its own (cached), and inlined by LLVM into each calling loop: numba's IR
+# inlining (inline="always") typed and lowered it again for every caller's set of flags
+@njit(cache=True, forceinline=True, error_model="numpy", _nrt=False)
 def rhs_planar(tau, y, dy, sp, wt, prog):
     """Right-hand side, O(n): writes dy/dtau into ``dy``."""
     n = wt.shape[0]
