@@ -41,6 +41,11 @@ HIGHPASS_ALLOWANCE = 0.25
 #: lead of 3 deg there; below, the fit keeps it free but it is the noise's: 0.04 of it was
 #: found beside an undeclared 40 Hz resonance on data_samples/daq/daq_runup.csv)
 HIGHPASS_MIN = 0.05
+#: a fitted resonance is taken for a sensor's only with a quality factor up to this: a mounted
+#: accelerometer's is a few to ~50; a fitted Q at the fit's clamp (1e3) is the sensor model
+#: soaking up a clean record's misfit (101 Hz, Q 1000 found on a clean TTL run-up of
+#: benchmarks/_uncertainty_lab.py, f0 then 47 sigma off)
+RESONANCE_Q_MAX = 100.0
 
 
 @dataclass(frozen=True)
@@ -286,8 +291,14 @@ def sensor_checked(fit, refit, speeds_hz, channel_filter, notes: list, threshold
     lo, hi = speeds_hz
     s2, s1, fh = fs.sensor
     fr, q = 1 / (2 * math.pi * math.sqrt(s2)) if s2 > 0 else math.inf, math.sqrt(s2) / s1 if s1 else 1e3
-    res = dict(resonance_hz=fr, resonance_q=min(q, 1e3)) if fr < 20 * hi and q >= 0.5 else {}
-    if not (gain > threshold and (res or fh > HIGHPASS_MIN * lo)):
+    res = dict(resonance_hz=fr, resonance_q=q) if fr < 20 * hi and 0.5 <= q <= RESONANCE_Q_MAX else {}
+    # a high-pass (with the delay) is taken for one only when the phase it makes changes
+    # through the record more than its mean: a constant phase is the unbalance angle's own
+    # freedom (a 4.9 Hz high-pass + a -1 ms delay, +28 to +20 deg, 'found' with 258 of chi^2
+    # on a clean TTL run-up of benchmarks/_uncertainty_lab.py moved the angle 22 deg)
+    lead = [math.atan2(fh, f) - 2 * math.pi * f * fs.delay_s for f in (lo, hi)]
+    varies = abs(lead[0] - lead[1]) >= abs(lead[0] + lead[1]) / 2
+    if not (gain > threshold and (res or (fh > HIGHPASS_MIN * lo and varies))):
         return fit
     out = fs
     if res:
