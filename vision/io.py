@@ -19,6 +19,7 @@ import glob
 import math
 import os
 import queue
+import sys
 import threading
 from pathlib import Path
 from typing import Callable, Iterable, Iterator, NamedTuple, Sequence
@@ -35,6 +36,11 @@ IMAGE_SUFFIXES = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".pgm", ".pp
 #: frames a decoder thread reads ahead of the consumer (video files and images: OpenCV
 #: releases the GIL while it decodes, so decoding overlaps the tracking of earlier frames)
 READ_AHEAD = 16
+#: [s] the interpreter's thread switch interval while a reader thread runs (Python's default
+#: 5 ms): the decoder thread wants the GIL back for a few microseconds per frame, and a
+#: consumer busy in Python would otherwise keep it waiting up to 5 ms -- the sample video's
+#: decode + track / decode 0.84 at the default, 0.92 at 0.2 ms (benchmarks/README.md)
+SWITCH_INTERVAL = 2e-4
 
 
 class VisionError(ValueError):
@@ -196,6 +202,8 @@ def read_ahead(items: Iterable, depth: int = READ_AHEAD) -> Iterator:
                 close()
 
     worker = threading.Thread(target=produce, name="vision-read-ahead", daemon=True)
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(min(interval, SWITCH_INTERVAL))
     worker.start()
     try:
         while True:
@@ -208,6 +216,8 @@ def read_ahead(items: Iterable, depth: int = READ_AHEAD) -> Iterator:
     finally:
         stop.set()
         worker.join()
+        if sys.getswitchinterval() == min(interval, SWITCH_INTERVAL):   # not changed meanwhile
+            sys.setswitchinterval(interval)
 
 
 def iter_frames(source, dataset: str = DEFAULT_DATASET, *,
