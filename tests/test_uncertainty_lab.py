@@ -64,3 +64,22 @@ def test_table_and_readings_paths_meet_the_acceptance(path):
         z = np.array([d[k] for d in zs], float)
         assert np.sqrt(np.mean(z ** 2)) <= 1.5, (path, k, z)
         assert np.mean(np.abs(z) < 2) >= 0.85, (path, k, z)
+
+
+def test_a_clean_ttl_run_up_names_no_sensor(tmp_path):
+    """The undeclared-sensor check (dsp.artefacts.sensor_checked) on clean TTL run-ups: draw 0
+    once 'found' a 4.9 Hz high-pass with a -1 ms delay (a nearly constant phase, the angle's
+    own freedom: the angle moved 22 deg), draw 3 a 101 Hz resonance of Q 1000 (f0 47 std
+    off); neither record has a sensor response."""
+    import math
+
+    from _uncertainty_lab import TWO_PI, _analyze, _runup
+    from oracles.runup_exact import write_csv
+
+    for seed in (0, 3):
+        run, rng = _runup(seed, 20 * 28.0, 100)
+        off = rng.uniform(0.0, TWO_PI)
+        run.kp = (np.where(np.mod(run.phi + off, TWO_PI) < math.radians(30.0), 5.0, 0.0)
+                  + rng.normal(0.0, 0.02, run.t.size))
+        d = _analyze(*write_csv(run, tmp_path / f"ttl{seed}.csv"))
+        assert not [n for n in d["notes"] if n.startswith("sensor:")], (seed, d["notes"])
