@@ -273,6 +273,27 @@ def delay_checked(fit, refit, w_top: float, channel_filter, notes: list):
     return fit
 
 
+#: the run-up fit's values that an undeclared sensor moves (and the angle, wrapped)
+_SENSOR_KEYS = ("natural_frequency_hz", "damping_ratio", "critical_speed_hz", "specific_unbalance_m")
+
+
+def _differences(a, b, scale=1.0) -> dict:
+    """``scale`` x |a - b| of two response fits' values (the angle wrapped to +-pi)."""
+    d = {k: scale * abs(getattr(a, k) - getattr(b, k)) for k in _SENSOR_KEYS}
+    d["angle_rad"] = scale * abs((a.angle_rad - b.angle_rad + math.pi) % (2 * math.pi) - math.pi)
+    return d
+
+
+def _widened(fit, d: dict, floor=None):
+    """``fit`` with each std of ``d``'s values combined in quadrature with ``d``'s amount;
+    ``floor``: a second fit whose std, when larger, is the one widened."""
+    import dataclasses
+
+    std = {k: getattr(fit, k + "_std") if floor is None
+           else max(getattr(fit, k + "_std"), getattr(floor, k + "_std")) for k in d}
+    return dataclasses.replace(fit, **{k + "_std": math.hypot(std[k], v) for k, v in d.items()})
+
+
 def sensor_checked(fit, refit, speeds_hz, channel_filter, notes: list, threshold: float = 16.3):
     """The sensor test: ``refit(**kw)`` refits with the keywords of
     :func:`dsp.response_fit.fit_unbalance_response` changed.  Freeing an undeclared sensor
@@ -305,20 +326,10 @@ def sensor_checked(fit, refit, speeds_hz, channel_filter, notes: list, threshold
         flt = (dataclasses.replace(channel_filter, **res) if channel_filter is not None
                else ChannelFilter("none", **res))
         fx = refit(channel_filter=flt, fit_delay=True, fit_sensor=True)
-        keys = ("natural_frequency_hz", "damping_ratio", "critical_speed_hz", "specific_unbalance_m")
-        d = {k: abs(getattr(fx, k) - getattr(fs, k)) for k in keys}
-        d["angle_rad"] = abs((fx.angle_rad - fs.angle_rad + math.pi) % (2 * math.pi) - math.pi)
-        out = dataclasses.replace(fx, **{k + "_std": math.hypot(max(getattr(fx, k + "_std"),
-                                                                    getattr(fs, k + "_std")), v)
-                                         for k, v in d.items()})
+        out = _widened(fx, _differences(fx, fs), floor=fs)
     shown = ChannelFilter("none", **res, highpass_hz=out.sensor[2] if out.sensor[2] > HIGHPASS_MIN * lo else 0.0)
     if shown.highpass_hz:       # its corner comes from where the rotor's response is weakest
-        keys = ("natural_frequency_hz", "damping_ratio", "critical_speed_hz", "specific_unbalance_m")
-        d = {k: HIGHPASS_ALLOWANCE * abs(getattr(out, k) - getattr(fit, k)) for k in keys}
-        d["angle_rad"] = HIGHPASS_ALLOWANCE * abs(
-            (out.angle_rad - fit.angle_rad + math.pi) % (2 * math.pi) - math.pi)
-        out = dataclasses.replace(out, **{k + "_std": math.hypot(getattr(out, k + "_std"), v)
-                                          for k, v in d.items()})
+        out = _widened(out, _differences(out, fit, HIGHPASS_ALLOWANCE))
     h = [complex(shown.response(f) * np.exp(-2j * math.pi * f * out.delay_s)) for f in (lo, hi)]
     notes[:] = [m for m in notes if not m.startswith("delay:")]
     notes.append(

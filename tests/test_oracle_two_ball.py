@@ -23,16 +23,15 @@ friction, 2e-7 and 2e-6 rad with it.
 """
 from __future__ import annotations
 
-import io
 import json
 import math
-from contextlib import redirect_stderr, redirect_stdout
 from dataclasses import replace
 
 import numpy as np
 import pytest
 
 import stand
+from _helpers import stand_stdout
 from oracles.two_ball_record import (UNIVERSAL, family_scene_text, record, scene_text,
                                     template_scene, write_record)
 
@@ -120,13 +119,7 @@ def test_rolling_balls_on_a_ramp(duration, rtol, bounds):
 
 
 def _analyze(csv, rmap):
-    from stand.cli.main import main
-
-    out, err = io.StringIO(), io.StringIO()
-    with redirect_stdout(out), redirect_stderr(err):
-        code = main(["analyze", str(csv), "--json", "--map", str(rmap)])
-    assert code == 0, err.getvalue()
-    return json.loads(out.getvalue())
+    return json.loads(stand_stdout("analyze", csv, "--json", "--map", rmap))
 
 
 @pytest.mark.full    # analyze alone takes 10-20 s on this record (the kernels: the tests above)
