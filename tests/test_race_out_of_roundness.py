@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -268,3 +269,33 @@ def test_theory_says_the_race_is_outside_it():
 
     na = theory(stand.load(_sample(race_out_of_roundness=0.01, race_lobes=3))).not_applicable
     assert any("race out-of-roundness of balancer (eps = 0.01, 3 lobes)" in x for x in na), na
+
+
+SPATIAL = (Path(__file__).resolve().parents[1] / "data_samples" / "scenes"
+           / "family_spatial.toml").read_text().split("# The laser screen")[0]
+
+
+def _spatial(extra: str, duration: float = 1.0) -> str:
+    return (SPATIAL.replace("initial_angles = [60.0, 250.0]", "initial_angles = [60.0, 250.0]\n" + extra)
+            .replace("duration = 30.0", f"duration = {duration!r}"))
+
+
+def test_structure_scene_carries_the_keys():
+    """A [[weights]] table of a [structure] rotor (the spatial rotor on two supports, its
+    plane's tilt in T_p) reads the same keys: eps = 0 is bit-identical, eps = 0.05 moves
+    the balls; a torque drive is refused naming the plane and the key."""
+    base = stand.run(stand.load(_spatial("")))
+    zero = stand.run(stand.load(_spatial("race_out_of_roundness = 0.0\nrace_lobes = 3")))
+    oval = stand.load(_spatial("race_out_of_roundness = 0.05\nrace_out_of_roundness_angle = 60.0"))
+    assert oval.weights[0].balancer.race_out_of_roundness == 0.05
+    moved = stand.run(oval)
+    for k in base.weights:
+        assert np.array_equal(zero.weights[k]["angle"], base.weights[k]["angle"])
+        assert np.max(np.abs(moved.weights[k]["angle"] - base.weights[k]["angle"])) > 1e-3
+    assert np.array_equal(zero.x, base.x)
+    torque = _spatial("race_out_of_roundness = 0.05").replace(
+        'type = "speed"\nprogramme = [[0.0, 0.0], [3.0, 15.0]]',
+        'type = "torque"\nmodel = "constant"\ntorque = 0.3\ninertia = 0.05')
+    with pytest.raises(SceneError, match=r"weights \(plane balancer1\)\.race_out_of_roundness = "
+                                         r"0\.05 \(dimensionless\): with a speed programme only"):
+        stand.load(torque)
