@@ -179,6 +179,11 @@ def test_held_shaft_ball_rests_at_a_maximum_and_oscillates_at_the_closed_form(lo
     assert sig_m == pytest.approx(sigma, rel=1e-5)
     assert sigma == pytest.approx(0.05 * omega, rel=1e-12)     # the damping ratio chosen
     assert np.max(np.hypot(run.x, run.y)) < 1e-8                # the shaft held
+    # the residual unbalance (the run's truth) counts the ball at the race's radius rho(a):
+    # m l (1 + eps) at rest, not m l
+    U = run.residual_unbalance()[-1]
+    assert U == pytest.approx(HELD["m"] * HELD["l"] * (1.0 + HELD["eps"]) * np.exp(1j * a[-1]),
+                              rel=1e-8, abs=0)
 
 
 def _sample(**extra):

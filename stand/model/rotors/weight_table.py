@@ -64,8 +64,8 @@ import numpy as np
 
 from stand._jit import njit
 
-__all__ = ["N_WCOL", "contact_moments", "friction_moment", "oval_accel", "oval_push",
-           "race_columns", "race_gravity"]
+__all__ = ["N_WCOL", "ball_offsets", "contact_moments", "friction_moment", "oval_accel",
+           "oval_push", "race_columns", "race_gravity", "race_shape"]
 
 # weight table columns: plane, mass, radius, inertia, drag, friction (kinetic,
 # static, slip speed, dwell, release), index of its adhesion state (-1: none), spin inertia
@@ -159,17 +159,30 @@ def race_columns(balancer, plane: str, free: bool, friction) -> list:
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
+def race_shape(l, eps, k, theta, a):
+    """rho, rho', rho'' [m] of the race l [1 + eps cos k (a - theta)] at the ball's angle a [rad]
+    on the rotor (module docstring); on arrays of a through its ``py_func`` (:func:`ball_offsets`)."""
+    x = k * (a - theta)
+    c, s = np.cos(x), np.sin(x)
+    return l * (1.0 + eps * c), -l * eps * k * s, -l * eps * k * k * c
+
+
+def ball_offsets(wt, j, alpha):
+    """Ball j's centre from the shaft in the rotor frame [m], complex, at its angles ``alpha``
+    [rad] (array) on the rotor: the race's offset e_r e^{i theta} plus rho(alpha) e^{i alpha}."""
+    shape = getattr(race_shape, "py_func", race_shape)      # plain numpy, no compilation
+    rho = shape(wt[j, W_L], wt[j, W_EPS], wt[j, W_K], wt[j, W_PH], np.asarray(alpha, float))[0]
+    return wt[j, W_ER] * np.exp(1j * wt[j, W_TH]) + rho * np.exp(1j * alpha)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
 def oval_row(wt, j, a, ad, Om, dOm, c, si, gjx, gjy):
     """Ball j on an out-of-round race (module docstring): the coupling vector u [m], the
     generalised mass G [kg m^2], gamma = g_j - c [m/s^2] and the drag moment M_r [N m] at its
     angle a [rad] and speed a' [rad/s] on the rotor (phi' = Om [rad/s], phi'' = dOm [rad/s^2];
     c, si: cos, sin psi)."""
-    l, eps, k = wt[j, W_L], wt[j, W_EPS], wt[j, W_K]
-    x = k * (a - wt[j, W_PH])
-    ck, sk = math.cos(x), math.sin(x)
-    rho = l * (1.0 + eps * ck)
-    r1 = -l * eps * k * sk
-    r2 = -l * eps * k * k * ck
+    l = wt[j, W_L]
+    rho, r1, r2 = race_shape(l, wt[j, W_EPS], wt[j, W_K], wt[j, W_PH], a)
     psid = Om + ad
     u2 = rho * rho + r1 * r1
     ce = r2 * ad * ad - r1 * dOm - rho * psid * psid      # c along e and along t
