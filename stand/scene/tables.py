@@ -183,7 +183,7 @@ def balancer_table(t: _Table) -> Balancer:
                    race_eccentricity=t.number("race_eccentricity", "m", 0.0, ge=0),
                    race_eccentricity_angle=_angle(t.name("race_eccentricity_angle"),
                                                   t.data.get("race_eccentricity_angle", 0.0)),
-                   **_out_of_roundness(t, bool(rolling), r))
+                   **_out_of_roundness(t, bool(rolling)))
     n = t.integer("count", minimum=1, maximum=MAX_WEIGHTS)
     count_key = t.name("count")
     m = t.per_weight("mass", n, count_key, "kg", gt=0)
@@ -215,9 +215,9 @@ def balancer_table(t: _Table) -> Balancer:
                     initial_angles=angles, initial_speeds=speeds * TWO_PI, rolling=bool(rolling), **contact)
 
 
-def _out_of_roundness(t: _Table, rolling: bool, ball_radius: float) -> dict:
+def _out_of_roundness(t: _Table, rolling: bool) -> dict:
     """The race's out-of-roundness of a ball table: radius l [1 + eps cos k (a - theta_o)]
-    (stand.model.rotors.weight_table); point balls with viscous drag only."""
+    (stand.model.rotors.weight_table); point balls with viscous drag (and contact) only."""
     key = "race_out_of_roundness"
     if key not in t:
         for k in ("race_lobes", "race_out_of_roundness_angle"):
@@ -227,11 +227,10 @@ def _out_of_roundness(t: _Table, rolling: bool, ball_radius: float) -> dict:
     eps = t.number(key, "dimensionless, relative out-of-roundness of the race", 0.0, ge=0, lt=0.2)
     if eps > 0:
         other = ([t.name("rolling") + " = true"] if rolling else []) + \
-            ([t.name("ball_radius") + " = " + _fmt(ball_radius)] if ball_radius else []) + \
             [t.name(k) for k in FRICTION_KEYS if k in t]
         if other:
             raise SceneError(f"{t.name(key)} = {_fmt(eps)} (dimensionless) with {other[0]}: not "
-                             "modelled together (rolling spin, contact chord and friction's normal "
+                             "modelled together (a rolling ball's spin and the friction's normal "
                              "force on an out-of-round race); point balls with viscous drag only")
     return dict(race_out_of_roundness=eps,
                 race_lobes=t.integer("race_lobes", minimum=2, default=2),

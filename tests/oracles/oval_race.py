@@ -31,7 +31,11 @@ psi_1..psi_n)::
     M_S K'' + sum m_j u_j psi_j'' = -c K - d K' - M e (phi'' T_b - phi'^2 E_b) - sum m_j h_j
     m_j u_j . K'' + m_j |u_j|^2 psi_j'' = -m_j u_j . h_j - c_b |u_j|^2 a_j'
 
-(M_S = M + sum m_j; E_b, T_b at phi + beta).
+(M_S = M + sum m_j; E_b, T_b at phi + beta).  Contact (two balls of radius r): the centres
+P_j = rho_j E_j (from K) at d = |P_0 - P_1| < 2 r push apart with F = k (2 r - d) - c d'
+(when > 0), d' = (P_0 - P_1) . (P_0' - P_1') / d: the generalised forces F dd/dpsi_j,
+dd/dpsi_0 = (P_0 - P_1) . u_0 / d, dd/dpsi_1 = -(P_0 - P_1) . u_1 / d (internal: no force
+on K).
 """
 from __future__ import annotations
 
@@ -62,6 +66,9 @@ class OvalStand:
     eps: float = 0.02                  # relative out-of-roundness
     lobes: int = 2                     # k
     theta: float = 20.0                # deg
+    ball_radius: float = 0.0           # m, r (0: no contact; two balls)
+    contact_stiffness: float = 0.0     # N/m
+    contact_damping: float = 0.0       # N s/m
 
 
 def _programme(nodes, t):
@@ -106,6 +113,17 @@ def _rhs(t, s, p: OvalStand, nodes):
     f[:2] = (-p.stiffness * np.array([x, y]) - p.damping * np.array([vx, vy])
              - p.mass * p.eccentricity * (dW * Tb - W * W * Eb) - (m * h).sum(axis=1))
     f[2:] = -m * np.sum(u * h, axis=0) - p.drag * np.sum(u * u, axis=0) * da
+    if p.ball_radius > 0.0:     # contact: the centres' distance from their positions
+        P = rho * E                                   # from K
+        V = rho1 * da * E + rho * dpsi * T            # their velocities relative to K
+        dP = P[:, 0] - P[:, 1]
+        d = float(np.hypot(*dP))
+        if 0.0 < d < 2.0 * p.ball_radius:
+            grad = np.array([dP @ u[:, 0], -(dP @ u[:, 1])]) / d     # dd/dpsi_0, dd/dpsi_1
+            F = p.contact_stiffness * (2.0 * p.ball_radius - d) \
+                - p.contact_damping * (dP @ (V[:, 0] - V[:, 1])) / d
+            if F > 0.0:
+                f[2:] += F * grad
     acc = np.linalg.solve(A, f)
     return np.concatenate([[vx, vy], dpsi, acc])
 

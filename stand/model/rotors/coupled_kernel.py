@@ -259,7 +259,7 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         if wt[j, W_ER] != 0.0:      # eccentric race (speed programme): g_j = g_p - o''
             gjx, gjy = race_gravity(wt, j, phi, Om, dOm, gx, gy)
         if wt[j, W_EPS] != 0.0:     # out-of-round race (speed programme): weight_table.oval_push
-            oval_push(wt, j, p, a, ad, Om, dOm, c, si, gjx, gjy, buf, ofp, oC, om)
+            oval_push(wt, j, p, a, ad, Om, dOm, c, si, gjx, gjy, buf, ofp, oC, om, contact)
             continue
         ng = si * gjx - c * gjy
         Mr = H * ad + friction_moment(wt, j, y, m, l, psid, ad, c, si, gjx, gjy)
@@ -340,7 +340,8 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         if wt[j, W_ER] != 0.0:
             gjx, gjy = race_gravity(wt, j, phi, Om, dOm, gx, gy)
         if wt[j, W_EPS] != 0.0:
-            psidd = oval_accel(wt, j, y[n + j], wref * y[ns + n + j], phi, Om, dOm, apx, apy, gjx, gjy)
+            psidd = oval_accel(wt, j, y[n + j], wref * y[ns + n + j], phi, Om, dOm, apx, apy, gjx, gjy,
+                               buf[om + j])
         else:
             psidd = (ml * (buf[os_ + j] * (apx - gjx) - buf[oc + j] * (apy - gjy)) - buf[om + j]
                      + wt[j, W_JS] * dOm) / wt[j, W_J]

@@ -33,8 +33,10 @@ Ball j (a point mass m) sits at r = T_p q + rho(a) e, e = (cos, sin) psi, t = (-
     G = m |u|^2 = m (rho^2 + rho'^2)       (the generalised mass, [kg m^2]),
     r'' = T_p q'' + u psi'' + c,   c = (rho'' a'^2 - rho' phi'' - rho psi'^2) e + 2 rho' a' psi' t
 
-(c: the velocity-product and programme terms of r'').  Lagrange's equation for psi is
-Newton's projected on u, m (r'' - g_j) . u = -M_r, that is
+(c: the velocity-product and programme terms of r''; an eccentric race adds o to r and
+enters through g_j as above).  Lagrange's equation for psi, d/dt dT/dpsi' - dT/dpsi =
+m r'' . u (as dr'/dpsi' = u and d/dt u = dr'/dpsi), is Newton's projected on u,
+m (r'' - g_j) . u = -M_r, that is
 
     G psi'' = m u . (gamma - T_p q'') - M_r,     gamma = g_j - c,
 
@@ -53,8 +55,15 @@ potential V = -m Omega^2 rho^2 / 2 with the mass G(a); it rests at the maxima of
 a = theta_o + 2 pi j / k, where V'' = m Omega^2 l^2 eps k^2 (1 + eps) and G = m l^2 (1 + eps)^2:
 small oscillations at omega^2 = Omega^2 eps k^2 / (1 + eps) (tests/test_race_out_of_roundness.py).
 Point balls with viscous drag on a speed programme: a rolling ball (its spin follows the
-arc length), dry friction (its normal force), ball-ball contact (the chord of rho) and a
-free rotor (phi'' coupled) are refused (:func:`race_columns`).
+arc length), dry friction (its normal force), and a free rotor (phi'' coupled) are refused
+(:func:`race_columns`).  Ball-ball contact runs on the chord of the out-of-round race
+(:func:`oval_contact`): d^2 = rho_j^2 + rho_k^2 - 2 rho_j rho_k cos D, D = a_j - a_k,
+dd/da_j = (rho_j rho_j' - rho_j' rho_k cos D + rho_j rho_k sin D) / d,
+dd/da_k = (rho_k rho_k' - rho_j rho_k' cos D - rho_j rho_k sin D) / d,
+d' = dd/da_j a_j' + dd/da_k a_k', the moments F dd/da_j, F dd/da_k
+(no longer opposite: the push along the line of centres has a part across the race, which
+the race takes; the pair's push on the shaft stays internal).  The plane's residual
+unbalance counts each ball at its centre o + rho(a) e^{ia} (:func:`ball_offsets`).
 """
 from __future__ import annotations
 
@@ -89,6 +98,9 @@ def contact_moments(wt, y, n, ns, wref, buf, om):
         k = int(wt[j, W_NEXT])
         if k < 0:
             continue
+        if wt[j, W_EPS] != 0.0 or wt[k, W_EPS] != 0.0:     # out-of-round race: rho in the chord
+            oval_contact(wt, y, n, ns, wref, buf, om, j, k)
+            continue
         lj, lk = wt[j, W_L], wt[k, W_L]
         da = y[n + j] - y[n + k]
         d = math.sqrt(lj * lj + lk * lk - 2.0 * lj * lk * math.cos(da))
@@ -100,6 +112,25 @@ def contact_moments(wt, y, n, ns, wref, buf, om):
         if F > 0.0:
             buf[om + j] -= F * dd
             buf[om + k] += F * dd
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def oval_contact(wt, y, n, ns, wref, buf, om, j, k):
+    """Contact of neighbours j, k on an out-of-round race (module docstring) into ``buf[om:]``."""
+    aj, ak = y[n + j], y[n + k]
+    rj, r1j, _ = race_shape(wt[j, W_L], wt[j, W_EPS], wt[j, W_K], wt[j, W_PH], aj)
+    rk, r1k, _ = race_shape(wt[k, W_L], wt[k, W_EPS], wt[k, W_K], wt[k, W_PH], ak)
+    cd, sd = math.cos(aj - ak), math.sin(aj - ak)
+    d = math.sqrt(rj * rj + rk * rk - 2.0 * rj * rk * cd)
+    delta = wt[j, W_R] + wt[k, W_R] - d
+    if delta <= 0.0 or d <= 0.0:
+        return
+    gj = (rj * r1j - r1j * rk * cd + rj * rk * sd) / d      # dd/da_j, dd/da_k
+    gk = (rk * r1k - rj * r1k * cd - rj * rk * sd) / d
+    F = wt[j, W_KC] * delta - wt[j, W_CC] * wref * (gj * y[ns + n + j] + gk * y[ns + n + k])
+    if F > 0.0:
+        buf[om + j] -= F * gj
+        buf[om + k] -= F * gk
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -147,8 +178,6 @@ def race_columns(balancer, plane: str, free: bool, friction) -> list:
                "race's arc length)"
                if np.any(balancer.spin_inertia != 0.0)
                or np.any(np.asarray(balancer.inertia) != balancer.mass * balancer.radius ** 2) else
-               "ball_radius (ball-ball contact on the out-of-round race)"
-               if getattr(balancer, "ball_radius", 0.0) > 0 else
                "friction / static_friction (the normal force on the out-of-round race)"
                if friction is not None and (friction.kinetic > 0 or friction.static > 0) else "")
         if why:
@@ -192,10 +221,13 @@ def oval_row(wt, j, a, ad, Om, dOm, c, si, gjx, gjy):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def oval_push(wt, j, p, a, ad, Om, dOm, c, si, gjx, gjy, buf, ofp, oC, om):
+def oval_push(wt, j, p, a, ad, Om, dOm, c, si, gjx, gjy, buf, ofp, oC, om, contact):
     """Ball j's push on plane p (module docstring): its force into ``buf[ofp + 2 p:]``, its
-    inertia m I - (m^2 / G) u u^T into ``buf[oC + 4 p:]``, its drag moment into ``buf[om + j]``."""
+    inertia m I - (m^2 / G) u u^T into ``buf[oC + 4 p:]``, its resisting moment (drag, and the
+    contact's already in ``buf[om + j]`` when ``contact``) into ``buf[om + j]``."""
     ux, uy, G, gx, gy, Mr = oval_row(wt, j, a, ad, Om, dOm, c, si, gjx, gjy)
+    if contact:
+        Mr += buf[om + j]
     m = wt[j, W_M]
     h = m / G * (m * (ux * gx + uy * gy) - Mr)
     buf[ofp + 2 * p] += m * gx - h * ux
@@ -210,9 +242,10 @@ def oval_push(wt, j, p, a, ad, Om, dOm, c, si, gjx, gjy, buf, ofp, oC, om):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def oval_accel(wt, j, a, ad, phi, Om, dOm, apx, apy, gjx, gjy):
+def oval_accel(wt, j, a, ad, phi, Om, dOm, apx, apy, gjx, gjy, Mr):
     """psi'' [rad/s^2] of ball j on an out-of-round race: (m u . (gamma - T_p q'') - M_r) / G
-    (module docstring), the plane point's acceleration T_p q'' = (apx, apy) [m/s^2]."""
+    (module docstring), the plane point's acceleration T_p q'' = (apx, apy) [m/s^2], M_r [N m]
+    its resisting moment (:func:`oval_push`'s)."""
     c, si = math.cos(phi + a), math.sin(phi + a)
-    ux, uy, G, gx, gy, Mr = oval_row(wt, j, a, ad, Om, dOm, c, si, gjx, gjy)
+    ux, uy, G, gx, gy, _ = oval_row(wt, j, a, ad, Om, dOm, c, si, gjx, gjy)
     return (wt[j, W_M] * (ux * (gx - apx) + uy * (gy - apy)) - Mr) / G
