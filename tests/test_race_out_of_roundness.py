@@ -186,6 +186,36 @@ def test_held_shaft_ball_rests_at_a_maximum_and_oscillates_at_the_closed_form(lo
                               rel=1e-8, abs=0)
 
 
+RUNUP = (Path(__file__).resolve().parents[1] / "data_samples" / "scenes" / "ball_runup.toml").read_text()
+
+
+def test_balls_above_resonance_rest_where_their_rows_vanish():
+    """The universal stand (two balls, f0 = 3 Hz, unbalance 0.5 S) run up to 15 rev/s on a
+    race with eps = 0.001, k = 2: at steady state each ball rests on the rotor where its row
+    vanishes, u_j . (q + rho_j e_j) = 0, i.e. q . u_j = -rho_j rho_j' (q the shaft's whirl in
+    the rotor frame; the centrifugal field about the axis has no component along the race):
+    to first order in eps q . t_j = l eps k sin k(a_j - theta_o), so the balls leave a whirl of
+    order eps k l = 160 um instead of balancing (158 um measured; 1e-13 m on a round race).
+    Bound: the settling left after 26 s at 15 rev/s, 5e-11 of |q| l measured (1e-6 at 20 s);
+    asserted 1e-8."""
+    eps, lobes, theta, l = 0.001, 2, 30.0, 0.08
+    text = (RUNUP.replace("duration = 40.0", "duration = 30.0")
+            .replace("[[0.0, 0.0], [10.0, 15.0]]", "[[0.0, 0.0], [4.0, 15.0]]")
+            .replace("rtol = 1e-8", "rtol = 1e-10").replace("atol = 1e-10", "atol = 1e-12")
+            .replace("initial_angles = [150.0, 210.0]   # deg from the reference mark",
+                     f"initial_angles = [150.0, 210.0]\nrace_out_of_roundness = {eps}\n"
+                     f"race_lobes = {lobes}\nrace_out_of_roundness_angle = {theta}"))
+    run = stand.run(stand.load(text))
+    q = (run.x[-1] + 1j * run.y[-1]) * np.exp(-1j * run.rotor_angle[-1])
+    for k in run.weights:
+        a = run.weights[k]["angle"][-1] - run.rotor_angle[-1]
+        x = lobes * (a - math.radians(theta))
+        rho, rho1 = l * (1.0 + eps * math.cos(x)), -l * eps * lobes * math.sin(x)
+        u = rho1 * np.exp(1j * a) + rho * 1j * np.exp(1j * a)
+        assert abs((q * np.conj(u)).real + rho * rho1) < 1e-8 * abs(q) * l, k
+    assert 0.5 * eps * lobes * l < abs(q) < 2.0 * eps * lobes * l
+
+
 CONTACT = "ball_radius = 0.01\ncontact_stiffness = 1e4\ncontact_damping = 2.0\n"
 
 
