@@ -20,6 +20,7 @@ from stand.model.rotors.bodies import body_channels, body_initial
 from stand.model.rotors.coupled_kernel import (H_W0, W_L, W_M, W_PLANE, CoupledModel, build_model,
                                                rhs_generic, with_locked_weights)
 from stand.model.rotors.structure import LinearRotor
+from stand.model.rotors.weight_table import W_EPS, W_ER, ball_offsets
 from stand.integrate.driver import run_dop853
 from stand.integrate.result import SolverStats
 
@@ -157,6 +158,11 @@ def samples_si(model: CoupledModel, out: np.ndarray, tau: np.ndarray) -> tuple:
             if u.plane == p:
                 U += u.s * np.array([math.cos(u.angle), math.sin(u.angle)])
         for j in np.nonzero(model.wt[:, W_PLANE] == k)[0]:
+            if model.wt[j, W_ER] != 0.0 or model.wt[j, W_EPS] != 0.0:   # the race's shape
+                z = model.wt[j, W_M] * ball_offsets(model.wt, j, alpha[:, j])
+                U[:, 0] += z.real
+                U[:, 1] += z.imag
+                continue
             ml = model.wt[j, W_M] * model.wt[j, W_L]
             U[:, 0] += ml * np.cos(alpha[:, j])
             U[:, 1] += ml * np.sin(alpha[:, j])

@@ -6,9 +6,8 @@ field) or directly in code.  Units are SI everywhere here: kg, m, s, rad,
 rad/s, N/m, N*s/m, N*m*s.  Conversions from rev/s and degrees happen once, in
 the scene-file reader.
 
-The map to the book's dimensionless parameters (Filimonikhin 2004, (5.12)-(5.15);
-shared physics digest ch5 section 2.2) is :func:`stand.scene.dimensionless.dimensionless` and its inverse
-:func:`stand.scene.parse.scene_from_dimensionless`.
+The map to the book's dimensionless parameters (Filimonikhin 2004, (5.12)-(5.15); digest ch5
+section 2.2): :func:`stand.scene.dimensionless.dimensionless`, :func:`stand.scene.parse.scene_from_dimensionless`.
 """
 from __future__ import annotations
 
@@ -106,7 +105,9 @@ class Balancer:
         Balls rolling without slip (``inertia`` = 7/5 m l^2, :attr:`spin_inertia`).
     ball_radius, contact_stiffness, contact_damping, race_eccentricity, race_eccentricity_angle
         Balls only (stand.model.rotors.weight_table): contact (off when ``ball_radius`` is
-        0) r [m], k [N/m], c [N*s/m]; the race's centre off the shaft [m] at [rad].
+        0) r [m], k [N/m], c [N*s/m]; the race's centre off the shaft [m] at [rad]; its
+        radius l [1 + eps cos k (a - theta_o)]: ``race_out_of_roundness`` eps [-], ``race_lobes``
+        k, ``race_out_of_roundness_angle`` theta_o [rad].
     """
 
     type: str = "none"
@@ -122,6 +123,9 @@ class Balancer:
     contact_damping: float = 0.0
     race_eccentricity: float = 0.0
     race_eccentricity_angle: float = 0.0
+    race_out_of_roundness: float = 0.0
+    race_lobes: int = 2
+    race_out_of_roundness_angle: float = 0.0
 
     @property
     def count(self) -> int:
@@ -134,11 +138,8 @@ class Balancer:
 
     @property
     def moment_drag(self) -> np.ndarray:
-        """H_j: moment coefficient about the shaft axis [N*m*s].
-
-        Balls: H_j = c_b l_j^2 (digest ch5 section 1: the book's (5.9) mixes
-        the force and moment conventions; we use the moment one throughout).
-        """
+        """H_j: moment coefficient about the shaft axis [N*m*s]; balls: H_j = c_b l_j^2 (digest
+        ch5 section 1: the book's (5.9) mixes the force and moment conventions; the moment one)."""
         if self.type == "balls":
             return self.drag * self.radius ** 2
         return np.asarray(self.drag, dtype=float)
@@ -496,10 +497,9 @@ class Scene:
                        + ")")
         if self.friction is not None:
             why.append("dry friction of the balancer's weights")
-        if self.balancer.ball_radius > 0:
-            why.append("ball-ball contact")
-        if self.balancer.race_eccentricity > 0:
-            why.append("race eccentricity")
+        why += [what for key, what in (("ball_radius", "ball-ball contact"), ("race_eccentricity",
+                "race eccentricity"), ("race_out_of_roundness", "race out-of-roundness"))
+                if getattr(self.balancer, key) > 0]
         return " and ".join(why)
 
     @property

@@ -110,8 +110,9 @@ def parse_scene(data: Mapping, text: str = "") -> Scene:
     if balancer.ball_radius > 0:
         _generic_kernel_limits("balancer.ball_radius (ball-ball contact)", drive, perturbations,
                                torque=True)
-    if balancer.race_eccentricity > 0:
-        _generic_kernel_limits("balancer.race_eccentricity", drive, perturbations, torque=False)
+    for key in ("race_eccentricity", "race_out_of_roundness"):
+        if getattr(balancer, key) > 0:
+            _generic_kernel_limits(f"balancer.{key}", drive, perturbations, torque=False)
     return check_derived(Scene(rotor=rotor, supports=supports, balancer=balancer, drive=drive,
                                run=run, initial=initial, name=name, text=text,
                                instruments=instruments, perturbations=perturbations,

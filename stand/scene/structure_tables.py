@@ -220,6 +220,12 @@ def parse_family_scene(data: Mapping, text: str = "", stem: str = "",
     weights = weight_tables(data.get("weights", []), rotor, kind)
     drive = drive_table(_Table(data["drive"], "drive"), 1.0, structure=True)
     if drive.kind == "torque":
+        for w in weights:       # the race's kinematics need phi'' known (model.rotors.weight_table)
+            for key, unit in (("race_eccentricity", "m"), ("race_out_of_roundness", "dimensionless")):
+                if getattr(getattr(w, "balancer", None), key, 0.0) > 0:
+                    raise SceneError(f"weights (plane {w.plane}).{key} = {getattr(w.balancer, key):g} "
+                                     f'({unit}): with a speed programme only (drive.type = "speed"), '
+                                     "not a torque drive")
         programme = np.array([[0.0, max(drive.initial_speed, drive.target_speed)]])
     else:
         programme = drive.programme

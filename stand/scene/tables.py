@@ -57,7 +57,8 @@ FRICTION_FIELDS = {
 FRICTION_KEYS = tuple(FRICTION_FIELDS)
 #: keys of the planar ``[balancer]`` and of a ball/pendulum ``[[weights]]`` table (+ ``plane``)
 CONTACT_KEYS = ("ball_radius", "contact_stiffness", "contact_damping", "race_eccentricity",
-                "race_eccentricity_angle")
+                "race_eccentricity_angle", "race_out_of_roundness", "race_lobes",
+                "race_out_of_roundness_angle")
 BALANCER_KEYS = ("type", "count", "mass", "radius", "drag", "inertia",
                  "initial_angles", "initial_speeds") + FRICTION_KEYS + ("rolling",) + CONTACT_KEYS
 SPEED_KEYS = ("type", "programme", "programme_dimensionless", "coast_down", "rotor_drag")
@@ -181,7 +182,8 @@ def balancer_table(t: _Table) -> Balancer:
                    contact_damping=t.number("contact_damping", "N*s/m", 0.0, ge=0),
                    race_eccentricity=t.number("race_eccentricity", "m", 0.0, ge=0),
                    race_eccentricity_angle=_angle(t.name("race_eccentricity_angle"),
-                                                  t.data.get("race_eccentricity_angle", 0.0)))
+                                                  t.data.get("race_eccentricity_angle", 0.0)),
+                   **_out_of_roundness(t, bool(rolling)))
     n = t.integer("count", minimum=1, maximum=MAX_WEIGHTS)
     count_key = t.name("count")
     m = t.per_weight("mass", n, count_key, "kg", gt=0)
@@ -211,6 +213,29 @@ def balancer_table(t: _Table) -> Balancer:
     speeds = t.per_weight("initial_speeds", n, count_key, "rev/s", 0.0)
     return Balancer(type=kind, mass=m, radius=l, drag=drag, inertia=np.asarray(J, float),
                     initial_angles=angles, initial_speeds=speeds * TWO_PI, rolling=bool(rolling), **contact)
+
+
+def _out_of_roundness(t: _Table, rolling: bool) -> dict:
+    """The race's out-of-roundness of a ball table: radius l [1 + eps cos k (a - theta_o)]
+    (stand.model.rotors.weight_table); point balls with viscous drag (and contact) only."""
+    key = "race_out_of_roundness"
+    if key not in t:
+        for k in ("race_lobes", "race_out_of_roundness_angle"):
+            if k in t:
+                raise SceneError(f"{t.name(k)} = {_fmt(t.data[k])}: needs {t.name(key)} "
+                                 "(dimensionless, the race's relative out-of-roundness eps)")
+    eps = t.number(key, "dimensionless, relative out-of-roundness of the race", 0.0, ge=0, lt=0.2)
+    if eps > 0:
+        other = ([t.name("rolling") + " = true"] if rolling else []) + \
+            [t.name(k) for k in FRICTION_KEYS if k in t]
+        if other:
+            raise SceneError(f"{t.name(key)} = {_fmt(eps)} (dimensionless) with {other[0]}: not "
+                             "modelled together (a rolling ball's spin and the friction's normal "
+                             "force on an out-of-round race); point balls with viscous drag only")
+    return dict(race_out_of_roundness=eps,
+                race_lobes=t.integer("race_lobes", minimum=2, default=2),
+                race_out_of_roundness_angle=_angle(t.name("race_out_of_roundness_angle"),
+                                                   t.data.get("race_out_of_roundness_angle", 0.0)))
 
 
 def friction_table(t: _Table) -> Optional[Friction]:

@@ -83,6 +83,16 @@ def _friction_notes(scene) -> list:
                        "theory; above the critical speed the balls hold the race's centre on the "
                        f"axis, a residual whirl of {b.race_eccentricity:g} m "
                        "(stand.model.rotors.weight_table)")
+        if getattr(b, "race_out_of_roundness", 0.0) > 0:
+            out.append(f"race out-of-roundness of {where} (eps = {b.race_out_of_roundness:g}, "
+                       f"{b.race_lobes} lobes): outside the theory, whose race is a circle; the "
+                       "race's radius l [1 + eps cos k (a - theta_o)] pulls each ball towards its "
+                       "widest points (a = theta_o + 2 pi j / k, potential -m Omega^2 rho^2 / 2 on the "
+                       "rotor): above the critical speed each ball rests where q . u_j = "
+                       "-rho rho' (q the whirl), so the balls leave a residual whirl of order "
+                       f"eps k l = {b.race_out_of_roundness * b.race_lobes * float(max(b.radius)):.3g} m "
+                       "instead of balancing, or stay at a widest point when that exceeds the "
+                       "unbalance's own whirl (stand.model.rotors.weight_table)")
         if f is None or not (f.kinetic > 0 or f.static > 0):
             continue
         mu_l = max(f.kinetic, 0.0) * float(max(w.balancer.radius))

@@ -18,4 +18,7 @@ book_ode
 gravity_pair, damper, two_axis
     The book's own equations of ch. 7.1, 7.2 and 6 (fixed and rotating frames; the
     two-axis pendulum also in a QP motion's frame and with a run-up).
+oval_race
+    Balls on an out-of-round race (``race_out_of_roundness``): the Lagrangian over the
+    balls' absolute angles, written without the stand (tests/test_race_out_of_roundness.py).
 """

@@ -36,8 +36,9 @@ rotor, the spin row ``+ J_s (phi'' - psi_j'')`` -- with psi_j'' eliminated, the 
 ``b`` and row ``gamma`` below gain ``-(m_j l_j J_s / J_j) n_j``, J_p gains
 ``J_s (1 - J_s / J_j)`` and the right side ``-(J_s / J_j)(m_j l_j n_j . g_p + M_r,j)``.
 
-**Ball-ball contact**: :mod:`stand.model.rotors.weight_table` (internal moments between
-neighbouring balls of a race, beside their drag).
+**Ball-ball contact**, **race eccentricity** and **out-of-roundness**: :mod:`stand.model.rotors.weight_table`
+(internal moments between neighbouring balls of a race, beside their drag; the race's
+kinematics: an out-of-round race's ball has its own row and push, ``oval_push``, ``oval_accel``).
 
 **Torque drive** (the rotor angle phi and speed Omega = phi' are states, the last two
 of ``y``; header flag ``H_FREE`` = index of phi, 0 for a speed programme, whose path is
@@ -94,8 +95,9 @@ from stand.model.rotors.bodies_kernel import (B_H1, B_H2, B_KIND, B_OFF, B_PLANE
 from stand.model.rotors.coupled_solve import (matrix_kind, plane_parts, rotor_forces, row_ranges,
                                              solve_general, solve_planes, t_dot)
 from stand.model.rotors.structure import LinearRotor
-from stand.model.rotors.weight_table import (N_WCOL, W_H, W_J, W_JS, W_L, W_M, W_MUK, W_MUS, W_NEXT,
-                                           W_ER, W_PLANE, W_TD, W_TR, W_VS, W_Z, contact_moments,
+from stand.model.rotors.weight_table import (N_WCOL, W_EPS, W_ER, W_H, W_J, W_JS, W_L, W_M, W_MUK,
+                                           W_NEXT, W_PLANE, W_TD, W_TR, W_VS, W_Z, contact_moments,
+                                           friction_moment, oval_accel, oval_push, race_columns,
                                            race_gravity)
 
 __all__ = ["CoupledModel", "build_model", "rhs_generic", "scratch_size",
@@ -134,23 +136,6 @@ def with_locked_weights(rotor: LinearRotor, weights: Sequence,
     for b in bodies:
         M += b.mass * (rotor.force_map(b.plane).T @ rotor.planes[b.plane])
     return dataclasses.replace(rotor, M=M)
-
-
-@njit(cache=True, error_model="numpy", _nrt=False)
-def _friction_moment(wt, j, y, m, l, psid, ad, c, si, gx, gy):
-    """Regularised Coulomb moment [N m] on weight j (stand.model.balancers.friction)."""
-    muk = wt[j, W_MUK]
-    if muk <= 0.0 and wt[j, W_MUS] <= 0.0:
-        return 0.0
-    mu = muk
-    iz = int(wt[j, W_Z])
-    if iz >= 0:
-        mu = muk + (wt[j, W_MUS] - muk) * y[iz]
-    N = m * (l * psid * psid + c * gx + si * gy)
-    if N < 0.0:
-        N = 0.0
-    x = ad / wt[j, W_VS]
-    return mu * N * l * x / math.sqrt(1.0 + x * x)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -273,8 +258,11 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         gjx, gjy = gx, gy
         if wt[j, W_ER] != 0.0:      # eccentric race (speed programme): g_j = g_p - o''
             gjx, gjy = race_gravity(wt, j, phi, Om, dOm, gx, gy)
+        if wt[j, W_EPS] != 0.0:     # out-of-round race (speed programme): weight_table.oval_push
+            oval_push(wt, j, p, a, ad, Om, dOm, c, si, gjx, gjy, buf, ofp, oC, om, contact)
+            continue
         ng = si * gjx - c * gjy
-        Mr = H * ad + _friction_moment(wt, j, y, m, l, psid, ad, c, si, gjx, gjy)
+        Mr = H * ad + friction_moment(wt, j, y, m, l, psid, ad, c, si, gjx, gjy)
         if contact:
             Mr += buf[om + j]
         buf[oc + j], buf[os_ + j], buf[om + j] = c, si, Mr
@@ -351,8 +339,12 @@ def rhs_generic(tau, y, dy, sp, wt, prog):
         gjx, gjy = gx, gy
         if wt[j, W_ER] != 0.0:
             gjx, gjy = race_gravity(wt, j, phi, Om, dOm, gx, gy)
-        psidd = (ml * (buf[os_ + j] * (apx - gjx) - buf[oc + j] * (apy - gjy)) - buf[om + j]
-                 + wt[j, W_JS] * dOm) / wt[j, W_J]
+        if wt[j, W_EPS] != 0.0:
+            psidd = oval_accel(wt, j, y[n + j], wref * y[ns + n + j], phi, Om, dOm, apx, apy, gjx, gjy,
+                               buf[om + j])
+        else:
+            psidd = (ml * (buf[os_ + j] * (apx - gjx) - buf[oc + j] * (apy - gjy)) - buf[om + j]
+                     + wt[j, W_JS] * dOm) / wt[j, W_J]
         dy[n + j] = y[ns + n + j]
         dy[ns + n + j] = (psidd - dOm) / (wref * wref)
         iz = int(wt[j, W_Z])
@@ -518,10 +510,7 @@ def build_model(rotor: LinearRotor, weights: Sequence, programme,
         H = b.moment_drag
         Js = getattr(b, "spin_inertia", np.zeros(b.count))
         r_ball = float(getattr(b, "ball_radius", 0.0))
-        er = float(getattr(b, "race_eccentricity", 0.0))
-        if er and drive is not None:
-            raise ValueError(f"weights[{w.plane}].race_eccentricity = {er!r} m: with a speed "
-                             f"programme only (a free rotor's phi'' is not coupled to the race)")
+        race = race_columns(b, w.plane, drive is not None, w.friction)
         if r_ball > 0.0:        # neighbours in the race, in the order of the initial angles
             order = len(rows) + np.argsort(np.mod(b.initial_angles, 2.0 * math.pi), kind="stable")
             nxt.update(zip(order[:-1], order[1:]))
@@ -534,7 +523,7 @@ def build_model(rotor: LinearRotor, weights: Sequence, programme,
             J = _positive(f"weights[{w.plane}].inertia[{k}]", b.inertia[k], "kg m^2")
             row = [p, m, l, J, float(H[k]), 0.0, 0.0, 1.0, 1.0, 1.0, -1.0, float(Js[k]),
                    r_ball, getattr(b, "contact_stiffness", 0.0), getattr(b, "contact_damping", 0.0),
-                   -1.0, er, getattr(b, "race_eccentricity_angle", 0.0)]
+                   -1.0] + race
             if fr is not None:
                 row[W_MUK:W_TR + 1] = [fr.kinetic, fr.static, fr.slip_speed, fr.dwell_time,
                                        fr.release_time]
