@@ -209,6 +209,35 @@ def _mixins_class():
             os.replace(tmp_listing, listing)
             return [str(d / n) for n in names]
 
+        #: the exports only call functions numba has compiled and optimised already (a
+        #: model kind's DOP853 loop and right-hand side, linked from numba's JIT library):
+        #: the module's code is generated from their optimised IR as it is, not run through
+        #: LLVM's module optimisation once more (4 s of a planar build; the same machine
+        #: code as the JIT's, the wrappers a call instead of inlined); an extra compiles its
+        #: own code here, which needs the optimisation (False)
+        linked_only = False
+
+        def _compile_object_files(self, build_dir):
+            if not self.linked_only:
+                return CC._compile_object_files(self, build_dir)
+            from numba.core import codegen
+            from numba.pycc import cc as cc_module
+
+            class Linked(codegen.AOTCodeLibrary):
+                def _optimize_final_module(self):
+                    pass     # function passes ran as each part was added
+
+            class Compiler(cc_module.ModuleCompiler):
+                def __init__(self, *args, **kwargs):
+                    super().__init__(*args, **kwargs)
+                    self.context.codegen()._library_class = Linked   # this module's only
+
+            saved, cc_module.ModuleCompiler = cc_module.ModuleCompiler, Compiler
+            try:
+                return CC._compile_object_files(self, build_dir)
+            finally:
+                cc_module.ModuleCompiler = saved
+
         def _compile_mixins(self, build_dir):
             if getattr(self, "_thread", None) is None:
                 return self._cached_mixins()
@@ -299,6 +328,7 @@ def _build(kind, numba, out):
         cc.output_dir = tmp
         cc.target_cpu = "host"
         cc.verbose = False
+        cc.linked_only = not is_extra(kind)
         for export, (sig, f) in exports.items():
             cc.export(export, sig)(f)
         cc.start_mixins()
