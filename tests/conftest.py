@@ -56,10 +56,10 @@ def _warmup_items() -> list:
     background build of it)."""
     from stand.model.kernels import KIND_NAMES
 
-    costs = {0: 35.0, 1: 60.0}          # planar, generic; another kind: as the generic one
+    costs = {0: 34.0, 1: 53.0}          # planar, generic; another kind: as the generic one
     return ([(_KIND.format(k=k), costs.get(k, 60.0)) for k in sorted(KIND_NAMES)]
-            + [("from vision.blur import warm; warm()", 33.0),
-               ("from dsp._line_kernel import warm; warm()", 25.0), (_RENDER, 12.0)])
+            + [("from vision.blur import warm; warm()", 29.0),
+               ("from dsp._line_kernel import warm; warm()", 28.0), (_RENDER, 11.0)])
 
 
 def _lanes(items, n: int) -> list:
