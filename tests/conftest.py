@@ -2,7 +2,7 @@
 
 * Compile ahead, once, before the test processes start: every model kind's kernels
   (numba's cache and the precompiled modules), the screen renderer, the blurred-spot and
-  line fits, one process each, as many at a time as there are cores, so that
+  line fits, in as many processes (lanes of about equal cost) as there are cores, so that
   pytest-xdist's workers load them instead of each compiling the same kernels.
 * The full sweeps and calibrations are marked ``full`` and left out by default
   (pyproject ``addopts``); ``pytest -m full`` runs them (benchmarks/README.md).
@@ -13,7 +13,6 @@
 import os
 import subprocess
 import sys
-import time
 
 # One BLAS thread per test process, as the command line has (stand/cli/main.py), set before
 # any test module imports numpy: pytest-xdist's parallelism is processes and the tests'
@@ -43,28 +42,49 @@ def pytest_terminal_summary(terminalreporter):
                     terminalreporter.write_line(line)
 
 
+#: the warm-up's items: (code, CPU seconds it takes from a cold cache, measured 2026-11-29 on
+#: a loaded 2-core machine by benchmarks/bench_cold_warmup.py --items: the lanes' balance)
+_KIND = "from stand.api.warmup import warmup; warmup(kinds=[{k}], say=lambda s: None)"
+_RENDER = ("from stand.integrate import precompiled\n"
+           "try: precompiled.build('stand.instruments.render:render_frame')\n"
+           "except Exception: pass   # no C compiler: numba's JIT on first use")
+
+
+def _warmup_items() -> list:
+    """(code, cost) of every item: each model kind's kernels, the blurred-spot fit, the line
+    fit, the screen renderer (else each worker JIT-compiles it and the command line starts a
+    background build of it)."""
+    from stand.model.kernels import KIND_NAMES
+
+    costs = {0: 34.0, 1: 53.0}          # planar, generic; another kind: as the generic one
+    return ([(_KIND.format(k=k), costs.get(k, 60.0)) for k in sorted(KIND_NAMES)]
+            + [("from vision.blur import warm; warm()", 29.0),
+               ("from dsp._line_kernel import warm; warm()", 28.0), (_RENDER, 11.0)])
+
+
+def _lanes(items, n: int) -> list:
+    """The items in ``n`` lanes of about equal cost (longest first, each to the lane with the
+    least so far): one process per lane runs its items one after the other, so that numba is
+    imported, and its own helpers compiled, once per lane instead of once per item."""
+    lanes = [[0.0, []] for _ in range(max(1, n))]
+    for code, cost in sorted(items, key=lambda it: -it[1]):
+        lane = min(lanes, key=lambda ln: ln[0])
+        lane[0] += cost
+        lane[1].append(code)
+    return [codes for _, codes in lanes if codes]
+
+
 def pytest_configure(config):
     if hasattr(config, "workerinput"):   # an xdist worker: the controller compiled already
         return
-    import os
-
-    from stand.model.kernels import KIND_NAMES
-
-    kind = "from stand.api.warmup import warmup; warmup(kinds=[{k}], say=lambda s: None)"
-    # longest first (CPU seconds from a cold cache, 2026-11-29, benchmarks/README.md): the
-    # generic kind, the planar kind, the blurred-spot fit, the line fit, the screen renderer
-    # (else each worker JIT-compiles it and the command line starts a background build of it)
-    codes = [kind.format(k=k) for k in sorted(KIND_NAMES, reverse=True)]
-    codes += ["from vision.blur import warm; warm()", "from dsp._line_kernel import warm; warm()",
-              "from stand.integrate import precompiled\n"
-              "try: precompiled.build('stand.instruments.render:render_frame')\n"
-              "except Exception: pass   # no C compiler: numba's JIT on first use"]
-    # as many at a time as there are cores: no faster with more, and each holds ~0.8 GB
-    at_once, running = max(1, os.cpu_count() or 1), []
-    for code in codes:
-        while len(running) >= at_once:
-            running = [p for p in running if p.poll() is None]
-            time.sleep(0.05)
-        running.append(subprocess.Popen([sys.executable, "-c", code]))
+    # as many lanes as there are cores: no faster with more, and each holds ~0.8 GB; a failed
+    # item is reported and the lane goes on (the tests then compile what they need)
+    running = []
+    for codes in _lanes(_warmup_items(), os.cpu_count() or 1):
+        lane = ("import traceback\n"
+                f"for code in {codes!r}:\n"
+                "    try:\n        exec(code, {})\n"
+                "    except Exception:\n        traceback.print_exc()\n")
+        running.append(subprocess.Popen([sys.executable, "-c", lane]))
     for p in running:
         p.wait()

@@ -351,9 +351,9 @@ def test_kernel_set_takes_any_array_layout(mode, monkeypatch):
     assert np.all(np.isfinite(J)) and np.any(J != 0)
     if mode == "jit":
         from stand.integrate.jacobian import jac_fd
-        from stand.model.kernels import evaluate
+        from stand.model.kernels import kernel_of
 
-        layouts = {getattr(a, "layout", None) for f in (evaluate, jac_fd) for sig in f.signatures
+        layouts = {getattr(a, "layout", None) for f in (kernel_of(0), jac_fd) for sig in f.signatures
                    for a in sig} - {None}
         assert layouts == {"C"}, layouts
 

@@ -319,12 +319,8 @@ def _lm(patch, pi, pj, clipped, level, sat_eff, p, cost, JTJ, g, MJ, free, size,
     linear model's): one evaluation of ~6 saved per fit; the matrices (the covariance, the
     score test) stay those of the point one step before (stds within a few %)."""
     lam = 1e-3
-    q = np.empty(NP)
-    A = np.empty((NP, NP))
-    rhs = np.empty(NP)
-    nJ = np.empty((NP, NP))
-    ng = np.empty(NP)
-    nM = np.empty((NP, NP))
+    q, rhs, ng = np.empty(NP), np.empty(NP), np.empty(NP)
+    A, nJ, nM = np.empty((NP, NP)), np.empty((NP, NP)), np.empty((NP, NP))
     it = 0
     converged = False
     while it < max_iter:
@@ -357,7 +353,7 @@ def _lm(patch, pi, pj, clipped, level, sat_eff, p, cost, JTJ, g, MJ, free, size,
                         if free[b]:
                             gain -= da * JTJ[a, b] * (q[b] - p[b])
             if 0.0 <= gain <= tol[1] * (cost - gain):
-                p[:] = q
+                _copy(p, q)
                 cost -= gain
                 converged = True
                 break
@@ -366,10 +362,10 @@ def _lm(patch, pi, pj, clipped, level, sat_eff, p, cost, JTJ, g, MJ, free, size,
         moved = math.sqrt((q[0] - p[0]) ** 2 + (q[1] - p[1]) ** 2)
         if new_cost <= cost:
             gain = cost - new_cost
-            p[:] = q
-            JTJ[:, :] = nJ
-            g[:] = ng
-            MJ[:, :] = nM
+            _copy(p, q)
+            _copy(JTJ, nJ)
+            _copy(g, ng)
+            _copy(MJ, nM)
             cost = new_cost
             lam = max(lam / 5.0, 1e-9)
             if moved < tol[0] and gain <= tol[1] * cost:
@@ -381,6 +377,14 @@ def _lm(patch, pi, pj, clipped, level, sat_eff, p, cost, JTJ, g, MJ, free, size,
                 converged = moved < tol[0]     # no better point nearby: at the minimum
                 break
     return cost, it, converged
+
+
+def _copy(dst, src):
+    """``dst[...] = src`` for C-contiguous arrays of one size, by a loop (a slice assignment
+    makes numba compile its shape-mismatch message: seconds of string code)."""
+    d, s = dst.reshape(dst.size), src.reshape(src.size)
+    for i in range(d.size):
+        d[i] = s[i]
 
 
 def _cholesky_solve(A, B):
@@ -518,17 +522,13 @@ def fit_loops(patch, pi, pj, clipped, level, sat_eff, starts, size, c, tol, max_
     -------
     p (9,), cost, (var m_u, var m_v) unscaled, free (bool 9), iterations, converged
     """
-    JTJ = np.empty((NP, NP))
-    g = np.empty(NP)
-    MJ = np.empty((NP, NP))
-    p = np.empty(NP)
+    JTJ, MJ = np.empty((NP, NP)), np.empty((NP, NP))
+    g, p, q = np.empty(NP), np.empty(NP), np.empty(NP)
     cost = np.inf
-    q = np.empty(NP)
     many = starts.shape[0] > 1      # then the costs alone, the matrices at the best start
     for k in range(starts.shape[0]):
-        q[:] = starts[k]
-        q[5] = 0.0
-        q[6] = 0.0
+        for a in range(NP):
+            q[a] = starts[k, a] if a != 5 and a != 6 else 0.0
         if many:
             n = n_points(math.sqrt(q[2] * q[2] + q[3] * q[3]), math.exp(q[8]), c[0], c[3])
             ck = _EVALUATE(patch, pi, pj, clipped, level, sat_eff, q, n, n < 0, n < 0, JTJ, g,
@@ -537,7 +537,7 @@ def fit_loops(patch, pi, pj, clipped, level, sat_eff, starts, size, c, tol, max_
             ck = _evaluate(patch, pi, pj, clipped, level, sat_eff, q, c, JTJ, g, MJ)
         if ck < cost or k == 0:
             cost = ck
-            p[:] = q
+            _copy(p, q)
     if many:
         cost = _evaluate(patch, pi, pj, clipped, level, sat_eff, p, c, JTJ, g, MJ)
     free = np.ones(NP, np.bool_)
@@ -554,9 +554,8 @@ def fit_loops(patch, pi, pj, clipped, level, sat_eff, starts, size, c, tol, max_
     return p, cost, _centre_cov(JTJ, MJ, free), free, it, converged
 
 
-_PY.update({name: globals()[name] for name in ("path", "n_points", "_bound", "_evaluate",
-                                                 "_cholesky_solve", "_lm", "_score",
-                                                 "_centre_cov")})
+_PY.update({name: globals()[name] for name in ("path", "n_points", "_bound", "_evaluate", "_copy",
+                                                 "_cholesky_solve", "_lm", "_score", "_centre_cov")})
 
 
 _compiled_fit = None    # None: not tried yet; False: unavailable; else the dispatcher
@@ -576,8 +575,8 @@ def compiled_fit():
             jit = numba.njit(cache=True, error_model="numpy", nogil=True)
             mod = globals()
             mod["_EVALUATE"] = kern
-            for name in ("n_points", "_bound", "_evaluate", "_cholesky_solve", "_lm", "_score",
-                         "_centre_cov"):
+            for name in ("n_points", "_bound", "_evaluate", "_copy", "_cholesky_solve", "_lm",
+                         "_score", "_centre_cov"):
                 mod[name] = jit(mod[name])
             # nogil: a read-ahead thread decodes the next frames meanwhile (vision.io)
             _compiled_fit = numba.njit(cache=True, error_model="numpy", nogil=True)(fit_loops)

@@ -24,13 +24,13 @@ from stand.model.kernels import KIND_NAMES, PLANAR
 def _jit_extras(kind: int) -> None:
     """Compile (or load) the RK4 loop (planar only) and the finite-difference Jacobian of
     ``kind`` for the argument types the stand passes (C-contiguous float64 arrays, Python
-    floats and ints)."""
+    floats and ints).  (The right-hand side's entry point for calls from Python is the
+    kind's function itself, compiled with the DOP853 loop: :mod:`stand.integrate.kernel_set`.)"""
     numba = _jit.import_numba()
     from numba import typeof, types
 
     from stand.integrate.jacobian import jac_fd
     from stand.integrate.rk4 import rk4_loop
-    from stand.model.kernels import evaluate
 
     lit = types.literal(kind)
     a1, a2 = typeof(np.zeros(1)), typeof(np.zeros((1, 1)))
@@ -38,7 +38,6 @@ def _jit_extras(kind: int) -> None:
     if kind == PLANAR:   # RK4 error reports take planar scenes only (stand.integrate.accuracy)
         rk4_loop.compile((lit, a1, a2, a2, a1, f8, i8, i8, a2))
     jac_fd.compile((lit, f8, a1, a1, a1, a2, a2, a2))
-    evaluate.compile((lit, f8, a1, a1, a1, a2, a2))
     del numba
 
 

@@ -174,11 +174,14 @@ def _wrap_precompiled(kind: int, mod) -> KernelSet:
 def _entry_points(kind: int, jacobian_only: bool = False):
     """numba's compiled entry points of kind ``kind`` (loaded from numba's cache or compiled):
     calling them skips numba's type dispatch, which for a kernel that asks for a literal
-    kind costs milliseconds per call (a typing attempt, then the literal retry)."""
+    kind costs milliseconds per call (a typing attempt, then the literal retry).  The
+    right-hand side's entry point is the kind's function itself, with the argument types the
+    DOP853 loop calls it with: compiled with the loop, no function of its own around it
+    (:func:`stand.model.kernels.evaluate` would emit the whole right-hand side again)."""
     numba = _jit.import_numba()
     from numba import typeof, types
 
-    from stand.model.kernels import evaluate
+    from stand.model.kernels import kernel_of
     from stand.integrate.dop853 import dop853_loop
     from stand.integrate.jacobian import jac_fd
 
@@ -191,9 +194,10 @@ def _entry_points(kind: int, jacobian_only: bool = False):
         return jac()
     loop = dop853_loop.compile((lit, a1, a2, a2, f8, a1, a1, f8, f8, f8, f8, a1, f8, a1, i8, a2,
                                 i1, i8, f8, a2))
-    ev = evaluate.compile((lit, f8, a1, a1, a1, a2, a2))
+    rhs = kernel_of(kind)
+    ev = getattr(rhs, "dispatcher", rhs).compile((f8, a1, a1, a1, a2, a2))
     del numba
-    return _with_workspace(loop, kind), partial(ev, kind), jac
+    return _with_workspace(loop, kind), ev, jac
 
 
 def _with_workspace(loop, kind):

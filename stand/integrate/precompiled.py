@@ -147,14 +147,29 @@ def available() -> str | None:
     return None
 
 
+#: the name numba's module mixin (``modulemixin.c``) is compiled under, the same for every
+#: module: its only name-dependent symbol is the init function the module's code calls
+#: (``pycc_init_<name>``), which each module is told to call under this name instead
+_MIXIN_NAME = "_stand_mixins"
+
+
 def _mixins_class():
-    """``numba.pycc.CC`` whose C helper objects (numba's helper library: the same for every
-    kernel) are compiled once per numba version into the cache folder, in a thread that
+    """``numba.pycc.CC`` whose C helper objects (numba's helper library and module mixin: the
+    same for every kernel, :data:`_MIXIN_NAME`) are compiled once per numba version into the
+    cache folder (one process at a time; the others wait and reuse them), in a thread that
     runs while numba compiles the kernels (the C compiler is a separate process: the two
     use both cores)."""
     from numba.pycc import CC
 
     class MixinsAhead(CC):
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **kwargs)
+            self._init_function = "pycc_init_" + _MIXIN_NAME   # what modulemixin.o defines
+
+        def _get_mixin_defines(self):
+            return [(k, _MIXIN_NAME if k == "PYCC_MODULE_NAME" else v)
+                    for k, v in CC._get_mixin_defines(self)]
+
         def start_mixins(self):
             self._mixins, self._error = None, None
 
@@ -172,6 +187,12 @@ def _mixins_class():
                               + repr(self._get_mixin_defines()) + _cpu()).encode()).hexdigest()
             d = cache_dir() / f"mixins-{h[:16]}"
             listing = d / "objects.txt"
+            from stand.io.lock import file_lock
+
+            with file_lock(cache_dir() / ".mixins.lock"):   # concurrent builds: compiled once
+                return self._mixins_in(d, listing)
+
+        def _mixins_in(self, d, listing):
             if listing.exists():
                 objs = [d / ln for ln in listing.read_text().split()]
                 if all(o.exists() for o in objs):
@@ -187,6 +208,35 @@ def _mixins_class():
             tmp_listing.write_text("\n".join(names))
             os.replace(tmp_listing, listing)
             return [str(d / n) for n in names]
+
+        #: the exports only call functions numba has compiled and optimised already (a
+        #: model kind's DOP853 loop and right-hand side, linked from numba's JIT library):
+        #: the module's code is generated from their optimised IR as it is, not run through
+        #: LLVM's module optimisation once more (4 s of a planar build; the same machine
+        #: code as the JIT's, the wrappers a call instead of inlined); an extra compiles its
+        #: own code here, which needs the optimisation (False)
+        linked_only = False
+
+        def _compile_object_files(self, build_dir):
+            if not self.linked_only:
+                return CC._compile_object_files(self, build_dir)
+            from numba.core import codegen
+            from numba.pycc import cc as cc_module
+
+            class Linked(codegen.AOTCodeLibrary):
+                def _optimize_final_module(self):
+                    pass     # function passes ran as each part was added
+
+            class Compiler(cc_module.ModuleCompiler):
+                def __init__(self, *args, **kwargs):
+                    super().__init__(*args, **kwargs)
+                    self.context.codegen()._library_class = Linked   # this module's only
+
+            saved, cc_module.ModuleCompiler = cc_module.ModuleCompiler, Compiler
+            try:
+                return CC._compile_object_files(self, build_dir)
+            finally:
+                cc_module.ModuleCompiler = saved
 
         def _compile_mixins(self, build_dir):
             if getattr(self, "_thread", None) is None:
@@ -278,6 +328,7 @@ def _build(kind, numba, out):
         cc.output_dir = tmp
         cc.target_cpu = "host"
         cc.verbose = False
+        cc.linked_only = not is_extra(kind)
         for export, (sig, f) in exports.items():
             cc.export(export, sig)(f)
         cc.start_mixins()
@@ -299,12 +350,15 @@ def _build(kind, numba, out):
 
 
 def _kernel_exports(kind, np):
-    """The DOP853 loop and the right-hand side of model ``kind``: name -> (signature, function)."""
+    """The DOP853 loop and the right-hand side of model ``kind``: name -> (signature, function).
+    The right-hand side is called as the kind's function itself (not through
+    :func:`stand.model.kernels.evaluate`, whose JIT compilation would emit it once more)."""
     from stand.integrate.dop853 import WORK_ROWS, dop853_loop
-    from stand.model.kernels import evaluate
+    from stand.model.kernels import kernel_of
 
     loop = dop853_loop.dispatcher if hasattr(dop853_loop, "dispatcher") else dop853_loop
-    ev = evaluate.dispatcher if hasattr(evaluate, "dispatcher") else evaluate
+    ev = kernel_of(kind)
+    ev = getattr(ev, "dispatcher", ev)
 
     # the kind is a constant of these wrappers: numba compiles its kernels only
     def _dop853(sp, wt, prog, t, y, f, h_abs, t_end, rtol, atol, cap, max_step, ts, k_next,
@@ -314,7 +368,7 @@ def _kernel_exports(kind, np):
                     k_next, out_, stats, max_steps, limit, work)
 
     def _evaluate(t, y, dy, sp, wt, prog):
-        ev(kind, t, y, dy, sp, wt, prog)
+        ev(t, y, dy, sp, wt, prog)
 
     return {"dop853": (EXPORTS["dop853"], _dop853), "evaluate": (EXPORTS["evaluate"], _evaluate)}
 

@@ -39,7 +39,7 @@ import numpy as np
 
 from stand._jit import njit
 from stand.model.programme import (build_table, breakpoints, drive_torque_law, programme_kinematics,
-                        programme_kinematics_many, rotor_kinematics)
+                        programme_kinematics_many, rotor_kinematics, row_before)
 from stand.model.structure import PlanarStructure
 from stand.model.weights import EPS, H, KAPPA, MU, NU, RHO, weight_table
 
@@ -272,7 +272,7 @@ def unbalance_vector(tau, phi, sp, table, start):
         elif tau >= ub[nub - 1, 0]:
             ux, uy, dux, duy = ub[nub - 1, 1], ub[nub - 1, 2], 0.0, 0.0
         else:
-            i = np.searchsorted(ub[:, 0], tau, side="right") - 1
+            i = row_before(ub, tau, nub)
             dt = ub[i + 1, 0] - ub[i, 0]
             dux = (ub[i + 1, 1] - ub[i, 1]) / dt
             duy = (ub[i + 1, 2] - ub[i, 2]) / dt

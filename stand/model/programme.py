@@ -37,6 +37,22 @@ def build_table(times: np.ndarray, speeds: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True, inline="always", error_model="numpy")
+def row_before(table, tau, k):
+    """The row ``i`` with ``table[i, 0] <= tau < table[i + 1, 0]`` among the first ``k`` rows
+    of ``table`` (column 0 non-decreasing, ``table[0, 0] <= tau < table[k - 1, 0]``):
+    ``np.searchsorted(table[:k, 0], tau, "right") - 1`` written out as a bisection (numba
+    compiles numpy's generic searchsorted, about 1 s, in every cold start)."""
+    i, hi = 0, k - 1
+    while hi - i > 1:
+        mid = (i + hi) // 2
+        if table[mid, 0] <= tau:
+            i = mid
+        else:
+            hi = mid
+    return i
+
+
+@njit(cache=True, inline="always", error_model="numpy")
 def programme_kinematics(tau, prog, k):
     """(phi, R, dR/dtau) of the piecewise-linear programme made of the first ``k`` rows of
     ``prog`` at ``tau`` (a row count, not a slice: a view costs a reference count in
@@ -45,15 +61,7 @@ def programme_kinematics(tau, prog, k):
         return prog[0, 2] + prog[0, 1] * (tau - prog[0, 0]), prog[0, 1], 0.0
     if tau >= prog[k - 1, 0]:
         return prog[k - 1, 2] + prog[k - 1, 1] * (tau - prog[k - 1, 0]), prog[k - 1, 1], 0.0
-    # the row with prog[i, 0] <= tau < prog[i + 1, 0] (np.searchsorted(..., "right") - 1,
-    # written out: numba compiles numpy's generic searchsorted in 0.6 s of every cold start)
-    i, hi = 0, k - 1
-    while hi - i > 1:
-        mid = (i + hi) // 2
-        if prog[mid, 0] <= tau:
-            i = mid
-        else:
-            hi = mid
+    i = row_before(prog, tau, k)
     dt = tau - prog[i, 0]
     a = (prog[i + 1, 1] - prog[i, 1]) / (prog[i + 1, 0] - prog[i, 0])
     return prog[i, 2] + prog[i, 1] * dt + 0.5 * a * dt * dt, prog[i, 1] + a * dt, a
