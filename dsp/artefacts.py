@@ -41,11 +41,17 @@ HIGHPASS_ALLOWANCE = 0.25
 #: lead of 3 deg there; below, the fit keeps it free but it is the noise's: 0.04 of it was
 #: found beside an undeclared 40 Hz resonance on data_samples/daq/daq_runup.csv)
 HIGHPASS_MIN = 0.05
-#: a fitted resonance is taken for a sensor's only with a quality factor up to this: a mounted
-#: accelerometer's is a few to ~50; a fitted Q at the fit's clamp (1e3) is the sensor model
-#: soaking up a clean record's misfit (101 Hz, Q 1000 found on a clean TTL run-up of
-#: benchmarks/_uncertainty_lab.py, f0 then 47 sigma off)
+#: a fitted resonance's quality factor is taken up to this (a mounted accelerometer's is a few
+#: to ~50); a larger fitted Q is its lag gone into the delay, and the resonance is made exact
+#: with this Q.  (It once rejected such a resonance: 101 Hz, Q 1000 found on a clean TTL
+#: run-up of benchmarks/_uncertainty_lab.py, f0 then 47 sigma off -- the Wald test below
+#: rejects that now, and the rejection had left draw 7 of sensor-undeclared-resonance
+#: unnamed, U 26 std off)
 RESONANCE_Q_MAX = 100.0
+#: ... and each sensor part (a resonance's 1 / w_r^2, a high-pass corner) is taken only beyond
+#: this many of its own std (a 4.9 Hz high-pass 'found' with 243 of chi^2 on the
+#: daq-filter-declared run-up of benchmarks/_uncertainty_lab.py, seed 0, which has none)
+WALD_Z = 3.0
 
 
 @dataclass(frozen=True)
@@ -300,7 +306,10 @@ def sensor_checked(fit, refit, speeds_hz, channel_filter, notes: list, threshold
     response (``fit_sensor``: a second-order part, quasi-steady, and a high-pass, with the
     delay) lowers the residuals' chi^2 by more than ``threshold`` (3 sigma for its 4
     parameters) when the record has one -- a gain rising with the speed, a phase leading as
-    1 / w at low speed, neither of which the rotor makes.  That fit is then taken; a resonance
+    1 / w at low speed, neither of which the rotor makes -- and the part it names (a
+    resonance's 1 / w_r^2, a high-pass corner) lies beyond :data:`WALD_Z` of its own std (a
+    Wald test with the fit's batch-means covariance, which a misfit correlated along the
+    record does not fool as it does the chi^2 drop).  That fit is then taken; a resonance
     in it (Q >= 0.5, below 20 times the top speed) is made exact (the record refitted through
     it as a declared filter, the high-pass free again), the ± the larger of the two fits'
     (the quasi-steady one's holds the resonance's own freedom) widened by their difference; one note names it (replacing the delay note it explains).  ``speeds_hz``
@@ -311,15 +320,25 @@ def sensor_checked(fit, refit, speeds_hz, channel_filter, notes: list, threshold
     gain = fs.samples * (fit.residual_rms_m ** 2 / fs.residual_rms_m ** 2 - 1.0)
     lo, hi = speeds_hz
     s2, s1, fh = fs.sensor
+    # each part also beyond WALD_Z of its own std (the covariance's larger of white and batch
+    # means, with the other parts and the delay free): the chi^2 drop takes the residuals
+    # for white, and a misfit that follows the speed (a keyphasor's interpolated angle)
+    # lowers it by hundreds on a record with no sensor
+    z2, zh = (v / sd if sd > 0 else 0.0 for v, sd in zip((s2, fh), fs.sensor_std[::2]))
+    # Q is sqrt(s2) / s1, but below the resonance s1 lags as the delay does (-w s1 vs -w tau):
+    # a Q above RESONANCE_Q_MAX is that lag gone into the delay (s1 at its bound 0, U 26 std
+    # off with no note on draw 7 of sensor-undeclared-resonance), taken as RESONANCE_Q_MAX; the
+    # exact refit keeps the quasi-steady lag and the delay free, its covariance their freedom
     fr, q = 1 / (2 * math.pi * math.sqrt(s2)) if s2 > 0 else math.inf, math.sqrt(s2) / s1 if s1 else 1e3
-    res = dict(resonance_hz=fr, resonance_q=q) if fr < 20 * hi and 0.5 <= q <= RESONANCE_Q_MAX else {}
+    res = (dict(resonance_hz=fr, resonance_q=min(q, RESONANCE_Q_MAX))
+           if fr < 20 * hi and q >= 0.5 and z2 > WALD_Z else {})
     # a high-pass (with the delay) is taken for one only when the phase it makes changes
     # through the record more than its mean: a constant phase is the unbalance angle's own
     # freedom (a 4.9 Hz high-pass + a -1 ms delay, +28 to +20 deg, 'found' with 258 of chi^2
     # on a clean TTL run-up of benchmarks/_uncertainty_lab.py moved the angle 22 deg)
     lead = [math.atan2(fh, f) - 2 * math.pi * f * fs.delay_s for f in (lo, hi)]
     varies = abs(lead[0] - lead[1]) >= abs(lead[0] + lead[1]) / 2
-    if not (gain > threshold and (res or (fh > HIGHPASS_MIN * lo and varies))):
+    if not (gain > threshold and (res or (fh > HIGHPASS_MIN * lo and varies and zh > WALD_Z))):
         return fit
     out = fs
     if res:
@@ -327,7 +346,8 @@ def sensor_checked(fit, refit, speeds_hz, channel_filter, notes: list, threshold
                else ChannelFilter("none", **res))
         fx = refit(channel_filter=flt, fit_delay=True, fit_sensor=True)
         out = _widened(fx, _differences(fx, fs), floor=fs)
-    shown = ChannelFilter("none", **res, highpass_hz=out.sensor[2] if out.sensor[2] > HIGHPASS_MIN * lo else 0.0)
+    fh_out = out.sensor[2] if out.sensor[2] > max(HIGHPASS_MIN * lo, WALD_Z * out.sensor_std[2]) else 0.0
+    shown = ChannelFilter("none", **res, highpass_hz=fh_out)
     if shown.highpass_hz:       # its corner comes from where the rotor's response is weakest
         out = _widened(out, _differences(out, fit, HIGHPASS_ALLOWANCE))
     h = [complex(shown.response(f) * np.exp(-2j * math.pi * f * out.delay_s)) for f in (lo, hi)]

@@ -10,6 +10,11 @@ Jacobian ``J`` (2N, P) in the same row order:
   timing, a tachometer's quantum: :class:`dsp.held_display.AngleError` modes);
 * :func:`runout_part` -- what an unmodelled 1X probe runout of known size adds;
 * :func:`std_of` -- sqrt(g' C g) of one quantity.
+
+Every (J'J)^-1 here is taken with the columns equilibrated (:func:`normal_inverse`): the
+parameters' units span many decades (a natural frequency in rad/s, a sensor's lag in ms^2,
+coefficients in m), and an unscaled pseudo-inverse cut directions that were only badly
+scaled, not undetermined -- their variance then vanished from every std.
 """
 from __future__ import annotations
 
@@ -17,7 +22,21 @@ import math
 
 import numpy as np
 
-__all__ = ["covariances", "propagated_angle", "runout_part", "std_of"]
+__all__ = ["covariances", "normal_inverse", "propagated_angle", "runout_part", "std_of"]
+
+
+def normal_inverse(J, rcond: float = 1e-13):
+    """(J'J)^-1 of a Jacobian ``J`` (M, P) whose columns are all non-zero, as
+    D (D J'J D)^+ D with D = diag(1 / |J_j|) (Jacobi column equilibration; e.g. Golub & Van
+    Loan, *Matrix Computations*, 4th ed., sec. 3.5.2, and Higham, *Accuracy and Stability of
+    Numerical Algorithms*, 2nd ed., sec. 7.3, after van der Sluis, Numer. Math. 14 (1969) 14-23): equal to (J'J)^+ in exact arithmetic when J
+    has full rank, but the pseudo-inverse's cut at ``rcond`` then drops only directions
+    that are undetermined, not those of a parameter in small units.  (Unscaled, the
+    run-up fit with a free sensor response had cond(J'J) ~ 1e24: the cut at 1e-13 removed
+    the sensor's freedom from the natural frequency's std, which came out 1e-13 Hz.)"""
+    d = 1.0 / np.linalg.norm(J, axis=0)
+    Js = J * d
+    return d[:, None] * np.linalg.pinv(Js.T @ Js, rcond=rcond, hermitian=True) * d[None, :]
 
 
 def std_of(C, i, g) -> float:
@@ -33,7 +52,7 @@ def propagated_angle(J, dr_dphi, w, t, angle_error):
     n = dr_dphi.size
     live = np.any(J != 0, axis=0)
     G = J[:n, live].T * dr_dphi.real + J[n:, live].T * dr_dphi.imag        # (P, N)
-    S = np.linalg.pinv(J[:, live].T @ J[:, live], rcond=1e-13, hermitian=True) @ (A.T @ G.T).T
+    S = normal_inverse(J[:, live]) @ (A.T @ G.T).T
     out = np.zeros((J.shape[1], J.shape[1]))
     out[np.ix_(live, live)] = S @ C @ S.T
     return out
@@ -46,7 +65,7 @@ def runout_part(J, rot, bound):
     with variance bound^2 / 2."""
     live = np.any(J != 0, axis=0)
     D = np.column_stack([np.concatenate((d.real, d.imag)) for d in (rot, 1j * rot)])
-    S = np.linalg.pinv(J[:, live].T @ J[:, live], rcond=1e-13, hermitian=True) @ (J[:, live].T @ D)
+    S = normal_inverse(J[:, live]) @ (J[:, live].T @ D)
     out = np.zeros((J.shape[1], J.shape[1]))
     out[np.ix_(live, live)] = 0.5 * bound * bound * (S @ S.T)
     return out
@@ -64,9 +83,8 @@ def covariances(J, r, n_par, blocks: int = 40, min_block: int = 16):
     """
     n = r.size
     live = np.any(J != 0, axis=0)
-    A = J[:, live].T @ J[:, live]
     try:
-        Ai = np.linalg.pinv(A, rcond=1e-13, hermitian=True)
+        Ai = normal_inverse(J[:, live])
     except np.linalg.LinAlgError:
         nan = np.full((n_par, n_par), np.nan)
         return nan, nan

@@ -79,9 +79,9 @@ class ResponseFit:
         root sum of squares of its parts.
     delay_s, delay_s_std : float
         The channels' delay behind the rotor angle [s], fitted with ``fit_delay`` (else 0).
-    sensor : tuple
+    sensor, sensor_std : tuple
         With ``fit_sensor``: the response of :func:`dsp.artefacts.sensor_response` fitted
-        (``lag_s2`` [s^2], ``lag_s`` [s], ``highpass_hz`` [Hz]); else empty.
+        (``lag_s2`` [s^2], ``lag_s`` [s], ``highpass_hz`` [Hz]) and their stds; else empty.
     """
 
     natural_frequency_hz: float
@@ -102,6 +102,7 @@ class ResponseFit:
     delay_s: float = 0.0
     delay_s_std: float = math.nan
     sensor: tuple = ()
+    sensor_std: tuple = ()
 
 
 #: Gauss-Legendre nodes and weights on [0, 1] for the forcing integral over one sample step.
@@ -429,7 +430,9 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
                        offset_m=complex(c[3]), runout_m=complex(c[4]) if runout and order == 0 else 0j, residual_rms_m=float(np.sqrt(np.mean(np.abs(r) ** 2))),
                        samples=int(n), std_parts=parts, delay_s=tau,
                        delay_s_std=(max(_std(C, m, np.array([1.0])) for C in covs)
-                                    if fit_delay else math.nan), sensor=_sensor_si(sensor))
+                                    if fit_delay else math.nan), sensor=_sensor_si(sensor),
+                       sensor_std=_sensor_si([max(_std(C, p.size - ns + k, np.array([1.0])) for C in covs)
+                                              for k in range(ns)]))
 
 
 def _sensor_si(sensor):
