@@ -79,9 +79,9 @@ class ResponseFit:
         root sum of squares of its parts.
     delay_s, delay_s_std : float
         The channels' delay behind the rotor angle [s], fitted with ``fit_delay`` (else 0).
-    sensor, sensor_std : tuple
-        With ``fit_sensor``: the response of :func:`dsp.artefacts.sensor_response` fitted
-        (``lag_s2`` [s^2], ``lag_s`` [s], ``highpass_hz`` [Hz]) and their stds; else empty.
+    sensor, sensor_std, solution : tuple
+        With ``fit_sensor``: :func:`dsp.artefacts.sensor_response` fitted (``lag_s2`` [s^2],
+        ``lag_s`` [s], ``highpass_hz`` [Hz]), their stds; the search's (scaled) solution.
     """
 
     natural_frequency_hz: float
@@ -103,6 +103,7 @@ class ResponseFit:
     delay_s_std: float = math.nan
     sensor: tuple = ()
     sensor_std: tuple = ()
+    solution: tuple = field(default=(), repr=False)
 
 
 #: Gauss-Legendre nodes and weights on [0, 1] for the forcing integral over one sample step.
@@ -203,7 +204,7 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
                            covariance=True, angle_basis=None, angle_error=None,
                            derivative: int = 0, tolerance: float = 1e-12,
                            runout_allowance_m: float = 0.0, channel_filter=None, censored=None,
-                           fit_delay: bool = False, fit_sensor: bool = False):
+                           fit_delay: bool = False, fit_sensor: bool = False, solution=None):
     """Fit omega_1, zeta, the specific unbalance and its angle to a swept record.
 
     Parameters
@@ -272,6 +273,8 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         column times the response at its own frequency): a mounted resonance lifts the
         gain as the speed grows, a high-pass leads the phase as 1 / w at low speed; the
         rotor's own response makes neither.
+    solution : tuple, optional
+        ``ResponseFit.solution`` of a call with the same arguments: the search is skipped.
 
     Returns
     -------
@@ -348,11 +351,10 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
     p0 = np.array([1.0, float(damping_guess)] + [0.0] * (fit_delay + ns))
     lo = [0.2, 1e-5] + [-50.0] * fit_delay + [0.0] * ns
     hi = [5.0, 0.7] + [50.0] * fit_delay + [1e3, 50.0, 5.0][:ns]
-    sol = least_squares(resid, p0, bounds=(lo, hi), x_scale=[0.01, 0.01] + [0.1] * (fit_delay + ns),
-                        xtol=tolerance, ftol=tolerance, gtol=tolerance)
-    w0, zeta = sol.x[0] * w_guess, float(sol.x[1])
-    tau = float(sol.x[2]) * 1e-3 if fit_delay else 0.0
-    sensor = tuple(float(v) for v in sol.x[sol.x.size - ns:]) if ns else ()
+    x = np.array(solution, float) if solution is not None else least_squares(resid, p0, bounds=(
+        lo, hi), x_scale=[0.01, 0.01] + [0.1] * (fit_delay + ns), xtol=tolerance, ftol=tolerance, gtol=tolerance).x
+    w0, zeta, tau = x[0] * w_guess, float(x[1]), float(x[2]) * 1e-3 if fit_delay else 0.0
+    sensor = tuple(float(v) for v in x[x.size - ns:]) if ns else ()
     if not (0.95 * float(np.min(np.abs(w))) <= w0 <= 1.05 * wmax):
         raise SignalError(f"natural frequency: the fit gives {w0 / TWO_PI:.4g} Hz, outside the "
                           f"record's speeds ({np.min(np.abs(w)) / TWO_PI:.4g}-{wmax / TWO_PI:.4g} "
@@ -367,7 +369,7 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
                            float(abs(c[0])), nan, float(np.angle(c[0])), nan, complex(c[3]),
                            complex(c[4]) if runout else 0j,
                            float(np.sqrt(np.sum(np.abs(r) ** 2) / n)), int(n), delay_s=tau,
-                           sensor=_sensor_si(sensor))
+                           sensor=_sensor_si(sensor), solution=tuple(x))
     # covariance of all real parameters: (w0, zeta, Re/Im of the 5 complex coefficients)
     m = 2 + 2 * c.size       # (w0, zeta, coefficients), then the delay [s] and the sensor's
 
@@ -428,7 +430,7 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
                        specific_unbalance_m=float(e), specific_unbalance_m_std=sd["e"],
                        angle_rad=float(math.atan2(q.imag, q.real)), angle_rad_std=sd["beta"],
                        offset_m=complex(c[3]), runout_m=complex(c[4]) if runout and order == 0 else 0j, residual_rms_m=float(np.sqrt(np.mean(np.abs(r) ** 2))),
-                       samples=int(n), std_parts=parts, delay_s=tau,
+                       samples=int(n), std_parts=parts, delay_s=tau, solution=tuple(x),
                        delay_s_std=(max(_std(C, m, np.array([1.0])) for C in covs)
                                     if fit_delay else math.nan), sensor=_sensor_si(sensor),
                        sensor_std=_sensor_si([max(_std(C, p.size - ns + k, np.array([1.0])) for C in covs)

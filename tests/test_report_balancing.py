@@ -274,8 +274,8 @@ def test_csv_input(runup, tmp_path):
 def test_csv_input_with_a_keyphasor(runup, tmp_path):
     """A keyphasor instead of the rotor angle, the whole record (its run-up fit: ~10 s; on
     the held part alone the quantised pulses leave no stationary stretch).  The default run
-    reads a keyphasor column of a CSV in tests/test_report_chain.py (daq/acc_runup) and
-    tests/test_lab_samples.py (acc_runup)."""
+    reads a keyphasor column of a CSV in tests/test_lab_samples.py (acc_runup: analyze and
+    report)."""
     rec = read_recording(runup["h5"])
     kp = np.zeros(rec.t.size)
     phi = np.asarray(rec.rotor_angle)

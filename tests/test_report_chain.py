@@ -76,7 +76,7 @@ def _each_analysis_once():
         identify.analyze, speedmap.scene_theory = saved
 
 
-_FULL_LAB = {"daq_runup_no_speed", "daq_runup", "daq_lab", "two_ball_runup"}
+_FULL_LAB = {"daq_runup_no_speed", "daq_runup", "daq_lab", "two_ball_runup", "acc_runup"}
 
 
 def _lab_cases():
@@ -89,9 +89,10 @@ def _lab_cases():
             stem = m.name[: -len(".map.toml")]
             table = max((t for t in tables if stem.startswith(t.stem)), key=lambda t: len(t.stem))
             # the run-up tables' analyses take 3-15 s each: the chain on a run-up table runs on
-            # acc_runup (the daq_runup run-up measured in g) by default, on the others (their
-            # analyses tested in test_lab_daq.py, test_lab_tachometer.py, test_fit_reference.py)
-            # with `-m full`
+            # acc_runup (the daq_runup run-up measured in g) by default in test_lab_samples.py
+            # (with its truth, one analysis for both), on all of them here with `-m full`
+            # (their analyses tested in test_lab_daq.py, test_lab_tachometer.py,
+            # test_fit_reference.py)
             marks = [pytest.mark.full] if stem in _FULL_LAB else []
             cases.append(pytest.param(table, m, id=f"{folder}/{stem}", marks=marks))
     for h5 in sorted((SAMPLES / "recordings").glob("*.h5")):
@@ -204,26 +205,6 @@ def test_lab_sample_same_numbers(path, rmap, capsys):
     analysis = _cli_json(capsys, "analyze", path, *opts, "--json")
     report = _cli_json(capsys, "report", path, *opts, "--json")
     assert check_same_numbers(analysis, report) > 10
-
-
-def test_acc_runup_report_states_the_1x_in_g_um_and_mm_s(capsys):
-    """The accelerometer record: the 1X in g, as displacement in µm and as ISO 20816
-    velocity in mm/s, the numbers of the analysis (not an acceleration labelled µm)."""
-    path, rmap = SAMPLES / "daq" / "acc_runup.csv", SAMPLES / "daq" / "acc_runup.map.toml"
-    report = _cli_json(capsys, "report", path, "--map", rmap, "--json")
-    vib = report["balancing_quality"]["vibration_1x"]
-    assert vib["quantity"] == "acceleration" and vib["unit"] == "g"
-    # the 1X acceleration a = w^2 d of the displacement d, in g (9.80665 m/s²)
-    w = 2 * math.pi * report["balancing_quality"]["residual_speed_hz"]
-    d = report["balancing_quality"]["response_1x_m"]
-    assert vib["peak"] == pytest.approx(w * w * d / 9.80665, rel=1e-9)
-    assert vib["velocity_rms_mm_s"] == pytest.approx(w * d / math.sqrt(2) * 1e3, rel=1e-9)
-    assert 30e-6 < d < 80e-6                      # a displacement of tens of µm, not 1.36 m
-    from stand.reports.balancing_page import vibration_rows
-
-    rows = dict(vibration_rows(report["balancing_quality"]))
-    assert any(v.endswith(" g") for v in rows.values()), rows
-    assert any(v.endswith("mm/s") for v in rows.values()), rows
 
 
 def test_bode_table_report_has_its_plots_and_identification(tmp_path):
