@@ -37,7 +37,6 @@ from .lsq import covariances as _covariances, propagated_angle as _propagated, \
     runout_part as _runout_part, std_of as _std
 
 __all__ = ["ResponseFit", "fit_unbalance_response", "fit_response_without_speed"]
-
 TWO_PI = 2.0 * math.pi
 
 
