@@ -34,6 +34,16 @@ def _score(name, what, z):
           flush=True)
 
 
+def _add_z(z: dict, fit: dict):
+    """Append the fit's z-scores against the truth (f0, zeta, U, angle 30 deg) to ``z``."""
+    from test_daq_artefacts import E, F0, ZETA
+    for k, key, tr in (("f0", "natural_frequency_hz", F0), ("zeta", "damping_ratio", ZETA),
+                       ("U", "specific_unbalance_m", E)):
+        z[k].append((fit[key] - tr) / fit[key + "_std"])
+    d = (fit["unbalance_angle_deg"] - 30.0 + 180.0) % 360.0 - 180.0
+    z["angle"].append(d / fit["unbalance_angle_deg_std"])
+
+
 def sensor(seeds):
     from dsp.artefacts import ChannelFilter
     from test_daq_artefacts import E, F0, ZETA, _identify, _record
@@ -43,11 +53,7 @@ def sensor(seeds):
     for s in range(seeds):
         t, zz, phi, w, a = _record(seed=100 + s)
         fit, _ = _identify(t, flt.apply(t, zz), phi, w, a, channel_filter=flt)
-        for k, key, tr in (("f0", "natural_frequency_hz", F0), ("zeta", "damping_ratio", ZETA),
-                           ("U", "specific_unbalance_m", E)):
-            z[k].append((fit[key] - tr) / fit[key + "_std"])
-        d = (fit["unbalance_angle_deg"] - 30.0 + 180.0) % 360.0 - 180.0
-        z["angle"].append(d / fit["unbalance_angle_deg_std"])
+        _add_z(z, fit)
     for k, v in z.items():
         _score("sensor-declared", k, v)
 
@@ -76,11 +82,7 @@ def sensor_undeclared(seeds, kind):
                   + 1j * signal.lsim(hp, zz.imag, t, X0=[x0.imag])[1])
         fit, notes = _identify(t, zf, phi, w, a)
         named += any(n.startswith("sensor:") for n in notes)
-        for k, key, tr in (("f0", "natural_frequency_hz", F0), ("zeta", "damping_ratio", ZETA),
-                           ("U", "specific_unbalance_m", E)):
-            z[k].append((fit[key] - tr) / fit[key + "_std"])
-        d = (fit["unbalance_angle_deg"] - 30.0 + 180.0) % 360.0 - 180.0
-        z["angle"].append(d / fit["unbalance_angle_deg_std"])
+        _add_z(z, fit)
     for k, v in z.items():
         _score(f"sensor-undeclared-{kind} (named {named}/{seeds})", k, v)
 

@@ -443,17 +443,8 @@ def scene_text(truth: dict, *, stiffness=1.0, damping=1.0, eccentricity=1.0,
             lines.append(f"friction = {b['friction'] * friction:.10g}")
             if b.get("slip_speed", 0.02) != 0.02:
                 lines.append(f"slip_speed = {b['slip_speed']:.10g}")
-    prog = np.asarray(truth["programme"], float)
-    lines += ["", "[drive]", 'type = "speed"',
-              "programme = [" + ", ".join(f"[{a:.10g}, {w:.10g}]" for a, w in prog) + "]",
-              "", "[run]",
-              f"duration = {duration if duration is not None else truth['duration_s']:.10g}",
-              f"sample_rate = {sample_rate if sample_rate is not None else truth['sample_rate_hz']:.10g}"]
-    if rtol is not None:
-        lines.append(f"rtol = {rtol:g}")
-    if atol is not None:
-        lines.append(f"atol = {atol:g}")
-    return "\n".join(lines) + "\n"
+    return _drive_and_run(lines, truth, duration, sample_rate, rtol, atol, lambda v: f"{v:.10g}",
+                          lambda v: f"{v:g}")
 
 
 def family_scene_text(truth: dict, *, sample_rate=None, duration=None, rtol=None, atol=None,
@@ -480,17 +471,7 @@ def family_scene_text(truth: dict, *, sample_rate=None, duration=None, rtol=None
             if b["rolling_spin_factor"] != 0.4:
                 raise ValueError("the stand's rolling balls have the spin factor 2/5 only")
             lines.append("rolling = true")
-    prog = np.asarray(truth["programme"], float)
-    lines += ["", "[drive]", 'type = "speed"',
-              "programme = [" + ", ".join(f"[{float(a)!r}, {float(w)!r}]" for a, w in prog) + "]",
-              "", "[run]",
-              f"duration = {duration if duration is not None else truth['duration_s']!r}",
-              f"sample_rate = {sample_rate if sample_rate is not None else truth['sample_rate_hz']!r}"]
-    if rtol is not None:
-        lines.append(f"rtol = {rtol!r}")
-    if atol is not None:
-        lines.append(f"atol = {atol!r}")
-    return "\n".join(lines) + "\n"
+    return _drive_and_run(lines, truth, duration, sample_rate, rtol, atol, repr, repr)
 
 
 def template_scene(truth, path, *, stiffness=1.12, damping=1.8, eccentricity=0.7,
@@ -527,3 +508,19 @@ if __name__ == "__main__":   # python tests/oracles/two_ball_record.py OUTDIR [m
     paths = write_record(rec, out / f"two_ball_mu{mu:g}.csv")
     template_scene(rec.truth(), out / f"two_ball_mu{mu:g}.template.toml")
     print(*paths, sep="\n")
+
+
+def _drive_and_run(lines, truth, duration, sample_rate, rtol, atol, num, tol) -> str:
+    """The scene's ``[drive]`` (the truth's speed programme) and ``[run]`` tables appended to
+    ``lines``, numbers written by ``num`` (tolerances by ``tol``): the whole scene text."""
+    prog = np.asarray(truth["programme"], float)
+    lines += ["", "[drive]", 'type = "speed"',
+              "programme = [" + ", ".join(f"[{num(float(a))}, {num(float(w))}]" for a, w in prog) + "]",
+              "", "[run]",
+              f"duration = {num(duration if duration is not None else truth['duration_s'])}",
+              f"sample_rate = {num(sample_rate if sample_rate is not None else truth['sample_rate_hz'])}"]
+    if rtol is not None:
+        lines.append(f"rtol = {tol(rtol)}")
+    if atol is not None:
+        lines.append(f"atol = {tol(atol)}")
+    return "\n".join(lines) + "\n"
