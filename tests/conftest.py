@@ -7,6 +7,10 @@
 * The full sweeps and calibrations are marked ``full`` and left out by default
   (pyproject ``addopts``); ``pytest -m full`` runs them (benchmarks/README.md).
 * One BLAS thread per test process (set before numpy is imported).
+* Python's bytecode caches are written, even where ``PYTHONDONTWRITEBYTECODE`` is set: else
+  every test process and every command-line subprocess compiles the sources of stand/, dsp/
+  and vision/ again, and pytest rewrites every test module's asserts again in each worker
+  (measured: collection 23 s of CPU per worker against 11 s with the caches).
 * Print the adversarial harness' table at the end of the run (tests/test_adversarial.py
   records it as a user property; this works under pytest-xdist).
 """
@@ -20,6 +24,10 @@ import sys
 # 6x its CPU (2.0 s instead of 0.32 s).  A value set in the environment is kept.
 for _v in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS", "VECLIB_MAXIMUM_THREADS"):
     os.environ.setdefault(_v, "1")
+# Bytecode caches written (module docstring): in this process (pytest's assertion rewriting
+# reads the flag when it rewrites a test module) and in its workers, lanes and subprocesses.
+sys.dont_write_bytecode = False
+os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 
 _TABLES = []
 
