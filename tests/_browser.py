@@ -61,8 +61,16 @@ _BOXES_JS = """(function (sels) {
 })(%s)"""
 
 
-def find_chromium() -> str | None:
-    """Path of a Chromium/Chrome executable on ``PATH`` (:data:`CANDIDATES`), else None."""
+def find_chromium(wait_s: float = 300.0) -> str | None:
+    """Path of a Chromium/Chrome executable on ``PATH`` (:data:`CANDIDATES`), else None.
+
+    While the file named by ``$STAND_CHROMIUM_PENDING`` exists (``.ci/run`` installs Chromium
+    in the background while the test dependencies install and the kernels compile, and
+    removes the file when the install has ended), wait for it, at most ``wait_s`` seconds."""
+    pending = os.environ.get("STAND_CHROMIUM_PENDING")
+    deadline = time.monotonic() + wait_s
+    while pending and os.path.exists(pending) and time.monotonic() < deadline:
+        time.sleep(0.5)
     for name in CANDIDATES:
         path = shutil.which(name)
         if path:
