@@ -51,7 +51,7 @@ def pytest_terminal_summary(terminalreporter):
 
 
 #: the warm-up's items: (code, CPU seconds it takes from a cold cache, measured 2026-11-29 on
-#: a loaded 2-core machine by benchmarks/bench_cold_warmup.py --items: the lanes' balance)
+#: a quiet 2-core machine (load 0.5) by benchmarks/bench_cold_warmup.py --items: the lanes' balance)
 _KIND = "from stand.api.warmup import warmup; warmup(kinds=[{k}], say=lambda s: None)"
 _RENDER = ("from stand.integrate import precompiled\n"
            "try: precompiled.build('stand.instruments.render:render_frame')\n"
@@ -64,10 +64,10 @@ def _warmup_items() -> list:
     background build of it)."""
     from stand.model.kernels import KIND_NAMES
 
-    costs = {0: 34.0, 1: 53.0}          # planar, generic; another kind: as the generic one
+    costs = {0: 28.7, 1: 51.5}          # planar, generic; another kind: as the generic one
     return ([(_KIND.format(k=k), costs.get(k, 60.0)) for k in sorted(KIND_NAMES)]
-            + [("from vision.blur import warm; warm()", 29.0),
-               ("from dsp._line_kernel import warm; warm()", 28.0), (_RENDER, 11.0)])
+            + [("from vision.blur import warm; warm()", 22.7),
+               ("from dsp._line_kernel import warm; warm()", 25.0), (_RENDER, 15.8)])
 
 
 def _lanes(items, n: int) -> list:
