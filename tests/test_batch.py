@@ -49,8 +49,11 @@ def test_errors(tmp_path):
 def test_dask_local_cluster(folder):
     from dask.distributed import LocalCluster
 
-    # one worker process: the distributed path (scheduler, a worker process, results back) at
-    # the start-up cost of one process (the pool's parallelism: test_folder_summary_in_parallel)
-    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as lc:
+    # the distributed path (scheduler address, tasks and results through the scheduler) with an
+    # in-process worker: the batch's rows pickled to and from worker processes are
+    # test_folder_summary_in_parallel's (the process pool), the executor's Dask path with a worker
+    # process is tests/test_sweep.py::test_simulate_sweep_200_points_on_dask_localcluster's; a
+    # worker process of its own here cost ~2 s of start-up
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as lc:
         df = run_batch(expand_sources(str(folder / "run*.h5")), analyze_row, scheduler=lc.scheduler_address)
     assert (df["status"] == "ok").all() and len(df) == 3

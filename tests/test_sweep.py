@@ -112,14 +112,16 @@ def test_axes_grids_random_and_ids():
 
 
 # ------------------------------------------------------------------ theory
-@pytest.mark.parametrize("num", [pytest.param(100, marks=pytest.mark.full), 20],
-                         ids=["10k points", "400 points"])
+@pytest.mark.parametrize("num", [pytest.param(100, marks=pytest.mark.full), 10],
+                         ids=["10k points", "100 points"])
 def test_theory_sweep_10k_points_under_a_minute_and_band_structure(tmp_path, num):
     """10^4 points (speed x unbalance) of the universal stand's ball balancer on the local
     pool (all cores) in < 60 s; the main/QP stability at sampled points equals
     is_stable / the QP escape speed, and the band structure of scene_theory.  The default
-    run sweeps the same map on a 20 x 20 grid (the same code paths: pool, table, maps;
-    ``-m full``: the 100 x 100 map and its time limit)."""
+    run sweeps the same map on a 10 x 10 grid (the same code paths: pool, table, maps; every
+    point checked against is_stable, 10 speeds on each of the two band lines) without a time
+    limit (the theory sweep's throughput is benchmarks/bench_sweep.py's); ``-m full``: the
+    100 x 100 map and its time limit."""
     from stand.scene.parse import load_scene, parse_scene
     from stand.sweep.spec import point_scene_dict
     from stand.theories.planar.speedmap import scene_theory
@@ -134,7 +136,8 @@ def test_theory_sweep_10k_points_under_a_minute_and_band_structure(tmp_path, num
     df = run_sweep(spec, out, progress=False)
     wall = time.perf_counter() - t0
     print(f"{n}-point theory sweep: {wall:.1f} s")
-    assert wall < 60.0
+    if num == 100:                 # the time limit of the full map only (a loaded CI machine)
+        assert wall < 60.0
     assert len(df) == n and (df["status"] == "ok").all()
     _same(read_results(out), df)
     assert list(df["point_index"]) == list(range(n))
