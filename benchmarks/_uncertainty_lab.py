@@ -78,7 +78,9 @@ def _runup(seed, fs_hz, base_seed):
     return run, rng
 
 
-def keyphasor_ttl(seed, workdir):
+def keyphasor_ttl_analysis(seed, workdir):
+    """(``stand analyze --json`` document, truth) of one ``keyphasor-ttl`` draw (the truth's
+    ``beta_deg`` from the mark drawn for it)."""
     from oracles.runup_exact import write_csv
 
     run, rng = _runup(seed, 20 * 28.0, 100)
@@ -86,7 +88,11 @@ def keyphasor_ttl(seed, workdir):
     run.kp = (np.where(np.mod(run.phi + off, TWO_PI) < math.radians(30.0), 5.0, 0.0)
               + rng.normal(0.0, 0.02, run.t.size))
     run.beta_deg = (run.beta_deg - math.degrees(off)) % 360.0
-    return _runup_z(_analyze(*write_csv(run, Path(workdir) / f"ttl{seed}.csv")), run)
+    return _analyze(*write_csv(run, Path(workdir) / f"ttl{seed}.csv")), run
+
+
+def keyphasor_ttl(seed, workdir):
+    return _runup_z(*keyphasor_ttl_analysis(seed, workdir))
 
 
 def keyphasor_ttl_steady(seed, workdir, f_hz=25.0):

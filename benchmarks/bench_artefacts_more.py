@@ -46,12 +46,12 @@ def _add_z(z: dict, fit: dict):
 
 def sensor(seeds):
     from dsp.artefacts import ChannelFilter
-    from test_daq_artefacts import E, F0, ZETA, _identify, _record
+    from test_daq_artefacts import E, F0, ZETA, T_SENSOR, _identify, _record
 
     flt = ChannelFilter("none", resonance_hz=40.0, resonance_q=5.0, highpass_hz=0.5)
     z = {k: [] for k in ("f0", "zeta", "U", "angle")}
     for s in range(seeds):
-        t, zz, phi, w, a = _record(seed=100 + s)
+        t, zz, phi, w, a = _record(seed=100 + s, duration=T_SENSOR)
         fit, _ = _identify(t, flt.apply(t, zz), phi, w, a, channel_filter=flt)
         _add_z(z, fit)
     for k, v in z.items():
@@ -65,16 +65,17 @@ def sensor_undeclared(seeds, kind):
     from scipy import signal
 
     from dsp.artefacts import ChannelFilter
-    from test_daq_artefacts import E, F0, ZETA, _identify, _record
+    from test_daq_artefacts import E, F0, ZETA, T_SENSOR, _identify, _record
 
     z = {k: [] for k in ("f0", "zeta", "U", "angle")}
     named = 0
     for s in range(seeds):
         if kind == "resonance":
-            t, zz, phi, w, a = _record(seed=100 + s)
+            t, zz, phi, w, a = _record(seed=100 + s, duration=T_SENSOR)
             zf = ChannelFilter("none", resonance_hz=40.0, resonance_q=5.0).apply(t, zz)
         else:
-            t, zz, phi, w, a = _record(seed=100 + s, noise=0.3e-6, start_hz=1.5)
+            t, zz, phi, w, a = _record(seed=100 + s, noise=0.3e-6, start_hz=1.5,
+                                            duration=T_SENSOR)
             wh = 2 * math.pi * 0.5
             x0 = zz[0] / (1j * w[0] + wh)
             hp = ([1.0, 0.0], [1.0, wh])

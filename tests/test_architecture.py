@@ -41,37 +41,35 @@ def _modules() -> dict:
 MODULE_STRING = re.compile(r"((?:stand|dsp|vision)(?:\.\w+)+)(?::[\w.]+)?")
 
 
-def _docstrings(tree) -> set:
-    """ids of the string constants that are docstrings (module, class, function)."""
-    out = set()
-    for node in ast.walk(tree):
-        if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)) and node.body:
-            first = node.body[0]
-            if isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant):
-                out.add(id(first.value))
-    return out
-
-
 def import_targets(tree, here: str, mods) -> list:
     """Dotted names a module's source imports: ``import``/``from`` statements anywhere (also inside
     functions) and string literals in code that name a module of ours exactly (``"stand.x.y"`` or
-    ``"stand.x.y:obj"``); docstrings do not count.  ``here`` is the package relative imports start from."""
-    docs = _docstrings(tree)
-    targets = []
+    ``"stand.x.y:obj"``); docstrings do not count.  ``here`` is the package relative imports start from.
+    One walk of the tree: the string literals are kept with their node and the docstrings
+    (a module's, class's or function's first statement) dropped at the end, the order of the walk kept."""
+    docs = set()
+    found = []                        # (the string constant or None, target)
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
-            targets += [a.name for a in node.names]
+            found += [(None, a.name) for a in node.names]
         elif isinstance(node, ast.ImportFrom):
             base = node.module or ""
             if node.level:
                 up = here.split(".")[: len(here.split(".")) - (node.level - 1)]
                 base = ".".join(up + ([node.module] if node.module else []))
-            targets += [f"{base}.{a.name}" if f"{base}.{a.name}" in mods else base for a in node.names]
-        elif isinstance(node, ast.Constant) and isinstance(node.value, str) and id(node) not in docs:
-            m = MODULE_STRING.fullmatch(node.value)
-            if m and m.group(1) in mods:
-                targets.append(m.group(1))
-    return targets
+            found += [(None, f"{base}.{a.name}" if f"{base}.{a.name}" in mods else base)
+                      for a in node.names]
+        elif isinstance(node, ast.Constant):
+            if isinstance(node.value, str):
+                m = MODULE_STRING.fullmatch(node.value)
+                if m and m.group(1) in mods:
+                    found.append((node, m.group(1)))
+        elif isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)) \
+                and node.body:
+            first = node.body[0]
+            if isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant):
+                docs.add(id(first.value))
+    return [name for node, name in found if node is None or id(node) not in docs]
 
 
 @functools.lru_cache(maxsize=None)

@@ -201,13 +201,35 @@ def test_numbers_resolved_and_round_off():
     assert with_uncertainty(0.0339, 0.0335).startswith("below resolution")
 
 
-def test_analyze_prints_labels_units_and_the_json_numbers(capsys):
+@pytest.fixture(scope="module")
+def lab_runup(tmp_path_factory):
+    """(CSV, map) of a short lab run-up and hold: the exact rigid rotor of
+    tests/_rotor_reference.py (f0 12 Hz, 240 g·mm on 6 kg), 4 -> 24 rev/s in 8 s then 2 s at
+    24 rev/s, 250 samples/s (2 500 rows), 2 µm probe noise, a keyphasor; at 1560 rpm it fails
+    G6.3.  What the commands print is checked on it; the DAQ sample's own analysis (30 000
+    rows, 6 s of CPU) in test_lab_daq.py."""
+    from tests._rotor_reference import runup
+
+    d, _ = runup(fs=250.0, t_ramp=8.0, t_hold=2.0)
+    rng = np.random.default_rng(3)
+    z = d["z"] + 2e-6 * (rng.standard_normal(d["t"].size) + 1j * rng.standard_normal(d["t"].size))
+    kp = np.where(np.mod(d["phi"], 2 * np.pi) < 1.5, 5.0, 0.0)     # 1.5 rad: >= 2 samples
+    tmp = tmp_path_factory.mktemp("lab_runup")
+    np.savetxt(tmp / "runup.csv", np.column_stack((d["t"], z.real * 1e6, z.imag * 1e6, kp)),
+               delimiter=",", fmt="%.12g", header="time_s,x_um,y_um,kp_V", comments="")
+    (tmp / "runup.map.toml").write_text(
+        '[columns]\ntime = "time_s [s]"\nx = "x_um [um]"\ny = "y_um [um]"\nkeyphasor = "kp_V [V]"\n'
+        '\n[rotor]\nmass = "6 kg"\nservice_speed = "1560 rpm"\n')
+    return tmp / "runup.csv", tmp / "runup.map.toml"
+
+
+def test_analyze_prints_labels_units_and_the_json_numbers(capsys, lab_runup):
     """``stand analyze`` of a lab run-up prints each value by its label (stand.io.labels) in
     the label's unit, rounded to its ±: the 1X in µm equals the JSON's metres x 1e6 to half
     the last digit shown (GUM 7.2.6 rounding), and nothing the analysis did not give."""
     from stand.io.labels import label
 
-    args = ["analyze", str(DAQ / "daq_runup.csv"), "--map", str(DAQ / "daq_runup.map.toml")]
+    args = ["analyze", str(lab_runup[0]), "--map", str(lab_runup[1])]
     assert main(args + ["--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert main(args) == 0
@@ -241,15 +263,15 @@ def test_analyze_shows_no_angle_of_an_unbalance_below_resolution(capsys):
     assert len(changes) == len(doc["critical_speeds_hz"]) > 0
 
 
-def test_report_names_its_warnings(tmp_path, capsys):
+def test_report_names_its_warnings(tmp_path, capsys, lab_runup):
     """``stand report`` says which warnings it gave (each message, as in the JSON), not
     "1 warning(s)"."""
     js = tmp_path / "r.json"
-    assert main(["report", str(DAQ / "daq_runup.csv"), "--map", str(DAQ / "daq_runup.map.toml"),
+    assert main(["report", str(lab_runup[0]), "--map", str(lab_runup[1]),
                  "-o", str(tmp_path / "r.html"), "--json-file", str(js)]) == 0
     cap = capsys.readouterr()
     warnings = json.loads(js.read_text())["warnings"]
-    assert warnings, "the sample fails G6.3: one warning expected"
+    assert warnings, "the run-up fails G6.3: a warning expected"
     for w in warnings:
         assert f"stand report: warning: {w['message']}" in cap.err
     n = len(warnings)

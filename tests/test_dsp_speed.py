@@ -186,9 +186,11 @@ def test_fit_uncertainty_matches_the_scatter_over_noise_seeds():
     chi-square spread of 8 seeds: a factor 0.5-2)."""
     est, sds = [], []
     for seed in range(8):
-        # 400 samples/s (15 per revolution at the top speed): the std and the scatter both
-        # grow as 1 / sqrt(samples), their ratio is what is checked
-        t, z, phi, w, a = _runup_record(fs=400.0, noise=3e-6, seed=seed, T=16.0)
+        # 400 samples/s (25 per revolution at the top speed), 6 -> 16 rev/s through 12 Hz in
+        # 10 s (2 -> 18 rev/s in 16 s before): the std and the scatter both grow as
+        # 1 / sqrt(samples), their ratio is what is checked (1.09 here, 1.16 before)
+        t, z, phi, w, a = _runup_record(fs=400.0, noise=3e-6, seed=seed, T=10.0,
+                                        w_start=TWO_PI * 6)
         r = fit_unbalance_response(t, z, phi, w, a)
         est.append(r.natural_frequency_hz)
         sds.append(r.natural_frequency_hz_std)
@@ -198,9 +200,11 @@ def test_fit_uncertainty_matches_the_scatter_over_noise_seeds():
 
 
 def test_fit_without_speed_gets_the_magnitude():
-    # 400 samples/s (15 per revolution at the top speed): the errors (1.6e-4 of U, 3e-5 of f0;
-    # 1.5e-5 and 2e-6 at 1 kHz) stay far inside the bounds
-    t, z, phi, w, a = _runup_record(fs=400.0, noise=1e-6, offset=2e-5)
+    # 400 samples/s (22 per revolution at the top speed), 6 -> 18 rev/s in 12 s (2 -> 26 in
+    # 24 s before): the errors (1.1e-4 of U, 8e-6 of f0; before 1.6e-4 and 3e-5, at 1 kHz
+    # 1.5e-5 and 2e-6) stay far inside the bounds
+    t, z, phi, w, a = _runup_record(fs=400.0, noise=1e-6, offset=2e-5, w_start=TWO_PI * 6,
+                                    T=12.0)
     r, ra = fit_response_without_speed(t, z)
     assert ra.estimated and not ra.referenced
     assert math.isnan(r.angle_rad)
@@ -229,14 +233,16 @@ def test_angle_from_1x_follows_a_forward_whirl():
 
 
 def test_run_down_through_the_resonance():
-    """A run-down (26 -> 2 rev/s at -1 rev/s^2): the fit and the sweep-corrected peak (lag
+    """A run-down (18 -> 5 rev/s at -1 rev/s^2): the fit and the sweep-corrected peak (lag
     below f0 on a run-down) give f0 and the critical speed back."""
     from dsp.speed import RotorAngle
     from stand.analysis.runup import sweep_identification
 
-    # 400 samples/s (15 per revolution at 26 rev/s): the errors (2.8e-3 of fc, 4e-6 of f0,
-    # 1e-4 of e) are those at 1 kHz, inside the bounds
-    t, z, phi, w, a = _runup_record(fs=400.0, w_start=TWO_PI * 26, alpha=-TWO_PI * 1.0, T=23.0,
+    # 400 samples/s (22 per revolution at 18 rev/s), 18 -> 5 rev/s in 13 s (26 -> 3 in 23 s
+    # before): the errors (2.9e-3 of fc, 1e-5 of f0, 3e-5 of e; before 2.8e-3, 4e-6, 1e-4,
+    # those at 1 kHz) inside the bounds; fc's is the sweep-rate lag correction's, the same
+    # rate, the same error
+    t, z, phi, w, a = _runup_record(fs=400.0, w_start=TWO_PI * 18, alpha=-TWO_PI * 1.0, T=13.0,
                                     noise=1e-6)
     ra = RotorAngle(phi, w, a, np.ones(t.size, bool), "angle", referenced=True)
     notes = []

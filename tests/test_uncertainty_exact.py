@@ -33,9 +33,12 @@ def _analyze(csv, rmap):
 
 @pytest.mark.parametrize("spr", [10, 60])
 def test_noise_free_runup_is_exact(tmp_path, spr):
-    # at 60 per revolution a shorter run-up (6 -> 32 rev/s in 8 s, 3.25 rev/s^2; 15 000
-    # samples, not 50 000): the method's error stays ~1e-11 (the fast sweeps below go to 5.8)
-    run = exact_runup(samples_per_rev_max=spr, duration_s=26.0 if spr == 10 else 8.0)
+    # shorter run-ups than the oracle's default 26 s (exactness needs no long record, only
+    # the resonance inside it): at 10 per revolution 6 -> 32 rev/s in 8 s (3.25 rev/s^2,
+    # 2 560 samples; the error 5.7e-13, as over 26 s), at 60 per revolution in 4 s (6.5
+    # rev/s^2, 7 680 samples, not 15 360 over 8 s: the error 1.1e-11 for 2.6e-11), the
+    # bound 1e-5 kept
+    run = exact_runup(samples_per_rev_max=spr, duration_s=8.0 if spr == 10 else 4.0)
     d = _analyze(*write_csv(run, tmp_path / "runup.csv"))
     assert d["speed_source"].startswith("keyphasor")
     assert d["natural_frequency_hz"] == pytest.approx(run.f0_hz, rel=REL)
@@ -65,9 +68,9 @@ def test_noise_free_runup_without_a_speed_channel_is_exact(tmp_path):
 @pytest.mark.parametrize("case", [
     dict(f_start_hz=40.0, f_end_hz=5.0, duration_s=6.0, fs_hz=400.0),    # run-down, 10 / rev at 40 rev/s
     dict(f_start_hz=5.0, f_end_hz=40.0, duration_s=6.0, fs_hz=400.0, beta_deg=8.0),
-    # from rest, zeta 0.15, 60 per revolution at the top: 0 -> 30 rev/s in 10 s (20 s before;
-    # the error 1.5e-11 either way, half the 36 000 samples)
-    dict(f_start_hz=0.0, f_end_hz=30.0, duration_s=10.0, fs_hz=1800.0, zeta=0.15),
+    # from rest, zeta 0.15, 60 per revolution at the top: 0 -> 30 rev/s in 5 s (6 rev/s^2;
+    # 20 s, then 10 s before: the error 1.4e-11 in 5 s, 1.5e-11 in 10 s; 9 000 samples)
+    dict(f_start_hz=0.0, f_end_hz=30.0, duration_s=5.0, fs_hz=1800.0, zeta=0.15),
 ])
 def test_noise_free_fast_sweeps_are_exact(tmp_path, case):
     """A fast sweep (5.8 rev/s^2) sampled at 10 per revolution: the keyphasor edge, a ramp in
@@ -128,9 +131,10 @@ def test_noise_free_runout_without_a_speed_channel_is_inside_the_allowance(gamma
 
     from dsp.response_fit import fit_response_without_speed
 
-    # 250 samples/s (10 per revolution at 25 rev/s; 400 before): the same |error| / std
-    # (0.5-1.5 with the allowance, 4.3 and 7.5 without) in two thirds of the time
-    run = exact_runup(fs_hz=250.0, f_start_hz=12.0, f_end_hz=25.0, duration_s=6.0,
+    # 250 samples/s (10 per revolution at 25 rev/s; 400 before) over 4 s (6 s before): the
+    # same |error| / std (0.5-1.5 with the allowance, U's 4.8 and 7.6 without; over 6 s
+    # 0.5-1.5 and 4.3, 7.5; at 45 and 270 deg 0.2-1.3 either way) in a quarter less time
+    run = exact_runup(fs_hz=250.0, f_start_hz=12.0, f_end_hz=25.0, duration_s=4.0,
                       runout_m=2e-6 * complex(math.cos(math.radians(gamma_deg)),
                                               math.sin(math.radians(gamma_deg))))
     z = run.x + 1j * run.y
