@@ -218,7 +218,8 @@ def scene_theory(scene: Scene, R_max: float | None = None, n_grid: int = 240) ->
                 if mm.is_stable(R, Rt, h, H, d):
                     out.append("main")
         if n <= MAX_WEIGHTS_FOR_SIDE:
-            for rep in steady_stability.stable_steady_motions(model, R):
+            # the main motion's report only when (5.90) does not decide it (d is None)
+            for rep in steady_stability.stable_steady_motions(model, R, main=d is None):
                 if rep.stable and (rep.kind == "side" or d is None):
                     out.append(rep.label)
         if qp_ok and R < R_star:
