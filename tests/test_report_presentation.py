@@ -10,7 +10,6 @@ from pathlib import Path
 
 import pytest
 
-from stand.reports.balancing import balancing_report
 from stand.io.labels import LABELS, markdown_table
 from stand.io.numbers import plain, with_uncertainty
 
@@ -30,12 +29,20 @@ def _theory_once_per_scene():
 
 @pytest.fixture(scope="module")
 def sample(tmp_path_factory):
+    """The sample's report by the command line, the page, its JSON and its PDF made by one
+    ``stand report -o --json-file --pdf`` (one analysis and one set of figures for the three;
+    the PDF was a second report of the same recording); returns (the JSON document, the page,
+    the folder)."""
+    from stand.cli.main import main
+
     d = tmp_path_factory.mktemp("pres")
     old = os.umask(0o022)
     try:
-        doc = balancing_report(SAMPLE, html_path=d / "r.html", json_path=d / "r.json")
+        assert main(["report", str(SAMPLE), "-o", str(d / "r.html"), "--json-file",
+                     str(d / "r.json"), "--pdf", str(d / "r.pdf")]) == 0
     finally:
         os.umask(old)
+    doc = json.loads((d / "r.json").read_text("utf-8"))
     return doc, (d / "r.html").read_text("utf-8"), d
 
 
@@ -136,7 +143,7 @@ def test_polar_plot_and_key_figures_come_before_the_tables(sample):
 
 def test_report_files_have_normal_permissions(sample):
     _, _, d = sample
-    for name in ("r.html", "r.json"):
+    for name in ("r.html", "r.json", "r.pdf"):
         assert (d / name).stat().st_mode & 0o777 == 0o644
 
 
@@ -189,13 +196,9 @@ def test_folder_summary_links_each_report_failures_first(tmp_path):
     assert [Path(f).name for f in s["file"]] == ["a_broken.h5", "c_daq.h5", "b_cameras.h5"]
 
 
-def test_pdf_first_page_holds_the_verdict(tmp_path):
+def test_pdf_first_page_holds_the_verdict(sample):
     pypdf = pytest.importorskip("pypdf")
-    from stand.cli.main import main
-
-    pdf = tmp_path / "r.pdf"
-    assert main(["report", str(SAMPLE), "--pdf", str(pdf)]) == 0
-    reader = pypdf.PdfReader(str(pdf))
+    reader = pypdf.PdfReader(str(sample[2] / "r.pdf"))      # stand report --pdf (the fixture)
     first = " ".join(reader.pages[0].extract_text().split())
     assert "PASS — G6.3 at 900 rpm" in first
     assert "297 g·mm" in first or "297 g" in first

@@ -350,7 +350,7 @@ def _dynamics(a, scene, notes) -> dict:
 
             with _w.catch_warnings():
                 _w.simplefilter("ignore")
-                th = scene_theory(scene)
+                th = scene_theory(scene, closed_forms=False)   # its critical speeds only
             theory = [{"source": "theory", "speed_hz": c.hz, "speed_hz_std": None,
                        "event": f"{c.motion} {c.kind} stability ({c.source})"}
                       for c in th.critical_speeds]

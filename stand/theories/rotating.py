@@ -85,17 +85,30 @@ def rotating_to_fixed(model, R: float, z: np.ndarray) -> np.ndarray:
     return y
 
 
-def _planar_rotating_rhs(model: PlanarModel, R: float, z: np.ndarray) -> np.ndarray:
+def _planar_rotating_rhs_at(model: PlanarModel, R: float):
+    """``z -> rotating_rhs(model, R, z)`` for the planar kernel, with the kernel, the
+    constant-speed parameters and the programme table set up once (a Jacobian evaluates it
+    at 2 x state-size points; the values are those of :func:`rotating_rhs`, bit for bit)."""
     if model.sp[FREE] != 0.0:
         raise ValueError("rotating frame: the rotor speed must be prescribed (speed drive)")
     nq = 2 + model.n
-    y = _shaft_to_fixed(z, nq, R)
-    dy = np.empty_like(y)
     sp = model.sp.copy()
     sp[COAST_T0] = np.inf  # no coast-down
     sp[N_PROG], sp[N_UB], sp[N_FORCE] = 1, 0, 0  # constant speed and unbalance, no side force
-    kernels(PLANAR).evaluate(0.0, y, dy, sp, model.wt, constant_speed_programme(R))
-    return _shaft_to_rotating(dy, z, nq, R)
+    prog = constant_speed_programme(R)
+    kernel = kernels(PLANAR)
+
+    def rhs(z: np.ndarray) -> np.ndarray:
+        y = _shaft_to_fixed(z, nq, R)
+        dy = np.empty_like(y)
+        kernel.evaluate(0.0, y, dy, sp, model.wt, prog)
+        return _shaft_to_rotating(dy, z, nq, R)
+
+    return rhs
+
+
+def _planar_rotating_rhs(model: PlanarModel, R: float, z: np.ndarray) -> np.ndarray:
+    return _planar_rotating_rhs_at(model, R)(z)
 
 
 def _generic_rotating_rhs(model, R: float, z: np.ndarray) -> np.ndarray:
@@ -145,11 +158,16 @@ def rotating_rhs(model, R: float, z: np.ndarray) -> np.ndarray:
 def rotating_jacobian(model, R: float, z: np.ndarray, step: float = 1e-7) -> np.ndarray:
     """Jacobian of :func:`rotating_rhs` by central differences."""
     z = np.asarray(z, dtype=float)
+    if isinstance(model, PlanarModel):
+        rhs = _planar_rotating_rhs_at(model, R)      # set up once for the 2 z.size calls
+    else:
+        def rhs(x):
+            return rotating_rhs(model, R, x)
     J = np.empty((z.size, z.size))
     for i in range(z.size):
         dz = np.zeros_like(z)
         dz[i] = step * max(1.0, abs(z[i]))
-        J[:, i] = (rotating_rhs(model, R, z + dz) - rotating_rhs(model, R, z - dz)) / (2 * dz[i])
+        J[:, i] = (rhs(z + dz) - rhs(z - dz)) / (2 * dz[i])
     return J
 
 

@@ -42,6 +42,7 @@ conservative band disappears and h = H = 1e-4 gives a single critical speed
 """
 from __future__ import annotations
 
+import functools
 import math
 import warnings
 from dataclasses import dataclass
@@ -361,7 +362,14 @@ def unbalance_independent_threshold(Rt, h, H, *, R_min=R_MIN_DEFAULT, R_max=R_MA
     """
     Rt, h, H, _ = _check_params(Rt, h, H, 0.0)
     R_min, R_max = _check_range(R_min, R_max)
+    return _threshold(Rt, h, H, R_min, R_max, int(n_d), None if n_grid is None else int(n_grid))
 
+
+@functools.lru_cache(maxsize=64)
+def _threshold(Rt, h, H, R_min, R_max, n_d, n_grid):
+    """:func:`unbalance_independent_threshold` of checked arguments, kept per arguments (a
+    deterministic float; it does not depend on the unbalance nor the drive, so the speed maps
+    of one stand under other unbalances or drives reuse it instead of its ~50 scans)."""
     def last(d):
         d = min(max(float(d), 0.0), 1.0)
         with warnings.catch_warnings():

@@ -133,7 +133,8 @@ def _check_scope(scene: Scene, p) -> list:
     return notes
 
 
-def scene_theory(scene: Scene, R_max: float | None = None, n_grid: int = 240) -> SceneTheory:
+def scene_theory(scene: Scene, R_max: float | None = None, n_grid: int = 240, *,
+                 closed_forms: bool = True) -> SceneTheory:
     """Speed bands, critical speeds and the QP law of a scene.
 
     Parameters
@@ -148,6 +149,11 @@ def scene_theory(scene: Scene, R_max: float | None = None, n_grid: int = 240) ->
         critical speed.
     n_grid : int
         Log-grid intervals over the map before the band edges are refined.
+    closed_forms : bool
+        Compute the ``closed_forms`` section ((5.96), (5.125)-(5.127), (5.182), the
+        unbalance-independent threshold: ~50 scans of (5.90), about half the map's time).
+        False leaves it empty, for a caller that reads the bands and critical speeds only
+        (the balancing report's dynamics section); nothing else changes.
     """
     p = dimensionless(scene)
     notes = _check_scope(scene, p)
@@ -218,7 +224,8 @@ def scene_theory(scene: Scene, R_max: float | None = None, n_grid: int = 240) ->
                 if mm.is_stable(R, Rt, h, H, d):
                     out.append("main")
         if n <= MAX_WEIGHTS_FOR_SIDE:
-            for rep in steady_stability.stable_steady_motions(model, R):
+            # the main motion's report only when (5.90) does not decide it (d is None)
+            for rep in steady_stability.stable_steady_motions(model, R, main=d is None):
                 if rep.stable and (rep.kind == "side" or d is None):
                     out.append(rep.label)
         if qp_ok and R < R_star:
@@ -280,7 +287,8 @@ def scene_theory(scene: Scene, R_max: float | None = None, n_grid: int = 240) ->
     qp_sec = (_qp_section(R_op, Rt, h, H, e0, p, f0, R_star) if qp_ok
               else _qp_section(R_op, Rt, 0.0, 0.0, e0, p, f0, math.inf))
     return SceneTheory(scene.name, f0, params, crit, bands, qp_sec,
-                       _closed_forms(Rt, h, H, d, e0, n, f0), _conservative(Rt, d, f0), None, R_op, notes)
+                       _closed_forms(Rt, h, H, d, e0, n, f0) if closed_forms else {},
+                       _conservative(Rt, d, f0), None, R_op, notes)
 
 
 def _anisotropic_theory(scene, f0, params, R_op, notes) -> SceneTheory:

@@ -189,7 +189,7 @@ def _order_pair(m1: SideMotion, m2: SideMotion):
 
 
 def stable_steady_motions(model, R: float, e0: Optional[float] = None, n: Optional[int] = None,
-                          *, tol: float = 1e-6, step: float = 1e-7) -> list:
+                          *, tol: float = 1e-6, step: float = 1e-7, main: bool = True) -> list:
     """The synchronous steady motions of identical weights at speed R, with stability.
 
     Parameters
@@ -204,6 +204,9 @@ def stable_steady_motions(model, R: float, e0: Optional[float] = None, n: Option
         If given, checked against the model.
     tol : float
         Stability margin for :func:`is_stable`.
+    main : bool
+        If False, the main motion's report is left out (the side motions are the same;
+        for a caller that decides the main motion's stability from (5.90) itself).
 
     Returns
     -------
@@ -273,7 +276,7 @@ def stable_steady_motions(model, R: float, e0: Optional[float] = None, n: Option
     mm = found[0] if found else None  # none: n = 1, e0 < 1, R inside the window (5.70)
     # balanced: e0 <= 1 for n >= 2; a single weight balances only e0 = 1
     balanced = mm.balanced if mm is not None else False
-    if mm is None:
+    if mm is None or not main:
         pass
     elif balanced:
         neutral = max(0, nn - 2) + (1 if (e0 == 0.0 and nn >= 2) else 0)
