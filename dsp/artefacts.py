@@ -20,6 +20,7 @@ an input linear between samples, as ``scipy.signal.lsim`` takes it).
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -149,17 +150,43 @@ class ChannelFilter:
 
         t = np.asarray(t, float)
         y = np.asarray(columns)
-        ba = self.analog()
-        if ba is not None:
-            dt = float(np.median(np.diff(t)))
-            bd, ad, _ = signal.cont2discrete(ba, dt, method="foh")
-            bd = np.ravel(bd)
-            zi = signal.lfilter_zi(bd, ad)
+        twin = _discrete(self, float(np.median(np.diff(t))))
+        if twin is not None:
+            bd, ad, zi = twin
             shape = (-1,) + (1,) * (y.ndim - 1)
             y = signal.lfilter(bd, ad, y, axis=0, zi=zi.reshape(shape) * y[:1])[0]
         if self.delay_s:
             y = delayed(t, y, self.delay_s)
         return y
+
+
+@functools.lru_cache(maxsize=64)
+def _discrete(flt, dt: float):
+    """``(bd, ad, zi)`` of a filter's first-order-hold twin at the step ``dt`` [s] (scipy's
+    ``cont2discrete``, ``lfilter_zi``; None for a pure delay), computed once per filter and step: the run-up fit
+    applies the same declared filter at every step of its search."""
+    from scipy import signal
+
+    ba = flt.analog()
+    if ba is None:
+        return None
+    bd, ad, _ = signal.cont2discrete(ba, dt, method="foh")
+    bd = np.ravel(bd)
+    return bd, ad, signal.lfilter_zi(bd, ad)
+
+
+def _first_order_foh(x: float):
+    """``(bd, ad)`` of the first-order-hold twin of the low-pass w_h / (s + w_h) at
+    ``x`` = w_h dt: G(z) = (z - 1)^2 / (z dt) Z{G(s) / s^2}, with
+    G(s) / s^2 = 1 / s^2 - (1 / w_h) / s + (1 / w_h) / (s + w_h), is
+    ((x + a - 1) + (1 - a - a x) z^-1) / (x (1 - a z^-1)), a = e^{-x} (scipy's
+    ``cont2discrete(..., method="foh")`` in closed form, without its matrix exponential)."""
+    a = math.exp(-x)
+    if x < 0.5:     # x + a - 1 and 1 - a (1 + x) by their series: no cancellation
+        k = np.arange(2, 24)
+        terms = (-x) ** k / np.array([math.factorial(int(i)) for i in k])
+        return np.array([terms.sum() / x, ((k - 1) * terms).sum() / x]), np.array([1.0, -a])
+    return np.array([(x + a - 1.0) / x, (1.0 - a - a * x) / x]), np.array([1.0, -a])
 
 
 def sensor_response(f_hz, lag_s2: float, lag_s: float, highpass_hz: float = 0.0):
@@ -190,9 +217,29 @@ def highpassed(t, columns, highpass_hz: float, w_start, real=None):
         slope = (-3 * y[0] + 4 * y[1] - y[2]) / (2 * dt)
         a, b = y[0], -slope / np.where(w > 0, w, 1.0)
         start = np.where(r, h.real * a + h.imag * -b, start)
-    bd, ad, _ = signal.cont2discrete(([wh], [1.0, wh]), dt, method="foh")
-    bd = np.ravel(bd)
+    bd, ad = _first_order_foh(wh * dt)
     return y - signal.lfilter(bd, ad, y, axis=0, zi=(start - bd[0] * y[0])[None, :])[0]
+
+
+def sensed_columns(t, B, w, wd: float, sensor):
+    """The run-up fit's columns ``B`` (N x 5: forced response, the two free motions, offset,
+    runout) as a free sensor response (``sensor``: lag [ms^2], lag [ms], high-pass [Hz]; none
+    if empty) records them, with the high-pass's unknown state before the record, e^{-w_h t},
+    as a sixth column: :func:`sensor_response`'s second-order part quasi-steady (each column
+    times the response at its own frequency, ``w`` [rad/s] the speed, ``wd`` the free motions'),
+    the high-pass exact (:func:`highpassed`: its lead changes faster than the sweep)."""
+    tt = t - t[0]
+    if len(sensor) and any(sensor):    # the DC offset column (3) stays as it is
+        s2, s1, fh = sensor[0] * 1e-6, sensor[1] * 1e-3, float(sensor[2])
+        if s2 or s1:
+            h = sensor_response(np.abs(np.c_[w, np.full((w.size, 2), wd), w]) / (2 * math.pi), s2, s1)
+            B = B * np.insert(h, 3, 1.0, axis=1)
+        if fh:
+            cols, B = [0, 1, 2, 4], B.copy()
+            B[:, cols] = highpassed(t, B[:, cols], fh, [w[0], wd, wd, w[0]], [0, 1, 1, 0])
+    if len(sensor):
+        B = np.column_stack((B, np.exp(-2 * math.pi * sensor[2] * tt) if sensor[2] > 0 else 0 * tt))
+    return B
 
 
 def delayed(t, columns, tau: float):
@@ -200,12 +247,11 @@ def delayed(t, columns, tau: float):
     t = np.asarray(t, float)
     y = np.asarray(columns)
     ts = t - tau
+    # np.interp's weights, computed once for all columns (real and imaginary parts alike)
+    j = np.clip(np.searchsorted(t, ts, side="right") - 1, 0, t.size - 2)
+    u = np.clip((ts - t[j]) / (t[j + 1] - t[j]), 0.0, 1.0)
     flat = y.reshape(t.size, -1)
-    out = np.empty_like(flat)
-    for k in range(flat.shape[1]):
-        c = flat[:, k]
-        out[:, k] = np.interp(ts, t, c.real) + (1j * np.interp(ts, t, c.imag)
-                                                if np.iscomplexobj(c) else 0.0)
+    out = flat[j] + u[:, None] * (flat[j + 1] - flat[j])
     return out.reshape(y.shape)
 
 
