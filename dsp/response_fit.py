@@ -317,14 +317,15 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
         from .artefacts import sensed_columns
 
         B = stage((w0, zeta), lambda: rotor(w0, zeta))
-        return sensed_columns(t, B, w, w0 * math.sqrt(max(1.0 - zeta * zeta, 1e-12)), sensor)
+        return sensed_columns(t, B, w, w0 * math.sqrt(max(1.0 - zeta * zeta, 1e-12)), sensor,
+                              forcing.dt)
 
     def model(w0, zeta, tau=0.0, sensor=()):
         B = stage((w0, zeta, tuple(sensor)), lambda: sensed(w0, zeta, sensor))
         if tau:
-            from .artefacts import delayed
+            from .artefacts import delay_weights, delayed
 
-            B = delayed(t, B, tau)
+            B = delayed(t, B, tau, stage(tau, lambda: delay_weights(t, tau)))
         return B * keep[:, None]
     if natural_frequency_guess_hz is None:
         k = max(3, t.size // 200)
