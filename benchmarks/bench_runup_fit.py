@@ -72,7 +72,8 @@ def main():
     args = ap.parse_args()
     old = pickle.load(open(args.compare, "rb")) if args.compare else None
     out, total = {}, 0.0
-    print("| case | CPU [s] |" + (" values: largest rel. diff | stds: largest rel. diff |" if old else ""))
+    head = " values: largest rel. diff | stds: largest rel. diff |" if old else ""
+    print("| case | CPU [s] |" + head)
     print("|---|---|" + ("---|---|" if old else ""))
     for name, run in cases().items():
         if args.only not in name:
@@ -85,7 +86,7 @@ def main():
         total += min(cpu)
         row = f"| {name} | {min(cpu):.3f} |"
         if old:
-            (dv, kv), (ds, ks) = largest(old[name], out[name], False), largest(old[name], out[name], True)
+            (dv, kv), (ds, ks) = (largest(old[name], out[name], std) for std in (False, True))
             row += f" {dv:.1e} ({kv}) | {ds:.1e} ({ks}) |"
         print(row)
     print(f"| total | {total:.2f} |" + (" | |" if old else ""))

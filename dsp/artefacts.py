@@ -169,8 +169,8 @@ def _analog(flt):
 @functools.lru_cache(maxsize=64)
 def _discrete(flt, dt: float):
     """``(bd, ad, zi)`` of a filter's first-order-hold twin at the step ``dt`` [s] (scipy's
-    ``cont2discrete``, ``lfilter_zi``; None for a pure delay), computed once per filter and step: the run-up fit
-    applies the same declared filter at every step of its search."""
+    ``cont2discrete``, ``lfilter_zi``; None for a pure delay), computed once per filter and
+    step: the run-up fit applies the same declared filter at every step of its search."""
     from scipy import signal
 
     ba = _analog(flt)

@@ -23,7 +23,8 @@ import math
 
 import numpy as np
 
-__all__ = ["covariances", "linear_part", "normal_inverse", "propagated_angle", "runout_part", "std_of"]
+__all__ = ["covariances", "linear_part", "normal_inverse", "propagated_angle", "runout_part",
+           "std_of"]
 
 
 def normal_inverse(J, rcond: float = 1e-13):
