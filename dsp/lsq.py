@@ -47,20 +47,22 @@ def linear_part(B, z, cond_max: float = 1e3):
 
     By the normal equations of the equilibrated columns (D B^H B D) (c / D) = D B^H z,
     Cholesky-factored, when their condition number is at most ``cond_max``^2 (the solution's
-    error then ~ cond^2 eps <= 1e-10, its residual's far less: the minimum is flat in c);
-    else LAPACK's SVD-based ``gelsd`` (``np.linalg.lstsq``, a cut at rank deficiency)."""
+    error then ~ cond^2 eps <= 1e-10, its residual's far less: the minimum is flat in c) and
+    no column is below 1e-10 of the largest; else LAPACK's SVD-based ``gelsd``
+    (``np.linalg.lstsq``, its cut at rank deficiency)."""
     from scipy.linalg import cho_factor, cho_solve
 
     keep = np.any(B != 0, axis=0)
     c = np.zeros(B.shape[1], complex)
     Bk = B[:, keep].astype(complex)
-    d = 1.0 / np.linalg.norm(Bk, axis=0)
-    Bs = Bk * d
+    norm = np.linalg.norm(Bk, axis=0)
+    Bs = Bk / norm
     G = Bs.conj().T @ Bs
     ev = np.linalg.eigvalsh(G)
-    if ev[0] > ev[-1] / cond_max ** 2:
+    # a column at rounding level (a constant through a declared high-pass) is gelsd's to cut
+    if ev[0] > ev[-1] / cond_max ** 2 and norm.min() > 1e-10 * norm.max():
         c[keep] = cho_solve(cho_factor(G, check_finite=False), Bs.conj().T @ z,
-                            check_finite=False) * d
+                            check_finite=False) / norm
     else:
         c[keep], *_ = np.linalg.lstsq(Bk, z, rcond=None)
     return c, z - B @ c
