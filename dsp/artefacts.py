@@ -251,22 +251,25 @@ def sensed_columns(t, B, w, wd: float, sensor, dt=None):
 
 
 def delay_weights(t, tau: float):
-    """np.interp's indices and weights for ``columns(t - tau)`` (:func:`delayed`)."""
+    """np.interp's indices, slopes' denominators and offsets for ``columns(t - tau)``
+    (:func:`delayed`), and where ``t - tau`` lies before ``t[0]`` and from ``t[-1]`` on."""
     t = np.asarray(t, float)
     ts = t - tau
     j = np.clip(np.searchsorted(t, ts, side="right") - 1, 0, t.size - 2)
-    return j, np.clip((ts - t[j]) / (t[j + 1] - t[j]), 0.0, 1.0)
+    return j, (t[j + 1] - t[j])[:, None], (ts - t[j])[:, None], ts < t[0], ts >= t[-1]
 
 
 def delayed(t, columns, tau: float, weights=None):
     """``columns(t - tau)`` by linear interpolation (the first sample held before ``t[0]``),
     every column (real and imaginary parts alike) with the same weights (``weights``:
-    :func:`delay_weights`' when known)."""
+    :func:`delay_weights`' when known) and np.interp's arithmetic, to the last bit."""
     y = np.asarray(columns)
-    j, u = delay_weights(t, tau) if weights is None else weights
-    flat = y.reshape(np.size(t), -1)
-    out = flat[j] + u[:, None] * (flat[j + 1] - flat[j])
-    return out.reshape(y.shape)
+    j, dx, off, before, after = delay_weights(t, tau) if weights is None else weights
+    flat = np.ascontiguousarray(y.reshape(np.size(t), -1))
+    re = flat.view(float) if np.iscomplexobj(flat) else flat.astype(float, copy=False)
+    out = (re[j + 1] - re[j]) / dx * off + re[j]
+    out[before], out[after] = re[0], re[-1]
+    return (out.view(complex) if np.iscomplexobj(flat) else out).reshape(y.shape)
 
 
 def delay_allowance(tau_s: float, f_hz: float, orders=range(2, 9)):

@@ -160,7 +160,7 @@ class _Forcing:
         from scipy import signal
 
         dt = self.dt
-        r = -zeta * w0 + w0 * np.sqrt(complex(zeta * zeta - 1.0)) * np.array([1.0, -1.0])
+        r = np.roots([1.0, 2.0 * zeta * w0, w0 * w0]).astype(complex)
         if abs(r[0] - r[1]) < 1e-12 * w0:
             r = r + np.array([1e-9, -1e-9]) * w0
         G = []
