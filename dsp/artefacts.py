@@ -181,18 +181,16 @@ def _discrete(flt, dt: float):
     return bd, ad, signal.lfilter_zi(bd, ad)
 
 
-def _first_order_foh(x: float):
-    """``(bd, ad)`` of the first-order-hold twin of the low-pass w_h / (s + w_h) at
-    ``x`` = w_h dt: G(z) = (z - 1)^2 / (z dt) Z{G(s) / s^2}, with
-    G(s) / s^2 = 1 / s^2 - (1 / w_h) / s + (1 / w_h) / (s + w_h), is
-    ((x + a - 1) + (1 - a - a x) z^-1) / (x (1 - a z^-1)), a = e^{-x} (scipy's
-    ``cont2discrete(..., method="foh")`` in closed form, without its matrix exponential)."""
-    a = math.exp(-x)
-    if x < 0.5:     # x + a - 1 and 1 - a (1 + x) by their series: no cancellation
-        k = np.arange(2, 24)
-        terms = (-x) ** k / np.array([math.factorial(int(i)) for i in k])
-        return np.array([terms.sum() / x, ((k - 1) * terms).sum() / x]), np.array([1.0, -a])
-    return np.array([(x + a - 1.0) / x, (1.0 - a - a * x) / x]), np.array([1.0, -a])
+@functools.lru_cache(maxsize=64)
+def _highpass_twin(highpass_hz: float, dt: float):
+    """``(bd, ad)`` of the first-order-hold twin of w_h / (s + w_h) (scipy's
+    ``cont2discrete``), once per corner and step: the run-up fit's search asks for the same
+    corner at most of its finite-difference steps (those in the other parameters)."""
+    from scipy import signal
+
+    wh = 2 * math.pi * highpass_hz
+    bd, ad, _ = signal.cont2discrete(([wh], [1.0, wh]), dt, method="foh")
+    return np.ravel(bd), ad
 
 
 def sensor_response(f_hz, lag_s2: float, lag_s: float, highpass_hz: float = 0.0):
@@ -224,7 +222,7 @@ def highpassed(t, columns, highpass_hz: float, w_start, real=None, dt=None):
         slope = (-3 * y[0] + 4 * y[1] - y[2]) / (2 * dt)
         a, b = y[0], -slope / np.where(w > 0, w, 1.0)
         start = np.where(r, h.real * a + h.imag * -b, start)
-    bd, ad = _first_order_foh(wh * dt)
+    bd, ad = _highpass_twin(highpass_hz, dt)
     return y - signal.lfilter(bd, ad, y, axis=0, zi=(start - bd[0] * y[0])[None, :])[0]
 
 

@@ -1,35 +1,13 @@
 """The run-up fit's faster pieces give what the slower ones gave (issue 43, item 3): the
-first-order high-pass's first-order-hold twin in closed form against scipy's
-``cont2discrete``, the delay's shared interpolation weights against ``np.interp``, the
+delay's shared interpolation weights against ``np.interp``, the
 low-passes of :func:`dsp.artefacts.delay_allowance` scaled from the 1 Hz one against the
 designed ones, the sensor's quasi-steady columns against their formula."""
 import math
 
 import numpy as np
 import pytest
-from scipy import signal
 
-from dsp.artefacts import ChannelFilter, _first_order_foh, _unit_lowpass, delayed, sensed_columns
-
-
-@pytest.mark.parametrize("x", [1e-2, 0.126, 0.49, 0.51, 2.0, 20.0])
-def test_first_order_hold_twin_of_the_high_pass_in_closed_form(x):
-    """Where scipy's matrix exponential is accurate (w_h dt >= 0.01: its error ~1e-16 / x,
-    measured 7e-15 at 0.0126 against 40-digit arithmetic) the two agree to 1e-13."""
-    bd, ad, _ = signal.cont2discrete(([1.0], [1.0, 1.0]), x, method="foh")
-    b, a = _first_order_foh(x)
-    assert b == pytest.approx(np.ravel(bd), rel=1e-13)
-    assert a == pytest.approx(ad, rel=1e-15)
-    assert (b.sum() / a.sum()) == pytest.approx(1.0, rel=1e-13)       # unit gain at DC
-
-
-def test_first_order_hold_twin_keeps_its_accuracy_at_small_steps():
-    """Its series below x = 0.5: b0 = x / 2 - x^2 / 6 + ..., b1 = x / 2 - x^2 / 3 + ...
-    to rounding at x = 1e-6 (where x + e^{-x} - 1 in floating point loses 10 digits)."""
-    x = 1e-6
-    b, _ = _first_order_foh(x)
-    assert b[0] == pytest.approx(x / 2 - x * x / 6 + x ** 3 / 24, rel=1e-15)
-    assert b[1] == pytest.approx(x / 2 - x * x / 3 + x ** 3 / 8, rel=1e-15)
+from dsp.artefacts import ChannelFilter, _unit_lowpass, delayed, sensed_columns
 
 
 @pytest.mark.parametrize("tau", [1.3e-3, -2.7e-3, 0.5, -3.0, 4e-3, 0.0, 1e-14])
