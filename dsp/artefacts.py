@@ -20,6 +20,7 @@ an input linear between samples, as ``scipy.signal.lsim`` takes it).
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -125,7 +126,7 @@ class ChannelFilter:
 
         w = 2 * math.pi * np.abs(np.asarray(f_hz, float))
         h = np.exp(-1j * w * self.delay_s)
-        ba = self.analog()
+        ba = _analog(self)
         if ba is not None:
             h = h * signal.freqs(*ba, worN=np.atleast_1d(w))[1].reshape(w.shape)
         h = np.where(np.asarray(f_hz) < 0, np.conj(h), h)
@@ -149,17 +150,47 @@ class ChannelFilter:
 
         t = np.asarray(t, float)
         y = np.asarray(columns)
-        ba = self.analog()
-        if ba is not None:
-            dt = float(np.median(np.diff(t)))
-            bd, ad, _ = signal.cont2discrete(ba, dt, method="foh")
-            bd = np.ravel(bd)
-            zi = signal.lfilter_zi(bd, ad)
+        twin = _discrete(self, float(np.median(np.diff(t))))
+        if twin is not None:
+            bd, ad, zi = twin
             shape = (-1,) + (1,) * (y.ndim - 1)
             y = signal.lfilter(bd, ad, y, axis=0, zi=zi.reshape(shape) * y[:1])[0]
         if self.delay_s:
             y = delayed(t, y, self.delay_s)
         return y
+
+
+@functools.lru_cache(maxsize=64)
+def _analog(flt):
+    """:meth:`ChannelFilter.analog`, designed once per filter."""
+    return flt.analog()
+
+
+@functools.lru_cache(maxsize=64)
+def _discrete(flt, dt: float):
+    """``(bd, ad, zi)`` of a filter's first-order-hold twin at the step ``dt`` [s] (scipy's
+    ``cont2discrete``, ``lfilter_zi``; None for a pure delay), computed once per filter and
+    step: the run-up fit applies the same declared filter at every step of its search."""
+    from scipy import signal
+
+    ba = _analog(flt)
+    if ba is None:
+        return None
+    bd, ad, _ = signal.cont2discrete(ba, dt, method="foh")
+    bd = np.ravel(bd)
+    return bd, ad, signal.lfilter_zi(bd, ad)
+
+
+@functools.lru_cache(maxsize=64)
+def _highpass_twin(highpass_hz: float, dt: float):
+    """``(bd, ad)`` of the first-order-hold twin of w_h / (s + w_h) (scipy's
+    ``cont2discrete``), once per corner and step: the run-up fit's search asks for the same
+    corner at most of its finite-difference steps (those in the other parameters)."""
+    from scipy import signal
+
+    wh = 2 * math.pi * highpass_hz
+    bd, ad, _ = signal.cont2discrete(([wh], [1.0, wh]), dt, method="foh")
+    return np.ravel(bd), ad
 
 
 def sensor_response(f_hz, lag_s2: float, lag_s: float, highpass_hz: float = 0.0):
@@ -172,15 +203,16 @@ def sensor_response(f_hz, lag_s2: float, lag_s: float, highpass_hz: float = 0.0)
         if highpass_hz else 1.0 / (1.0 + lag_s * s + lag_s2 * s * s)
 
 
-def highpassed(t, columns, highpass_hz: float, w_start, real=None):
+def highpassed(t, columns, highpass_hz: float, w_start, real=None, dt=None):
     """Complex columns (uniform ``t`` [s]) through a first-order high-pass s / (s + w_h) that
     was in steady state before the record: each column a phasor at ``w_start`` [rad/s] (one
     per column; its low-pass part starts at w_h / (w_h + i w) times the first sample), or where
     ``real`` a real sinusoid there (its phasor from the first samples and their slope); the
-    first-order-hold twin, exact for columns linear between samples."""
+    first-order-hold twin, exact for columns linear between samples (``dt``: the sample
+    interval [s] when known, else the median of ``t``'s)."""
     from scipy import signal
 
-    wh, dt = 2 * math.pi * highpass_hz, float(np.median(np.diff(t)))
+    wh, dt = 2 * math.pi * highpass_hz, float(np.median(np.diff(t))) if dt is None else dt
     y = np.asarray(columns)
     w = np.asarray(w_start, float)
     h = wh / (wh + 1j * w)
@@ -190,23 +222,52 @@ def highpassed(t, columns, highpass_hz: float, w_start, real=None):
         slope = (-3 * y[0] + 4 * y[1] - y[2]) / (2 * dt)
         a, b = y[0], -slope / np.where(w > 0, w, 1.0)
         start = np.where(r, h.real * a + h.imag * -b, start)
-    bd, ad, _ = signal.cont2discrete(([wh], [1.0, wh]), dt, method="foh")
-    bd = np.ravel(bd)
+    bd, ad = _highpass_twin(highpass_hz, dt)
     return y - signal.lfilter(bd, ad, y, axis=0, zi=(start - bd[0] * y[0])[None, :])[0]
 
 
-def delayed(t, columns, tau: float):
-    """``columns(t - tau)`` by linear interpolation (the first sample held before ``t[0]``)."""
+def sensed_columns(t, B, w, wd: float, sensor, dt=None):
+    """The run-up fit's columns ``B`` (N x 5: forced response, the two free motions, offset,
+    runout) as a free sensor response (``sensor``: lag [ms^2], lag [ms], high-pass [Hz]; none
+    if empty) records them, with the high-pass's unknown state before the record, e^{-w_h t},
+    as a sixth column: :func:`sensor_response`'s second-order part quasi-steady (each column
+    times the response at its own frequency, ``w`` [rad/s] the speed, ``wd`` the free motions'),
+    the high-pass exact (:func:`highpassed`: its lead changes faster than the sweep)."""
+    tt = t - t[0]
+    if len(sensor) and any(sensor):    # the DC offset column (3) stays as it is
+        s2, s1, fh = sensor[0] * 1e-6, sensor[1] * 1e-3, float(sensor[2])
+        if s2 or s1:
+            hw = sensor_response(np.abs(w) / (2 * math.pi), s2, s1)
+            hd = sensor_response(np.full(1, abs(wd)) / (2 * math.pi), s2, s1)
+            B = B * np.column_stack((hw, np.broadcast_to(hd, (w.size, 2)), np.ones(w.size), hw))
+        if fh:
+            cols, B = [0, 1, 2, 4], B.copy()
+            B[:, cols] = highpassed(t, B[:, cols], fh, [w[0], wd, wd, w[0]], [0, 1, 1, 0], dt)
+    if len(sensor):
+        B = np.column_stack((B, np.exp(-2 * math.pi * sensor[2] * tt) if sensor[2] > 0 else 0 * tt))
+    return B
+
+
+def delay_weights(t, tau: float):
+    """np.interp's indices, slopes' denominators and offsets for ``columns(t - tau)``
+    (:func:`delayed`), and where ``t - tau`` lies before ``t[0]`` and from ``t[-1]`` on."""
     t = np.asarray(t, float)
-    y = np.asarray(columns)
     ts = t - tau
-    flat = y.reshape(t.size, -1)
-    out = np.empty_like(flat)
-    for k in range(flat.shape[1]):
-        c = flat[:, k]
-        out[:, k] = np.interp(ts, t, c.real) + (1j * np.interp(ts, t, c.imag)
-                                                if np.iscomplexobj(c) else 0.0)
-    return out.reshape(y.shape)
+    j = np.clip(np.searchsorted(t, ts, side="right") - 1, 0, t.size - 2)
+    return j, (t[j + 1] - t[j])[:, None], (ts - t[j])[:, None], ts < t[0], ts >= t[-1]
+
+
+def delayed(t, columns, tau: float, weights=None):
+    """``columns(t - tau)`` by linear interpolation (the first sample held before ``t[0]``),
+    every column (real and imaginary parts alike) with the same weights (``weights``:
+    :func:`delay_weights`' when known) and np.interp's arithmetic, to the last bit."""
+    y = np.asarray(columns)
+    j, dx, off, before, after = delay_weights(t, tau) if weights is None else weights
+    flat = np.ascontiguousarray(y.reshape(np.size(t), -1))
+    re = flat.view(float) if np.iscomplexobj(flat) else flat.astype(float, copy=False)
+    out = (re[j + 1] - re[j]) / dx * off + re[j]
+    out[before], out[after] = re[0], re[-1]
+    return (out.view(complex) if np.iscomplexobj(flat) else out).reshape(y.shape)
 
 
 def delay_allowance(tau_s: float, f_hz: float, orders=range(2, 9)):
@@ -227,12 +288,19 @@ def delay_allowance(tau_s: float, f_hz: float, orders=range(2, 9)):
     loss, dphi = 0.0, 0.0
     for kind in ("butterworth", "bessel"):
         for n in orders:
-            unit = ChannelFilter(kind, int(n), 1.0)
-            tau1 = -np.angle(unit.response(1e-4)) / (2 * math.pi * 1e-4)    # [s] at 1 Hz cutoff
-            h = ChannelFilter(kind, int(n), tau1 / tau_s).response(f_hz)
+            unit, tau1 = _unit_lowpass(kind, int(n))
+            h = unit.response(f_hz * tau_s / tau1)      # the low-pass of cutoff tau1 / tau_s
             loss = max(loss, 1.0 - abs(h))
             dphi = max(dphi, abs(np.angle(h * np.exp(2j * math.pi * f_hz * tau_s))))
     return float(loss), float(dphi)
+
+
+@functools.lru_cache(maxsize=None)
+def _unit_lowpass(kind: str, order: int):
+    """The low-pass of cutoff 1 Hz and its group delay at DC [s]: the one of cutoff f_c
+    is it at f / f_c (H(s / w_c)), its delay 1 / f_c times."""
+    unit = ChannelFilter(kind, order, 1.0)
+    return unit, float(-np.angle(unit.response(1e-4)) / (2 * math.pi * 1e-4))
 
 
 def delay_checked(fit, refit, w_top: float, channel_filter, notes: list):

@@ -33,8 +33,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import SignalError, check_signal
-from .lsq import covariances as _covariances, propagated_angle as _propagated, \
-    runout_part as _runout_part, std_of as _std
+from .lsq import covariances as _covariances, linear_part as _linear, \
+    propagated_angle as _propagated, runout_part as _runout_part, std_of as _std
 
 __all__ = ["ResponseFit", "fit_unbalance_response", "fit_response_without_speed"]
 TWO_PI = 2.0 * math.pi
@@ -191,13 +191,6 @@ def _basis(w0, zeta, tt, forcing, rot, order=0):
     return np.column_stack([g, h1, h2, np.ones_like(tt), rot])
 
 
-def _linear(B, z):
-    keep = np.any(B != 0, axis=0)
-    c = np.zeros(B.shape[1], complex)
-    c[keep], *_ = np.linalg.lstsq(B[:, keep].astype(complex), z, rcond=None)
-    return c, z - B @ c
-
-
 def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s2=None, *,
                            natural_frequency_guess_hz=None, damping_guess=0.05, runout=True,
                            covariance=True, angle_basis=None, angle_error=None,
@@ -307,27 +300,32 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
     tt = t - t[0]
     zc = np.where(keep, z, 0.0)
 
-    def model(w0, zeta, tau=0.0, sensor=()):
+    memo = {}   # the last stages' columns: a step in the delay or the sensor reuses the rotor's
+
+    def stage(key, make):
+        if key not in memo:
+            if len(memo) >= 8:
+                del memo[next(iter(memo))]
+            memo[key] = make()
+        return memo[key]
+
+    def rotor(w0, zeta):
         B = _basis(w0, zeta, tt, forcing, rot, order)
-        if channel_filter is not None:
-            B = channel_filter.apply(t, B)
-        if len(sensor) and any(sensor):    # the DC offset column (3) stays as it is
-            from .artefacts import highpassed, sensor_response
+        return B if channel_filter is None else channel_filter.apply(t, B)
 
-            s2, s1, fh = _sensor_si(sensor)
-            wd = w0 * math.sqrt(max(1.0 - zeta * zeta, 1e-12))
-            if s2 or s1:    # quasi-steady: each column times the response at its own frequency
-                h = sensor_response(np.abs(np.c_[w, np.full((w.size, 2), wd), w]) / TWO_PI, s2, s1)
-                B = B * np.insert(h, 3, 1.0, axis=1)
-            if fh:          # exact: a high-pass's lead changes faster than the sweep at low speed
-                cols = [0, 1, 2, 4]
-                B[:, cols] = highpassed(t, B[:, cols], fh, [w[0], wd, wd, w[0]], [0, 1, 1, 0])
-        if len(sensor):     # the high-pass's state before the record, unknown: e^{-w_h t}
-            B = np.column_stack((B, np.exp(-TWO_PI * sensor[2] * tt) if sensor[2] > 0 else 0 * tt))
+    def sensed(w0, zeta, sensor):
+        from .artefacts import sensed_columns
+
+        B = stage((w0, zeta), lambda: rotor(w0, zeta))
+        return sensed_columns(t, B, w, w0 * math.sqrt(max(1.0 - zeta * zeta, 1e-12)), sensor,
+                              forcing.dt)
+
+    def model(w0, zeta, tau=0.0, sensor=()):
+        B = stage((w0, zeta, tuple(sensor)), lambda: sensed(w0, zeta, sensor))
         if tau:
-            from .artefacts import delayed
+            from .artefacts import delay_weights, delayed
 
-            B = delayed(t, B, tau)
+            B = delayed(t, B, tau, stage(tau, lambda: delay_weights(t, tau)))
         return B * keep[:, None]
     if natural_frequency_guess_hz is None:
         k = max(3, t.size // 200)
@@ -381,13 +379,12 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
     p = np.concatenate(([w0, zeta], np.column_stack((c.real, c.imag)).ravel(), [tau] * fit_delay,
                         sensor))
     J = np.empty((2 * n, p.size))
-    for j in range(p.size):
-        h = 1e-6 * max(abs(p[j]), 1e-3 * (w0 if j == 0 else 1e-2 if j == 1 else scale))
-        if j >= m:
-            h = 1e-6
+    Bk = B[keep]    # the coefficients' columns exactly (the model is linear in them): -B, -i B
+    J[:, 2:m:2], J[:, 3:m:2] = -np.vstack((Bk.real, Bk.imag)), np.vstack((Bk.imag, -Bk.real))
+    for j in [0, 1] + list(range(m, p.size)):      # the others by central differences
+        h = 1e-6 if j >= m else 1e-6 * max(abs(p[j]), 1e-3 * (w0 if j == 0 else 1e-2))
         pp, pm = p.copy(), p.copy()
-        pp[j] += h
-        pm[j] -= h
+        pp[j], pm[j] = p[j] + h, p[j] - h
         J[:, j] = (full(pp) - full(pm)) / (2 * h)
     if angle_basis is not None:
         extra = -_angle_columns(t, phi, w, a, w0, zeta, 1.0 if runout and order == 0 else 0.0,
