@@ -262,7 +262,8 @@ def test_o16_harmonic_steady_state_equals_integration(paper_exact):
     Fc, Fs = (generalized_force(p, a, w, 0.0, paper_exact) for a in (0.0, 0.5 * math.pi))
     for a in np.append(np.linspace(0.0, 2 * math.pi, 16), 12.345):
         assert np.allclose(generalized_force(p, a, w, 0.0, paper_exact),
-                           Fc * math.cos(a) + Fs * math.sin(a), rtol=1e-13, atol=1e-13 * abs(Fc).max())
+                           Fc * math.cos(a) + Fs * math.sin(a), rtol=1e-13,
+                           atol=1e-13 * abs(Fc).max())
     A = np.block([[np.zeros((6, 6)), np.eye(6)], [-Minv @ r.K, -Minv @ C]])
     bc, bs = np.concatenate([np.zeros(6), Minv @ Fc]), np.concatenate([np.zeros(6), Minv @ Fs])
 
