@@ -127,12 +127,13 @@ class Camera(_Quantised):
 def _pixel_fractions(c, sigma, half, lo, n):
     """(K, n) fraction of 1-D Gaussians (centres c, cut at c +- half and
     renormalised) falling on pixels lo..lo+n-1 (pixel k covers k +- 0.5)."""
-    k = lo + np.arange(n)
-    left = np.maximum(k[None, :] - 0.5, (c - half)[:, None])
-    right = np.minimum(k[None, :] + 0.5, (c + half)[:, None])
+    # the n + 1 pixel edges clipped to the cut: pixel k's right edge is pixel k+1's left one,
+    # so erf is evaluated once per edge (pixels outside the cut get erf(e) - erf(e) = 0)
+    edges = np.clip((lo + np.arange(n + 1))[None, :] - 0.5, (c - half)[:, None],
+                    (c + half)[:, None])
     s = 1.0 / (math.sqrt(2.0) * sigma)
-    g = special.erf((right - c[:, None]) * s) - special.erf((left - c[:, None]) * s)
-    return np.maximum(g, 0.0) / (2.0 * special.erf(half * s))
+    E = special.erf((edges - c[:, None]) * s)
+    return np.maximum(E[:, 1:] - E[:, :-1], 0.0) / (2.0 * special.erf(half * s))
 
 
 def spot_signal(positions_px, cam: Camera, weights=None) -> np.ndarray:
