@@ -112,7 +112,9 @@ def _runup(alpha, w_start, w_end, zeta=0.005, fs=200.0):
         return [y[1], 1e-3 * w * w * math.cos(ph) - 2 * zeta * WN * y[1] - WN * WN * y[0]]
 
     t = np.arange(0, T, 1 / fs)
-    sol = solve_ivp(rhs, (0, t[-1]), [0.0, 0.0], t_eval=t, rtol=1e-8, atol=1e-12, method="DOP853")
+    # rtol 1e-6 (was 1e-8, 1.8x the evaluations): the peak and corrected speeds move by
+    # <= 1.2e-7 relative (measured on all four cases), 4 orders inside the 0.002 tolerance
+    sol = solve_ivp(rhs, (0, t[-1]), [0.0, 0.0], t_eval=t, rtol=1e-6, atol=1e-10, method="DOP853")
     return t, w_start + alpha * t, np.abs(hilbert(sol.y[0]))
 
 

@@ -70,16 +70,18 @@ def test_huge_weight_drag_is_stiff_and_uses_radau():
     The balls are then locked to the rotor: their relative speed is at most
     mu |a_K| / h = 2 Rt |z''| / h, with |z''| <= R^2 |z| and |z| <= R^2 (e0 + 1) / |1 - R^2|
     (+ an equal transient) ~ 3 r*, i.e. <= 2*0.01*27/1e4 ~ 5e-5 rad/s, so they move by
-    < 1e-3 rad in 20 s: 1e-2 rad leaves a factor 10.
+    < 2.5e-4 rad in 5 s: 2.5e-3 rad leaves a factor 10 (measured 2.2e-5).  5 s (was 20 s,
+    bound 1e-2, 10x the CPU) is > 5e4 weight decay times (rate >= h = 1e4): the stiffness
+    test (on the rates, before the first step) and the locking are decided long before.
     """
-    sc = two_balls(3.0, h=1e4, duration=20.0, sample_rate=10.0)
+    sc = two_balls(3.0, h=1e4, duration=5.0, sample_rate=10.0)
     tr = simulate(sc, method="auto")
     check_outcome(tr)
     assert tr.success, tr.stats.message
     assert tr.stats.method == "Radau"
     assert "stiff" in tr.stats.method_reason
     drift = np.angle(np.exp(1j * (tr.relative_angle - sc.balancer.initial_angles)))
-    assert np.max(np.abs(drift)) < 1e-2
+    assert np.max(np.abs(drift)) < 2.5e-3
 
 
 def test_zero_weight_drag():

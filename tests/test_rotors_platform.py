@@ -256,11 +256,19 @@ def test_o16_harmonic_steady_state_equals_integration(paper_exact):
     t_end = period * math.ceil((21.0 / sigma) / period)
     Minv = np.linalg.inv(r.M)
     C = r.D + w * r.G
+    # at constant speed the hook's force is Fc cos(w t) + Fs sin(w t): checked at 17 angles
+    # (one of them off the grid), then the first-order system y' = A y + b(t) is cheap to
+    # evaluate (the integration is the same; ~2x less CPU than calling the hook per stage)
+    Fc, Fs = (generalized_force(p, a, w, 0.0, paper_exact) for a in (0.0, 0.5 * math.pi))
+    for a in np.append(np.linspace(0.0, 2 * math.pi, 16), 12.345):
+        assert np.allclose(generalized_force(p, a, w, 0.0, paper_exact),
+                           Fc * math.cos(a) + Fs * math.sin(a), rtol=1e-13,
+                           atol=1e-13 * abs(Fc).max())
+    A = np.block([[np.zeros((6, 6)), np.eye(6)], [-Minv @ r.K, -Minv @ C]])
+    bc, bs = np.concatenate([np.zeros(6), Minv @ Fc]), np.concatenate([np.zeros(6), Minv @ Fs])
 
     def rhs(t, y):
-        q, v = y[:6], y[6:]
-        f = generalized_force(p, w * t, w, 0.0, paper_exact)
-        return np.concatenate([v, Minv @ (f - C @ v - r.K @ q)])
+        return A @ y + math.cos(w * t) * bc + math.sin(w * t) * bs
 
     t_eval = t_end - period + np.linspace(0.0, period, 17)
     sol = solve_ivp(rhs, (0.0, t_end), np.zeros(12), method="DOP853", rtol=1e-11,

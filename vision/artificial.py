@@ -127,12 +127,13 @@ class Camera(_Quantised):
 def _pixel_fractions(c, sigma, half, lo, n):
     """(K, n) fraction of 1-D Gaussians (centres c, cut at c +- half and
     renormalised) falling on pixels lo..lo+n-1 (pixel k covers k +- 0.5)."""
-    k = lo + np.arange(n)
-    left = np.maximum(k[None, :] - 0.5, (c - half)[:, None])
-    right = np.minimum(k[None, :] + 0.5, (c + half)[:, None])
+    # the n + 1 pixel edges clipped to the cut: pixel k's right edge is pixel k+1's left one,
+    # so erf is evaluated once per edge (pixels outside the cut get erf(e) - erf(e) = 0)
+    edges = np.clip((lo + np.arange(n + 1))[None, :] - 0.5, (c - half)[:, None],
+                    (c + half)[:, None])
     s = 1.0 / (math.sqrt(2.0) * sigma)
-    g = special.erf((right - c[:, None]) * s) - special.erf((left - c[:, None]) * s)
-    return np.maximum(g, 0.0) / (2.0 * special.erf(half * s))
+    E = special.erf((edges - c[:, None]) * s)
+    return np.maximum(E[:, 1:] - E[:, :-1], 0.0) / (2.0 * special.erf(half * s))
 
 
 def spot_signal(positions_px, cam: Camera, weights=None) -> np.ndarray:
@@ -435,6 +436,21 @@ def _segment_distance(X, Y, a, b):
     return np.hypot(rel[:, 0] - s * d[:, 0], rel[:, 1] - s * d[:, 1])
 
 
+def _box(points, half, W, H):
+    """The pixels a shape of half-width ``half`` [px] about ``points`` (k, 2) can cover:
+    ``_coverage`` is exactly 0 at ``d >= half + 0.5``, so the pixels outside add exactly
+    nothing (the same image, drawn over a box instead of the frame).  ``None``: off the frame."""
+    if not np.all(np.isfinite(points)):
+        return np.s_[:, :]
+    m = half + 1.0
+    u0, v0 = np.floor(points.min(axis=0) - m).astype(int)
+    u1, v1 = np.ceil(points.max(axis=0) + m).astype(int) + 1
+    u0, v0, u1, v1 = max(u0, 0), max(v0, 0), min(u1, W), min(v1, H)
+    if u0 >= u1 or v0 >= v1:
+        return None
+    return np.s_[v0:v1, u0:u1]
+
+
 def strobe_frame(relative_angles, setup: StrobeSetup = StrobeSetup(), rng=None, *,
                  flash_angle: float = 0.0, centre_px=None,
                  weight_speed_ratio: float = 1.0) -> np.ndarray:
@@ -484,15 +500,22 @@ def strobe_frame(relative_angles, setup: StrobeSetup = StrobeSetup(), rng=None, 
         return np.column_stack([uc + radius * np.cos(angles), vc - radius * np.sin(angles)])
 
     mark = flash_angle + offsets
-    d_mark = _segment_distance(X, Y, at(MARK_SPAN[0] * Rr, mark), at(MARK_SPAN[1] * Rr, mark))
-    base += (LEVELS["mark"] - base) * _coverage(d_mark, 1.5).mean(axis=0)
+    a0, a1 = at(MARK_SPAN[0] * Rr, mark), at(MARK_SPAN[1] * Rr, mark)
+    box = _box(np.vstack([a0, a1]), 1.5, W, H)
+    if box is not None:
+        d_mark = _segment_distance(X[box], Y[box], a0, a1)
+        base[box] += (LEVELS["mark"] - base[box]) * _coverage(d_mark, 1.5).mean(axis=0)
     acc = np.zeros((H, W))
     for flash in rel:
         img = base.copy()
         for a in flash:
             c = at(track, flash_angle + a + weight_speed_ratio * offsets)
-            d = np.hypot(X[None] - c[:, 0, None, None], Y[None] - c[:, 1, None, None])
-            img += (LEVELS["ball"] - img) * _coverage(d, ball).mean(axis=0)
+            box = _box(c, ball, W, H)
+            if box is None:
+                continue
+            Xb, Yb = X[box], Y[box]
+            d = np.hypot(Xb[None] - c[:, 0, None, None], Yb[None] - c[:, 1, None, None])
+            img[box] += (LEVELS["ball"] - img[box]) * _coverage(d, ball).mean(axis=0)
         acc += img
     acc /= len(rel)
     rng = np.random.default_rng(rng)

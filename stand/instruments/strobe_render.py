@@ -355,6 +355,7 @@ def _frames(traj, view, strobe, tf, n_frames, track, ball, kind, looks, velociti
     track_px, ball_px = track / pitch, ball / pitch
     full = (1 << strobe.bit_depth) - 1
     zeros_v = (np.zeros_like(traj.t), np.zeros_like(traj.t))
+    base_at, base = None, None
     for i in range(n_frames):
         tk = tf[i * stride:i * stride + K]
         # the flash centre and the sub-instants across the slot
@@ -376,10 +377,12 @@ def _frames(traj, view, strobe, tf, n_frames, track, ball, kind, looks, velociti
         acc = np.zeros((H, W))
         for k in range(K):
             cx, cy = cxs[k], cys[k]
-            img = np.full((H, W), strobe.background)
-            inside = _cov_disk(Xg, Yg, cx, cy, R_rot)
-            img += (LEVEL_INTERIOR - img) * inside
-            img += (LEVEL_RIM - img) * _cov_ring(Xg, Yg, cx, cy, R_rot, 1.0)
+            if base_at != (cx, cy):        # the rotor's disc and rim: drawn once per centre
+                base = np.full((H, W), strobe.background)
+                base += (LEVEL_INTERIOR - base) * _cov_disk(Xg, Yg, cx, cy, R_rot)
+                base += (LEVEL_RIM - base) * _cov_ring(Xg, Yg, cx, cy, R_rot, 1.0)
+                base_at = (cx, cy)
+            img = base.copy()
             for lk in looks:               # liquids under the mark
                 if lk.drawn == "crescent":
                     d = b0[lk.name]

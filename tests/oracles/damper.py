@@ -103,7 +103,7 @@ def rhs(tau: float, s, p: DamperParams) -> np.ndarray:
     -------
     numpy.ndarray, shape (10,)
     """
-    s = np.asarray(s, dtype=float)
+    s = np.asarray(s, dtype=float).tolist()     # Python floats: the same values, ~2x faster
     x, y, dx, dy = s[:4]
     Rw = p.R_omega
     ph = Rw * tau + p.gamma
@@ -121,7 +121,7 @@ def rhs_rotating(tau: float, s, p: DamperParams) -> np.ndarray:
     quantities as in :func:`rhs` in rotating-frame components (``W`` still the
     *absolute* angular velocity; ``n' = (W - R_omega e_z) x n``).
     """
-    s = np.asarray(s, dtype=float)
+    s = np.asarray(s, dtype=float).tolist()
     xi, eta, dxi, deta = s[:4]
     Rw = p.R_omega
     zeta, dzeta = complex(xi, eta), complex(dxi, deta)

