@@ -107,9 +107,6 @@ def _planar_rotating_rhs_at(model: PlanarModel, R: float):
     return rhs
 
 
-def _planar_rotating_rhs(model: PlanarModel, R: float, z: np.ndarray) -> np.ndarray:
-    return _planar_rotating_rhs_at(model, R)(z)
-
 
 def _generic_rotating_rhs(model, R: float, z: np.ndarray) -> np.ndarray:
     n, nw = model.n, model.nw
@@ -149,20 +146,22 @@ def rotating_rhs(model, R: float, z: np.ndarray) -> np.ndarray:
     rotor is unbalanced); the relative azimuths and rates of the state are then
     measured in that frame.
     """
+    return _rotating_rhs_at(model, R)(z)
+
+
+def _rotating_rhs_at(model, R: float):
+    """``z -> rotating_rhs(model, R, z)``, with what does not depend on ``z`` set up once (a
+    Jacobian evaluates it at 2 x state-size points)."""
     if isinstance(model, PlanarModel):
-        return _planar_rotating_rhs(model, R, z)
+        return _planar_rotating_rhs_at(model, R)
     _check_generic(model)
-    return _generic_rotating_rhs(model, R, z)
+    return lambda z: _generic_rotating_rhs(model, R, z)
 
 
 def rotating_jacobian(model, R: float, z: np.ndarray, step: float = 1e-7) -> np.ndarray:
     """Jacobian of :func:`rotating_rhs` by central differences."""
     z = np.asarray(z, dtype=float)
-    if isinstance(model, PlanarModel):
-        rhs = _planar_rotating_rhs_at(model, R)      # set up once for the 2 z.size calls
-    else:
-        def rhs(x):
-            return rotating_rhs(model, R, x)
+    rhs = _rotating_rhs_at(model, R)
     J = np.empty((z.size, z.size))
     for i in range(z.size):
         dz = np.zeros_like(z)
