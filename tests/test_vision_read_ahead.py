@@ -110,3 +110,26 @@ def test_roi_tracker_recovers_after_a_jump_and_a_lost_spot():
     err = df[["u_px", "v_px"]].to_numpy()[~gone] - px[~gone, 0]
     assert math.sqrt(np.mean(err ** 2)) <= RMS_PX
     assert np.abs(err).max() <= 4 * RMS_PX
+
+
+def test_read_ahead_holds_at_most_max_bytes_of_frames():
+    """Frames of 1000 bytes with a 3000-byte budget: the thread gets 3 frames ahead (plus
+    the one it holds waiting for room) and no further, however deep ``depth`` is."""
+    import time
+
+    produced = []
+
+    def frames():
+        for k in range(100):
+            produced.append(k)
+            yield k, 0.0, np.zeros(1000, np.uint8)
+
+    it = read_ahead(frames(), depth=256, max_bytes=3000)
+    assert next(it)[0] == 0
+    deadline = time.monotonic() + 10.0
+    while len(produced) < 5 and time.monotonic() < deadline:
+        time.sleep(0.01)
+    time.sleep(0.1)                        # room for a wrong producer to run further
+    assert len(produced) == 5              # 1 consumed + 3 queued + 1 held
+    assert [x[0] for x in it] == list(range(1, 100))
+    assert not _workers()

@@ -27,15 +27,22 @@ from typing import Callable, Iterable, Iterator, NamedTuple, Sequence
 import numpy as np
 
 __all__ = ["VisionError", "FrameRecord", "iter_frames", "read_ahead", "frame_table",
-           "DEFAULT_DATASET", "VIDEO_SUFFIXES", "IMAGE_SUFFIXES", "HDF5_SUFFIXES", "READ_AHEAD"]
+           "DEFAULT_DATASET", "VIDEO_SUFFIXES", "IMAGE_SUFFIXES", "HDF5_SUFFIXES", "READ_AHEAD",
+           "READ_AHEAD_BYTES"]
 
 DEFAULT_DATASET = "instruments/screen/frames"
 HDF5_SUFFIXES = {".h5", ".hdf5", ".hdf"}
 VIDEO_SUFFIXES = {".avi", ".mp4", ".mkv", ".mov", ".mpg", ".mpeg", ".wmv", ".webm", ".m4v"}
 IMAGE_SUFFIXES = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".pgm", ".ppm"}
-#: frames a decoder thread reads ahead of the consumer (video files and images: OpenCV
-#: releases the GIL while it decodes, so decoding overlaps the tracking of earlier frames)
-READ_AHEAD = 16
+#: frames a decoder thread reads ahead of the consumer at most (video files and images:
+#: OpenCV releases the GIL while it decodes, so decoding overlaps the tracking of earlier
+#: frames).  Deep on purpose: decoding and tracking cost about the same per frame on average
+#: but not frame by frame (a saturated arc costs the tracker more than a dot), and a shallow
+#: queue makes each stage wait for the other's slow stretches -- the sample video's decode +
+#: track / decode 0.85 with 16 frames, 0.93 with 64, 0.95-0.97 with 256 (benchmarks/README.md)
+READ_AHEAD = 256
+#: [bytes] ... and at most this much image memory ahead (a 1280 x 1024 camera: 51 frames)
+READ_AHEAD_BYTES = 64 * 2 ** 20
 #: [s] the interpreter's thread switch interval while a reader thread runs (Python's default
 #: 5 ms): the decoder thread wants the GIL back for a few microseconds per frame, and a
 #: consumer busy in Python would otherwise keep it waiting up to 5 ms -- the sample video's
@@ -165,9 +172,12 @@ def _iter_images(paths):
         yield i, math.nan, img
 
 
-def read_ahead(items: Iterable, depth: int = READ_AHEAD) -> Iterator:
+def read_ahead(items: Iterable, depth: int = READ_AHEAD,
+               max_bytes: int | None = None) -> Iterator:
     """The items of ``items``, produced by a background thread up to ``depth`` ahead of the
-    consumer (a bounded queue: memory for ``depth`` items at most).
+    consumer (a bounded queue: memory for ``depth`` items at most).  With ``max_bytes``, the
+    depth is also at most ``max_bytes`` over the first item's size (the bytes of its arrays,
+    :func:`_item_bytes`), and at least 1.
 
     Same items in the same order as iterating ``items`` directly; an exception raised by
     ``items`` is raised here, at the position where it occurred.  Closing this generator
@@ -190,7 +200,12 @@ def read_ahead(items: Iterable, depth: int = READ_AHEAD) -> Iterator:
     def produce():
         it = iter(items)
         try:
-            for x in it:
+            for k, x in enumerate(it):
+                if k == 0 and max_bytes is not None:
+                    size = _item_bytes(x)
+                    if size > 0:
+                        with q.mutex:     # Queue.put reads maxsize under this lock
+                            q.maxsize = max(1, min(q.maxsize, int(max_bytes // size)))
                 if not put((x, None)):
                     return
             put((end, None))
@@ -220,6 +235,15 @@ def read_ahead(items: Iterable, depth: int = READ_AHEAD) -> Iterator:
             sys.setswitchinterval(interval)
 
 
+def _item_bytes(x) -> int:
+    """Bytes held by the arrays of ``x`` (an array, or a tuple holding arrays)."""
+    if isinstance(x, np.ndarray):
+        return int(x.nbytes)
+    if isinstance(x, tuple):
+        return sum(int(y.nbytes) for y in x if isinstance(y, np.ndarray))
+    return 0
+
+
 def iter_frames(source, dataset: str = DEFAULT_DATASET, *,
                 progress: bool = False, ahead: int = READ_AHEAD) -> Iterator[FrameRecord]:
     """Stream gray frames from ``source``, one at a time.
@@ -240,9 +264,10 @@ def iter_frames(source, dataset: str = DEFAULT_DATASET, *,
     progress : bool
         Show a tqdm progress bar when tqdm is installed.
     ahead : int
-        Video files and images are decoded by a thread up to ``ahead`` frames ahead of
-        the consumer (:func:`read_ahead`; a video by one FFmpeg thread: the other cores are
-        the tracker's); 0: decoded in the caller's thread, on demand (FFmpeg's own threads).
+        Video files and images are decoded by a thread up to ``ahead`` frames (and
+        :data:`READ_AHEAD_BYTES`) ahead of the consumer (:func:`read_ahead`; a video by one
+        FFmpeg thread: the other cores are the tracker's); 0: decoded in the caller's
+        thread, on demand (FFmpeg's own threads).
 
     Yields
     ------
@@ -257,7 +282,7 @@ def iter_frames(source, dataset: str = DEFAULT_DATASET, *,
     first = None
     items = _open(source, dataset, ahead > 0)
     if ahead > 0 and getattr(items, "__name__", "") in ("_iter_video", "_iter_images"):
-        items = read_ahead(items, ahead)       # (decoded by OpenCV, which releases the GIL)
+        items = read_ahead(items, ahead, READ_AHEAD_BYTES)   # (OpenCV releases the GIL)
     for i, t, img in _with_progress(items, progress):
         img = np.asarray(img)
         if img.ndim != 2:
