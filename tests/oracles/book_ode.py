@@ -2,7 +2,8 @@
 fixed or the rotating frame, ``f(tau, y, p)``, integrated with ``solve_ivp`` from
 ``tau = 0`` (used by :mod:`oracles.gravity_pair` and :mod:`oracles.damper`).
 
-All times are the dimensionless ``tau = omega0 t`` [-].
+All times are the dimensionless ``tau = omega0 t`` [-].  Written apart from the package (no
+import of ``stand``): an oracle shares none of the code it checks.
 """
 from __future__ import annotations
 
@@ -10,9 +11,6 @@ from typing import Callable
 
 import numpy as np
 from scipy.integrate import solve_ivp
-
-from stand.model.balancers._ode import check_frame
-from stand.model.balancers._params import BOOK
 
 __all__ = ["frame_rhs", "integrate"]
 
@@ -28,7 +26,9 @@ def frame_rhs(p, frame: str, fixed: Callable, rotating: Callable) -> Callable:
     fixed, rotating : callable
         ``rhs(tau, y, p)`` of the fixed and the rotating frame.
     """
-    rhs = fixed if check_frame(frame) == "fixed" else rotating
+    if frame not in ("fixed", "rotating"):
+        raise ValueError(f"frame must be 'fixed' or 'rotating' [-], got {frame!r}")
+    rhs = fixed if frame == "fixed" else rotating
     return lambda t, y: rhs(t, y, p)
 
 
@@ -58,7 +58,9 @@ def integrate(fun: Callable, y0, t_end: float, size: int, *, name: str = "y0", t
     RuntimeError
         If the integration fails.
     """
-    t_end = BOOK.positive("t_end", t_end, "dimensionless time")
+    t_end = float(t_end)
+    if not (np.isfinite(t_end) and t_end > 0.0):
+        raise ValueError(f"t_end must be a finite number > 0 [dimensionless time], got {t_end!r}")
     y0 = np.asarray(y0, dtype=float)
     if y0.shape != (size,):
         raise ValueError(f"{name} must have shape ({size},) [state], got {y0.shape}")

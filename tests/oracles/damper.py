@@ -19,11 +19,14 @@ rotating-frame components)::
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from oracles.book_ode import frame_rhs, integrate
-from stand.model.balancers.damper_params import DamperParams
+
+if TYPE_CHECKING:    # the parameters' container (a dataclass of numbers) names the type only:
+    from stand.model.balancers.damper_params import DamperParams   # no package code runs here
 
 __all__ = ["rhs", "rhs_rotating", "make_rhs", "simulate"]
 
