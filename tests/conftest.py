@@ -14,6 +14,7 @@
 * The test modules' rewritten asserts and the packages' bytecode compiled once, in the
   controller while the warm-up compiles, instead of by every pytest-xdist worker on a fresh
   clone (~10 s of CPU each).
+* A folder for the session's computations shared by the workers (``tests/_shared.py``).
 * Print the adversarial harness' table at the end of the run (tests/test_adversarial.py
   records it as a user property; this works under pytest-xdist).
 """
@@ -88,6 +89,11 @@ def _lanes(items, n: int) -> list:
 def pytest_configure(config):
     if hasattr(config, "workerinput"):   # an xdist worker: the controller compiled already
         return
+    # the session's folder of computations shared by the workers (tests/_shared.py)
+    import tempfile
+
+    config._stand_shared = tempfile.mkdtemp(prefix="stand-tests-shared-")
+    os.environ["STAND_TEST_SHARED"] = config._stand_shared
     # as many lanes as there are cores: no faster with more, and each holds ~0.8 GB; a failed
     # item is reported and the lane goes on (the tests then compile what they need)
     running = []
@@ -101,6 +107,15 @@ def pytest_configure(config):
     _compile_sources()
     for p in running:
         p.wait()
+
+
+def pytest_unconfigure(config):
+    folder = getattr(config, "_stand_shared", None)
+    if folder:
+        import shutil
+
+        shutil.rmtree(folder, ignore_errors=True)
+        os.environ.pop("STAND_TEST_SHARED", None)
 
 
 def _compile_sources() -> None:
