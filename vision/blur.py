@@ -453,11 +453,17 @@ def warm() -> str:
                           40, 6.0)
     initial_guesses(patch, np.ones(patch.shape, bool), 8.0, np.zeros(patch.shape, bool),
                     engine=engine)          # the compiled starting values too
-    if engine == "numba":                   # and the tracker's one-call preparation
+    if engine == "numba":                   # and the tracker's front and one-call preparation
         from ._blur_start import compiled_blob_inputs
+        from ._spot_front import compiled_front
 
-        compiled_blob_inputs()(patch, np.ones(patch.shape, np.int32), 1, 0, 0,
-                               np.ones((3, 3), np.uint8), 255.0, 8.0, 0.0, MAX_SWEEP)
+        for labels in (np.ones(patch.shape, np.int32), np.ones(patch.shape, np.uint8)):
+            compiled_blob_inputs()(patch, labels, 1, 0, 0, np.ones((3, 3), np.uint8), 255.0,
+                                   8.0, 0.0, MAX_SWEEP)
+        frame = np.clip(patch, 0, 255).astype(np.uint8)
+        for sub in (frame, frame[1:, 1:]):  # a whole frame, a region of interest
+            blurred = sub.astype(np.float32)
+            compiled_front()(sub, blurred, 11, 12, 208.0, math.nan, math.nan, 247.0, 4, 2)
     return engine
 
 
