@@ -407,9 +407,9 @@ def _fit(patch, pi, pj, clipped, level, sat_eff, starts, max_iter, engine) -> Bl
     n_pix = pi.size
     dof = max(n_pix - int(np.count_nonzero(free)), 1)
     scale = n_pix / dof
-    return BlurFit(float(p[0]), float(p[1]), math.sqrt(max(var[0] * scale, 0.0)),
-                   math.sqrt(max(var[1] * scale, 0.0)), (float(p[2]), float(p[3])),
-                   float(p[4]), (float(p[5]), float(p[6])), math.exp(p[IA]), math.exp(p[IS]),
+    p, (vu, vv) = p.tolist(), var.tolist()      # (Python floats: fewer numpy scalars)
+    return BlurFit(p[0], p[1], math.sqrt(max(vu * scale, 0.0)), math.sqrt(max(vv * scale, 0.0)),
+                   (p[2], p[3]), p[4], (p[5], p[6]), math.exp(p[IA]), math.exp(p[IS]),
                    float(cost / dof), n_pix, int(np.count_nonzero(clipped)), int(it),
                    bool(converged))
 

@@ -20,6 +20,9 @@ Algorithm of :func:`locate`
    holding the brightest point is the spot (the brightest blob), any other
    component of at least ``MIN_BLOB_AREA`` px is a second (weaker) blob, e.g. a
    reflection -> flag ``"second_blob"`` (the spot itself is still located).
+   Steps 1-2 are :func:`vision._spot_front.detect`: for integer frames one compiled
+   call with numba (border statistics, threshold and the spot's component in loops,
+   the same numbers), else numpy and OpenCV as written here.
 3. **Window.**  Half-widths ``window`` [px] (u, v) if given, else 1.25 x the
    half-extent of the spot's component + 1 px (that component is cut at 5 % of
    the amplitude, i.e. at ~2.45 sigma for a Gaussian, so the window is about
@@ -148,7 +151,7 @@ class SpotResult:
 
     @property
     def ok(self) -> bool:
-        return not (self.flags & BAD_FLAGS)
+        return self.flags.isdisjoint(BAD_FLAGS)
 
 
 def _missing(flags, background=math.nan, noise=math.nan, peak=math.nan):
