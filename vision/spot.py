@@ -213,7 +213,8 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
         if x1 - x0 < 8 or y1 - y0 < 8:
             return _missing({"missing"})
         sub = frame[y0:y1, x0:x1]
-    sat = saturation_level(frame, saturation)
+    late = saturation is None and frame.dtype == np.uint16   # full scale from frame.max()
+    sat = None if late else saturation_level(frame, saturation)
     censor = None if sat is None else sat - round(CENSOR_MARGIN * sat)
     found = detect(sub, background, threshold, censor, COARSE_SIGMA, MIN_BLOB_AREA)
     if len(found) == 4:       # missing (or blank): flags, level, noise, peak
@@ -228,6 +229,9 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
 
     if near_roi_border(0):
         return None       # the blob reaches the ROI's border inside the frame: search it all
+    if late:              # (a uint16 frame's maximum: read only for a blob)
+        sat = saturation_level(frame, saturation)
+        censor = None if sat is None else sat - round(CENSOR_MARGIN * sat)
     if window is None:
         hu = 1.25 * 0.5 * bw + 1.0
         hv = 1.25 * 0.5 * bh + 1.0
@@ -238,6 +242,8 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
     Hs, Ws = sub.shape
     # saturated or elongated (motion-blurred) blob: the blurred-spot model fit
     if refine in ("auto", "blur") and window is None:
+        if late and censor is not None:
+            n_censored = int(np.count_nonzero(sub[by:by + bh, bx:bx + bw] >= censor))
         clipped = censor is not None and n_censored >= 2
         elongated = (abs(int(bw) - int(bh)) > max(2, 0.25 * max(bw, bh))
                      or area < FILL_ROUND * bw * bh)
