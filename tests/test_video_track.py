@@ -139,7 +139,8 @@ def test_compiled_blob_inputs_and_covariance_are_the_numpy_ones():
     assert np.array_equal(clip, patch[ri, rj] >= 251.0) and clip.sum() > 20
     # the blob's centroid moments (spot._blur_locate's agreement test) = numpy's to rounding
     w = np.where(ref, np.maximum(patch - 8.0, 0.0), 0.0)
-    c = (w.sum(axis=0) @ np.arange(w.shape[1]) / w.sum(), w.sum(axis=1) @ np.arange(w.shape[0]) / w.sum())
+    c = (w.sum(axis=0) @ np.arange(w.shape[1]) / w.sum(),
+         w.sum(axis=1) @ np.arange(w.shape[0]) / w.sum())
     ref_nm = ((rj - c[0]) ** 2).sum() + ((ri - c[1]) ** 2).sum()
     assert (tot, mu, mv, nm) == pytest.approx((w.sum(), *c, ref_nm), rel=1e-12)
     assert (mu, mv) == (starts[0, 0], starts[0, 1])

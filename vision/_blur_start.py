@@ -253,7 +253,8 @@ def _dilate(labels, lab, i0, j0, H, W, kernel):
                         if 0 <= jj < W:
                             mask[ii, jj] = True
                     else:
-                        for jj in range(max(j - last[a] + kc, 0), min(j - first[a] + kc, W - 1) + 1):
+                        for jj in range(max(j - last[a] + kc, 0),
+                                        min(j - first[a] + kc, W - 1) + 1):
                             mask[ii, jj] = True
             prev = inside
     return mask
