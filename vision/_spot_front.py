@@ -7,8 +7,8 @@ OpenCV calls):
 
 * :func:`vision.levels.background_level` of the region's border: the border's pixels
   clipped at +- 5 robust sigma about their median, their mean and standard deviation.
-  The median and the MAD are counted on a histogram of the (integer) values, or read off
-  the sorted values for a wide range; the sums of integers and of their squares are
+  The median and the MAD are counted on histograms of the (integer) values' high and low
+  bytes (no sort); the sums of integers and of their squares are
   exact in float64, so the mean and the sigma are ``cv2.meanStdDev``'s to the bit
   (its formula: ``m = S / n``, ``sd = sqrt(max(Q / n - m^2, 0))`` with ``1 / n``
   multiplied);
@@ -35,9 +35,8 @@ import numpy as np
 
 from .levels import BORDER, background_level
 
-__all__ = ["detect", "front", "border_background", "compiled_front", "HIST_RANGE"]
+__all__ = ["detect", "front", "border_background", "compiled_front"]
 
-HIST_RANGE = 4096     #: DN, widest border range counted on a histogram (else sorted)
 _INT_FRAMES = (np.dtype(np.uint8), np.dtype(np.uint16))   # the frames of the compiled front
 _FRONT = None         # (the compiled front or None,) once looked up
 
@@ -100,20 +99,37 @@ def detect(sub, background, threshold, censor, sigma, min_area):
 _compiled = None      # None: not tried yet; False: unavailable; else the dispatcher
 
 
-def _kth(hist, lo, k):
-    """The value of rank ``k`` (0-based) of the integers counted in ``hist`` (offset
-    ``lo``)."""
+def _kth(x, n, k, centre):
+    """The value of rank ``k`` (0-based) of ``x[:n]`` (integers in 0..65535), or of their
+    distances ``|x - centre|`` when ``centre`` >= 0: a 256-bin count of the high bytes,
+    then of the low bytes in the bucket holding rank ``k`` (exact, no sort)."""
+    hist = np.zeros(256, np.int64)
+    for t in range(n):
+        v = x[t] if centre < 0 else abs(x[t] - centre)
+        hist[v >> 8] += 1
     c = 0
-    for t in range(hist.size):
-        c += hist[t]
+    top = 0
+    for b in range(256):
+        if c + hist[b] > k:
+            top = b
+            break
+        c += hist[b]
+    for b in range(256):
+        hist[b] = 0
+    for t in range(n):
+        v = x[t] if centre < 0 else abs(x[t] - centre)
+        if v >> 8 == top:
+            hist[v & 255] += 1
+    for b in range(256):
+        c += hist[b]
         if c > k:
-            return lo + t
-    return lo + hist.size - 1
+            return (top << 8) + b
+    return (top << 8) + 255
 
 
 def border_background(a, b):
-    """(level, sigma) [DN] of the border (``b`` px) of the integer image ``a`` (both sides
-    > 2 b + 2 px), as :func:`vision.levels.background_level`."""
+    """(level, sigma) [DN] of the border (``b`` px) of the image ``a`` (integers in
+    0..65535, both sides > 2 b + 2 px), as :func:`vision.levels.background_level`."""
     H, W = a.shape
     n = 2 * b * W + 2 * b * (H - 2 * b)
     x = np.empty(n, np.int64)
@@ -128,30 +144,8 @@ def border_background(a, b):
                 x[k] = a[i, j]
                 x[k + 1] = a[i, W - b + j]
                 k += 2
-    lo = x[0]
-    hi = x[0]
-    for t in range(n):
-        lo = min(lo, x[t])
-        hi = max(hi, x[t])
-    half = n // 2
-    if hi - lo <= HIST_RANGE:
-        hist = np.zeros(hi - lo + 1, np.int64)
-        for t in range(n):
-            hist[x[t] - lo] += 1
-        med = _kth(hist, lo, half)
-        dh = np.zeros(max(hi - med, med - lo) + 1, np.int64)
-        for t in range(hist.size):
-            dh[abs(lo + t - med)] += hist[t]
-        dk = _kth(dh, 0, half)
-    else:
-        xs = np.sort(x)
-        med = xs[half]
-        d = np.empty(n, np.int64)
-        for t in range(n):
-            d[t] = abs(x[t] - med)
-        dk = np.sort(d)[half]
-    mad = 1.4826 * float(dk)
-    lim = max(5.0 * mad, 3.0)
+    med = _kth(x, n, n // 2, -1)
+    lim = max(5.0 * (1.4826 * float(_kth(x, n, n // 2, med))), 3.0)
     nk = 0
     s = 0
     q = 0
