@@ -113,7 +113,8 @@ def test_compiled_starting_values_are_the_numpy_ones(R, turns, n_starts):
 
 def test_compiled_blob_inputs_and_covariance_are_the_numpy_ones():
     """The tracker's one-call preparation (vision._blur_start.blob_inputs: cv2.dilate's mask,
-    np.nonzero's pixels, the clipped ones, the starting values) and the fit from it give
+    np.nonzero's pixels, the clipped ones, the starting values, the centroid's moments) and
+    the fit from it give
     fit_blurred_spot's numbers; the centre's std (the sandwich inside the compiled fit) is
     numpy's B^-1 M B^-1 to rounding at the same matrices, and within 5 % at the result."""
     pytest.importorskip("numba")
@@ -129,13 +130,27 @@ def test_compiled_blob_inputs_and_covariance_are_the_numpy_ones():
     labels[sub > 40] = 3
     i0, i1, j0, j1 = 40, 120, 45, 118
     patch = sub[i0:i1, j0:j1].astype(np.float64)
-    mask, pi, pj, clip, starts = compiled_blob_inputs()(
+    mask, pi, pj, clip, starts, (tot, mu, mv, nm) = compiled_blob_inputs()(
         patch, labels, 3, i0, j0, _PAD_KERNEL, 251.0, 8.0, 0.0, blur.MAX_SWEEP)
     ref = cv2.dilate((labels[i0:i1, j0:j1] == 3).astype(np.uint8), _PAD_KERNEL).astype(bool)
     assert np.array_equal(mask, ref) and ref.sum() > 300
     ri, rj = np.nonzero(ref)
     assert np.array_equal(pi, ri) and np.array_equal(pj, rj)
     assert np.array_equal(clip, patch[ri, rj] >= 251.0) and clip.sum() > 20
+    # the blob's centroid moments (spot._blur_locate's agreement test) = numpy's to rounding
+    w = np.where(ref, np.maximum(patch - 8.0, 0.0), 0.0)
+    c = (w.sum(axis=0) @ np.arange(w.shape[1]) / w.sum(),
+         w.sum(axis=1) @ np.arange(w.shape[0]) / w.sum())
+    ref_nm = ((rj - c[0]) ** 2).sum() + ((ri - c[1]) ** 2).sum()
+    assert (tot, mu, mv, nm) == pytest.approx((w.sum(), *c, ref_nm), rel=1e-12)
+    assert (mu, mv) == (starts[0, 0], starts[0, 1])
+    # the dilation: a uint8 label image (the compiled front's), kernels with and without gaps
+    for kernel in (np.ones((3, 3), np.uint8), np.array([[1, 0, 1], [0, 1, 0], [1, 0, 1]], np.uint8),
+                   cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (7, 7))):
+        m8 = compiled_blob_inputs()(patch, (labels == 3).astype(np.uint8), 1, i0, j0, kernel,
+                                    251.0, 8.0, 0.0, blur.MAX_SWEEP)[0]
+        assert np.array_equal(m8, cv2.dilate((labels[i0:i1, j0:j1] == 3).astype(np.uint8),
+                                             kernel).astype(bool))
     a = blur.fit_prepared(patch, mask, pi, pj, clip, starts, 8.0, 251.0, 9000.0)
     b = fit_blurred_spot(patch, mask, 8.0, saturation=251.0, amplitude=9000.0)
     assert (a.u, a.v, a.u_std, a.v_std) == pytest.approx((b.u, b.v, b.u_std, b.v_std), rel=1e-12)

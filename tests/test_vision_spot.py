@@ -202,3 +202,52 @@ def test_a_spot_the_refinement_rejects_is_flagged_with_a_larger_uncertainty():
     df = track([frame, (10 + spot).round().clip(0, 255).astype(np.uint8)])
     assert list(df["method"]) == ["centroid", "gaussian"]
     assert NOT_REFINED in df["flags"].iloc[0] and NOT_REFINED not in df["flags"].iloc[1]
+
+
+def test_compiled_front_gives_the_opencv_numbers():
+    """vision._spot_front: the compiled front of locate (border background, blank and amplitude
+    tests, the spot's connected component, a second blob, the clipped pixels) = numpy and
+    OpenCV's to the bit, on the video sample's frames and regions of interest, noisy 8-bit
+    frames with a reflection, 12-bit frames, wide-range 16-bit noise, blank frames, and with
+    an imposed background and threshold."""
+    pytest.importorskip("numba")
+    from vision import _spot_front as front
+
+    if front.compiled_front() is None:
+        pytest.skip("numba disabled")
+    compiled = (front.compiled_front(),)
+
+    def both(sub, background=None, threshold=None, censor=247.0):
+        out = []
+        for kernel in (compiled, (None,)):
+            front._FRONT = kernel
+            try:
+                out.append(front.detect(sub, background, threshold, censor, 1.0, 4))
+            finally:
+                front._FRONT = compiled
+        a, b = out
+        if len(a) == 4 or len(b) == 4:                 # missing / blank
+            assert repr(a) == repr(b)
+            return "blank" if "blank" in a[0] else "missing"
+        assert np.array_equal(a[4] == a[5], b[4] == b[5]) and np.array_equal(a[3], b[3])
+        assert [a[k] for k in (0, 1, 2, 6, 7, 8, 9)] == [b[k] for k in (0, 1, 2, 6, 7, 8, 9)]
+        return "second" if a[8] else "found"
+
+    rng = np.random.default_rng(5)
+    seen = []
+    video = [r.image for r in iter_frames("data_samples/video/screen.mp4")][::25]
+    for f in video:
+        seen.append(both(f))
+        for _ in range(6):
+            (w, h), (x, y) = rng.integers(6, 120, 2), rng.integers(0, 250, 2)
+            sub = f[y:y + h, x:x + w]
+            seen += [both(sub), both(sub, float(rng.uniform(0, 30)), float(rng.uniform(1, 50)))]
+    cam8, cam12 = _cam(), _cam(bit_depth=12)
+    for k in range(20):
+        px = np.array([[rng.uniform(15, 145), rng.uniform(15, 105)]])
+        f8 = art.spot_frame(px, cam8, rng)
+        f8[5:8, 5:9] = np.maximum(f8[5:8, 5:9], 90)      # a reflection: a second blob
+        seen += [both(f8), both(art.spot_frame(px, cam12, rng), censor=None)]
+        seen.append(both(rng.integers(0, 65535, (40, 50)).astype(np.uint16), censor=65000.0))
+    seen.append(both(np.full((30, 40), 7, np.uint8)))
+    assert {"found", "second", "missing", "blank"} <= set(seen)

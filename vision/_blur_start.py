@@ -171,23 +171,13 @@ def blob_inputs(patch, labels, lab, i0, j0, kernel, censor, level, sigma, max_sw
     columns j0.. ``patch`` [DN] covers, in one pass (what :func:`vision.spot._blur_locate`
     and :func:`vision.blur.fit_blurred_spot` do with some twenty numpy calls): the mask
     (the blob dilated by ``kernel``, as ``cv2.dilate``), its pixels (rows, columns;
-    ``np.nonzero``'s order), which of them are clipped (>= ``censor``) and
-    :func:`start_loops`' rows.  Returns (mask, pi, pj, clipped, starts)."""
+    ``np.nonzero``'s order), which of them are clipped (>= ``censor``),
+    :func:`start_loops`' rows and the blob's centroid moments: (tot, m_u, m_v, nm) the
+    weights' sum [DN] and centre [px] (``start_loops``' first row's) and the pixels'
+    squared distances from it summed [px^2] (0s without signal).
+    Returns (mask, pi, pj, clipped, starts, moments)."""
     H, W = patch.shape
-    kr = kernel.shape[0] // 2
-    kc = kernel.shape[1] // 2
-    mask = np.zeros((H, W), np.bool_)
-    for i in range(H):
-        for j in range(W):
-            if labels[i0 + i, j0 + j] == lab:
-                for a in range(kernel.shape[0]):
-                    ii = i - a + kr
-                    if ii < 0 or ii >= H:
-                        continue
-                    for b in range(kernel.shape[1]):
-                        jj = j - b + kc
-                        if kernel[a, b] and 0 <= jj < W:
-                            mask[ii, jj] = True
+    mask = _dilate(labels, lab, i0, j0, H, W, kernel)
     n = 0
     for i in range(H):
         for j in range(W):
@@ -207,7 +197,67 @@ def blob_inputs(patch, labels, lab, i0, j0, kernel, censor, level, sigma, max_sw
                     clipped[k] = True
                     shrink = 0.8       # a clipped core widens the blob (initial_guesses)
                 k += 1
-    return mask, pi, pj, clipped, start_loops(patch, mask, level, sigma, shrink, max_sweep)
+    starts = start_loops(patch, mask, level, sigma, shrink, max_sweep)
+    tot = 0.0
+    nu = 0.0
+    nv = 0.0
+    if starts.shape[0]:
+        mu = starts[0, 0]
+        mv = starts[0, 1]
+        for q in range(n):
+            x = patch[pi[q], pj[q]] - level
+            if x > 0:
+                tot += x
+            nu += (pj[q] - mu) ** 2
+            nv += (pi[q] - mv) ** 2
+    else:
+        mu = mv = 0.0
+    return mask, pi, pj, clipped, starts, (tot, mu, mv, nu + nv)
+
+
+def _dilate(labels, lab, i0, j0, H, W, kernel):
+    """``cv2.dilate`` of the pixels ``lab`` of ``labels[i0:i0 + H, j0:j0 + W]`` by ``kernel``
+    (bool, H x W).  A kernel whose rows are runs (an ellipse, a rectangle): a pixel that
+    follows one of the blob on its row adds only its runs' right ends."""
+    kh, kw = kernel.shape
+    kr = kh // 2
+    kc = kw // 2
+    first = np.full(kh, -1, np.int64)
+    last = np.full(kh, -1, np.int64)
+    runs = True
+    for a in range(kh):
+        for b in range(kw):
+            if kernel[a, b]:
+                if first[a] < 0:
+                    first[a] = b
+                elif last[a] != b - 1:
+                    runs = False
+                last[a] = b
+    mask = np.zeros((H, W), np.bool_)
+    for i in range(H):
+        prev = False
+        for j in range(W):
+            inside = labels[i0 + i, j0 + j] == lab
+            if inside:
+                for a in range(kh):
+                    ii = i - a + kr
+                    if first[a] < 0 or ii < 0 or ii >= H:
+                        continue
+                    if not runs:
+                        for b in range(kw):
+                            jj = j - b + kc
+                            if kernel[a, b] and 0 <= jj < W:
+                                mask[ii, jj] = True
+                    elif prev:               # the run of (i, j - 1) moved on by one
+                        jj = j - first[a] + kc
+                        if 0 <= jj < W:
+                            mask[ii, jj] = True
+                    else:
+                        for jj in range(max(j - last[a] + kc, 0),
+                                        min(j - first[a] + kc, W - 1) + 1):
+                            mask[ii, jj] = True
+            prev = inside
+    return mask
 
 
 def compiled_blob_inputs():
@@ -252,5 +302,6 @@ def _compiled_pair():
                 mod["half_sweep"] = jit(half_sweep)
                 mod["_circle"] = jit(_circle)
                 mod["start_loops"] = jit(start_loops)
+                mod["_dilate"] = jit(_dilate)
                 _compiled = (mod["start_loops"], jit(blob_inputs))
     return _compiled

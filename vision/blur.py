@@ -407,9 +407,9 @@ def _fit(patch, pi, pj, clipped, level, sat_eff, starts, max_iter, engine) -> Bl
     n_pix = pi.size
     dof = max(n_pix - int(np.count_nonzero(free)), 1)
     scale = n_pix / dof
-    return BlurFit(float(p[0]), float(p[1]), math.sqrt(max(var[0] * scale, 0.0)),
-                   math.sqrt(max(var[1] * scale, 0.0)), (float(p[2]), float(p[3])),
-                   float(p[4]), (float(p[5]), float(p[6])), math.exp(p[IA]), math.exp(p[IS]),
+    p, (vu, vv) = p.tolist(), var.tolist()      # (Python floats: fewer numpy scalars)
+    return BlurFit(p[0], p[1], math.sqrt(max(vu * scale, 0.0)), math.sqrt(max(vv * scale, 0.0)),
+                   (p[2], p[3]), p[4], (p[5], p[6]), math.exp(p[IA]), math.exp(p[IS]),
                    float(cost / dof), n_pix, int(np.count_nonzero(clipped)), int(it),
                    bool(converged))
 
@@ -453,11 +453,17 @@ def warm() -> str:
                           40, 6.0)
     initial_guesses(patch, np.ones(patch.shape, bool), 8.0, np.zeros(patch.shape, bool),
                     engine=engine)          # the compiled starting values too
-    if engine == "numba":                   # and the tracker's one-call preparation
+    if engine == "numba":                   # and the tracker's front and one-call preparation
         from ._blur_start import compiled_blob_inputs
+        from ._spot_front import compiled_front
 
-        compiled_blob_inputs()(patch, np.ones(patch.shape, np.int32), 1, 0, 0,
-                               np.ones((3, 3), np.uint8), 255.0, 8.0, 0.0, MAX_SWEEP)
+        for labels in (np.ones(patch.shape, np.int32), np.ones(patch.shape, np.uint8)):
+            compiled_blob_inputs()(patch, labels, 1, 0, 0, np.ones((3, 3), np.uint8), 255.0,
+                                   8.0, 0.0, MAX_SWEEP)
+        frame = np.clip(patch, 0, 255).astype(np.uint8)
+        for sub in (frame, frame[1:, 1:]):  # a whole frame, a region of interest
+            blurred = sub.astype(np.float32)
+            compiled_front()(sub, blurred, 11, 12, 208.0, math.nan, math.nan, 247.0, 4, 2)
     return engine
 
 

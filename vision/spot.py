@@ -20,6 +20,9 @@ Algorithm of :func:`locate`
    holding the brightest point is the spot (the brightest blob), any other
    component of at least ``MIN_BLOB_AREA`` px is a second (weaker) blob, e.g. a
    reflection -> flag ``"second_blob"`` (the spot itself is still located).
+   Steps 1-2 are :func:`vision._spot_front.detect`: for integer frames one compiled
+   call with numba (border statistics, threshold and the spot's component in loops,
+   the same numbers), else numpy and OpenCV as written here.
 3. **Window.**  Half-widths ``window`` [px] (u, v) if given, else 1.25 x the
    half-extent of the spot's component + 1 px (that component is cut at 5 % of
    the amplitude, i.e. at ~2.45 sigma for a Gaussian, so the window is about
@@ -91,7 +94,8 @@ import numpy as np
 
 from .centroid import GAUSS_HALF, TOL, gauss_centroid, gauss_weights, recentre, soft, spot_sigma
 from .io import frame_table
-from .levels import background_level, saturation_level
+from ._spot_front import detect
+from .levels import saturation_level
 
 __all__ = ["SpotResult", "locate", "track", "MIN_BLOB_AREA", "TRACK_COLUMNS"]
 
@@ -119,6 +123,7 @@ WIDE_MARGIN = 4            #: x margin: the rectangle tried before the whole fra
 FILL_ROUND = 0.6           #: a round blob fills >= this fraction of its bounding box (a disc: 0.785)
 AGREE_PX = 0.1             #: px, largest centroid / Gaussian-centroid difference of a spot
 COARSE_TOL = 2e-2          #: px, soft-window centroid tolerance when stage (b) follows
+_BLUR = None      # (the compiled blob_inputs or None, vision.blur) once imported
 BAD_FLAGS = frozenset({"missing", "blank", "edge"})
 #: flag of a saturated or elongated blob whose blurred-spot fit failed (the centroid is kept)
 FIT_FAILED = "fit_failed"
@@ -146,7 +151,7 @@ class SpotResult:
 
     @property
     def ok(self) -> bool:
-        return not (self.flags & BAD_FLAGS)
+        return self.flags.isdisjoint(BAD_FLAGS)
 
 
 def _missing(flags, background=math.nan, noise=math.nan, peak=math.nan):
@@ -208,30 +213,14 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
         if x1 - x0 < 8 or y1 - y0 < 8:
             return _missing({"missing"})
         sub = frame[y0:y1, x0:x1]
-    level, noise = background_level(sub)
-    if background is not None:
-        level = float(background)
-    flags: set = set()
-    lo_hi = cv2.minMaxLoc(sub if sub.dtype != np.float64 else sub.astype(np.float32))
-    if lo_hi[0] == lo_hi[1]:
-        return _missing({"missing", "blank"}, level, noise, 0.0)
-    img = sub.astype(np.float32)
-    blur = cv2.GaussianBlur(img, (0, 0), COARSE_SIGMA)
-    _, bmax, _, (pu, pv) = cv2.minMaxLoc(blur)
-    amp = bmax - level
-    thr = max(10.0 * noise, 5.0) if threshold is None else float(threshold)
-    if not amp >= thr:
-        return _missing({"missing"}, level, noise, amp)
-    cut = level + max(5.0 * noise, 0.05 * amp)
-    mask = (blur > cut).astype(np.uint8)
-    n, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8)
-    lab = labels[pv, pu]
-    if n > 2:
-        areas = stats[1:, cv2.CC_STAT_AREA]
-        others = np.delete(np.arange(1, n), lab - 1)
-        if np.any(stats[others, cv2.CC_STAT_AREA] >= MIN_BLOB_AREA) and areas.size > 1:
-            flags.add("second_blob")
-    bx, by, bw, bh = stats[lab, :4]
+    late = saturation is None and frame.dtype == np.uint16   # full scale from frame.max()
+    sat = None if late else saturation_level(frame, saturation)
+    censor = None if sat is None else sat - round(CENSOR_MARGIN * sat)
+    found = detect(sub, background, threshold, censor, COARSE_SIGMA, MIN_BLOB_AREA)
+    if len(found) == 4:       # missing (or blank): flags, level, noise, peak
+        return _missing(*found)
+    level, noise, amp, img, labels, lab, (bx, by, bw, bh), area, second, n_censored = found
+    flags: set = {"second_blob"} if second else set()
 
     def near_roi_border(pad):   # within pad px of the ROI's border inside the frame
         return _inside_only and (bx <= pad and x0 > 0 or by <= pad and y0 > 0
@@ -240,6 +229,9 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
 
     if near_roi_border(0):
         return None       # the blob reaches the ROI's border inside the frame: search it all
+    if late:              # (a uint16 frame's maximum: read only for a blob)
+        sat = saturation_level(frame, saturation)
+        censor = None if sat is None else sat - round(CENSOR_MARGIN * sat)
     if window is None:
         hu = 1.25 * 0.5 * bw + 1.0
         hv = 1.25 * 0.5 * bh + 1.0
@@ -247,15 +239,14 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
         hu, hv = (float(window), float(window)) if np.isscalar(window) else map(float, window)
     cu = bx + 0.5 * (bw - 1)
     cv = by + 0.5 * (bh - 1)
-    sat = saturation_level(frame, saturation)
     Hs, Ws = sub.shape
     # saturated or elongated (motion-blurred) blob: the blurred-spot model fit
     if refine in ("auto", "blur") and window is None:
-        censor = None if sat is None else sat - round(CENSOR_MARGIN * sat)
-        clipped = (censor is not None
-                   and np.count_nonzero(sub[by:by + bh, bx:bx + bw] >= censor) >= 2)
+        if late and censor is not None:
+            n_censored = int(np.count_nonzero(sub[by:by + bh, bx:bx + bw] >= censor))
+        clipped = censor is not None and n_censored >= 2
         elongated = (abs(int(bw) - int(bh)) > max(2, 0.25 * max(bw, bh))
-                     or stats[lab, cv2.CC_STAT_AREA] < FILL_ROUND * bw * bh)
+                     or area < FILL_ROUND * bw * bh)
         if refine == "blur" or clipped or elongated:
             if near_roi_border(FIT_PAD + 1):   # its fit's window would reach the border
                 return None                    # (_locate_near): not worth fitting here
@@ -284,7 +275,7 @@ def locate(frame, *, background: Optional[float] = None, threshold: Optional[flo
     grown = hu > 1.25 * hu0 or hv > 1.25 * hv0    # an asymmetric blob (arc), not noise
     # sparse blob (an arc): only the pixels near the blob count (less noise)
     sel = None
-    if window is None and 4.0 * hu * hv > 4.0 * stats[lab, cv2.CC_STAT_AREA] + 400.0:
+    if window is None and 4.0 * hu * hv > 4.0 * area + 400.0:
         near = cv2.dilate((labels == lab).astype(np.uint8),
                           cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * ARC_PAD + 1,) * 2))
         sel = near.astype(np.float64)
@@ -381,28 +372,32 @@ def _blur_locate(sub, labels, lab, box, level, noise, sat, amp, flags, frame_geo
     """The blurred-spot fit (:func:`vision.blur.fit_blurred_spot`) of the blob ``lab``
     (pixels >= ``sat`` censored); a :class:`SpotResult` with method "blur", or None when
     the fit fails (module docstring, step 4c)."""
-    from ._blur_start import compiled_blob_inputs
-    from .blur import MAX_SWEEP, fit_blurred_spot, fit_prepared
+    global _BLUR
+    if _BLUR is None:     # (imported once: a per-frame import costs as much as a small fit)
+        from . import blur
+        from ._blur_start import compiled_blob_inputs
 
+        _BLUR = (compiled_blob_inputs(), blur)
+    fast, blur = _BLUR
     bx, by, bw, bh = (int(a) for a in box)
     x0, y0, W, H = frame_geom
     Hs, Ws = sub.shape
     i0, i1 = max(by - FIT_PAD, 0), min(by + bh + FIT_PAD, Hs)
     j0, j1 = max(bx - FIT_PAD, 0), min(bx + bw + FIT_PAD, Ws)
     amp0, sig0 = (None, None) if start is None else start
-    fast = compiled_blob_inputs()
     try:
-        if fast is not None:    # mask, pixels and starting values in one compiled call
+        if fast is not None:    # mask, pixels, starting values, moments in one compiled call
             patch = sub[i0:i1, j0:j1].astype(np.float64)
-            mask, pi, pj, clip, starts = fast(
+            mask, pi, pj, clip, starts, (tot, mu, mv, nm) = fast(
                 patch, labels, int(lab), i0, j0, _PAD_KERNEL, math.inf if sat is None else float(sat),
-                float(level), float(sig0 or 0.0), MAX_SWEEP)
-            f = fit_prepared(patch, mask, pi, pj, clip, starts, level, sat, amp0)
+                float(level), float(sig0 or 0.0), blur.MAX_SWEEP)
+            f = blur.fit_prepared(patch, mask, pi, pj, clip, starts, level, sat, amp0)
         else:
             comp = (labels[i0:i1, j0:j1] == lab).astype(np.uint8)
             mask = cv2.dilate(comp, _PAD_KERNEL).astype(bool)
             patch = sub[i0:i1, j0:j1]
-            f = fit_blurred_spot(patch, mask, level, saturation=sat, sigma=sig0, amplitude=amp0)
+            f = blur.fit_blurred_spot(patch, mask, level, saturation=sat, sigma=sig0,
+                                      amplitude=amp0)
     except ValueError:
         return None
     size = max(bw, bh)
@@ -417,8 +412,8 @@ def _blur_locate(sub, labels, lab, box, level, noise, sat, amp, flags, frame_geo
     # the fit against the plain centroid of the blob: without clipping the centroid is
     # the exposure average too, so they must agree within the noise; with clipping they
     # differ by the centroid's bias (< 1 px)
-    if fast is not None and f.n_clipped >= 2:
-        cu, cv = float(starts[0, 0]), float(starts[0, 1])     # start_loops' centroid
+    if fast is not None:      # blob_inputs' (start_loops') centroid and moments: the
+        cu, cv = mu, mv       # numpy ones below to rounding
     else:
         w = np.where(mask, np.maximum(patch.astype(np.float64) - level, 0.0), 0.0)
         tot = float(w.sum())
@@ -426,12 +421,12 @@ def _blur_locate(sub, labels, lab, box, level, noise, sat, amp, flags, frame_geo
         ys = np.arange(w.shape[0], dtype=np.float64)
         cu = float(w.sum(axis=0) @ xs) / tot
         cv = float(w.sum(axis=1) @ ys) / tot
+        nm = mask.sum(axis=0) @ (xs - cu) ** 2 + mask.sum(axis=1) @ (ys - cv) ** 2
     d = math.hypot(f.u - cu, f.v - cv)
     if f.n_clipped >= 2:
         if d > 1.0 + 0.05 * size:
             return None
     else:
-        nm = mask.sum(axis=0) @ (xs - cu) ** 2 + mask.sum(axis=1) @ (ys - cv) ** 2
         sd = math.sqrt(float(nm) * max(noise * noise, 0.25)) / tot     # the centroid's noise
         if d > 4.0 * math.hypot(sd, f.u_std, f.v_std) + 0.02:
             return None
