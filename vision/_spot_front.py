@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 import os
+import sys
 
 import cv2
 import numpy as np
@@ -53,9 +54,10 @@ def detect(sub, background, threshold, censor, sigma, min_area):
     its area [px], another blob of ``min_area`` px or more?, the box's pixels >= ``censor``).
     """
     global _FRONT
-    if _FRONT is None:
-        _FRONT = (compiled_front(),)
-    fast = _FRONT[0] if sub.dtype in _INT_FRAMES and min(sub.shape) > 2 * BORDER + 2 else None
+    if _FRONT is None and "numba" in sys.modules:
+        use_compiled()       # (a lone locate, e.g. `stand snapshot`'s check, imports no numba)
+    fast = (_FRONT[0] if _FRONT is not None and sub.dtype in _INT_FRAMES
+            and min(sub.shape) > 2 * BORDER + 2 else None)
     img = sub.astype(np.float32)
     if fast is not None:
         blur = cv2.GaussianBlur(img, (0, 0), sigma)
@@ -94,6 +96,17 @@ def detect(sub, background, threshold, censor, sigma, min_area):
     n_censored = (0 if censor is None
                   else int(np.count_nonzero(sub[by:by + bh, bx:bx + bw] >= censor)))
     return level, noise, amp, img, labels, lab, (bx, by, bw, bh), area, second, n_censored
+
+
+def use_compiled() -> bool:
+    """From now on :func:`detect` runs the compiled front (importing numba for it; the same
+    numbers as numpy and OpenCV): :func:`vision.spot.track` asks for it, a whole video being
+    worth numba's import; a lone :func:`detect` uses it only once numba is imported anyway.
+    Returns whether it is available."""
+    global _FRONT
+    if _FRONT is None:
+        _FRONT = (compiled_front(),)
+    return _FRONT[0] is not None
 
 
 _compiled = None      # None: not tried yet; False: unavailable; else the dispatcher

@@ -94,7 +94,7 @@ import numpy as np
 
 from .centroid import GAUSS_HALF, TOL, gauss_centroid, gauss_weights, recentre, soft, spot_sigma
 from .io import frame_table
-from ._spot_front import detect
+from ._spot_front import detect, use_compiled
 from .levels import saturation_level
 
 __all__ = ["SpotResult", "locate", "track", "MIN_BLOB_AREA", "TRACK_COLUMNS"]
@@ -473,6 +473,7 @@ def track(frames: Iterable, *, background=None, threshold=None, window=None, gai
     ``("h264", qp)``); each centre's std gets the compression's share
     (:func:`vision.compression.widen_for_jpeg`).
     """
+    use_compiled()       # the compiled front of locate (vision._spot_front): many frames
     kw = dict(background=background, threshold=threshold, window=window, gain=gain,
               saturation=saturation, refine=refine)
     prev = None
