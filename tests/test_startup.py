@@ -85,7 +85,15 @@ def test_importing_the_kernels_does_not_import_numba():
     assert out.split() == ["False", "True"]
 
 
-def test_first_call_turns_every_stand_in_into_a_dispatcher():
+@pytest.fixture(scope="module")
+def jit_process():
+    """What one fresh process with numba's JIT (``STAND_KERNELS=jit``) prints: the types of
+    the stand-ins after the first call of one of them, then the loop's and the generic
+    right-hand side's signatures after a planar run (0.5 s).  One process for the two tests
+    below (a Python start with numba and stand, ~1 s of CPU, spared): the first call comes
+    before any run, as in a fresh process, and it compiles nothing of the loop nor of the
+    generic kernel (a stand-in becomes a dispatcher, compiled at its own first call), so the
+    run's signatures are those of a planar run in a fresh process."""
     if not _jit.HAVE_NUMBA:
         pytest.skip("numba not installed")
     out = _python(
@@ -94,25 +102,27 @@ def test_first_call_turns_every_stand_in_into_a_dispatcher():
         "prog = np.array([[0.0, 1.0, 0.0], [1.0, 2.0, 1.5]])\n"
         "v = pr.programme_kinematics(0.5, prog, len(prog))\n"
         "print(type(pr.programme_kinematics).__name__, type(pl.rhs_planar).__name__,\n"
-        "      type(pl.programme_kinematics).__name__, v[1])")
-    a, b, c, speed = out.split()
-    assert a == b == c == "CPUDispatcher"
-    assert float(speed) == pytest.approx(1.5, abs=1e-15)   # 1 + (2 - 1) * 0.5 / 1
-
-
-def test_planar_run_compiles_only_the_planar_kernel():
-    """Each model kind has its own compiled loop: a planar run (numba JIT) compiles the loop
-    for kind 0 only and never the generic right-hand side."""
-    if not _jit.HAVE_NUMBA:
-        pytest.skip("numba not installed")
-    out = _python(
+        "      type(pl.programme_kinematics).__name__, v[1])\n"
+        "print('@@')\n"
         "import stand\nsc = stand.load(%r)\n"
         "from dataclasses import replace\nsc = replace(sc, run=replace(sc.run, duration=0.5))\n"
         "stand.run(sc)\nfrom stand.integrate.dop853 import dop853_loop\n"
         "from stand.model.rotors import coupled_kernel as ck\n"
         "print(sorted(str(s[0]) for s in dop853_loop.signatures), len(ck.rhs_generic.signatures))"
         % str(RUNUP), env={"STAND_KERNELS": "jit"})
-    assert out.strip() == "['Literal[int](0)'] 0"
+    return out.split("@@\n")
+
+
+def test_first_call_turns_every_stand_in_into_a_dispatcher(jit_process):
+    a, b, c, speed = jit_process[0].split()
+    assert a == b == c == "CPUDispatcher"
+    assert float(speed) == pytest.approx(1.5, abs=1e-15)   # 1 + (2 - 1) * 0.5 / 1
+
+
+def test_planar_run_compiles_only_the_planar_kernel(jit_process):
+    """Each model kind has its own compiled loop: a planar run (numba JIT) compiles the loop
+    for kind 0 only and never the generic right-hand side."""
+    assert jit_process[1].strip() == "['Literal[int](0)'] 0"
 
 
 def _short(path, duration):
@@ -147,17 +157,38 @@ def test_precompiled_and_jit_kernels_agree(scene, duration, monkeypatch):
     assert np.max(np.abs(sa - sb) / scale) <= 1e-12
 
 
-def test_warm_run_imports_no_numba(built):
-    """With the precompiled kernel present, a whole `stand run` never imports numba."""
+WARM_KINDS = ("family_spatial", "body_liquid_float")
+
+
+@pytest.fixture(scope="module")
+def warm_runs(built, tmp_path_factory):
+    """What one fresh process with the precompiled kernels (``STAND_KERNELS=auto``) prints
+    after each of: a planar ``stand.run`` + ``stand.save`` (1 s; numba? scipy?), then ``stand
+    run`` of each of ``WARM_KINDS`` (numba? scipy.special?).  One process for the three tests
+    (two Python starts with stand, numpy and h5py, ~1 s of CPU, spared): each check is of a
+    module that must be absent, and ``sys.modules`` only grows, so a module absent after the
+    last command was imported by none of them; the planar run comes first, so that its check
+    of all of scipy sees what a fresh process sees."""
     if built is not None:
         pytest.skip(f"precompiling unavailable: {built}")
-    out = _python(
-        "import sys, tempfile, os, stand\nsc = stand.load(%r)\n"
-        "from dataclasses import replace\nsc = replace(sc, run=replace(sc.run, duration=1.0))\n"
-        "r = stand.run(sc)\nd = tempfile.mkdtemp()\nstand.save(r, os.path.join(d, 'r.h5'))\n"
-        "print(r.stats.success, 'numba' in sys.modules, 'scipy' in sys.modules)" % str(RUNUP),
-        env={"STAND_KERNELS": "auto"})
-    assert out.split() == ["True", "False", "False"]
+    tmp = tmp_path_factory.mktemp("warm_runs")
+    code = ("import sys, tempfile, os, stand\nsc = stand.load(%r)\n"
+            "from dataclasses import replace\nsc = replace(sc, run=replace(sc.run, duration=1.0))\n"
+            "r = stand.run(sc)\nd = tempfile.mkdtemp()\nstand.save(r, os.path.join(d, 'r.h5'))\n"
+            "print('@@', r.stats.success, 'numba' in sys.modules, 'scipy' in sys.modules)\n"
+            "from stand.cli.main import main\n" % str(RUNUP))
+    for name in WARM_KINDS:
+        code += (f"rc = main(['run', {str(SCENES / (name + '.toml'))!r}, '-o', "
+                 f"{str(tmp / (name + '.h5'))!r}, '--force'])\n"
+                 "print('@@', rc, 'numba' in sys.modules, 'scipy.special' in sys.modules)\n")
+    out = _python(code, env={"STAND_KERNELS": "auto"})
+    # each line after "@@" (a command's own output follows it)
+    return [part.splitlines()[0].split() for part in out.split("@@")[1:]]
+
+
+def test_warm_run_imports_no_numba(warm_runs):
+    """With the precompiled kernel present, a whole `stand run` never imports numba."""
+    assert warm_runs[0] == ["True", "False", "False"]
 
 
 def test_kernel_modes_are_validated(monkeypatch):
@@ -391,19 +422,12 @@ def test_kernel_set_dop853_takes_lists_and_checks_its_workspace():
                     np.empty((WORK_ROWS - 1, y.size)))
 
 
-@pytest.mark.parametrize("name", ["family_spatial", "body_liquid_float"])
-def test_warm_run_of_every_kind_imports_no_numba(name, tmp_path, built):
+@pytest.mark.parametrize("name", WARM_KINDS)
+def test_warm_run_of_every_kind_imports_no_numba(name, warm_runs):
     """A generic-kernel scene with a screen camera (frames rendered) and bodies: with the
     precompiled generic kernel and renderer, the whole `stand run` imports neither numba nor
-    scipy.special (issue 33)."""
-    if built is not None:
-        pytest.skip(f"precompiling unavailable: {built}")
-    code = ("import sys\nfrom stand.cli.main import main\n"
-            f"rc = main(['run', {str(SCENES / (name + '.toml'))!r}, '-o', "
-            f"{str(tmp_path / 'r.h5')!r}, '--force'])\n"
-            "print('@@', rc, 'numba' in sys.modules, 'scipy.special' in sys.modules)")
-    out = _python(code, env={"STAND_KERNELS": "auto"})
-    assert out.split("@@")[-1].split() == ["0", "False", "False"]
+    scipy.special (issue 33).  (The run's own process: ``warm_runs``.)"""
+    assert warm_runs[1 + WARM_KINDS.index(name)] == ["0", "False", "False"]
 
 
 def test_precompiled_renderer_equals_the_jit_one():
