@@ -441,7 +441,8 @@ def test_field_report_html_pdf_and_iso(tmp_path, with_pdf):
     job = tmp_path / "job.toml"
     job.write_text(text)
     html, pdf = tmp_path / "r.html", tmp_path / "r.pdf"
-    assert main(["balance", str(job), "-o", str(html)] + (["--pdf", str(pdf)] if with_pdf else [])) == 0
+    pdf_args = ["--pdf", str(pdf)] if with_pdf else []
+    assert main(["balance", str(job), "-o", str(html)] + pdf_args) == 0
     page = html.read_text()
     assert "Field balancing" in page and "holes 7 and 8" in page and "ISO 21940-11" in page
     assert page.count("data:image/png;base64,") == 4   # a drawing per plane, a polar per sensor
