@@ -57,21 +57,11 @@ def _short(name, duration):
 
 @pytest.fixture(scope="module")
 def runup(tmp_path_factory):
-    """ball_runup.toml cut to 16 s (run-up 10 s, then 6 s at 15 rev/s), its report.  Without
-    the chapter-5 theory of the cut scene (its own map, ~1 s of CPU; the tests of this record
-    read the residual, the grade, the header, the schema and the page's numbers): the theory's
-    rows in the report (schema, page, their match to the run-up's resonances) are checked on
-    the ``cameras`` sample, a run-up too (test_dynamics_theory_and_timeline)."""
-    from stand.theories.planar import speedmap
-
-    def no_theory(scene, *args, **kwargs):
-        raise RuntimeError("left out of the run-up fixture")
+    """ball_runup.toml cut to 16 s (run-up 10 s, then 6 s at 15 rev/s), its report."""
     d = tmp_path_factory.mktemp("runup")
     traj = simulate(_short("ball_runup", 16.0))
     h5 = write_recording(traj, d / "runup.h5")
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(speedmap, "scene_theory", no_theory)
-        doc = balancing_report(h5, html_path=d / "runup.html", json_path=d / "runup.json")
+    doc = balancing_report(h5, html_path=d / "runup.html", json_path=d / "runup.json")
     return dict(dir=d, traj=traj, h5=h5, doc=doc, html=(d / "runup.html").read_text("utf-8"),
                 json=json.loads((d / "runup.json").read_text("utf-8")))
 
@@ -362,12 +352,7 @@ def test_free_decay_identifies_f0_and_damping(tmp_path):
     assert doc["balancing_quality"]["residual_unbalance_gmm"] is None
 
 
-def test_service_speed_and_grade(runup, monkeypatch):
-    from stand.theories.planar import speedmap
-
-    def no_theory(scene, *args, **kwargs):   # the grade is read; the theory as in ``runup``
-        raise RuntimeError("left out of the grade test")
-    monkeypatch.setattr(speedmap, "scene_theory", no_theory)
+def test_service_speed_and_grade(runup):
     doc = balancing_report(runup["h5"], grade=2.5, service_speed_rpm=3000)
     iso = doc["balancing_quality"]["iso_21940_11"]
     assert iso["grade_mm_s"] == 2.5 and iso["service_speed_rpm"] == pytest.approx(3000)

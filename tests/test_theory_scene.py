@@ -198,7 +198,7 @@ def test_anisotropic_supports_give_the_engineering_criterion(capsys):
 
 
 def test_no_qp_motion_without_damping_and_petals_always_reported(stuck):
-    th = scene_theory(_dimless(2, 0.01, 0.0, 0.1, 0.3), closed_forms=False)   # (bands only)
+    th = scene_theory(_dimless(2, 0.01, 0.0, 0.1, 0.3))
     assert all("quasi-periodic" not in b.motions for b in th.bands)
     qp_stuck = stuck[1].qp
     # k = 3 / 0.96135 = 3.12: about 2 petals, the pattern turns slowly (digest 5.3)
