@@ -394,7 +394,12 @@ def _window(psi=1.0, z0=1.5, length=2.0):
 
 @pytest.mark.parametrize("frame", FRAMES)
 def test_O9_free_whirl_constant_dop853_damped_rk4(frame):
-    p, t0, t1, Z0, Zd0 = _window()
+    """A 1 s window from z = 1.5 (was 2 s; half the RHS calls).  RK4's numerical damping is
+    a fixed factor per step at a given theta = omega h, so it accumulates with the number of
+    steps: measured over 1 s / 2 s, coarse step rotating 0.379 % / 0.853 %, fixed 19.0 % /
+    34.3 %, both above the 0.3 % asserted; the fine step's share of the coarse one's 0.10 % /
+    0.11 % (< 2 %) and DOP853's drift 6e-10 / 1e-9 (< 1e-6) do not depend on the length."""
+    p, t0, t1, Z0, Zd0 = _window(length=1.0)
     y0 = _state_in_frame(p, frame, t0, Z0, Zd0)
     ref = undamped_asymptotics(p)["residual_W_over_qe"] * p.q
     run = simulate(p, t1, t_eval=np.linspace(t0, t1, 401), method="DOP853", rtol=1e-10,
@@ -410,7 +415,7 @@ def test_O9_free_whirl_constant_dop853_damped_rk4(frame):
                       record_every=100)
     cr, _ = free_whirl_amplitudes(p, coarse.t, coarse.Z, coarse.Zdot)
     assert np.all(np.diff(cr) < 0)                        # monotone numerical damping
-    assert cr[-1] / cr[0] < 1.0 - 3e-3                    # rotating ~0.85 %, fixed ~34 %
+    assert cr[-1] / cr[0] < 1.0 - 3e-3                    # rotating ~0.38 %, fixed ~19 %
     fine = simulate(p, t1, method="RK4", step=1.25e-4, frame=frame, t0=t0, y0=y0,
                     record_every=400)
     cf, _ = free_whirl_amplitudes(p, fine.t, fine.Z, fine.Zdot)

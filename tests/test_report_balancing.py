@@ -228,8 +228,33 @@ def test_every_number_in_html_tables_comes_from_the_json(which, request):
     assert htmlmod.escape(shown, quote=False) in r["html"]
 
 
+#: a valid 1 x 1 PNG, the picture of a figure that is built but not drawn
+_PNG_1PX = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAQAAAC1HAwCAAAAC0lEQVR42mNk"
+            "YAAAAAYAAjCB0C8AAAAASUVORK5CYII=")
+
+
+def _figures_built_not_drawn(monkeypatch):
+    """The report's figures built (every plotting call made) but not drawn to PNG (~0.3 s of
+    matplotlib text layout each, up to eight per report): for a test that reads the page's
+    text, never its pictures (base64 data, which cannot carry text; their captions are fixed
+    strings and stay on the page).  The drawn figures of both recordings are on the pages of
+    the ``runup`` and ``cameras`` fixtures (test_cameras_residual_matches_recorded_truth counts
+    their eight <img>, test_html_has_no_external_url reads their data URIs)."""
+    from matplotlib.figure import Figure
+
+    from stand.reports import balancing_figures, html
+
+    def built(fig):
+        assert isinstance(fig, Figure) and fig.axes, fig
+        return _PNG_1PX
+    monkeypatch.setattr(html, "figure_png", built)
+    monkeypatch.setattr(balancing_figures, "figure_png", built)
+
+
 def test_scene_text_is_escaped(runup, tmp_path, monkeypatch):
     from stand.theories.planar import speedmap
+
+    _figures_built_not_drawn(monkeypatch)      # the page's text is what is checked
 
     def no_theory(scene, *args, **kwargs):     # the changed scene's theory: seconds, no text
         raise RuntimeError("left out of the escaping test")
@@ -249,7 +274,8 @@ def test_scene_text_is_escaped(runup, tmp_path, monkeypatch):
 
 
 # ------------------------------------------------------------------ other inputs
-def test_csv_input(runup, tmp_path):
+def test_csv_input(runup, tmp_path, monkeypatch):
+    _figures_built_not_drawn(monkeypatch)      # the page is checked to be written, not its pictures
     rec = read_recording(runup["h5"])
     # the held part (10-16 s at 15 rev/s): the residual window at its end is the recording's
     # (the run-up before it would add the run-up fit, ~10 s, a lab table's business:

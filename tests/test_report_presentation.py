@@ -162,7 +162,29 @@ def test_every_schema_key_has_a_label():
     assert not missing, missing
 
 
-def test_folder_summary_links_each_report_failures_first(tmp_path):
+#: a valid 1 x 1 PNG, the picture of a figure that is built but not drawn
+_PNG_1PX = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAQAAAC1HAwCAAAAC0lEQVR42mNk"
+            "YAAAAAYAAjCB0C8AAAAASUVORK5CYII=")
+
+
+def _figures_built_not_drawn(monkeypatch):
+    """The reports' figures built (every plotting call made) but not drawn to PNG (~0.3 s of
+    matplotlib text layout each, seven per report): for a test that reads the page's order,
+    links and verdict, never its pictures, which are base64 data and cannot carry text.  The
+    drawn figures are checked on the sample's page (test_polar_plot_and_key_figures_come_before
+    _the_tables, the PDF's test) and in test_report_balancing.py (eight <img> of the sample)."""
+    from matplotlib.figure import Figure
+
+    from stand.reports import balancing_figures, html
+
+    def built(fig):
+        assert isinstance(fig, Figure) and fig.axes, fig
+        return _PNG_1PX
+    monkeypatch.setattr(html, "figure_png", built)
+    monkeypatch.setattr(balancing_figures, "figure_png", built)
+
+
+def test_folder_summary_links_each_report_failures_first(tmp_path, monkeypatch):
     import dataclasses
     import shutil
 
@@ -180,6 +202,7 @@ def test_folder_summary_links_each_report_failures_first(tmp_path):
     nb = load_scene(ROOT / "data_samples" / "scenes" / "no_balancer.toml")
     nb = dataclasses.replace(nb, run=dataclasses.replace(nb.run, duration=11.0))
     write_recording(simulate(nb), src / "c_daq.h5")
+    _figures_built_not_drawn(monkeypatch)    # the pages' order, links and verdicts are read
     out = tmp_path / "out"
     out.mkdir()
     code = main(["report", str(src), "-o", str(out), "--summary", str(tmp_path / "s.csv"),
