@@ -107,7 +107,9 @@ def _scene_key(scene) -> str:
         return f"{scene.text}\n{scene!r}"
 
 
-def _memoized(fn, cache: dict):
+def _memoized(fn, cache: dict, session: bool = False):
+    """``fn(scene, ...)`` once per (scene, arguments) in ``cache``; with ``session``, once per
+    test session, whichever pytest-xdist worker asks first (tests/_shared.py)."""
     signature = inspect.signature(fn)
 
     def wrapper(*args, **kwargs):
@@ -116,7 +118,12 @@ def _memoized(fn, cache: dict):
         scene, *rest = bound.arguments.values()
         key = (fn.__module__, fn.__qualname__, _scene_key(scene), repr(rest))
         if key not in cache:                 # an exception is not stored: raised every time
-            cache[key] = fn(*args, **kwargs)
+            if session and " at 0x" not in key[3]:   # (an argument without a stable repr: here)
+                from _shared import once
+
+                cache[key] = once(repr(key), lambda: fn(*args, **kwargs))
+            else:
+                cache[key] = fn(*args, **kwargs)
         return copy.deepcopy(cache[key])     # no caller sees another caller's changes
     wrapper.__wrapped__ = fn
     return wrapper
@@ -139,15 +146,15 @@ def theory_computed_once(shared: bool = False):
     physics, without this, in test_theory_scene.py, test_rotors_*.py, test_report_*.py.
     Every caller imports them at call time from their modules, where they are replaced;
     the originals are put back when the block ends.  ``shared``: the results are kept for
-    the test process, so the modules that ask for it share them (the sample recording's
-    theory: once per pytest-xdist worker)."""
+    the test session, so the modules that ask for it share them (the sample recording's
+    theory: once per session, whichever pytest-xdist worker asks first: tests/_shared.py)."""
     from stand.theories.planar import speedmap
     from stand.theories import rotors as rotors_run
 
     cache: dict = _SHARED_THEORIES if shared else {}
     saved = speedmap.scene_theory, rotors_run.family_theory
-    speedmap.scene_theory = _memoized(saved[0], cache)
-    rotors_run.family_theory = _memoized(saved[1], cache)
+    speedmap.scene_theory = _memoized(saved[0], cache, shared)
+    rotors_run.family_theory = _memoized(saved[1], cache, shared)
     try:
         yield cache
     finally:
