@@ -34,13 +34,13 @@ def _analyze(csv, rmap):
 @pytest.mark.parametrize("spr", [10, 60])
 def test_noise_free_runup_is_exact(tmp_path, spr):
     # shorter run-ups than the oracle's default 26 s (exactness needs no long record, only
-    # the resonance inside it): at 10 per revolution 6 -> 32 rev/s in 8 s (3.25 rev/s^2,
-    # 2 560 samples; the error 5.7e-13, as over 26 s), at 60 per revolution 12 -> 25 rev/s
-    # in 2 s (the same 6.5 rev/s^2 as 6 -> 32 in 4 s, through f0 = 18.5 Hz, 4.4 half-power
-    # bandwidths 2 zeta f0 = 1.5 Hz from either end: 3 000 samples, not 7 680: the error
-    # 1.3e-12 for 1.1e-11 over 6 -> 32, 2.6e-11 over 8 s), the bound 1e-5 kept
-    run = exact_runup(samples_per_rev_max=spr, **(dict(duration_s=8.0) if spr == 10 else dict(
-        f_start_hz=12.0, f_end_hz=25.0, duration_s=2.0)))
+    # the resonance inside it): 12 -> 25 rev/s, through f0 = 18.5 Hz with 4.4 half-power
+    # bandwidths 2 zeta f0 = 1.5 Hz to either end; at 10 per revolution in 4 s (3.25 rev/s^2
+    # as 6 -> 32 in 8 s before: 1 000 samples, not 2 560; the error 1.5e-12 for 5.7e-13, as
+    # over 26 s), at 60 per revolution in 2 s (6.5 rev/s^2 as 6 -> 32 in 4 s before: 3 000
+    # samples, not 7 680; the error 1.3e-12 for 1.1e-11, 2.6e-11 over 8 s), the bound 1e-5 kept
+    run = exact_runup(samples_per_rev_max=spr, f_start_hz=12.0, f_end_hz=25.0,
+                      duration_s=4.0 if spr == 10 else 2.0)
     d = _analyze(*write_csv(run, tmp_path / "runup.csv"))
     assert d["speed_source"].startswith("keyphasor")
     assert d["natural_frequency_hz"] == pytest.approx(run.f0_hz, rel=REL)
