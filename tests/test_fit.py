@@ -101,11 +101,18 @@ SHORT = BALLS.read_text().replace("programme = [[0.0, 0.0], [10.0, 15.0]]",
 
 
 def test_fit_recovers_a_short_run_up_and_writes_the_scene(tmp_path):
-    """Rotor values and ball drag from a 7-s run-up through the critical speed (2 um noise,
+    """Rotor values and ball drag from a 5.5-s run-up through the critical speed (2 um noise,
     TTL keyphasor at 500 samples/s), from a template 10-40 % off and an angle 30 deg off:
     each within 4 std of the truth, the fitted scene written as a new file that reads back."""
-    csv, m, _ = _record(tmp_path, SHORT)
-    tmpl = (SHORT.replace("stiffness = 1613.09", "stiffness = 1790.0")
+    # 5.5 s, not 7 (1.5 s held at 9 rev/s after the 4-s ramp, not 3 s): the fit's cost goes
+    # with the record's duration (its model runs).  The within-4-std check is statistical at
+    # any length; the shorter record still determines every value (identifiable): measured
+    # (seed 0) the relative std 4.6e-6 (stiffness; 2.9e-6 over 7 s), 2.6e-5 (eccentricity;
+    # 2.0e-5), 1.4e-5 (drag; 1.5e-5), the angle's 0.07 deg (0.06), every |z| < 0.9, chi2/dof
+    # 0.99 (0.97: the same TTL angle at 55 samples per revolution)
+    short = SHORT.replace("duration = 7.0", "duration = 5.5")
+    csv, m, _ = _record(tmp_path, short)
+    tmpl = (short.replace("stiffness = 1613.09", "stiffness = 1790.0")
             .replace("eccentricity = 8.0899e-4", "eccentricity = 6.0e-4")
             .replace("unbalance_angle = 0.0 ", "unbalance_angle = 30.0 ")
             .replace("drag = 0.16965", "drag = 0.25"))

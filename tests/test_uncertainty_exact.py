@@ -34,11 +34,13 @@ def _analyze(csv, rmap):
 @pytest.mark.parametrize("spr", [10, 60])
 def test_noise_free_runup_is_exact(tmp_path, spr):
     # shorter run-ups than the oracle's default 26 s (exactness needs no long record, only
-    # the resonance inside it): at 10 per revolution 6 -> 32 rev/s in 8 s (3.25 rev/s^2,
-    # 2 560 samples; the error 5.7e-13, as over 26 s), at 60 per revolution in 4 s (6.5
-    # rev/s^2, 7 680 samples, not 15 360 over 8 s: the error 1.1e-11 for 2.6e-11), the
-    # bound 1e-5 kept
-    run = exact_runup(samples_per_rev_max=spr, duration_s=8.0 if spr == 10 else 4.0)
+    # the resonance inside it): 12 -> 25 rev/s, through f0 = 18.5 Hz with 4.4 half-power
+    # bandwidths 2 zeta f0 = 1.5 Hz to either end; at 10 per revolution in 4 s (3.25 rev/s^2
+    # as 6 -> 32 in 8 s before: 1 000 samples, not 2 560; the error 1.5e-12 for 5.7e-13, as
+    # over 26 s), at 60 per revolution in 2 s (6.5 rev/s^2 as 6 -> 32 in 4 s before: 3 000
+    # samples, not 7 680; the error 1.3e-12 for 1.1e-11, 2.6e-11 over 8 s), the bound 1e-5 kept
+    run = exact_runup(samples_per_rev_max=spr, f_start_hz=12.0, f_end_hz=25.0,
+                      duration_s=4.0 if spr == 10 else 2.0)
     d = _analyze(*write_csv(run, tmp_path / "runup.csv"))
     assert d["speed_source"].startswith("keyphasor")
     assert d["natural_frequency_hz"] == pytest.approx(run.f0_hz, rel=REL)
@@ -68,9 +70,11 @@ def test_noise_free_runup_without_a_speed_channel_is_exact(tmp_path):
 @pytest.mark.parametrize("case", [
     dict(f_start_hz=40.0, f_end_hz=5.0, duration_s=6.0, fs_hz=400.0),    # run-down, 10 / rev at 40 rev/s
     dict(f_start_hz=5.0, f_end_hz=40.0, duration_s=6.0, fs_hz=400.0, beta_deg=8.0),
-    # from rest, zeta 0.15, 60 per revolution at the top: 0 -> 30 rev/s in 5 s (6 rev/s^2;
-    # 20 s, then 10 s before: the error 1.4e-11 in 5 s, 1.5e-11 in 10 s; 9 000 samples)
-    dict(f_start_hz=0.0, f_end_hz=30.0, duration_s=5.0, fs_hz=1800.0, zeta=0.15),
+    # from rest, zeta 0.15, 60 per revolution at the top: 0 -> 25 rev/s in 25/6 s (6 rev/s^2;
+    # 20 s, 10 s, then 0 -> 30 rev/s in 5 s at 1800 samples/s before: the error 1.4e-11 in
+    # 5 s, 1.5e-11 in 10 s; the top 25 rev/s is 1.1 half-power bandwidths 2 zeta f0 = 5.6 Hz
+    # past the critical speed 18.9 Hz: 6 251 samples, not 9 000, the error 8.5e-12)
+    dict(f_start_hz=0.0, f_end_hz=25.0, duration_s=25.0 / 6.0, fs_hz=1500.0, zeta=0.15),
 ])
 def test_noise_free_fast_sweeps_are_exact(tmp_path, case):
     """A fast sweep (5.8 rev/s^2) sampled at 10 per revolution: the keyphasor edge, a ramp in
