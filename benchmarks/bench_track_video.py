@@ -20,8 +20,9 @@ The process runs on ``--cores`` CPUs (``os.sched_setaffinity``; OpenCV one threa
   the caller tracks, the tracker's work inside the ROI around the predicted spot;
 * the same sequentially (``iter_frames(path, ahead=0)``: FFmpeg's own threads).
 
-Each is the best of ``--repeats`` passes over the whole file (wall time; the alternation
-spreads the machine's load over all rows); the numba kernel is compiled (or loaded from
+Each is the best of ``--repeats`` passes over the whole file (wall time; decode alone and
+decode + track alternate, so the machine's load spreads over both; the sequential row is
+timed after them); the numba kernel is compiled (or loaded from
 its cache) first, its cost printed apart.  Prints frames/s, the ratio decode + track /
 decode (goal >= 0.9), the share of frames per refinement and the RMS error against the
 truth.
@@ -99,13 +100,14 @@ def bench(path, repeats, truth=None):
     """Time the rows (module docstring) on ``path`` and print them; ``truth`` (F, 2) [px]."""
     t_dec = t_trk = t_seq = c_trk = c_dec = math.inf
     df = None
-    for _ in range(repeats):
+    for _ in range(repeats):     # the two compared rows alternate back to back
         t0, c0 = time.perf_counter(), time.process_time()
         n = decode_only(path)
         t_dec, c_dec = min(t_dec, time.perf_counter() - t0), min(c_dec, time.process_time() - c0)
         t0, c0 = time.perf_counter(), time.process_time()
         df = decode_and_track(path)
         t_trk, c_trk = min(t_trk, time.perf_counter() - t0), min(c_trk, time.process_time() - c0)
+    for _ in range(repeats):     # the sequential row, for information, after them
         t0 = time.perf_counter()
         seq = decode_and_track(path, ahead=0)
         t_seq = min(t_seq, time.perf_counter() - t0)

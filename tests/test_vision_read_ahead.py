@@ -124,7 +124,7 @@ def test_read_ahead_holds_at_most_max_bytes_of_frames():
             produced.append(k)
             yield k, 0.0, np.zeros(1000, np.uint8)
 
-    it = read_ahead(frames(), depth=256, max_bytes=3000)
+    it = read_ahead(frames(), depth=256, max_bytes=3000, batch=1)
     assert next(it)[0] == 0
     deadline = time.monotonic() + 10.0
     while len(produced) < 5 and time.monotonic() < deadline:

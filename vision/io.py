@@ -28,7 +28,7 @@ import numpy as np
 
 __all__ = ["VisionError", "FrameRecord", "iter_frames", "read_ahead", "frame_table",
            "DEFAULT_DATASET", "VIDEO_SUFFIXES", "IMAGE_SUFFIXES", "HDF5_SUFFIXES", "READ_AHEAD",
-           "READ_AHEAD_BYTES"]
+           "READ_AHEAD_BYTES", "READ_AHEAD_BATCH"]
 
 DEFAULT_DATASET = "instruments/screen/frames"
 HDF5_SUFFIXES = {".h5", ".hdf5", ".hdf"}
@@ -43,11 +43,16 @@ IMAGE_SUFFIXES = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".pgm", ".pp
 READ_AHEAD = 256
 #: [bytes] ... and at most this much image memory ahead (a 1280 x 1024 camera: 51 frames)
 READ_AHEAD_BYTES = 64 * 2 ** 20
+#: frames handed over at a time (one queue operation and one wake-up per batch)
+READ_AHEAD_BATCH = 8
 #: [s] the interpreter's thread switch interval while a reader thread runs (Python's default
-#: 5 ms): the decoder thread wants the GIL back for a few microseconds per frame, and a
-#: consumer busy in Python would otherwise keep it waiting up to 5 ms -- the sample video's
-#: decode + track / decode 0.84 at the default, 0.92 at 0.2 ms (benchmarks/README.md)
-SWITCH_INTERVAL = 2e-4
+#: 5 ms): the decoder thread wants the GIL back a few times per frame (after the decode, the
+#: timestamp, the gray conversion), and a consumer busy in Python keeps it waiting up to the
+#: interval each time -- on the critical path, the decoder being the slower stage.  Sample
+#: video, decode + track / decode alternated in one process (benchmarks/README.md): 0.81-0.97
+#: at 0.2 ms, 0.90-0.95 at 50 us, 0.93-0.98 at 10 us (the tracker's cost of the extra
+#: switches below the noise)
+SWITCH_INTERVAL = 1e-5
 
 
 class VisionError(ValueError):
@@ -173,18 +178,21 @@ def _iter_images(paths):
 
 
 def read_ahead(items: Iterable, depth: int = READ_AHEAD,
-               max_bytes: int | None = None) -> Iterator:
+               max_bytes: int | None = None, batch: int = READ_AHEAD_BATCH) -> Iterator:
     """The items of ``items``, produced by a background thread up to ``depth`` ahead of the
-    consumer (a bounded queue: memory for ``depth`` items at most).  With ``max_bytes``, the
+    consumer (a bounded queue: memory for about ``depth`` items).  With ``max_bytes``, the
     depth is also at most ``max_bytes`` over the first item's size (the bytes of its arrays,
-    :func:`_item_bytes`), and at least 1.
+    :func:`_item_bytes`).  The thread hands the items over ``batch`` at a time (one queue
+    operation and one wake-up of the consumer per batch instead of per item); the depth is
+    counted in whole batches, at least one.
 
     Same items in the same order as iterating ``items`` directly; an exception raised by
     ``items`` is raised here, at the position where it occurred.  Closing this generator
     early (``break``, garbage collection) stops the thread and closes ``items`` (e.g. releases
     a video file).
     """
-    q: queue.Queue = queue.Queue(maxsize=max(int(depth), 1))
+    batch = max(int(batch), 1)
+    q: queue.Queue = queue.Queue(maxsize=max(int(depth) // batch, 1))
     stop = threading.Event()
     end = object()
 
@@ -199,18 +207,23 @@ def read_ahead(items: Iterable, depth: int = READ_AHEAD,
 
     def produce():
         it = iter(items)
+        chunk: list = []
         try:
             for k, x in enumerate(it):
                 if k == 0 and max_bytes is not None:
                     size = _item_bytes(x)
                     if size > 0:
                         with q.mutex:     # Queue.put reads maxsize under this lock
-                            q.maxsize = max(1, min(q.maxsize, int(max_bytes // size)))
-                if not put((x, None)):
-                    return
-            put((end, None))
+                            q.maxsize = max(1, min(q.maxsize, int(max_bytes // size) // batch))
+                chunk.append(x)
+                if len(chunk) >= batch:
+                    if not put((chunk, None)):
+                        return
+                    chunk = []
+            chunk.append(end)
+            put((chunk, None))
         except BaseException as exc:   # noqa: BLE001 - handed to the consumer, raised there
-            put((end, exc))
+            put((chunk, exc))
         finally:
             close = getattr(it, "close", None)
             if close is not None:
@@ -222,12 +235,13 @@ def read_ahead(items: Iterable, depth: int = READ_AHEAD,
     worker.start()
     try:
         while True:
-            x, exc = q.get()
+            xs, exc = q.get()
+            for x in xs:
+                if x is end:
+                    return
+                yield x
             if exc is not None:
                 raise exc
-            if x is end:
-                return
-            yield x
     finally:
         stop.set()
         worker.join()
