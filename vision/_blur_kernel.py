@@ -13,8 +13,9 @@ The numpy twin of the normal equations (the separable sums as matrix products
 over the patch: the same numbers to rounding, ``tests/test_video_track.py``,
 about 5-10x slower) and the plain-Python copy of the fit that uses it, for when
 numba is missing or ``STAND_DISABLE_JIT=1`` / ``NUMBA_DISABLE_JIT=1`` is set, are
-:mod:`vision._blur_numpy`.  This module imports nothing of ``vision``: numba's
-cache is invalidated per source file, so the compiled code lives in this one file.
+:mod:`vision._blur_numpy`.  This module imports nothing of ``vision`` but
+:mod:`vision._numba` (which compiles nothing): numba's cache is invalidated per source
+file, so the compiled code lives in this one file.
 """
 from __future__ import annotations
 
@@ -22,6 +23,8 @@ import math
 import os
 
 import numpy as np
+
+from ._numba import jit_disabled, numba_or_none
 
 __all__ = ["fit_loops", "compiled_fit", "compiled_available", "compile_needed", "path",
            "n_points", "CUTOFF_SIGMAS"]
@@ -32,11 +35,6 @@ _SQRT2 = math.sqrt(2.0)
 _SQRT2PI = math.sqrt(2.0 * math.pi)
 
 _compiled = None        # None: not tried yet; False: unavailable; else the dispatcher
-
-
-def _disabled() -> bool:
-    return any(os.environ.get(k, "") not in ("", "0")
-               for k in ("STAND_DISABLE_JIT", "NUMBA_DISABLE_JIT"))
 
 
 def path(mu, mv, hu, hv, kap, a2, a3, n):
@@ -263,16 +261,12 @@ def _compiled_kernel():
     global _compiled
     if _compiled is None:
         _compiled = False
-        if not _disabled():
-            try:
-                import numba
-            except ImportError:
-                pass
-            else:
-                jit = numba.njit(cache=True, error_model="numpy", nogil=True)
-                globals()["path"] = jit(path)      # the kernel calls the compiled helpers
-                globals()["_profile_row"] = jit(_profile_row)
-                _compiled = jit(_normal_equations_loops)
+        numba = numba_or_none()
+        if numba is not None:
+            jit = numba.njit(cache=True, error_model="numpy", nogil=True)
+            globals()["path"] = jit(path)      # the kernel calls the compiled helpers
+            globals()["_profile_row"] = jit(_profile_row)
+            _compiled = jit(_normal_equations_loops)
     return _compiled or None
 
 
@@ -570,16 +564,13 @@ def compiled_fit():
         _compiled_fit = False
         kern = _compiled_kernel()
         if kern is not None:
-            import numba
-
-            jit = numba.njit(cache=True, error_model="numpy", nogil=True)
+            jit = numba_or_none().njit(cache=True, error_model="numpy", nogil=True)
             mod = globals()
             mod["_EVALUATE"] = kern
             for name in ("n_points", "_bound", "_evaluate", "_copy", "_cholesky_solve", "_lm",
                          "_score", "_centre_cov"):
                 mod[name] = jit(mod[name])
-            # nogil: a read-ahead thread decodes the next frames meanwhile (vision.io)
-            _compiled_fit = numba.njit(cache=True, error_model="numpy", nogil=True)(fit_loops)
+            _compiled_fit = jit(fit_loops)   # nogil: the read-ahead thread decodes meanwhile
     return _compiled_fit or None
 
 
@@ -587,7 +578,7 @@ def compile_needed() -> bool:
     """True when the first compiled fit will compile (numba available, no cache file of
     :func:`fit_loops` yet): about 10 s, once per install (a best guess from numba's cache
     index; False when that cannot be told)."""
-    if _disabled():
+    if jit_disabled():
         return False
     try:
         import importlib.util

@@ -11,14 +11,16 @@ rounding (``tests/test_vision_spot.py``).  :func:`compiled_start` compiles it (n
 :func:`blob_inputs` adds what the tracker did around it in numpy (the blob's dilated mask,
 its pixels, the clipped ones): one compiled call per fitted blob
 (:func:`compiled_blob_inputs`; ``tests/test_video_track.py``).  This module imports
-nothing of ``vision`` (numba's cache is invalidated per source file).
+nothing of ``vision`` but :mod:`vision._numba`, which compiles nothing (numba's cache is
+invalidated per source file).
 """
 from __future__ import annotations
 
 import math
-import os
 
 import numpy as np
+
+from ._numba import numba_or_none
 
 __all__ = ["start_loops", "blob_inputs", "compiled_start", "compiled_blob_inputs"]
 
@@ -290,18 +292,11 @@ def _compiled_pair():
     global _compiled
     if _compiled is None:
         _compiled = (None, None)
-        if not any(os.environ.get(k, "") not in ("", "0")
-                   for k in ("STAND_DISABLE_JIT", "NUMBA_DISABLE_JIT")):
-            try:
-                import numba
-            except ImportError:
-                pass
-            else:
-                jit = numba.njit(cache=True, error_model="numpy", nogil=True)
-                mod = globals()
-                mod["half_sweep"] = jit(half_sweep)
-                mod["_circle"] = jit(_circle)
-                mod["start_loops"] = jit(start_loops)
-                mod["_dilate"] = jit(_dilate)
-                _compiled = (mod["start_loops"], jit(blob_inputs))
+        numba = numba_or_none()
+        if numba is not None:
+            jit = numba.njit(cache=True, error_model="numpy", nogil=True)
+            mod = globals()
+            for name in ("half_sweep", "_circle", "start_loops", "_dilate"):
+                mod[name] = jit(mod[name])
+            _compiled = (mod["start_loops"], jit(blob_inputs))
     return _compiled

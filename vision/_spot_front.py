@@ -28,12 +28,12 @@ cache is invalidated per source file).
 from __future__ import annotations
 
 import math
-import os
 import sys
 
 import cv2
 import numpy as np
 
+from ._numba import numba_or_none
 from .levels import BORDER, background_level
 
 __all__ = ["detect", "front", "border_background", "compiled_front"]
@@ -302,16 +302,11 @@ def compiled_front():
     global _compiled
     if _compiled is None:
         _compiled = False
-        if not any(os.environ.get(k, "") not in ("", "0")
-                   for k in ("STAND_DISABLE_JIT", "NUMBA_DISABLE_JIT")):
-            try:
-                import numba
-            except ImportError:
-                pass
-            else:
-                jit = numba.njit(cache=True, error_model="numpy", nogil=True)
-                mod = globals()
-                for name in ("_kth", "border_background", "_grow"):
-                    mod[name] = jit(mod[name])
-                _compiled = jit(front)
+        numba = numba_or_none()
+        if numba is not None:
+            jit = numba.njit(cache=True, error_model="numpy", nogil=True)
+            mod = globals()
+            for name in ("_kth", "border_background", "_grow"):
+                mod[name] = jit(mod[name])
+            _compiled = jit(front)
     return _compiled or None

@@ -1,0 +1,31 @@
+"""numba for vision's compiled loops, when it is there and allowed.
+
+Every compiled kernel of the package (the blurred-spot fit, its starting values, the
+tracker's front) is a plain-Python function compiled on first use; ``STAND_DISABLE_JIT=1``
+or ``NUMBA_DISABLE_JIT=1`` (or numba missing) keeps the numpy path.  The kernels' own files
+write their ``numba.njit`` options: numba's cache is invalidated per source file, so what
+decides the compiled code stays in the file that holds it (this one compiles nothing).
+"""
+from __future__ import annotations
+
+import os
+
+__all__ = ["jit_disabled", "numba_or_none"]
+
+
+def jit_disabled() -> bool:
+    """Whether ``STAND_DISABLE_JIT`` or ``NUMBA_DISABLE_JIT`` asks for the numpy path."""
+    return any(os.environ.get(k, "") not in ("", "0")
+               for k in ("STAND_DISABLE_JIT", "NUMBA_DISABLE_JIT"))
+
+
+def numba_or_none():
+    """The ``numba`` module (imported here, on first use), or None when it is missing or
+    disabled (:func:`jit_disabled`)."""
+    if jit_disabled():
+        return None
+    try:
+        import numba
+    except ImportError:
+        return None
+    return numba
