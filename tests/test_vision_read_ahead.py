@@ -133,3 +133,12 @@ def test_read_ahead_holds_at_most_max_bytes_of_frames():
     assert len(produced) == 5              # 1 consumed + 3 queued + 1 held
     assert [x[0] for x in it] == list(range(1, 100))
     assert not _workers()
+
+
+@pytest.mark.parametrize("batch, depth", [(1, 1), (3, 2), (4, 16), (8, 256)])
+def test_read_ahead_in_batches_gives_every_item_once_in_order(batch, depth):
+    """Batches of 1, 2, 4, ... up to ``batch`` (and a last partial one) give the items as
+    iterating them directly does, for a count that is no multiple of any batch."""
+    assert list(read_ahead(iter(range(23)), depth=depth, batch=batch)) == list(range(23))
+    assert list(read_ahead(iter([]), depth=depth, batch=batch)) == []
+    assert not _workers()

@@ -183,8 +183,9 @@ def read_ahead(items: Iterable, depth: int = READ_AHEAD,
     consumer (a bounded queue: memory for about ``depth`` items).  With ``max_bytes``, the
     depth is also at most ``max_bytes`` over the first item's size (the bytes of its arrays,
     :func:`_item_bytes`).  The thread hands the items over ``batch`` at a time (one queue
-    operation and one wake-up of the consumer per batch instead of per item); the depth is
-    counted in whole batches, at least one.
+    operation and one wake-up of the consumer per batch instead of per item; the first
+    batches 1, 2, 4, ... items, so that the consumer starts at once); the depth is counted
+    in whole batches, at least one.
 
     Same items in the same order as iterating ``items`` directly; an exception raised by
     ``items`` is raised here, at the position where it occurred.  Closing this generator
@@ -208,6 +209,7 @@ def read_ahead(items: Iterable, depth: int = READ_AHEAD,
     def produce():
         it = iter(items)
         chunk: list = []
+        n_next = 1           # the next batch's size: 1, 2, 4, ... up to ``batch``
         try:
             for k, x in enumerate(it):
                 if k == 0 and max_bytes is not None:
@@ -216,10 +218,10 @@ def read_ahead(items: Iterable, depth: int = READ_AHEAD,
                         with q.mutex:     # Queue.put reads maxsize under this lock
                             q.maxsize = max(1, min(q.maxsize, int(max_bytes // size) // batch))
                 chunk.append(x)
-                if len(chunk) >= batch:
+                if len(chunk) >= n_next:          # (small at first: no wait to start)
                     if not put((chunk, None)):
                         return
-                    chunk = []
+                    chunk, n_next = [], min(2 * n_next, batch)
             chunk.append(end)
             put((chunk, None))
         except BaseException as exc:   # noqa: BLE001 - handed to the consumer, raised there
