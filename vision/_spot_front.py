@@ -62,8 +62,11 @@ def detect(sub, background, threshold, censor, sigma, min_area):
     if fast is not None:
         blur = cv2.GaussianBlur(img, (0, 0), sigma)
         _, bmax, _, (pu, pv) = cv2.minMaxLoc(blur)
+        # a region of interest copied contiguous (a few kB): one compiled specialisation per
+        # pixel type instead of two (numba types a view's layout apart: ~3 s of compile each)
         (status, level, noise, amp, labels, bx, by, bw, bh, area, second, n_censored) = fast(
-            sub, blur, pu, pv, bmax, math.nan if background is None else float(background),
+            np.ascontiguousarray(sub), blur, pu, pv, bmax,
+            math.nan if background is None else float(background),
             math.nan if threshold is None else float(threshold),
             math.inf if censor is None else float(censor), min_area, BORDER)
         if status == 1:

@@ -460,10 +460,9 @@ def warm() -> str:
         for labels in (np.ones(patch.shape, np.int32), np.ones(patch.shape, np.uint8)):
             compiled_blob_inputs()(patch, labels, 1, 0, 0, np.ones((3, 3), np.uint8), 255.0,
                                    8.0, 0.0, MAX_SWEEP)
-        frame = np.clip(patch, 0, 255).astype(np.uint8)
-        for sub in (frame, frame[1:, 1:]):  # a whole frame, a region of interest
-            blurred = sub.astype(np.float32)
-            compiled_front()(sub, blurred, 11, 12, 208.0, math.nan, math.nan, 247.0, 4, 2)
+        frame = np.clip(patch, 0, 255).astype(np.uint8)   # (regions are passed contiguous)
+        compiled_front()(frame, frame.astype(np.float32), 11, 12, 208.0, math.nan, math.nan,
+                         247.0, 4, 2)
     return engine
 
 
