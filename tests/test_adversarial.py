@@ -509,7 +509,7 @@ def test_every_command_against_the_bad_input_catalogue(command, one_per_kind, ca
     chosen = [cell for cell in select(catalogue, one_per_kind) if cell[0] == command]
     # the damaged recordings are all of one scene: its speed map, which every report of
     # them draws in its dynamics section, is computed once (_helpers.theory_computed_once)
-    with theory_computed_once():
+    with theory_computed_once(shared=True):   # (once per session: tests/_shared.py)
         if command == "report":
             _report_ahead(tmp_path / "ahead")
         rows = run_cells(chosen)

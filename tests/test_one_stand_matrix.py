@@ -70,7 +70,7 @@ def _theory_once_per_scene():
     ``theory --json``, ``stand.theory`` and the dynamics section of both reports), always
     with the same arguments: computed once per scene and process (tests/_helpers.py,
     theory_computed_once); every command and function still runs its own code on it."""
-    with theory_computed_once():
+    with theory_computed_once(shared=True):   # (once per session: tests/_shared.py)
         yield
 
 

@@ -26,7 +26,7 @@ def test_one_sample_per_rotor_type():
 @pytest.mark.parametrize("path", SAMPLES)
 def test_sample_theory_and_short_run(path, capsys):
     sc = stand.load(path)
-    with theory_computed_once():   # `stand theory` below reads this one (same numbers)
+    with theory_computed_once(shared=True):   # `stand theory` below reads this one (same numbers)
         th = rotor_theory.family_theory(sc, floquet=False)
         assert main(["theory", path, "--no-floquet"]) == 0
     json.dumps(th)
