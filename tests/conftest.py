@@ -103,8 +103,9 @@ def pytest_configure(config):
                 "    try:\n        exec(code, {})\n"
                 "    except Exception:\n        traceback.print_exc()\n")
         running.append(subprocess.Popen([sys.executable, "-c", lane]))
-    _rewrite_test_modules(config)       # meanwhile, in this process
-    _compile_sources()
+    if config.getoption("numprocesses", None):   # workers will start: meanwhile, once here
+        _rewrite_test_modules(config)
+        _compile_sources()
     for p in running:
         p.wait()
 
