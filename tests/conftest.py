@@ -62,14 +62,23 @@ _RENDER = ("from stand.integrate import precompiled\n"
            "except Exception: pass   # no C compiler: numba's JIT on first use")
 
 
-def _warmup_items() -> list:
-    """(code, cost) of every item: each model kind's kernels, the blurred-spot fit, the line
+def _warmup_items(cores: int = 2) -> list:
+    """(code, cost) of every item: the model kinds' kernels, the blurred-spot fit, the line
     fit, the screen renderer (else each worker JIT-compiles it and the command line starts a
     background build of it)."""
     from stand.model.kernels import KIND_NAMES
 
+    # on up to 3 cores every kind in one process: they share numba's import, the precompiled
+    # modules' C helpers and the small compiled helpers (measured on a fresh clone, 2026-11-30:
+    # planar then generic ~73 s CPU in one process, 28.7 + 51.5 = 80.2 in two); on more cores
+    # each kind in its own lane (the wall time of the longest, not the CPU, is then the bound)
     costs = {0: 28.7, 1: 51.5}          # planar, generic; another kind: as the generic one
-    return ([(_KIND.format(k=k), costs.get(k, 60.0)) for k in sorted(KIND_NAMES)]
+    if cores <= 3:
+        kinds = ", ".join(str(k) for k in sorted(KIND_NAMES))
+        first = [(_KIND.format(k=kinds), 73.0 + 45.0 * max(len(KIND_NAMES) - 2, 0))]
+    else:
+        first = [(_KIND.format(k=k), costs.get(k, 60.0)) for k in sorted(KIND_NAMES)]
+    return (first
             + [("from vision.blur import warm; warm()", 27.5),   # with the tracker's front
                ("from dsp._line_kernel import warm; warm()", 25.0), (_RENDER, 15.8)])
 
@@ -97,7 +106,8 @@ def pytest_configure(config):
     # as many lanes as there are cores: no faster with more, and each holds ~0.8 GB; a failed
     # item is reported and the lane goes on (the tests then compile what they need)
     running = []
-    for codes in _lanes(_warmup_items(), os.cpu_count() or 1):
+    cores = os.cpu_count() or 1
+    for codes in _lanes(_warmup_items(cores), cores):
         lane = ("import traceback\n"
                 f"for code in {codes!r}:\n"
                 "    try:\n        exec(code, {})\n"
