@@ -37,6 +37,7 @@ from stand.model.programme import build_table
 from stand.model.rotors import bodies_kernel as bk
 
 __all__ = ["constant_speed_programme", "rotating_rhs", "rotating_to_fixed", "rotating_jacobian",
+           "rotating_rhs_and_jacobian",
            "main_motion_state"]
 
 
@@ -158,9 +159,78 @@ def _rotating_rhs_at(model, R: float):
     return lambda z: _generic_rotating_rhs(model, R, z)
 
 
-def rotating_jacobian(model, R: float, z: np.ndarray, step: float = 1e-7) -> np.ndarray:
-    """Jacobian of :func:`rotating_rhs` by central differences."""
+def _planar_rows_at(model: PlanarModel, R: float):
+    """``Z -> rotating_rhs(model, R, z)`` for each row ``z`` of a 2-D array ``Z`` (planar
+    kernel): the shaft conversions of :func:`_shaft_to_fixed` / :func:`_shaft_to_rotating`
+    done on whole columns with the same operations, the kernel's entry point called per row
+    on C-contiguous float64 arrays (values bit for bit those of :func:`rotating_rhs`; a
+    Jacobian's 2 x state-size evaluations without their per-call Python overhead)."""
+    if model.sp[FREE] != 0.0:
+        raise ValueError("rotating frame: the rotor speed must be prescribed (speed drive)")
+    nq = 2 + model.n
+    sp = np.array(model.sp, dtype=np.float64, order="C")
+    sp[COAST_T0] = np.inf  # no coast-down
+    sp[N_PROG], sp[N_UB], sp[N_FORCE] = 1, 0, 0  # constant speed and unbalance, no side force
+    prog = np.ascontiguousarray(constant_speed_programme(R), dtype=np.float64)
+    wt = np.ascontiguousarray(model.wt, dtype=np.float64)
+    ks = kernels(PLANAR).evaluate
+    ev = getattr(ks, "unchecked", ks)   # the entry point: arrays made C-contiguous float64 here
+
+    def rows(Z: np.ndarray) -> np.ndarray:
+        Z = np.asarray(Z, dtype=float)
+        u, v, du, dv = Z[:, 0], Z[:, 1], Z[:, nq], Z[:, nq + 1]
+        Y = np.array(Z, dtype=np.float64, order="C", copy=True)
+        Y[:, nq], Y[:, nq + 1] = du - R * v, dv + R * u
+        DY = np.empty_like(Y)
+        for k in range(Y.shape[0]):
+            ev(0.0, Y[k], DY[k], sp, wt, prog)
+        DZ = DY.copy()
+        DZ[:, 0], DZ[:, 1] = du, dv
+        DZ[:, nq] = DY[:, nq] + 2 * R * dv + R * R * u
+        DZ[:, nq + 1] = DY[:, nq + 1] - 2 * R * du + R * R * v
+        return DZ
+
+    return rows
+
+
+def _fd_states(z: np.ndarray, step: float):
+    """The central-difference states of :func:`rotating_jacobian`: ``z`` + / - the step of
+    each coordinate (rows), and the steps."""
+    dzi = step * np.maximum(1.0, np.abs(z))
+    D = np.diag(dzi)
+    return z + D, z - D, dzi
+
+
+def rotating_rhs_and_jacobian(model, R: float, z: np.ndarray, step: float = 1e-7):
+    """:func:`rotating_rhs` at ``z`` and :func:`rotating_jacobian` there, in one pass.
+
+    For the planar kernel the 2 x state-size + 1 evaluations go through the kernel in one
+    loop (:func:`_planar_rows_at`); the values are those of the two functions, bit for bit.
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        The right-hand side, shape ``(m,)``, and the Jacobian, shape ``(m, m)``.
+    """
     z = np.asarray(z, dtype=float)
+    if not isinstance(model, PlanarModel):
+        return rotating_rhs(model, R, z), rotating_jacobian(model, R, z, step)
+    m = z.size
+    Zp, Zm, dzi = _fd_states(z, step)
+    F = _planar_rows_at(model, R)(np.concatenate([z[None, :], Zp, Zm]))
+    J = ((F[1:m + 1] - F[m + 1:]) / (2 * dzi)[:, None]).T
+    return F[0].copy(), np.ascontiguousarray(J)
+
+
+def rotating_jacobian(model, R: float, z: np.ndarray, step: float = 1e-7) -> np.ndarray:
+    """Jacobian of :func:`rotating_rhs` by central differences.
+
+    Column i is ``(rhs(z + dz) - rhs(z - dz)) / (2 dz_i)`` with ``dz_i = step max(1, |z_i|)``
+    on coordinate i only (dimensionless, as the state).
+    """
+    z = np.asarray(z, dtype=float)
+    if isinstance(model, PlanarModel):
+        return rotating_rhs_and_jacobian(model, R, z, step)[1]
     rhs = _rotating_rhs_at(model, R)
     J = np.empty((z.size, z.size))
     for i in range(z.size):

@@ -279,6 +279,18 @@ def is_stable(R, Rt, h, H, d):
     return bool(_abscissa_batch(np.array([R]), Rt, h, H, d)[0] <= _abscissa_tol(R))
 
 
+def _is_stable_batch(R, Rt, h, H, d):
+    """:func:`is_stable` at each speed of the 1-D array ``R`` (checked parameters), without the
+    warning of the degenerate case: the same verdicts, the polynomials' roots in one stacked
+    eigenvalue call."""
+    R = np.asarray(R, dtype=float)
+    if h == 0.0 and H == 0.0:
+        return _conservative_margin_batch(R, Rt, d) <= _conservative_tol(R)
+    if h == 0.0 or H == 0.0:
+        return np.zeros(R.shape, dtype=bool)
+    return _abscissa_batch(R, Rt, h, H, d) <= _abscissa_tol(R)
+
+
 # ---------------------------------------------------------------------------
 # the configuration parameter d (5.88)
 # ---------------------------------------------------------------------------

@@ -25,6 +25,7 @@ from stand.model.planar import build_planar_model
 from stand.scene.dimensionless import dimensionless
 from stand.scene.model import Scene, SpeedDrive
 from stand.theories.planar import main_motion as mm
+from stand.theories.planar.main_charpoly import _check_params, _is_stable_batch
 from stand.theories.planar import qp
 from stand.theories.planar import steady, steady_stability
 
@@ -216,21 +217,25 @@ def scene_theory(scene: Scene, R_max: float | None = None, n_grid: int = 240, *,
                           f"{1.5 * R_min * f0:.4g} rev/s (0.15 f0)")
     model = build_planar_model(scene)
 
-    def motions(R: float) -> tuple:
+    def motions_at(Rs) -> list:
+        """The sorted labels of the motions stable at each speed of ``Rs``."""
+        Rs = np.asarray(Rs, dtype=float)
+        main_ok = ([False] * Rs.size if d is None
+                   else _is_stable_batch(Rs, *_check_params(Rt, h, H, d)))
+        # the main motion's report only when (5.90) does not decide it (d is None)
+        side = (steady_stability.stable_steady_motions_at(model, Rs, main=d is None)
+                if n <= MAX_WEIGHTS_FOR_SIDE else [[]] * Rs.size)
         out = []
-        if d is not None:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                if mm.is_stable(R, Rt, h, H, d):
-                    out.append("main")
-        if n <= MAX_WEIGHTS_FOR_SIDE:
-            # the main motion's report only when (5.90) does not decide it (d is None)
-            for rep in steady_stability.stable_steady_motions(model, R, main=d is None):
-                if rep.stable and (rep.kind == "side" or d is None):
-                    out.append(rep.label)
-        if qp_ok and R < R_star:
-            out.append("quasi-periodic")
-        return tuple(sorted(set(out)))
+        for R, ok, reps in zip(Rs, main_ok, side):
+            labels = ["main"] if ok else []
+            labels += [rep.label for rep in reps if rep.stable and (rep.kind == "side" or d is None)]
+            if qp_ok and R < R_star:
+                labels.append("quasi-periodic")
+            out.append(tuple(sorted(set(labels))))
+        return out
+
+    def motions(R: float) -> tuple:
+        return motions_at([R])[0]
 
     # intervals between grid points and exact thresholds; each is classified at its
     # geometric midpoint, so two close thresholds never hide the band between them
@@ -238,7 +243,7 @@ def scene_theory(scene: Scene, R_max: float | None = None, n_grid: int = 240, *,
                    | ({R_star} if R_min < R_star < R_max else set()))
     pts = np.unique(np.concatenate([np.geomspace(R_min, R_max, n_grid + 1), exact]))
     mids = np.sqrt(pts[:-1] * pts[1:])
-    sets = [motions(R) for R in mids]
+    sets = motions_at(mids)
     exact_set = set(exact)
     edges = []  # (R, left_set, right_set)
     for i in range(len(mids) - 1):

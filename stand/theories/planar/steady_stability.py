@@ -20,14 +20,14 @@ import numpy as np
 
 from stand.model.planar import (BETA, D11, D12, D21, D22, EPS0, FREE, K11, K12, K21, K22,
                       PlanarModel, build_planar_model)
-from stand.theories.rotating import rotating_jacobian, rotating_rhs
+from stand.theories.rotating import rotating_jacobian, rotating_rhs_and_jacobian
 from stand.model.weights import EPS as W_EPS
 from stand.theories.planar.steady import (SideMotion, _wrap, bits_of, identical_side_classes, main_motion_angles,
                      side_motions)
 
 __all__ = [
     "SteadyMotionReport", "steady_state", "steady_eigenvalues", "is_stable",
-    "large_unbalance_coefficients", "stable_steady_motions",
+    "large_unbalance_coefficients", "stable_steady_motions", "stable_steady_motions_at",
 ]
 
 
@@ -237,7 +237,38 @@ def stable_steady_motions(model, R: float, e0: Optional[float] = None, n: Option
     RuntimeError
         The constructed state is not an equilibrium (residual > 1e-9 max(1, R^2)).
     """
+    return stable_steady_motions_at(model, [R], e0, n, tol=tol, step=step, main=main)[0]
+
+
+def stable_steady_motions_at(model, Rs, e0: Optional[float] = None, n: Optional[int] = None,
+                             *, tol: float = 1e-6, step: float = 1e-7, main: bool = True) -> list:
+    """:func:`stable_steady_motions` at each speed of ``Rs``: a list of their lists.
+
+    The reports are those of :func:`stable_steady_motions` at each speed, bit for bit; the
+    Jacobians of all the speeds' motions go to one stacked eigenvalue call.
+    """
     model = _as_model(model)
+    pending = [_steady_motions_pending(model, R, e0, n, step, main) for R in Rs]
+    jacs = [p[-1] for ps in pending for p in ps]
+    evs = iter(np.linalg.eigvals(np.stack(jacs)) if jacs else ())
+    out = []
+    for ps in pending:
+        reps = []
+        for label, kind, k, alphas, s, psi, gamma, v, neutral, family, z, res, _ in ps:
+            ev = next(evs)
+            ev = ev[np.argsort(-ev.real, kind="stable")]
+            kept = ev[np.argsort(np.abs(ev), kind="stable")[neutral:]] if neutral else ev
+            reps.append(SteadyMotionReport(label, kind, k, alphas, s, psi, gamma, v, z, res, ev,
+                                           float(np.max(kept.real)), neutral,
+                                           is_stable(ev, tol, neutral), family))
+        out.append(reps)
+    return out
+
+
+def _steady_motions_pending(model, R, e0, n, step, main) -> list:
+    """The motions of :func:`stable_steady_motions` at speed R before their eigenvalues:
+    tuples (label, kind, k, alphas, s, psi, gamma, v, neutral, family, state, residual,
+    Jacobian)."""
     R = float(R)
     if not math.isfinite(R) or R <= 0:
         raise ValueError(f"R must be > 0, got {R!r}")
@@ -259,15 +290,13 @@ def stable_steady_motions(model, R: float, e0: Optional[float] = None, n: Option
 
     def report(label, kind, k, alphas, s, gamma, v, neutral, family):
         z = steady_state(model, s, alphas)
-        res = float(np.max(np.abs(rotating_rhs(model, R, z))))
+        f, J = rotating_rhs_and_jacobian(model, R, z, step)
+        res = float(np.max(np.abs(f)))
         if res > lim:
             raise RuntimeError(f"{label}: state is not an equilibrium (residual {res:.3g})")
-        ev = steady_eigenvalues(model, R, z, step)
-        kept = ev[np.argsort(np.abs(ev), kind="stable")[neutral:]] if neutral else ev
         psi = complex(e0 + np.sum(e * np.exp(1j * np.asarray(alphas))))
-        out.append(SteadyMotionReport(label, kind, k, np.asarray(alphas, float), complex(s), psi,
-                                      gamma, v, z, res, ev, float(np.max(kept.real)), neutral,
-                                      is_stable(ev, tol, neutral), family))
+        out.append((label, kind, k, np.asarray(alphas, float), complex(s), psi, gamma, v,
+                    neutral, family, z, res, J))
 
     if H == 0.0 and R == 1.0 and (e0 > 1.0 or (nn == 1 and e0 != 1.0)):
         raise ValueError("H = 0 at R = 1 and the rotor cannot be balanced: undamped "
