@@ -215,9 +215,15 @@ def rotating_rhs_and_jacobian(model, R: float, z: np.ndarray, step: float = 1e-7
     z = np.asarray(z, dtype=float)
     if not isinstance(model, PlanarModel):
         return rotating_rhs(model, R, z), rotating_jacobian(model, R, z, step)
+    return _rhs_and_jacobian_rows(_planar_rows_at(model, R), z, step)
+
+
+def _rhs_and_jacobian_rows(rows, z: np.ndarray, step: float):
+    """:func:`rotating_rhs_and_jacobian` with the row evaluator of :func:`_planar_rows_at`."""
+    z = np.asarray(z, dtype=float)
     m = z.size
     Zp, Zm, dzi = _fd_states(z, step)
-    F = _planar_rows_at(model, R)(np.concatenate([z[None, :], Zp, Zm]))
+    F = rows(np.concatenate([z[None, :], Zp, Zm]))
     J = ((F[1:m + 1] - F[m + 1:]) / (2 * dzi)[:, None]).T
     return F[0].copy(), np.ascontiguousarray(J)
 

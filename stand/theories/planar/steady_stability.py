@@ -20,7 +20,7 @@ import numpy as np
 
 from stand.model.planar import (BETA, D11, D12, D21, D22, EPS0, FREE, K11, K12, K21, K22,
                       PlanarModel, build_planar_model)
-from stand.theories.rotating import rotating_jacobian, rotating_rhs_and_jacobian
+from stand.theories.rotating import _planar_rows_at, _rhs_and_jacobian_rows, rotating_jacobian
 from stand.model.weights import EPS as W_EPS
 from stand.theories.planar.steady import (SideMotion, _wrap, bits_of, identical_side_classes, main_motion_angles,
                      side_motions)
@@ -248,7 +248,12 @@ def stable_steady_motions_at(model, Rs, e0: Optional[float] = None, n: Optional[
     Jacobians of all the speeds' motions go to one stacked eigenvalue call.
     """
     model = _as_model(model)
-    pending = [_steady_motions_pending(model, R, e0, n, step, main) for R in Rs]
+    Rs = [float(R) for R in Rs]
+    for R in Rs:
+        if not math.isfinite(R) or R <= 0:
+            raise ValueError(f"R must be > 0, got {R!r}")
+    e0, H, e = _checked_parameters(model, e0, n)
+    pending = [_steady_motions_pending(model, R, e0, H, e, step, main) for R in Rs]
     jacs = [p[-1] for ps in pending for p in ps]
     evs = iter(np.linalg.eigvals(np.stack(jacs)) if jacs else ())
     out = []
@@ -265,13 +270,9 @@ def stable_steady_motions_at(model, Rs, e0: Optional[float] = None, n: Optional[
     return out
 
 
-def _steady_motions_pending(model, R, e0, n, step, main) -> list:
-    """The motions of :func:`stable_steady_motions` at speed R before their eigenvalues:
-    tuples (label, kind, k, alphas, s, psi, gamma, v, neutral, family, state, residual,
-    Jacobian)."""
-    R = float(R)
-    if not math.isfinite(R) or R <= 0:
-        raise ValueError(f"R must be > 0, got {R!r}")
+def _checked_parameters(model, e0, n):
+    """(e0, H, e_j) of the model, checked against ``e0`` and ``n`` when given (the checks of
+    :func:`stable_steady_motions`)."""
     me0, H, e = _model_parameters(model)
     nn = model.n
     if n is not None and int(n) != nn:
@@ -280,17 +281,25 @@ def _steady_motions_pending(model, R, e0, n, step, main) -> list:
         raise ValueError(f"e0 = {e0} but the model has e0 = {me0}")
     if nn == 0 or not np.allclose(e, e[0], rtol=1e-12, atol=0):
         raise ValueError("stable_steady_motions needs n >= 1 identical weights")
-    e0 = me0
     S = float(e.sum())
     if abs(S - 1.0) > 1e-9:
         # the theory's unit is the capacity; the scene builder guarantees sum e_j = 1
         raise ValueError(f"sum of the weights' e_j is {S}, expected 1 (capacity units)")
+    return me0, H, e
+
+
+def _steady_motions_pending(model, R, e0, H, e, step, main) -> list:
+    """The motions of :func:`stable_steady_motions` at speed R (checked, > 0) before their
+    eigenvalues: tuples (label, kind, k, alphas, s, psi, gamma, v, neutral, family, state,
+    residual, Jacobian)."""
+    nn = model.n
+    rows = _planar_rows_at(model, R)
     lim = 1e-9 * max(1.0, R * R)
     out = []
 
     def report(label, kind, k, alphas, s, gamma, v, neutral, family):
         z = steady_state(model, s, alphas)
-        f, J = rotating_rhs_and_jacobian(model, R, z, step)
+        f, J = _rhs_and_jacobian_rows(rows, z, step)
         res = float(np.max(np.abs(f)))
         if res > lim:
             raise RuntimeError(f"{label}: state is not an equilibrium (residual {res:.3g})")
