@@ -296,7 +296,25 @@ def critical_speeds(Rt, h, H, d, R_min=R_MIN_DEFAULT, R_max=R_MAX_DEFAULT, *, n_
     """
     Rt, h, H, d = _check_params(Rt, h, H, d)
     R_min, R_max = _check_range(R_min, R_max)
-    n = _n_grid(R_min, R_max, n_grid)
+    cs, caught = _critical_speeds_kept(Rt, h, H, d, R_min, R_max, _n_grid(R_min, R_max, n_grid))
+    for w in caught:
+        warnings.warn(w, stacklevel=2)
+    return list(cs)
+
+
+@functools.lru_cache(maxsize=256)
+def _critical_speeds_kept(Rt, h, H, d, R_min, R_max, n):
+    """:func:`critical_speeds` of checked arguments, kept per arguments with the warnings it
+    issued (re-issued on every call): a deterministic list of frozen records, the same for the
+    speed maps of one stand under other drives and for the conservative comparisons (which
+    depend on Rt and d only)."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        cs = tuple(_critical_speeds(Rt, h, H, d, R_min, R_max, n))
+    return cs, tuple(w.message for w in caught)
+
+
+def _critical_speeds(Rt, h, H, d, R_min, R_max, n):
     if h == 0.0 and H == 0.0:
         def f(R):
             return _conservative_margin_batch(R, Rt, d) - _conservative_tol(R)
