@@ -159,22 +159,28 @@ def _rotating_rhs_at(model, R: float):
     return lambda z: _generic_rotating_rhs(model, R, z)
 
 
-def _planar_rows_at(model: PlanarModel, R: float):
+def _planar_setup(model: PlanarModel) -> tuple:
+    """What :func:`_planar_rows_at` needs of the model at any speed: (number of coordinates,
+    constant-speed parameters, weight table, the kernel's entry point)."""
+    if model.sp[FREE] != 0.0:
+        raise ValueError("rotating frame: the rotor speed must be prescribed (speed drive)")
+    sp = np.array(model.sp, dtype=np.float64, order="C")
+    sp[COAST_T0] = np.inf  # no coast-down
+    sp[N_PROG], sp[N_UB], sp[N_FORCE] = 1, 0, 0  # constant speed and unbalance, no side force
+    wt = np.ascontiguousarray(model.wt, dtype=np.float64)
+    ks = kernels(PLANAR).evaluate
+    return 2 + model.n, sp, wt, getattr(ks, "unchecked", ks)   # arrays made C-contiguous float64
+
+
+def _planar_rows_at(model: PlanarModel, R: float, setup: tuple | None = None):
     """``Z -> rotating_rhs(model, R, z)`` for each row ``z`` of a 2-D array ``Z`` (planar
     kernel): the shaft conversions of :func:`_shaft_to_fixed` / :func:`_shaft_to_rotating`
     done on whole columns with the same operations, the kernel's entry point called per row
     on C-contiguous float64 arrays (values bit for bit those of :func:`rotating_rhs`; a
-    Jacobian's 2 x state-size evaluations without their per-call Python overhead)."""
-    if model.sp[FREE] != 0.0:
-        raise ValueError("rotating frame: the rotor speed must be prescribed (speed drive)")
-    nq = 2 + model.n
-    sp = np.array(model.sp, dtype=np.float64, order="C")
-    sp[COAST_T0] = np.inf  # no coast-down
-    sp[N_PROG], sp[N_UB], sp[N_FORCE] = 1, 0, 0  # constant speed and unbalance, no side force
+    Jacobian's 2 x state-size evaluations without their per-call Python overhead).
+    ``setup``: :func:`_planar_setup` of the model, if already made."""
+    nq, sp, wt, ev = _planar_setup(model) if setup is None else setup
     prog = np.ascontiguousarray(constant_speed_programme(R), dtype=np.float64)
-    wt = np.ascontiguousarray(model.wt, dtype=np.float64)
-    ks = kernels(PLANAR).evaluate
-    ev = getattr(ks, "unchecked", ks)   # the entry point: arrays made C-contiguous float64 here
 
     def rows(Z: np.ndarray) -> np.ndarray:
         Z = np.asarray(Z, dtype=float)

@@ -20,7 +20,8 @@ import numpy as np
 
 from stand.model.planar import (BETA, D11, D12, D21, D22, EPS0, FREE, K11, K12, K21, K22,
                       PlanarModel, build_planar_model)
-from stand.theories.rotating import _planar_rows_at, _rhs_and_jacobian_rows, rotating_jacobian
+from stand.theories.rotating import (_planar_rows_at, _planar_setup, _rhs_and_jacobian_rows,
+                                     rotating_jacobian)
 from stand.model.weights import EPS as W_EPS
 from stand.theories.planar.steady import (SideMotion, _wrap, bits_of, identical_side_classes, main_motion_angles,
                      side_motions)
@@ -253,7 +254,11 @@ def stable_steady_motions_at(model, Rs, e0: Optional[float] = None, n: Optional[
         if not math.isfinite(R) or R <= 0:
             raise ValueError(f"R must be > 0, got {R!r}")
     e0, H, e = _checked_parameters(model, e0, n)
-    pending = [_steady_motions_pending(model, R, e0, H, e, step, main) for R in Rs]
+    setup = _planar_setup(model)
+    # a balanced main motion does not depend on the speed: found once (R = None)
+    found = main_motion_angles(e0, e=e, R=None, H=H)
+    found = found if found and found[0].balanced else None
+    pending = [_steady_motions_pending(model, R, e0, H, e, step, main, setup, found) for R in Rs]
     jacs = [p[-1] for ps in pending for p in ps]
     evs = iter(np.linalg.eigvals(np.stack(jacs)) if jacs else ())
     out = []
@@ -288,12 +293,13 @@ def _checked_parameters(model, e0, n):
     return me0, H, e
 
 
-def _steady_motions_pending(model, R, e0, H, e, step, main) -> list:
+def _steady_motions_pending(model, R, e0, H, e, step, main, setup, found) -> list:
     """The motions of :func:`stable_steady_motions` at speed R (checked, > 0) before their
     eigenvalues: tuples (label, kind, k, alphas, s, psi, gamma, v, neutral, family, state,
-    residual, Jacobian)."""
+    residual, Jacobian).  ``setup``: the model's :func:`~stand.theories.rotating._planar_setup`;
+    ``found``: the balanced main motions (speed-independent), or None."""
     nn = model.n
-    rows = _planar_rows_at(model, R)
+    rows = _planar_rows_at(model, R, setup)
     lim = 1e-9 * max(1.0, R * R)
     out = []
 
@@ -304,13 +310,14 @@ def _steady_motions_pending(model, R, e0, H, e, step, main) -> list:
         if res > lim:
             raise RuntimeError(f"{label}: state is not an equilibrium (residual {res:.3g})")
         psi = complex(e0 + np.sum(e * np.exp(1j * np.asarray(alphas))))
-        out.append((label, kind, k, np.asarray(alphas, float), complex(s), psi, gamma, v,
+        out.append((label, kind, k, np.array(alphas, float), complex(s), psi, gamma, v,
                     neutral, family, z, res, J))
 
     if H == 0.0 and R == 1.0 and (e0 > 1.0 or (nn == 1 and e0 != 1.0)):
         raise ValueError("H = 0 at R = 1 and the rotor cannot be balanced: undamped "
                          "resonance, no finite steady motion")
-    found = main_motion_angles(e0, e=e, R=R, H=H)
+    if found is None:
+        found = main_motion_angles(e0, e=e, R=R, H=H)
     mm = found[0] if found else None  # none: n = 1, e0 < 1, R inside the window (5.70)
     # balanced: e0 <= 1 for n >= 2; a single weight balances only e0 = 1
     balanced = mm.balanced if mm is not None else False
