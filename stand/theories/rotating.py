@@ -226,12 +226,29 @@ def rotating_rhs_and_jacobian(model, R: float, z: np.ndarray, step: float = 1e-7
 
 def _rhs_and_jacobian_rows(rows, z: np.ndarray, step: float):
     """:func:`rotating_rhs_and_jacobian` with the row evaluator of :func:`_planar_rows_at`."""
-    z = np.asarray(z, dtype=float)
-    m = z.size
-    Zp, Zm, dzi = _fd_states(z, step)
-    F = rows(np.concatenate([z[None, :], Zp, Zm]))
-    J = ((F[1:m + 1] - F[m + 1:]) / (2 * dzi)[:, None]).T
-    return F[0].copy(), np.ascontiguousarray(J)
+    return _rhs_and_jacobians_rows(rows, [z], step)[0]
+
+
+def _rhs_and_jacobians_rows(rows, zs, step: float) -> list:
+    """(rhs, Jacobian) of :func:`rotating_rhs_and_jacobian` at each state of ``zs`` (same
+    size), all their evaluations in one call of the row evaluator ``rows``
+    (:func:`_planar_rows_at`)."""
+    zs = [np.asarray(z, dtype=float) for z in zs]
+    if not zs:
+        return []
+    m = zs[0].size
+    blocks, steps = [], []
+    for z in zs:
+        Zp, Zm, dzi = _fd_states(z, step)
+        blocks += [z[None, :], Zp, Zm]
+        steps.append(dzi)
+    F = rows(np.concatenate(blocks))
+    out = []
+    for i, dzi in enumerate(steps):
+        Fi = F[i * (2 * m + 1):(i + 1) * (2 * m + 1)]
+        J = ((Fi[1:m + 1] - Fi[m + 1:]) / (2 * dzi)[:, None]).T
+        out.append((Fi[0].copy(), np.ascontiguousarray(J)))
+    return out
 
 
 def rotating_jacobian(model, R: float, z: np.ndarray, step: float = 1e-7) -> np.ndarray:

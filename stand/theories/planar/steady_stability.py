@@ -20,7 +20,7 @@ import numpy as np
 
 from stand.model.planar import (BETA, D11, D12, D21, D22, EPS0, FREE, K11, K12, K21, K22,
                       PlanarModel, build_planar_model)
-from stand.theories.rotating import (_planar_rows_at, _planar_setup, _rhs_and_jacobian_rows,
+from stand.theories.rotating import (_planar_rows_at, _planar_setup, _rhs_and_jacobians_rows,
                                      rotating_jacobian)
 from stand.model.weights import EPS as W_EPS
 from stand.theories.planar.steady import (SideMotion, _wrap, bits_of, identical_side_classes, main_motion_angles,
@@ -260,17 +260,26 @@ def stable_steady_motions_at(model, Rs, e0: Optional[float] = None, n: Optional[
     found = found if found and found[0].balanced else None
     pending = [_steady_motions_pending(model, R, e0, H, e, step, main, setup, found) for R in Rs]
     jacs = [p[-1] for ps in pending for p in ps]
-    evs = iter(np.linalg.eigvals(np.stack(jacs)) if jacs else ())
+    if jacs:
+        EV = np.linalg.eigvals(np.stack(jacs))
+        # each row sorted by decreasing real part (as steady_eigenvalues), its largest real part
+        EV = np.take_along_axis(EV, np.argsort(-EV.real, axis=1, kind="stable"), axis=1)
+        top = EV.real.max(axis=1)
+    i = 0
     out = []
     for ps in pending:
         reps = []
         for label, kind, k, alphas, s, psi, gamma, v, neutral, family, z, res, _ in ps:
-            ev = next(evs)
-            ev = ev[np.argsort(-ev.real, kind="stable")]
-            kept = ev[np.argsort(np.abs(ev), kind="stable")[neutral:]] if neutral else ev
+            ev = EV[i].copy()
+            if neutral:
+                kept = ev[np.argsort(np.abs(ev), kind="stable")[neutral:]]
+                max_re, stable = float(np.max(kept.real)), is_stable(ev, tol, neutral)
+            else:   # is_stable(ev, tol) without its copies
+                max_re = float(top[i])
+                stable = bool(max_re < -tol)
             reps.append(SteadyMotionReport(label, kind, k, alphas, s, psi, gamma, v, z, res, ev,
-                                           float(np.max(kept.real)), neutral,
-                                           is_stable(ev, tol, neutral), family))
+                                           max_re, neutral, stable, family))
+            i += 1
         out.append(reps)
     return out
 
@@ -305,13 +314,19 @@ def _steady_motions_pending(model, R, e0, H, e, step, main, setup, found) -> lis
 
     def report(label, kind, k, alphas, s, gamma, v, neutral, family):
         z = steady_state(model, s, alphas)
-        f, J = _rhs_and_jacobian_rows(rows, z, step)
-        res = float(np.max(np.abs(f)))
-        if res > lim:
-            raise RuntimeError(f"{label}: state is not an equilibrium (residual {res:.3g})")
         psi = complex(e0 + np.sum(e * np.exp(1j * np.asarray(alphas))))
         out.append((label, kind, k, np.array(alphas, float), complex(s), psi, gamma, v,
-                    neutral, family, z, res, J))
+                    neutral, family, z))
+
+    def finish():
+        """The motions with their residuals and Jacobians (one kernel loop for all)."""
+        done = []
+        for mo, (f, J) in zip(out, _rhs_and_jacobians_rows(rows, [mo[-1] for mo in out], step)):
+            res = float(np.max(np.abs(f)))
+            if res > lim:
+                raise RuntimeError(f"{mo[0]}: state is not an equilibrium (residual {res:.3g})")
+            done.append(mo + (res, J))
+        return done
 
     if H == 0.0 and R == 1.0 and (e0 > 1.0 or (nn == 1 and e0 != 1.0)):
         raise ValueError("H = 0 at R = 1 and the rotor cannot be balanced: undamped "
@@ -329,7 +344,7 @@ def _steady_motions_pending(model, R, e0, H, e, step, main, setup, found) -> lis
     else:
         report("main (maximally balanced)", "main", nn, mm.alphas, mm.s, mm.gamma, mm.v, 0, False)
     if H == 0.0 and R == 1.0:
-        return out  # undamped resonance: no side motion has a finite deflection
+        return finish()  # undamped resonance: no side motion has a finite deflection
     for cl in identical_side_classes(nn):
         b = bits_of(cl.patterns[0], nn)
         sm = side_motions(R, e0, cl.ek, H, bits=b)
@@ -354,4 +369,4 @@ def _steady_motions_pending(model, R, e0, H, e, step, main, setup, found) -> lis
                 g, v = _wrap(m.gamma + math.pi), -m.v
             alphas = np.array([_wrap(g + x * math.pi) for x in bb])
             report(f"side k={K}", "side", K, alphas, m.s, g, v, 0, False)
-    return out
+    return finish()
