@@ -234,9 +234,6 @@ def scene_theory(scene: Scene, R_max: float | None = None, n_grid: int = 240, *,
             out.append(tuple(sorted(set(labels))))
         return out
 
-    def motions(R: float) -> tuple:
-        return motions_at([R])[0]
-
     # intervals between grid points and exact thresholds; each is classified at its
     # geometric midpoint, so two close thresholds never hide the band between them
     exact = sorted({c.R for c in main_crit if R_min < c.R < R_max}
@@ -245,25 +242,29 @@ def scene_theory(scene: Scene, R_max: float | None = None, n_grid: int = 240, *,
     mids = np.sqrt(pts[:-1] * pts[1:])
     sets = motions_at(mids)
     exact_set = set(exact)
-    edges = []  # (R, left_set, right_set)
+    edges = []  # (R, left_set, right_set), or for a bisected edge [a, b, left_set, right_set]
     for i in range(len(mids) - 1):
         if sets[i] == sets[i + 1]:
             continue
         p_i = pts[i + 1]
         if p_i in exact_set:
             edges.append((p_i, sets[i], sets[i + 1]))
-            continue
-        a, b, sa, sb = mids[i], mids[i + 1], sets[i], sets[i + 1]
-        for _ in range(60):
-            mid = math.sqrt(a * b)
-            sm = motions(mid)
-            if sm == sa:
-                a = mid
+        else:
+            edges.append([mids[i], mids[i + 1], sets[i], sets[i + 1]])
+    # every edge's bisection (<= 60 halvings to b/a - 1 < 1e-9, in log R), all edges in step:
+    # one batch of speeds per halving; each edge's sequence of speeds is its own
+    active = [e for e in edges if isinstance(e, list)]
+    for _ in range(60):
+        if not active:
+            break
+        ms = [math.sqrt(e[0] * e[1]) for e in active]
+        for e, mid, sm in zip(active, ms, motions_at(ms)):
+            if sm == e[2]:
+                e[0] = mid
             else:
-                b, sb = mid, sm
-            if b / a - 1 < 1e-9:
-                break
-        edges.append((math.sqrt(a * b), sa, sets[i + 1]))
+                e[1] = mid
+        active = [e for e in active if not e[1] / e[0] - 1 < 1e-9]
+    edges = [(math.sqrt(e[0] * e[1]), e[2], e[3]) if isinstance(e, list) else e for e in edges]
     bounds = [R_min] + [e[0] for e in edges] + [R_max]
     band_sets = [sets[0]] + [e[2] for e in edges]
     bands = [Band(bounds[i], bounds[i + 1], bounds[i] * f0, bounds[i + 1] * f0, list(band_sets[i]))
