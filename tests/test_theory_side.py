@@ -464,6 +464,24 @@ def test_stable_steady_motions_single_weight():
     assert main_motion_angles(0.5, 1, R=1.0, H=0.1) == []
 
 
+@pytest.mark.parametrize("n, e0", [(2, 0.5), (3, 0.3), (2, 1.5)])
+def test_stable_steady_motions_at_many_speeds_is_each_speed_alone(n, e0):
+    """The batch (one stacked eigenvalue call, the balanced main motion found once) gives
+    each speed's reports exactly: the same Jacobians, eigenvalues and verdicts."""
+    from stand.theories.planar.steady_stability import stable_steady_motions_at
+
+    model = _model(n, 0.01, 0.1, 0.1, e0)
+    Rs = [0.5, 0.97, 1.3, 3.0]
+    for R, batch in zip(Rs, stable_steady_motions_at(model, Rs)):
+        alone = stable_steady_motions(model, R)
+        assert [r.label for r in batch] == [r.label for r in alone]
+        for a, b in zip(batch, alone):
+            ev = steady_eigenvalues(model, R, a.state)
+            assert np.array_equal(a.eigenvalues, ev) and np.array_equal(b.eigenvalues, ev)
+            assert (a.stable, a.max_re, a.residual) == (b.stable, b.max_re, b.residual)
+            assert a.stable == is_stable(ev, 1e-6, a.neutral)
+
+
 def test_stable_steady_motions_rejects_inconsistent_input():
     model = _model(2, 0.01, 0.1, 0.1, 0.5)
     with pytest.raises(ValueError):
