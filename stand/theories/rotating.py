@@ -160,7 +160,7 @@ def _rotating_rhs_at(model, R: float):
 
 
 def _planar_setup(model: PlanarModel) -> tuple:
-    """What :func:`_planar_rows_at` needs of the model at any speed: (number of coordinates,
+    """What :func:`_planar_rows` needs of the model at any speed: (number of coordinates,
     constant-speed parameters, weight table, the kernel's entry point)."""
     if model.sp[FREE] != 0.0:
         raise ValueError("rotating frame: the rotor speed must be prescribed (speed drive)")
@@ -172,31 +172,55 @@ def _planar_setup(model: PlanarModel) -> tuple:
     return 2 + model.n, sp, wt, getattr(ks, "unchecked", ks)   # arrays made C-contiguous float64
 
 
-def _planar_rows_at(model: PlanarModel, R: float, setup: tuple | None = None):
-    """``Z -> rotating_rhs(model, R, z)`` for each row ``z`` of a 2-D array ``Z`` (planar
-    kernel): the shaft conversions of :func:`_shaft_to_fixed` / :func:`_shaft_to_rotating`
-    done on whole columns with the same operations, the kernel's entry point called per row
-    on C-contiguous float64 arrays (values bit for bit those of :func:`rotating_rhs`; a
-    Jacobian's 2 x state-size evaluations without their per-call Python overhead).
-    ``setup``: :func:`_planar_setup` of the model, if already made."""
-    nq, sp, wt, ev = _planar_setup(model) if setup is None else setup
-    prog = np.ascontiguousarray(constant_speed_programme(R), dtype=np.float64)
+def _planar_rows(setup: tuple, Z: np.ndarray, Rrow: np.ndarray, progs: list, per: int):
+    """:func:`rotating_rhs` at each row ``Z[k]`` at the speed ``Rrow[k]`` (the programme
+    table ``progs[k // per]``, that of ``constant_speed_programme(Rrow[k])``): the shaft
+    conversions on whole columns (the same operations, element by element), the kernel's
+    entry point per row."""
+    nq, sp, wt, ev = setup
+    Z = np.asarray(Z, dtype=float)
+    u, v, du, dv = Z[:, 0], Z[:, 1], Z[:, nq], Z[:, nq + 1]
+    Y = np.array(Z, dtype=np.float64, order="C", copy=True)
+    Y[:, nq], Y[:, nq + 1] = du - Rrow * v, dv + Rrow * u
+    DY = np.empty_like(Y)
+    for k in range(Y.shape[0]):
+        ev(0.0, Y[k], DY[k], sp, wt, progs[k // per])
+    DZ = DY.copy()
+    DZ[:, 0], DZ[:, 1] = du, dv
+    DZ[:, nq] = DY[:, nq] + 2 * Rrow * dv + Rrow * Rrow * u
+    DZ[:, nq + 1] = DY[:, nq + 1] - 2 * Rrow * du + Rrow * Rrow * v
+    return DZ
 
-    def rows(Z: np.ndarray) -> np.ndarray:
-        Z = np.asarray(Z, dtype=float)
-        u, v, du, dv = Z[:, 0], Z[:, 1], Z[:, nq], Z[:, nq + 1]
-        Y = np.array(Z, dtype=np.float64, order="C", copy=True)
-        Y[:, nq], Y[:, nq + 1] = du - R * v, dv + R * u
-        DY = np.empty_like(Y)
-        for k in range(Y.shape[0]):
-            ev(0.0, Y[k], DY[k], sp, wt, prog)
-        DZ = DY.copy()
-        DZ[:, 0], DZ[:, 1] = du, dv
-        DZ[:, nq] = DY[:, nq] + 2 * R * dv + R * R * u
-        DZ[:, nq + 1] = DY[:, nq + 1] - 2 * R * du + R * R * v
-        return DZ
 
-    return rows
+def _rhs_and_jacobians_speeds(setup: tuple, Rs, zs, step: float) -> list:
+    """(rhs, Jacobian) of :func:`rotating_rhs_and_jacobian` at each pair (speed ``Rs[i]``,
+    state ``zs[i]``) of a planar model (:func:`_planar_setup`), all the evaluations in one
+    kernel loop (bit for bit those of the one-state functions)."""
+    if not zs:
+        return []
+    m = np.asarray(zs[0]).size
+    per = 2 * m + 1
+    progs, blocks, steps = {}, [], []
+    for R, z in zip(Rs, zs):
+        if R not in progs:
+            progs[R] = np.ascontiguousarray(constant_speed_programme(R), dtype=np.float64)
+        z = np.asarray(z, dtype=float)
+        Zp, Zm, dzi = _fd_states(z, step)
+        blocks += [z[None, :], Zp, Zm]
+        steps.append(dzi)
+    F = _planar_rows(setup, np.concatenate(blocks), np.repeat(np.asarray(Rs, float), per),
+                     [progs[R] for R in Rs], per)
+    return _split_rows(F, steps, m)
+
+
+def _split_rows(F: np.ndarray, steps: list, m: int) -> list:
+    """(rhs, Jacobian) of each block of 2 m + 1 rows of ``F`` (state, + steps, - steps)."""
+    out = []
+    for i, dzi in enumerate(steps):
+        Fi = F[i * (2 * m + 1):(i + 1) * (2 * m + 1)]
+        J = ((Fi[1:m + 1] - Fi[m + 1:]) / (2 * dzi)[:, None]).T
+        out.append((Fi[0].copy(), np.ascontiguousarray(J)))
+    return out
 
 
 def _fd_states(z: np.ndarray, step: float):
@@ -211,7 +235,8 @@ def rotating_rhs_and_jacobian(model, R: float, z: np.ndarray, step: float = 1e-7
     """:func:`rotating_rhs` at ``z`` and :func:`rotating_jacobian` there, in one pass.
 
     For the planar kernel the 2 x state-size + 1 evaluations go through the kernel in one
-    loop (:func:`_planar_rows_at`); the values are those of the two functions, bit for bit.
+    loop (:func:`_rhs_and_jacobians_speeds`); the values are those of the two functions, bit
+    for bit.
 
     Returns
     -------
@@ -221,34 +246,7 @@ def rotating_rhs_and_jacobian(model, R: float, z: np.ndarray, step: float = 1e-7
     z = np.asarray(z, dtype=float)
     if not isinstance(model, PlanarModel):
         return rotating_rhs(model, R, z), rotating_jacobian(model, R, z, step)
-    return _rhs_and_jacobian_rows(_planar_rows_at(model, R), z, step)
-
-
-def _rhs_and_jacobian_rows(rows, z: np.ndarray, step: float):
-    """:func:`rotating_rhs_and_jacobian` with the row evaluator of :func:`_planar_rows_at`."""
-    return _rhs_and_jacobians_rows(rows, [z], step)[0]
-
-
-def _rhs_and_jacobians_rows(rows, zs, step: float) -> list:
-    """(rhs, Jacobian) of :func:`rotating_rhs_and_jacobian` at each state of ``zs`` (same
-    size), all their evaluations in one call of the row evaluator ``rows``
-    (:func:`_planar_rows_at`)."""
-    zs = [np.asarray(z, dtype=float) for z in zs]
-    if not zs:
-        return []
-    m = zs[0].size
-    blocks, steps = [], []
-    for z in zs:
-        Zp, Zm, dzi = _fd_states(z, step)
-        blocks += [z[None, :], Zp, Zm]
-        steps.append(dzi)
-    F = rows(np.concatenate(blocks))
-    out = []
-    for i, dzi in enumerate(steps):
-        Fi = F[i * (2 * m + 1):(i + 1) * (2 * m + 1)]
-        J = ((Fi[1:m + 1] - Fi[m + 1:]) / (2 * dzi)[:, None]).T
-        out.append((Fi[0].copy(), np.ascontiguousarray(J)))
-    return out
+    return _rhs_and_jacobians_speeds(_planar_setup(model), [float(R)], [z], step)[0]
 
 
 def rotating_jacobian(model, R: float, z: np.ndarray, step: float = 1e-7) -> np.ndarray:

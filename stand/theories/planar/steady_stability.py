@@ -20,8 +20,7 @@ import numpy as np
 
 from stand.model.planar import (BETA, D11, D12, D21, D22, EPS0, FREE, K11, K12, K21, K22,
                       PlanarModel, build_planar_model)
-from stand.theories.rotating import (_planar_rows_at, _planar_setup, _rhs_and_jacobians_rows,
-                                     rotating_jacobian)
+from stand.theories.rotating import _planar_setup, _rhs_and_jacobians_speeds, rotating_jacobian
 from stand.model.weights import EPS as W_EPS
 from stand.theories.planar.steady import (SideMotion, _wrap, bits_of, identical_side_classes, main_motion_angles,
                      side_motions)
@@ -258,7 +257,19 @@ def stable_steady_motions_at(model, Rs, e0: Optional[float] = None, n: Optional[
     # a balanced main motion does not depend on the speed: found once (R = None)
     found = main_motion_angles(e0, e=e, R=None, H=H)
     found = found if found and found[0].balanced else None
-    pending = [_steady_motions_pending(model, R, e0, H, e, step, main, setup, found) for R in Rs]
+    pending = [_steady_motions_pending(model, R, e0, H, e, main, found) for R in Rs]
+    # every motion's residual and Jacobian: one kernel loop for all the speeds
+    flat = [(R, mo) for R, ps in zip(Rs, pending) for mo in ps]
+    fj = iter(_rhs_and_jacobians_speeds(setup, [R for R, _ in flat], [mo[-1] for _, mo in flat],
+                                        step))
+    for i, ps in enumerate(pending):
+        lim = 1e-9 * max(1.0, Rs[i] * Rs[i])
+        for j, mo in enumerate(ps):
+            f, J = next(fj)
+            res = float(np.max(np.abs(f)))
+            if res > lim:
+                raise RuntimeError(f"{mo[0]}: state is not an equilibrium (residual {res:.3g})")
+            ps[j] = mo + (res, J)
     jacs = [p[-1] for ps in pending for p in ps]
     if jacs:
         EV = np.linalg.eigvals(np.stack(jacs))
@@ -302,14 +313,11 @@ def _checked_parameters(model, e0, n):
     return me0, H, e
 
 
-def _steady_motions_pending(model, R, e0, H, e, step, main, setup, found) -> list:
+def _steady_motions_pending(model, R, e0, H, e, main, found) -> list:
     """The motions of :func:`stable_steady_motions` at speed R (checked, > 0) before their
-    eigenvalues: tuples (label, kind, k, alphas, s, psi, gamma, v, neutral, family, state,
-    residual, Jacobian).  ``setup``: the model's :func:`~stand.theories.rotating._planar_setup`;
-    ``found``: the balanced main motions (speed-independent), or None."""
+    residuals and eigenvalues: tuples (label, kind, k, alphas, s, psi, gamma, v, neutral,
+    family, state).  ``found``: the balanced main motions (speed-independent), or None."""
     nn = model.n
-    rows = _planar_rows_at(model, R, setup)
-    lim = 1e-9 * max(1.0, R * R)
     out = []
 
     def report(label, kind, k, alphas, s, gamma, v, neutral, family):
@@ -317,16 +325,6 @@ def _steady_motions_pending(model, R, e0, H, e, step, main, setup, found) -> lis
         psi = complex(e0 + np.sum(e * np.exp(1j * np.asarray(alphas))))
         out.append((label, kind, k, np.array(alphas, float), complex(s), psi, gamma, v,
                     neutral, family, z))
-
-    def finish():
-        """The motions with their residuals and Jacobians (one kernel loop for all)."""
-        done = []
-        for mo, (f, J) in zip(out, _rhs_and_jacobians_rows(rows, [mo[-1] for mo in out], step)):
-            res = float(np.max(np.abs(f)))
-            if res > lim:
-                raise RuntimeError(f"{mo[0]}: state is not an equilibrium (residual {res:.3g})")
-            done.append(mo + (res, J))
-        return done
 
     if H == 0.0 and R == 1.0 and (e0 > 1.0 or (nn == 1 and e0 != 1.0)):
         raise ValueError("H = 0 at R = 1 and the rotor cannot be balanced: undamped "
@@ -344,7 +342,7 @@ def _steady_motions_pending(model, R, e0, H, e, step, main, setup, found) -> lis
     else:
         report("main (maximally balanced)", "main", nn, mm.alphas, mm.s, mm.gamma, mm.v, 0, False)
     if H == 0.0 and R == 1.0:
-        return finish()  # undamped resonance: no side motion has a finite deflection
+        return out  # undamped resonance: no side motion has a finite deflection
     for cl in identical_side_classes(nn):
         b = bits_of(cl.patterns[0], nn)
         sm = side_motions(R, e0, cl.ek, H, bits=b)
@@ -369,4 +367,4 @@ def _steady_motions_pending(model, R, e0, H, e, step, main, setup, found) -> lis
                 g, v = _wrap(m.gamma + math.pi), -m.v
             alphas = np.array([_wrap(g + x * math.pi) for x in bb])
             report(f"side k={K}", "side", K, alphas, m.s, g, v, 0, False)
-    return finish()
+    return out
