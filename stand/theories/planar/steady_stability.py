@@ -244,8 +244,28 @@ def stable_steady_motions_at(model, Rs, e0: Optional[float] = None, n: Optional[
                              *, tol: float = 1e-6, step: float = 1e-7, main: bool = True) -> list:
     """:func:`stable_steady_motions` at each speed of ``Rs``: a list of their lists.
 
-    The reports are those of :func:`stable_steady_motions` at each speed, bit for bit; the
-    Jacobians of all the speeds' motions go to one stacked eigenvalue call.
+    The reports are those of :func:`stable_steady_motions` at each speed, bit for bit: the
+    states of all the speeds' motions go through the kernel in one loop
+    (:func:`stand.theories.rotating._rhs_and_jacobians_speeds`) and their Jacobians to one
+    stacked eigenvalue call.
+
+    Parameters
+    ----------
+    model, e0, n, tol, step, main
+        As in :func:`stable_steady_motions`.
+    Rs : sequence of float
+        Speed ratios omega / omega_1, each > 0.
+
+    Returns
+    -------
+    list of list of SteadyMotionReport
+        One list per speed, in the order of ``Rs``.
+
+    Raises
+    ------
+    ValueError, RuntimeError
+        As :func:`stable_steady_motions`; a state that is not an equilibrium is reported
+        (the first, in the order of the speeds) once the motions of all the speeds are built.
     """
     model = _as_model(model)
     Rs = [float(R) for R in Rs]
