@@ -46,6 +46,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from oracles._dense import solve
+
 __all__ = ["OvalStand", "simulate"]
 
 DEG = math.pi / 180.0
@@ -86,33 +88,6 @@ def _programme(nodes, t):
             return phi + w0 * dt + 0.5 * slope * dt * dt, w0 + slope * dt, slope
         phi += 0.5 * (w0 + w1) * (t1 - t0)
     return phi + ws[-1] * (t - ts[-1]), ws[-1], 0.0
-
-
-def _solve(A, f):
-    """``A x = f`` by Gaussian elimination with partial pivoting on lists of floats (the
-    (2 + n)-square mass matrix as it stands; plain floats: ~5x cheaper than numpy here)."""
-    n = len(f)
-    A = [row[:] for row in A]
-    f = list(f)
-    for c in range(n):
-        r = max(range(c, n), key=lambda i: abs(A[i][c]))
-        if A[r][c] == 0.0:
-            raise np.linalg.LinAlgError("singular mass matrix")
-        if r != c:
-            A[c], A[r], f[c], f[r] = A[r], A[c], f[r], f[c]
-        piv = A[c]
-        for i in range(c + 1, n):
-            k = A[i][c] / piv[c]
-            if k != 0.0:
-                row = A[i]
-                for j in range(c + 1, n):
-                    row[j] -= k * piv[j]
-                f[i] -= k * f[c]
-    x = [0.0] * n
-    for i in range(n - 1, -1, -1):
-        row = A[i]
-        x[i] = (f[i] - sum(row[j] * x[j] for j in range(i + 1, n))) / row[i]
-    return x
 
 
 def _rhs(t, s, p: OvalStand, nodes):
@@ -168,7 +143,7 @@ def _rhs(t, s, p: OvalStand, nodes):
             if F > 0.0:
                 f[2] += F * g0
                 f[3] += F * g1
-    return np.array([vx, vy, *dpsi, *_solve(A, f)])
+    return np.array([vx, vy, *dpsi, *solve(A, f)])
 
 
 def simulate(p: OvalStand, nodes, duration: float, fs: float, rtol: float = 1e-11,
