@@ -467,17 +467,26 @@ def _table(rows, total: bool = True) -> str:
 
 
 def _report_ahead(folder: Path) -> None:
-    """The report of a good recording of the damaged recordings' scene, before the cells: under
-    ``theory_computed_once`` its speed map (seconds) is then computed outside any cell's time
-    limit, as the kernels are compiled ahead (a cell's limit is about input handling)."""
+    """The speed map of the damaged recordings' scene, before the cells: under
+    ``theory_computed_once`` it (seconds) is then computed outside any cell's time limit, as
+    the kernels are compiled ahead (a cell's limit is about input handling).  Asked as the
+    report's dynamics section asks it (``scene_theory(<the recording's scene>,
+    closed_forms=False)``, stand.reports.balancing) of a good recording of that scene: the
+    same key, without drawing a whole report (~1 s of figures) that no cell checks."""
+    import warnings
+
     from stand.cli.main import main
+    from stand.recording.hdf5 import read_recording
+    from stand.theories.planar import speedmap
 
     folder.mkdir()
     scene = folder / "scene.toml"
     scene.write_text(_scene_text(BASES["ball_runup"]))
     with redirect_stdout(io.StringIO()), redirect_stderr(io.StringIO()):
         assert main(["run", str(scene), "-o", str(folder / "good.h5")]) == 0
-        assert main(["report", str(folder / "good.h5"), "-o", str(folder / "good.html")]) == 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        speedmap.scene_theory(read_recording(folder / "good.h5").scene, closed_forms=False)
 
 
 #: every command of the catalogue, one test each (pytest-xdist spreads them over its workers)

@@ -21,4 +21,7 @@ gravity_pair, damper, two_axis
 oval_race
     Balls on an out-of-round race (``race_out_of_roundness``): the Lagrangian over the
     balls' absolute angles, written without the stand (tests/test_race_out_of_roundness.py).
+_dense
+    A dense linear solve on plain floats (Gaussian elimination, partial pivoting) for the
+    small mass matrices of oval_race, two_ball_stand and two_ball_record.
 """

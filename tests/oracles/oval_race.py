@@ -2,8 +2,9 @@
 
 Written from the Lagrangian, not from the stand's simulator: no import of ``stand``, its
 own coordinates (the balls' absolute angles psi_j, not the stand's angles on the rotor),
-its own mass matrix solved as it stands by ``numpy.linalg.solve`` at every call, scipy's
-``solve_ivp`` (DOP853) segment by segment between the programme's nodes.
+its own mass matrix solved as it stands (Gaussian elimination with partial pivoting,
+plain floats) at every call, scipy's ``solve_ivp`` (DOP853) segment by segment between
+the programme's nodes.
 
 Model (SI, fixed axes X, Y, vertical shaft: no gravity in the plane)
 ---------------------------------------------------------------------
@@ -44,6 +45,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.integrate import solve_ivp
+
+from oracles._dense import solve
 
 __all__ = ["OvalStand", "simulate"]
 
@@ -89,43 +92,58 @@ def _programme(nodes, t):
 
 def _rhs(t, s, p: OvalStand, nodes):
     n = len(p.ball_mass)
-    m = np.asarray(p.ball_mass, float)
+    m = [float(v) for v in p.ball_mass]
+    s = s.tolist()
     x, y, psi = s[0], s[1], s[2:2 + n]
     vx, vy, dpsi = s[2 + n], s[3 + n], s[4 + n:]
     phi, W, dW = _programme(nodes, t)
-    a, da = psi - phi, dpsi - W
-    arg = p.lobes * (a - p.theta * DEG)
-    rho = p.radius * (1.0 + p.eps * np.cos(arg))
-    rho1 = -p.radius * p.eps * p.lobes * np.sin(arg)
-    rho2 = -p.radius * p.eps * p.lobes ** 2 * np.cos(arg)
-    E = np.array([np.cos(psi), np.sin(psi)])          # (2, n)
-    T = np.array([-np.sin(psi), np.cos(psi)])
-    u = rho1 * E + rho * T
-    h = (rho2 * da ** 2 - rho * dpsi ** 2 - rho1 * dW) * E + 2.0 * rho1 * da * dpsi * T
+    l, eps, k = p.radius, p.eps, p.lobes
+    E, T, u, h, rho, rho1, da, uu = [], [], [], [], [], [], [], []
+    for j in range(n):
+        a, d = psi[j] - phi, dpsi[j] - W
+        arg = k * (a - p.theta * DEG)
+        ca, sa = math.cos(arg), math.sin(arg)
+        r0, r1, r2 = l * (1.0 + eps * ca), -l * eps * k * sa, -l * eps * k * k * ca
+        c, s_ = math.cos(psi[j]), math.sin(psi[j])
+        e, tt = (c, s_), (-s_, c)
+        uj = (r1 * e[0] + r0 * tt[0], r1 * e[1] + r0 * tt[1])
+        g = r2 * d * d - r0 * dpsi[j] * dpsi[j] - r1 * dW
+        q = 2.0 * r1 * d * dpsi[j]
+        E.append(e), T.append(tt), u.append(uj), rho.append(r0), rho1.append(r1), da.append(d)
+        h.append((g * e[0] + q * tt[0], g * e[1] + q * tt[1]))
+        uu.append(uj[0] * uj[0] + uj[1] * uj[1])
     b = phi + p.unbalance_angle * DEG
-    Eb, Tb = np.array([math.cos(b), math.sin(b)]), np.array([-math.sin(b), math.cos(b)])
-    A = np.zeros((2 + n, 2 + n))
-    A[0, 0] = A[1, 1] = p.mass + m.sum()
-    A[:2, 2:] = m * u
-    A[2:, :2] = (m * u).T
-    A[2:, 2:] = np.diag(m * np.sum(u * u, axis=0))
-    f = np.empty(2 + n)
-    f[:2] = (-p.stiffness * np.array([x, y]) - p.damping * np.array([vx, vy])
-             - p.mass * p.eccentricity * (dW * Tb - W * W * Eb) - (m * h).sum(axis=1))
-    f[2:] = -m * np.sum(u * h, axis=0) - p.drag * np.sum(u * u, axis=0) * da
+    cb, sb = math.cos(b), math.sin(b)
+    Ms = p.mass + sum(m)
+    A = [[0.0] * (2 + n) for _ in range(2 + n)]
+    A[0][0] = A[1][1] = Ms
+    for j in range(n):
+        A[0][2 + j] = A[2 + j][0] = m[j] * u[j][0]
+        A[1][2 + j] = A[2 + j][1] = m[j] * u[j][1]
+        A[2 + j][2 + j] = m[j] * uu[j]
+    me = p.mass * p.eccentricity
+    f = [-p.stiffness * x - p.damping * vx - me * (dW * -sb - W * W * cb)
+         - sum(m[j] * h[j][0] for j in range(n)),
+         -p.stiffness * y - p.damping * vy - me * (dW * cb - W * W * sb)
+         - sum(m[j] * h[j][1] for j in range(n))]
+    f += [-m[j] * (u[j][0] * h[j][0] + u[j][1] * h[j][1]) - p.drag * uu[j] * da[j]
+          for j in range(n)]
     if p.ball_radius > 0.0:     # contact: the centres' distance from their positions
-        P = rho * E                                   # from K
-        V = rho1 * da * E + rho * dpsi * T            # their velocities relative to K
-        dP = P[:, 0] - P[:, 1]
-        d = float(np.hypot(*dP))
+        P = [(rho[j] * E[j][0], rho[j] * E[j][1]) for j in range(2)]          # from K
+        V = [(rho1[j] * da[j] * E[j][0] + rho[j] * dpsi[j] * T[j][0],
+              rho1[j] * da[j] * E[j][1] + rho[j] * dpsi[j] * T[j][1]) for j in range(2)]
+        dP = (P[0][0] - P[1][0], P[0][1] - P[1][1])
+        d = math.hypot(*dP)
         if 0.0 < d < 2.0 * p.ball_radius:
-            grad = np.array([dP @ u[:, 0], -(dP @ u[:, 1])]) / d     # dd/dpsi_0, dd/dpsi_1
+            g0 = (dP[0] * u[0][0] + dP[1] * u[0][1]) / d        # dd/dpsi_0
+            g1 = -(dP[0] * u[1][0] + dP[1] * u[1][1]) / d       # dd/dpsi_1
             F = p.contact_stiffness * (2.0 * p.ball_radius - d) \
-                - p.contact_damping * (dP @ (V[:, 0] - V[:, 1])) / d
+                - p.contact_damping * (dP[0] * (V[0][0] - V[1][0])
+                                       + dP[1] * (V[0][1] - V[1][1])) / d
             if F > 0.0:
-                f[2:] += F * grad
-    acc = np.linalg.solve(A, f)
-    return np.concatenate([[vx, vy], dpsi, acc])
+                f[2] += F * g0
+                f[3] += F * g1
+    return np.array([vx, vy, *dpsi, *solve(A, f)])
 
 
 def simulate(p: OvalStand, nodes, duration: float, fs: float, rtol: float = 1e-11,

@@ -30,7 +30,8 @@ in phi' only) give the symmetric mass-matrix system ``A(q) q'' = f(q, q', t)``::
 rolling friction of stand/model/balancers/friction.py's docstring with the normal force
 m_j l_j psi_j'^2 of a vertical rotor).  The first two rows are the corrected (5.7), the
 ball rows (5.4) with J_j = m_j l_j^2 and the drag moment c_b l_j^2 (digest section 1).
-The system is solved as it stands by ``numpy.linalg.solve`` at every call.
+The system is solved as it stands at every call (Gaussian elimination with partial
+pivoting on plain floats, :mod:`oracles._dense`).
 
 Note on ``rolling``: the stand's ``rolling = true`` (stand/scene/tables.py) multiplies the
 ball's inertia, J = (7/5) m l^2 on psi_j'' (the digest's j = 5/7), which has no
@@ -61,6 +62,8 @@ from pathlib import Path
 
 import numpy as np
 from scipy.integrate import solve_ivp
+
+from oracles._dense import solve
 
 __all__ = ["StandParams", "SpeedProgramme", "Record", "UNIVERSAL", "simulate", "record",
            "write_record", "template_scene", "whirl_radius", "scene_text", "family_scene_text",
@@ -210,7 +213,7 @@ class SpeedProgramme:
 
 # ---------------------------------------------------------------- equations of motion
 def _sat(u):
-    return u / np.sqrt(1.0 + u * u)
+    return u / math.sqrt(1.0 + u * u)
 
 
 def make_rhs(p: StandParams, prog: SpeedProgramme):
@@ -225,37 +228,36 @@ def make_rhs(p: StandParams, prog: SpeedProgramme):
         ml, ml2 = m * l, m * l * l
         k = p.k_spin
     mu, vs = float(p.friction), float(p.slip_speed)
-    A0 = np.zeros((nq, nq))            # the mass matrix's constant entries
-    A0[0, 0] = A0[1, 1] = Ms
-    if n:
-        A0[2:, 2:] = np.diag((1.0 + k) * ml2)
+    if n:                              # per-ball values as Python floats
+        ml, ml2, cbl2 = (ml.tolist(), ml2.tolist(), (cb * l * l).tolist())
+        diag = [(1.0 + k) * v for v in ml2]
 
-    def rhs(t, s):
-        q, v = s[:nq], s[nq:]
-        x, y = q[0], q[1]
-        vx, vy = v[0], v[1]
+    def rhs(t, s):      # plain floats (~5x cheaper than numpy at this size)
+        s = s.tolist()
+        x, y, vx, vy = s[0], s[1], s[nq], s[nq + 1]
         ph, w, acc = prog.kin1(float(t))
         P = ph + beta
         sP, cP = math.sin(P), math.cos(P)
-        A = A0.copy()
-        f = np.zeros(nq)
-        f[0] = -cx * x - hx * vx + M * e * (acc * sP + w * w * cP)
-        f[1] = -cy * y - hy * vy + M * e * (w * w * sP - acc * cP)
-        if n:
-            psi, dpsi = q[2:], v[2:]
-            s_, c_ = np.sin(psi), np.cos(psi)
-            A[0, 2:] = -ml * s_
-            A[1, 2:] = ml * c_
-            A[2:, 0] = -ml * s_
-            A[2:, 1] = ml * c_
-            f[0] += np.sum(ml * dpsi * dpsi * c_)
-            f[1] += np.sum(ml * dpsi * dpsi * s_)
+        A = [[0.0] * nq for _ in range(nq)]    # the mass matrix
+        A[0][0] = A[1][1] = Ms
+        f = [0.0] * nq
+        f0 = -cx * x - hx * vx + M * e * (acc * sP + w * w * cP)
+        f1 = -cy * y - hy * vy + M * e * (w * w * sP - acc * cP)
+        for j in range(n):
+            psi, dpsi = s[2 + j], s[nq + 2 + j]
+            s_, c_ = math.sin(psi), math.cos(psi)
+            A[0][2 + j] = A[2 + j][0] = -ml[j] * s_
+            A[1][2 + j] = A[2 + j][1] = ml[j] * c_
+            A[2 + j][2 + j] = diag[j]
+            f0 += ml[j] * dpsi * dpsi * c_
+            f1 += ml[j] * dpsi * dpsi * s_
             rel = dpsi - w
-            fb = k * ml2 * acc - cb * l * l * rel
+            fb = k * ml2[j] * acc - cbl2[j] * rel
             if mu:
-                fb = fb - mu * ml2 * dpsi * dpsi * _sat(rel / vs)
-            f[2:] = fb
-        return np.concatenate((v, np.linalg.solve(A, f)))
+                fb = fb - mu * ml2[j] * dpsi * dpsi * _sat(rel / vs)
+            f[2 + j] = fb
+        f[0], f[1] = f0, f1
+        return np.array(s[nq:] + solve(A, f))
 
     return rhs
 

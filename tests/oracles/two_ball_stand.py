@@ -3,7 +3,7 @@ motion, its own integrator call, its own keyphasor -- not the stand's simulator.
 
 The planar rotor of chapter 5 (digest ch5 sections 0.2, 2.3: the corrected (5.4), (5.7),
 (5.10)) written in SI in the fixed frame by Lagrange's equations and solved as the full
-mass-matrix system ``A(q) q'' = f(q, q', t)`` with ``numpy.linalg.solve`` at every call (the
+mass-matrix system ``A(q) q'' = f(q, q', t)`` by Gaussian elimination at every call (the
 stand eliminates the balls by a Schur complement in dimensionless form).  Shaft point K at
 (x, y) on supports (c_x, c_y; H_x, H_y), rotor mass M with its centre of mass at
 K + e (cos(phi + beta), sin(phi + beta)), balls of mass m_j at K + l_j (cos psi_j, sin psi_j)::
@@ -32,6 +32,8 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from oracles._dense import solve
+
 TWO_PI = 2.0 * math.pi
 
 
@@ -56,12 +58,12 @@ class Stand:
 
 def kinematics(prog, t):
     """phi, phi', phi'' [rad, rad/s, rad/s^2] of the piecewise-linear speed programme."""
-    p = np.asarray(prog, float)
-    T, W = p[:, 0], TWO_PI * p[:, 1]
+    T = [float(p[0]) for p in prog]
+    W = [TWO_PI * float(p[1]) for p in prog]
     t = float(t)
-    phi = W[0] * min(t, T[0]) if t < T[0] else W[0] * T[0]
     if t < T[0]:
-        return phi, W[0], 0.0
+        return W[0] * t, W[0], 0.0
+    phi = W[0] * T[0]
     for k in range(len(T) - 1):
         a = (W[k + 1] - W[k]) / (T[k + 1] - T[k])
         if t < T[k + 1]:
@@ -79,33 +81,33 @@ def rhs(s: Stand):
     beta = math.radians(s.unbalance_angle)
     cb = s.drag * l * l
 
-    def f(t, q):
+    def f(t, q):        # plain floats (~5x cheaper than numpy at this size)
+        q = q.tolist()
         x, y = q[0], q[1]
         psi = q[2:2 + n]
         vx, vy = q[2 + n], q[3 + n]
         dpsi = q[4 + n:4 + 2 * n]
         phi, w, a = kinematics(s.programme, t)
-        A = np.zeros((2 + n, 2 + n))
-        b = np.zeros(2 + n)
-        A[0, 0] = A[1, 1] = Ms
-        sp, cp = np.sin(psi), np.cos(psi)
-        A[0, 2:] = -m * l * sp
-        A[1, 2:] = m * l * cp
-        b[0] = (-s.stiffness * x - s.damping * vx + m * l * np.sum(dpsi ** 2 * cp)
-                + M * s.eccentricity * (a * math.sin(phi + beta) + w * w * math.cos(phi + beta)))
-        b[1] = (-s.stiffness * y - s.damping * vy + m * l * np.sum(dpsi ** 2 * sp)
-                + M * s.eccentricity * (w * w * math.sin(phi + beta) - a * math.cos(phi + beta)))
+        sp = [math.sin(v) for v in psi]
+        cp = [math.cos(v) for v in psi]
+        A = [[0.0] * (2 + n) for _ in range(2 + n)]
+        b = [0.0] * (2 + n)
+        A[0][0] = A[1][1] = Ms
+        Me, sb, cbeta = M * s.eccentricity, math.sin(phi + beta), math.cos(phi + beta)
+        b[0] = (-s.stiffness * x - s.damping * vx + m * l * sum(d * d * c for d, c in zip(dpsi, cp))
+                + Me * (a * sb + w * w * cbeta))
+        b[1] = (-s.stiffness * y - s.damping * vy + m * l * sum(d * d * v for d, v in zip(dpsi, sp))
+                + Me * (w * w * sb - a * cbeta))
         for j in range(n):
-            A[2 + j, 2 + j] = m * l * l
-            A[2 + j, 0] = -m * l * sp[j]
-            A[2 + j, 1] = m * l * cp[j]
+            A[0][2 + j] = A[2 + j][0] = -m * l * sp[j]
+            A[1][2 + j] = A[2 + j][1] = m * l * cp[j]
+            A[2 + j][2 + j] = m * l * l
             rel = dpsi[j] - w
             b[2 + j] = -cb * rel
             if s.friction:
                 u = rel / s.slip_speed
                 b[2 + j] -= s.friction * m * l * dpsi[j] ** 2 * l * u / math.sqrt(1.0 + u * u)
-        acc = np.linalg.solve(A, b)
-        return np.concatenate([q[2 + n:], acc])
+        return np.array(q[2 + n:] + solve(A, b))
 
     return f
 
