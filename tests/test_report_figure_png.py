@@ -71,3 +71,12 @@ def test_an_image_s_white_border_is_kept():
                                 fig.subplotpars.top - fig.subplotpars.bottom)
     assert abs(img.shape[0] - (side + 2 * PAD_PX)) <= 2
     assert abs(img.shape[1] - (side + 2 * PAD_PX)) <= 2
+
+
+@pytest.mark.parametrize("size", [(9, 4.2), (8, 5), (8, 3), (5, 5), (8, 4), (8, 3.5), (4, 4), (4.6, 4.6),
+                                  (3.8, 3.8), (5.6, 3.8)])
+def test_the_report_figure_sizes_take_the_one_draw_path(size):
+    """The canvas' pixel size is matplotlib's (a size of 737.99999 px is 738 px, not 737)."""
+    fig = Figure(figsize=size)
+    fig.subplots().plot([0.0, 1.0], [0.0, 1.0])
+    assert html._cropped_png(fig, io.BytesIO())

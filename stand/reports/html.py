@@ -93,20 +93,21 @@ def figure_png(fig) -> str:
 
 def _cropped_png(fig, out) -> bool:
     """Draw ``fig`` once with margins, crop to its content + pad, write the PNG to ``out``;
-    False (nothing written) when the content reaches the margin's edge."""
+    False (nothing written) when the content comes within the pad of the canvas' edge or a
+    legend lies beyond the margin (the tight box would be larger than the canvas)."""
     import numpy as np
     from matplotlib.image import imsave
-    from matplotlib.transforms import Bbox
+    from matplotlib.transforms import Affine2D, Bbox, TransformedBbox
 
     dpi, m = FIGURE_DPI, _MARGIN_IN
     w_in, h_in = fig.get_size_inches()
-    raw = io.BytesIO()
-    fig.savefig(raw, format="rgba", dpi=dpi, bbox_inches=Bbox.from_extents(-m, -m, w_in + m, h_in + m))
-    n = len(raw.getbuffer()) // 4
-    wf, hf = (w_in + 2 * m) * dpi, (h_in + 2 * m) * dpi      # the canvas [px], int() of each
-    shape = next(((int(hf) + j, int(wf) + i) for i in (0, 1, -1) for j in (0, 1, -1)
-                  if (int(wf) + i) * (int(hf) + j) == n), None)
-    if shape is None:
+    raw, box = io.BytesIO(), Bbox.from_extents(-m, -m, w_in + m, h_in + m)
+    fig.savefig(raw, format="rgba", dpi=dpi, bbox_inches=box)
+    # the canvas [px], as matplotlib sizes it (matplotlib._tight_bbox.adjust_bbox, then
+    # FigureCanvasBase.get_width_height: truncated, up when within 1e-8 px of the next pixel)
+    wf, hf = TransformedBbox(Bbox.from_bounds(0, 0, *box.size), Affine2D().scale(dpi)).size
+    shape = (int(hf + 1e-8), int(wf + 1e-8))
+    if shape[0] * shape[1] * 4 != len(raw.getbuffer()):
         return False
     px = np.frombuffer(raw.getbuffer(), np.uint32).reshape(shape)       # RGBA as one word
     ink = px != px[0, 0]                                                 # not the background
