@@ -14,6 +14,7 @@ from __future__ import annotations
 import base64
 import html
 import io
+import math
 import re
 from typing import Any, Iterable, Mapping
 
@@ -50,13 +51,29 @@ jsonable = to_jsonable
 atomic_write_text = write_text
 
 
+#: resolution of the report figures [pixels per inch of the figure size]
+FIGURE_DPI = 90
+#: white space drawn around a figure [in], for artists placed outside it (legends anchored
+#: beside or under their axes); content reaching it is saved the slow way (tight box)
+_MARGIN_IN = 2.0
+#: padding kept around the drawn content [in] (matplotlib's ``savefig.pad_inches``)
+_PAD_IN = 0.1
+
+
 def figure_png(fig) -> str:
     """A matplotlib figure as a PNG data URI (a pyplot figure is closed).
+
+    The figure is drawn once, on a canvas ``_MARGIN_IN`` wider on every side, and the image
+    is cropped to what was drawn (pixels unlike the background, and every axes' box) plus
+    0.1 in: the picture ``savefig(bbox_inches="tight")`` gives (within a few pixels: the
+    tight box is that of the text's line boxes, this one that of the ink) for one layout
+    pass instead of two.  Content that reaches the margin's edge, or a legend wholly beyond
+    it, falls back to the tight box.
 
     Parameters
     ----------
     fig : matplotlib.figure.Figure
-        Rendered at 90 dpi (pixels per inch of the figure size).
+        Rendered at ``FIGURE_DPI`` = 90 dpi (pixels per inch of the figure size).
 
     Returns
     -------
@@ -64,12 +81,58 @@ def figure_png(fig) -> str:
         ``"data:image/png;base64,..."``, for the ``figures`` of :func:`render_html`.
     """
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=90, bbox_inches="tight")
+    if not _cropped_png(fig, buf):
+        buf = io.BytesIO()
+        fig.savefig(buf, format="png", dpi=FIGURE_DPI, bbox_inches="tight")
     import sys
 
     if "matplotlib.pyplot" in sys.modules:   # a figure made by a caller through pyplot
         sys.modules["matplotlib.pyplot"].close(fig)
     return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
+
+
+def _cropped_png(fig, out) -> bool:
+    """Draw ``fig`` once with margins, crop to its content + pad, write the PNG to ``out``;
+    False (nothing written) when the content comes within the pad of the canvas' edge or a
+    legend lies beyond the margin (the tight box would be larger than the canvas)."""
+    import numpy as np
+    from matplotlib.image import imsave
+    from matplotlib.transforms import Affine2D, Bbox, TransformedBbox
+
+    dpi, m = FIGURE_DPI, _MARGIN_IN
+    w_in, h_in = fig.get_size_inches()
+    raw, box = io.BytesIO(), Bbox.from_extents(-m, -m, w_in + m, h_in + m)
+    fig.savefig(raw, format="rgba", dpi=dpi, bbox_inches=box)
+    # the canvas [px], as matplotlib sizes it (matplotlib._tight_bbox.adjust_bbox, then
+    # FigureCanvasBase.get_width_height: truncated, up when within 1e-8 px of the next pixel)
+    wf, hf = TransformedBbox(Bbox.from_bounds(0, 0, *box.size), Affine2D().scale(dpi)).size
+    shape = (int(hf + 1e-8), int(wf + 1e-8))
+    if shape[0] * shape[1] * 4 != len(raw.getbuffer()):
+        return False
+    px = np.frombuffer(raw.getbuffer(), np.uint32).reshape(shape)       # RGBA as one word
+    ink = px != px[0, 0]                                                 # not the background
+    rows, cols = np.flatnonzero(ink.any(axis=1)), np.flatnonzero(ink.any(axis=0))
+    pad = int(round(_PAD_IN * dpi))
+    if rows.size == 0:
+        return False
+    r0, r1, c0, c1 = rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
+    for ax in fig.axes:                      # the axes' boxes (an image's white border)
+        if ax.get_visible():
+            (x0, y0), (x1, y1) = ax.get_position().get_points() * (w_in * dpi, h_in * dpi) + m * dpi
+            r0, r1 = min(r0, int(shape[0] - y1)), max(r1, int(math.ceil(shape[0] - y0)))
+            c0, c1 = min(c0, int(x0)), max(c1, int(math.ceil(x1)))
+    if r0 < pad or c0 < pad or r1 > shape[0] - pad or c1 > shape[1] - pad:
+        return False
+    out_of_reach = fig.bbox.expanded(1.0, 1.0).padded((m - _PAD_IN) * fig.dpi)
+    for leg in fig.legends + [ax.get_legend() for ax in fig.axes]:   # wholly beyond the margin
+        if leg is not None and leg.get_visible():
+            bb = leg.get_window_extent()
+            if not (out_of_reach.contains(bb.x0, bb.y0) and out_of_reach.contains(bb.x1, bb.y1)):
+                return False
+    rgba = np.frombuffer(raw.getbuffer(), np.uint8).reshape(*shape, 4)
+    imsave(out, np.ascontiguousarray(rgba[r0 - pad:r1 + pad, c0 - pad:c1 + pad]), format="png",
+           dpi=dpi)
+    return True
 
 
 def _fmt(v: Any) -> str:
