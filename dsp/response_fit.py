@@ -303,13 +303,12 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
     zc = np.where(keep, z, 0.0)
 
     whole = bool(keep.all())
-    memo = {}   # the last stages' columns: a step in the delay or the sensor reuses the rotor's
+    memo = {}   # the last used stages' columns: a step in the delay or the sensor reuses the rotor's
 
     def stage(key, make):
-        if key not in memo:
-            if len(memo) >= 8:
-                del memo[next(iter(memo))]
-            memo[key] = make()
+        memo[key] = memo.pop(key) if key in memo else make()    # the least recently used goes
+        if len(memo) > 8:
+            del memo[next(iter(memo))]
         return memo[key]
 
     def rotor(w0, zeta):
