@@ -240,8 +240,8 @@ def sensed_columns(t, B, w, wd: float, sensor, dt=None):
             hw = sensor_response(np.abs(w) / (2 * math.pi), s2, s1)
             hd = sensor_response(np.full(1, abs(wd)) / (2 * math.pi), s2, s1)
             B = B * np.column_stack((hw, np.broadcast_to(hd, (w.size, 2)), np.ones(w.size), hw))
-        if fh:
-            cols, B = [0, 1, 2, 4], B.copy()
+        if fh:      # (B is the caller's unless the lags made a new one)
+            cols, B = [0, 1, 2, 4], B.copy() if not (s2 or s1) else B
             B[:, cols] = highpassed(t, B[:, cols], fh, [w[0], wd, wd, w[0]], [0, 1, 1, 0], dt)
     if len(sensor):
         B = np.column_stack((B, np.exp(-2 * math.pi * sensor[2] * tt) if sensor[2] > 0 else 0 * tt))
@@ -265,7 +265,21 @@ def delayed(t, columns, tau: float, weights=None):
     j, dx, off, before, after = delay_weights(t, tau) if weights is None else weights
     flat = np.ascontiguousarray(y.reshape(np.size(t), -1))
     re = flat.view(float) if np.iscomplexobj(flat) else flat.astype(float, copy=False)
-    out = (re[j + 1] - re[j]) / dx * off + re[j]
+    # the rows where j is the row's index shifted by the median row's shift (the rest: the
+    # clipped ends, a rounding's other neighbour) from slices, in place, the others gathered:
+    # the same arithmetic, without copying most of the columns
+    d = j - np.arange(j.size)
+    m = int(d[j.size // 2])
+    same = d == m
+    a, b = int(np.argmax(same)), j.size - int(np.argmax(same[::-1]))
+    out = np.empty_like(re)
+    o, lo = out[a:b], re[a + m:b + m]
+    np.subtract(re[a + m + 1:b + m + 1], lo, out=o)
+    o /= dx[a:b]
+    o *= off[a:b]
+    o += lo
+    r = np.flatnonzero(~same)
+    out[r] = (re[j[r] + 1] - re[j[r]]) / dx[r] * off[r] + re[j[r]]
     out[before], out[after] = re[0], re[-1]
     return (out.view(complex) if np.iscomplexobj(flat) else out).reshape(y.shape)
 

@@ -187,8 +187,10 @@ def _basis(w0, zeta, tt, forcing, rot, order=0):
     h = [(1.0, 0.0), (0.0, 1.0)]
     for _ in range(order):
         h = [(-sig * a + wd * b, -sig * b - wd * a) for a, b in h]
-    h1, h2 = (env * (a * c + b * s) for a, b in h)
-    return np.column_stack([g, h1, h2, np.ones_like(tt), rot])
+    out = np.empty((tt.size, 5), complex)
+    out[:, 0], out[:, 3], out[:, 4] = g, 1.0, rot
+    out[:, 1], out[:, 2] = (env * (a * c + b * s) for a, b in h)
+    return out
 
 
 def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s2=None, *,
@@ -300,13 +302,13 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
     tt = t - t[0]
     zc = np.where(keep, z, 0.0)
 
-    memo = {}   # the last stages' columns: a step in the delay or the sensor reuses the rotor's
+    whole = bool(keep.all())
+    memo = {}   # the last used stages' columns: a step in the delay or the sensor reuses the rotor's
 
     def stage(key, make):
-        if key not in memo:
-            if len(memo) >= 8:
-                del memo[next(iter(memo))]
-            memo[key] = make()
+        memo[key] = memo.pop(key) if key in memo else make()    # the least recently used goes
+        if len(memo) > 8:
+            del memo[next(iter(memo))]
         return memo[key]
 
     def rotor(w0, zeta):
@@ -326,7 +328,7 @@ def fit_unbalance_response(t, z, angle_rad, speed_rad_s=None, acceleration_rad_s
             from .artefacts import delay_weights, delayed
 
             B = delayed(t, B, tau, stage(tau, lambda: delay_weights(t, tau)))
-        return B * keep[:, None]
+        return B if whole else B * keep[:, None]      # (x 1.0 changes no bit: not done)
     if natural_frequency_guess_hz is None:
         k = max(3, t.size // 200)
         ww = np.maximum(np.abs(w), 1e-9 + 1e-3 * np.max(np.abs(w))) ** order

@@ -10,10 +10,15 @@ import pytest
 from dsp.artefacts import ChannelFilter, _unit_lowpass, delayed, sensed_columns
 
 
-@pytest.mark.parametrize("tau", [1.3e-3, -2.7e-3, 0.5, -3.0, 4e-3, 0.0, 1e-14])
-def test_delay_equals_np_interp_per_column(tau):
+# 0.02, -0.012: whole samples, where rounding puts some rows on the next neighbour
+# (delayed() slices the common shift and gathers those); jitter: a non-uniform time base
+@pytest.mark.parametrize("tau, jitter", [(1.3e-3, 0), (-2.7e-3, 0), (0.5, 0), (-3.0, 0), (4e-3, 0),
+                                         (0.0, 0), (1e-14, 0), (0.02, 0), (-0.012, 0),
+                                         (0.01, 1e-3), (-2.7e-3, 1e-3)])
+def test_delay_equals_np_interp_per_column(tau, jitter):
     t = 1.3 + 0.004 * np.arange(500)
     rng = np.random.default_rng(0)
+    t = t + jitter * rng.uniform(size=t.size)
     y = rng.normal(size=(500, 3)) + 1j * rng.normal(size=(500, 3))
     ref = np.column_stack([np.interp(t - tau, t, c.real) + 1j * np.interp(t - tau, t, c.imag)
                            for c in y.T])
