@@ -65,6 +65,38 @@ def test_threaded_reader_gives_the_sequential_frames_and_track(video):
     assert not _workers()
 
 
+def test_a_large_frame_is_read_ahead_by_ffmpegs_threads_with_the_same_frames(tmp_path, monkeypatch):
+    """A frame of LARGE_FRAME_PIXELS or more: the read-ahead decoder opens the file with
+    FFmpeg's own threads (the decoder is the slow stage) -- the same frames as read in turn."""
+    cv2 = pytest.importorskip("cv2")
+    import vision.io as vio
+
+    cam = art.Camera(width=512, height=512, sigma_px=2.0)
+    assert cam.width * cam.height >= vio.LARGE_FRAME_PIXELS
+    path = str(tmp_path / "large.avi")
+    w = cv2.VideoWriter(path, cv2.CAP_FFMPEG, cv2.VideoWriter_fourcc(*"FFV1"), 100.0,
+                        (cam.width, cam.height), [cv2.VIDEOWRITER_PROP_IS_COLOR, 0])
+    if not w.isOpened():
+        pytest.skip("OpenCV cannot write FFV1 here")
+    for f in art.spot_frames(_whirl(6, cam, radius=60.0), cam):
+        w.write(f)
+    w.release()
+    opened = []
+    real = cv2.VideoCapture
+
+    def capture(*args):
+        opened.append(args[2][1] if len(args) > 2 else "default")   # CAP_PROP_N_THREADS asked
+        return real(*args)
+
+    monkeypatch.setattr(cv2, "VideoCapture", capture)
+    thr = list(iter_frames(path))
+    assert opened == [1, "default"]   # one thread asked first, then FFmpeg's own for the size
+    seq = list(iter_frames(path, ahead=0))
+    assert len(seq) == len(thr) == 6
+    for a, b in zip(seq, thr):
+        assert a.index == b.index and np.array_equal(a.image, b.image)
+
+
 def test_threaded_reader_on_the_video_sample_tracks_as_the_sequential_one():
     if not SAMPLE.is_file():
         pytest.skip("no video sample")

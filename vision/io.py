@@ -53,6 +53,12 @@ READ_AHEAD_BATCH = 8
 #: at 0.2 ms, 0.90-0.95 at 50 us, 0.93-0.98 at 10 us (the tracker's cost of the extra
 #: switches below the noise)
 SWITCH_INTERVAL = 1e-5
+#: [pixels] a video frame at least this large is decoded with FFmpeg's own threads even when
+#: read ahead: the decoder is then the slow stage by far (a 1280 x 1024 FFV1 frame 35 ms with
+#: one thread, 23 ms with FFmpeg's; the tracker ~1 ms inside its ROI), and the read-ahead
+#: pipeline runs at 42-43 frames/s instead of 24 (2026-11-30, benchmarks/README.md); below
+#: it one thread, the other core tracking (the 256 x 256 sample: 1050 frames/s against 915)
+LARGE_FRAME_PIXELS = 512 * 512
 
 
 class VisionError(ValueError):
@@ -110,9 +116,10 @@ def _iter_hdf5(path, dataset):
             yield i, t, np.asarray(img)
 
 
-def _iter_video(path, threads: int = 0):
+def _iter_video(path, threads: int = 0, large_threads: int | None = None):
     """(index, time [s], gray image) of every frame; ``threads``: FFmpeg's decoding threads
-    (0: its default)."""
+    (0: its default); ``large_threads``: instead of ``threads`` for frames of at least
+    :data:`LARGE_FRAME_PIXELS`."""
     import cv2
 
     if not os.path.isfile(path):
@@ -120,6 +127,11 @@ def _iter_video(path, threads: int = 0):
     cap = None
     if threads > 0:
         cap = cv2.VideoCapture(path, cv2.CAP_FFMPEG, [cv2.CAP_PROP_N_THREADS, threads])
+        size = cap.get(cv2.CAP_PROP_FRAME_WIDTH) * cap.get(cv2.CAP_PROP_FRAME_HEIGHT)
+        if large_threads is not None and large_threads != threads and size >= LARGE_FRAME_PIXELS:
+            cap.release()
+            cap = (cv2.VideoCapture(path, cv2.CAP_FFMPEG, [cv2.CAP_PROP_N_THREADS, large_threads])
+                   if large_threads > 0 else None)
     if cap is None or not cap.isOpened():
         cap = cv2.VideoCapture(path)
     try:
@@ -282,8 +294,10 @@ def iter_frames(source, dataset: str = DEFAULT_DATASET, *,
     ahead : int
         Video files and images are decoded by a thread up to ``ahead`` frames (and
         :data:`READ_AHEAD_BYTES`) ahead of the consumer (:func:`read_ahead`; a video by one
-        FFmpeg thread: the other cores are the tracker's); 0: decoded in the caller's
-        thread, on demand (FFmpeg's own threads).
+        FFmpeg thread: the other cores are the tracker's; frames of
+        :data:`LARGE_FRAME_PIXELS` and more by FFmpeg's own threads, the decoder being the
+        slow stage by far); 0: decoded in the caller's thread, on demand (FFmpeg's own
+        threads).
 
     Yields
     ------
@@ -401,4 +415,5 @@ def _open(source, dataset, one_decoder_thread=False):
     if not p.is_file():
         raise VisionError(f"{path}: no such file")
     # read ahead: the reading thread is the decoder's parallelism, the other cores track
-    return _iter_video(path, 1 if one_decoder_thread else 0)
+    # (a large frame: FFmpeg's threads too, LARGE_FRAME_PIXELS)
+    return _iter_video(path, 1 if one_decoder_thread else 0, large_threads=0)
