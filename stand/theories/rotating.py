@@ -46,21 +46,24 @@ def constant_speed_programme(R: float) -> np.ndarray:
     return build_table(np.array([0.0]), np.array([float(R)]))
 
 
-def _shaft_to_fixed(z: np.ndarray, ns: int, R: float) -> np.ndarray:
-    """A copy of ``z`` with the shaft velocity (at ``ns``, ``ns + 1``) in fixed components."""
-    y = np.array(z, dtype=float, copy=True)
-    u, v, du, dv = z[0], z[1], z[ns], z[ns + 1]
-    y[ns], y[ns + 1] = du - R * v, dv + R * u
+def _shaft_to_fixed(z: np.ndarray, ns: int, R) -> np.ndarray:
+    """A copy of ``z`` with the shaft velocity (at ``ns``, ``ns + 1``) in fixed components;
+    ``z`` one state, or states as rows with ``R`` a speed per row."""
+    z = np.asarray(z)
+    y = np.array(z, dtype=np.float64, order="C", copy=True)
+    u, v, du, dv = z[..., 0], z[..., 1], z[..., ns], z[..., ns + 1]
+    y[..., ns], y[..., ns + 1] = du - R * v, dv + R * u
     return y
 
 
 def _shaft_to_rotating(dy: np.ndarray, z: np.ndarray, ns: int, R: float) -> np.ndarray:
     """The fixed-frame derivative ``dy`` with the shaft rows in rotating components."""
+    z = np.asarray(z)
     dz = np.array(dy, dtype=float, copy=True)
-    u, v, du, dv = z[0], z[1], z[ns], z[ns + 1]
-    dz[0], dz[1] = du, dv
-    dz[ns] = dy[ns] + 2 * R * dv + R * R * u             # z'' = Z'' - 2 i R z' + R^2 z
-    dz[ns + 1] = dy[ns + 1] - 2 * R * du + R * R * v
+    u, v, du, dv = z[..., 0], z[..., 1], z[..., ns], z[..., ns + 1]
+    dz[..., 0], dz[..., 1] = du, dv
+    dz[..., ns] = dy[..., ns] + 2 * R * dv + R * R * u             # z'' = Z'' - 2 i R z' + R^2 z
+    dz[..., ns + 1] = dy[..., ns + 1] - 2 * R * du + R * R * v
     return dz
 
 
@@ -90,22 +93,10 @@ def _planar_rotating_rhs_at(model: PlanarModel, R: float):
     """``z -> rotating_rhs(model, R, z)`` for the planar kernel, with the kernel, the
     constant-speed parameters and the programme table set up once (a Jacobian evaluates it
     at 2 x state-size points; the values are those of :func:`rotating_rhs`, bit for bit)."""
-    if model.sp[FREE] != 0.0:
-        raise ValueError("rotating frame: the rotor speed must be prescribed (speed drive)")
-    nq = 2 + model.n
-    sp = model.sp.copy()
-    sp[COAST_T0] = np.inf  # no coast-down
-    sp[N_PROG], sp[N_UB], sp[N_FORCE] = 1, 0, 0  # constant speed and unbalance, no side force
-    prog = constant_speed_programme(R)
-    kernel = kernels(PLANAR)
-
-    def rhs(z: np.ndarray) -> np.ndarray:
-        y = _shaft_to_fixed(z, nq, R)
-        dy = np.empty_like(y)
-        kernel.evaluate(0.0, y, dy, sp, model.wt, prog)
-        return _shaft_to_rotating(dy, z, nq, R)
-
-    return rhs
+    setup = _planar_setup(model)
+    prog = np.ascontiguousarray(constant_speed_programme(R), dtype=np.float64)
+    Rrow = np.array([float(R)])
+    return lambda z: _planar_rows(setup, np.asarray(z, dtype=float)[None, :], Rrow, [prog], 1)[0]
 
 
 
@@ -179,17 +170,11 @@ def _planar_rows(setup: tuple, Z: np.ndarray, Rrow: np.ndarray, progs: list, per
     entry point per row."""
     nq, sp, wt, ev = setup
     Z = np.asarray(Z, dtype=float)
-    u, v, du, dv = Z[:, 0], Z[:, 1], Z[:, nq], Z[:, nq + 1]
-    Y = np.array(Z, dtype=np.float64, order="C", copy=True)
-    Y[:, nq], Y[:, nq + 1] = du - Rrow * v, dv + Rrow * u
+    Y = _shaft_to_fixed(Z, nq, Rrow)
     DY = np.empty_like(Y)
     for k in range(Y.shape[0]):
         ev(0.0, Y[k], DY[k], sp, wt, progs[k // per])
-    DZ = DY.copy()
-    DZ[:, 0], DZ[:, 1] = du, dv
-    DZ[:, nq] = DY[:, nq] + 2 * Rrow * dv + Rrow * Rrow * u
-    DZ[:, nq + 1] = DY[:, nq + 1] - 2 * Rrow * du + Rrow * Rrow * v
-    return DZ
+    return _shaft_to_rotating(DY, Z, nq, Rrow)
 
 
 def _rhs_and_jacobians_speeds(setup: tuple, Rs, zs, step: float) -> list:
