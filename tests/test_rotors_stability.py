@@ -64,3 +64,39 @@ def test_two_mass_main_motion_edges_match_simulation():
         wz = 2 * math.pi * fz
         run = simulate_coupled(rotor, sc.weights, [[0.0, wz]], 120.0, 4 * fz)
         assert (float(np.hypot(*run.static_residual[-1])) < 1e-4 * 2e-3 * 50) == expect, fz
+
+
+def test_fixed_point_stand_main_motion_ends_in_a_fold_that_simulation_confirms(monkeypatch):
+    """Section 4.4 stand (horizontal axis: gravity on the balls).  Continued down from
+    15 rev/s, the main motion ends near 4.86 rev/s: its growth rate goes to 0 there (a fold),
+    and below it Newton shooting finds no periodic orbit.  Checked without Newton: a
+    simulation at constant speed, sampled once per revolution (a stroboscope), settles to
+    one point above the end (the orbit, the Floquet residual unbalance) and keeps moving
+    below it (no motion periodic with the revolution).  Before the fix the scan bisected
+    between points that were no orbits (Newton residuals 0.2-20) and ran 88 s into its
+    budget (exit 1); now the theory spends < 1e6 state-steps."""
+    import stand.theories.rotors as th
+
+    sc = load_scene("data_samples/scenes/family_fixed_point_stand.toml")
+    monkeypatch.setattr(th, "FLOQUET_BUDGET", 1_000_000)
+    mm = th.family_theory(sc)["main_motion"]
+    assert mm["critical_speeds_hz"] == [] and len(mm["ends_hz"]) == 1
+    fe = mm["ends_hz"][0]
+    assert 4.80 < fe < 4.90, fe
+    rotor = sc.linear_rotor()
+    w15 = 2 * math.pi * 15.0
+    r15 = main_motion_stability(rotor, sc.weights, w15)
+    out, crit = main_motion_critical_speeds(rotor, sc.weights, 2 * math.pi * np.array(
+        [15.0, 8.0, 5.4, 4.5]), y_guess=_state_guess(rotor, sc.weights, r15, w15), xtol=1e-4)
+    assert crit.size == 0 and all(r.converged for r in out[:-1]) and not out[-1].converged
+    assert out[-1].omega - out[-2].omega == pytest.approx(0.0, abs=1e-3 * out[-1].omega)
+    rates = {round(r.omega / (2 * math.pi), 1): r.growth_rate for r in out[:-1]}
+    assert rates[5.4] < 0 and -0.1 * abs(rates[5.4]) < out[-2].growth_rate < 0     # -> 0
+    above = next(r for r in out if r.omega / (2 * math.pi) == pytest.approx(5.4))
+    for f, settles in ((5.4, True), (fe - 0.15, False)):
+        run = simulate_coupled(rotor, sc.weights, [[0.0, 2 * math.pi * f]], 200.0, 4 * f)
+        strobe = np.hypot(*run.static_residual.T)[::4][-int(20 * f):]    # last 20 s
+        spread = float(strobe.max() - strobe.min())
+        assert (spread < 2e-5) == settles and (spread > 5e-5) == (not settles), (f, spread)
+        if settles:
+            assert strobe.mean() == pytest.approx(above.residual_unbalance, rel=0.01)

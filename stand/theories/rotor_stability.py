@@ -12,12 +12,19 @@ multipliers exactly on the unit circle that belong to a family of main motions
 (n >= 3 weights in a plane: the configurations form a continuum).
 
 * :func:`periodic_orbit` -- the main motion by Newton shooting from a guess
-  (a converged simulation, :func:`settle`); the monodromy matrix by central
-  finite differences of the compiled DOP853 flow (rtol 1e-11);
+  (a converged simulation, :func:`settle`), each step halved until it lowers the
+  residual (a full step that overshoots into a violent motion is not flown to its
+  end: a flow may take at most :data:`FLOW_STEP_FACTOR` times the steps of the
+  guess's own revolution); the monodromy matrix by central finite differences of
+  the compiled DOP853 flow (rtol 1e-11);
 * :func:`floquet` -- multipliers and the growth rate ``log max|mu| / T`` [1/s];
 * :func:`main_motion_stability` -- both, at one speed;
 * :func:`main_motion_critical_speeds` -- continuation over a speed grid, the
-  speeds where the growth rate changes sign refined by bisection.
+  speeds where the growth rate changes sign refined by bisection.  Only converged
+  orbits (residual <= :data:`ORBIT_TOL`) count: where Newton does not find the
+  orbit the step is halved (:data:`CONTINUATION_HALVINGS` times), then the
+  continuation stops there (the main motion is lost: a fold, or out of reach of
+  the guess) -- a growth rate of a point that is not a periodic orbit means nothing.
 
 Cost: one monodromy matrix is 2 N one-revolution integrations (N = number of
 rotor coordinates + weights), about a millisecond each once compiled.
@@ -31,6 +38,7 @@ from typing import Sequence
 
 import numpy as np
 
+from stand.errors import BudgetExceeded
 from stand.integrate.coupled import CoupledModel, PlaneWeights, build_model, simulate_coupled
 from stand.model.rotors.structure import LinearRotor
 
@@ -39,6 +47,17 @@ __all__ = ["settle", "periodic_orbit", "floquet", "MainMotionStability",
 
 RTOL = 1e-11
 ATOL = 1e-13
+#: [scaled state] a periodic orbit counts as found when one revolution returns within this
+#: (Newton aims at 1e-10; converged orbits reach 1e-15-1e-11, lost ones stay at 1e-3-10)
+ORBIT_TOL = 1e-8
+#: a flow from a Newton trial point may take at most this many times the steps of the flow
+#: from the current point (at least :data:`MIN_FLOW_STEPS`): a trial that overshoots into a
+#: violent motion is rejected (the step halved) instead of being integrated for a million
+#: steps (the fixed-point stand sample: ~12 s per such flow, 88 s to the budget)
+FLOW_STEP_FACTOR = 20
+MIN_FLOW_STEPS = 20_000
+#: halvings of a continuation step after which a main motion not found stops the continuation
+CONTINUATION_HALVINGS = 3
 #: the budget (:class:`stand.errors.Budget`, in state-steps: integration steps x state size)
 #: the one-revolution flows spend while a scan runs under :func:`step_budget`; None:
 #: unbounded (each flow alone is capped at 1e6 steps)
@@ -58,8 +77,14 @@ def step_budget(budget):
         _BUDGET = old
 
 
-def _flow(model: CoupledModel, y0: np.ndarray, T: float) -> np.ndarray:
+def _flow(model: CoupledModel, y0: np.ndarray, T: float, max_steps: int = 1_000_000):
     """State after the scaled time T from y0 at tau = 0 (compiled DOP853)."""
+    return _flow_steps(model, y0, T, max_steps)[0]
+
+
+def _flow_steps(model: CoupledModel, y0: np.ndarray, T: float, max_steps: int = 1_000_000):
+    """(:func:`_flow`, the steps it took); RuntimeError when it does not reach T within
+    ``max_steps`` steps."""
     from stand.integrate.dop853 import REACHED_END
     from stand.integrate.kernel_set import kernels
     from stand.model.kernels import GENERIC
@@ -73,12 +98,12 @@ def _flow(model: CoupledModel, y0: np.ndarray, T: float) -> np.ndarray:
     cap = np.full(y.size, np.inf)
     st = np.zeros(3, np.int64)
     status, t, _, _ = ks.dop853(model.sp, model.wt, model.prog, 0.0, y, f, T / 50.0, T, RTOL, ATOL,
-                                cap, np.inf, ts, 1, out, st, 1_000_000, 1e12)
+                                cap, np.inf, ts, 1, out, st, int(max_steps), 1e12)
     if _BUDGET is not None:
         _BUDGET.spend(int(st[0] + st[1]) * y.size)
     if status != REACHED_END or t < T:
         raise RuntimeError("one-revolution flow did not reach its end (diverged or stiff)")
-    return out[1]
+    return out[1], int(st[0] + st[1])
 
 
 def _model(rotor, weights, omega):
@@ -120,19 +145,35 @@ def _jacobian(model, y, T, fy=None):
 def periodic_orbit(model: CoupledModel, y0: np.ndarray, T: float, tol: float = 1e-10,
                    max_iter: int = 20):
     """Newton shooting for Phi_T(y) = y (minimum-norm steps: a family of main
-    motions makes the Jacobian singular).  Returns (y, monodromy, residual)."""
+    motions makes the Jacobian singular), each step halved (up to 6 times) until the
+    residual max|Phi_T(y) - y| goes down; stops when it reaches ``tol`` or no halving
+    lowers it.  Returns (y, monodromy, residual) at the best point.  RuntimeError when
+    the flow from ``y0`` itself does not reach the end of the revolution."""
     y = np.array(y0, dtype=float)
+    Fy, n0 = _flow_steps(model, y, T)
+    res = float(np.max(np.abs(Fy - y)))
     for _ in range(max_iter):
-        Fy = _flow(model, y, T)
-        G = Fy - y
         Mmat = _jacobian(model, y, T)
-        res = float(np.max(np.abs(G)))
         if res < tol:
             return y, Mmat, res
-        dy = np.linalg.lstsq(Mmat - np.eye(y.size), -G, rcond=1e-10)[0]
-        y = y + dy
-    Fy = _flow(model, y, T)
-    return y, _jacobian(model, y, T), float(np.max(np.abs(Fy - y)))
+        dy = np.linalg.lstsq(Mmat - np.eye(y.size), y - Fy, rcond=1e-10)[0]
+        cap = max(FLOW_STEP_FACTOR * n0, MIN_FLOW_STEPS)
+        for _half in range(7):
+            yt = y + dy
+            try:
+                Ft, nt = _flow_steps(model, yt, T, cap)
+                rt = float(np.max(np.abs(Ft - yt)))
+            except BudgetExceeded:
+                raise
+            except RuntimeError:          # the trial overshot into a violent motion
+                rt = math.inf
+            if rt < res:
+                break
+            dy = 0.5 * dy
+        else:
+            return y, Mmat, res           # no step lowers the residual: Newton stalls here
+        y, Fy, res, n0 = yt, Ft, rt, nt
+    return y, _jacobian(model, y, T), res
 
 
 def floquet(monodromy: np.ndarray, T_s: float, family_tol: float = 1e-5):
@@ -159,8 +200,14 @@ class MainMotionStability:
     neutral : int                 multipliers at 1 (family of main motions)
     stable : bool
     residual_unbalance : float    kg m, static residual of the orbit (0 for a main motion)
-    orbit_error : float           Newton residual (scaled state)
+    orbit_error : float           Newton residual (scaled state); inf: the flow from the
+                                  guess did not reach the end of a revolution
     weight_angles : ndarray       rad, relative to the mark
+    state : ndarray               the orbit's scaled state at the mark (the guess of a
+                                  continuation's next speed)
+
+    ``converged`` (orbit_error <= :data:`ORBIT_TOL`): a periodic orbit was found; when not,
+    the multipliers and the growth rate are those of the last Newton point, no orbit's.
     """
 
     omega: float
@@ -171,6 +218,11 @@ class MainMotionStability:
     residual_unbalance: float
     orbit_error: float
     weight_angles: np.ndarray
+    state: np.ndarray | None = None
+
+    @property
+    def converged(self) -> bool:
+        return self.orbit_error <= ORBIT_TOL
 
 
 def _residual(model: CoupledModel, y) -> float:
@@ -192,43 +244,99 @@ def main_motion_stability(rotor: LinearRotor, weights: Sequence[PlaneWeights], o
     model = _model(rotor, weights, omega)
     T = 2 * math.pi / omega * model.omega_ref
     y0 = settle(rotor, weights, omega) if y_guess is None else np.asarray(y_guess, float)
-    y, Mmat, err = periodic_orbit(model, y0, T)
+    try:
+        y, Mmat, err = periodic_orbit(model, y0, T)
+    except BudgetExceeded:
+        raise
+    except RuntimeError:       # the guess itself runs away: no orbit near it
+        nan = np.full(y0.size, math.nan)
+        return MainMotionStability(omega, nan, math.nan, 0, False, math.nan, math.inf,
+                                   y0[model.n:model.n + model.nw].copy())
     mu, rate, neutral = floquet(Mmat, 2 * math.pi / omega)
     return MainMotionStability(omega, mu, rate, neutral, rate < 0, _residual(model, y), err,
-                               y[model.n:model.n + model.nw].copy())
+                               y[model.n:model.n + model.nw].copy(), y.copy())
 
 
 def main_motion_critical_speeds(rotor: LinearRotor, weights: Sequence[PlaneWeights], speeds,
                                 y_guess=None, xtol: float = 1e-6):
     """Continuation of the main motion over ``speeds`` [rad/s] (increasing or
     decreasing; start where it exists, e.g. from a balanced simulation), its
-    growth rate at each, and the speeds where the rate changes sign (bisection
-    to ``xtol`` relative).  Returns (list of MainMotionStability, critical speeds)."""
+    growth rate at each, and the speeds where the rate changes sign between two
+    found orbits (bisection to ``xtol`` relative).  Where the orbit is not found, the
+    step from the last found one is halved up to :data:`CONTINUATION_HALVINGS` times
+    (the points found on the way are kept); still not found, the continuation stops
+    there (module docstring), the speed where the orbit ends bisected to ``xtol`` (a
+    fold: the growth rate goes to 0 there).  Returns (list of MainMotionStability: the
+    found orbits in order, the first one not found last, within ``xtol`` of the last
+    found; critical speeds)."""
     speeds = np.asarray(speeds, dtype=float)
     out = []
     y = y_guess
     for w in speeds:
         r = main_motion_stability(rotor, weights, w, y_guess=y)
+        if not r.converged and out:
+            r = _approach(rotor, weights, out, w, y)
         out.append(r)
-        y = _state_guess(rotor, weights, r, w)
+        if not r.converged:
+            break
+        y = _state_guess(rotor, weights, r, r.omega)
+    if len(out) >= 2 and not out[-1].converged:      # where the orbit ends, to xtol
+        a = out[-2]
+        while abs(out[-1].omega - a.omega) > xtol * abs(out[-1].omega):
+            rm = main_motion_stability(rotor, weights, 0.5 * (a.omega + out[-1].omega),
+                                       y_guess=_state_guess(rotor, weights, a, a.omega))
+            if rm.converged:
+                out.insert(len(out) - 1, rm)
+                a = rm
+            else:
+                out[-1] = rm
     crit = []
     for a, b in zip(out[:-1], out[1:]):
-        if a.stable != b.stable:
+        if a.converged and b.converged and a.stable != b.stable:
             lo, hi, ya = a.omega, b.omega, _state_guess(rotor, weights, a, a.omega)
             sa = a.stable
             while abs(hi - lo) > xtol * abs(hi):
                 m = 0.5 * (lo + hi)
                 rm = main_motion_stability(rotor, weights, m, y_guess=ya)
+                if not rm.converged:
+                    break          # (the orbit lost inside the bracket: no edge to state)
                 if rm.stable == sa:
                     lo, ya = m, _state_guess(rotor, weights, rm, m)
                 else:
                     hi = m
-            crit.append(0.5 * (lo + hi))
+            else:
+                crit.append(0.5 * (lo + hi))
     return out, np.array(crit)
 
 
+def _approach(rotor, weights, out: list, w: float, y):
+    """The orbit at ``w`` [rad/s], not found from the last found one (``out[-1]``, guess
+    ``y``), approached in halved steps (geometric midpoints: the grids are geometric),
+    :data:`CONTINUATION_HALVINGS` halvings in all; the orbits found on the way are appended
+    to ``out``.  Returns the result at ``w``, or (not converged) the one nearest the last
+    found orbit where none was found."""
+    target, r = w, None
+    for _ in range(CONTINUATION_HALVINGS):
+        mid = math.sqrt(out[-1].omega * target)
+        rm = main_motion_stability(rotor, weights, mid, y_guess=y)
+        if not rm.converged:
+            target, r = mid, rm            # closer to the last found orbit
+            continue
+        out.append(rm)
+        y = _state_guess(rotor, weights, rm, mid)
+        r = main_motion_stability(rotor, weights, w, y_guess=y)
+        if r.converged:
+            return r
+        target = w
+    return r
+
+
 def _state_guess(rotor, weights, r: MainMotionStability, omega):
-    """A guess at another speed: the weights' angles of ``r``, rotor at rest."""
+    """A guess at another speed: the orbit of ``r`` when it was found (the scaled state
+    does not depend on the speed: its time scale is the rotor's lowest natural frequency),
+    else the weights' angles of ``r`` with the rotor at rest."""
+    if r.converged and r.state is not None:
+        return r.state.copy()
     model = _model(rotor, weights, omega)
     y = np.zeros(2 * (model.n + model.nw) + model.n_adhesion)
     y[model.n:model.n + model.nw] = r.weight_angles

@@ -74,21 +74,26 @@ def _floquet_scan_within(scene, ranges: dict, lo: float, hi: float, n: int) -> d
     lo_s = 0.5 * crits[0] if crits else 0.3 * w0
     hi_s = min(hi, 2.0 * max(crits[-1], w0)) if crits else 3.0 * w0
     g = _state_guess(rotor, scene.weights, r0, w0)
-    found = []
+    found, lost = [], []
     for grid in (np.geomspace(w0, max(lo_s, lo), n), np.geomspace(w0, hi_s, n)):
         try:
-            _, c = main_motion_critical_speeds(rotor, scene.weights, grid, y_guess=g,
-                                               xtol=1e-5)
+            out, c = main_motion_critical_speeds(rotor, scene.weights, grid, y_guess=g,
+                                                 xtol=1e-5)
         except BudgetExceeded:
             raise
         except (RuntimeError, np.linalg.LinAlgError):
             continue
         found += list(c)
+        if len(out) >= 2 and not out[-1].converged:     # the main motion ends there
+            lost.append((out[-2].omega + out[-1].omega) / (4 * math.pi))
     return {"operating_speed_hz": w0 / (2 * math.pi),
             "growth_rate_at_operating_speed_per_s": r0.growth_rate,
             "critical_speeds_hz": sorted(f / (2 * math.pi) for f in found),
+            "ends_hz": sorted(lost),
             "method": "Floquet multipliers of the one-revolution map, continuation from the "
-                      "operating speed (finite weight masses included)"}
+                      "operating speed (finite weight masses included); ends_hz: where the "
+                      "continued main motion ends (no periodic orbit beyond, a fold: the "
+                      "growth rate goes to 0 there; the scan stops)"}
 
 
 def _generalised(rot, planes, lo: float, hi: float) -> dict:

@@ -342,9 +342,13 @@ def theory_lines(doc: dict) -> list:
         mm = doc.get("main_motion") or {}
         if mm.get("critical_speeds_hz") is not None:
             out.append("  main motion (Floquet, finite weight masses): critical speeds "
-                       + (", ".join(f"{c:.5g}" for c in mm["critical_speeds_hz"]) or "none in the scan")
-                       + f" rev/s; growth rate at {mm['operating_speed_hz']:.4g} rev/s: "
-                       f"{mm['growth_rate_at_operating_speed_per_s']:.3g} 1/s")
+                       + (", ".join(f"{c:.5g}" for c in mm["critical_speeds_hz"]) + " rev/s"
+                          if mm["critical_speeds_hz"] else "none in the scan")
+                       + f"; growth rate at {mm['operating_speed_hz']:.4g} rev/s: "
+                       f"{mm['growth_rate_at_operating_speed_per_s']:.3g} 1/s"
+                       + "".join(f"; the main motion ends at {f:.5g} rev/s (no periodic "
+                                 "orbit beyond: the scan stops there)"
+                                 for f in mm.get("ends_hz", ())))
         elif mm.get("note"):
             out.append(f"  main motion: {mm['note']}")
         out += [f"  note: {n}" for n in doc.get("notes", [])]
