@@ -348,8 +348,11 @@ def test_run_document_is_its_summary_and_survives_the_recording(tmp_path_factory
     assert run.samples == len(run) == len(run.t) == run.to_frame().shape[0]
     assert run.duration_s == pytest.approx(2.0, abs=1e-12)
     assert run.final["time_s"] == run.t[-1] and run.solver == dict(run.stats)
-    r = np.hypot(run.x[-1], run.y[-1])
-    assert run.final["whirl_radius_last_m"] == r
+    # the whirl about the orbit's centre (the mean over the last revolution), not about the origin
+    sel = run.t >= run.t[-1] - 2 * np.pi / abs(run.rotor_speed[-1])
+    z = run.x[sel] + 1j * run.y[sel]
+    assert run.final["whirl_radius_last_m"] == pytest.approx(abs(z[-1] - np.mean(z)), rel=1e-12)
+    assert run.final["static_offset_m"] == pytest.approx(abs(np.mean(z)), rel=1e-12)
     psi = run.residual_unbalance()[-1]            # the whole-record formula, at its last sample
     assert run.final["residual_unbalance_g_mm"] == pytest.approx(abs(psi) * 1e6, rel=1e-12)
     assert run.final["residual_unbalance"] == pytest.approx(abs(psi) / run.capacity(), rel=1e-12)

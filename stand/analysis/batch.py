@@ -18,7 +18,8 @@ from typing import Callable, Optional
 from stand.io.executor import Executor, ItemError, error_text
 from stand.io.atomic import atomic_path
 
-__all__ = ["expand_sources", "is_batch_source", "run_batch", "analyze_row", "write_table"]
+__all__ = ["expand_sources", "is_batch_source", "run_batch", "analyze_row", "summary_columns",
+           "write_table"]
 
 EXTENSIONS = (".h5", ".hdf5", ".csv")
 
@@ -83,8 +84,8 @@ def analyze_row(path: str, grade: float = 6.3, service_speed_rpm: Optional[float
     Returns
     -------
     dict
-        ``file``, ``status`` ("ok"/"error"), ``error`` and the scalar fields of
-        :func:`stand.analysis.identify.analyze`.
+        ``file``, ``status`` ("ok"/"error"), ``error`` and the columns of the document of
+        :func:`stand.analysis.identify.analyze` (:func:`summary_columns`).
     """
     from stand.analysis.identify import analyze
     from stand.io.result import renamed
@@ -97,8 +98,66 @@ def analyze_row(path: str, grade: float = 6.3, service_speed_rpm: Optional[float
     except Exception as exc:   # a bad file must not stop the batch: reported in its row
         row.update(status="error", error=error_text(exc))
         return row
+    row.update(summary_columns(doc))
+    return row
+
+
+#: documents of the analysis shown in the summary by some of their fields:
+#: ``field -> {key of the document: column}``; the other keys are left out
+NESTED_COLUMNS = {
+    "iso_grade": {"class": "iso_grade", "grade_mm_s": "iso_grade_mm_s",
+                  "grade_mm_s_std": "iso_grade_mm_s_std", "target_mm_s": "iso_target_mm_s",
+                  "passed": "iso_passed", "permissible_gmm": "iso_permissible_gmm",
+                  "service_speed_rpm": "iso_service_speed_rpm", "mass_kg": "iso_mass_kg"},
+    "programme": {"kind": "programme"},
+}
+#: documents and tables of the analysis that have no column: ``runup`` is the Bode table
+#: (arrays) and its resonance / model fit, whose answer is already in the columns
+#: ``critical_speed_hz``, ``critical_speed_hz_std``, ``critical_speed_method``; the lists
+#: (``notes``, ``components``, ``critical_speeds_hz``, ``settling``) are tables of their own
+#: (``stand analyze FILE --json``)
+NO_COLUMN = ("runup", "notes", "components", "critical_speeds_hz", "settling", "regime_timeline")
+#: the other documents of the analysis (their scalar fields as ``<key>_<field>``); None in an
+#: analysis that lacks them, which gives no column
+DOCUMENTS = ("stationary_stretch", "vibration_1x", "ring_reading", "reduction", "input",
+             "photogate")
+
+
+def summary_columns(doc) -> dict:
+    """The summary row's columns of one analysis document (:func:`stand.analysis.identify.analyze`).
+
+    Scalars keep their key; the documents of :data:`NESTED_COLUMNS` give their named
+    fields (``iso_grade``: the grade class, e.g. ``"G 2.5"``, with ``iso_grade_mm_s``,
+    ``iso_passed``, ...; ``programme``: its kind, e.g. ``"run-up + constant"``); any other
+    document gives its scalar fields as ``<key>_<field>`` (``reduction_factor``,
+    ``stationary_stretch_t_start_s``, ...); :data:`NO_COLUMN` and lists are left out.
+    A document that is None in this analysis gives no column (its columns are empty only in
+    the rows of the files that lack it).
+
+    Parameters
+    ----------
+    doc : mapping
+        The analysis document.
+
+    Returns
+    -------
+    dict
+    """
+    row = {}
     for k, v in doc.items():
-        if isinstance(v, (int, float, str, bool)) or v is None:
+        if k in NO_COLUMN or isinstance(v, (list, tuple)):
+            continue
+        if isinstance(v, dict):
+            names = NESTED_COLUMNS.get(k)
+            for f, x in v.items():
+                scalar = isinstance(x, (int, float, str, bool)) or x is None
+                if names is not None and f in names:
+                    row[names[f]] = x
+                elif names is None and scalar:
+                    row[f"{k}_{f}"] = x
+        elif v is not None and isinstance(v, (int, float, str, bool)):
+            row[k] = v
+        elif v is None and k not in NESTED_COLUMNS and k not in DOCUMENTS:
             row[k] = v
     return row
 

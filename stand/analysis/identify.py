@@ -123,8 +123,10 @@ def analyze(path, grade: float = 6.3, service_speed_rpm: float | None = None,
 
 
 def _truth(d, out) -> None:
-    """``truth_unbalance_gmm``: a simulated run's true residual unbalance (rotor and
-    weights), the complex mean over the stationary stretch the 1X was taken over."""
+    """``truth_unbalance_gmm``: a simulated run's true static residual unbalance (the vector
+    sum over all planes of the rotor's unbalances and the weights' static moments,
+    :func:`stand.analysis.sources._truth`), the complex mean over the stationary stretch the
+    1X was taken over."""
     tr, st = d.get("truth"), out.get("stationary_stretch")
     if tr is None or not st:
         return

@@ -241,27 +241,41 @@ def _probe_filter(scene):
 
 
 def _truth(rec):
-    """``(t [s], residual unbalance [kg m], complex)`` of a simulated planar run with weights
-    and instruments (the recording's ``truth/residual_unbalance``; in memory
-    :meth:`Run.residual_unbalance`, as its recording would hold), or None: what the
-    identified residual is checked against."""
+    """``(t [s], static residual unbalance [kg m], complex)`` of a simulated run with weights
+    and instruments, or None: what the identified residual is checked against.
+
+    The static residual is the vector sum over all planes of the unbalances and the
+    weights' static moments (:func:`stand.integrate.residual.static_residual`): a rotor whose
+    unbalance sits in a plane of its own (grinding, spatial) has it in
+    ``truth/residual/<its plane>``, not with the balls.  A recording holds the truth when it
+    was written with instruments (``truth/residual_unbalance``); its per-plane datasets give
+    the sum (recordings written before the sum was stored there hold the main plane's
+    residual alone in ``truth/residual_unbalance``: read only when the per-plane ones are
+    absent).  A run in memory: as its recording would hold (instruments present).
+    """
+    from stand.integrate.residual import static_residual
+
     t = np.asarray(rec.t)
     if hasattr(rec, "shape"):                       # a Recording: the stored truth
         shape = rec.shape("truth/residual_unbalance")
-        if shape is not None and len(shape) == 2 and shape[0] == t.size:
+        if shape is None or len(shape) != 2 or shape[0] != t.size:
+            return None
+        if not any(k.startswith("residual/") for k in rec.truth):   # a planar recording
             tr = np.asarray(rec.dataset("truth/residual_unbalance"), float)
             return t, tr[:, 0] + 1j * tr[:, 1]
+    elif not getattr(rec, "instruments", None):  # as its recording: truth with the instruments
         return None
     scene = rec.scene
-    if not getattr(rec, "instruments", None):  # as its recording: truth with the instruments
+    if getattr(scene, "kind", None) not in ("planar", "rotor"):
         return None
-    if getattr(scene, "kind", None) != "planar" or not getattr(scene.balancer, "count", 0):
+    if scene.kind == "planar" and not getattr(scene.balancer, "count", 0):
         return None
     try:
-        psi = np.asarray(rec.residual_unbalance())
+        psi = static_residual(rec)
     except (AttributeError, ValueError, IndexError):
         return None
-    return (t, psi) if psi.shape == t.shape else None
+    psi = None if psi is None else np.asarray(psi)
+    return (t, psi) if psi is not None and psi.shape == t.shape else None
 
 
 def _rings(rec):

@@ -38,11 +38,17 @@ def cmd_run(args) -> int:
         print(f"{scene.name} ({scene.structure_type}): {st.message} [{st.method}, {st.n_steps} steps, "
               f"{st.nfev} RHS evaluations, {st.wall_time:.2f} s] -> {out}")
         if final:
-            ru = final.get("residual_unbalance")
+            ru, cpl = final.get("residual_unbalance"), final.get("residual_couple_g_mm2")
+            off = final.get("static_offset_m") or 0.0
             print(f"  t = {plain(final['time_s'], 's', 6)}, speed "
                   f"{plain(final['rotor_speed_rev_per_s'], 'rev/s')}, plane {final['main_plane']} "
                   f"whirl radius {shown({'final_whirl_m': final['whirl_radius_m']}, 'final_whirl_m')}"
-                  + (f", residual unbalance {plain(100 * ru, '% of S', 3)}" if ru is not None else ""))
+                  # a static offset (gravity sag) larger than the whirl is worth a word
+                  + (f" about a static offset of {shown({'final_whirl_m': off}, 'final_whirl_m')}"
+                     if off > final["whirl_radius_m"] else "")
+                  + (f", residual unbalance {plain(100 * ru, '% of S', 3)} (static)"
+                     if ru is not None else "")
+                  + (f", couple {plain(cpl, 'g·mm²', 3)}" if cpl is not None else ""))
         for n in res.notes:
             print(f"  note: {n}")
     if not res.stats.success:

@@ -26,7 +26,7 @@ from stand.io.result import Result
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
 
-__all__ = ["Run", "SolverStats", "weight_names", "column_unit"]
+__all__ = ["Run", "SolverStats", "weight_names", "column_unit", "whirl_about_centre"]
 
 #: units of the weights' standard coordinates
 WEIGHT_UNITS = {"angle": "rad", "speed": "rad/s", "relative_angle": "rad", "tilt": "rad",
@@ -245,37 +245,39 @@ class Run(Result):
         return np.angle(np.exp(1j * a))
 
     def whirl_radius(self) -> np.ndarray:
-        """|r| of the main plane = sqrt(x^2 + y^2) [m]."""
+        """Distance of the main plane from the origin, sqrt(x^2 + y^2) [m], sample by sample
+        (a static offset included; the whirl about the orbit's centre over a window is
+        :func:`whirl_about_centre`)."""
         return np.hypot(self.x, self.y)
 
     def residual_unbalance(self) -> np.ndarray:
-        """Total unbalance of the main plane (rotor + weights), complex, rotor frame [kg m].
+        """Static residual unbalance of the whole rotor (rotor + weights), complex, rotor
+        frame [kg m]: the vector sum over every plane of the unbalances and the weights'
+        static moments (:func:`stand.integrate.residual.static_residual`).
 
         Planar rotor: psi = M e e^{i beta} + sum m_j l_j e^{i alpha_j} ((5.76)-(5.77)
-        times S), following the scene's unbalance changes.  Other structures: the
-        plane's residual from :attr:`truth` (``residual/<plane>``).
+        times S), following the scene's unbalance changes.  Rotors of the family: the sum of
+        every plane's residual in :attr:`truth` (``residual/<plane>``), so an unbalance in a
+        plane of its own (grinding, spatial) counts with the balls that cancel it.
         """
-        key = f"residual/{self.main_plane}"
-        if key in self.truth:
-            U = np.asarray(self.truth[key][0])
-            return U[:, 0] + 1j * U[:, 1]
-        from stand.model.planar import rotor_unbalance
+        from stand.integrate.residual import static_residual
 
-        scene = self.scene
-        b = scene.balancer
-        psi = rotor_unbalance(scene, self.t)
-        if b.count:
-            psi = psi + np.sum(b.mass * b.radius * np.exp(1j * (self.weight_angle - self.rotor_angle[:, None])), axis=1)
-        return psi
+        psi = static_residual(self)
+        if psi is None:
+            raise ValueError(f"run of {getattr(self.scene, 'name', '?')!r}: no residual unbalance "
+                             "(neither truth/residual/<plane> nor a planar scene whose weights "
+                             "match the recording)")
+        return np.asarray(psi)
 
-    def capacity(self) -> float:
-        """Balancing capacity S = sum m_l of the main plane's weights [kg m] (0 without)."""
+    def capacity(self, every_plane: bool = False) -> float:
+        """Balancing capacity S = sum m_l of the main plane's weights [kg m] (0 without);
+        ``every_plane=True``: of the weights of all planes (what the static residual is
+        measured against)."""
         if self.scene is None:
             return 0.0
-        return float(sum(w.balancer.capacity for w in self.scene.weights
-                         if w.plane == self.main_plane)
-                     + sum(b.body.capacity for b in self.scene.bodies
-                           if b.plane == self.main_plane))
+        mine = (lambda p: True) if every_plane else (lambda p: p == self.main_plane)
+        return float(sum(w.balancer.capacity for w in self.scene.weights if mine(w.plane))
+                     + sum(b.body.capacity for b in self.scene.bodies if mine(b.plane)))
 
     def tables(self) -> list:
         """``"samples"`` (:meth:`to_frame`) and the document's tables."""
@@ -341,9 +343,13 @@ class Run(Result):
     # ------------------------------------------------------------ summary
     def _final(self) -> Optional[dict]:
         """The state at the end (the document's ``final``; None without samples): speed,
-        the main plane's whirl radius averaged over the last rotor revolution (or the last
-        5 % of the run when the rotor is at rest), residual unbalance (planar rotor and
-        rotor family), the weights' angles from the reference mark."""
+        the main plane's whirl radius -- the mean distance from the orbit's centre (the
+        mean position over the last rotor revolution, or the last 5 % of the run when the
+        rotor is at rest), so that a static offset such as a gravity sag is not counted as
+        whirl; the offset itself is ``static_offset_m`` -- the static residual unbalance
+        relative to the capacity of all planes, its couple where the loaded planes differ in
+        axial position (planar rotor and rotor family,
+        :mod:`stand.integrate.residual`), the weights' angles from the reference mark."""
         N = len(self.t)
         if N == 0:
             return None
@@ -354,38 +360,41 @@ class Run(Result):
                  "rotor_speed_rev_per_s": float(self.rotor_speed[-1] / (2 * np.pi)),
                  "main_plane": self.main_plane}
         if getattr(self.scene, "kind", None) in ("planar", "rotor"):
-            S = self.capacity()
-            psi = self._last_residual()
-            psi = abs(psi) if psi is not None else None
+            from stand.integrate.residual import couple_residual, static_residual
+
+            S = self.capacity(every_plane=True)
+            last = slice(N - 1, N)
+            psi = static_residual(self, last)
+            psi = float(abs(psi[0])) if psi is not None else None
+            cpl = couple_residual(self, last) if psi is not None else None
             final.update({
                 "residual_unbalance": psi / S if S > 0 and psi is not None else None,
                 "residual_unbalance_g_mm": psi * 1e6 if psi is not None else None,
                 "capacity_g_mm": float(S * 1e6),
             })
+            if cpl is not None:
+                final["residual_couple_g_mm2"] = float(abs(cpl[0])) * 1e9
         last = [w["angle"][-1] for w in self.weights.values() if "angle" in w]
         rel = np.degrees(np.angle(np.exp(1j * (np.asarray(last, float) - self.rotor_angle[-1]))))
         final["weights_relative_angle_deg"] = [float(a) for a in rel]
-        r = np.hypot(self.x[sel], self.y[sel])
+        r, centre = whirl_about_centre(self.x[sel], self.y[sel])
         final["whirl_radius_m"] = float(np.mean(r))
         final["whirl_radius_last_m"] = float(r[-1])
+        final["static_offset_m"] = float(abs(centre))
         if len(self.planes) > 1:
             final["plane_radius_m"] = {p: float(np.hypot(*xy[-1])) for p, xy in self.planes.items()}
         return final
 
-    def _last_residual(self) -> Optional[complex]:
-        """:meth:`residual_unbalance` at the last sample [kg m]; None when the run cannot say
-        (a recording whose truth or weights the scene does not match)."""
-        key = f"residual/{self.main_plane}"
-        if key in self.truth:
-            return complex(*np.asarray(self.truth[key][0])[-1, :2])
-        if self.scene.kind != "planar":
-            return None
-        from stand.model.planar import rotor_unbalance
 
-        b = self.scene.balancer
-        psi = complex(rotor_unbalance(self.scene, self.t[-1:])[0])
-        a = self.weight_angle[-1] - self.rotor_angle[-1]
-        if a.size != b.count:
-            return None
-        return psi + complex(np.sum(b.mass * b.radius * np.exp(1j * a))) if b.count else psi
+def whirl_about_centre(x, y) -> tuple:
+    """``(r, centre)``: the distance [m] of each sample of an orbit (x, y) [m] from the
+    orbit's centre, and that centre (the mean position, complex x + i y [m]).
 
+    The whirl radius is the motion about the centre, not the distance from the origin: a
+    rotor sagging under gravity (a static offset) but not whirling has r = 0.  Over a
+    whole revolution of a synchronous whirl the centre is the static offset and r the 1X
+    amplitude.
+    """
+    z = np.asarray(x, float) + 1j * np.asarray(y, float)
+    centre = complex(np.mean(z)) if z.size else 0j
+    return np.abs(z - centre), centre

@@ -8,7 +8,12 @@ Layout (format_version 2; all arrays float64, SI units, one row per sample)::
     /rotor/angle, /rotor/speed     (N,)   rad, rad/s
     /weights/<weight>/<coord>      (N,)          each weight's coordinates (ball1/angle [rad], ...)
     /coordinates/...               (N,)          structure coordinates, a book model's state
-    /truth/residual/<plane>        (N, 2) kg*m   total unbalance of a plane, rotor frame
+    /truth/residual/<plane>        (N, 2) kg*m   a plane's own unbalance, rotor frame: the rotor's
+                                                 unbalances listed in it + its weights and bodies
+                                                 (rotors of the family; the static residual is
+                                                 their sum, stand.integrate.residual)
+    /truth/residual_unbalance      (N, 2) kg*m   static residual (sum over all planes), with
+                                                 instruments (older files: the main plane's)
     /instruments/<name>/...                      what the instruments output (stand.instruments)
     /truth/<name>/...                            their ground truth
 

@@ -214,8 +214,9 @@ def _write_truth(f, scene, traj) -> None:
     psi = traj.residual_unbalance()
     ds = t.create_dataset("residual_unbalance", data=np.column_stack([psi.real, psi.imag]))
     ds.attrs["units"] = "kg*m"
-    ds.attrs["description"] = ("total unbalance rotor + weights in the rotor frame (x along the "
-                               "reference mark), on the recording's time grid")
+    ds.attrs["description"] = ("static residual unbalance: the vector sum over all planes of the "
+                               "rotor's unbalances and the weights' static moments, in the rotor "
+                               "frame (x along the reference mark), on the recording's time grid")
     ds = t.create_dataset("capacity", data=scene_capacity(scene))
     ds.attrs["units"] = "kg*m"
     ds.attrs["description"] = ("balancing capacity of the main plane: sum m l of the balls / "

@@ -30,6 +30,7 @@ import warnings
 import numpy as np
 
 from stand.io.executor import error_text
+from stand.integrate.result import whirl_about_centre
 from stand.sweep.keys import RATIO_KEYS, SPECIAL_KEYS, point_scene_dict, with_speed
 from stand.sweep.theory_points import planar_theory_rows, structure_theory_rows
 
@@ -224,7 +225,9 @@ def _simulate_row(row: dict, scene, opts: dict) -> None:
     elif scene.kind == "rotor":
         row.update(_structure_regime(run, opts, TWO_PI * row["p.f0_hz"]))
     sel = run.t >= run.t[0] + (1 - window) * (run.t[-1] - run.t[0])
-    row.update({"sim.whirl_radius_m": float(np.mean(run.whirl_radius()[sel])),
+    # about the window's mean position: a static offset (gravity sag) is not whirl
+    r, _ = whirl_about_centre(run.x[sel], run.y[sel])
+    row.update({"sim.whirl_radius_m": float(np.mean(r)),
                 "sim.success": bool(run.stats.success),
                 # the solver's message, then the run's notes (e.g. a liquid's free surface that
                 # touched the chamber wall: outside the model)
