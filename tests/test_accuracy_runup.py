@@ -53,3 +53,24 @@ def test_cli_accuracy_runs(capsys, tmp_path):
     out = capsys.readouterr().out
     assert "Fresnel" in out and "RK4" in out
     assert main(["accuracy", str(p), "--methods", "Euler"]) == 2
+
+
+def test_header_describes_the_run_compared(capsys):
+    """`stand accuracy paper001_runup.toml --duration 20`: the header says the errors are over
+    t = 0 to 20 s and its max |r| is that span's -- the stationary whirl e z^2/(1 - z^2) at
+    z = 440/1000 (the run ends at 40 + 20 * 20 rad/s, below the critical speed), not the full
+    run's passage (~280 e) -- and the closed form's own 248 s as its validity."""
+    import json
+
+    e = 1.0e-4
+    z = (40.0 + 20.0 * 20.0) / 1000.0
+    whirl = e * z * z / (1 - z * z)       # started on the stationary whirl: transients ~ eps/Omega0^2
+    assert main(["accuracy", SCENE, "--duration", "20", "--methods", "DOP853", "--rtols", "1e-8"]) == 0
+    head = capsys.readouterr().out.splitlines()[1]
+    assert "valid to t = 248 s" in head and "up to t = 248 s" not in head
+    assert "compared over t = 0 to 20 s: max |r| = " in head
+    assert float(head.rsplit("= ", 1)[1].split()[0]) == pytest.approx(whirl, rel=1e-3)
+    assert main(["accuracy", SCENE, "--duration", "20", "--methods", "DOP853", "--rtols", "1e-8",
+                 "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["compared_to_s"] == pytest.approx(20.0) and doc["scale_m"] == pytest.approx(whirl, rel=1e-3)

@@ -527,3 +527,37 @@ def test_bad_inputs_functions():
         LiquidChamberParams.table_3_1(damping_rate=None, log_decrement=None)
     with pytest.raises(ValueError, match="omega = -1.0 rad/s"):
         lqs.quasi_static_efficiency(LiquidChamberParams.table_3_1(), -1.0)
+
+
+def test_theory_of_the_chamber_scene_is_at_its_operating_speed(capsys):
+    """`stand theory` on data_samples/scenes/body_liquid_chamber.toml (run up to 30 rev/s and
+    held) evaluates the thesis's efficiency (2.14) at 30 rev/s, not at half the critical
+    speed, and says why; there lambda0 = zeta0/zeta is the inverse of the scene's steady
+    residual-unbalance ratio 1 - kappa m/(M + (1 + kappa) m) * g^2/(g^2 - 1), g = omega over
+    the liquid-loaded critical speed (the scene's header: 0.623; the simulation agrees)."""
+    import json
+    import tomllib
+    from pathlib import Path
+
+    from stand.cli.main import main
+
+    path = Path(__file__).resolve().parents[1] / "data_samples" / "scenes" / "body_liquid_chamber.toml"
+    sc = tomllib.loads(path.read_text())
+    (w,) = sc["weights"]
+    R, h, V, rho = w["chamber_radius"], w["chamber_height"], w["fill_volume"], w["density"]
+    r2 = R * R - V / (math.pi * h)
+    kappa, m, M = r2 / (R * R - r2), rho * V, sc["rotor"]["mass"]
+    omega = 2 * math.pi * sc["drive"]["programme"][-1][1]
+    g2 = omega ** 2 * (M + (1 + kappa) * m) / sc["supports"]["stiffness"]
+    ratio = 1 - kappa * m / (M + (1 + kappa) * m) * g2 / (g2 - 1)
+    assert main(["theory", str(path), "--json"]) == 0
+    (wm,) = json.loads(capsys.readouterr().out)["weight_models"]
+    assert wm["speed_rad_s"] == pytest.approx(omega, rel=1e-12)
+    assert "operating speed" in wm["speed_basis"]
+    # the two agree to 0.2 % (the 5 % support damping turns alpha0 0.6 deg off 180 deg); at
+    # half the critical speed lambda0 was 1.19, 26 % off: 1 % tells them apart
+    assert wm["balancing_efficiency"]["lambda0"] == pytest.approx(1 / ratio, rel=0.01)
+    assert main(["theory", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "at 188.5 rad/s = 30 rev/s" in out
+    assert "speed: the scene's operating speed, its speed programme's last (held) speed: 30 rev/s" in out

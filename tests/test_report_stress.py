@@ -211,3 +211,35 @@ def test_catalogue_level_errors(tmp_path):
         load_catalogue(tmp_path / "missing.toml")
     with pytest.raises(CatalogueError, match="no case named 'nope'"):
         run_stress(write(tmp_path, cheap("one")), cases=["nope"])
+
+
+def test_reasons_and_oracles_in_words(tmp_path):
+    """The drift check prints its tolerance ('|drift| <= tolerance 1e-06'), and the balanced
+    check's oracle says in words whether the main motion is stable (no '(stable: True)')."""
+    text = cheap("balanced_8_balls") + """
+[[case]]
+name = "liquid_runup"
+kind = "liquid_runup"
+check = "runup_closed_form"
+tolerance = 1e-6
+time_budget_s = 60.0
+[case.params]
+psi = 0.1
+n = 0.0
+Omega_0 = 1000.0
+e = 1e-4
+omega_0 = 40.0
+acceleration = 20.0
+t_end = 30.0
+sample_rate = 100.0
+rtol = 1e-10
+frame = "rotating"
+"""
+    doc = run_stress(write(tmp_path, text), html_path=tmp_path / "r.html")
+    bal, runup = doc["cases"]
+    drift = re.search(r"drift of the free-whirl amplitude \|c\+\| \(undamped\) (\S+): "
+                      r"\|drift\| <= tolerance 1e-06", runup["reason"])
+    assert drift and float(drift[1]) == pytest.approx(runup["drift"], rel=1e-2), runup["reason"]
+    # R = 3 omega1 with h = 0.5, H = 0.1: above the balancing threshold, main motion stable (5.90)
+    assert bal["oracle"].endswith("at R_omega = 3, where it is asymptotically stable"), bal["oracle"]
+    assert "stable: True" not in (tmp_path / "r.html").read_text()

@@ -214,3 +214,32 @@ def test_beyond_capacity_no_spurious_critical_speed_at_resonance():
     lost = [c for c in th.critical_speeds if c.motion == "main (maximally balanced)"]
     assert [c.kind for c in lost] == ["loses", "gains"]
     assert 1.0 < lost[0].R < lost[1].R < 1.6
+
+
+def test_ranges_are_printed_in_words(runup):
+    """`stand theory` prints every range one way, in words: the chapter-5 bands
+    ("0.3 rev/s to 2.751 rev/s (0.1 f0 to 0.9171 f0)"), the working ranges ("5.7865 rev/s to
+    6.8691 rev/s, from 8.2269 rev/s up": no Python tuple, no inf) and the side-motion gap."""
+    import math
+
+    from stand.theories.scene import _range, theory_lines
+
+    assert _range(12.0, None) == _range(12.0, math.inf) == "from 12 rev/s up"
+    assert _range(12.0, 40.0) == "12 rev/s to 40 rev/s"
+    assert _range(None, 40.0) == "up to 40 rev/s"
+    assert _range(0.95762, 1.0443, "", 4) == "from 0.9576 to 1.044"
+    _, _, doc, _ = runup
+    lines = theory_lines({**doc, "kind": "chapter5"})
+    bands = lines[lines.index("stable motions by speed band:") + 1:][:len(doc["stable_bands"])]
+    for b, line in zip(doc["stable_bands"], bands):    # each band from its edges, f0 its unit
+        assert line.startswith(f"  {b['from_hz']:.4g} rev/s to {b['to_hz']:.4g} rev/s "
+                               f"({b['R_from']:.4g} f0 to {b['R_to']:.4g} f0): ")
+    # the engineering criterion's ranges start at the critical speeds (planar, (2.15))
+    structure = {"kind": "structure", "scene": "s", "rotor_type": "planar", "source": "2.5.1",
+                 "natural_frequencies_hz_at_rest": [5.0],
+                 "engineering_criterion": {"balancer": {
+                     "critical_speeds_hz": [5.7865, 6.8691, 8.2269],
+                     "working_ranges_hz": [[5.7865, 6.8691], [8.2269, None]]}}}
+    line = theory_lines(structure)[1]
+    assert line.endswith("working ranges 5.7865 rev/s to 6.8691 rev/s, from 8.2269 rev/s up")
+    assert "inf" not in line and "(" not in line

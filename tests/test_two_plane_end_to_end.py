@@ -138,3 +138,34 @@ def test_report_tracks_the_screens_itself(two_plane_run):
     assert "No verdict" not in page and "FAIL" in page
     assert "id='two_plane'" in page and "id='quality'" not in page
     assert any("tracked by the report" in n for n in doc["notes"])
+
+
+def test_screen_commands_name_the_screens(two_plane_run, capsys):
+    """Without --screen, `stand snapshot`, `video` and `track` on a recording with only named
+    screens stop (exit 2) naming them and the option to add; snapshot takes --screen as
+    track and video do: the PNG is the screen's recorded frame, bit for bit."""
+    import cv2
+    import h5py
+
+    d, rec, _ = two_plane_run
+    png = d / "front.png"
+    for argv in (["snapshot", rec, "--instrument", "screen", "-o", str(png)],
+                 ["snapshot", rec, "--instrument", "rings", "-o", str(png)],
+                 ["video", rec, "-o", str(d / "v.mkv")],
+                 ["track", rec, "-o", str(d / "t.csv")]):
+        capsys.readouterr()
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert "two screens, front and rear" in err and "add --screen front or --screen rear" in err
+    assert not png.exists() and not (d / "v.mkv").exists() and not (d / "t.csv").exists()
+    assert main(["snapshot", rec, "--screen", "side", "-o", str(png)]) == 2
+    assert "give --screen front or --screen rear" in capsys.readouterr().err
+    assert main(["snapshot", rec, "--screen", "front", "--instrument", "strobe", "-o", str(png)]) == 2
+    for name, frame in (("front", 3), ("rear", -1)):
+        capsys.readouterr()
+        assert main(["snapshot", rec, "--screen", name, "--frame", str(frame), "-o", str(png)]) == 0
+        assert f"of screen {name}" in capsys.readouterr().out
+        with h5py.File(rec) as f:
+            want = f[f"instruments/screen.{name}/frames"][frame]
+        got = cv2.imread(str(png), cv2.IMREAD_UNCHANGED)
+        assert got.dtype == want.dtype and np.array_equal(got, want)

@@ -204,8 +204,8 @@ def run_batch(files, func: Callable = analyze_row, *, workers: Optional[int] = N
 
 
 def write_table(df, path) -> Path:
-    """Write the summary atomically (:func:`stand.io.atomic.atomic_path`): CSV, or
-    Parquet for ``*.parquet``.
+    """Write the summary atomically (:func:`stand.io.atomic.atomic_path`): CSV, Parquet for
+    ``*.parquet`` / ``*.pq``, or JSON for ``*.json`` (a list of rows, missing values null).
 
     Raises
     ------
@@ -214,8 +214,12 @@ def write_table(df, path) -> Path:
     """
     path = Path(path)
     with atomic_path(path) as tmp:
-        if path.suffix.lower() == ".parquet":
+        if path.suffix.lower() in (".parquet", ".pq"):
             df.to_parquet(tmp, index=False)
+        elif path.suffix.lower() == ".json":
+            from stand.io.jsonable import dumps
+
+            Path(tmp).write_text(dumps(df.to_dict("records"), indent=1) + "\n", encoding="utf-8")
         else:
             df.to_csv(tmp, index=False)
     return path

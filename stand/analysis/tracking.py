@@ -18,8 +18,7 @@ from typing import Optional
 import numpy as np
 
 from vision.camera_artefacts import declared_keys
-from stand.recording.layout import INSTRUMENTS, STROBOSCOPE, instrument_key, screen_group
-from stand.recording.layout import SCREEN as SCREEN_NAME
+from stand.recording.layout import STROBOSCOPE, instrument_key, screen_group
 
 __all__ = ["track_frames", "write_track_csv", "parse_roi", "read_ring_file", "strobe_angles",
            "ring_radii_of", "calibration_image", "screen_group", "TRACK_PREAMBLE"]
@@ -32,27 +31,18 @@ SCREEN = screen_group()
 
 
 def _named_screen(source, screen):
-    """``(frame source, recording, group)`` of the named screen of a recording ``source``."""
-    group = screen_group(screen)
+    """``(frame source, recording, group)`` of the named screen of a recording ``source``
+    (:func:`stand.recording.read.screen_group_of`: the one helper of ``--screen``)."""
     if ":" in str(source):
         raise ValueError(f"--screen {screen}: give the recording alone (not {source!r}); the "
-                         f"frames are {group}/frames")
+                         f"frames are {screen_group(screen)}/frames")
     rec = _recording_of(source)
     if rec is None:
         raise ValueError(f"--screen {screen}: {source!r} is not a readable recording (.h5)")
-    if rec.shape(f"{group}/frames") is None:
-        names = sorted({k.split("/")[1] for k in _screen_keys(rec)})
-        raise ValueError(f"--screen {screen}: {source} has no {group}/frames; its screens: "
-                         f"{', '.join(names) or 'none'}")
+    from stand.recording.read import screen_group_of
+
+    group = screen_group_of(source, screen)
     return f"{source}:{group}/frames", rec, group
-
-
-def _screen_keys(rec):
-    try:
-        return [instrument_key(k) for k in rec.members(INSTRUMENTS)
-                if k == SCREEN_NAME or k.startswith(SCREEN_NAME + ".")]
-    except (OSError, TypeError, AttributeError):
-        return []
 
 
 def _screen_columns(df, rec, group, optical_gain=None) -> None:
@@ -393,6 +383,10 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
     rec = group = None
     if screen is not None:
         source, rec, group = _named_screen(source, screen)
+    elif str(source).lower().endswith((".h5", ".hdf5")):    # the recording's own screen
+        from stand.recording.read import screen_group_of
+
+        screen_group_of(source)         # only named screens: which to add, by name
     og, expo, phi, capacity_gmm, keys = _setup(source, group or SCREEN, ring_radii, optical_gain,
                                                exposure, capacity_gmm)
     pre = {"source": str(source)}

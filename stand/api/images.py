@@ -10,7 +10,8 @@ _IMAGES = {"screen": (("screen", "frames"), "screen"),
            "rings": (("screen", "calibration_image"), "screen")}
 
 
-def snapshot(recording, output, *, instrument: str = "screen", frame: int = 0) -> dict:
+def snapshot(recording, output, *, instrument: str = "screen", frame: int = 0,
+             screen=None) -> dict:
     """Write one recorded instrument frame as PNG.
 
     Parameters
@@ -23,6 +24,10 @@ def snapshot(recording, output, *, instrument: str = "screen", frame: int = 0) -
         The screen camera's frames, the stroboscope's, or the screen's calibration-ring image.
     frame : int
         Frame index (negative: from the end); ignored for the single ring image.
+    screen : str, optional
+        A named screen (``[instruments.screen.<name>]``: ``"front"``) for ``"screen"`` and
+        ``"rings"``, as ``stand track --screen`` / ``stand video --screen``
+        (:func:`stand.recording.read.screen_group_of`).
 
     Returns
     -------
@@ -37,7 +42,9 @@ def snapshot(recording, output, *, instrument: str = "screen", frame: int = 0) -
     stand.errors.NotApplicable
         The recording holds no images of that instrument.
     ValueError
-        ``frame`` outside the recording's frames.
+        ``frame`` outside the recording's frames; ``screen`` with the stroboscope, a named
+        screen the recording does not hold, or none for a recording with only named screens
+        (the message names them).
     """
     import cv2
 
@@ -45,14 +52,24 @@ def snapshot(recording, output, *, instrument: str = "screen", frame: int = 0) -
     from stand.errors import NotApplicable
     from stand.io.atomic import atomic_path
     from stand.recording.layout import instrument_key, truth_key
+    from stand.recording.read import screen_group_of
 
     parts, table = _IMAGES[instrument]
-    name = instrument_key(*parts)
+    if table == "screen":
+        group = screen_group_of(recording, screen)
+        name, table = f"{group}/{parts[1]}", group.split("/", 1)[1]
+    elif screen is not None:
+        raise ValueError(f"--screen {screen}: a screen's option; the {instrument} images are "
+                         f"{instrument_key(*parts)}")
+    else:
+        name = instrument_key(*parts)
     rec = read(recording)
     shape = rec.shape(name)
     if shape is None:
-        raise NotApplicable(f"{recording} holds no {instrument} images (dataset {name!r}): its "
-                            f"scene had no [instruments.{table}]")
+        why = (f"its scene had no [instruments.{table}]" if not rec.members(name.rpartition("/")[0])
+               else "its screen has no calibration rings (a scene without a balancing capacity "
+                    "or speed has none)")
+        raise NotApplicable(f"{recording} holds no {instrument} images (dataset {name!r}): {why}")
     doc = {"instrument": instrument, "frame": frame, "frames": 1, "time_s": None,
            "output": str(output), "warnings": []}
     if len(shape) == 3:
@@ -68,7 +85,7 @@ def snapshot(recording, output, *, instrument: str = "screen", frame: int = 0) -
         img = rec.dataset(name)
     if instrument == "screen":
         inside = None       # the simulator's truth: the spot's path within the image
-        in_frame = truth_key("screen", "in_frame")
+        in_frame = truth_key(table, "in_frame")
         if len(shape) == 3 and rec.shape(in_frame) is not None:
             inside = bool(rec.dataset(in_frame, frame % shape[0]))
         doc["warnings"] += _spot_warnings(img, frame, doc["time_s"], inside)

@@ -12,6 +12,43 @@ from stand.cli.common import (labelled, print_json, print_recognised, print_warn
 __all__ = ["cmd_report", "cmd_analyze", "cmd_influence", "cmd_balance", "cmd_daq"]
 
 
+#: endings of a batch report's ``-o`` that name its summary table, not its HTML directory
+SUMMARY_ENDINGS = (".csv", ".json", ".parquet", ".pq")
+
+
+def batch_report_outputs(output, summary) -> tuple:
+    """``(summary table, HTML directory or None)`` of ``stand report FOLDER|GLOB``.
+
+    ``-o`` ending in .csv, .json or .parquet is the summary table; any other ``-o`` is the
+    directory of the HTML reports (one per recording and ``index.html``; created when
+    missing), with the summary table ``--summary`` or else ``DIR/summary.csv``.
+
+    Raises
+    ------
+    ValueError
+        Neither ``-o`` nor ``--summary``; the summary given twice; ``-o`` ending in .html
+        (a folder gets one report per recording) or naming an existing file.
+    """
+    if output is None:
+        if not summary:
+            raise ValueError("stand report FOLDER: give -o DIR (one HTML report per recording, "
+                             "index.html and summary.csv in DIR) or -o/--summary SUMMARY.csv")
+        return str(summary), None
+    out = Path(output)
+    if out.suffix.lower() in SUMMARY_ENDINGS:
+        if summary:
+            raise ValueError(f"-o {output} and --summary {summary}: both name the summary table; "
+                             "give one (or -o DIR for the HTML reports)")
+        return str(out), None
+    if out.suffix.lower() in (".html", ".htm", ".pdf"):
+        raise ValueError(f"-o {output}: a folder of recordings gets one report per recording: "
+                         "give -o DIR (created if missing) or -o SUMMARY.csv")
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"-o {output}: exists and is not a directory (for one HTML report per "
+                         "recording); give a directory, or -o SUMMARY.csv")
+    return str(summary or out / "summary.csv"), str(out)
+
+
 def cmd_report(args) -> int:
     from stand.api import report
     from stand.api.analysis import is_batch, report_many
@@ -19,16 +56,18 @@ def cmd_report(args) -> int:
 
     grade = _grade(args.grade)
     if is_batch(args.recording):
-        summary = args.summary or str(Path(args.output).with_suffix(".csv")) if args.output else args.summary
-        if not summary:
-            raise ValueError("a folder or glob needs --summary SUMMARY.csv (and optionally -o DIR/ for the HTML files)")
-        html_dir = args.output if args.output and Path(args.output).is_dir() else None
+        summary, html_dir = batch_report_outputs(args.output, args.summary)
+        if html_dir is not None:
+            Path(html_dir).mkdir(exist_ok=True)      # each file in it is written atomically
         df, page = report_many(args.recording, summary, html_dir=html_dir, grade=grade,
                                service_speed_rpm=args.service_speed, recording_map=args.map,
                                columns=args.columns, workers=args.workers,
                                scheduler=args.scheduler, progress=sys.stderr.isatty())
-        print(f"{len(df)} recordings reported ({int((df['status'] != 'ok').sum())} failed) -> {summary}"
-              + (f"; summary page {page}" if page else ""))
+        n_html = int(df["report"].fillna("").astype(bool).sum()) if "report" in df else 0
+        where = (f"{n_html} HTML report{'s' if n_html != 1 else ''} and {Path(page).name} in "
+                 f"{html_dir}/; " if html_dir is not None else "")
+        print(f"{len(df)} recordings reported ({int((df['status'] != 'ok').sum())} failed): "
+              f"{where}summary table {summary}")
         return 0
     if not args.output and not args.json_file and not args.json and not args.pdf:
         raise ValueError("stand report: give -o REPORT.html, --pdf REPORT.pdf, --json-file REPORT.json "

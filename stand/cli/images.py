@@ -16,13 +16,15 @@ def cmd_snapshot(args) -> int:
     from stand.io.numbers import plain
 
     try:
-        doc = snapshot(args.recording, args.output, instrument=args.instrument, frame=args.frame)
+        doc = snapshot(args.recording, args.output, instrument=args.instrument, frame=args.frame,
+                       screen=args.screen)
     except NotApplicable as exc:
         return say_not_applicable("snapshot", str(exc))
     print_warnings("snapshot", doc["warnings"])
     at = f" (t = {plain(doc['time_s'], 's')})" if doc["time_s"] is not None else ""
-    what = (f"{args.instrument} frame {args.frame}{at}" if doc["frames"] > 1 or args.instrument != "rings"
-            else "calibration-ring image")
+    where = f" of screen {args.screen}" if args.screen else ""
+    what = (f"{args.instrument} frame {args.frame}{where}{at}" if doc["frames"] > 1 or args.instrument != "rings"
+            else f"calibration-ring image{where}")
     print(f"{what} -> {args.output}")
     return 0
 

@@ -64,7 +64,14 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _table_kind(path) -> str:
-    return "parquet" if str(path).lower().endswith((".parquet", ".pq")) else "csv"
+    p = str(path).lower()
+    return "parquet" if p.endswith((".parquet", ".pq")) else "json" if p.endswith(".json") else "csv"
+
+
+def _is_batch(source) -> bool:
+    from stand.api.analysis import is_batch
+
+    return is_batch(source)
 
 
 def _guard(args) -> None:
@@ -83,7 +90,16 @@ def _guard(args) -> None:
             "stress": "html", "snapshot": "png", "track": "csv", "strobe": "csv", "daq": "csv",
             "sweep": "parquet", "analyze": _table_kind(out), "balance": "html",
             "fit": "toml"}.get(cmd)
-    if out is not None and kind and not Path(out).is_dir():
+    if cmd == "report" and g("recording") is not None and _is_batch(g("recording")):
+        from stand.cli.analysis import batch_report_outputs
+
+        summary, html_dir = batch_report_outputs(out, g("summary"))   # -o: a table or a folder
+        outputs = [o for o in outputs if o[0] is not None and o[0] != g("summary")]
+        if html_dir is not None and not Path(html_dir).resolve().parent.is_dir():
+            raise FileNotFoundError(f"output directory of {html_dir!r} does not exist")
+        if html_dir is None or Path(html_dir).is_dir() or Path(summary).parent != Path(html_dir):
+            outputs.append((summary, _table_kind(summary)))    # not in a folder still to make
+    elif out is not None and kind and not Path(out).is_dir():
         outputs.append((out, kind))
     if cmd == "run":
         outputs.append((g("checkpoint"), "npz"))

@@ -32,6 +32,14 @@ def _table_options(sp) -> None:
                          "speed (docs/lab_recordings.md)")
 
 
+def _screen_option(sp, what: str) -> None:
+    """``--screen NAME``, the same in ``stand snapshot``, ``track`` and ``video``
+    (:func:`stand.recording.read.screen_group_of` resolves it)."""
+    sp.add_argument("--screen", default=None, metavar="NAME",
+                    help="a recording's named screen ([instruments.screen.NAME]; needed when the "
+                         f"recording has only named screens): {what}")
+
+
 def build_parser(handlers: dict) -> argparse.ArgumentParser:
     """The argument parser; ``handlers`` maps each command to its function (stand.cli.main passes them)."""
     from stand.api.simulation import METHODS
@@ -42,7 +50,10 @@ def build_parser(handlers: dict) -> argparse.ArgumentParser:
     rp = sub.add_parser("report", help="balancing-quality report (HTML + JSON) of a recording, or a folder/glob")
     rp.add_argument("recording", help="HDF5 recording or lab table (CSV, Parquet), or a folder / glob of them")
     _table_options(rp)
-    rp.add_argument("-o", "--output", default=None, help="HTML report (batch: a directory for one HTML per file)")
+    rp.add_argument("-o", "--output", default=None,
+                    help="HTML report; batch (a folder or glob): SUMMARY.csv|.json|.parquet names the "
+                         "summary table, anything else the directory (created if missing) for one "
+                         "HTML per file, index.html and, without --summary, summary.csv")
     rp.add_argument("--json", action="store_true", help="print the JSON report on stdout")
     rp.add_argument("--json-file", default=None, help="write the JSON report (the source of the HTML)")
     rp.add_argument("--pdf", default=None, metavar="REPORT.pdf",
@@ -50,7 +61,7 @@ def build_parser(handlers: dict) -> argparse.ArgumentParser:
     rp.add_argument("--grade", default="G6.3", help="ISO 21940-11 grade (G6.3 or 6.3, mm/s)")
     rp.add_argument("--service-speed", type=float, default=None, help="service speed [rpm]")
     rp.add_argument("--tracks", nargs=2, default=None, metavar="CSV", help="two screens' tracks: two-plane section")
-    rp.add_argument("--summary", default=None, help="batch: summary table (CSV or .parquet)")
+    rp.add_argument("--summary", default=None, help="batch: summary table (.csv, .json or .parquet)")
     rp.add_argument("--workers", type=int, default=None, help="batch: local worker processes")
     rp.add_argument("--scheduler", default=None, help="batch: dask.distributed scheduler address")
     rp.set_defaults(func=handlers["report"])
@@ -127,6 +138,7 @@ def build_parser(handlers: dict) -> argparse.ArgumentParser:
     s.add_argument("recording", help="recording (HDF5) written by stand run")
     s.add_argument("--instrument", choices=("screen", "strobe", "rings"), default="screen")
     s.add_argument("--frame", type=int, default=0, help="frame index (negative: from the end)")
+    _screen_option(s, "its frames, or with --instrument rings its ring image")
     s.add_argument("-o", "--output", required=True, help="PNG to write")
     s.set_defaults(func=handlers["snapshot"])
     e = sub.add_parser("experiment", help="run an experiment programme of tables 4.2-4.6 on a scene")
@@ -163,7 +175,7 @@ def build_parser(handlers: dict) -> argparse.ArgumentParser:
     a2.add_argument("--tracks", nargs=2, default=None, metavar="CSV", help="two-plane balancing: the "
                     "`stand track --screen NAME` CSVs of the recording's two screens")
     a2.add_argument("-o", "--output", default=None,
-                    help="folder/glob input: write one summary table (CSV, or .parquet)")
+                    help="folder/glob input: write one summary table (CSV, .json or .parquet)")
     a2.add_argument("--workers", type=int, default=None, help="local worker processes (default: all cores)")
     a2.add_argument("--scheduler", default=None, help="dask.distributed scheduler address (tcp://...)")
     a2.set_defaults(func=handlers["analyze"])
@@ -197,8 +209,7 @@ def build_parser(handlers: dict) -> argparse.ArgumentParser:
     tk.add_argument("--exposure", type=float, default=None,
                     help="camera exposure [s] (default: from the ring file or the recording): "
                          "t_s at mid-exposure")
-    tk.add_argument("--screen", default=None, help="a recording's named screen ([instruments.screen.NAME]): "
-                    "its frames; x_m, y_m of the point it shows (for `stand analyze --tracks`)")
+    _screen_option(tk, "its frames; x_m, y_m of the point it shows (for `stand analyze --tracks`)")
     tk.add_argument("--threshold", type=float, default=None,
                     help="smallest spot amplitude [DN above background] (default 10 x background noise)")
     tk.add_argument("--roi", default=None, metavar="X,Y,W,H",
@@ -221,7 +232,7 @@ def build_parser(handlers: dict) -> argparse.ArgumentParser:
     vd.add_argument("-o", "--output", required=True, help="video to write: NAME.mp4 (H.264, needs "
                     "PyAV) or NAME.mkv / NAME.avi (FFV1, lossless); beside it NAME_truth.csv, "
                     "NAME_rings.png, NAME_rings.txt")
-    vd.add_argument("--screen", default=None, help="a named screen ([instruments.screen.NAME])")
+    _screen_option(vd, "its frames")
     vd.add_argument("--qp", type=int, default=10, help="H.264 quantiser 0..51 (0 lossless; default 10)")
     vd.set_defaults(func=handlers["video"])
     sb = sub.add_parser("strobe", help="weights' angles from stroboscope frames")

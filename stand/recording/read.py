@@ -21,13 +21,13 @@ from stand.integrate.result import Run, SolverStats
 from stand.io.guard import memory_budget
 from stand.recording.layout import (DATASETS, FORMAT, FORMAT_VERSION, INSTRUMENTS, REQUIRED,
                                     SCREEN, V1_WEIGHTS, RecordingError, decode_attr,
-                                    scene_language, truth_key)
+                                    scene_language, screen_group, truth_key)
 from stand.recording.legacy import legacy_layout
 
 if TYPE_CHECKING:  # pragma: no cover
     from stand.scene.model import Scene
 
-__all__ = ["Recording", "read_recording", "named_screens"]
+__all__ = ["Recording", "read_recording", "named_screens", "screen_group_of"]
 
 
 def _freeze(a: np.ndarray) -> np.ndarray:
@@ -179,6 +179,59 @@ def named_screens(path: Union[str, os.PathLike]) -> list:
                     and "axial_position_m" in g[k].attrs]
     except (OSError, ValueError):
         return []
+
+
+def screen_group_of(path: Union[str, os.PathLike], screen: Optional[str] = None) -> str:
+    """The recording group of the screen a command reads (``stand snapshot``, ``track``,
+    ``video``: their ``--screen``), checked against the screens the file holds.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        An HDF5 recording.
+    screen : str, optional
+        A named screen (``"front"`` or ``"screen.front"``: ``[instruments.screen.front]``);
+        None: the recording's one screen (``[instruments.screen]``).
+
+    Returns
+    -------
+    str
+        :func:`stand.recording.layout.screen_group` of ``screen``: the group is in the file,
+        or (without ``screen``) the file has no screen at all or is not readable -- the
+        caller says what is missing.
+
+    Raises
+    ------
+    ValueError
+        ``screen`` not given but the file holds only named screens (the message names them
+        and the option to add: "this recording has two screens, front and rear, and no
+        unnamed one: add --screen front or --screen rear"), or the named screen is not in
+        the file (the screens it holds named).
+    """
+    group = screen_group(screen)
+    try:
+        with h5py.File(path, "r") as f:
+            if isinstance(f.get(group), h5py.Group):
+                return group
+            g = f.get(INSTRUMENTS)
+            names = [k.split(".", 1)[1] for k in (g if isinstance(g, h5py.Group) else ())
+                     if k.startswith(SCREEN + ".") and isinstance(g[k], h5py.Group)]
+            unnamed = isinstance(g, h5py.Group) and isinstance(g.get(SCREEN), h5py.Group)
+    except (OSError, ValueError):
+        return group                     # not a readable HDF5 file: the caller's reader says so
+    if screen is None and not names:
+        return group
+    count = {1: "one screen", 2: "two screens", 3: "three screens"}.get(len(names),
+                                                                        f"{len(names)} screens")
+    listed = ", ".join(names[:-1]) + " and " + names[-1] if len(names) > 1 else "".join(names)
+    choice = " or ".join(f"--screen {n}" for n in names)
+    if screen is None:
+        raise ValueError(f"{path}: this recording has {count}, {listed}, and no unnamed one: "
+                         f"add {choice}")
+    held = (f"this recording has {count}, {listed}: give {choice}" if names
+            else "this recording has one unnamed screen: leave out --screen" if unnamed
+            else "this recording has no screen")
+    raise ValueError(f"--screen {screen}: {path} has no {group}; {held}")
 
 
 def read_recording(path: Union[str, os.PathLike]) -> Recording:

@@ -189,8 +189,9 @@ def accuracy_report(scene, *, rtols=(1e-4, 1e-6, 1e-8, 1e-10), methods=None, rk4
     rows = _rows(rep)
     doc = {
         "scene": rep.scene,
-        "reference": {"name": rep.reference, "own_error_m": rep.reference_error_m,
-                      "scale_m": rep.scale_m},
+        "reference": {"name": rep.reference + (f"; compared over t = 0 to {rep.compared_to_s:.4g} s"
+                                               if math.isfinite(rep.compared_to_s) else ""),
+                      "own_error_m": rep.reference_error_m, "scale_m": rep.scale_m},
         "runs": rows,
         "notes": list(rep.notes or []),
         "recommended": recommend(rows, target),

@@ -206,11 +206,11 @@ def _run_case(case: dict) -> dict:
     else:
         reasons_ok.append(f"error {err:.3g} <= tolerance {tol:g}")
     if res.pop("_drift_checked", False) and res["drift"] is not None:
+        drift = f"drift of the {res['conserved_quantity']} {res['drift']:.3g}"
         if abs(res["drift"]) > tol:
-            reasons_fail.append(f"drift of the {res['conserved_quantity']} {res['drift']:.3g} > "
-                                f"tolerance {tol:g}")
+            reasons_fail.append(f"{drift}: |drift| > tolerance {tol:g}")
         else:
-            reasons_ok.append(f"drift {res['drift']:.3g} <= tolerance")
+            reasons_ok.append(f"{drift}: |drift| <= tolerance {tol:g}")
     reasons_fail += res.pop("checks", [])
     if case["expect_method"] and not res["method"].startswith(case["expect_method"]):
         reasons_fail.append(f"method {res['method']!r} chosen, the catalogue expects "

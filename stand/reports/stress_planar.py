@@ -280,7 +280,8 @@ def kind_dimensionless(case, res):
                            "stand.theories.planar.main_motion.is_stable): balancing is not predicted")
         final = float(psi[-1]) if len(psi) else float("nan")
         res.update(oracle=f"main motion of the theory: residual {expected:g} S at R_omega = {R:g}"
-                   + ("" if stable is None else f" (stable: {stable})"),
+                   + ("" if stable is None else ", where it is asymptotically stable" if stable
+                      else ", where it is not asymptotically stable"),
                    error=abs(final - expected),
                    error_measure="|residual unbalance / S - expected| at the end of the run [-]",
                    conserved_quantity="balanced state's residual |psi|/S (constant once balanced)",

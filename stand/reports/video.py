@@ -177,7 +177,8 @@ def write_screen_video(recording, output, *, screen: Optional[str] = None,
     Raises
     ------
     ValueError
-        Not a recording with that screen's frames, an unknown video ending, qp out of
+        Not a recording with that screen's frames, no ``screen`` for a recording with only
+        named screens (they are named), an unknown video ending, qp out of
         range, PyAV missing for an .mp4 (one line naming the value).
     """
     import cv2
@@ -186,7 +187,8 @@ def write_screen_video(recording, output, *, screen: Optional[str] = None,
     from stand.io.atomic import atomic_path, write_text
     from vision.camera_artefacts import declared_keys
     from stand.recording.hdf5 import read_recording
-    from stand.recording.layout import INSTRUMENTS, TRUTH, screen_group, truth_key
+    from stand.recording.layout import INSTRUMENTS, TRUTH, truth_key
+    from stand.recording.read import screen_group_of
 
     paths = sidecar_paths(output)
     suffix = paths["video"].suffix.lower()
@@ -196,7 +198,7 @@ def write_screen_video(recording, output, *, screen: Optional[str] = None,
     if not (isinstance(qp, (int, np.integer)) and 0 <= int(qp) <= 51):
         raise ValueError(f"--qp = {qp!r}: an H.264 quantiser 0..51 (0 lossless; default {DEFAULT_QP})")
     rec = read_recording(recording)
-    group = screen_group(screen)
+    group = screen_group_of(recording, screen)     # a named screen, or which to name
     key = f"{group}/frames"
     shape = rec.shape(key)
     if shape is None or len(shape) != 3 or shape[0] == 0:

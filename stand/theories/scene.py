@@ -114,7 +114,8 @@ def _body_models(scene, na: list) -> list:
     from stand.model.balancers.composition import book_params
     from stand.theories.weights.weight_theory import weight_theory
 
-    bp = book_params(scene)
+    speed, basis = _operating_speed(scene)
+    bp = book_params(scene, speed)
     if bp is None:
         na.append("weight-model theory (steady motions, efficiency, quasi-periodic motions, "
                   "optimal fill): the books derive it for one body weight on the planar rotor "
@@ -122,13 +123,47 @@ def _body_models(scene, na: list) -> list:
                   f"{', '.join(b.kind for b in scene.bodies)} on {scene.structure_type} is outside it")
         return []
     kind, params = bp
-    doc = weight_theory(kind, params)
+    liquid = kind.startswith("liquid")
+    doc = weight_theory(kind, params, speed if liquid and speed else None)
+    if not speed:
+        basis = ("half the critical speed (gamma = 0.5), the model's default: the scene's drive "
+                 "gives no speed" if kind == "liquid_chamber" else
+                 "the run-up's start speed omega_0: the scene's drive gives no other"
+                 if kind == "liquid_float" else "at rest: the scene's drive gives no speed")
     return [{"scene": scene.name, "plane": scene.bodies[0].plane, "weight": scene.bodies[0].kind,
-             "type": kind, **doc}]
+             "type": kind, **doc, "speed_basis": basis}]
 
 
-def _hz(v) -> str:
-    return "inf" if v is None else f"{v:.5g}"
+def _operating_speed(scene) -> tuple:
+    """``(speed [rad/s] or None, why)``: where a body weight's book model is evaluated -- the
+    scene's operating speed (:attr:`stand.scene.model.Scene.operating_speed`: the speed
+    programme's last, held speed, or a torque drive's target), else the drive's top speed
+    (a programme that ends at rest), else None."""
+    d = scene.drive
+    if scene.operating_speed > 0:
+        how = ("its speed programme's last (held) speed" if d.kind == "speed" else
+               "its torque drive's target speed" if d.target_speed else
+               "its torque drive's initial speed")
+        w = scene.operating_speed
+        return w, f"the scene's operating speed, {how}: {w / (2 * math.pi):.4g} rev/s"
+    if scene.top_speed > 0:
+        w = scene.top_speed
+        return w, (f"the drive's top speed, {w / (2 * math.pi):.4g} rev/s (the programme ends "
+                   "at rest)")
+    return None, None
+
+
+def _range(lo, hi, unit: str = "rev/s", digits: int = 5) -> str:
+    """A speed range in words, the one form of every range ``stand theory`` prints:
+    "12 rev/s to 40 rev/s", "from 12 rev/s up" (no upper end: None or inf), "up to 40 rev/s"
+    (no lower end); ``unit`` "" for a dimensionless speed ("R_omega from 1.2 to 3")."""
+    def num(v):
+        return f"{v:.{digits}g}" + (f" {unit}" if unit else "")
+
+    open_hi = hi is None or hi == math.inf
+    if lo is None:
+        return "any speed" if open_hi else f"up to {num(hi)}"
+    return f"from {num(lo)} up" if open_hi else f"{'from ' if not unit else ''}{num(lo)} to {num(hi)}"
 
 
 def _g(v, digits: int = 4) -> str:
@@ -162,7 +197,7 @@ def _gravity_pair_lines(doc: dict) -> list:
     out = []
     gap = doc.get("side_motion_gap_R_omega")
     if gap:
-        out.append(f"  side motions 3, 4 absent for R_omega in ({_g(gap[0])}, {_g(gap[1])}) (7.8)")
+        out.append(f"  side motions 3, 4 absent for R_omega {_range(gap[0], gap[1], '', 4)} (7.8)")
     eff = doc.get("balancing_efficiency", {})
     out.append(f"  balancing: deflection {_g(eff.get('deflection'), 3)} on the stable main motion, "
                f"{_g(eff.get('deflection_without_balancer'), 3)} without the balancer "
@@ -288,8 +323,10 @@ def _book_model_lines(doc: dict) -> list:
         head += (f" at R_omega = {_g(doc['speed_R_omega'])} (speeds in omega0, deflections "
                  "dimensionless, angles in rad)")
     elif doc.get("speed_rad_s") is not None:
-        head += f" at {_g(doc['speed_rad_s'])} rad/s (SI)"
-    out = [head] + _steady_lines(doc)
+        w = doc["speed_rad_s"]
+        head += f" at {_g(w)} rad/s = {_g(w / (2 * math.pi))} rev/s (SI)"
+    out = [head] + ([f"  speed: {doc['speed_basis']}"] if doc.get("speed_basis") else [])
+    out += _steady_lines(doc)
     out += _BOOK_LINES.get(doc["type"], lambda d: [])(doc)
     out += [f"  note: {n}" for n in doc.get("notes", [])]
     return out
@@ -305,8 +342,9 @@ def theory_lines(doc: dict) -> list:
                    f"{doc['operating_speed_hz']:.4g} rev/s")
         out.append("stable motions by speed band:")
         for b in doc["stable_bands"]:
-            out.append(f"  {b['from_hz']:9.4g} - {b['to_hz']:9.4g} rev/s  ({b['R_from']:.4g}-"
-                       f"{b['R_to']:.4g} f0): " + (", ".join(b["motions"]) or "nothing stable"))
+            out.append(f"  {_range(b['from_hz'], b['to_hz'], digits=4)} "
+                       f"({_range(b['R_from'], b['R_to'], 'f0', 4)}): "
+                       + (", ".join(b["motions"]) or "nothing stable"))
         out.append("critical speeds:")
         for c in doc["critical_speeds_hz"]:
             out.append(f"  {c['hz']:9.4g} rev/s ({c['R']:.5g} f0): {c['motion']} {c['kind']} "
@@ -329,7 +367,7 @@ def theory_lines(doc: dict) -> list:
             out.append(f"  plane {p}: critical speeds "
                        + (", ".join(f"{c:.5g}" for c in d["critical_speeds_hz"]) or "none")
                        + " rev/s; working ranges "
-                       + (", ".join(f"({_hz(a)}, {_hz(b)})" for a, b in d["working_ranges_hz"])
+                       + (", ".join(_range(a, b) for a, b in d["working_ranges_hz"])
                           or "none"))
         gc = doc.get("generalised_criterion")
         if gc:
@@ -337,7 +375,7 @@ def theory_lines(doc: dict) -> list:
                        f"({gc['condition']}): onsets/losses "
                        + (", ".join(f"{c:.6g}" for c in gc["onsets_hz"]) or "none")
                        + " rev/s; working ranges "
-                       + (", ".join(f"({_hz(a)}, {_hz(b)})" for a, b in gc["working_ranges_hz"])
+                       + (", ".join(_range(a, b) for a, b in gc["working_ranges_hz"])
                           or "none"))
         mm = doc.get("main_motion") or {}
         if mm.get("critical_speeds_hz") is not None:
@@ -368,7 +406,9 @@ def model_theory(scene) -> dict:
     The content is :func:`stand.theories.weights.weight_theory.weight_theory` of the
     scene's model at the scene's speed (the parameters' own speed; for the
     liquid chamber ``run.speed``, default half the critical speed), merged
-    under ``scene``, ``type``, ``source`` and ``parameters``.  The earlier keys
+    under ``scene``, ``type``, ``source`` and ``parameters``; ``speed_basis`` says
+    which speed and why (a body weight of a rotor scene is evaluated at the scene's
+    operating speed instead: :func:`_operating_speed`).  The earlier keys
     stay: ``quasi_periodic_frequency`` and ``quasi_periodic_family_limit``
     (gravity pair) and ``efficiency`` (damper, (7.54)).
     """
@@ -383,6 +423,11 @@ def model_theory(scene) -> dict:
     out = {"scene": scene.name, "type": kind, "source": MODEL_TYPES[kind][1],
            "parameters": to_jsonable(p)}
     out |= {k: v for k, v in wt.items() if k not in ("model", "source", "parameters")}
+    out["speed_basis"] = (("the scene's run.speed" if "speed" in bm.options else
+                           "half the critical speed (gamma = 0.5), the default when the scene "
+                           "gives no run.speed") if kind == "liquid_chamber" else
+                          "the parameters' omega_0 (the run-up's start speed)"
+                          if kind == "liquid_float" else "the parameters' R_omega")
     if kind == "gravity_pair":
         out["quasi_periodic_frequency"] = wt["quasi_periodic"].get("frequency_Omega")
         out["quasi_periodic_family_limit"] = wt["quasi_periodic"].get("family_limit_R_omega")
