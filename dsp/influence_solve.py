@@ -204,7 +204,8 @@ def _slsqp(a, v, w, m, c, kind):
         cap = np.flatnonzero(np.isfinite(c))
         exact = -np.linalg.lstsq(a[on], v[on], rcond=None)[0]
         r = v + a @ exact
-        if (np.max(np.abs(r[on])) <= 1e-12 and np.all(np.abs(exact) <= m)
+        cancel = 1e-12 * max(1.0, float(np.max(np.abs(a[on]) @ np.abs(exact))))  # round-off
+        if (np.max(np.abs(r[on])) <= cancel and np.all(np.abs(exact) <= m)
                 and np.all(np.abs(r) <= c)):
             return exact                 # min-max 0: the rows in the objective cancelled
 

@@ -288,10 +288,12 @@ def test_min_max_on_square_samples_cancels_the_readings(sample, solver, monkeypa
     path = ROOT / "data_samples" / "balance" / f"{sample}.toml"
     mm = balance_job(path, method="min_max")
     ls = balance_job(path, method="least_squares")
-    assert mm["worst_after"] <= 1e-9 * mm["worst_before"]
+    # cvxpy's interior point stops within 1e-10 of the scaled optimum (condition < 2 here);
+    # scipy's path is exact to round-off: 1e-7 holds for both, the old bug was off by 1e25
+    assert mm["worst_after"] <= 1e-7 * mm["worst_before"]
     for p, c in ls["corrections"].items():
         _close_polar(mm["corrections"][p]["mass"], mm["corrections"][p]["angle_deg"],
-                     c["mass"], c["angle_deg"], rtol=1e-9, atol_deg=1e-7)
+                     c["mass"], c["angle_deg"], rtol=1e-7, atol_deg=1e-5)
     if sample == "bk_17_227":
         _close_polar(mm["corrections"]["P1"]["mass"], mm["corrections"]["P1"]["angle_deg"],
                      1.979, 236.2)
