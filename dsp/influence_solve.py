@@ -160,36 +160,109 @@ def _cvxpy(a, v, w, m, c, kind):
 
 
 def _slsqp(a, v, w, m, c, kind):
+    """The constrained problems with scipy's SLSQP on x = [Re U, Im U (, t)].
+
+    Least squares: ``sum w |r|^2`` under ``m_j^2 - |U_j|^2 >= 0``.  Min-max: the epigraph
+    ``min t`` under ``t - w_i |r_i| >= 0`` (rows with ``w_i > 0``), ``t >= 0``, the caps
+    ``c_i^2 - |r_i|^2 >= 0`` and the limits (every constraint with its exact gradient; at
+    ``r_i = 0`` the zero subgradient of ``|r_i|``).  A min-max whose weighted residuals can
+    all be made zero within the caps and limits (as many independent planes as sensors)
+    returns that solution, which SLSQP's cone vertex at ``t = 0`` would not certify.
+
+    Raises
+    ------
+    ValueError
+        SLSQP ends at a point that violates a cap (the caps and limits cannot all be met), or
+        does not reach a point that meets the optimality conditions (:func:`_kkt`).
+    """
     from scipy.optimize import minimize
 
     R, P = a.shape
+    lim = np.flatnonzero(np.isfinite(m))
     x0 = -np.linalg.lstsq(a, v, rcond=None)[0]
-    lim = np.where(np.isfinite(m), m, np.inf)
-    x0 = x0 * np.minimum(1.0, 0.99 * lim / np.maximum(np.abs(x0), 1e-300))
+    x0 = x0 * np.minimum(1.0, 0.99 * m / np.maximum(np.abs(x0), 1e-300))
 
-    def res(x):
-        return v + a @ (x[:P] + 1j * x[P:2 * P])
+    def U(x):
+        return x[:P] + 1j * x[P:2 * P]
 
-    cons = [{"type": "ineq", "fun": (lambda x, j=j: m[j] ** 2 - x[j] ** 2 - x[P + j] ** 2)}
-            for j in range(P) if np.isfinite(m[j])]
+    def d_abs2(z, rows):
+        """Gradient of |z_i|^2 over [Re U, Im U] for z = rows @ U + const: (n, 2P)."""
+        g = np.conj(z)[:, None] * rows
+        return 2 * np.hstack([g.real, -g.imag])
+
+    cons = []
+    if lim.size:
+        eye = np.eye(P, dtype=complex)[lim]
+        cons.append({"type": "ineq", "fun": lambda x: m[lim] ** 2 - np.abs(U(x)[lim]) ** 2,
+                     "jac": lambda x: _pad(-d_abs2(U(x)[lim], eye), x.size)})
     if kind == "ls":
-        z0 = np.concatenate([x0.real, x0.imag])
-        fun = lambda x: float(np.sum(w * np.abs(res(x)) ** 2))  # noqa: E731
+        fun = lambda x: float(np.sum(w * np.abs(v + a @ U(x)) ** 2))  # noqa: E731
+        jac = lambda x: np.sum(w[:, None] * d_abs2(v + a @ U(x), a), axis=0)  # noqa: E731
+        z0, bounds = np.concatenate([x0.real, x0.imag]), None
     else:
         on = np.flatnonzero(w > 0)
-        z0 = np.concatenate([x0.real, x0.imag, [float(np.max(w[on] * np.abs(res(
-            np.concatenate([x0.real, x0.imag]))[on])))]])
+        cap = np.flatnonzero(np.isfinite(c))
+        exact = -np.linalg.lstsq(a[on], v[on], rcond=None)[0]
+        r = v + a @ exact
+        cancel = 1e-12 * max(1.0, float(np.max(np.abs(a[on]) @ np.abs(exact))))  # round-off
+        if (np.max(np.abs(r[on])) <= cancel and np.all(np.abs(exact) <= m)
+                and np.all(np.abs(r) <= c)):
+            return exact                 # min-max 0: the rows in the objective cancelled
+
+        def mag(x):
+            r = v[on] + a[on] @ U(x)
+            return r, np.abs(r)
+
+        def epi_jac(x):
+            r, ar = mag(x)
+            g = np.conj(r)[:, None] * a[on] / np.where(ar > 0, ar, np.inf)[:, None]
+            return np.hstack([-w[on, None] * g.real, w[on, None] * g.imag, np.ones((on.size, 1))])
+
         fun = lambda x: float(x[-1])  # noqa: E731
-        cons.append({"type": "ineq", "fun": lambda x: x[-1] ** 2 - (w[on] * np.abs(res(x)[on])) ** 2})
-        cons += [{"type": "ineq", "fun": (lambda x, i=i: c[i] ** 2 - np.abs(res(x)[i]) ** 2)}
-                 for i in range(R) if np.isfinite(c[i])]
-    out = minimize(fun, z0, method="SLSQP", constraints=cons,
+        jac = lambda x: np.eye(x.size)[-1]  # noqa: E731
+        cons.append({"type": "ineq", "fun": lambda x: x[-1] - w[on] * mag(x)[1],
+                     "jac": epi_jac})
+        if cap.size:
+            cons.append({"type": "ineq",
+                         "fun": lambda x: c[cap] ** 2 - np.abs(v[cap] + a[cap] @ U(x)) ** 2,
+                         "jac": lambda x: _pad(-d_abs2(v[cap] + a[cap] @ U(x), a[cap]), x.size)})
+        z0 = np.concatenate([x0.real, x0.imag, [float(np.max(w[on] * np.abs(v + a @ x0)[on]))]])
+        bounds = [(None, None)] * (2 * P) + [(0.0, None)]
+    out = minimize(fun, z0, jac=jac, method="SLSQP", bounds=bounds, constraints=cons,
                    options={"ftol": 1e-14, "maxiter": 2000})
     x = out.x
-    ok = all(np.all(np.asarray(con["fun"](x)) >= -1e-7) for con in cons)
-    if not ok:
-        _infeasible(kind)
-    return x[:P] + 1j * x[P:2 * P]
+    met = [bool(np.all(np.asarray(con["fun"](x)) >= -1e-7)) for con in cons]
+    if kind == "minmax" and cap.size and not met[-1]:
+        _infeasible(kind)    # only caps can be unmeetable: U = 0 meets the limits, t the rest
+    if not (all(met) and (out.success or _kkt(jac(x), cons, x, bounds))):
+        raise ValueError(f"{'min-max' if kind == 'minmax' else 'constrained least-squares'} "
+                         f"balancing: scipy SLSQP did not converge ({out.message}, "
+                         f"{out.nit} iterations); install cvxpy or choose another method")
+    return U(x)
+
+
+def _kkt(grad, cons, x, bounds, active=1e-7, tol=1e-6):
+    """Whether ``x`` satisfies the optimality conditions of the convex problem to ``tol``:
+    the objective's gradient a combination with multipliers >= 0 of the gradients of the
+    constraints within ``active`` of 0 (and of the active bounds).  SLSQP's line search
+    often stops at the optimum with "positive directional derivative" (status 8); this
+    tells that apart from a stop short of it."""
+    from scipy.optimize import nnls
+
+    G = [np.atleast_2d(con["jac"](x))[np.asarray(con["fun"](x)) <= active] for con in cons]
+    for k, (lo, _) in enumerate(bounds or []):
+        if lo is not None and x[k] - lo <= active:
+            G.append(np.eye(x.size)[k:k + 1])
+    G = np.vstack(G + [np.zeros((0, x.size))])
+    scale = max(float(np.linalg.norm(grad)), 1e-300)
+    if G.shape[0] == 0:
+        return scale <= tol
+    return nnls(G.T, grad)[1] <= tol * scale
+
+
+def _pad(g, n):
+    """Constraint gradient over [Re U, Im U] padded with zero columns to n variables."""
+    return np.hstack([g, np.zeros((g.shape[0], n - g.shape[1]))])
 
 
 def split_onto_holes(U: complex, holes: int, offset_rad: float = 0.0):

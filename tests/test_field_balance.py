@@ -259,6 +259,96 @@ def test_min_max_scipy_fallback_matches(monkeypatch):
     assert np.all(np.abs(U) <= lim * (1 + 1e-6))
 
 
+def _equioscillation(A, V0, U, rtol=1e-5):
+    """Chebyshev optimality of U (no caps, no limits): the residuals within ``rtol`` of the
+    largest are the active set; 0 must lie in the convex hull of their subgradients
+    Re/Im(conj(r_k) A_k / |r_k|) (an NNLS with the weights summing to 1).  Returns the
+    distance of 0 from that hull relative to the subgradients' size, and the active set."""
+    from scipy.optimize import nnls
+
+    r = V0 + A @ U
+    act = np.flatnonzero(np.abs(r) >= (1 - rtol) * np.max(np.abs(r)))
+    g = np.conj(r[act])[:, None] * A[act] / np.abs(r[act])[:, None]
+    G = np.vstack([np.hstack([g.real, -g.imag]).T, 1e3 * np.ones((1, act.size))])
+    lam, res = nnls(G, np.concatenate([np.zeros(2 * A.shape[1]), [1e3]]))
+    return res / np.max(np.abs(g)), act
+
+
+@pytest.mark.parametrize("sample", ["bk_17_227", "bk_17_227_verdict", "from_recordings"])
+@pytest.mark.parametrize("solver", ["default", "scipy"])
+def test_min_max_on_square_samples_cancels_the_readings(sample, solver, monkeypatch):
+    """Every sample job has as many sensors as planes: min-max 0 (every residual cancelled),
+    the least-squares corrections (B&K 17-227: the note's 1.979 g @ 236.2, 1.071 g @ 121.8).
+    Before the fix scipy's epigraph ``t**2 >= (w|r|)**2`` let t run to -1e25 (corrections
+    1e30 g) and the verdict sample's cap was called unmeetable."""
+    import dsp.influence_solve as m
+
+    if solver == "scipy":
+        monkeypatch.setattr(m, "cvxpy_available", lambda: False)
+    path = ROOT / "data_samples" / "balance" / f"{sample}.toml"
+    mm = balance_job(path, method="min_max")
+    ls = balance_job(path, method="least_squares")
+    # cvxpy's interior point stops within 1e-10 of the scaled optimum (condition < 2 here);
+    # scipy's path is exact to round-off: 1e-7 holds for both, the old bug was off by 1e25
+    assert mm["worst_after"] <= 1e-7 * mm["worst_before"]
+    for p, c in ls["corrections"].items():
+        _close_polar(mm["corrections"][p]["mass"], mm["corrections"][p]["angle_deg"],
+                     c["mass"], c["angle_deg"], rtol=1e-7, atol_deg=1e-5)
+    if sample == "bk_17_227":
+        _close_polar(mm["corrections"]["P1"]["mass"], mm["corrections"]["P1"]["angle_deg"],
+                     1.979, 236.2)
+        _close_polar(mm["corrections"]["P2"]["mass"], mm["corrections"]["P2"]["angle_deg"],
+                     1.071, 121.8)
+
+
+def test_min_max_cli_on_bk_prints_the_published_corrections(capsys):
+    assert main(["balance", str(BK), "--method", "min_max"]) == 0
+    out = capsys.readouterr().out
+    assert "P1: 1.979 ± 0.031 g @ 236.17 ± 0.90 °" in out
+    assert "S1: 170 -> 0 mm/s pk" in out and "10²" not in out
+
+
+@pytest.mark.parametrize("solver", ["default", "scipy"])
+@pytest.mark.parametrize("S, P, seed", [(3, 2, 0), (5, 2, 1), (6, 3, 2), (8, 3, 3), (4, 2, 4)])
+def test_min_max_equioscillates(S, P, seed, solver, monkeypatch):
+    """Overdetermined (S > P), no caps or limits: the optimum equalises the largest residuals
+    -- at least P + 1 of them for complex Chebyshev problems in general position -- and 0
+    is in the convex hull of their subgradients (the KKT conditions), checked independently
+    of the solver; the value is no worse than least squares' largest residual."""
+    import dsp.influence_solve as m
+
+    if solver == "scipy":
+        monkeypatch.setattr(m, "cvxpy_available", lambda: False)
+    A, V0 = _random_case(seed, S=S, P=P)
+    U = min_max(A, V0)
+    gap, act = _equioscillation(A, V0, U)
+    assert gap <= 1e-5
+    assert act.size >= 2
+    r = np.abs(V0 + A @ U)
+    assert np.max(r) <= np.max(np.abs(V0 + A @ least_squares(A, V0))) * (1 + 1e-9)
+    assert np.max(r) == pytest.approx(_lp_min_max(A, V0, np.ones(S), np.full(S, np.inf),
+                                                  np.full(P, np.inf)), rel=1e-4)
+
+
+def test_min_max_scipy_not_converging_is_an_error(monkeypatch):
+    """SLSQP stopped short of the optimum (3 iterations) is a clear error, not a result."""
+    import scipy.optimize
+
+    import dsp.influence_solve as m
+
+    monkeypatch.setattr(m, "cvxpy_available", lambda: False)
+    real = scipy.optimize.minimize
+
+    def short(*a, **k):
+        k["options"] = dict(k["options"], maxiter=3)
+        return real(*a, **k)
+
+    monkeypatch.setattr(scipy.optimize, "minimize", short)
+    A, V0 = _random_case(3, S=6)
+    with pytest.raises(ValueError, match="min-max balancing: scipy SLSQP did not converge"):
+        min_max(A, V0)
+
+
 @pytest.mark.parametrize("solver", ["default", "scipy"])
 def test_least_squares_with_mass_limit_binds(solver, monkeypatch):
     import dsp.influence_solve as m

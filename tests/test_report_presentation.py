@@ -72,9 +72,39 @@ def _keys(o, out=None):
     (3.2e-7, 1.1e-8, "(3.20 ± 0.11) × 10⁻⁷"),
     (2.5e9, 3e7, "(2.500 ± 0.030) × 10⁹"),
     (8.1e-6, 1.9e-5, "below resolution (< 1.9 × 10⁻⁵)"),
+    # values of 1e-3 .. 1e6 written out however fine their uncertainty (were × 10⁰, × 10¹)
+    (4.7750434, 7.8e-6, "4.7750434 ± 0.0000078"),
+    (20.0000000012, 1.8e-7, "20.00000000 ± 0.00000018"),
+    (210.0, 5.1e-7, "210.00000000 ± 0.00000051"),
+    (0.00123456789, 1.2e-10, "0.00123456789 ± 0.00000000012"),
+    (0.0005, 2e-5, "0.000500 ± 0.000020"),
+    (5e-4, 1e-12, "(5.000000000 ± 0.000000010) × 10⁻⁴"),
+    (1234567.0, 12.0, "(1.234567 ± 0.000012) × 10⁶"),
+    # an uncertainty of 10 or more: a float, in powers of ten when huge (was a 31-digit int)
+    (1e-3, 1.5e30, "below resolution (< 1.5 × 10³⁰)"),
+    (3e35, 1e33, "(3.000 ± 0.010) × 10³⁵"),
+    (12.0, 8.9e-15, "12"),                # round-off, not a measurement's: as plain()
 ])
 def test_rounding_to_the_uncertainty(v, u, text):
     assert with_uncertainty(v, u) == text
+
+
+def test_no_power_of_ten_on_values_of_ordinary_size():
+    """1e-3 <= |v| < 1e6 as plain(): no "× 10" whatever the uncertainty (before: any ± whose
+    last digit was below 1e-6 gave "(4.7750434 ± 0.0000078) × 10⁰")."""
+    for v in (-0.0012, 0.00999, 1.0, 4.7750434, 99.5, 12345.678, 543210.9):
+        for k in range(-14, 7):
+            u = 3.3 * 10.0 ** k
+            text = with_uncertainty(v, u, "g")
+            if "below resolution" in text:            # u is shown, as plain(u)
+                continue
+            assert "× 10" not in text, (v, u, text)
+            if u < 1e-9 * abs(v):                     # round-off: no ± to check
+                continue
+            shown, sigma = (float(t.split()[0]) for t in text.split(" ± "))
+            # both to the last digit of u's two significant ones (10^(k-1))
+            assert abs(shown - v) <= 0.5 * 10.0 ** (k - 1) * (1 + 1e-6), (v, u, text)
+            assert sigma == pytest.approx(u, rel=0.02)
 
 
 def test_plain_numbers_have_four_significant_digits_and_no_trailing_zeros():

@@ -3,8 +3,12 @@
 * :func:`with_uncertainty` -- ``value ± uncertainty`` with the uncertainty
   rounded to two significant digits and the value to the same decimal place
   (the last digit shown is the same in both, GUM 7.2.6); a value smaller than
-  its own uncertainty is shown as "below resolution (< u)".  Very large or
-  small numbers share one power of ten: ``(8.1 ± 1.9) × 10⁻⁶``.
+  its own uncertainty is shown as "below resolution (< u)".  Values of 10⁻³ .. 10⁶
+  (as :func:`plain`) are written out however many decimals the uncertainty needs
+  (``4.7750434 ± 0.0000078``); very large or small numbers share one power of ten:
+  ``(8.1 ± 1.9) × 10⁻⁶`` (smaller ones written out while their last digit is 10⁻⁶
+  or above: ``0.000500 ± 0.000020``).  An uncertainty below 1e-9 of its value is
+  round-off, not a measurement's: the value alone, as :func:`plain`.
 * :func:`resolved` -- whether a value stands above its uncertainty (an angle of a value
   that does not means nothing and is not shown);
 * :func:`plain` -- a value without an uncertainty, to 4 significant digits
@@ -56,11 +60,12 @@ def plain(v, unit: str = "", sig: int = 4) -> str:
 
 
 def _rounded_u(u: float) -> tuple:
-    """(last decimal place shown, u rounded to two significant digits)."""
+    """(last decimal place shown, u rounded to two significant digits, a float: an int
+    would be printed digit by digit by :func:`plain`)."""
     place = math.floor(math.log10(u)) - 1          # last digit: two significant digits of u
     if round(u / 10 ** place) >= 100:              # 99.5 -> 100: one more digit left
         place += 1
-    return place, round(u / 10 ** place) * 10 ** place
+    return place, float(round(u / 10 ** place) * 10 ** place)
 
 
 def _noise(v, u) -> bool:
@@ -94,7 +99,7 @@ def with_uncertainty(v, u, unit: str = "", resolution: bool = True) -> str:
     v_r = round(v / 10 ** place) * 10 ** place
     big = max(abs(v_r), u_r)
     e = math.floor(math.log10(big))
-    if -6 <= place and e < 6:
+    if e < 6 and (e >= -3 or place >= -6):    # plain's range, or few decimals: never × 10⁰
         d = max(-place, 0)
         return _join(f"{v_r:.{d}f} ± {u_r:.{d}f}", unit)
     d = max(e - place, 0)
