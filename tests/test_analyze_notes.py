@@ -64,6 +64,53 @@ def test_a_rotor_faster_than_half_the_sample_rate_says_so(tmp_path, capsys):
     assert doc["programme"]["kind"] == "constant"
 
 
+FAST_BALLS = """[scene]
+name = "fast_balls"
+[rotor]
+mass = 4.45
+eccentricity = 8.0899e-4
+[supports]
+stiffness = 1613.09
+damping = 8.5577
+[balancer]
+type = "balls"
+count = 2
+mass = 0.045
+radius = 0.08
+drag = 0.16965
+initial_angles = [150.0, 210.0]
+[drive]
+type = "speed"
+programme = [[0.0, 0.0], [4.0, 21.0]]   # [s, rev/s]: 10 rev/s (half of 20 Hz) at 1.905 s
+[run]
+duration = 6.0
+sample_rate = 20.0
+"""
+
+
+def test_the_regime_is_classified_where_the_record_samples_fast_enough(tmp_path, capsys):
+    """Balls on a rotor passing half the sample rate (10 rev/s at 20 Hz, at t = 1.905 s, the
+    first sample beyond at 1.95 s): the regime windows end there, the regime at the end of
+    the record is not claimed."""
+    scene = tmp_path / "fast_balls.toml"
+    scene.write_text(FAST_BALLS)
+    h5 = tmp_path / "fb.h5"
+    _out(capsys, "run", scene, "-o", h5)
+    doc = _json(capsys, "analyze", h5)
+    assert doc["regime"] is None
+    assert any(n.startswith("regime: the record samples 20 Hz, below twice the 21 rev/s speed "
+                            "(from 1.95 s on)") and "classified before 1.95 s only" in n
+               for n in doc["notes"])
+    res = stand_analyze(h5)
+    assert res["regime_timeline"] and max(w["t_end_s"] for w in res["regime_timeline"]) < 1.95
+
+
+def stand_analyze(path):
+    import stand
+
+    return stand.analyze(str(path))
+
+
 def test_a_record_ending_in_a_run_down_says_so(tmp_path, capsys):
     h5 = tmp_path / "rd.h5"
     _out(capsys, "experiment", SCENES / "ball_runup.toml", "run-down", "--speed", "20",

@@ -529,7 +529,9 @@ def _regime(d, out, speed) -> None:
     n = t.size if u is None else u["index"]
     if u is not None:
         notes.append(undersampled_words(u, "regime") + ": the weights' angles alias there; "
-                     + (f"classified before {u['t_s']:.6g} s only" if n >= 3 else "no regime"))
+                     + (f"classified before {u['t_s']:.6g} s only (the timeline and its changes; "
+                        "the regime at the end of the record is not known)" if n >= 3
+                        else "no regime"))
         if n < 3:
             return
     try:
@@ -541,7 +543,7 @@ def _regime(d, out, speed) -> None:
         else:     # a rotor of the family: every plane's recorded residual below S_p / 16
             x, y, thr = d["residual_ratio"][:n], np.zeros(n), 1.0
         wins = rg.classify_windows(t, np.unwrap(phi), w, x, y, w_s, thr)
-        out["regime"] = wins[-1].regime
+        out["regime"] = wins[-1].regime if u is None else None
         out["regime_timeline"] = [{"t_start_s": w.t_start, "t_end_s": w.t_end, "regime": w.regime,
                                    "speed_hz": w.rotor_speed_rad_s / TWO_PI} for w in wins]
         out["critical_speeds_hz"] = [{"speed_hz": c.speed_hz, "speed_hz_std": c.speed_hz_uncertainty,
