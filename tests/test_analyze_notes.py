@@ -137,7 +137,7 @@ def test_a_family_rotor_with_weights_has_its_regime(tmp_path, capsys):
     notes = doc["notes"]
     assert not any("needs the weights' angles" in n or "no scene" in n for n in notes)
     assert any(n.startswith("unbalance: the 1X is turned into an unbalance with the planar "
-                            "rotor's model") and "grinding one" in n for n in notes)
+                            "rotor's model") and "the 'grinding' structure" in n for n in notes)
 
 
 def test_a_line_of_a_rotor_without_weights_is_no_precession(tmp_path, capsys):

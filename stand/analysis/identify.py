@@ -494,8 +494,8 @@ def _precession_against_f0(d, out, notes) -> None:
     fP, sP = out["precession_hz"], out.get("precession_hz_std") or 0.0
     if f0 is None or not (0.8 * f0 <= fP and fP + 2 * sP < f0):
         return
-    notes.append(f"the stuck weights' precession {fP:.6g} Hz lies {100 * (1 - fP / f0):.2g} % below "
-                 f"the natural frequency {f0:.6g} Hz ({src}): Omega_1 < omega_1 (5.181), a lower "
+    notes.append(f"the stuck weights' precession {fP:.6g} Hz lies {100 * (1 - fP / f0):.2g} % "
+                 f"below the natural frequency {f0:.6g} Hz ({src}): Omega_1 < omega_1 (5.181), a lower "
                  "bound for f0, not f0")
 
 
@@ -510,15 +510,19 @@ def _regime(d, out, speed) -> None:
     out.update(regime=None, critical_speeds_hz=[])
     why = None
     if w is None:
-        why = ("the recording's scene has no weights: there is no regime of weights"
-               if scene is not None and not getattr(scene, "n_weights", 0) else
+        bare = scene is not None and not (getattr(scene, "n_weights", 0)
+                                          or getattr(scene, "bodies", None))
+        why = ("the recording's scene has no weights: there is no regime of weights" if bare else
                "needs the weights' angles (a stroboscope or the simulator's "
                "weights/<weight>/angle); " + ("a lab table has none" if d.get("table") is not None
-                                              else "the recording has none"))
+                                              else "the recording has none (a liquid has no "
+                                              "angle)" if scene is not None else
+                                              "the recording has none"))
     elif phi is None:
         why = "needs the rotor angle (rotor/angle) to see the weights slip against the rotor"
     elif scene is None:
-        why = "needs the recording's scene (the balancer's capacity sets when the rotor is balanced)"
+        why = ("needs the recording's scene (the balancer's capacity sets when the rotor is "
+               "balanced)")
     elif scene.kind != "planar" and d.get("residual_ratio") is None:
         why = ("a rotor of the family is balanced when each plane's residual unbalance is "
                "inside its ring of zone 1; the recording has no truth/residual/<plane>")

@@ -27,7 +27,8 @@ class Analysis(Result):
     ``critical_speed_hz``, ``components`` (quasi-periodic lines), ``precession_hz`` and
     ``nutation_hz`` (stuck weights only), ``strongest_other_line_hz`` (the orbit's strongest
     line besides the 1X when it is no such precession), ``regime`` (:mod:`dsp.regime`'s
-    names; shown by :data:`stand.io.labels.REGIME_NAMES`), ``critical_speeds_hz``, ``settling``, ``vibration_1x``,
+    names; shown by :data:`stand.io.labels.REGIME_NAMES`), ``critical_speeds_hz``,
+    ``settling``, ``vibration_1x``,
     ``ring_reading``, ``initial_unbalance_gmm`` and ``reduction`` (simulated planar runs),
     ``truth_unbalance_gmm``, ``notes``; and ``regime_timeline`` (held, left out of the JSON
     as the CLI does).  :attr:`channels` holds the arrays analysed (what a report draws).

@@ -9,11 +9,12 @@ turns a 1X response into an unbalance, or None), ``notes``, ``angle`` (a
 :class:`dsp.speed.RotorAngle` or None), ``speed_how`` (where the speed comes from),
 ``table`` (the lab table or None), ``quantity`` (what x and y measure: ``length``,
 ``velocity`` [m/s] or ``acceleration`` [m/s²]; a Run's are ``length``), and for a Run or
-recording ``mass_kg`` (the scene's total mass when the run-up model is fitted) and
-``probes`` (the displacement probes analysed, or None) and ``rotor_speed`` (the recorded
+recording ``mass_kg`` (the scene's total mass when the run-up model is fitted),
+``probes`` (the displacement probes analysed, or None), ``rotor_speed`` (the recorded
 rotor speed [rad/s] on ``t``, or None: it tells a rotor turning half a revolution or more
-per sample, whose sampled angle no longer shows its speed; :func:`undersampled`).  A recording with displacement
-probes is analysed through them, as a lab would (:func:`from_run`); without, through the
+per sample, whose sampled angle no longer shows its speed; :func:`undersampled`) and
+``residual_ratio`` (a rotor of the family: its planes' recorded residual over S_p / 16,
+:func:`_residual_ratio`).  A recording with displacement probes is analysed through them, as a lab would (:func:`from_run`); without, through the
 simulator's noise-free shaft state.  :func:`whirls` tells whether a record without a
 speed channel comes from a spinning shaft.
 """

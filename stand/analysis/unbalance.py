@@ -129,8 +129,8 @@ def _why_no_unbalance(out, scene, sc1, d) -> str:
     if getattr(rs, "kind", None) != "planar":
         kind = getattr(rs, "structure_type", None) or getattr(rs, "kind", "")
         return (f"unbalance: the 1X is turned into an unbalance with the planar rotor's model "
-                f"(mass, f0, damping); this recording's rotor is a {kind} one: not converted "
-                "(stand theory / the recorded truth/residual describe it)")
+                f"(mass, f0, damping); this recording's rotor is the {kind!r} structure: not "
+                "converted (stand theory / the recorded truth/residual describe it)")
     if scene is None:
         return ("unbalance: the run-up model fit gave no unbalance (see its note); the 1X is "
                 "not converted")
