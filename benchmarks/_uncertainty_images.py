@@ -221,7 +221,7 @@ def track_rings(seed, workdir, **kw):
     return {"radius": _z(ring.get("circle_radius_mm"), tr["radius_mm"],
                          ring.get("circle_radius_mm_std")),
             "U": _z(d.get("unbalance_gmm"), tr["U_gmm"], d.get("unbalance_gmm_std")),
-            "G": _z(iso.get("grade_mm_s"), tr["G_mm_s"], iso.get("grade_mm_s_std"))}
+            "G": _z(iso.get("achieved_grade_mm_s"), tr["G_mm_s"], iso.get("achieved_grade_mm_s_std"))}
 
 
 PATHS["track-rings"] = track_rings

@@ -95,7 +95,12 @@ def angle_from_encoder(t, angle_rad, *, source: str = "angle") -> RotorAngle:
     its second order; a spline would round a ramp's corner).
     """
     t = check_times(t, "t", 2)
-    phi = np.unwrap(np.asarray(angle_rad, float))
+    phi = np.asarray(angle_rad, float)
+    steps = np.diff(phi)
+    # a column already continuous (monotone) is kept: unwrapping it would fold steps of half a
+    # revolution or more per sample (a camera's frames on a fast rotor) back into aliases
+    if not (np.all(steps >= 0) or np.all(steps <= 0)):
+        phi = np.unwrap(phi)
     if phi.shape != t.shape or not np.all(np.isfinite(phi)):
         raise SignalError(f"{source}: needs a finite angle at every sample")
     sigma = _channel_noise(phi) if t.size >= 64 else 0.0

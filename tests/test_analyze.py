@@ -31,7 +31,7 @@ def test_unbalance_of_the_rotor_without_balancer_at_supercritical_speed(tmp_path
     assert abs(doc["unbalance_angle_deg"]) < 0.5
     g = doc["iso_grade"]
     # G = U Omega / (1000 m) = 3600 * 94.25 / 4450 = 76 mm/s -> class G 100, fails G 6.3
-    assert g["grade_mm_s"] == pytest.approx(3600 * 900 * 2 * math.pi / 60 / 1000 / 4.45, rel=0.01)
+    assert g["achieved_grade_mm_s"] == pytest.approx(3600 * 900 * 2 * math.pi / 60 / 1000 / 4.45, rel=0.01)
     assert g["passed"] is False
 
 
@@ -53,6 +53,9 @@ def test_stuck_balls_components(tmp_path, capsys):
     f1 = 3.0  # ball_stuck: natural_frequency = 3 Hz, R_omega = 3
     assert doc["nutation_hz"] == pytest.approx(3 * f1, rel=5e-4)
     assert doc["precession_hz"] == pytest.approx(0.96135 * f1, rel=5e-4)  # Table 5.1-B
+    # (5.181) Omega_1 < omega_1: 3.9 % below the scene's f1, so the f0 note applies
+    assert "the stuck weights' precession 2.88407 Hz lies 3.9 % below the natural frequency 3 Hz " \
+           "(the scene's): Omega_1 < omega_1 (5.181), a lower bound for f0, not f0" in doc["notes"]
     assert doc["petals"] == 2 and doc["shape"] == "curtate"
     assert doc["regime"] == "quasi-periodic"
 

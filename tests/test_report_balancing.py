@@ -355,7 +355,7 @@ def test_free_decay_identifies_f0_and_damping(tmp_path):
 def test_service_speed_and_grade(runup):
     doc = balancing_report(runup["h5"], grade=2.5, service_speed_rpm=3000)
     iso = doc["balancing_quality"]["iso_21940_11"]
-    assert iso["grade_mm_s"] == 2.5 and iso["service_speed_rpm"] == pytest.approx(3000)
+    assert iso["required_grade_mm_s"] == 2.5 and iso["service_speed_rpm"] == pytest.approx(3000)
     assert iso["permissible_residual_gmm"] == pytest.approx(1000 * 2.5 * 4.45 / (100 * math.pi))
     with pytest.raises(ValueError, match="grade"):
         balancing_report(runup["h5"], grade=-1)

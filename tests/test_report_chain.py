@@ -144,7 +144,7 @@ def check_same_numbers(analysis: dict, report: dict) -> int:
              (bq["ring_reading"], analysis.get("ring_reading"), "rings"),
              (bq["vibration_1x"], analysis.get("vibration_1x"), "vibration"),
              (bq["iso_21940_11"]["achieved_grade_mm_s"],
-              (analysis.get("iso_grade") or {}).get("grade_mm_s"), "ISO grade"),
+              (analysis.get("iso_grade") or {}).get("achieved_grade_mm_s"), "ISO grade"),
              (bq["iso_21940_11"]["permissible_residual_gmm"],
               (analysis.get("iso_grade") or {}).get("permissible_gmm"), "permissible"),
              (dyn["natural_frequency"]["identified_hz"], analysis.get("natural_frequency_hz"), "f0"),

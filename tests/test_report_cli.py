@@ -13,7 +13,7 @@ def test_single_and_batch(tmp_path, capsys):
     html, js = tmp_path / "r.html", tmp_path / "r.json"
     assert main(["report", REC, "-o", str(html), "--json-file", str(js), "--grade", "G2.5"]) == 0
     doc = json.loads(js.read_text())
-    assert doc["balancing_quality"]["iso_21940_11"]["grade_mm_s"] == 2.5
+    assert doc["balancing_quality"]["iso_21940_11"]["required_grade_mm_s"] == 2.5
     assert html.read_text().startswith("<!DOCTYPE html>")
     for k in range(2):
         shutil.copy(REC, tmp_path / f"run{k}.h5")

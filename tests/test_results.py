@@ -186,7 +186,7 @@ def test_grade_is_the_one_name(recwarn):
         old = stand.analyze(rec, grade_mm_s=2.5)
     assert new.to_dict() == old.to_dict()
     if new.iso_grade is not None:
-        assert new.iso_grade["target_mm_s"] == 2.5
+        assert new.iso_grade["required_grade_mm_s"] == 2.5
 
 
 def test_result_base():

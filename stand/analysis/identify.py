@@ -42,7 +42,8 @@ import numpy as np
 
 from dsp.errors import SignalError
 
-from stand.analysis.sources import no_weights as _no_weights, read_source, whirls
+from stand.analysis.sources import (no_weights as _no_weights, read_source, undersampled,
+                                    undersampled_words, whirls)
 from stand.analysis.two_plane import two_plane
 from stand.analysis.signals import settling
 from stand.analysis.unbalance import line_1x, reduction, unbalance
@@ -146,6 +147,17 @@ def _speed(d, out):
     elif angle is not None:                    # a tachometer: speed without a mark
         speed = angle.speed_rad_s
     rotating = speed is not None and np.max(np.abs(speed)) > 1e-6 or d["kp"] is not None
+    # the rotor's own speed: the recording's rotor/speed, else the angle channel's (a lab's
+    # encoder column or keyphasor pulses: not the wrapped differences of sampled angles)
+    true, how = d.get("rotor_speed"), "the recorded rotor speed (rotor/speed)"
+    if true is None and angle is not None and d.get("table") is not None:
+        true, how = angle.speed_rad_s, (f"that of the {d.get('speed_how') or 'angle channel'} "
+                                        "as it stands, not of its samples' wrapped steps")
+    u = d["undersampled"] = undersampled(t, true if true is not None else speed)
+    if u is not None and true is not None and phi is not None:
+        speed = true                # the sampled angle aliases: its differences are no speed
+        out["notes"].append(undersampled_words(u, "rotor angle") + f": its samples alias there; "
+                            f"the speed is {how}")
     if speed is None and d.get("table") is not None:      # no speed channel: does the shaft whirl?
         rotating = whirls(t, x, y)
     out["programme"] = None
@@ -262,7 +274,10 @@ def _steady_1x(d, out, speed, rotating):
         out["stationary_stretch"].update(t_start_s=float(t[a]), t_end_s=float(t[b - 1]),
                                          duration_s=float(t[b - 1] - t[a]), samples=int(b - a))
     sc1 = None
-    if rotating and (phi is not None or d["kp"] is not None):
+    why = _no_steady_1x(d, out, speed, sl) if rotating else None
+    if why is not None:
+        notes.append(why)
+    elif rotating and (phi is not None or d["kp"] is not None):
         try:
             sc1 = ub.synchronous_component(t[sl], x[sl], y[sl],
                                            rotor_angle=None if phi is None else phi[sl],
@@ -284,6 +299,30 @@ def _steady_1x(d, out, speed, rotating):
         line_1x(t[sl], x[sl] + 1j * y[sl], out, notes,
                 speed_how=d.get("speed_how") if ang is not None and not ang.estimated else None)
     return sl, sc1
+
+
+def _no_steady_1x(d, out, speed, sl):
+    """Why the record gives no steady 1X, in the user's words, or None: its stationary stretch
+    sampled below twice the rotor speed (:func:`stand.analysis.sources.undersampled`), or
+    too short (the record ends in a run-up or run-down)."""
+    from stand.io.numbers import plain
+
+    t, u = d["t"], d.get("undersampled")
+    start, stop = sl.indices(t.size)[:2]
+    if u is not None and u["index"] < stop:
+        f = speed
+        u = dict(u, speed_hz=float(np.max(np.abs(f[max(start, u["index"]):stop]))) / TWO_PI)
+        return undersampled_words(u, "1X") + ": no 1X"
+    n = stop - start
+    if n >= 3:
+        return None
+    st = (out.get("programme") or {}).get("stretches") or []
+    last = next((s for s in reversed(st) if s["kind"] not in ("constant", "stopped")), None)
+    ends = (f"the record ends in a {last['kind']} ({plain(last['t_start_s'])}–"
+            f"{plain(last['t_end_s'], 's')}, {plain(last['speed_start_hz'])} -> "
+            f"{plain(last['speed_end_hz'], 'rev/s')}): " if last and st[-1] is last else "")
+    return (f"1X: {ends}the constant-speed stretch at its end holds {n} sample"
+            f"{'s' if n != 1 else ''}; a steady 1X needs at least 3: no 1X")
 
 
 def _runout_removed(d, sc1, speed, sl, notes):
@@ -380,7 +419,9 @@ def _components(d, out, sl, rotating) -> None:
     from dsp import quasiperiodic as qpd
 
     t, x, y, notes = d["t"], d["x"], d["y"], out["notes"]
-    out.update(components=[], precession_hz=None, nutation_hz=None, petals=None, shape=None)
+    out.update(components=[], petals=None, shape=None, **dict.fromkeys(
+        f"{w}{q}" for w in ("precession", "nutation", "strongest_other_line")
+        for q in ("_hz", "_hz_std", "_amplitude_m", "_amplitude_m_std")))
     if not (rotating and out["speed_hz"] is not None):
         return
     if d.get("quantity", "length") != "length":
@@ -395,45 +436,120 @@ def _components(d, out, sl, rotating) -> None:
                               "phase_deg": math.degrees(c.phase_rad),
                               "phase_deg_std": math.degrees(c.phase_std_rad),
                               "direction": c.direction} for c in dec.components]
-        qp = dec.precession is not None
-        if not qp:          # without a precession the rotor-speed line is the 1X, no nutation
-            import dataclasses
-
-            dec = dataclasses.replace(dec, nutation=None)
-        out.update(precession_hz=dec.precession_hz if qp else None,
-                   precession_hz_std=dec.precession_std_hz if qp else None,
+        line = dec.precession                   # the strongest forward line below the 1X
+        stuck = line is not None and _stuck_weights_line(d, sl, line, f_rot, notes)
+        if line is not None and not stuck:      # what it is not: the stuck weights' precession
+            out.update(strongest_other_line_hz=line.frequency_hz,
+                       strongest_other_line_hz_std=line.frequency_std_hz,
+                       strongest_other_line_amplitude_m=line.amplitude_m,
+                       strongest_other_line_amplitude_m_std=line.amplitude_std_m)
+        if not stuck:       # without a precession the rotor-speed line is the 1X, no nutation
+            return
+        out.update(precession_hz=dec.precession_hz, precession_hz_std=dec.precession_std_hz,
                    nutation_hz=dec.nutation_hz if dec.nutation is not None else None,
                    nutation_hz_std=dec.nutation_std_hz if dec.nutation is not None else None,
-                   precession_amplitude_m=dec.precession_amplitude_m if qp else None,
-                   precession_amplitude_m_std=dec.precession_amplitude_std_m if qp else None,
+                   precession_amplitude_m=dec.precession_amplitude_m,
+                   precession_amplitude_m_std=dec.precession_amplitude_std_m,
                    nutation_amplitude_m=(dec.nutation_amplitude_m if dec.nutation is not None
                                          else None),
                    nutation_amplitude_m_std=(dec.nutation_amplitude_std_m
                                              if dec.nutation is not None else None),
-                   petals=dec.petals if dec.precession is not None else None,
-                   shape=dec.shape if dec.precession is not None else None)
-        if dec.precession is not None:
-            notes.append("the precession line (stuck weights) lies slightly below the natural "
-                         "frequency (Omega_1 < omega_1, (5.181)): a lower bound for f0, not f0")
+                   petals=dec.petals, shape=dec.shape)
+        _precession_against_f0(d, out, notes)
     except SignalError as exc:
         notes.append(f"quasi-periodic decomposition: {exc}")
 
 
+def _stuck_weights_line(d, sl, line, f_rot, notes) -> bool:
+    """Whether the orbit's strongest line below the 1X (``line``, a dsp.quasiperiodic
+    Component) is the stuck weights' precession: the recording has the weights' angles, they
+    slip behind the rotor (their mean speed over the stretch below the rotor's by more than
+    the regime's synchrony tolerance, 1e-3 of it) and the line runs at their mean speed
+    (within 3 of its std or the stretch's resolution 1 / T) -- the orbit precesses with the
+    stuck weights at their speed Omega (:mod:`dsp.quasiperiodic`)."""
+    w = d.get("weights")
+    t = d["t"][sl]
+    if w is None or t.size < 2 or not t[-1] > t[0]:
+        return False
+    wa = np.unwrap(np.asarray(w, float)[sl].reshape(t.size, -1), axis=0)
+    f_w = (wa[-1] - wa[0]) / (t[-1] - t[0]) / TWO_PI           # [rev/s] per weight
+    tol = max(3 * line.frequency_std_hz, 1.0 / (t[-1] - t[0]))
+    slipping = bool(np.all(f_w < f_rot * (1 - 1e-3)))
+    at_their_speed = bool(abs(line.frequency_hz - float(np.mean(f_w))) <= tol)
+    if not (slipping and at_their_speed):
+        notes.append(f"the orbit's strongest line besides the 1X, {line.frequency_hz:.6g} Hz, is "
+                     f"no stuck weights' precession: the weights turn at "
+                     f"{float(np.mean(f_w)):.6g} rev/s " + ("with the rotor (synchronous)"
+                                                            if not slipping else
+                                                            "and the line is not at their speed"))
+    return slipping and at_their_speed
+
+
+def _precession_against_f0(d, out, notes) -> None:
+    """The note of (5.181), Omega_1 < omega_1: where the stuck weights' precession lies below
+    the natural frequency it is compared with (the one identified, else the planar scene's),
+    by 20 % of it at most, it is a lower bound for f0, not f0."""
+    f0, src = out.get("natural_frequency_hz"), "identified"
+    sc = d.get("scene")
+    if f0 is None and getattr(sc, "kind", None) == "planar":
+        f0, src = sc.natural_frequency / TWO_PI, "the scene's"
+    fP, sP = out["precession_hz"], out.get("precession_hz_std") or 0.0
+    if f0 is None or not (0.8 * f0 <= fP and fP + 2 * sP < f0):
+        return
+    notes.append(f"the stuck weights' precession {fP:.6g} Hz lies {100 * (1 - fP / f0):.2g} % "
+                 f"below the natural frequency {f0:.6g} Hz ({src}): Omega_1 < omega_1 (5.181), a lower "
+                 "bound for f0, not f0")
+
+
 def _regime(d, out, speed) -> None:
-    """Step 7: the regime over windows and its critical speeds (needs the weights' angles)."""
+    """Step 7: the regime over windows and its critical speeds, from the recorded weights'
+    angles (``weights/<weight>/angle``) against the rotor angle, over the part of the record
+    sampled at more than twice the rotor speed."""
     from dsp import regime as rg
 
-    t, x, y, phi, scene, notes = d["t"], d["x"], d["y"], d["phi"], d["scene"], out["notes"]
+    t, x, y, phi, notes = d["t"], d["x"], d["y"], d["phi"], out["notes"]
+    w, scene = d["weights"], d.get("rec_scene")
     out.update(regime=None, critical_speeds_hz=[])
-    if d["weights"] is None or phi is None or scene is None:
-        notes.append("regime: needs the weights' angles (stroboscope or simulator channel)")
+    why = None
+    if w is None:
+        bare = scene is not None and not (getattr(scene, "n_weights", 0)
+                                          or getattr(scene, "bodies", None))
+        why = ("the recording's scene has no weights: there is no regime of weights" if bare else
+               "needs the weights' angles (a stroboscope or the simulator's "
+               "weights/<weight>/angle); " + ("a lab table has none" if d.get("table") is not None
+                                              else "the recording has none (a liquid has no "
+                                              "angle)" if scene is not None else
+                                              "the recording has none"))
+    elif phi is None:
+        why = "needs the rotor angle (rotor/angle) to see the weights slip against the rotor"
+    elif scene is None:
+        why = ("needs the recording's scene (the balancer's capacity sets when the rotor is "
+               "balanced)")
+    elif scene.kind != "planar" and d.get("residual_ratio") is None:
+        why = ("a rotor of the family is balanced when each plane's residual unbalance is "
+               "inside its ring of zone 1; the recording has no truth/residual/<plane>")
+    if why is not None:
+        notes.append(f"regime: {why}")
         return
+    u = d.get("undersampled")
+    n = t.size if u is None else u["index"]
+    if u is not None:
+        notes.append(undersampled_words(u, "regime") + ": the weights' angles alias there; "
+                     + (f"classified before {u['t_s']:.6g} s only (the timeline and its changes; "
+                        "the regime at the end of the record is not known)" if n >= 3
+                        else "no regime"))
+        if n < 3:
+            return
     try:
+        t, x, y, phi, w, speed = t[:n], x[:n], y[:n], phi[:n], w[:n], speed[:n]
         w_s = max(4 * TWO_PI / max(float(np.median(np.abs(speed))), 1e-9), (t[-1] - t[0]) / 200)
         w_s = min(w_s, (t[-1] - t[0]) / 3)
-        thr = scene.balancer.capacity / scene.total_mass / 16 if scene.balancer.count else 0.0
-        wins = rg.classify_windows(t, np.unwrap(phi), d["weights"], x, y, w_s, thr)
-        out["regime"] = wins[-1].regime
+        if scene.kind == "planar":     # balanced: the whirl inside the ring of zone 1, S / (16 M)
+            thr = scene.balancer.capacity / scene.total_mass / 16 if scene.balancer.count else 0.0
+        else:     # a rotor of the family: every plane's recorded residual below S_p / 16
+            x, y, thr = d["residual_ratio"][:n], np.zeros(n), 1.0
+        wins = rg.classify_windows(t, np.unwrap(phi), w, x, y, w_s, thr)
+        out["regime"] = wins[-1].regime if u is None else None
         out["regime_timeline"] = [{"t_start_s": w.t_start, "t_end_s": w.t_end, "regime": w.regime,
                                    "speed_hz": w.rotor_speed_rad_s / TWO_PI} for w in wins]
         out["critical_speeds_hz"] = [{"speed_hz": c.speed_hz, "speed_hz_std": c.speed_hz_uncertainty,

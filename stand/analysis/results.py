@@ -24,8 +24,11 @@ class Analysis(Result):
     ``speed_hz``, ``natural_frequency_hz`` (``_std``), ``damping_ratio``,
     ``response_1x_m``, ``unbalance_gmm`` (``_std``), ``unbalance_angle_deg``,
     ``iso_grade``, ``programme``, ``runup`` (``bode``, ``resonance``, ``model_fit``),
-    ``critical_speed_hz``, ``components`` (quasi-periodic lines), ``precession_hz``,
-    ``nutation_hz``, ``regime``, ``critical_speeds_hz``, ``settling``, ``vibration_1x``,
+    ``critical_speed_hz``, ``components`` (quasi-periodic lines), ``precession_hz`` and
+    ``nutation_hz`` (stuck weights only), ``strongest_other_line_hz`` (the orbit's strongest
+    line besides the 1X when it is no such precession), ``regime`` (:mod:`dsp.regime`'s
+    names; shown by :data:`stand.io.labels.REGIME_NAMES`), ``critical_speeds_hz``,
+    ``settling``, ``vibration_1x``,
     ``ring_reading``, ``initial_unbalance_gmm`` and ``reduction`` (simulated planar runs),
     ``truth_unbalance_gmm``, ``notes``; and ``regime_timeline`` (held, left out of the JSON
     as the CLI does).  :attr:`channels` holds the arrays analysed (what a report draws).

@@ -9,9 +9,12 @@ turns a 1X response into an unbalance, or None), ``notes``, ``angle`` (a
 :class:`dsp.speed.RotorAngle` or None), ``speed_how`` (where the speed comes from),
 ``table`` (the lab table or None), ``quantity`` (what x and y measure: ``length``,
 ``velocity`` [m/s] or ``acceleration`` [m/s²]; a Run's are ``length``), and for a Run or
-recording ``mass_kg`` (the scene's total mass when the run-up model is fitted) and
-``probes`` (the displacement probes analysed, or None).  A recording with displacement
-probes is analysed through them, as a lab would (:func:`from_run`); without, through the
+recording ``mass_kg`` (the scene's total mass when the run-up model is fitted),
+``probes`` (the displacement probes analysed, or None), ``rotor_speed`` (the recorded
+rotor speed [rad/s] on ``t``, or None: it tells a rotor turning half a revolution or more
+per sample, whose sampled angle no longer shows its speed; :func:`undersampled`) and
+``residual_ratio`` (a rotor of the family: its planes' recorded residual over S_p / 16,
+:func:`_residual_ratio`).  A recording with displacement probes is analysed through them, as a lab would (:func:`from_run`); without, through the
 simulator's noise-free shaft state.  :func:`whirls` tells whether a record without a
 speed channel comes from a spinning shaft.
 """
@@ -22,7 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["read_source", "from_table", "from_run", "whirls", "no_weights"]
+__all__ = ["read_source", "from_table", "from_run", "whirls", "no_weights", "undersampled",
+           "undersampled_words"]
 
 TWO_PI = 2 * math.pi
 
@@ -155,6 +159,9 @@ def from_run(rec):
     phi = rec.rotor_angle if np.all(np.isfinite(rec.rotor_angle)) else None
     w = rec.weight_angle if rec.weight_angle.size and np.all(np.isfinite(rec.weight_angle)) else None
     x, y = np.asarray(rec.x), np.asarray(rec.y)
+    ws = np.asarray(getattr(rec, "rotor_speed", np.zeros(0)), float)
+    ws = ws if ws.shape == t.shape and np.all(np.isfinite(ws)) else None
+    ratio = _residual_ratio(rec, rscene)
     pr = probe_channels(rec)
     xy = None if pr is None else probes_xy(pr["signal"], pr["angles"], notes)
     mass = None
@@ -172,6 +179,10 @@ def from_run(rec):
             wa = np.unwrap(np.asarray(w, float), axis=0).reshape(t.size, -1)
             w = np.column_stack([np.interp(tp, t, c) for c in wa.T]).reshape((tp.size,) +
                                                                                  np.shape(w)[1:])
+        if ws is not None:
+            ws = np.interp(tp, t, ws)
+        if ratio is not None:
+            ratio = np.interp(tp, t, ratio)
         t, (x, y) = tp, xy
         deg = ", ".join(f"{math.degrees(a):g}" for a in pr["angles"])
         plane = f" in plane {pr['plane']!r}" if pr.get("plane") else ""
@@ -210,12 +221,36 @@ def from_run(rec):
     return dict(t=t, x=x, y=y, phi=phi, kp=None, weights=w, scene=scene, notes=notes,
                 angle=angle, speed_how="the recording's rotor angle" if phi is not None
                 else "no rotor angle", table=None, rec_scene=rscene, mass_kg=mass,
+                rotor_speed=ws, residual_ratio=ratio,
                 probes=pr if xy is not None else None, truth=_truth(rec), rings=_rings(rec),
                 scene_name=str((getattr(rec, "attrs", None) or {}).get("scene_name")
                                or getattr(rscene, "name", "") or ""),
                 solver=dict(getattr(rec, "solver", None) or getattr(rec, "stats", None) or {}),
                 channel_filter=_probe_filter(rscene) if xy is not None else None,
                 censored=_clipped_probes(t, x, y, notes) if xy is not None else None)
+
+
+def _residual_ratio(rec, scene):
+    """A rotor of the family with weights: the largest over its planes with weights of the
+    recorded residual unbalance ``truth/residual/<plane>`` [kg m] over the ring of zone 1,
+    S_p / 16 (``(N,)``, below 1: balanced), or None (a planar rotor, no weights, no truth).
+    Its balancer balances its planes' unbalance, not the main plane's whirl alone."""
+    weights = getattr(scene, "weights", None) or ()
+    if getattr(scene, "kind", None) in (None, "planar") or not weights:
+        return None
+    truth = getattr(rec, "truth", None) or {}
+    ratio = None
+    for plane in dict.fromkeys(getattr(w, "plane", None) for w in weights):
+        S = sum(w.balancer.capacity for w in weights if getattr(w, "plane", None) == plane)
+        got = truth.get(f"residual/{plane}")
+        if got is None or not S > 0:
+            return None
+        U = np.asarray(got[0], float)
+        if U.shape != (np.size(rec.t), 2):
+            return None
+        r = np.hypot(U[:, 0], U[:, 1]) / (S / 16)
+        ratio = r if ratio is None else np.maximum(ratio, r)
+    return ratio
 
 
 def _clipped_probes(t, x, y, notes):
@@ -308,6 +343,30 @@ def _rings(rec):
     return {"radius_m": radius, "gain": float(st.get("gain", 1.0)),
             "offset_m": (float(st.get("offset_x", 0.0)), float(st.get("offset_y", 0.0))),
             "test_speed_rad_s": None if ts is None else float(ts)}
+
+
+def undersampled(t, speed):
+    """Where the record samples the rotation too slowly: ``None``, or ``{"index", "t_s",
+    "sample_rate_hz", "speed_hz"}`` -- the first sample whose rotor speed ``speed`` [rad/s]
+    reaches half the sample rate (half a revolution or more per sample: the sampled angle
+    and orbit alias, no 1X), the sample rate [Hz] and the highest speed [rev/s] from there."""
+    if speed is None or t.size < 2:
+        return None
+    fs = 1.0 / float(np.median(np.diff(t)))
+    f = np.abs(np.asarray(speed, float)) / TWO_PI
+    bad = np.flatnonzero(f >= 0.5 * fs)
+    if not bad.size:
+        return None
+    i = int(bad[0])
+    return {"index": i, "t_s": float(t[i]), "sample_rate_hz": fs, "speed_hz": float(np.max(f[i:]))}
+
+
+def undersampled_words(u, what: str) -> str:
+    """The note of :func:`undersampled`: ``what`` (e.g. ``"1X"``) and the numbers."""
+    from stand.io.numbers import plain
+
+    return (f"{what}: the record samples {plain(u['sample_rate_hz'], 'Hz', 4)}, below twice the "
+            f"{plain(u['speed_hz'], 'rev/s', 4)} speed (from {plain(u['t_s'], 's', 6)} on)")
 
 
 def no_weights(scene) -> bool:

@@ -170,7 +170,7 @@ def two_plane(path, tracks, grade: float = 6.3, service_speed_rpm: float | None 
            "method": "two laser screens -> axis line (4.2) -> correction planes (4.3) -> "
                      "unbalances through the model's receptance (weights locked)",
            "speed_hz": omega / TWO_PI, "screens": screens, "planes": out_planes,
-           "iso_21940_11": {"grade_mm_s": grade, "service_speed_rpm": w_service * 60 / TWO_PI,
+           "iso_21940_11": {"required_grade_mm_s": grade, "service_speed_rpm": w_service * 60 / TWO_PI,
                             "rotor_mass_kg": mass, "permissible_gmm": U_per,
                             "allocation": "lever rule about the centre of mass over the correction "
                                           "planes' distances, each plane within 30-70 % (ISO 21940-11 7.3)",

@@ -92,8 +92,7 @@ def unbalance(out, scene, sc1, d, rmap, mass, grade, service_speed_rpm, notes) -
                          "natural frequency and damping ratio in the map's [rotor], or a track "
                          "with ring radii and the capacity")
         else:
-            notes.append("no scene in the recording: the 1X response is not converted to an "
-                         "unbalance (needs mass, f0, damping)")
+            notes.append(_why_no_unbalance(out, scene, sc1, d))
         return
     if e is not None:
         out["specific_unbalance_gmm_per_kg"] = e * 1e6       # [m] = [kg m / kg] -> g mm / kg
@@ -118,17 +117,40 @@ def unbalance(out, scene, sc1, d, rmap, mass, grade, service_speed_rpm, notes) -
                   mass or 1.0, w_meas, grade, service_speed_rpm, per_kg=not mass)
 
 
+def _why_no_unbalance(out, scene, sc1, d) -> str:
+    """Why a recording's 1X gave no unbalance, in the user's words: no 1X (its note says
+    why), no scene, a rotor the planar model does not describe, or no model fit."""
+    rs = d.get("rec_scene")
+    if sc1 is None and out.get("response_1x_m") is None:
+        return "unbalance: no steady 1X in the record (see the 1X note): nothing to convert"
+    if rs is None:
+        return ("no scene in the recording: the 1X response is not converted to an unbalance "
+                "(needs mass, f0, damping)")
+    if getattr(rs, "kind", None) != "planar":
+        kind = getattr(rs, "structure_type", None) or getattr(rs, "kind", "")
+        return (f"unbalance: the 1X is turned into an unbalance with the planar rotor's model "
+                f"(mass, f0, damping); this recording's rotor is the {kind!r} structure: not "
+                "converted (stand theory / the recorded truth/residual describe it)")
+    if scene is None:
+        return ("unbalance: the run-up model fit gave no unbalance (see its note); the 1X is "
+                "not converted")
+    return "unbalance: the steady 1X has no phase reference (rotor angle): not converted"
+
+
 def iso_grade(out, U_gmm, sU_gmm, mass, w_meas, grade, service_speed_rpm, per_kg=False) -> None:
-    """``out["iso_grade"]``: the achieved ISO 21940-11 grade of the unbalance ``U_gmm`` [g mm]
-    (std ``sU_gmm``) of a rotor of ``mass`` [kg] at the service speed (``service_speed_rpm``
-    [rpm], else the measured ``w_meas`` [rad/s]) against the required ``grade`` G [mm/s]."""
+    """``out["iso_grade"]``: the achieved ISO 21940-11 grade (``achieved_grade_mm_s``) of the
+    unbalance ``U_gmm`` [g mm] (std ``sU_gmm``) of a rotor of ``mass`` [kg] at the service
+    speed (``service_speed_rpm`` [rpm], else the measured ``w_meas`` [rad/s]) against the
+    required ``grade`` G [mm/s] (``required_grade_mm_s``; the same names as the report's
+    ``iso_21940_11``)."""
     from dsp import unbalance as ub
 
     w_service = service_speed_rpm * TWO_PI / 60.0 if service_speed_rpm else w_meas
     g = ub.iso_21940_grade(U_gmm, mass, w_service, target_grade_mm_s=grade,
                            unbalance_std_gmm=sU_gmm)
-    out["iso_grade"] = {"grade_mm_s": g.grade_mm_s, "grade_mm_s_std": g.grade_std_mm_s,
-                        "class": g.label, "target_mm_s": grade, "passed": g.passed,
+    out["iso_grade"] = {"achieved_grade_mm_s": g.grade_mm_s,
+                        "achieved_grade_mm_s_std": g.grade_std_mm_s,
+                        "class": g.label, "required_grade_mm_s": grade, "passed": g.passed,
                         "permissible_gmm": None if per_kg else getattr(g, "permissible_gmm", None),
                         "service_speed_rpm": w_service * 60 / TWO_PI,
                         "mass_kg": None if per_kg else float(mass)}

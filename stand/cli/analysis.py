@@ -98,7 +98,7 @@ def cmd_report(args) -> int:
 def _analysis_lines(doc) -> list:
     """What ``stand analyze`` prints: each value the analysis gave, by its label
     (:mod:`stand.io.labels`), with its ± in the label's unit; nothing for what it did not give."""
-    from stand.io.labels import label
+    from stand.io.labels import label, regime_name
     from stand.io.numbers import plain, resolved, with_uncertainty
 
     lines = [labelled(doc, k) for k in ("natural_frequency_hz", "damping_ratio", "speed_hz")]
@@ -115,17 +115,18 @@ def _analysis_lines(doc) -> list:
     if vib.get("velocity_rms_mm_s") is not None and resolved(doc.get("response_1x_m"),
                                                             doc.get("response_1x_m_std")):
         lines.append(labelled(vib, "velocity_rms_mm_s"))
-    lines.append(labelled(doc, "unbalance_gmm"))
+    # without the vibrating mass the unbalance is per kg (the specific unbalance e)
+    size = "unbalance_gmm" if doc.get("unbalance_gmm") is not None \
+        else "specific_unbalance_gmm_per_kg"
+    lines.append(labelled(doc, size))
     # an angle of an unbalance below resolution means nothing: not shown
-    if resolved(doc.get("unbalance_gmm"), doc.get("unbalance_gmm_std")):
+    if resolved(doc.get(size), doc.get(f"{size}_std")):
         lines.append(labelled(doc, "unbalance_angle_deg", angle=True))
     g = doc.get("iso_grade")
     if g:
-        # analyze's grade_mm_s is the achieved grade (the report's key for it: achieved_grade_mm_s)
-        achieved = shown({"achieved_grade_mm_s": g["grade_mm_s"],
-                          "achieved_grade_mm_s_std": g.get("grade_mm_s_std")}, "achieved_grade_mm_s")
+        achieved = shown(g, "achieved_grade_mm_s")
         lines.append(f"ISO 21940-11: {label('achieved_grade_mm_s').lower()} {achieved} "
-                     f"({g['class']}), required G {plain(g['target_mm_s'])} mm/s: "
+                     f"({g['class']}), required G {plain(g['required_grade_mm_s'])} mm/s: "
                      + ("pass" if g["passed"] else "FAIL"))
     if doc.get("programme"):
         lines.append(f"{label('programme')}: {doc['programme']['kind']}"
@@ -134,10 +135,13 @@ def _analysis_lines(doc) -> list:
     crit = labelled(doc, "critical_speed_hz")
     if crit:
         lines.append(crit + (f" ({doc['critical_speed_method']})" if doc.get("critical_speed_method") else ""))
-    lines += [labelled(doc, k) for k in ("precession_hz", "nutation_hz", "petals", "shape", "regime")]
+    lines += [labelled(doc, k) for k in ("precession_hz", "nutation_hz", "petals", "shape",
+                                         "strongest_other_line_hz")]
+    if doc.get("regime") is not None:       # the words of the report (one table)
+        lines.append(f"{label('regime')}: {regime_name(doc['regime'])}")
     for c in doc.get("critical_speeds_hz") or []:
-        lines.append(f"{label('regime_change')}: {c['before']} -> {c['after']} at "
-                     f"{shown(c, 'speed_hz')}")
+        lines.append(f"{label('regime_change')}: {regime_name(c['before'])} -> "
+                     f"{regime_name(c['after'])} at {shown(c, 'speed_hz')}")
     lines += [f"note: {n}" for n in doc.get("notes") or []]
     return [f"  {line}" for line in lines if line]
 

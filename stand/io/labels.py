@@ -10,7 +10,13 @@ they agree), so the documentation and the page cannot drift.
 """
 from __future__ import annotations
 
-__all__ = ["LABELS", "label", "unit", "markdown_table"]
+__all__ = ["LABELS", "REGIME_NAMES", "label", "unit", "regime_name", "markdown_table"]
+
+#: the motion regimes as every command and report shows them: :mod:`dsp.regime`'s names (the
+#: ``regime`` values of ``stand analyze --json``) -> the words shown (``stand analyze``'s text,
+#: the report's ``final_regime``, ``regime_timeline`` and events)
+REGIME_NAMES = {"main": "balanced", "side": "side", "quasi-periodic": "stuck",
+                "transient": "transient"}
 
 #: key -> (label, display unit, factor from the JSON value to the display unit)
 LABELS = {
@@ -74,7 +80,7 @@ LABELS = {
     "specific_unbalance_um": ("Specific unbalance e", "µm", 1.0),
     "specific_unbalance_um_std": ("Specific unbalance: uncertainty", "µm", 1.0),
     "iso_21940_11": ("ISO 21940-11", "", 1.0),
-    "grade_mm_s": ("Required grade G", "mm/s", 1.0),
+    "required_grade_mm_s": ("Required grade G", "mm/s", 1.0),
     "permissible_residual_gmm": ("Permissible residual U_per", "g·mm", 1.0),
     "permissible_specific_unbalance_um": ("Permissible specific unbalance e_per", "µm", 1.0),
     "achieved_grade_mm_s": ("Achieved grade", "mm/s", 1.0),
@@ -105,8 +111,6 @@ LABELS = {
     "analysis": ("Identification (stand analyze)", "", 1.0),
     "iso_grade": ("ISO 21940-11 grade", "", 1.0),
     "class": ("Achieved class", "", 1.0),
-    "target_mm_s": ("Required grade G", "mm/s", 1.0),
-    "grade_mm_s_std": ("Achieved grade: uncertainty", "mm/s", 1.0),
     "runup": ("Run-up / run-down", "", 1.0),
     "bode": ("1X against speed (Bode data)", "", 1.0),
     "t_s": ("Time", "s", 1.0),
@@ -123,7 +127,12 @@ LABELS = {
     "rule": ("Rule", "", 1.0),
     "speed_estimated": ("Speed estimated from the vibration", "", 1.0),
     "specific_unbalance_gmm_per_kg_std": ("Specific unbalance: uncertainty", "g·mm/kg", 1.0),
-    "precession_hz": ("Precession (stuck weights)", "Hz", 1.0),
+    "precession_hz": ("Stuck weights' precession", "Hz", 1.0),
+    "strongest_other_line_hz": ("Strongest orbit line besides the 1X", "Hz", 1.0),
+    "strongest_other_line_hz_std": ("Strongest line besides the 1X: uncertainty", "Hz", 1.0),
+    "strongest_other_line_amplitude_m": ("Strongest line besides the 1X: amplitude", "µm", 1e6),
+    "strongest_other_line_amplitude_m_std": ("Strongest line besides the 1X: amplitude "
+                                             "uncertainty", "µm", 1e6),
     "precession_hz_std": ("Precession: uncertainty", "Hz", 1.0),
     "nutation_hz": ("Nutation", "Hz", 1.0),
     "nutation_hz_std": ("Nutation: uncertainty", "Hz", 1.0),
@@ -321,6 +330,12 @@ def unit(key: str) -> tuple:
     if key in LABELS:
         return LABELS[key][1], LABELS[key][2]
     return "", 1.0
+
+
+def regime_name(name):
+    """The word shown for a regime of :mod:`dsp.regime` (:data:`REGIME_NAMES`; another
+    value as it is, None as None)."""
+    return REGIME_NAMES.get(name, name)
 
 
 def markdown_table() -> str:

@@ -437,7 +437,9 @@ def read_table(path, recording_map: Optional[RecordingMap] = None,
 
             k = spec.si_factor("")
             clip[role] = clipped(v, rail=None if spec.rail is None else np.multiply(spec.rail, k))
-    good = np.flatnonzero(~bad)
+    # a gap in time is judged on the rows that have a time: rows whose other columns are
+    # empty are excluded as such above, they are no gap in the time column
+    good = np.flatnonzero(np.isfinite(t))
     cut = np.zeros(n, bool)                  # rows that start again after a gap in time
     if good.size >= 2:
         dt = np.diff(t[good])

@@ -278,15 +278,15 @@ def _quality(a, scene, grade, header, warn) -> dict:
     bq["residual_zone_label"] = None if z is None else f"zone {z}: between {z} S/16 and {z + 1} S/16"
     Up = iso_a.get("permissible_gmm")
     bq["iso_21940_11"] = {
-        "grade_mm_s": grade, "service_speed_rpm": iso_a.get("service_speed_rpm"),
+        "required_grade_mm_s": grade, "service_speed_rpm": iso_a.get("service_speed_rpm"),
         "permissible_residual_gmm": Up,
         "permissible_specific_unbalance_um": Up / mass if Up is not None and mass else None,
-        "achieved_grade_mm_s": iso_a.get("grade_mm_s"),
-        "achieved_grade_mm_s_std": iso_a.get("grade_mm_s_std"),
+        "achieved_grade_mm_s": iso_a.get("achieved_grade_mm_s"),
+        "achieved_grade_mm_s_std": iso_a.get("achieved_grade_mm_s_std"),
         "achieved_class": iso_a.get("class"), "passed": iso_a.get("passed")}
     if iso_a.get("passed") is False:
         warn("iso_grade_failed", f"ISO 21940-11: the residual unbalance exceeds the permissible "
-             f"residual of the grade (achieved G {iso_a['grade_mm_s']:.3g} mm/s, required "
+             f"residual of the grade (achieved G {iso_a['achieved_grade_mm_s']:.3g} mm/s, required "
              f"G {grade:g} mm/s)")
     bq["reduction"] = _reduction(a, scene)
     rpm = iso_a.get("service_speed_rpm")

@@ -42,7 +42,7 @@ def verdict(doc: Mapping) -> dict:
     iso = bq.get("iso_21940_11") or {}
     hd = doc.get("header") or {}
     rep = doc.get("report") or {}
-    G = iso.get("grade_mm_s")
+    G = iso.get("required_grade_mm_s")
     rpm = iso.get("service_speed_rpm")
     passed = iso.get("passed")
     two = doc.get("two_plane")
@@ -93,7 +93,7 @@ QUALITY_KEYS = ("residual_unbalance_gmm", "residual_unbalance_angle_deg", "speci
                 "unbalance_method", "residual_zone_label", "initial_unbalance_gmm",
                 "initial_unbalance_source",
                 "residual_speed_hz", "response_1x_m", "truth_residual_unbalance_gmm")
-ISO_KEYS = ("grade_mm_s", "service_speed_rpm", "permissible_residual_gmm",
+ISO_KEYS = ("required_grade_mm_s", "service_speed_rpm", "permissible_residual_gmm",
             "permissible_specific_unbalance_um", "achieved_grade_mm_s", "achieved_class", "passed")
 
 

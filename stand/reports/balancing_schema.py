@@ -12,10 +12,9 @@ from __future__ import annotations
 
 __all__ = ["SCHEMA", "SECTIONS", "REGIME_NAMES", "FORMAT_VERSION"]
 
+from stand.io.labels import REGIME_NAMES      # dsp.regime names -> the words shown (one table)
+
 FORMAT_VERSION = 1
-#: dsp.regime names -> the names used in the report
-REGIME_NAMES = {"main": "balanced", "side": "side", "quasi-periodic": "stuck",
-                "transient": "transient"}
 
 N, S_, B, L, O = "number|null", "string|null", "bool|null", "list", "object|null"
 
@@ -36,7 +35,7 @@ SCHEMA = {
         "residual_zone": N, "residual_zone_label": S_, "residual_window_s": L,
         "residual_speed_hz": N, "response_1x_m": N, "response_1x_m_std": N,
         "vibration_1x": O, "specific_unbalance_um": N, "specific_unbalance_um_std": N,
-        "iso_21940_11": {"grade_mm_s": "number", "service_speed_rpm": N,
+        "iso_21940_11": {"required_grade_mm_s": "number", "service_speed_rpm": N,
                          "permissible_residual_gmm": N, "permissible_specific_unbalance_um": N,
                          "achieved_grade_mm_s": N, "achieved_grade_mm_s_std": N,
                          "achieved_class": S_, "passed": B},

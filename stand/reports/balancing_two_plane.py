@@ -17,7 +17,7 @@ N, B, L = "number|null", "bool|null", "list"
 #: required keys and types of the ``two_plane`` section
 TWO_PLANE_SCHEMA = {
     "method": "string", "speed_hz": N, "screens": L, "planes": L,
-    "iso_21940_11": {"grade_mm_s": "number", "service_speed_rpm": N, "rotor_mass_kg": N,
+    "iso_21940_11": {"required_grade_mm_s": "number", "service_speed_rpm": N, "rotor_mass_kg": N,
                      "permissible_gmm": N, "allocation": "string", "passed": B},
     "notes": L,
 }

@@ -47,7 +47,7 @@ class Report(Result):
         ax.bar(names, values, color=["C7", "C0"])
         if iso.get("permissible_residual_gmm") is not None:
             ax.axhline(iso["permissible_residual_gmm"], color="C3", ls="--", lw=1,
-                       label=f"permissible (G {iso.get('grade_mm_s', 0):g})")
+                       label=f"permissible (G {iso.get('required_grade_mm_s', 0):g})")
             ax.legend(loc="upper right")
         ax.set_ylabel("unbalance [g mm]")
         ax.set_title(f"balancing quality: {(self.get('header') or {}).get('scene_name') or ''}",

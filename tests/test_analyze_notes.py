@@ -1,0 +1,243 @@
+"""stand analyze / report: each note says the true reason, each line is labelled by what it is,
+one name per JSON quantity and one word per regime (the audit of the samples)."""
+import json
+import math
+import re
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+from stand.cli.main import main
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENES, DAQ = ROOT / "data_samples" / "scenes", ROOT / "data_samples" / "daq"
+RUNUP_COLUMNS = "time=time_ms[ms],x=disp_x_um[um],y=disp_y_um[um],keyphasor=kp_V[V]"
+
+
+def _out(capsys, *argv):
+    assert main([str(a) for a in argv]) == 0
+    return capsys.readouterr().out
+
+
+def _json(capsys, *argv):
+    return json.loads(_out(capsys, *argv, "--json"))
+
+
+def _run(capsys, scene, h5, *extra):
+    _out(capsys, "run", scene, "-o", h5, *extra)
+    return h5
+
+
+FAST_BARE = """[scene]
+name = "fast_bare"
+[rotor]
+mass = 1.0
+eccentricity = 1.0e-4
+[supports]
+stiffness = 1.0e4
+damping = 10.0
+[drive]
+type = "speed"
+programme = [[0.0, 60.0], [3.0, 60.0]]   # [s, rev/s]
+[run]
+duration = 3.0
+sample_rate = 100.0
+"""
+
+
+def test_a_rotor_faster_than_half_the_sample_rate_says_so(tmp_path, capsys):
+    """60 rev/s sampled at 100 Hz: 0.6 revolution per sample, the sampled angle aliases; the
+    note says it with the numbers, not 'no scene' nor dsp's 't: too short'."""
+    scene = tmp_path / "fast_bare.toml"
+    scene.write_text(FAST_BARE)
+    doc = _json(capsys, "analyze", _run(capsys, scene, tmp_path / "f.h5"))
+    notes = doc["notes"]
+    assert "1X: the record samples 100 Hz, below twice the 60 rev/s speed (from 0 s on): no 1X" \
+        in notes
+    assert doc["speed_hz"] is None and doc["unbalance_gmm"] is None
+    assert not any(n.startswith("no scene in the recording") or "too short" in n for n in notes)
+    assert any(n.startswith("unbalance: no steady 1X") for n in notes)
+    assert "regime: the recording's scene has no weights: there is no regime of weights" in notes
+    # the speed programme is the recorded speed's (60 rev/s held), not the aliased angle's
+    assert doc["programme"]["kind"] == "constant"
+
+
+FAST_BALLS = """[scene]
+name = "fast_balls"
+[rotor]
+mass = 4.45
+eccentricity = 8.0899e-4
+[supports]
+stiffness = 1613.09
+damping = 8.5577
+[balancer]
+type = "balls"
+count = 2
+mass = 0.045
+radius = 0.08
+drag = 0.16965
+initial_angles = [150.0, 210.0]
+[drive]
+type = "speed"
+programme = [[0.0, 0.0], [4.0, 21.0]]   # [s, rev/s]: 10 rev/s (half of 20 Hz) at 1.905 s
+[run]
+duration = 6.0
+sample_rate = 20.0
+"""
+
+
+def test_the_regime_is_classified_where_the_record_samples_fast_enough(tmp_path, capsys):
+    """Balls on a rotor passing half the sample rate (10 rev/s at 20 Hz, at t = 1.905 s, the
+    first sample beyond at 1.95 s): the regime windows end there, the regime at the end of
+    the record is not claimed."""
+    scene = tmp_path / "fast_balls.toml"
+    scene.write_text(FAST_BALLS)
+    h5 = tmp_path / "fb.h5"
+    _out(capsys, "run", scene, "-o", h5)
+    doc = _json(capsys, "analyze", h5)
+    assert doc["regime"] is None
+    assert any(n.startswith("regime: the record samples 20 Hz, below twice the 21 rev/s speed "
+                            "(from 1.95 s on)") and "classified before 1.95 s only" in n
+               for n in doc["notes"])
+    res = stand_analyze(h5)
+    assert res["regime_timeline"] and max(w["t_end_s"] for w in res["regime_timeline"]) < 1.95
+
+
+def stand_analyze(path):
+    import stand
+
+    return stand.analyze(str(path))
+
+
+def test_a_record_ending_in_a_run_down_says_so(tmp_path, capsys):
+    h5 = tmp_path / "rd.h5"
+    _out(capsys, "experiment", SCENES / "ball_runup.toml", "run-down", "--speed", "20",
+         "--time", "20", "-o", h5)
+    notes = _json(capsys, "analyze", h5)["notes"]
+    one_x = [n for n in notes if n.startswith("1X: ")]
+    assert len(one_x) == 1 and one_x[0].startswith("1X: the record ends in a run-down (")
+    assert "holds 1 sample; a steady 1X needs at least 3: no 1X" in one_x[0]
+    assert not any("no scene" in n or "too short, 1 samples" in n for n in notes)
+
+
+def test_a_family_rotor_with_weights_has_its_regime(tmp_path, capsys):
+    """family_grinding records weights/ball1|2/angle: the regime is classified.  Its balls
+    end synchronous with the rotor and the plane's recorded residual |U| stays at half the
+    capacity S, far outside the ring of zone 1 (S / 16): 'side', as the simulator's own
+    regime of that run (stand sweep) says."""
+    h5 = _run(capsys, SCENES / "family_grinding.toml", tmp_path / "g.h5")
+    doc = _json(capsys, "analyze", h5)
+    with h5py.File(h5) as f:
+        U = np.asarray(f["truth/residual/balancer"])[-1]
+        S = float(f["truth/capacity"][()])
+    assert math.hypot(*U) / S > 1 / 16                   # not balanced: 0.5 S
+    assert doc["regime"] == "side"
+    notes = doc["notes"]
+    assert not any("needs the weights' angles" in n or "no scene" in n for n in notes)
+    assert any(n.startswith("unbalance: the 1X is turned into an unbalance with the planar "
+                            "rotor's model") and "the 'grinding' structure" in n for n in notes)
+
+
+def test_a_line_of_a_rotor_without_weights_is_no_precession(tmp_path, capsys):
+    """influence_reference (a flexible shaft, no weights): its 22.19 Hz line is the free
+    whirl at the first critical speed (22.2 Hz, the scene's comment), not a stuck weights'
+    precession; no note compares it with f0."""
+    h5 = _run(capsys, SCENES / "influence_reference.toml", tmp_path / "i.h5")
+    doc = _json(capsys, "analyze", h5)
+    assert doc["precession_hz"] is None and doc["nutation_hz"] is None
+    assert doc["strongest_other_line_hz"] == pytest.approx(22.2, rel=0.01)
+    assert not any("lower bound for f0" in n for n in doc["notes"])
+    text = _out(capsys, "analyze", h5)
+    assert "Strongest orbit line besides the 1X: 22." in text and "recession" not in text
+
+
+def test_synchronous_weights_make_no_precession(tmp_path, capsys):
+    """ball_friction: the balls turn with the rotor (15 rev/s); the 14.989 Hz line beside the
+    1X is no stuck weights' precession and lies nowhere near f0 = 3 Hz: no f0 note."""
+    h5 = _run(capsys, SCENES / "ball_friction.toml", tmp_path / "bf.h5")
+    doc = _json(capsys, "analyze", h5)
+    assert doc["precession_hz"] is None
+    assert doc["strongest_other_line_hz"] == pytest.approx(14.989, abs=0.005)
+    assert not any("lower bound for f0" in n for n in doc["notes"])
+    assert any("is no stuck weights' precession: the weights turn at 15" in n
+               and "with the rotor (synchronous)" in n for n in doc["notes"])
+
+
+def test_the_specific_unbalance_and_its_angle_are_shown_without_a_mass(capsys):
+    """daq_runup without the map's mass: the text shows the specific unbalance e [g mm / kg]
+    and the angle the JSON holds (truth 40 g mm/kg at 30 deg)."""
+    csv = DAQ / "daq_runup.csv"
+    doc = _json(capsys, "analyze", csv, "--columns", RUNUP_COLUMNS)
+    text = _out(capsys, "analyze", csv, "--columns", RUNUP_COLUMNS)
+    e = re.search(r"Specific unbalance e: ([\d.]+) ± ([\d.]+) g·mm/kg", text)
+    a = re.search(r"Unbalance angle \(from the mark\): ([\d.]+) ± ([\d.]+)", text)
+    assert e and a, text
+    assert float(e[1]) == pytest.approx(doc["specific_unbalance_gmm_per_kg"], abs=float(e[2]))
+    assert float(a[1]) == pytest.approx(doc["unbalance_angle_deg"], abs=float(a[2]))
+    truth = json.loads((DAQ / "daq_runup.truth.json").read_text())
+    assert abs(float(e[1]) - truth["specific_unbalance_um"]) < 5 * float(e[2]) + 0.01
+    assert abs(float(a[1]) - truth["unbalance_angle_deg"]) < 5 * float(a[2]) + 0.01
+
+
+def test_one_name_for_the_achieved_and_the_required_grade(tmp_path, capsys):
+    """daq_lab: analyze's iso_grade and the report's iso_21940_11 name the grade the rotor
+    achieves achieved_grade_mm_s and the one required required_grade_mm_s, the same values."""
+    csv, m = DAQ / "daq_lab.csv", DAQ / "daq_lab.map.toml"
+    a = _json(capsys, "analyze", csv, "--map", m, "--grade", "6.3")["iso_grade"]
+    r = _json(capsys, "report", csv, "--map", m, "--grade", "6.3")
+    iso = r["balancing_quality"]["iso_21940_11"]
+    assert "grade_mm_s" not in a and "grade_mm_s" not in iso and "target_mm_s" not in a
+    assert a["required_grade_mm_s"] == iso["required_grade_mm_s"] == 6.3
+    assert iso["achieved_grade_mm_s"] == a["achieved_grade_mm_s"] != 6.3
+    assert r["analysis"]["iso_grade"] == a
+
+
+def test_analyze_and_report_say_the_same_regime(tmp_path, capsys):
+    """ball_runup ends with the balls balancing the rotor: 'balanced' in both."""
+    from stand.io.labels import REGIME_NAMES
+
+    h5 = _run(capsys, SCENES / "ball_runup.toml", tmp_path / "b.h5")
+    doc = _json(capsys, "analyze", h5)
+    assert doc["regime"] == "main"                   # dsp.regime's name in the JSON
+    text = _out(capsys, "analyze", h5)
+    rep = _json(capsys, "report", h5)
+    assert rep["dynamics"]["final_regime"] == REGIME_NAMES["main"] == "balanced"
+    assert "  Regime: balanced\n" in text and "main" not in text
+
+
+def _track(path, t, nan_rows=()):
+    x = 1e-4 * np.cos(2 * np.pi * 3.0 * t)
+    y = 1e-4 * np.sin(2 * np.pi * 3.0 * t)
+    x[list(nan_rows)] = np.nan
+    y[list(nan_rows)] = np.nan
+    rows = ["t_s,x_m,y_m"] + [",".join("" if math.isnan(v) else f"{v:.9g}" for v in r)
+                              for r in zip(t, x, y)]
+    path.write_text("\n".join(rows) + "\n")
+    return path
+
+
+def test_empty_rows_are_no_time_gap(tmp_path, capsys):
+    """Frames without a spot (x, y empty) on a regular time base: 'empty or NaN', no gap in
+    time; a real gap in t_s is still one."""
+    t = np.arange(200) * 0.01
+    doc = _json(capsys, "analyze", _track(tmp_path / "a.csv", t, nan_rows=range(3, 10)))
+    ex = [n for n in doc["notes"] if n.startswith("excluded rows")]
+    assert "excluded rows 4-10: column 'x_m': empty or NaN" in ex
+    assert not any("gap" in n for n in ex)
+    t_gap = np.delete(t, range(3, 10))
+    doc = _json(capsys, "analyze", _track(tmp_path / "b.csv", t_gap))
+    assert any("column 't_s': gap of 0.08 s" in n for n in doc["notes"])
+
+
+def test_a_continuous_encoder_column_is_not_folded():
+    """An angle column already continuous with 7.5 revolutions per sample (a camera's frames
+    at 2 Hz on a 15 rev/s rotor): its speed is 15 rev/s, not an alias."""
+    from dsp.speed_channels import angle_from_encoder
+
+    t = np.arange(40) * 0.5
+    ra = angle_from_encoder(t, 2 * np.pi * 15.0 * t)
+    assert np.allclose(ra.speed_rad_s, 2 * np.pi * 15.0, rtol=1e-12)
+    wrapped = angle_from_encoder(t[:8] * 0.01, np.mod(2 * np.pi * 15.0 * t[:8] * 0.01, 2 * np.pi))
+    assert np.allclose(wrapped.speed_rad_s, 2 * np.pi * 15.0, rtol=1e-9)   # still unwrapped
