@@ -241,3 +241,25 @@ def test_a_continuous_encoder_column_is_not_folded():
     assert np.allclose(ra.speed_rad_s, 2 * np.pi * 15.0, rtol=1e-12)
     wrapped = angle_from_encoder(t[:8] * 0.01, np.mod(2 * np.pi * 15.0 * t[:8] * 0.01, 2 * np.pi))
     assert np.allclose(wrapped.speed_rad_s, 2 * np.pi * 15.0, rtol=1e-9)   # still unwrapped
+
+
+def test_a_lab_orbit_keeps_its_precession_and_nutation(tmp_path, capsys):
+    """A lab record has no weights' angles: the orbit is all there is, so its quasi-periodic
+    lines are identified as the precession and nutation (dsp.quasiperiodic), as before the
+    stuck-weights check -- that check applies only where the weights' angles are recorded
+    or the recording's scene has no weights.  Orbit of the ball_stuck kind: precession at
+    0.96135 f1 (Table 5.1-B, f1 = 3 Hz), nutation at the rotor speed 9 Hz, noise 1 um."""
+    import pandas as pd
+
+    t = np.arange(0.0, 20.0, 1e-3)
+    fP, fN = 0.96135 * 3.0, 9.0
+    rng = np.random.default_rng(5)
+    z = (1e-4 * np.exp(2j * np.pi * fP * t) + 3e-5 * np.exp(1j * (2 * np.pi * fN * t + 0.4))
+         + 1e-6 * (rng.standard_normal(t.size) + 1j * rng.standard_normal(t.size)))
+    p = tmp_path / "lab_orbit.csv"
+    pd.DataFrame({"t_s": t, "x_m": z.real, "y_m": z.imag,
+                  "rotor_angle_rad": 2 * np.pi * fN * t}).to_csv(p, index=False)
+    doc = _json(capsys, "analyze", p)
+    assert doc["precession_hz"] == pytest.approx(fP, rel=1e-4)
+    assert doc["nutation_hz"] == pytest.approx(fN, rel=1e-4)
+    assert doc["precession_amplitude_m"] == pytest.approx(1e-4, rel=0.02)

@@ -462,14 +462,23 @@ def _components(d, out, sl, rotating) -> None:
 
 def _stuck_weights_line(d, sl, line, f_rot, notes) -> bool:
     """Whether the orbit's strongest line below the 1X (``line``, a dsp.quasiperiodic
-    Component) is the stuck weights' precession: the recording has the weights' angles, they
+    Component) is the stuck weights' precession.  With the weights' angles recorded: they
     slip behind the rotor (their mean speed over the stretch below the rotor's by more than
     the regime's synchrony tolerance, 1e-3 of it) and the line runs at their mean speed
     (within 3 of its std or the stretch's resolution 1 / T) -- the orbit precesses with the
-    stuck weights at their speed Omega (:mod:`dsp.quasiperiodic`)."""
+    stuck weights at their speed Omega (:mod:`dsp.quasiperiodic`).  Without them (a lab
+    record: the orbit is all there is) the line is taken as the precession, as the
+    decomposition identifies it, unless the recording's scene has no weights at all."""
     w = d.get("weights")
     t = d["t"][sl]
-    if w is None or t.size < 2 or not t[-1] > t[0]:
+    if w is None:
+        sc = d.get("rec_scene")
+        bare = sc is not None and not (getattr(sc, "n_weights", 0) or getattr(sc, "bodies", None))
+        if bare:
+            notes.append(f"the orbit's strongest line besides the 1X, {line.frequency_hz:.6g} "
+                         "Hz, is the rotor's own: the recording's scene has no weights")
+        return not bare
+    if t.size < 2 or not t[-1] > t[0]:
         return False
     wa = np.unwrap(np.asarray(w, float)[sl].reshape(t.size, -1), axis=0)
     f_w = (wa[-1] - wa[0]) / (t[-1] - t[0]) / TWO_PI           # [rev/s] per weight

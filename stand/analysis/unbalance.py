@@ -153,7 +153,11 @@ def iso_grade(out, U_gmm, sU_gmm, mass, w_meas, grade, service_speed_rpm, per_kg
                         "class": g.label, "required_grade_mm_s": grade, "passed": g.passed,
                         "permissible_gmm": None if per_kg else getattr(g, "permissible_gmm", None),
                         "service_speed_rpm": w_service * 60 / TWO_PI,
-                        "mass_kg": None if per_kg else float(mass)}
+                        "mass_kg": None if per_kg else float(mass),
+                        # the names before 2026-11-30, kept for scripts that read them
+                        # (docs/results.md): grade_mm_s = achieved, target_mm_s = required
+                        "grade_mm_s": g.grade_mm_s, "grade_mm_s_std": g.grade_std_mm_s,
+                        "target_mm_s": grade}
 
 
 def ring_reading(out, d):

@@ -283,7 +283,8 @@ def _quality(a, scene, grade, header, warn) -> dict:
         "permissible_specific_unbalance_um": Up / mass if Up is not None and mass else None,
         "achieved_grade_mm_s": iso_a.get("achieved_grade_mm_s"),
         "achieved_grade_mm_s_std": iso_a.get("achieved_grade_mm_s_std"),
-        "achieved_class": iso_a.get("class"), "passed": iso_a.get("passed")}
+        "achieved_class": iso_a.get("class"), "passed": iso_a.get("passed"),
+        "grade_mm_s": grade}    # the required grade's name before 2026-11-30 (docs/results.md)
     if iso_a.get("passed") is False:
         warn("iso_grade_failed", f"ISO 21940-11: the residual unbalance exceeds the permissible "
              f"residual of the grade (achieved G {iso_a['achieved_grade_mm_s']:.3g} mm/s, required "

@@ -38,7 +38,7 @@ SCHEMA = {
         "iso_21940_11": {"required_grade_mm_s": "number", "service_speed_rpm": N,
                          "permissible_residual_gmm": N, "permissible_specific_unbalance_um": N,
                          "achieved_grade_mm_s": N, "achieved_grade_mm_s_std": N,
-                         "achieved_class": S_, "passed": B},
+                         "achieved_class": S_, "passed": B, "grade_mm_s": "number"},
         "reduction": {"applicable": "bool", "basis": S_, "factor": N, "factor_std": N,
                       "factor_lower_bound": N, "percent": N, "decibel": N},
         "seed_criteria": L,
