@@ -6,13 +6,14 @@
 
 * planar rotor: the book's dimensionless parameters (5.12)-(5.14), (5.88),
   ``p.R`` = operating speed / omega_1, ``p.f0_hz`` = omega_1 / 2 pi;
-* ``[structure]``: ``p.n`` (weights), ``p.e0`` (the main plane's unbalance /
-  its capacity), ``p.f0_hz`` = the lowest natural frequency at rest with the
-  weights locked, ``p.R`` = operating speed / (2 pi ``p.f0_hz``); Rt, h, H NaN;
+* ``[structure]``: ``p.n`` (weights), ``p.e0`` (|the rotor's static unbalance, the
+  vector sum over all its planes| / the capacity of all its weights), ``p.f0_hz`` =
+  the lowest natural frequency at rest with the weights locked, ``p.R`` = operating
+  speed / (2 pi ``p.f0_hz``); Rt, h, H NaN;
 * ``[weight_model]``: ``p.n`` only (the model's parameters are its own).
 
 Body weights (two-axis pendulum, coupled pair, damper, liquids) count as
-weights: ``p.n`` counts them and ``p.e0`` divides the main plane's unbalance by
+weights: ``p.n`` counts them and ``p.e0`` divides the rotor's static unbalance by
 the capacity of all its weights (balls ``sum m l``, bodies
 :attr:`~stand.model.rotors.bodies.TiltingWeight.capacity` ...).  A scene with body
 weights is classified by :func:`_body_regime` and gets the structure theory
@@ -20,6 +21,12 @@ weights is classified by :func:`_body_regime` and gets the structure theory
 
 A point that fails gets ``status = "error"`` and the message; it never stops
 the chunk.
+
+"Balanced" (``sim.regime`` main) of a rotor with several planes is the whole rotor's
+balance: its static residual (and couple residual where it has one) against the
+capacity of all its weights, with the planar rule's threshold ``balance_tol``
+(:func:`_balance`); never a plane alone (the grinding and spatial rotors carry their
+unbalance in a plane of its own, the balls in theirs).
 """
 from __future__ import annotations
 
@@ -73,12 +80,24 @@ def _plane_capacity(scene, plane: str) -> float:
             + sum(pb.body.capacity for pb in scene.bodies if pb.plane == plane))
 
 
-def _plane_e0(scene, plane: str) -> float:
-    """|unbalance of ``plane``| / capacity of its weights (structure scenes; any scene with
-    body weights)."""
-    S = _plane_capacity(scene, plane)
+def _weight_planes(scene) -> list:
+    """The planes that carry weights (balls or bodies), in scene order."""
+    return list(dict.fromkeys([w.plane for w in scene.weights] + [pb.plane for pb in scene.bodies]))
+
+
+def _capacity(scene) -> float:
+    """Capacity S [kg m] of all the weights of the scene, every plane."""
+    return sum(_plane_capacity(scene, p) for p in _weight_planes(scene))
+
+
+def _rotor_e0(scene) -> float:
+    """|static unbalance of the rotor| / capacity of all its weights: the vector sum of the
+    rotor's unbalances over every plane [kg m] (the balls' plane or one of its own) over
+    :func:`_capacity` (structure scenes; any scene with body weights).  A planar rotor has
+    one plane: its own unbalance over its weights' capacity."""
+    S = _capacity(scene)
     U = sum(u.s * complex(math.cos(u.angle), math.sin(u.angle))
-            for u in scene.linear_rotor().unbalances if u.plane == plane)
+            for u in scene.linear_rotor().unbalances)
     return abs(U) / S if S > 0 else math.nan
 
 
@@ -102,22 +121,64 @@ def point_parameters(scene) -> dict:
         out = {"p.n": p.n, "p.Rt": p.Rt, "p.h": float(p.h[0]) if p.n else nan, "p.H": H,
                "p.e0": p.e0, "p.R": _operating_R(scene, p.omega_1), "p.f0_hz": p.omega_1 / TWO_PI}
         if scene.bodies:
-            out.update({"p.n": p.n + len(scene.bodies), "p.e0": _plane_e0(scene, scene.main_plane)})
+            out.update({"p.n": p.n + len(scene.bodies), "p.e0": _rotor_e0(scene)})
         return out
     out = {"p.n": scene.n_weights + len(scene.bodies), "p.Rt": nan, "p.h": nan, "p.H": nan,
            "p.e0": nan, "p.R": nan, "p.f0_hz": nan}
     if scene.kind == "rotor":
         w = _reference_frequency(scene)
-        out.update({"p.e0": _plane_e0(scene, scene.main_plane), "p.R": _operating_R(scene, w),
+        out.update({"p.e0": _rotor_e0(scene), "p.R": _operating_R(scene, w),
                     "p.f0_hz": w / TWO_PI})
     return out
 
 
 # ---------------------------------------------------------------- simulation
+def _balance(run, opts: dict) -> tuple:
+    """``(sim.residual, balanced)`` of a run of a rotor of the family or with body weights.
+
+    "Balanced" is the rotor's balance, not a plane's: the weights cancel the rotor's
+    unbalance wherever it sits (in the balls' plane or a plane of its own).  With
+    ``tol = balance_tol`` (the planar rule's threshold, :func:`stand.analysis.regime.classify`:
+    a fraction of the capacity) and S the capacity of all the weights, every plane:
+
+    * static: the static residual ``U_s = sum_p U_p`` [kg m] at the run's end
+      (:func:`stand.integrate.residual.static_residual`) has ``|U_s| / S`` within ``tol``
+      of its target, 0, or ``e0 - 1`` beyond capacity (``e0`` = |the rotor's static
+      unbalance| / S, :func:`_rotor_e0`: the weights then all lean against it);
+    * couple, where the rotor has one (:func:`stand.integrate.residual.couple_residual`
+      not None) and the weights lie in at least two axial positions (one balancer plane
+      applies no couple: its balanced motion is the static balance): ``|U_c| < tol S L``
+      [kg m^2], L the axial span of the weights' planes (``U_c / L``: the pair of opposite
+      unbalances at the span's ends that the weights must cancel).  Beyond capacity only
+      the static residual is checked.
+
+    One plane (a planar rotor with bodies; unbalance and weights in one plane) reduces to
+    the planar rule.  ``sim.residual`` = ``|U_s| / S``; NaN and not balanced when the run
+    cannot say.
+    """
+    from stand.integrate.residual import couple_residual, plane_positions, static_residual
+
+    sc = run.scene
+    tol = opts.get("balance_tol", 1e-2)
+    S, e0 = _capacity(sc), _rotor_e0(sc)
+    Us = static_residual(run, slice(-1, None))
+    if Us is None or not S > 0:
+        return math.nan, False
+    psi = float(abs(np.asarray(Us)[-1])) / S
+    balanced = abs(psi - (e0 - 1.0 if e0 > 1 else 0.0)) < tol
+    if balanced and not e0 > 1:
+        z = plane_positions(sc, _weight_planes(sc))
+        span = (max(z.values()) - min(z.values())) if z else 0.0
+        Uc = couple_residual(run, slice(-1, None)) if span > 0 else None
+        if Uc is not None:
+            balanced = float(abs(np.asarray(Uc)[-1])) < tol * S * span
+    return psi, bool(balanced)
+
+
 def _structure_regime(run, opts: dict, w_ref: float) -> dict:
     """Regime of a ``[structure]`` run, :func:`dsp.regime.motion_regime` on its mean speeds;
-    balanced: every plane with weights within ``balance_tol`` of its target (0, or
-    e0 - 1 beyond capacity); ``sim.residual``: the largest |psi| / S of those planes."""
+    balanced and ``sim.residual``: the whole rotor's static (and couple) residual against
+    the capacity of all its weights (:func:`_balance`)."""
     from dsp.regime import motion_regime
 
     from stand.analysis.regime import QP_SPREAD_TOL
@@ -131,13 +192,7 @@ def _structure_regime(run, opts: dict, w_ref: float) -> dict:
         return {**out, "sim.regime": "no weights", "sim.residual": math.nan, "sim.spread_rad": 0.0}
     ws = np.mean(run.weight_speed[sel], axis=0)
     rel = run.weight_angle[sel] - run.rotor_angle[sel, None]
-    residual, balanced = 0.0, True
-    for plane in dict.fromkeys(w.plane for w in sc.weights):
-        S = sum(w.balancer.capacity for w in sc.weights if w.plane == plane)
-        U = np.asarray(run.truth[f"residual/{plane}"][0])[-1]
-        psi, e0 = float(np.hypot(U[0], U[1])) / S, _plane_e0(sc, plane)
-        residual = max(residual, psi)
-        balanced &= abs(psi - (e0 - 1.0 if e0 > 1 else 0.0)) < opts.get("balance_tol", 1e-2)
+    residual, balanced = _balance(run, opts)
     name = motion_regime(rotor, ws - rotor, balanced, sync_tol=opts.get("sync_tol", 1e-3),
                          spread_tol=QP_SPREAD_TOL)
     return {**out, "sim.regime": name, "sim.residual": residual,
@@ -166,12 +221,12 @@ def _body_regime(run, opts: dict, w_ref: float) -> dict:
     Synchronous (every weight with an azimuth within ``sync_tol`` of the rotor speed)
     and steady (the residual unbalance of every plane with weights, truth in the rotor
     frame, moves by less than ``balance_tol`` x its capacity over the window):
-    ``"main"`` when balanced (|psi| / S within ``balance_tol`` of 0, or of e0 - 1 beyond
-    capacity), else ``"steady"`` -- a synchronous motion that leaves a residual: the
+    ``"main"`` when balanced (the whole rotor, :func:`_balance`), else ``"steady"`` -- a
+    synchronous motion that leaves a residual: the
     main motion of a device that cannot balance fully (a pendulum against gravity, a
     liquid, whose correction follows the deflection) or a side motion, which the run
     alone does not tell apart.  Weights slipping back together: ``"quasi-periodic"``;
-    otherwise ``"transient"``.  ``sim.residual``: the largest final |psi| / S.
+    otherwise ``"transient"``.  ``sim.residual``: the final |static residual| / S (all planes).
     """
     from dsp.regime import motion_regime
 
@@ -182,15 +237,13 @@ def _body_regime(run, opts: dict, w_ref: float) -> dict:
     tol = opts.get("balance_tol", 1e-2)
     sel = run.t >= run.t[0] + (1 - window) * (run.t[-1] - run.t[0])
     rotor = float(np.mean(run.rotor_speed[sel]))
-    planes = list(dict.fromkeys([w.plane for w in sc.weights] + [pb.plane for pb in sc.bodies]))
-    residual, balanced, steady = 0.0, True, True
+    planes = _weight_planes(sc)
+    residual, balanced = _balance(run, opts)
+    steady = True
     for plane in planes:
         S = _plane_capacity(sc, plane)
         U = np.asarray(run.truth[f"residual/{plane}"][0])
-        psi, e0 = float(np.hypot(*U[-1])) / S, _plane_e0(sc, plane)
         move = float(np.max(np.hypot(*(U[sel] - U[-1]).T))) / S if np.any(sel) else 0.0
-        residual = max(residual, psi)
-        balanced &= abs(psi - (e0 - 1.0 if e0 > 1 else 0.0)) < tol
         steady &= move < tol
     slips = _body_slips(run, sel, rotor)
     name = motion_regime(rotor, slips, balanced, sync_tol=opts.get("sync_tol", 1e-3),
