@@ -50,9 +50,13 @@ from .io import frame_table
 from .levels import background_level, saturation_level
 from .spot import COARSE_SIGMA
 
-__all__ = ["TraceFit", "fit_trace", "track_traces", "TRACE_COLUMNS"]
+__all__ = ["TraceFit", "fit_trace", "track_traces", "TRACE_COLUMNS", "UNRESOLVED_SIGMAS"]
 
 BAD_FLAGS = frozenset({"missing", "blank", "edge"})
+#: a circle of radius R < UNRESOLVED_SIGMAS x the spot's sigma (estimated from the trace) is
+#: flagged "unresolved": circle and spot are not separable from one image, the fit's radius
+#: (< that many sigmas by the flag) is no measurement, only that bound
+UNRESOLVED_SIGMAS = 3.0
 #: columns of :func:`track_traces` after frame [and time]
 TRACE_COLUMNS = ("u_px", "v_px", "radius_px", "radius_std_px", "spot_sigma_px", "flags", "ok")
 
@@ -172,7 +176,7 @@ def fit_trace(frame, *, spot_sigma_px: Optional[float] = None, threshold: Option
         f = d2
     R2 = M2 - 2.0 * s2
     R = math.sqrt(R2) if R2 > 0 else 0.0
-    if spot_sigma_px is None and R < 3.0 * math.sqrt(max(s2, 0.0)):
+    if spot_sigma_px is None and R < UNRESOLVED_SIGMAS * math.sqrt(max(s2, 0.0)):
         flags.add("unresolved")
     if spot_sigma_px is not None and R > 0 and var_r > 1.5 * s2 + 0.25:
         flags.add("not_circle")

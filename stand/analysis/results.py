@@ -162,14 +162,21 @@ class Track(Result):
     """A spot track (``stand track``, :func:`stand.analysis.tracking.track_frames`) or the
     weights' angles in stroboscope frames (``stand strobe``): one row per frame in
     :attr:`frame` (the DataFrame the CSV holds), which ``to_frame()`` returns; the document
-    is the summary (``source``, ``frames``, ``found``: frames read).  The picture: the spot's
-    path on the screen (or the weights' angles against the frame)."""
+    is the summary (``source``, ``frames``, ``found``: frames read; a trace table also
+    ``bounds``: frames read whose circle is unresolved, only an upper bound,
+    :mod:`stand.analysis.trace_reading`).  The picture: the spot's path on the screen (or
+    the weights' angles against the frame)."""
 
     _title = "track"
 
     def __init__(self, frame, source="", strobe: bool = False):
         ok = int(frame["ok"].sum()) if "ok" in frame else len(frame)
-        super().__init__({"source": str(source), "frames": int(len(frame)), "found": ok})
+        doc = {"source": str(source), "frames": int(len(frame)), "found": ok}
+        if "radius_px" in frame and "ok" in frame:
+            from stand.analysis.trace_reading import unresolved
+
+            doc["bounds"] = int((unresolved(frame) & frame["ok"].to_numpy(bool)).sum())
+        super().__init__(doc)
         self._frame = frame
         self._strobe = bool(strobe)
 

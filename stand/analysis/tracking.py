@@ -341,7 +341,8 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
     capacity_gmm : float, optional
         The balancer's capacity S [g mm] (with ``calibration``): in the preamble
         (``stand analyze`` reads the ring zones i S/16 from it); with ``trace`` also
-        ``zone`` and ``unbalance_gmm`` columns.
+        ``zone``, ``unbalance_gmm`` and, for unresolved circles (only a bound),
+        ``unbalance_max_gmm`` columns (:mod:`stand.analysis.trace_reading`).
     optical_gain : float, optional
         Spot displacement / shaft displacement (default: the ring file's, the recording's).
     screen : str, optional
@@ -368,7 +369,6 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
         columns plus the calibrated ones); ``df.attrs["preamble"]``: the ``key -> value``
         lines :func:`write_track_csv` writes before the table (:data:`TRACK_PREAMBLE`).
     """
-    from dsp.unbalance import unbalance_from_rings
     from vision.calibration import detect_rings, fit_homography, px_to_m
     from vision.camera_artefacts import declared_camera, dropped_frames, stuck_pixels_repaired
     from vision.io import iter_frames
@@ -451,23 +451,11 @@ def track_frames(source, *, calibration=None, ring_radii=None, gain=None, thresh
         if rec is not None:
             df["screen"] = group.split("/", 1)[1]
         return df
-    # the circle's radius on the screen: the mean scale around the circle
-    df["radius_mm"] = df["radius_px"] * cal.scale * 1e3
-    df["radius_std_mm"] = np.hypot(df["radius_std_px"] * cal.scale,
-                                   df["radius_px"] * cal.scale_std) * 1e3   # + the ring scale's
-    if capacity_gmm is not None:
-        S = capacity_gmm * 1e-6
-        zone, U = [], []
-        for r in df["radius_mm"].to_numpy() * 1e-3:
-            if np.isfinite(r):
-                rd = unbalance_from_rings(r, radii, S)
-                zone.append(rd.zone)
-                U.append(rd.interpolated_kg_m * 1e6)
-            else:
-                zone.append(-1)
-                U.append(np.nan)
-        df["zone"] = zone
-        df["unbalance_gmm"] = U
+    # the circle's radius on the screen (the mean scale around the circle); an unresolved
+    # circle gives only an upper bound (radius_max_mm, unbalance_max_gmm)
+    from stand.analysis.trace_reading import trace_ring_columns
+
+    trace_ring_columns(df, cal.scale, cal.scale_std, radii, capacity_gmm)
     return df
 
 

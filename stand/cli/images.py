@@ -53,6 +53,11 @@ def cmd_track(args) -> int:
         fl = df["flags"].fillna("").astype(str)
         flagged = {f: int(fl.str.contains(f, regex=False).sum()) for f in ("not_refined", "fit_failed")}
         methods += "".join(f"; {f} {n}" for f, n in flagged.items() if n)
+    if tr.get("bounds"):
+        cols = ", ".join(c for c in ("radius_max_mm", "unbalance_max_gmm") if c in df)
+        methods += (f"; {tr['bounds']} unresolved: no radius, only an upper bound"
+                    f"{' (' + cols + ')' if cols else ''} -- the circle is not separable from "
+                    "the spot")
     print(f"{args.source}: {tr['frames']} frames, {what} found in {tr['found']}{methods} -> {args.output}")
     return 0
 
