@@ -24,6 +24,14 @@ zeta 0.04, 0.05 rev/s^2) and a sharper, faster one (f0 10 Hz, zeta 0.02, 0.1 rev
 noise 0.023 um per component; each with the first-order sweep model alone ("before",
 ``dsp.bode._sweep_corrected`` bypassed) and with the exact-sweep bias correction ("after").
 Printed per quantity: the share within 1 and 2 std and the mean and SD of z = error / std.
+
+Measured (1000 steady draws, 200 run-up draws; binomial SD of a 68 % share 0.015 / 0.033):
+steady, 0.56 um: within 1 std f0 0.74, zeta 0.70, U 0.71, angle 0.70; within 2 std
+1.00, 0.97, 0.96, 0.97; mean z |.| <= 0.04 (0.03 um: the same).  Run-up, the sample's
+truth: before, z = +0.84, -0.05, -0.39, -2.81 (f0, zeta, U, angle; SD 0.01-0.03: the
+noise does not matter, the bias does; angle within 2 std in 0 % of the draws); after,
++0.05, +0.00, +0.05, -0.10 (100 % within 1 std).  10 Hz / zeta 0.02 / 0.1 rev/s^2:
+before +1.85, +1.22, +0.57, -2.37; after +0.59, +0.74, +0.54, -0.56.
 """
 from __future__ import annotations
 

@@ -66,9 +66,9 @@ def sweep_response(speed_rad_s, w0, zeta, alpha, q, bins=None, *, steps_per_widt
     lo = max(float(np.min(w - half)) - margin, 0.5 * float(w[0]))
     hi = float(np.max(w + half)) + margin
     dw = zeta * w0 / steps_per_width
-    if bins is not None:
-        dw = min(dw, float(np.min(bins)) / steps_per_width)
-    n = int(math.ceil((hi - lo) / dw))
+    if bins is not None and np.any(half > 0):
+        dw = min(dw, 2.0 * float(np.min(half[half > 0])) / steps_per_width)
+    n = max(int(math.ceil((hi - lo) / dw)), 2)
     if n > max_steps:
         return None
     om = np.linspace(lo, hi, n + 1) if alpha > 0 else np.linspace(hi, lo, n + 1)
