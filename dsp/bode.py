@@ -12,6 +12,12 @@ the response draws on the polar plot is the model's, so it is a circle fit with 
 speed along the circle accounted for.  The half-power bandwidth of |z1 - c| / r^2 (the
 receptance's magnitude) is the cross-check: zeta_hp = (Omega_2 - Omega_1) / (2 Omega_pk).
 
+A table read on a run-up or run-down: the steady shape is taken at the speed the
+response shows (Omega - alpha tau, tau the group delay, alpha the fitted sweep rate),
+right to first order in alpha; the rest of the sweep's effect (the ringing through the
+resonance) is taken off by simulating the fitted mode's sweep exactly
+(:func:`dsp.bode_sweep.sweep_response`) and refitting it (``_sweep_corrected``).
+
 A table of several resonances (split criticals, several modes) is fitted mode by mode:
 each peak of |z1| on a window reaching halfway to its neighbours.
 
@@ -66,7 +72,10 @@ class ModalFit:
     sandwich over contiguous speed blocks (:func:`dsp.response_fit._covariances`): a
     table's residuals follow the speed -- a run-up's sweep lag and ringing through the
     resonance, bins averaged over a curved response, the probe's runout harmonics --
-    and those do not average out from point to point.
+    and those do not average out from point to point.  A swept table's values are
+    corrected for the first-order sweep model's bias (module docstring); its std then
+    also holds that correction x std(rate) / |rate| (added: a bound of the correlated
+    sum) and the bias a second simulation leaves.  ``residual_rms_m`` is then the residual of the exact sweep's table.
     """
 
     natural_frequency_hz: float
@@ -181,12 +190,13 @@ def modal_fit(speed_rad_s, vector_m, *, damping_guess=None) -> ModalFit:
     dchi2 = (rss[1 - best] - rss[best]) / s2 if s2 > 0 else math.inf
     w_other = 1.0 / (1.0 + math.exp(min(0.5 * dchi2, 700.0)))
     steady = _fit(w, z, w[k], z_guess, sweep=False, bins=primary["bins"])
-    w0, zeta, alpha = primary["p"]
-    q, c, r = primary["q"], primary["c"], primary["r"]
-    sd = _stds(w, r, primary["p"], q, primary["bins"])
+    sd = _stds(w, primary["r"], primary["p"], primary["q"], primary["bins"])
     for key in sd:        # the method's part: half the sweep's first-order correction, the bins
         sd[key] = math.hypot(sd[key], 0.5 * _diff(key, primary, steady),
                              _diff(key, other, primary) * math.sqrt(w_other))
+    primary = _sweep_corrected(w, z, primary, w[k], z_guess, sd)
+    w0, zeta, alpha = primary["p"]
+    q, c, r = primary["q"], primary["c"], primary["r"]
     crit = w0 / math.sqrt(1.0 - 2.0 * zeta * zeta) if zeta < 1 / math.sqrt(2) else math.nan
     zhp = half_power_damping(w, np.abs(z - c) / (w / w0) ** 2)
     return ModalFit(natural_frequency_hz=float(w0) / TWO_PI, natural_frequency_hz_std=sd["w0"] / TWO_PI,
@@ -221,11 +231,57 @@ def _fit(w, z, w_guess, z_guess, *, sweep, bins=None) -> dict:
     return {"p": p, "q": complex(q), "c": complex(c), "r": r, "bins": bins}
 
 
+def _sweep_corrected(w, z, fit, w_guess, z_guess, sd) -> dict:
+    """``fit`` less the first-order sweep model's own bias (:mod:`dsp.bode_sweep`).
+
+    The table the fitted mode would give on its fitted sweep is simulated exactly and
+    refitted: the refit's difference from the fit is the bias of the first-order lag model
+    (through the resonance the sweep also rings), subtracted.  The bias is ~ proportional
+    to the rate: its part from the rate's own std (the correction x std(alpha) / |alpha|,
+    added to the std: the two are correlated) and the bias left (a second simulation at the corrected values, refitted, against the
+    fit) enter ``sd`` (in place).  A rate within its std of 0 (a steady table: the
+    correction would be noise) or below 1e-4 (zeta w0)^2 (a lag of 1e-4 of the half-power
+    width), or a sweep too slow to simulate, leaves the fit as it is."""
+    from .bode_sweep import sweep_response
+
+    def table(f):
+        w0, zeta, alpha = f["p"]
+        s = sweep_response(w, w0, zeta, alpha, f["q"], f["bins"])
+        return None if s is None else s + f["c"]
+
+    def refit(f):
+        s = table(f)
+        return None if s is None else _fit(w, s, w_guess, z_guess, sweep=True, bins=f["bins"])
+
+    w0, zeta, alpha = fit["p"]
+    if not 0 < zeta < 1 or abs(alpha) <= max(sd["alpha"], 1e-4 * (zeta * w0) ** 2):
+        return fit
+    once = refit(fit)
+    if once is None:
+        return fit
+    p = tuple(2 * a - b for a, b in zip(fit["p"], once["p"]))
+    q, c = 2 * fit["q"] - once["q"], 2 * fit["c"] - once["c"]
+    if not (0 < p[1] < 0.7 and p[0] > 0):
+        return fit
+    out = {"p": p, "q": q, "c": c, "bins": fit["bins"]}
+    s = table(out)
+    out["r"] = z - s if s is not None else fit["r"]
+    twice = refit(out)
+    # the correction k alpha moves with the rate's error, correlated with the value's own:
+    # std(p - k alpha) <= std(p) + |k| std(alpha) (Cauchy-Schwarz)
+    rel = sd["alpha"] / abs(alpha)
+    for key in sd:
+        sd[key] = math.hypot(sd[key] + _diff(key, once, fit) * rel,
+                             _diff(key, twice, fit) if twice is not None else 0.0)
+    return out
+
+
 def _diff(key, a, b) -> float:
     """|a - b| of one reported quantity of two fits (:func:`_stds`' keys)."""
     def value(f):
         w0, zeta, _ = f["p"]
-        return {"w0": w0, "zeta": zeta, "e": abs(f["q"]), "beta": float(np.angle(f["q"])),
+        return {"w0": w0, "zeta": zeta, "alpha": f["p"][2], "e": abs(f["q"]),
+                "beta": float(np.angle(f["q"])),
                 "fc": w0 / math.sqrt(1.0 - 2.0 * zeta * zeta) / TWO_PI
                 if zeta < 1 / math.sqrt(2) else math.nan}[key]
     d = value(a) - value(b)
@@ -235,8 +291,8 @@ def _diff(key, a, b) -> float:
 
 
 def _stds(w, r, p, q, bins=None) -> dict:
-    """Statistical stds of omega_0 [rad/s], zeta, |q| [m], arg q [rad] and the critical
-    speed [rev/s] from the full model's Jacobian in (omega_0, zeta, alpha, q, c)."""
+    """Statistical stds of omega_0 [rad/s], zeta, the sweep rate [rad/s^2], |q| [m], arg q
+    [rad] and the critical speed [rev/s] from the full model's Jacobian in (omega_0, zeta, alpha, q, c)."""
     from .response_fit import _covariances
 
     w0, zeta, alpha = p
@@ -260,7 +316,8 @@ def _stds(w, r, p, q, bins=None) -> dict:
     v = np.array([-u[1], u[0]]) / (e if e > 0 else 1.0)
     shift = 1.0 / math.sqrt(1.0 - 2.0 * zeta * zeta) if zeta < 1 / math.sqrt(2) else math.nan
     gc = np.array([shift, w0 * 2 * zeta * shift ** 3]) / TWO_PI
-    grads = {"w0": (0, np.array([1.0])), "zeta": (1, np.array([1.0])), "e": (3, u),
+    grads = {"w0": (0, np.array([1.0])), "zeta": (1, np.array([1.0])),
+             "alpha": (2, np.array([1.0])), "e": (3, u),
              "beta": (3, v), "fc": (0, gc)}
 
     def std(C, i, g):

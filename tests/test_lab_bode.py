@@ -119,7 +119,10 @@ def test_the_run_up_table_sample_is_within_its_std():
     bins: read as steady snapshots its f0 was 12.0172 +- 0.0006 for 12.0000 (z 27) and zeta
     0.04056 +- 0.00005 for 0.04000 (z 11).  The fit now takes the sweep's lag (the fitted
     rate: ~0.046 rev/s^2) and the bins (the better of snapshots and bins), and half the
-    sweep correction stays in the ±."""
+    sweep correction stays in the ±.  The first-order lag model left the angle 29.49 +-
+    0.18 deg for 30 (z -2.8: the sweep's ringing through the resonance, the same from a
+    noiseless run-up, tests/test_bode_coverage.py); the exact-sweep bias correction
+    (dsp.bode_sweep) gives 29.96 +- 0.42 deg and the rate 0.0499 rev/s^2."""
     from stand.analysis.identify import analyze
     from stand.lab.recording_map import read_map
 
@@ -127,6 +130,7 @@ def test_the_run_up_table_sample_is_within_its_std():
     truth = json.loads((SAMPLES / "bode_table.truth.json").read_text())
     for key, tk in (("natural_frequency_hz", "natural_frequency_hz"),
                     ("damping_ratio", "damping_ratio"), ("unbalance_gmm", "unbalance_gmm"),
-                    ("critical_speed_hz", "critical_speed_hz")):
+                    ("critical_speed_hz", "critical_speed_hz"),
+                    ("unbalance_angle_deg", "unbalance_angle_deg")):
         assert abs(d[key] - truth[tk]) < 2 * d[key + "_std"], (key, d[key], d[key + "_std"])
-    assert d["modes"][0]["sweep_rate_hz_s"] == pytest.approx(0.05, rel=0.2)
+    assert d["modes"][0]["sweep_rate_hz_s"] == pytest.approx(0.05, rel=0.02)
