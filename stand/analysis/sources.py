@@ -231,26 +231,26 @@ def from_run(rec):
 
 
 def _residual_ratio(rec, scene):
-    """A rotor of the family with weights: the largest over its planes with weights of the
-    recorded residual unbalance ``truth/residual/<plane>`` [kg m] over the ring of zone 1,
-    S_p / 16 (``(N,)``, below 1: balanced), or None (a planar rotor, no weights, no truth).
-    Its balancer balances its planes' unbalance, not the main plane's whirl alone."""
+    """A rotor of the family with weights: its static residual unbalance (every plane's
+    ``truth/residual/<plane>`` summed: :func:`stand.integrate.residual.static_residual`,
+    the rule of the run's summary and the sweep) [kg m] over the ring of zone 1 of the
+    capacity of all its weights, S / 16 (``(N,)``, below 1: balanced), or None (a planar
+    rotor, no weights, no truth).  A plane alone is no residual where the unbalance sits in
+    a plane of its own (grinding, spatial)."""
+    from stand.integrate.residual import static_residual
+
     weights = getattr(scene, "weights", None) or ()
     if getattr(scene, "kind", None) in (None, "planar") or not weights:
         return None
-    truth = getattr(rec, "truth", None) or {}
-    ratio = None
-    for plane in dict.fromkeys(getattr(w, "plane", None) for w in weights):
-        S = sum(w.balancer.capacity for w in weights if getattr(w, "plane", None) == plane)
-        got = truth.get(f"residual/{plane}")
-        if got is None or not S > 0:
-            return None
-        U = np.asarray(got[0], float)
-        if U.shape != (np.size(rec.t), 2):
-            return None
-        r = np.hypot(U[:, 0], U[:, 1]) / (S / 16)
-        ratio = r if ratio is None else np.maximum(ratio, r)
-    return ratio
+    S = float(sum(w.balancer.capacity for w in weights)
+              + sum(b.body.capacity for b in getattr(scene, "bodies", ()) or ()))
+    try:
+        U = static_residual(rec)
+    except (AttributeError, TypeError, ValueError):
+        return None
+    if U is None or not S > 0 or np.shape(U) != (np.size(rec.t),):
+        return None
+    return np.abs(U) / (S / 16)
 
 
 def _clipped_probes(t, x, y, notes):

@@ -43,9 +43,10 @@ def cmd_run(args) -> int:
             print(f"  t = {plain(final['time_s'], 's', 6)}, speed "
                   f"{plain(final['rotor_speed_rev_per_s'], 'rev/s')}, plane {final['main_plane']} "
                   f"whirl radius {shown({'final_whirl_m': final['whirl_radius_m']}, 'final_whirl_m')}"
-                  # a static offset (gravity sag) larger than the whirl is worth a word
+                  # a static offset (gravity sag) larger than the whirl is worth a word (not a
+                  # sub-nanometre one: round-off of a rotor at rest, below any probe)
                   + (f" about a static offset of {shown({'final_whirl_m': off}, 'final_whirl_m')}"
-                     if off > final["whirl_radius_m"] else "")
+                     if off > max(final["whirl_radius_m"], 1e-9) else "")
                   + (f", residual unbalance {plain(100 * ru, '% of S', 3)} (static)"
                      if ru is not None else "")
                   + (f", couple {plain(cpl, 'g·mm²', 3)}" if cpl is not None else ""))
