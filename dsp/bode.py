@@ -191,10 +191,11 @@ def modal_fit(speed_rad_s, vector_m, *, damping_guess=None) -> ModalFit:
     w_other = 1.0 / (1.0 + math.exp(min(0.5 * dchi2, 700.0)))
     steady = _fit(w, z, w[k], z_guess, sweep=False, bins=primary["bins"])
     sd = _stds(w, primary["r"], primary["p"], primary["q"], primary["bins"])
+    alpha_std = sd["alpha"]   # the rate's statistical std (its method part below is the rate)
     for key in sd:        # the method's part: half the sweep's first-order correction, the bins
         sd[key] = math.hypot(sd[key], 0.5 * _diff(key, primary, steady),
                              _diff(key, other, primary) * math.sqrt(w_other))
-    primary = _sweep_corrected(w, z, primary, w[k], z_guess, sd)
+    primary = _sweep_corrected(w, z, primary, w[k], z_guess, sd, alpha_std)
     w0, zeta, alpha = primary["p"]
     q, c, r = primary["q"], primary["c"], primary["r"]
     crit = w0 / math.sqrt(1.0 - 2.0 * zeta * zeta) if zeta < 1 / math.sqrt(2) else math.nan
@@ -231,7 +232,7 @@ def _fit(w, z, w_guess, z_guess, *, sweep, bins=None) -> dict:
     return {"p": p, "q": complex(q), "c": complex(c), "r": r, "bins": bins}
 
 
-def _sweep_corrected(w, z, fit, w_guess, z_guess, sd) -> dict:
+def _sweep_corrected(w, z, fit, w_guess, z_guess, sd, alpha_std) -> dict:
     """``fit`` less the first-order sweep model's own bias (:mod:`dsp.bode_sweep`).
 
     The table the fitted mode would give on its fitted sweep is simulated exactly and
@@ -254,7 +255,7 @@ def _sweep_corrected(w, z, fit, w_guess, z_guess, sd) -> dict:
         return None if s is None else _fit(w, s, w_guess, z_guess, sweep=True, bins=f["bins"])
 
     w0, zeta, alpha = fit["p"]
-    if not 0 < zeta < 1 or abs(alpha) <= max(sd["alpha"], 1e-4 * (zeta * w0) ** 2):
+    if not 0 < zeta < 1 or abs(alpha) <= max(alpha_std, 1e-4 * (zeta * w0) ** 2):
         return fit
     once = refit(fit)
     if once is None:
@@ -269,7 +270,7 @@ def _sweep_corrected(w, z, fit, w_guess, z_guess, sd) -> dict:
     twice = refit(out)
     # the correction k alpha moves with the rate's error, correlated with the value's own:
     # std(p - k alpha) <= std(p) + |k| std(alpha) (Cauchy-Schwarz)
-    rel = sd["alpha"] / abs(alpha)
+    rel = alpha_std / abs(alpha)
     for key in sd:
         sd[key] = math.hypot(sd[key] + _diff(key, once, fit) * rel,
                              _diff(key, twice, fit) if twice is not None else 0.0)

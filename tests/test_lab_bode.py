@@ -122,7 +122,7 @@ def test_the_run_up_table_sample_is_within_its_std():
     sweep correction stays in the ±.  The first-order lag model left the angle 29.49 +-
     0.18 deg for 30 (z -2.8: the sweep's ringing through the resonance, the same from a
     noiseless run-up, tests/test_bode_coverage.py); the exact-sweep bias correction
-    (dsp.bode_sweep) gives 29.96 +- 0.42 deg and the rate 0.0499 rev/s^2."""
+    (dsp.bode_sweep) gives 29.96 +- 0.22 deg and the rate 0.0499 rev/s^2."""
     from stand.analysis.identify import analyze
     from stand.lab.recording_map import read_map
 
