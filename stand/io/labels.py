@@ -81,7 +81,12 @@ LABELS = {
     "specific_unbalance_um_std": ("Specific unbalance: uncertainty", "µm", 1.0),
     "iso_21940_11": ("ISO 21940-11", "", 1.0),
     "required_grade_mm_s": ("Required grade G", "mm/s", 1.0),
-    "grade_mm_s": ("Required grade G (the key's old name)", "mm/s", 1.0),
+    # the old keys, still written (docs/results.md): grade_mm_s is the achieved grade in the
+    # analysis' iso_grade, the required one in the report's iso_21940_11
+    "grade_mm_s": ("Grade G (old key: achieved in the analysis, required in the report)",
+                   "mm/s", 1.0),
+    "grade_mm_s_std": ("Achieved grade: uncertainty (old key)", "mm/s", 1.0),
+    "target_mm_s": ("Required grade G (old key)", "mm/s", 1.0),
     "permissible_residual_gmm": ("Permissible residual U_per", "g·mm", 1.0),
     "permissible_specific_unbalance_um": ("Permissible specific unbalance e_per", "µm", 1.0),
     "achieved_grade_mm_s": ("Achieved grade", "mm/s", 1.0),
