@@ -268,3 +268,23 @@ def test_a_lab_orbit_keeps_its_precession_and_nutation(tmp_path, capsys):
     assert doc["precession_hz"] == pytest.approx(fP, rel=1e-4)
     assert doc["nutation_hz"] == pytest.approx(fN, rel=1e-4)
     assert doc["precession_amplitude_m"] == pytest.approx(1e-4, rel=0.02)
+
+
+def test_a_slow_stretch_after_an_aliased_one_keeps_its_1x(tmp_path, capsys):
+    """Sampled at 200 Hz, a rotor first at 150 rev/s (aliased: above 100 Hz), then held at
+    10 rev/s for 20 s: the steady stretch at the end is properly sampled and gives its 1X
+    (amplitude 50 um), not the 'no 1X' of the aliased start."""
+    import pandas as pd
+
+    fs = 200.0
+    t = np.arange(0.0, 30.0, 1.0 / fs)
+    f = np.where(t < 5.0, 150.0, np.where(t < 10.0, 150.0 - 28.0 * (t - 5.0), 10.0))
+    phi = 2 * np.pi * np.cumsum(f) / fs
+    z = 5e-5 * np.exp(1j * (phi + 0.3))
+    p = tmp_path / "slow_after_fast.csv"
+    pd.DataFrame({"t_s": t, "x_m": z.real, "y_m": z.imag, "rotor_angle_rad": phi}).to_csv(
+        p, index=False)
+    doc = _json(capsys, "analyze", p)
+    assert doc["speed_hz"] == pytest.approx(10.0, rel=1e-3)
+    assert doc["response_1x_m"] == pytest.approx(5e-5, rel=1e-3)
+    assert not any(n.startswith("1X:") and "no 1X" in n for n in doc["notes"])

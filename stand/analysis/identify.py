@@ -303,15 +303,16 @@ def _steady_1x(d, out, speed, rotating):
 
 def _no_steady_1x(d, out, speed, sl):
     """Why the record gives no steady 1X, in the user's words, or None: its stationary stretch
-    sampled below twice the rotor speed (:func:`stand.analysis.sources.undersampled`), or
-    too short (the record ends in a run-up or run-down)."""
+    itself sampled below twice the rotor speed (:func:`stand.analysis.sources.undersampled`;
+    a later, slower stretch keeps its 1X), or too short (it ends in a run-up or run-down)."""
     from stand.io.numbers import plain
 
     t, u = d["t"], d.get("undersampled")
     start, stop = sl.indices(t.size)[:2]
-    if u is not None and u["index"] < stop:
-        f = speed
-        u = dict(u, speed_hz=float(np.max(np.abs(f[max(start, u["index"]):stop]))) / TWO_PI)
+    f = np.abs(np.asarray(speed[start:stop])) / TWO_PI if u is not None else np.zeros(0)
+    if len(bad := np.flatnonzero(f >= 0.5 * u["sample_rate_hz"]) if f.size else ()):  # aliases
+        i = start + int(bad[0])
+        u = dict(u, index=i, t_s=float(t[i]), speed_hz=float(np.max(f)))
         return undersampled_words(u, "1X") + ": no 1X"
     n = stop - start
     if n >= 3:
