@@ -4,9 +4,9 @@
 :func:`_normal_equations_loops` the residual sum of squares, ``J^T J`` (9 x 9), ``J^T r``
 (9) and the sandwich's meat over the fitted pixels, clipped pixels censored (module
 docstring of :mod:`vision.blur`), by loops over the pixels and, for each, over the path
-points within a few sigma of it (~20 us for a 300-pixel blob, ~0.1 ms for an 80 px arc);
-:func:`fit_loops` the whole Levenberg-Marquardt fit with its score test and the centre's
-sandwich covariance.  :func:`compiled_fit` compiles them (numba, ``cache=True``).
+points within a few sigma of it (with the matrices: ~20 us for a 330-pixel blob, ~70 us for
+a 900-pixel 30-60 px arc); :func:`fit_loops` the whole Levenberg-Marquardt fit with its
+score test and the centre's sandwich covariance; :func:`compiled_fit` compiles them.
 
 The numpy twin of the normal equations (matrix products over the patch: the same numbers
 to rounding, ``tests/test_video_track.py``, 5-10x slower) and the plain-Python fit that
