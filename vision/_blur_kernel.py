@@ -1,30 +1,27 @@
 """The blurred-spot fit of :mod:`vision.blur` as loops that numba compiles.
 
 :func:`path` gives the path's points, weights and derivatives;
-:func:`_normal_equations_loops` the residual sum of squares, ``J^T J`` (9 x 9),
-``J^T r`` (9) and the sandwich's meat of the model over the fitted pixels, with
-clipped pixels censored (module docstring of :mod:`vision.blur`), by loops over
-the pixels and, for each, over the path points within a few sigma of it -- about
-20 us for a still spot and 0.3 ms for an 80 px arc; :func:`fit_loops` the whole
-Levenberg-Marquardt fit with its score test and the centre's sandwich covariance.  :func:`compiled_fit` compiles them
-(numba, ``cache=True``; numba imported only then).
+:func:`_normal_equations_loops` the residual sum of squares, ``J^T J`` (9 x 9), ``J^T r``
+(9) and the sandwich's meat over the fitted pixels, clipped pixels censored (module
+docstring of :mod:`vision.blur`), by loops over the pixels and, for each, over the path
+points within a few sigma of it (with the matrices: ~20 us for a 330-pixel blob, ~70 us for
+a 900-pixel 30-60 px arc); :func:`fit_loops` the whole Levenberg-Marquardt fit with its
+score test and the centre's sandwich covariance; :func:`compiled_fit` compiles them.
 
-The numpy twin of the normal equations (the separable sums as matrix products
-over the patch: the same numbers to rounding, ``tests/test_video_track.py``,
-about 5-10x slower) and the plain-Python copy of the fit that uses it, for when
-numba is missing or ``STAND_DISABLE_JIT=1`` / ``NUMBA_DISABLE_JIT=1`` is set, are
-:mod:`vision._blur_numpy`.  This module imports nothing of ``vision`` but
+The numpy twin of the normal equations (matrix products over the patch: the same numbers
+to rounding, ``tests/test_video_track.py``, 5-10x slower) and the plain-Python fit that
+uses it, for when numba is missing or ``STAND_DISABLE_JIT=1`` / ``NUMBA_DISABLE_JIT=1``,
+are :mod:`vision._blur_numpy`.  This module imports nothing of ``vision`` but
 :mod:`vision._numba` (which compiles nothing): numba's cache is invalidated per source
 file, so the compiled code lives in this one file.
 """
 from __future__ import annotations
 
 import math
-import os
 
 import numpy as np
 
-from ._numba import jit_disabled, numba_or_none
+from ._numba import cache_missing, numba_or_none
 
 __all__ = ["fit_loops", "compiled_fit", "compiled_available", "compile_needed", "path",
            "n_points", "CUTOFF_SIGMAS"]
@@ -37,11 +34,19 @@ _SQRT2PI = math.sqrt(2.0 * math.pi)
 _compiled = None        # None: not tried yet; False: unavailable; else the dispatcher
 
 
+#: Gauss-Legendre nodes on [-1, 1] and weights (sum 1) of 4, 5 and 6 points, one after the
+#: other (:func:`path` for a short path, :func:`n_points`)
+_GL = [np.polynomial.legendre.leggauss(m) for m in (4, 5, 6)]
+_GL_X = np.concatenate([x for x, _ in _GL])
+_GL_W = np.concatenate([w / 2.0 for _, w in _GL])
+
+
 def path(mu, mv, hu, hv, kap, a2, a3, n):
     """Path points, quadrature weights and their derivatives (plain loops, also compiled by
-    numba; ``n`` >= 7).
+    numba; ``n`` >= 4: 4-6 the Gauss-Legendre nodes, 7 and more equal steps with Gregory's
+    end corrections, :func:`n_points`).
 
-    The point at time fraction x in [-1, 1] (``n`` equal steps, ends included) is
+    The point at time fraction x in [-1, 1] (the node, or ``n`` equal steps, ends included) is
     ``m + (T(x) + a2 P2(x)) h + (N(x) + a3 P3(x)) J h`` with beta = kappa l, l = |h|,
     J = +90 deg turn, T = sin(beta x)/beta, N = (sin(beta)/beta - cos(beta x))/beta
     (series near beta = 0), P2 = x^2 - 1/3, P3 = x^3 - 3x/5 (zero mean: m stays the
@@ -49,7 +54,8 @@ def path(mu, mv, hu, hv, kap, a2, a3, n):
 
     Returns
     -------
-    u, v : (n,) [px];  w : (n,) weights (sum 1, Gregory's end corrections);
+    u, v : (n,) [px];  w : (n,) weights (sum 1: Gauss-Legendre's, or Gregory's end
+    corrections);
     pu, pv : (5, n) d(u, v)/d(h_u, h_v, kappa, a2, a3).
     """
     u = np.empty(n)
@@ -66,8 +72,10 @@ def path(mu, mv, hu, hv, kap, a2, a3, n):
     bu = kap * hu / ell if ell > 0 else 0.0
     bv = kap * hv / ell if ell > 0 else 0.0
     total = 0.0
+    gl = n < 7
+    off = (n - 4) * (n + 3) // 2        # the first of the n nodes in _GL_X: 0, 4, 9
     for k in range(n):
-        x = -1.0 + 2.0 * k / (n - 1)
+        x = _GL_X[off + k] if gl else -1.0 + 2.0 * k / (n - 1)
         x2 = x * x
         if small:
             b2 = beta * beta
@@ -103,36 +111,51 @@ def path(mu, mv, hu, hv, kap, a2, a3, n):
         # Gregory's end corrections of the trapezoidal rule: 3/8, 7/6, 23/24, 1, ...
         e = min(k, n - 1 - k)
         w[k] = 3.0 / 8.0 if e == 0 else (7.0 / 6.0 if e == 1 else (23.0 / 24.0 if e == 2 else 1.0))
+        if gl:
+            w[k] = _GL_W[off + k]
         total += w[k]
     for k in range(n):
         w[k] /= total
     return u, v, w, pu, pv
 
 
-def _profile_row(c, s, lo, hi, wk, g, dg, sg):
-    """Pixel-integrated profile of a point at ``c`` [px] over pixels lo..hi, times the
-    weight ``wk``, into ``g``; its derivatives with respect to the point (``dg``) and to
-    ``s`` (``sg``).  Pixel p covers [p - 1/2, p + 1/2]: each edge's erf and exp serve the
-    two pixels it separates."""
+def _profile_row(c, s, lo, hi, wk, k, g, dg, sg):
+    """Pixel-integrated profile of point ``k`` at ``c`` [px] over pixels lo..hi, times the
+    weight ``wk``, into column ``k`` of ``g`` (pixels x points); its derivatives with respect
+    to the point (``dg``) and to ``s`` (``sg``).  Pixel p covers [p - 1/2, p + 1/2]: each
+    edge's erf and exp serve the two pixels it separates; the exps by the recurrences
+    exp(-(b + d)^2 / 2) = exp(-b^2 / 2) exp(-b d) exp(-d^2 / 2), d = 1 / s, and
+    exp(-(b + d) d) = exp(-b d) exp(-d^2)."""
     k_ = _SQRT2PI * s
-    b = (lo - 0.5 - c) / s
+    d = 1.0 / s
+    e2 = 1.0 / (_SQRT2 * s)
+    b = (lo - 0.5 - c) * d
     eb = math.exp(-0.5 * b * b)
-    Eb = math.erf(b / _SQRT2)
+    Eb = math.erf((lo - 0.5 - c) * e2)
+    f = math.exp(-b * d)            # exp(-b d) at the current edge
+    h = math.exp(-0.5 * d * d)
+    hh = h * h
     for p in range(lo, hi + 1):
-        a = b + 1.0 / s
-        ea = math.exp(-0.5 * a * a)
-        Ea = math.erf(a / _SQRT2)
+        a = b + d
+        ea = eb * f * h
+        f *= hh
+        Ea = math.erf((p + 0.5 - c) * e2)
         gg = 0.5 * k_ * (Ea - Eb)
-        g[p] = gg * wk
-        dg[p] = (eb - ea) * wk
-        sg[p] = (gg / s - (ea * a - eb * b)) * wk
+        g[p, k] = gg * wk
+        dg[p, k] = (eb - ea) * wk
+        sg[p, k] = (gg * d - (ea * a - eb * b)) * wk
         b, eb, Eb = a, ea, Ea
 
 
 def _normal_equations_loops(patch, pi, pj, clipped, level, sat_eff, p, n, want_jac, want_meat,
                             JTJ, g, MJ):
     """Plain loops (compiled by numba).  Returns the residual sum of squares; fills
-    ``JTJ`` (9, 9) and ``g`` (9) when ``want_jac``."""
+    ``JTJ`` (9, 9), ``g`` (9) and, when ``want_meat``, ``MJ`` (9, 9) when ``want_jac``.
+
+    A pixel sums over the points from the last first-reaching one of its row and column to
+    the first last-reaching one: the profiles are 0 beyond a point's reach, so the points
+    in that range that do not reach the pixel add exact zeros (the numbers of a test of
+    every point's reach, without its branches)."""
     H, W = patch.shape
     u, v, w, pu, pv = path(p[0], p[1], p[2], p[3], p[4], p[5], p[6], n)
     A = math.exp(p[7])
@@ -140,64 +163,55 @@ def _normal_equations_loops(patch, pi, pj, clipped, level, sat_eff, p, n, want_j
     n = u.shape[0]
     P = pi.shape[0]
     cut = CUTOFF_SIGMAS * s + 1.0
-    # 1-D profiles of every point over the patch's columns and rows
-    gu = np.zeros((n, W))
-    du_ = np.zeros((n, W))
-    su = np.zeros((n, W))
-    gv = np.zeros((n, H))
-    dv_ = np.zeros((n, H))
-    sv = np.zeros((n, H))
-    jlo = np.empty(n, np.int64)
-    jhi = np.empty(n, np.int64)
-    ilo = np.empty(n, np.int64)
-    ihi = np.empty(n, np.int64)
+    # 1-D profiles of every point over the patch's columns and rows (pixels x points: a
+    # pixel's sum over the points reads contiguous memory)
+    gu, du_, su = np.zeros((W, n)), np.zeros((W, n)), np.zeros((W, n))
+    gv, dv_, sv = np.zeros((H, n)), np.zeros((H, n)), np.zeros((H, n))
+    # each column's and row's first and last point that reaches it
+    cfirst, clast = np.full(W, n, np.int64), np.full(W, -1, np.int64)
+    rfirst, rlast = np.full(H, n, np.int64), np.full(H, -1, np.int64)
     for k in range(n):
-        jlo[k] = max(int(math.floor(u[k] - cut)), 0)
-        jhi[k] = min(int(math.ceil(u[k] + cut)), W - 1)
-        ilo[k] = max(int(math.floor(v[k] - cut)), 0)
-        ihi[k] = min(int(math.ceil(v[k] + cut)), H - 1)
-        _profile_row(u[k], s, jlo[k], jhi[k], w[k], gu[k], du_[k], su[k])
-        _profile_row(v[k], s, ilo[k], ihi[k], 1.0, gv[k], dv_[k], sv[k])
+        jlo = max(int(math.floor(u[k] - cut)), 0)
+        jhi = min(int(math.ceil(u[k] + cut)), W - 1)
+        ilo = max(int(math.floor(v[k] - cut)), 0)
+        ihi = min(int(math.ceil(v[k] + cut)), H - 1)
+        _profile_row(u[k], s, jlo, jhi, w[k], k, gu, du_, su)
+        _profile_row(v[k], s, ilo, ihi, 1.0, k, gv, dv_, sv)
+        for c in range(jlo, jhi + 1):       # (k increases: the first is set once)
+            cfirst[c] = min(cfirst[c], k)
+            clast[c] = k
+        for c in range(ilo, ihi + 1):
+            rfirst[c] = min(rfirst[c], k)
+            rlast[c] = k
     cost = 0.0
-    Jm = np.empty((P if want_jac else 0, NP))
+    Jm = np.empty((NP, P if want_jac else 0))
     rr = np.empty(P if want_jac else 0)
     na = 0
     for q in range(P):
         i = pi[q]
         j = pj[q]
+        k0 = max(rfirst[i], cfirst[j])
+        k1 = min(rlast[i], clast[j]) + 1
         # a clipped pixel the model already reaches is inactive (residual 0, no gradient):
         # its model value first; every other pixel's value and gradient in one pass
         m = 0.0
-        if clipped[q]:
-            for k in range(n):
-                if j < jlo[k] or j > jhi[k] or i < ilo[k] or i > ihi[k]:
-                    continue
-                m += gv[k, i] * gu[k, j]
-            if level + A * m >= sat_eff:
+        if clipped[q] or not want_jac:
+            for k in range(k0, k1):
+                m += gv[i, k] * gu[j, k]
+            if clipped[q] and level + A * m >= sat_eff:
                 continue
             if not want_jac:
-                r = sat_eff - level - A * m
+                r = (sat_eff if clipped[q] else patch[i, j]) - level - A * m
                 cost += r * r
                 continue
-        elif not want_jac:
-            for k in range(n):
-                if j < jlo[k] or j > jhi[k] or i < ilo[k] or i > ihi[k]:
-                    continue
-                m += gv[k, i] * gu[k, j]
-            r = patch[i, j] - level - A * m
-            cost += r * r
-            continue
-        # the row's sums in locals (registers), in the order of the points
-        m = 0.0
+        m = 0.0         # the row's sums in locals (registers), in the order of the points
         j0 = j1 = j2 = j3 = j4 = j5 = j6 = j8 = 0.0
-        for k in range(n):
-            if j < jlo[k] or j > jhi[k] or i < ilo[k] or i > ihi[k]:
-                continue
-            gvk = gv[k, i]
-            guk = gu[k, j]
+        for k in range(k0, k1):
+            gvk = gv[i, k]
+            guk = gu[j, k]
             m += gvk * guk
-            t1 = gvk * du_[k, j]
-            t2 = dv_[k, i] * guk
+            t1 = gvk * du_[j, k]
+            t2 = dv_[i, k] * guk
             j0 += t1
             j1 += t2
             j2 += pu[0, k] * t1 + pv[0, k] * t2
@@ -205,43 +219,43 @@ def _normal_equations_loops(patch, pi, pj, clipped, level, sat_eff, p, n, want_j
             j4 += pu[2, k] * t1 + pv[2, k] * t2
             j5 += pu[3, k] * t1 + pv[3, k] * t2
             j6 += pu[4, k] * t1 + pv[4, k] * t2
-            j8 += gvk * su[k, j] + sv[k, i] * guk
+            j8 += gvk * su[j, k] + sv[i, k] * guk
         full = level + A * m
         r = (sat_eff - full) if clipped[q] else (patch[i, j] - full)
         cost += r * r
-        jr = Jm[na]
-        jr[0] = A * j0
-        jr[1] = A * j1
-        jr[2] = A * j2
-        jr[3] = A * j3
-        jr[4] = A * j4
-        jr[5] = A * j5
-        jr[6] = A * j6
-        jr[7] = A * m               # d / d ln A
-        jr[8] = j8 * (A * s)        # d / d ln s
+        Jm[0, na], Jm[1, na], Jm[2, na] = A * j0, A * j1, A * j2
+        Jm[3, na], Jm[4, na], Jm[5, na], Jm[6, na] = A * j3, A * j4, A * j5, A * j6
+        Jm[7, na], Jm[8, na] = A * m, j8 * (A * s)      # d / d ln A, d / d ln s
         rr[na] = r
         na += 1
     if want_jac:
-        # pixel by pixel into the 45 + 45 + 9 sums (each summed in the pixels' order, as a
-        # sum per entry would be: the same numbers; the entries' additions interleave)
-        JTJ[:, :] = 0.0
-        MJ[:, :] = 0.0
-        g[:] = 0.0
-        for q in range(na):
+        _sums(Jm, rr, na, want_meat, JTJ, g, MJ)
+    return cost
+
+
+def _sums(Jm, rr, na, want_meat, JTJ, g, MJ):
+    """J^T J, J^T r and (``want_meat``) sum r^2 J J^T of the first ``na`` columns of ``Jm``
+    (9 x pixels) and of ``rr``, as dot products (:func:`_dot`)."""
+    for a in range(NP):
+        g[a] = _dot(Jm[a], rr, na)
+        for b in range(a + 1):
+            JTJ[a, b] = JTJ[b, a] = _dot(Jm[a], Jm[b], na)
+    if want_meat:
+        for q in range(na):          # the rows r J: sum r^2 J J^T = (r J)^T (r J)
             r = rr[q]
             for a in range(NP):
-                ja = Jm[q, a]
-                for b in range(a + 1):
-                    x = ja * Jm[q, b]
-                    JTJ[a, b] += x
-                    if want_meat:
-                        MJ[a, b] += x * r * r
-                g[a] += ja * r
+                Jm[a, q] *= r
         for a in range(NP):
-            for b in range(a):
-                JTJ[b, a] = JTJ[a, b]
-                MJ[b, a] = MJ[a, b]
-    return cost
+            for b in range(a + 1):
+                MJ[a, b] = MJ[b, a] = _dot(Jm[a], Jm[b], na)
+
+
+def _dot(x, y, n):
+    """sum x[:n] y[:n] (compiled reassociating: ~3x faster than one chain of additions)."""
+    s = 0.0
+    for q in range(n):
+        s += x[q] * y[q]
+    return s
 
 
 #: the plain Python functions, kept before any of them is replaced by its compiled version
@@ -264,17 +278,31 @@ def _compiled_kernel():
         numba = numba_or_none()
         if numba is not None:
             jit = numba.njit(cache=True, error_model="numpy", nogil=True)
+            # (reassociating sums: SIMD partial sums; no assumption about NaN / inf)
+            fast = numba.njit(cache=True, error_model="numpy", nogil=True,
+                              fastmath={"reassoc", "contract"})
             globals()["path"] = jit(path)      # the kernel calls the compiled helpers
             globals()["_profile_row"] = jit(_profile_row)
-            _compiled = jit(_normal_equations_loops)
+            globals()["_dot"] = fast(_dot)
+            globals()["_sums"] = jit(_sums)
+            _compiled = fast(_normal_equations_loops)
     return _compiled or None
 
 
 # ---------------------------------------------------------------- Levenberg-Marquardt
 def n_points(ell, s, min_sigma, max_points):
-    """Points along a path of half-length ``ell`` [px]: at most one sigma ``s`` apart,
-    at least 7 (Gregory's end weights)."""
-    return int(min(max(math.ceil(2.0 * ell / max(s, min_sigma)) + 1, 7), max_points))
+    """Points along a path of half-length ``ell`` [px] and spot sigma ``s`` [px] (at least
+    ``min_sigma``): at most one sigma apart, at least 7 (Gregory's end weights); a short
+    path (l <= 2.5 s) 4-6 Gauss-Legendre nodes instead (:func:`path`), each band's nodes
+    more accurate than the 7 steps they replace (:mod:`vision.blur`, Model)."""
+    L = ell / max(s, min_sigma)
+    if L <= 1.0:
+        return 4
+    if L <= 1.5:
+        return 5
+    if L <= 2.5:
+        return 6
+    return int(min(max(math.ceil(2.0 * L) + 1, 7), max_points))
 
 
 def _bound(q, size, c):
@@ -353,7 +381,6 @@ def _lm(patch, pi, pj, clipped, level, sat_eff, p, cost, JTJ, g, MJ, free, size,
                 break
         # the trial's Jacobian too: an accepted step (the usual case) needs it next
         new_cost = _evaluate(patch, pi, pj, clipped, level, sat_eff, q, c, nJ, ng, nM)
-        moved = math.sqrt((q[0] - p[0]) ** 2 + (q[1] - p[1]) ** 2)
         if new_cost <= cost:
             gain = cost - new_cost
             _copy(p, q)
@@ -414,28 +441,29 @@ def _cholesky_solve(A, B):
             B[i, c] = s / L[i, i]
 
 
+def _where(free, value):
+    """The indices a (increasing) with ``free[a] == value``."""
+    n = 0
+    for a in range(NP):
+        n += free[a] == value
+    out = np.empty(n, np.int64)
+    k = 0
+    for a in range(NP):
+        if free[a] == value:
+            out[k] = a
+            k += 1
+    return out
+
+
 def _score(JTJ, g, MJ, free):
     """Robust score (Lagrange multiplier) statistic of freeing the held parameters at a
     fit with them held (:func:`vision.blur.fit_blurred_spot`): ``s^T (L M L^T)^-1 s`` with
     the efficient score ``s = g_c - B_cf B_ff^-1 g_f`` and ``L = [-B_cf B_ff^-1, 1]``
     (B = J^T J, g = J^T r, M = sum r^2 J J^T; c the held, f the fitted parameters; two
     held parameters)."""
-    nf = 0
-    for a in range(NP):
-        if free[a]:
-            nf += 1
-    nc = NP - nf
-    f = np.empty(nf, np.int64)
-    h = np.empty(nc, np.int64)
-    i = 0
-    k = 0
-    for a in range(NP):
-        if free[a]:
-            f[i] = a
-            i += 1
-        else:
-            h[k] = a
-            k += 1
+    f = _where(free, True)
+    h = _where(free, False)
+    nf, nc = f.size, h.size
     Bff = np.empty((nf, nf))
     KT = np.empty((nf, nc))             # Bff^-1 Bfc = K^T
     for a in range(nf):
@@ -476,16 +504,8 @@ def _centre_cov(JTJ, MJ, free):
     """(var m_u, var m_v) of the sandwich ``B^-1 M B^-1`` over the ``free`` parameters
     (B = J^T J, M = sum r^2 J J^T; m_u, m_v always free), unscaled: B is scaled to a
     unit diagonal first, so the Cholesky solve's ridge stays at rounding level."""
-    nf = 0
-    for a in range(NP):
-        if free[a]:
-            nf += 1
-    f = np.empty(nf, np.int64)
-    k = 0
-    for a in range(NP):
-        if free[a]:
-            f[k] = a
-            k += 1
+    f = _where(free, True)
+    nf = f.size
     d = np.empty(nf)
     for a in range(nf):
         x = JTJ[f[a], f[a]]
@@ -518,30 +538,29 @@ def fit_loops(patch, pi, pj, clipped, level, sat_eff, starts, size, c, tol, max_
     """
     JTJ, MJ = np.empty((NP, NP)), np.empty((NP, NP))
     g, p, q = np.empty(NP), np.empty(NP), np.empty(NP)
-    cost = np.inf
-    many = starts.shape[0] > 1      # then the costs alone, the matrices at the best start
+    cost, best = np.inf, 0
+    # the first row with its matrices, the others' costs alone: the matrices again only when
+    # one of those is better (the first row: the warm start in a video, usually the best)
     for k in range(starts.shape[0]):
         for a in range(NP):
             q[a] = starts[k, a] if a != 5 and a != 6 else 0.0
-        if many:
+        if k == 0:
+            ck = _evaluate(patch, pi, pj, clipped, level, sat_eff, q, c, JTJ, g, MJ)
+        else:
             n = n_points(math.sqrt(q[2] * q[2] + q[3] * q[3]), math.exp(q[8]), c[0], c[3])
             ck = _EVALUATE(patch, pi, pj, clipped, level, sat_eff, q, n, n < 0, n < 0, JTJ, g,
                            MJ)
-        else:
-            ck = _evaluate(patch, pi, pj, clipped, level, sat_eff, q, c, JTJ, g, MJ)
         if ck < cost or k == 0:
-            cost = ck
+            cost, best = ck, k
             _copy(p, q)
-    if many:
+    if best > 0:
         cost = _evaluate(patch, pi, pj, clipped, level, sat_eff, p, c, JTJ, g, MJ)
     free = np.ones(NP, np.bool_)
-    free[5] = False
-    free[6] = False
+    free[5] = free[6] = False
     cost, it, converged = _lm(patch, pi, pj, clipped, level, sat_eff, p, cost, JTJ, g, MJ,
                               free, size, c, tol, max_iter)
     if converged and _score(JTJ, g, MJ, free) > score_limit:
-        free[5] = True
-        free[6] = True
+        free[5] = free[6] = True
         cost, it2, converged = _lm(patch, pi, pj, clipped, level, sat_eff, p, cost, JTJ, g,
                                    MJ, free, size, c, tol, max_iter)
         it += it2
@@ -549,7 +568,8 @@ def fit_loops(patch, pi, pj, clipped, level, sat_eff, starts, size, c, tol, max_
 
 
 _PY.update({name: globals()[name] for name in ("path", "n_points", "_bound", "_evaluate", "_copy",
-                                                 "_cholesky_solve", "_lm", "_score", "_centre_cov")})
+                                                 "_cholesky_solve", "_lm", "_where", "_score",
+                                                 "_centre_cov")})
 
 
 _compiled_fit = None    # None: not tried yet; False: unavailable; else the dispatcher
@@ -568,7 +588,7 @@ def compiled_fit():
             mod = globals()
             mod["_EVALUATE"] = kern
             for name in ("n_points", "_bound", "_evaluate", "_copy", "_cholesky_solve", "_lm",
-                         "_score", "_centre_cov"):
+                         "_where", "_score", "_centre_cov"):
                 mod[name] = jit(mod[name])
             _compiled_fit = jit(fit_loops)   # nogil: the read-ahead thread decodes meanwhile
     return _compiled_fit or None
@@ -576,15 +596,5 @@ def compiled_fit():
 
 def compile_needed() -> bool:
     """True when the first compiled fit will compile (numba available, no cache file of
-    :func:`fit_loops` yet): about 10 s, once per install (a best guess from numba's cache
-    index; False when that cannot be told)."""
-    if jit_disabled():
-        return False
-    try:
-        import importlib.util
-        if importlib.util.find_spec("numba") is None:
-            return False
-        fit = compiled_fit()
-        return fit is not None and not os.path.exists(fit._cache._cache_file._index_path)
-    except Exception:   # noqa: BLE001 - numba's private cache layout: no answer, no message
-        return False
+    :func:`fit_loops` yet): about 10 s, once per install (:func:`vision._numba.cache_missing`)."""
+    return cache_missing(compiled_fit)

@@ -88,7 +88,7 @@ def python_fit():
     env = dict(vars(_k))
     env["_EVALUATE"] = _normal_equations_numpy_into
     env["path"] = _k._PY["path"]
-    for name in ("n_points", "_bound", "_evaluate", "_copy", "_cholesky_solve", "_lm", "_score",
-                 "_centre_cov"):
+    for name in ("n_points", "_bound", "_evaluate", "_copy", "_cholesky_solve", "_lm", "_where",
+                 "_score", "_centre_cov"):
         env[name] = types.FunctionType(_k._PY[name].__code__, env, name)
     return types.FunctionType(_k.fit_loops.__code__, env, "fit_loops")

@@ -37,6 +37,12 @@ def start_loops(patch, mask, level, sigma, shrink, max_sweep):
     tot = 0.0
     su = 0.0
     sv = 0.0
+    # the mask's pixels above the level, once: the later sums run over them alone
+    # (the same terms in the same order as over the whole patch)
+    ii = np.empty(H * W, np.int64)
+    jj = np.empty(H * W, np.int64)
+    ww = np.empty(H * W)
+    npx = 0
     for i in range(H):
         for j in range(W):
             if mask[i, j]:
@@ -45,6 +51,10 @@ def start_loops(patch, mask, level, sigma, shrink, max_sweep):
                     tot += x
                     su += x * j
                     sv += x * i
+                    ii[npx] = i
+                    jj[npx] = j
+                    ww[npx] = x
+                    npx += 1
     if not tot > 0:
         return np.empty((0, 9))
     mu = su / tot
@@ -52,15 +62,13 @@ def start_loops(patch, mask, level, sigma, shrink, max_sweep):
     cuu = 0.0
     cvv = 0.0
     cuv = 0.0
-    for i in range(H):
-        for j in range(W):
-            if mask[i, j] and patch[i, j] - level > 0:
-                x = patch[i, j] - level
-                du = j - mu
-                dv = i - mv
-                cuu += x * du * du
-                cvv += x * dv * dv
-                cuv += x * du * dv
+    for q in range(npx):
+        x = ww[q]
+        du = jj[q] - mu
+        dv = ii[q] - mv
+        cuu += x * du * du
+        cvv += x * dv * dv
+        cuv += x * du * dv
     cuu /= tot
     cvv /= tot
     cuv /= tot
@@ -77,17 +85,15 @@ def start_loops(patch, mask, level, sigma, shrink, max_sweep):
     kap = 0.0
     if ell > 2.0 * s0:
         m3 = 0.0
-        for i in range(H):
-            for j in range(W):
-                if mask[i, j] and patch[i, j] - level > 0:
-                    du = j - mu
-                    dv = i - mv
-                    t = du * tu + dv * tv
-                    m3 += (patch[i, j] - level) * (-du * tv + dv * tu) * (t * t - lam1)
+        for q in range(npx):
+            du = jj[q] - mu
+            dv = ii[q] - mv
+            t = du * tu + dv * tv
+            m3 += ww[q] * (-du * tv + dv * tu) * (t * t - lam1)
         kap = m3 / tot * 45.0 / (2.0 * ell ** 4)
         kap = max(min(kap, 0.5 * max_sweep / ell), -0.5 * max_sweep / ell)
     arc = np.empty(5)
-    k = 2 if ell > 5.0 * s0 and _circle(patch, mask, level, mu, mv, tot, max_sweep, arc) else 1
+    k = 2 if ell > 5.0 * s0 and _circle(ii, jj, ww, npx, mu, mv, tot, max_sweep, arc) else 1
     out = np.zeros((k, 9))
     out[0, 0] = mu
     out[0, 1] = mv
@@ -105,22 +111,20 @@ def start_loops(patch, mask, level, sigma, shrink, max_sweep):
     return out
 
 
-def _circle(patch, mask, level, mu, mv, tot, max_sweep, arc):
-    """:func:`vision.blur._circle_guess` in loops: ``arc`` = (l, t_u, t_v, kappa, radial sd);
-    False when there is no circle (singular system, or practically straight)."""
-    H, W = patch.shape
+def _circle(ii, jj, ww, npx, mu, mv, tot, max_sweep, arc):
+    """:func:`vision.blur._circle_guess` in loops over the blob's ``npx`` pixels (rows ``ii``,
+    columns ``jj``, weights ``ww`` [DN above the level]): ``arc`` = (l, t_u, t_v, kappa,
+    radial sd); False when there is no circle (singular system, or practically straight)."""
     a = np.zeros((3, 3))
     r = np.zeros(3)
-    for i in range(H):
-        for j in range(W):
-            if mask[i, j] and patch[i, j] - level > 0:
-                w = patch[i, j] - level
-                m = (j - mu, i - mv, 1.0)
-                z = m[0] * m[0] + m[1] * m[1]
-                for p in range(3):
-                    r[p] -= w * m[p] * z
-                    for q in range(3):
-                        a[p, q] += w * m[p] * m[q]
+    for k in range(npx):
+        w = ww[k]
+        m = (jj[k] - mu, ii[k] - mv, 1.0)
+        z = m[0] * m[0] + m[1] * m[1]
+        for p in range(3):
+            r[p] -= w * m[p] * z
+            for q in range(3):
+                a[p, q] += w * m[p] * m[q]
     det = (a[0, 0] * (a[1, 1] * a[2, 2] - a[1, 2] * a[2, 1])
            - a[0, 1] * (a[1, 0] * a[2, 2] - a[1, 2] * a[2, 0])
            + a[0, 2] * (a[1, 0] * a[2, 1] - a[1, 1] * a[2, 0]))
@@ -142,24 +146,24 @@ def _circle(patch, mask, level, mu, mv, tot, max_sweep, arc):
     R = math.sqrt(R2)
     c0 = 0.0
     s0 = 0.0
-    for i in range(H):
-        for j in range(W):
-            if mask[i, j] and patch[i, j] - level > 0:
-                w = patch[i, j] - level
-                an = math.atan2(i - mv - cv, j - mu - cu)
-                c0 += w * math.cos(an)
-                s0 += w * math.sin(an)
+    for k in range(npx):      # (cos, sin of the angle about the centre: x / r, y / r)
+        x = jj[k] - mu - cu
+        y = ii[k] - mv - cv
+        rk = math.sqrt(x * x + y * y)
+        if rk > 0:
+            c0 += ww[k] * x / rk
+            s0 += ww[k] * y / rk
+        else:
+            c0 += ww[k]       # (atan2(0, 0) = 0)
     c0 /= tot
     s0 /= tot
     mid = math.atan2(s0, c0)
     C = min(math.sqrt(c0 * c0 + s0 * s0), 1.0)
     b = half_sweep(C, max_sweep)
     sd = 0.0
-    for i in range(H):
-        for j in range(W):
-            if mask[i, j] and patch[i, j] - level > 0:
-                rad = math.hypot(j - mu - cu, i - mv - cv) - R
-                sd += (patch[i, j] - level) * rad * rad
+    for k in range(npx):
+        rad = math.hypot(jj[k] - mu - cu, ii[k] - mv - cv) - R
+        sd += ww[k] * rad * rad
     arc[0] = R * b
     arc[1] = -math.sin(mid)
     arc[2] = math.cos(mid)

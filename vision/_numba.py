@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import os
 
-__all__ = ["jit_disabled", "numba_or_none"]
+__all__ = ["jit_disabled", "numba_or_none", "cache_missing"]
 
 
 def jit_disabled() -> bool:
@@ -29,3 +29,19 @@ def numba_or_none():
     except ImportError:
         return None
     return numba
+
+
+def cache_missing(dispatcher) -> bool:
+    """True when numba is available and ``dispatcher()`` (a function returning a compiled
+    numba dispatcher, or None) has no cache file yet: its first call will compile (a best
+    guess from numba's cache index; False when that cannot be told)."""
+    if jit_disabled():
+        return False
+    try:
+        import importlib.util
+        if importlib.util.find_spec("numba") is None:
+            return False
+        fit = dispatcher()
+        return fit is not None and not os.path.exists(fit._cache._cache_file._index_path)
+    except Exception:   # noqa: BLE001 - numba's private cache layout: no answer, no message
+        return False
