@@ -242,8 +242,7 @@ def _residual_ratio(rec, scene):
     weights = getattr(scene, "weights", None) or ()
     if getattr(scene, "kind", None) in (None, "planar") or not weights:
         return None
-    S = float(sum(w.balancer.capacity for w in weights)
-              + sum(b.body.capacity for b in getattr(scene, "bodies", ()) or ()))
+    S = scene.weights_capacity()
     try:
         U = static_residual(rec)
     except (AttributeError, TypeError, ValueError):
