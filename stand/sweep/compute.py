@@ -145,20 +145,21 @@ def _balance(run, opts: dict) -> tuple:
     the planar rule.  ``sim.residual`` = ``|U_s| / S``; NaN and not balanced when the run
     cannot say.
     """
-    from stand.integrate.residual import couple_residual, plane_positions, static_residual
+    from stand.integrate.residual import couple_residual, plane_positions, plane_residuals
 
     sc = run.scene
     tol = opts.get("balance_tol", 1e-2)
     S, e0 = sc.weights_capacity(), _rotor_e0(sc)
-    Us = static_residual(run, slice(-1, None))
-    if Us is None or not S > 0:
+    U = plane_residuals(run, slice(-1, None))     # static residual: their sum
+    if not U or not S > 0:
         return math.nan, False
-    psi = float(abs(np.asarray(Us)[-1])) / S
+    psi = float(abs(np.asarray(sum(U.values()))[-1])) / S
     balanced = abs(psi - (e0 - 1.0 if e0 > 1 else 0.0)) < tol
-    if balanced and not e0 > 1:
-        z = plane_positions(sc, _weight_planes(sc))
-        span = (max(z.values()) - min(z.values())) if z else 0.0
-        Uc = couple_residual(run, slice(-1, None)) if span > 0 else None
+    if balanced and not e0 > 1:     # positions of the residual's planes, the weights' among them
+        z = plane_positions(sc, U)
+        zw = [z[p] for p in _weight_planes(sc)] if z else []
+        span = (max(zw) - min(zw)) if zw else 0.0
+        Uc = couple_residual(run, slice(-1, None), positions=z) if span > 0 else None
         if Uc is not None:
             balanced = float(abs(np.asarray(Uc)[-1])) < tol * S * span
     return psi, bool(balanced)
