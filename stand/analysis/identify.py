@@ -43,7 +43,7 @@ import numpy as np
 from dsp.errors import SignalError
 
 from stand.analysis.sources import (no_weights as _no_weights, read_source, undersampled,
-                                    undersampled_words, whirls)
+                                    undersampled_words, weightless_scene, whirls)
 from stand.analysis.two_plane import two_plane
 from stand.analysis.signals import settling
 from stand.analysis.unbalance import line_1x, reduction, unbalance
@@ -473,8 +473,7 @@ def _stuck_weights_line(d, sl, line, f_rot, notes) -> bool:
     w = d.get("weights")
     t = d["t"][sl]
     if w is None:
-        sc = d.get("rec_scene")
-        bare = sc is not None and not (getattr(sc, "n_weights", 0) or getattr(sc, "bodies", None))
+        bare = weightless_scene(d.get("rec_scene"))
         if bare:
             notes.append(f"the orbit's strongest line besides the 1X, {line.frequency_hz:.6g} "
                          "Hz, is the rotor's own: the recording's scene has no weights")
@@ -522,9 +521,8 @@ def _regime(d, out, speed) -> None:
     out.update(regime=None, critical_speeds_hz=[])
     why = None
     if w is None:
-        bare = scene is not None and not (getattr(scene, "n_weights", 0)
-                                          or getattr(scene, "bodies", None))
-        why = ("the recording's scene has no weights: there is no regime of weights" if bare else
+        why = ("the recording's scene has no weights: there is no regime of weights"
+               if weightless_scene(scene) else
                "needs the weights' angles (a stroboscope or the simulator's "
                "weights/<weight>/angle); " + ("a lab table has none" if d.get("table") is not None
                                               else "the recording has none (a liquid has no "
