@@ -362,7 +362,7 @@ def _runout_removed(d, sc1, speed, sl, notes):
             pr = None
     r = (d.get("probes") or {}).get("runout_1x_m")
     stated = None if r is None else (v1, math.hypot(sv, r),
-                                     f"the probes' stated 1X runout {r * 1e6:.3g} um is in the "
+                                     f"the probes' stated 1X runout {r * 1e6:.3g} µm is in the "
                                      "steady 1X's ±")
     slowroll = None
     if pr is not None and pr[2].size >= 4:
@@ -373,9 +373,9 @@ def _runout_removed(d, sc1, speed, sl, notes):
         dyn = H(float(np.max(pr[1]))) * (abs(v1) / max(H(sc1.speed_rad_s), 1e-300)
                                          + cap / scene.total_mass)
         slowroll = (v1 - V, math.sqrt(sv * sv + sV * sV + dyn * dyn),
-                    f"the slow-roll 1X ({abs(V) * 1e6:.3g} um over {vs.size} revolutions at "
+                    f"the slow-roll 1X ({abs(V) * 1e6:.3g} µm over {vs.size} revolutions at "
                     f"<= {np.max(pr[1]) / TWO_PI:.3g} rev/s) taken off the steady 1X; its scatter "
-                    f"and the response still in it ({dyn * 1e6:.2g} um, bound) are in the ±")
+                    f"and the response still in it ({dyn * 1e6:.2g} µm, bound) are in the ±")
     if slowroll is None and stated is None:
         notes.append("probe runout: no slow roll in the record (four revolutions below a "
                      "quarter of f0) and no stated runout: the steady 1X may be off by the "
@@ -386,7 +386,7 @@ def _runout_removed(d, sc1, speed, sl, notes):
     if slowroll is None:
         how += " (no slow roll in the record: four revolutions below a quarter of f0)"
     elif how is stated[2]:
-        how += (f" (the slow roll's ± would be {slowroll[1] * 1e6:.2g} um: the response in it "
+        how += (f" (the slow roll's ± would be {slowroll[1] * 1e6:.2g} µm: the response in it "
                 "is too large)")
     notes.append(f"probe runout: {how}")
     a = abs(v)

@@ -104,7 +104,7 @@ def unbalance(out, scene, sc1, d, rmap, mass, grade, service_speed_rpm, notes) -
             out.update(unbalance_gmm=e * mass * 1e6,
                        unbalance_gmm_std=None if se is None else se * mass * 1e6)
         else:
-            notes.append("unbalance in g mm needs the vibrating mass: give [rotor] mass in the "
+            notes.append("unbalance in g·mm needs the vibrating mass: give [rotor] mass in the "
                          "recording map (the specific unbalance per kg is given)")
     w_meas = (out.get("speed_hz") or 0.0) * TWO_PI
     if rmap is not None and rmap.service_speed_rad_s and not service_speed_rpm:

@@ -290,10 +290,10 @@ def _quality(a, scene, grade, header, warn) -> dict:
         from stand.model.balancers.liquid_chamber import (permissible_eccentricity_general,
                                                           permissible_eccentricity_household)
         for crit, fn, rel in (
-                ("household (machines a person contacts): [e] = 6000/n um",
+                ("household (machines a person contacts): [e] = 6000/n µm",
                  permissible_eccentricity_household,
                  "washing machines, centrifuges, fans: any rotor a person touches"),
-                ("general machine building (Reutlinger): [e] = 2e8/n^2 um",
+                ("general machine building (Reutlinger): [e] = 2e8/n^2 µm",
                  permissible_eccentricity_general, "general machinery")):
             e_per = fn(rpm) * 1e6
             bq["seed_criteria"].append({"criterion": crit, "relevant_for": rel,
