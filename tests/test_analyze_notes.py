@@ -64,6 +64,19 @@ def test_a_rotor_faster_than_half_the_sample_rate_says_so(tmp_path, capsys):
     assert doc["programme"]["kind"] == "constant"
 
 
+def test_weightless_scene_counts_balls_and_bodies():
+    """The one test behind 'the recording's scene has no weights' (precession line, regime):
+    known and without balls or body weights; a scene with only a body weight has weights."""
+    from stand.analysis.sources import weightless_scene
+    from stand.scene.parse import load_scene
+
+    assert weightless_scene(load_scene(SCENES / "no_balancer.toml"))
+    assert not weightless_scene(None)
+    assert not weightless_scene(load_scene(SCENES / "ball_runup.toml"))
+    body = load_scene(SCENES / "body_two_axis_pendulum.toml")
+    assert body.n_weights == 0 and body.bodies and not weightless_scene(body)
+
+
 FAST_BALLS = """[scene]
 name = "fast_balls"
 [rotor]

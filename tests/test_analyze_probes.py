@@ -74,7 +74,7 @@ def test_balls_probes_runout_is_in_the_1x_std(ball_runs):
     probes' 1X (~5 um, std ~0.01 um) would be hundreds of std off."""
     p, s = ball_runs
     assert any("analysed the displacement probes" in n for n in p["notes"])
-    assert any("stated 1X runout 5 um" in n for n in p["notes"])
+    assert any("stated 1X runout 5 µm" in n for n in p["notes"])
     assert p["response_1x_m_std"] >= 5e-6
     assert abs(p["response_1x_m"] - s["response_1x_m"]) < 2 * p["response_1x_m_std"]
     assert abs(p["unbalance_gmm"] - s["unbalance_gmm"]) < 2 * p["unbalance_gmm_std"]

@@ -238,10 +238,7 @@ def test_bad_body_weight_cli_one_line(tmp_path, capsys):
     assert len(err.splitlines()) == 1 and "fill_volume" in err and "m^3" in err
 
 
-def test_mixed_balls_and_liquid_on_a_two_mass_rotor(tmp_path):
-    """A ball balancer in one plane and a liquid chamber in the other: both run, both are in
-    the run, and each plane's residual adds its own weights' unbalance."""
-    text = """
+MIXED = """
 [structure]
 type = "two_mass"
 body_mass = 4.0
@@ -271,6 +268,12 @@ programme = [[0.0, 0.0], [2.0, 25.0]]
 duration = 3.0
 sample_rate = 500.0
 """
+
+
+def test_mixed_balls_and_liquid_on_a_two_mass_rotor(tmp_path):
+    """A ball balancer in one plane and a liquid chamber in the other: both run, both are in
+    the run, and each plane's residual adds its own weights' unbalance."""
+    text = MIXED
     p = tmp_path / "mixed.toml"
     p.write_text(text)
     run = stand.run(stand.load(p))
@@ -283,6 +286,27 @@ sample_rate = 500.0
     d = 1000.0 * 2.0e-4 * (lq["liquid_x"] + 1j * lq["liquid_y"]) * np.exp(-1j * run.rotor_angle)
     U = run.truth["residual/body"][0]
     assert np.allclose(U[:, 0] + 1j * U[:, 1], d, atol=1e-15)
+
+
+def test_weights_capacity_per_plane_and_all(tmp_path):
+    """Scene.weights_capacity, the one capacity S of the stand: the balls' sum m l in their
+    plane, the liquid's own capacity in its plane, both summed for None; the rings use the
+    main plane's and refuse a scene without weights."""
+    from stand.instruments.rings import _capacity
+
+    p = tmp_path / "mixed.toml"
+    p.write_text(MIXED)
+    sc = stand.load(p)
+    liquid = sc.bodies[0].body.capacity
+    assert liquid > 0
+    assert sc.weights_capacity("balancer") == pytest.approx(2 * 0.02 * 0.05, rel=1e-15)
+    assert sc.weights_capacity("body") == liquid
+    assert sc.weights_capacity() == pytest.approx(2 * 0.02 * 0.05 + liquid, rel=1e-15)
+    assert sc.weights_capacity("rotor") == 0.0 and _capacity(sc) == sc.weights_capacity("balancer")
+    bare = stand.load("data_samples/scenes/no_balancer.toml")
+    assert bare.weights_capacity() == 0.0
+    with pytest.raises(SceneError, match="capacity S = 0"):
+        _capacity(bare)
 
 
 def test_body_channels_in_the_recording(tmp_path):

@@ -335,3 +335,24 @@ def test_newer_format_version_rejected(traj, tmp_path):
         f.attrs["format_version"] = 99
     with pytest.raises(RecordingError, match="format_version"):
         read_recording(path)
+
+
+def test_named_screens_and_the_screen_option_list_the_same_groups(tmp_path):
+    """One listing of a recording's screens: named_screens (positioned ones by default, the
+    two-plane report) and screen_group_of's message (every named screen group)."""
+    from stand.recording.read import named_screens, screen_group_of
+
+    path = tmp_path / "screens.h5"
+    with h5py.File(path, "w") as f:
+        g = f.create_group("instruments")
+        g.create_group("screen.front").attrs["axial_position_m"] = 0.1
+        g.create_group("screen.side")              # a screen without an axial position
+        g.create_dataset("screen.data", data=1.0)  # not a screen group
+    assert named_screens(path) == ["front"]
+    assert named_screens(path, positioned=False) == ["front", "side"]
+    assert screen_group_of(path, "front") == "instruments/screen.front"
+    with pytest.raises(ValueError, match="two screens, front and side, and no unnamed one"):
+        screen_group_of(path)
+    with pytest.raises(ValueError, match="give --screen front or --screen side"):
+        screen_group_of(path, "rear")
+    assert named_screens(tmp_path / "missing.h5") == []

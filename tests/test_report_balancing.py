@@ -111,6 +111,9 @@ def test_simulated_residual_matches_truth(runup):
     assert iso["permissible_residual_gmm"] == pytest.approx(1000 * 6.3 * 4.45 / (30 * math.pi),
                                                             rel=1e-4)
     assert all(c["passed"] for c in bq["seed_criteria"]) and len(bq["seed_criteria"]) == 2
+    # the criteria name e in the label table's micrometre (µm), as docs/reports.md does
+    assert [c["criterion"].split("= ")[-1] for c in bq["seed_criteria"]] == ["6000/n µm",
+                                                                            "2e8/n^2 µm"]
     # initial unbalance 0.5 S from the scene, zone 8, reduction factor >> 1
     assert bq["initial_unbalance_gmm"] == pytest.approx(3600.0, rel=1e-5)
     assert bq["initial_zone"] == 8

@@ -11,7 +11,8 @@ import pytest
 
 import stand
 from stand.analysis.batch import summary_columns
-from stand.integrate.residual import couple_residual, static_residual
+from stand.integrate.residual import (couple_residual, plane_positions, plane_residuals,
+                                      static_residual)
 from stand.integrate.result import whirl_about_centre
 
 SCENES = Path("data_samples/scenes")
@@ -71,6 +72,12 @@ def test_couple_residual_of_two_balancer_planes():
         # the same sums of the same float64 angles: rounding (lever arms below 0.35 m)
         assert abs(static_residual(run, idx)[0] - Us) < 1e-12 * S
         assert abs(couple_residual(run, idx)[0] - Uc) < 1e-12 * S * 0.35
+        # the caller's positions (the sweep's, computed once) are used as given: the same
+        # positions give the same couple; an origin moved by 0.1 m adds 0.1 U_s
+        zp = plane_positions(run.scene, plane_residuals(run, idx))
+        assert couple_residual(run, idx, positions=zp) == couple_residual(run, idx)
+        moved = {p: v + 0.1 for p, v in zp.items()}
+        assert abs(couple_residual(run, idx, positions=moved)[0] - (Uc + 0.1 * Us)) < 1e-12 * S
     # at the start the balls do not cancel: a real couple (independent value of the order S l)
     assert abs(couple_residual(run, slice(0, 1))[0]) > 1e-4
     f = run.final

@@ -79,6 +79,6 @@ def analyze_bode(tab, notes: list) -> dict:
         notes.append(f"{len(out['modes'])} resonances in the table, each fitted (modes); the "
                      "headline numbers are the strongest one's")
     if not mass:
-        notes.append("unbalance in g mm needs the vibrating mass: give [rotor] mass in the "
+        notes.append("unbalance in g·mm needs the vibrating mass: give [rotor] mass in the "
                       "recording map (the specific unbalance per kg is given)")
     return out

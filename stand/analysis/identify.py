@@ -43,7 +43,7 @@ import numpy as np
 from dsp.errors import SignalError
 
 from stand.analysis.sources import (no_weights as _no_weights, read_source, undersampled,
-                                    undersampled_words, whirls)
+                                    undersampled_words, weightless_scene, whirls)
 from stand.analysis.two_plane import two_plane
 from stand.analysis.signals import settling
 from stand.analysis.unbalance import line_1x, reduction, unbalance
@@ -362,7 +362,7 @@ def _runout_removed(d, sc1, speed, sl, notes):
             pr = None
     r = (d.get("probes") or {}).get("runout_1x_m")
     stated = None if r is None else (v1, math.hypot(sv, r),
-                                     f"the probes' stated 1X runout {r * 1e6:.3g} um is in the "
+                                     f"the probes' stated 1X runout {r * 1e6:.3g} µm is in the "
                                      "steady 1X's ±")
     slowroll = None
     if pr is not None and pr[2].size >= 4:
@@ -373,9 +373,9 @@ def _runout_removed(d, sc1, speed, sl, notes):
         dyn = H(float(np.max(pr[1]))) * (abs(v1) / max(H(sc1.speed_rad_s), 1e-300)
                                          + cap / scene.total_mass)
         slowroll = (v1 - V, math.sqrt(sv * sv + sV * sV + dyn * dyn),
-                    f"the slow-roll 1X ({abs(V) * 1e6:.3g} um over {vs.size} revolutions at "
+                    f"the slow-roll 1X ({abs(V) * 1e6:.3g} µm over {vs.size} revolutions at "
                     f"<= {np.max(pr[1]) / TWO_PI:.3g} rev/s) taken off the steady 1X; its scatter "
-                    f"and the response still in it ({dyn * 1e6:.2g} um, bound) are in the ±")
+                    f"and the response still in it ({dyn * 1e6:.2g} µm, bound) are in the ±")
     if slowroll is None and stated is None:
         notes.append("probe runout: no slow roll in the record (four revolutions below a "
                      "quarter of f0) and no stated runout: the steady 1X may be off by the "
@@ -386,7 +386,7 @@ def _runout_removed(d, sc1, speed, sl, notes):
     if slowroll is None:
         how += " (no slow roll in the record: four revolutions below a quarter of f0)"
     elif how is stated[2]:
-        how += (f" (the slow roll's ± would be {slowroll[1] * 1e6:.2g} um: the response in it "
+        how += (f" (the slow roll's ± would be {slowroll[1] * 1e6:.2g} µm: the response in it "
                 "is too large)")
     notes.append(f"probe runout: {how}")
     a = abs(v)
@@ -473,8 +473,7 @@ def _stuck_weights_line(d, sl, line, f_rot, notes) -> bool:
     w = d.get("weights")
     t = d["t"][sl]
     if w is None:
-        sc = d.get("rec_scene")
-        bare = sc is not None and not (getattr(sc, "n_weights", 0) or getattr(sc, "bodies", None))
+        bare = weightless_scene(d.get("rec_scene"))
         if bare:
             notes.append(f"the orbit's strongest line besides the 1X, {line.frequency_hz:.6g} "
                          "Hz, is the rotor's own: the recording's scene has no weights")
@@ -522,9 +521,8 @@ def _regime(d, out, speed) -> None:
     out.update(regime=None, critical_speeds_hz=[])
     why = None
     if w is None:
-        bare = scene is not None and not (getattr(scene, "n_weights", 0)
-                                          or getattr(scene, "bodies", None))
-        why = ("the recording's scene has no weights: there is no regime of weights" if bare else
+        why = ("the recording's scene has no weights: there is no regime of weights"
+               if weightless_scene(scene) else
                "needs the weights' angles (a stroboscope or the simulator's "
                "weights/<weight>/angle); " + ("a lab table has none" if d.get("table") is not None
                                               else "the recording has none (a liquid has no "

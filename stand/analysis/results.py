@@ -64,7 +64,7 @@ class Analysis(Result):
                 ax.axvline(self["critical_speed_hz"], color="C3", ls="--", lw=0.8,
                            label="critical speed")
             ax.set_xlabel("speed [rev/s]")
-            ax.set_ylabel("1X amplitude [um]")
+            ax.set_ylabel("1X amplitude [µm]")
             ax.legend(loc="upper right")
         else:
             comps = self.get("components") or []
@@ -77,7 +77,7 @@ class Analysis(Result):
                 if self.get(key) is not None:
                     ax.axvline(self[key], color=style, ls=":", lw=0.8, label=key)
             ax.set_xlabel("frequency [Hz]")
-            ax.set_ylabel("amplitude [um]")
+            ax.set_ylabel("amplitude [µm]")
             if ax.get_legend_handles_labels()[0]:
                 ax.legend(loc="upper right")
         ax.set_title(f"analysis of {self.get('recording', '')}", fontsize=9)
@@ -103,7 +103,7 @@ class TwoPlane(Result):
         ax.scatter(pos, [r["permissible_gmm"] for r in rows], marker="_", s=600, color="C3",
                    label="permissible")
         ax.set_xticks(pos, [r["plane"] for r in rows])
-        ax.set_ylabel("unbalance [g mm]")
+        ax.set_ylabel("unbalance [g·mm]")
         ax.legend(loc="upper right")
         ax.set_title(f"two-plane balancing at {self['speed_hz']:.4g} rev/s", fontsize=9)
 

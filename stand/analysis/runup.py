@@ -193,7 +193,7 @@ def sweep_identification(t, x, y, angle, notes: list, *, referenced: Optional[bo
                 "the default; declare the probes' runout as [probes] runout = \"... um\" in the "
                 "recording map")
         notes.append("run-up model fit without a speed channel: the probes' 1X runout is not "
-                     f"fitted; the ± allows for one up to {allow * 1e6:g} um at any angle "
+                     f"fitted; the ± allows for one up to {allow * 1e6:g} µm at any angle "
                      f"({said}; a larger runout is not covered)")
         c = angle.covered
         prog = speed_programme(t[c], angle.speed_rad_s[c])

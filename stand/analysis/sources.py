@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 __all__ = ["read_source", "from_table", "from_run", "whirls", "no_weights", "undersampled",
-           "undersampled_words"]
+           "undersampled_words", "weightless_scene"]
 
 TWO_PI = 2 * math.pi
 
@@ -242,8 +242,7 @@ def _residual_ratio(rec, scene):
     weights = getattr(scene, "weights", None) or ()
     if getattr(scene, "kind", None) in (None, "planar") or not weights:
         return None
-    S = float(sum(w.balancer.capacity for w in weights)
-              + sum(b.body.capacity for b in getattr(scene, "bodies", ()) or ()))
+    S = scene.weights_capacity()
     try:
         U = static_residual(rec)
     except (AttributeError, TypeError, ValueError):
@@ -374,6 +373,13 @@ def no_weights(scene) -> bool:
     rotor of the family is left to its own model)."""
     bal = getattr(scene, "balancer", None)
     return getattr(scene, "kind", None) == "planar" and not getattr(bal, "count", 0)
+
+
+def weightless_scene(scene) -> bool:
+    """The recording's scene is known and has no weights at all (no balls nor pendulums, no
+    body weights, in any plane; unlike :func:`no_weights`, any structure)."""
+    return scene is not None and not (getattr(scene, "n_weights", 0)
+                                      or getattr(scene, "bodies", None))
 
 
 def c_over_ccrit(scene) -> float:

@@ -104,7 +104,7 @@ def unbalance(out, scene, sc1, d, rmap, mass, grade, service_speed_rpm, notes) -
             out.update(unbalance_gmm=e * mass * 1e6,
                        unbalance_gmm_std=None if se is None else se * mass * 1e6)
         else:
-            notes.append("unbalance in g mm needs the vibrating mass: give [rotor] mass in the "
+            notes.append("unbalance in g·mm needs the vibrating mass: give [rotor] mass in the "
                          "recording map (the specific unbalance per kg is given)")
     w_meas = (out.get("speed_hz") or 0.0) * TWO_PI
     if rmap is not None and rmap.service_speed_rad_s and not service_speed_rpm:
@@ -213,7 +213,7 @@ def _recorded_rings(out, d):
     from dsp.unbalance import unbalance_from_rings
 
     rings, scene = d.get("rings"), d.get("rec_scene")
-    S = _capacity(scene)
+    S = scene.weights_capacity() if getattr(scene, "kind", None) == "planar" else 0.0
     if rings is None or not S > 0:
         return None
     gain, a, sa = rings["gain"], out["response_1x_m"], out.get("response_1x_m_std")
@@ -238,13 +238,6 @@ def _recorded_rings(out, d):
         out["notes"].append("the calibration rings were drawn for another speed than the final "
                             "one: the ring reading is not an unbalance reading")
     return rd
-
-
-def _capacity(scene) -> float:
-    """The balancer's capacity S [kg m] of a planar scene (weights and bodies), 0 without."""
-    if getattr(scene, "kind", None) != "planar":
-        return 0.0
-    return float(scene.balancer.capacity + sum(b.body.capacity for b in scene.bodies))
 
 
 def reduction(out, d) -> None:

@@ -132,7 +132,7 @@ class Fit(Result):
             return ax
         unit = self["fit"]["rms_residual_unit"]
         k = 1e6 if unit == "m" else 1.0
-        lab = "um" if unit == "m" else unit
+        lab = "µm" if unit == "m" else unit
         t = s["t"]
         if kind == "residual":
             ax.plot(t, s["residual"].real * k, lw=0.5, label="x")

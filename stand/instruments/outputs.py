@@ -36,7 +36,6 @@ import numpy as np
 
 from stand.integrate.result import column_unit
 from stand.scene.placement import instrument_plane, placement_of, screens, with_axis_planes
-from stand.instruments.rings import scene_capacity
 
 __all__ = ["InstrumentOutputs", "InstrumentOutput", "ScreenOutput", "StroboscopeOutput",
            "ReadingsOutput", "PhotogateOutput", "MAX_STROBE_FRAMES", "plane_view", "screen_plans"]
@@ -309,7 +308,7 @@ class ScreenOutput(InstrumentOutput):
         from stand.instruments.rings import check_spot_size, ring_radii
 
         test_speed = self._scene.top_speed
-        if not (scene_capacity(self._scene) > 0 and test_speed > 0):
+        if not (self._scene.weights_capacity(self._scene.main_plane) > 0 and test_speed > 0):
             return None
         radii = ring_radii(self._scene, speed=test_speed, cam=self.settings, plane=self.plane)
         try:

@@ -27,27 +27,16 @@ import numpy as np
 from stand.scene.model import (Balancer, InitialState, Rotor, RunSettings, Scene, SceneError,
                      SpeedDrive)
 
-__all__ = ["scene_capacity", "ring_radii", "family_ring_radii", "ring_radii_by_simulation",
+__all__ = ["ring_radii", "family_ring_radii", "ring_radii_by_simulation",
            "calibration_scene", "render_ring_image", "zone_of", "check_spot_size", "ZONES", "PARTS"]
 
 PARTS = 16                 #: the capacity is divided into 16 parts
 ZONES = range(0, 21)       #: zones 0..20, up to 1.25 S
 
 
-def scene_capacity(scene: Scene) -> float:
-    """Balancing capacity S of the main plane [kg m]: ``sum m l`` of the balls / pendulums
-    plus each body weight's ``capacity`` (tilting weights and the damper m l, a liquid
-    m kappa (R - r); :mod:`stand.model.rotors.bodies`)."""
-    if getattr(scene, "structure", None) is None:
-        S = float(scene.balancer.capacity)
-    else:
-        S = float(sum(w.balancer.capacity for w in scene.weights if w.plane == scene.main_plane))
-    return S + float(sum(pb.body.capacity for pb in getattr(scene, "bodies", ())
-                         if pb.plane == scene.main_plane))
-
-
 def _capacity(scene: Scene) -> float:
-    S = scene_capacity(scene)
+    """The main plane's capacity S [kg m] (:meth:`Scene.weights_capacity`); SceneError when 0."""
+    S = scene.weights_capacity(scene.main_plane)
     if not S > 0:
         raise SceneError("calibration rings: the scene has no balancer (capacity S = 0); the "
                          "rings are drawn for unbalances i S / 16")
@@ -87,7 +76,7 @@ def ring_radii(scene: Scene, speed: Optional[float] = None, zones: Iterable[int]
     Parameters
     ----------
     scene : Scene
-        Supplies S (balancer capacity, body weights' included: :func:`scene_capacity`),
+        Supplies S (balancer capacity, body weights' included: :meth:`Scene.weights_capacity`),
         M_Sigma, supports.
     speed : float, optional
         Test speed [rad/s]; default the last speed of the scene's programme

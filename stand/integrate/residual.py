@@ -127,13 +127,14 @@ def static_residual(run, index=slice(None)):
     return sum(U.values()) if U else None
 
 
-def couple_residual(run, index=slice(None)):
+def couple_residual(run, index=slice(None), positions=None):
     """Couple residual ``sum_p z_p U_p`` [kg m^2], complex, rotor frame, about the rotor
     type's axial origin; None when the loaded planes share one position (the couple is then
     z U_s, nothing beyond the static residual), without tilt, for the flexible rotor, or
-    when the run cannot say (module docstring)."""
+    when the run cannot say (module docstring).  ``positions``: the caller's
+    :func:`plane_positions` of the run's residual planes [m] (computed when None)."""
     U = plane_residuals(run, index)
-    z = plane_positions(run.scene, U) if U else None
+    z = positions if positions is not None else plane_positions(run.scene, U) if U else None
     if z is None or len({round(z[p], 12) for p in loaded_planes(run.scene, U)}) < 2:
         return None
     return sum(z[p] * u for p, u in U.items())

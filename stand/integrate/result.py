@@ -275,9 +275,7 @@ class Run(Result):
         measured against)."""
         if self.scene is None:
             return 0.0
-        mine = (lambda p: True) if every_plane else (lambda p: p == self.main_plane)
-        return float(sum(w.balancer.capacity for w in self.scene.weights if mine(w.plane))
-                     + sum(b.body.capacity for b in self.scene.bodies if mine(b.plane)))
+        return self.scene.weights_capacity(None if every_plane else self.main_plane)
 
     def tables(self) -> list:
         """``"samples"`` (:meth:`to_frame`) and the document's tables."""

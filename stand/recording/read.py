@@ -166,17 +166,16 @@ def _units(f: "h5py.File", key: str, default: str, notes: list) -> str:
     return u
 
 
-def named_screens(path: Union[str, os.PathLike]) -> list:
-    """Names of a recording's named laser screens (``instruments/screen.<name>`` with an
-    ``axial_position_m``), in the file's order, without reading the recording; ``[]`` for
-    a file that is not a readable HDF5 file."""
+def named_screens(path: Union[str, os.PathLike], positioned: bool = True) -> list:
+    """Names of a recording's named laser screens (the groups ``instruments/screen.<name>``;
+    ``positioned``: those with an ``axial_position_m``), in the file's order, without reading
+    the recording; ``[]`` for a file that is not a readable HDF5 file."""
     try:
         with h5py.File(path, "r") as f:
             g = f.get(INSTRUMENTS)
-            if g is None:
-                return []
-            return [k.split(".", 1)[1] for k in g if k.startswith(SCREEN + ".")
-                    and "axial_position_m" in g[k].attrs]
+            return [k.split(".", 1)[1] for k in (g if isinstance(g, h5py.Group) else ())
+                    if k.startswith(SCREEN + ".") and isinstance(g[k], h5py.Group)
+                    and (not positioned or "axial_position_m" in g[k].attrs)]
     except (OSError, ValueError):
         return []
 
@@ -214,11 +213,10 @@ def screen_group_of(path: Union[str, os.PathLike], screen: Optional[str] = None)
             if isinstance(f.get(group), h5py.Group):
                 return group
             g = f.get(INSTRUMENTS)
-            names = [k.split(".", 1)[1] for k in (g if isinstance(g, h5py.Group) else ())
-                     if k.startswith(SCREEN + ".") and isinstance(g[k], h5py.Group)]
             unnamed = isinstance(g, h5py.Group) and isinstance(g.get(SCREEN), h5py.Group)
     except (OSError, ValueError):
         return group                     # not a readable HDF5 file: the caller's reader says so
+    names = named_screens(path, positioned=False)
     if screen is None and not names:
         return group
     count = {1: "one screen", 2: "two screens", 3: "three screens"}.get(len(names),

@@ -14,7 +14,6 @@ from stand.instruments.outputs import (MAX_STROBE_FRAMES, InstrumentOutputs, Rea
                                        ScreenOutput, StroboscopeOutput, flash_tables)
 from stand.instruments.pipeline import settings_dict
 from stand.scene.placement import placement_of
-from stand.instruments.rings import scene_capacity
 from stand.recording.layout import PHOTOGATE, STROBOSCOPE, instrument_key, truth_key
 
 __all__ = ["write_outputs", "estimated_bytes"]
@@ -217,7 +216,7 @@ def _write_truth(f, scene, traj) -> None:
     ds.attrs["description"] = ("static residual unbalance: the vector sum over all planes of the "
                                "rotor's unbalances and the weights' static moments, in the rotor "
                                "frame (x along the reference mark), on the recording's time grid")
-    ds = t.create_dataset("capacity", data=scene_capacity(scene))
+    ds = t.create_dataset("capacity", data=scene.weights_capacity(scene.main_plane))
     ds.attrs["units"] = "kg*m"
     ds.attrs["description"] = ("balancing capacity of the main plane: sum m l of the balls / "
                                "pendulums plus the body weights' capacities")

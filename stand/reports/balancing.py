@@ -194,11 +194,6 @@ def _input_format(source, a) -> str:
     return "hdf5"
 
 
-def _capacity(scene) -> float:
-    return (scene.balancer.capacity + sum(b.body.capacity for b in scene.bodies)
-            if scene is not None else 0.0)
-
-
 def _header(a, scene, source, recording_map=None) -> dict:
     """The machine (scene or map) and the record: sizes, speeds [Hz, rpm]."""
     ch = a.channels or {}
@@ -213,7 +208,7 @@ def _header(a, scene, source, recording_map=None) -> dict:
     mass = getattr(rmap, "mass_kg", None)
     name = (ch.get("scene_name") or getattr(ch.get("rec_scene"), "name", None)
             or Path(source_name(source)).stem)
-    S = _capacity(scene)
+    S = scene.weights_capacity() if scene is not None else 0.0
     n = None if t is None else int(t.size)
     return {
         "scene_name": str(name),
@@ -239,7 +234,7 @@ def _header(a, scene, source, recording_map=None) -> dict:
 def _quality(a, scene, grade, header, warn) -> dict:
     """The ``balancing_quality`` section: the analysis' unbalance, 1X and ISO grade, read
     against the ring zones, the permissible residual and the seeds' criteria."""
-    S = _capacity(scene)
+    S = scene.weights_capacity() if scene is not None else 0.0
     U, sU = a.get("unbalance_gmm"), a.get("unbalance_gmm_std")
     iso_a = a.get("iso_grade") or {}
     mass = iso_a.get("mass_kg") or header.get("rotor_mass_kg")
@@ -295,10 +290,10 @@ def _quality(a, scene, grade, header, warn) -> dict:
         from stand.model.balancers.liquid_chamber import (permissible_eccentricity_general,
                                                           permissible_eccentricity_household)
         for crit, fn, rel in (
-                ("household (machines a person contacts): [e] = 6000/n um",
+                ("household (machines a person contacts): [e] = 6000/n µm",
                  permissible_eccentricity_household,
                  "washing machines, centrifuges, fans: any rotor a person touches"),
-                ("general machine building (Reutlinger): [e] = 2e8/n^2 um",
+                ("general machine building (Reutlinger): [e] = 2e8/n^2 µm",
                  permissible_eccentricity_general, "general machinery")):
             e_per = fn(rpm) * 1e6
             bq["seed_criteria"].append({"criterion": crit, "relevant_for": rel,

@@ -40,8 +40,8 @@ def two_plane_section(recording_path, tracks, grade, service_speed_rpm, warn) ->
     for row in doc["planes"]:
         if not row["passed"]:
             warn("two_plane_iso_failed",
-                 f"{row['plane']}: residual {row['unbalance_gmm']:.4g} g mm exceeds its share "
-                 f"{row['permissible_gmm']:.4g} g mm of the ISO 21940-11 G{grade:g} permissible "
+                 f"{row['plane']}: residual {row['unbalance_gmm']:.4g} g·mm exceeds its share "
+                 f"{row['permissible_gmm']:.4g} g·mm of the ISO 21940-11 G{grade:g} permissible "
                  "residual")
     return doc
 

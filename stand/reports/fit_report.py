@@ -55,7 +55,7 @@ def _one_x(ax, s, fit) -> None:
         sp = np.bincount(rev, weights=w)[ok] / cnt[ok] / (2 * np.pi)
         ax.plot(sp, np.abs(sums[ok] / cnt[ok]) * k, lw=0.8, label=lab)
     ax.set_xlabel("speed [rev/s]")
-    ax.set_ylabel(f"1X amplitude [{'um' if unit == 'm' else unit}]")
+    ax.set_ylabel(f"1X amplitude [{'µm' if unit == 'm' else unit}]")
     ax.legend(loc="upper right")
 
 

@@ -49,6 +49,6 @@ class Report(Result):
             ax.axhline(iso["permissible_residual_gmm"], color="C3", ls="--", lw=1,
                        label=f"permissible (G {iso.get('required_grade_mm_s', 0):g})")
             ax.legend(loc="upper right")
-        ax.set_ylabel("unbalance [g mm]")
+        ax.set_ylabel("unbalance [g·mm]")
         ax.set_title(f"balancing quality: {(self.get('header') or {}).get('scene_name') or ''}",
                      fontsize=9)

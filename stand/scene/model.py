@@ -396,9 +396,6 @@ class BookModel:
 #: smallest unbalance-based length scale [m] (below it the rotor counts as balanced)
 MIN_LENGTH_SCALE = 1e-12
 
-#: structure kinds of a scene (:attr:`Scene.kind`)
-KINDS = ("planar", "rotor", "book")
-
 
 @dataclass(frozen=True)
 class Scene:
@@ -507,6 +504,11 @@ class Scene:
         """The body weights (two-axis pendulums, coupled pairs, dampers, liquids) in their
         planes: a tuple of :class:`stand.model.rotors.bodies.PlaneBody` (empty without)."""
         return tuple(w for w in self.plane_weights if not hasattr(w, "balancer"))
+
+    def weights_capacity(self, plane: Optional[str] = None) -> float:
+        """Capacity S [kg m] of ``plane``'s weights (None: all): balls' sum m l (2.1) + bodies'."""
+        return float(sum(w.balancer.capacity for w in self.weights if plane in (None, w.plane))
+                     + sum(b.body.capacity for b in self.bodies if plane in (None, b.plane)))
 
     @property
     def n_weights(self) -> int:

@@ -74,28 +74,17 @@ def _operating_R(scene, w_ref: float) -> float:
     return _operating_speed(scene) / w_ref
 
 
-def _plane_capacity(scene, plane: str) -> float:
-    """Capacity S [kg m] of the weights of ``plane``: balls and body weights."""
-    return (sum(w.balancer.capacity for w in scene.weights if w.plane == plane)
-            + sum(pb.body.capacity for pb in scene.bodies if pb.plane == plane))
-
-
 def _weight_planes(scene) -> list:
     """The planes that carry weights (balls or bodies), in scene order."""
     return list(dict.fromkeys([w.plane for w in scene.weights] + [pb.plane for pb in scene.bodies]))
 
 
-def _capacity(scene) -> float:
-    """Capacity S [kg m] of all the weights of the scene, every plane."""
-    return sum(_plane_capacity(scene, p) for p in _weight_planes(scene))
-
-
 def _rotor_e0(scene) -> float:
     """|static unbalance of the rotor| / capacity of all its weights: the vector sum of the
     rotor's unbalances over every plane [kg m] (the balls' plane or one of its own) over
-    :func:`_capacity` (structure scenes; any scene with body weights).  A planar rotor has
-    one plane: its own unbalance over its weights' capacity."""
-    S = _capacity(scene)
+    :meth:`Scene.weights_capacity` (structure scenes; any scene with body weights).  A planar
+    rotor has one plane: its own unbalance over its weights' capacity."""
+    S = scene.weights_capacity()
     U = sum(u.s * complex(math.cos(u.angle), math.sin(u.angle))
             for u in scene.linear_rotor().unbalances)
     return abs(U) / S if S > 0 else math.nan
@@ -156,20 +145,21 @@ def _balance(run, opts: dict) -> tuple:
     the planar rule.  ``sim.residual`` = ``|U_s| / S``; NaN and not balanced when the run
     cannot say.
     """
-    from stand.integrate.residual import couple_residual, plane_positions, static_residual
+    from stand.integrate.residual import couple_residual, plane_positions, plane_residuals
 
     sc = run.scene
     tol = opts.get("balance_tol", 1e-2)
-    S, e0 = _capacity(sc), _rotor_e0(sc)
-    Us = static_residual(run, slice(-1, None))
-    if Us is None or not S > 0:
+    S, e0 = sc.weights_capacity(), _rotor_e0(sc)
+    U = plane_residuals(run, slice(-1, None))     # static residual: their sum
+    if not U or not S > 0:
         return math.nan, False
-    psi = float(abs(np.asarray(Us)[-1])) / S
+    psi = float(abs(np.asarray(sum(U.values()))[-1])) / S
     balanced = abs(psi - (e0 - 1.0 if e0 > 1 else 0.0)) < tol
-    if balanced and not e0 > 1:
-        z = plane_positions(sc, _weight_planes(sc))
-        span = (max(z.values()) - min(z.values())) if z else 0.0
-        Uc = couple_residual(run, slice(-1, None)) if span > 0 else None
+    if balanced and not e0 > 1:     # positions of the residual's planes, the weights' among them
+        z = plane_positions(sc, U)
+        zw = [z[p] for p in _weight_planes(sc)] if z else []
+        span = (max(zw) - min(zw)) if zw else 0.0
+        Uc = couple_residual(run, slice(-1, None), positions=z) if span > 0 else None
         if Uc is not None:
             balanced = float(abs(np.asarray(Uc)[-1])) < tol * S * span
     return psi, bool(balanced)
@@ -241,7 +231,7 @@ def _body_regime(run, opts: dict, w_ref: float) -> dict:
     residual, balanced = _balance(run, opts)
     steady = True
     for plane in planes:
-        S = _plane_capacity(sc, plane)
+        S = sc.weights_capacity(plane)
         U = np.asarray(run.truth[f"residual/{plane}"][0])
         move = float(np.max(np.hypot(*(U[sel] - U[-1]).T))) / S if np.any(sel) else 0.0
         steady &= move < tol
