@@ -553,7 +553,7 @@ def _regime(d, out, speed) -> None:
         w_s = max(4 * TWO_PI / max(float(np.median(np.abs(speed))), 1e-9), (t[-1] - t[0]) / 200)
         w_s = min(w_s, (t[-1] - t[0]) / 3)
         if scene.kind == "planar":     # balanced: the whirl inside the ring of zone 1, S / (16 M)
-            thr = scene.balancer.capacity / scene.total_mass / 16 if scene.balancer.count else 0.0
+            thr = scene.weights_capacity() / scene.total_mass / 16    # balls and body weights
         else:     # a rotor of the family: every plane's recorded residual below S_p / 16
             x, y, thr = d["residual_ratio"][:n], np.zeros(n), 1.0
         wins = rg.classify_windows(t, np.unwrap(phi), w, x, y, w_s, thr)
