@@ -301,3 +301,18 @@ def test_a_slow_stretch_after_an_aliased_one_keeps_its_1x(tmp_path, capsys):
     assert doc["speed_hz"] == pytest.approx(10.0, rel=1e-3)
     assert doc["response_1x_m"] == pytest.approx(5e-5, rel=1e-3)
     assert not any(n.startswith("1X:") and "no 1X" in n for n in doc["notes"])
+
+
+def test_a_trace_of_unresolved_circles_states_its_bound(tmp_path):
+    """A `stand track --trace` CSV whose circles are all unresolved (radius below 3 spot
+    sigmas: a balanced rotor's still spot) gives no unbalance, and says the upper bound its
+    frames read (the largest of ``unbalance_max_gmm``), not nothing."""
+    import stand
+
+    rows = "\n".join(f"{k},{8 + 0.5 * k},0.001,-0.002,,,True,{210.0 + k}" for k in range(6))
+    p = tmp_path / "trace.csv"
+    p.write_text("# ring_radii_m = 0.0,0.001,0.002,0.003\n# capacity_gmm = 7200.0\n"
+                 "frame,time,x_mm,y_mm,radius_mm,radius_std_mm,ok,unbalance_max_gmm\n" + rows + "\n")
+    a = stand.analyze(str(p)).to_dict()
+    assert a.get("unbalance_gmm") is None
+    assert any("below 215 g·mm" in n for n in a["notes"]), a["notes"]

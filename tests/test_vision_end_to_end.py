@@ -119,3 +119,13 @@ def test_stand_track_trace_reads_the_unbalance_through_the_rings(tmp_path):
     np.testing.assert_allclose(df["unbalance_gmm"], U_true_gmm, rtol=0.02)
     # the circle's centre is the screen origin (beam centred), within 0.05 mm
     np.testing.assert_allclose(df[["x_mm", "y_mm"]].to_numpy(), 0.0, atol=0.05)
+    # `stand analyze` of the trace CSV reads the same unbalance from the circles' mean radius
+    # against the rings (it needs no speed): within 2 % of the truth, the interpolated reading
+    # of the frames' mean within its ± of the frames' own readings' mean (the same rings)
+    import stand
+
+    a = stand.analyze(str(out)).to_dict()
+    np.testing.assert_allclose(a["unbalance_gmm"], U_true_gmm, rtol=0.02)
+    assert a["ring_reading"]["circles"] == 6 and a["ring_reading"]["zone"] in (7, 8)
+    assert abs(a["unbalance_gmm"] - df["unbalance_gmm"].mean()) <= a["unbalance_gmm_std"]
+    assert 0 < a["unbalance_gmm_std"] < 0.01 * U_true_gmm

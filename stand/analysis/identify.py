@@ -46,7 +46,7 @@ from stand.analysis.sources import (no_weights as _no_weights, read_source, unde
                                     undersampled_words, weightless_scene, whirls)
 from stand.analysis.two_plane import two_plane
 from stand.analysis.signals import settling
-from stand.analysis.unbalance import line_1x, reduction, unbalance
+from stand.analysis.unbalance import line_1x, reduction, ring_reading, unbalance
 from stand.analysis.vibration import VIBRATION, vibration_in_users_quantity
 
 __all__ = ["analyze", "two_plane"]
@@ -109,6 +109,8 @@ def analyze(path, grade: float = 6.3, service_speed_rpm: float | None = None,
     if rotating:
         unbalance(out, d["scene"], sc1, d, rmap, getattr(rmap, "mass_kg", None) or d.get("mass_kg"),
                   grade, service_speed_rpm, notes)
+    elif tab is not None:       # long-exposure circles (stand track --trace) need no speed
+        ring_reading(out, d)
     if rotating:
         reduction(out, d)
     _truth(d, out)

@@ -166,7 +166,8 @@ def ring_reading(out, d):
     from dsp.unbalance import unbalance_from_rings
 
     tab = d.get("table")
-    if out.get("response_1x_m") is None:
+    circles = _trace_circles(tab, out["notes"]) if tab is not None else None
+    if out.get("response_1x_m") is None and circles is None:
         return None
     if tab is None:
         return _recorded_rings(out, d)
@@ -177,10 +178,13 @@ def ring_reading(out, d):
         gain = float(meta.get("optical_gain", 1.0))
     except (KeyError, ValueError):
         return None
-    r_screen = out["response_1x_m"] * gain
-    # the circle radius's std: the spot's scatter (the 1X line's) and the ring scale's
-    # calibration (systematic: common to every frame, it does not average out)
-    s_resp = out.get("response_1x_m_std")
+    if circles is not None:       # long exposures: the circles drawn on the screen itself
+        r_screen, s_resp, n_circles = circles
+        gain = 1.0
+    else:
+        r_screen, s_resp = out["response_1x_m"] * gain, out.get("response_1x_m_std")
+    # the circle radius's std: the spot's scatter (the 1X line's, or the circles') and the ring
+    # scale's calibration (systematic: common to every frame, it does not average out)
     try:
         rel_scale = float(meta["scale_std_mm_per_px"]) / float(meta["scale_mm_per_px"])
     except (KeyError, ValueError, ZeroDivisionError):
@@ -198,12 +202,50 @@ def ring_reading(out, d):
                            "unbalance_gmm": rd.unbalance_gmm, "unbalance_gmm_std": rd.unbalance_std_gmm,
                            "interpolated_gmm": rd.interpolated_kg_m * 1e6,
                            "interpolated_gmm_std": s_int, "off_scale": rd.off_scale}
+    if circles is not None:
+        out["ring_reading"]["circles"] = n_circles
     if out.get("unbalance_gmm") is None:
+        what = (f"the mean of {n_circles} long-exposure circles" if circles is not None
+                else "spot circle")
         out.update(unbalance_gmm=rd.interpolated_kg_m * 1e6,
                    unbalance_gmm_std=rd.unbalance_std_gmm if s_int is None else s_int,
-                   unbalance_method="spot circle against the calibration rings (zone i -> i S/16, "
+                   unbalance_method=f"{what} against the calibration rings (zone i -> i S/16, "
                                     "interpolated between the rings)")
     return rd
+
+
+def _trace_circles(tab, notes):
+    """``(radius [m], std [m], n)``: the mean radius on the screen of the circles of a
+    ``stand track --trace`` table (its ``radius_mm``, ``radius_std_mm`` columns; the lab's
+    long exposures of a steady whirl, 4.3), its std (the circles' scatter over sqrt(n), or
+    one circle's own std, whichever is larger), how many; None for any other table.  A table
+    whose circles are all unresolved (no radius, an upper bound ``radius_max_mm``) gives a note
+    with the bound and None."""
+    import pandas as pd
+
+    try:
+        df = pd.read_csv(tab.path, comment="#")
+    except (OSError, ValueError, UnicodeDecodeError):
+        return None
+    if "radius_mm" not in df:
+        return None
+    r = pd.to_numeric(df["radius_mm"], errors="coerce").to_numpy(float)
+    ok = np.isfinite(r) & (r >= 0)
+    if "ok" in df:
+        ok &= df["ok"].astype(str).str.lower().isin(("true", "1"))
+    if not ok.any():
+        bound = pd.to_numeric(df.get("unbalance_max_gmm"), errors="coerce") \
+            if "unbalance_max_gmm" in df else None
+        if bound is not None and np.isfinite(bound).any():
+            notes.append(f"ring reading: no circle resolved (radius below 3 spot sigmas): the "
+                         f"unbalance is below {float(np.nanmax(bound)):.4g} g·mm")
+        return None
+    r = r[ok] * 1e-3
+    s = pd.to_numeric(df["radius_std_mm"], errors="coerce").to_numpy(float)[ok] * 1e-3 \
+        if "radius_std_mm" in df else np.full(r.size, np.nan)
+    own = float(np.sqrt(np.nanmean(s * s) / r.size)) if np.isfinite(s).any() else 0.0
+    scatter = float(np.std(r, ddof=1) / math.sqrt(r.size)) if r.size > 1 else 0.0
+    return float(np.mean(r)), max(scatter, own), int(r.size)
 
 
 
