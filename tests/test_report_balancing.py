@@ -384,3 +384,19 @@ def test_bad_files_give_clear_errors(tmp_path):
         balancing_report(tmp_path / "nox.h5")
     with pytest.raises(FileNotFoundError):
         balancing_report(tmp_path / "missing.h5")
+
+
+def test_capacity_exceeded_counts_the_body_weights(tmp_path):
+    """A planar rotor balanced by a body weight alone (body_damper: S = 6 g m) whose unbalance
+    is twice its capacity (M e = 4 kg x 3 mm) is warned of, as the header's e0 says; with the
+    balls' capacity alone (0) the warning never fired."""
+    text = (SCENES / "body_damper.toml").read_text()
+    text = text.replace("eccentricity = 7.5e-4 ", "eccentricity = 3.0e-3 ").replace(
+        "duration = 30.0 ", "duration = 2.0 ")
+    (tmp_path / "over.toml").write_text(text)
+    sc = load_scene(tmp_path / "over.toml")        # (the recording keeps the scene's text)
+    assert sc.balancer.count == 0 and sc.weights_capacity() == pytest.approx(0.006)
+    assert sc.rotor.unbalance == pytest.approx(0.012) and sc.run.duration == 2.0
+    doc = balancing_report(write_recording(simulate(sc), tmp_path / "over.h5"))
+    (w,) = [w for w in doc["warnings"] if w["code"] == "capacity_exceeded"]
+    assert "e0 = 2 > 1" in w["message"]

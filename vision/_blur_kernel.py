@@ -278,14 +278,14 @@ def _compiled_kernel():
         numba = numba_or_none()
         if numba is not None:
             jit = numba.njit(cache=True, error_model="numpy", nogil=True)
-            # (reassociating sums: SIMD partial sums; no assumption about NaN / inf)
-            fast = numba.njit(cache=True, error_model="numpy", nogil=True,
-                              fastmath={"reassoc", "contract"})
+            # the dot products alone reassociating (SIMD partial sums; no assumption about
+            # NaN / inf, no fused multiply-adds): the kernel's other sums keep their order
+            fast = numba.njit(cache=True, error_model="numpy", nogil=True, fastmath={"reassoc"})
             globals()["path"] = jit(path)      # the kernel calls the compiled helpers
             globals()["_profile_row"] = jit(_profile_row)
             globals()["_dot"] = fast(_dot)
             globals()["_sums"] = jit(_sums)
-            _compiled = fast(_normal_equations_loops)
+            _compiled = jit(_normal_equations_loops)
     return _compiled or None
 
 
@@ -550,7 +550,7 @@ def fit_loops(patch, pi, pj, clipped, level, sat_eff, starts, size, c, tol, max_
             n = n_points(math.sqrt(q[2] * q[2] + q[3] * q[3]), math.exp(q[8]), c[0], c[3])
             ck = _EVALUATE(patch, pi, pj, clipped, level, sat_eff, q, n, n < 0, n < 0, JTJ, g,
                            MJ)
-        if ck < cost or k == 0:
+        if k == 0 or ck < cost or cost != cost:     # (a NaN first cost is not kept)
             cost, best = ck, k
             _copy(p, q)
     if best > 0:

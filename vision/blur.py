@@ -153,8 +153,8 @@ class BlurFit:
 
 # ---------------------------------------------------------------- path
 def _n_points(ell: float, s: float) -> int:
-    """Points along a path of half-length ``ell`` [px]: at most one sigma ``s`` apart,
-    at least 7 (Gregory's end weights)."""
+    """Points along a path of half-length ``ell`` [px] (:func:`vision._blur_kernel.n_points`):
+    4-6 Gauss-Legendre nodes up to 2.5 sigma ``s``, else at most one sigma apart, at least 7."""
     from ._blur_kernel import n_points
 
     return n_points(float(ell), float(s), MIN_SIGMA, MAX_POINTS)

@@ -371,7 +371,7 @@ def _runout_removed(d, sc1, speed, sl, notes):
         vs = pr[2]
         V = complex(np.mean(vs))
         sV = float(np.std(vs, ddof=1) / math.sqrt(2 * vs.size))
-        cap = scene.weights_capacity() if hasattr(scene, "weights_capacity") else 0.0
+        cap = scene.weights_capacity()
         dyn = H(float(np.max(pr[1]))) * (abs(v1) / max(H(sc1.speed_rad_s), 1e-300)
                                          + cap / scene.total_mass)
         slowroll = (v1 - V, math.sqrt(sv * sv + sV * sV + dyn * dyn),

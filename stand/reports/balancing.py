@@ -40,6 +40,10 @@ TWO_PI = 2.0 * math.pi
 SCATTER_UNCERTAINTY = ("± is one standard uncertainty: the revolution-to-revolution scatter of "
                        "the 1X vector; the scene's mass, natural frequency and damping are "
                        "taken as exact")
+RING_UNCERTAINTY = ("± is one standard uncertainty: the spot circle's radius (its scatter, or "
+                    "the long-exposure circles' scatter) and the ring scale's calibration, "
+                    "interpolated between the rings; the rings themselves (zone i -> i S/16) "
+                    "are taken as exact")
 FIT_UNCERTAINTY = ("± is one standard uncertainty: the model fit's statistical part with "
                    "correlated residuals, with what the rotor angle's source leaves open "
                    "(docs/lab_recordings.md); the rigid-rotor model and the vibrating mass "
@@ -256,8 +260,9 @@ def _quality(a, scene, grade, header, warn) -> dict:
         "unbalance_method": a.get("unbalance_method") or (
             "steady 1X with the scene's mass, natural frequency and damping"
             if U is not None and scene is not None else None),
-        "uncertainty_statement": None if U is None else (FIT_UNCERTAINTY if fit else
-                                                          SCATTER_UNCERTAINTY),
+        "uncertainty_statement": None if U is None else (
+            FIT_UNCERTAINTY if fit else RING_UNCERTAINTY
+            if "calibration rings" in (a.get("unbalance_method") or "") else SCATTER_UNCERTAINTY),
         "residual_fraction_of_capacity": U * 1e-6 / S if U is not None and S > 0 else None,
         "residual_zone": zone(None if U is None else U * 1e-6, S),
         "residual_window_s": [st["t_start_s"], st["t_end_s"]] if st else [],
@@ -424,7 +429,7 @@ def _scene_warnings(a, scene, bq, dyn, warn):
         warn("run_incomplete", f"the simulation stopped early: {solver.get('message', '')}")
     if scene is None:
         return
-    S = scene.balancer.capacity
+    S = scene.weights_capacity()        # balls and body weights, as the header's e0
     f_end = a.get("speed_hz")
     w_end = f_end * TWO_PI if f_end else None
     if S > 0:

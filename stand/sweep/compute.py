@@ -157,7 +157,7 @@ def _balance(run, opts: dict) -> tuple:
     balanced = abs(psi - (e0 - 1.0 if e0 > 1 else 0.0)) < tol
     if balanced and not e0 > 1:     # positions of the residual's planes, the weights' among them
         z = plane_positions(sc, U)
-        zw = [z[p] for p in _weight_planes(sc)] if z else []
+        zw = [z[p] for p in _weight_planes(sc) if p in z] if z else []
         span = (max(zw) - min(zw)) if zw else 0.0
         Uc = couple_residual(run, slice(-1, None), positions=z) if span > 0 else None
         if Uc is not None:
