@@ -461,3 +461,34 @@ def test_stand_video_writes_a_lossless_video_with_its_truth(tmp_path):
 def _preamble_kv(path) -> dict:
     return {k.strip(): v.strip() for k, _, v in
             (ln.partition("=") for ln in Path(path).read_text().splitlines() if "=" in ln)}
+
+
+def test_lazy_compiled_set_up_runs_once_for_threads_that_meet():
+    """vision._numba.once: eight threads whose first calls meet (two trackers at once) wait for
+    one set-up and all get its result -- never the half-built state the set-up had before it
+    finished (the tracker then cached the numpy path for good) nor a second ``jit`` of a
+    jitted function (numba raises).  The compiled getters are such set-ups."""
+    import threading
+    import time as _time
+
+    from vision import _blur_kernel, _blur_start, _spot_front
+    from vision._numba import once
+
+    calls = []
+
+    @once
+    def setup():
+        calls.append(1)
+        _time.sleep(0.05)            # long enough for every thread to arrive meanwhile
+        return object()
+
+    got = []
+    threads = [threading.Thread(target=lambda: got.append(setup())) for _ in range(8)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert len(calls) == 1 and len(got) == 8 and all(g is got[0] for g in got)
+    for getter in (_blur_kernel.compiled_fit, _blur_kernel._compiled_kernel,
+                   _blur_start._compiled_pair, _spot_front.compiled_front):
+        assert getter.__wrapped__ is not None and getter() is getter()

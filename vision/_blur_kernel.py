@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from ._numba import cache_missing, numba_or_none
+from ._numba import cache_missing, numba_or_none, once
 
 __all__ = ["fit_loops", "compiled_fit", "compiled_available", "compile_needed", "path",
            "n_points", "CUTOFF_SIGMAS"]
@@ -31,7 +31,6 @@ CUTOFF_SIGMAS = 5.0     #: a point contributes to pixels within this many sigma 
 _SQRT2 = math.sqrt(2.0)
 _SQRT2PI = math.sqrt(2.0 * math.pi)
 
-_compiled = None        # None: not tried yet; False: unavailable; else the dispatcher
 
 
 #: Gauss-Legendre nodes on [-1, 1] and weights (sum 1) of 4, 5 and 6 points, one after the
@@ -271,22 +270,20 @@ def compiled_available() -> bool:
     return _compiled_kernel() is not None
 
 
+@once
 def _compiled_kernel():
-    global _compiled
-    if _compiled is None:
-        _compiled = False
-        numba = numba_or_none()
-        if numba is not None:
-            jit = numba.njit(cache=True, error_model="numpy", nogil=True)
-            # the dot products alone reassociating (SIMD partial sums; no assumption about
-            # NaN / inf, no fused multiply-adds): the kernel's other sums keep their order
-            fast = numba.njit(cache=True, error_model="numpy", nogil=True, fastmath={"reassoc"})
-            globals()["path"] = jit(path)      # the kernel calls the compiled helpers
-            globals()["_profile_row"] = jit(_profile_row)
-            globals()["_dot"] = fast(_dot)
-            globals()["_sums"] = jit(_sums)
-            _compiled = jit(_normal_equations_loops)
-    return _compiled or None
+    numba = numba_or_none()
+    if numba is None:
+        return None
+    jit = numba.njit(cache=True, error_model="numpy", nogil=True)
+    # the dot products alone reassociating (SIMD partial sums; no assumption about NaN /
+    # inf, no fused multiply-adds): the kernel's other sums keep their order
+    fast = numba.njit(cache=True, error_model="numpy", nogil=True, fastmath={"reassoc"})
+    globals()["path"] = jit(path)      # the kernel calls the compiled helpers
+    globals()["_profile_row"] = jit(_profile_row)
+    globals()["_dot"] = fast(_dot)
+    globals()["_sums"] = jit(_sums)
+    return jit(_normal_equations_loops)
 
 
 # ---------------------------------------------------------------- Levenberg-Marquardt
@@ -572,26 +569,23 @@ _PY.update({name: globals()[name] for name in ("path", "n_points", "_bound", "_e
                                                  "_centre_cov")})
 
 
-_compiled_fit = None    # None: not tried yet; False: unavailable; else the dispatcher
 
 
+@once
 def compiled_fit():
     """:func:`fit_loops` compiled by numba (numba imported, the helpers replaced by their
     compiled versions and :func:`_evaluate` bound to the compiled normal equations on the
     first call, ``cache=True``), or None when numba is missing or disabled."""
-    global _compiled_fit
-    if _compiled_fit is None:
-        _compiled_fit = False
-        kern = _compiled_kernel()
-        if kern is not None:
-            jit = numba_or_none().njit(cache=True, error_model="numpy", nogil=True)
-            mod = globals()
-            mod["_EVALUATE"] = kern
-            for name in ("n_points", "_bound", "_evaluate", "_copy", "_cholesky_solve", "_lm",
-                         "_where", "_score", "_centre_cov"):
-                mod[name] = jit(mod[name])
-            _compiled_fit = jit(fit_loops)   # nogil: the read-ahead thread decodes meanwhile
-    return _compiled_fit or None
+    kern = _compiled_kernel()
+    if kern is None:
+        return None
+    jit = numba_or_none().njit(cache=True, error_model="numpy", nogil=True)
+    mod = globals()
+    mod["_EVALUATE"] = kern
+    for name in ("n_points", "_bound", "_evaluate", "_copy", "_cholesky_solve", "_lm",
+                 "_where", "_score", "_centre_cov"):
+        mod[name] = jit(mod[name])
+    return jit(fit_loops)   # nogil: the read-ahead thread decodes meanwhile
 
 
 def compile_needed() -> bool:

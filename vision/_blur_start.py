@@ -20,11 +20,10 @@ import math
 
 import numpy as np
 
-from ._numba import numba_or_none
+from ._numba import numba_or_none, once
 
 __all__ = ["start_loops", "blob_inputs", "compiled_start", "compiled_blob_inputs"]
 
-_compiled = None        # None: not tried yet; else (start_loops, blob_inputs) compiled, or Nones
 
 
 def start_loops(patch, mask, level, sigma, shrink, max_sweep):
@@ -292,15 +291,14 @@ def half_sweep(C, max_sweep):
     return b
 
 
+@once
 def _compiled_pair():
-    global _compiled
-    if _compiled is None:
-        _compiled = (None, None)
-        numba = numba_or_none()
-        if numba is not None:
-            jit = numba.njit(cache=True, error_model="numpy", nogil=True)
-            mod = globals()
-            for name in ("half_sweep", "_circle", "start_loops", "_dilate"):
-                mod[name] = jit(mod[name])
-            _compiled = (mod["start_loops"], jit(blob_inputs))
-    return _compiled
+    """(start_loops, blob_inputs) compiled, or (None, None)."""
+    numba = numba_or_none()
+    if numba is None:
+        return (None, None)
+    jit = numba.njit(cache=True, error_model="numpy", nogil=True)
+    mod = globals()
+    for name in ("half_sweep", "_circle", "start_loops", "_dilate"):
+        mod[name] = jit(mod[name])
+    return (mod["start_loops"], jit(blob_inputs))

@@ -8,9 +8,30 @@ decides the compiled code stays in the file that holds it (this one compiles not
 """
 from __future__ import annotations
 
+import functools
 import os
+import threading
 
-__all__ = ["jit_disabled", "numba_or_none", "cache_missing"]
+__all__ = ["jit_disabled", "numba_or_none", "cache_missing", "once"]
+
+_LOCK = threading.RLock()
+
+
+def once(setup):
+    """A module's lazy set-up ``setup()`` (it compiles the module's kernels and returns them,
+    or None) run once under one lock, its result kept: two threads whose first calls meet
+    (two trackers at once) wait for one compilation and both get the compiled kernels, never
+    the other's half-built state nor a second ``jit`` of a jitted function."""
+    done = []
+
+    @functools.wraps(setup)
+    def wrapper():
+        if not done:
+            with _LOCK:
+                if not done:
+                    done.append(setup())
+        return done[0]
+    return wrapper
 
 
 def jit_disabled() -> bool:

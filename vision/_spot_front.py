@@ -33,7 +33,7 @@ import sys
 import cv2
 import numpy as np
 
-from ._numba import numba_or_none
+from ._numba import numba_or_none, once
 from .levels import BORDER, background_level
 
 __all__ = ["detect", "front", "border_background", "compiled_front"]
@@ -112,7 +112,6 @@ def use_compiled() -> bool:
     return _FRONT[0] is not None
 
 
-_compiled = None      # None: not tried yet; False: unavailable; else the dispatcher
 
 
 def _kth(x, n, k, centre):
@@ -299,17 +298,15 @@ def _grow(k0, lab, rs, re, first, comp, stack):
     return area, i0, i1, j0, j1
 
 
+@once
 def compiled_front():
     """:func:`front` compiled by numba (``cache=True``, ``nogil=True``; numba imported on
     the first call), or None when numba is missing or disabled."""
-    global _compiled
-    if _compiled is None:
-        _compiled = False
-        numba = numba_or_none()
-        if numba is not None:
-            jit = numba.njit(cache=True, error_model="numpy", nogil=True)
-            mod = globals()
-            for name in ("_kth", "border_background", "_grow"):
-                mod[name] = jit(mod[name])
-            _compiled = jit(front)
-    return _compiled or None
+    numba = numba_or_none()
+    if numba is None:
+        return None
+    jit = numba.njit(cache=True, error_model="numpy", nogil=True)
+    mod = globals()
+    for name in ("_kth", "border_background", "_grow"):
+        mod[name] = jit(mod[name])
+    return jit(front)
