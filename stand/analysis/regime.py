@@ -95,7 +95,7 @@ def classify(traj, window: float = 0.2, sync_tol: float = 1e-3, balance_tol: flo
     w1 = sc.natural_frequency
     sel = traj.t >= traj.t[0] + (1 - window) * (traj.t[-1] - traj.t[0])
     rotor = float(np.mean(traj.rotor_speed[sel])) / w1
-    S = sc.balancer.capacity
+    S = sc.balancer.capacity        # the balls' alone, deliberately: the book's planar ball rule
     if sc.balancer.count == 0 or S == 0:
         return Regime("no weights", float("nan"), np.zeros(0), rotor, 0.0)
     ws = np.mean(traj.weight_speed[sel], axis=0) / w1

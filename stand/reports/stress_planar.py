@@ -258,7 +258,7 @@ def kind_dimensionless(case, res):
     p, chk = case["params"], case["check"]
     scene = dimensionless_scene(p)
     tr = _run_planar(case, scene, res)
-    S = scene.balancer.capacity
+    S = scene.balancer.capacity     # the balls' alone, deliberately: the book's dimensionless cases
     invalid = []
     if chk == "balanced":
         psi = np.abs(tr.residual_unbalance()) / S
