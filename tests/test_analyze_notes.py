@@ -316,3 +316,28 @@ def test_a_trace_of_unresolved_circles_states_its_bound(tmp_path):
     a = stand.analyze(str(p)).to_dict()
     assert a.get("unbalance_gmm") is None
     assert any("below 215 g·mm" in n for n in a["notes"]), a["notes"]
+
+
+
+def test_a_lab_line_within_the_resolution_of_the_1x_is_no_precession(tmp_path, capsys):
+    """The video sample's orbit (its exposure-averaged truth through the camera's gain: the
+    universal stand balancing itself at 12 rev/s, no speed channel) over its steady stretch of
+    2.48 s (1/T = 0.40 Hz) holds a line at 11.94 Hz beside the 1X at 12.003 Hz: the 1X still
+    changing, not resolved from it -- no precession or nutation (it had been printed as the
+    stuck weights' precession with a nutation at 11.97 Hz), the line kept as the strongest
+    other line with a note.  (A lab orbit with a precession at 0.32 of the rotor speed keeps
+    both: test_a_lab_orbit_keeps_its_precession_and_nutation.)"""
+    import pandas as pd
+
+    video = Path(__file__).resolve().parents[1] / "data_samples" / "video"
+    tr = pd.read_csv(video / "screen_truth.csv", comment="#")
+    gain, pitch, exposure = 6.0, 1e-4, 0.016          # the sample's camera (its preamble)
+    p = tmp_path / "orbit.csv"
+    pd.DataFrame({"t_s": tr["time_s"] + exposure / 2,
+                  "x_m": (tr["u_px"] - 127.5) * pitch / gain,
+                  "y_m": -(tr["v_px"] - 127.5) * pitch / gain}).to_csv(p, index=False)
+    doc = _json(capsys, "analyze", p)
+    T = doc["stationary_stretch"]["duration_s"]
+    assert doc["precession_hz"] is None and doc["nutation_hz"] is None
+    assert abs(doc["strongest_other_line_hz"] - doc["speed_hz"]) < 1 / T
+    assert any("resolution 1/T" in n for n in doc["notes"]), doc["notes"]

@@ -41,7 +41,6 @@ import math
 import numpy as np
 
 from dsp.errors import SignalError
-
 from stand.analysis.sources import (no_weights as _no_weights, read_source, undersampled,
                                     undersampled_words, weightless_scene, whirls)
 from stand.analysis.two_plane import two_plane
@@ -474,14 +473,15 @@ def _stuck_weights_line(d, sl, line, f_rot, notes) -> bool:
     decomposition identifies it, unless the recording's scene has no weights at all."""
     w = d.get("weights")
     t = d["t"][sl]
-    if w is None:
-        bare = weightless_scene(d.get("rec_scene"))
-        if bare:
-            notes.append(f"the orbit's strongest line besides the 1X, {line.frequency_hz:.6g} "
-                         "Hz, is the rotor's own: the recording's scene has no weights")
-        return not bare
     if t.size < 2 or not t[-1] > t[0]:
         return False
+    if w is None:    # a line within 1/T of the 1X is not resolved from it (a changing 1X)
+        bare, near = weightless_scene(d.get("rec_scene")), abs(line.frequency_hz - f_rot) < 1 / (t[-1] - t[0])
+        if bare or near:
+            notes.append(f"the orbit's strongest line besides the 1X, {line.frequency_hz:.6g} Hz, is " + (
+                "the rotor's own: the recording's scene has no weights" if bare else "within the "
+                "stretch's resolution 1/T of the 1X: the 1X changing (e.g. balancing), no precession"))
+        return not (bare or near)
     wa = np.unwrap(np.asarray(w, float)[sl].reshape(t.size, -1), axis=0)
     f_w = (wa[-1] - wa[0]) / (t[-1] - t[0]) / TWO_PI           # [rev/s] per weight
     tol = max(3 * line.frequency_std_hz, 1.0 / (t[-1] - t[0]))
