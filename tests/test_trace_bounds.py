@@ -81,6 +81,12 @@ def test_stand_track_on_stand_cameras_says_how_many_frames_are_bounds(tmp_path, 
     assert df.loc[bound, "unbalance_gmm"].isna().all()
     assert (df.loc[bound, "unbalance_max_gmm"] > 0).all()
     assert df.loc[~bound & df["ok"], "unbalance_gmm"].notna().all()
-    # stand analyze of the table reads the circles' centres (x_mm, y_mm), never the unbalance
-    # columns: no unbalance from the bounds (nor from the values)
-    assert stand.analyze(str(out)).get("unbalance_gmm") is None
+    # stand analyze of the table reads the settled frames as a person reads the screen: they
+    # are bounds, so no unbalance -- neither the bounds nor the mean of the balancing
+    # transient's resolved circles (3135 g mm) -- and the bound of the settled frames in a note
+    a = stand.analyze(str(out))
+    assert a.get("unbalance_gmm") is None
+    tail = df.index[df.index > df.index[~bound & df["ok"]].max()]          # the settled frames
+    (note,) = [n for n in a.to_dict()["notes"] if n.startswith("ring reading")]
+    assert f"the last {len(tail)} circles are unresolved" in note
+    assert f"below {df.loc[tail, 'unbalance_max_gmm'].max():.4g} g·mm" in note

@@ -205,8 +205,8 @@ def ring_reading(out, d):
     if circles is not None:
         out["ring_reading"]["circles"] = n_circles
     if out.get("unbalance_gmm") is None:
-        what = (f"the mean of {n_circles} long-exposure circles" if circles is not None
-                else "spot circle")
+        what = (f"the mean of the last {n_circles} (settled) long-exposure circles"
+                if circles is not None else "spot circle")
         out.update(unbalance_gmm=rd.interpolated_kg_m * 1e6,
                    unbalance_gmm_std=rd.unbalance_std_gmm if s_int is None else s_int,
                    unbalance_method=f"{what} against the calibration rings (zone i -> i S/16, "
@@ -215,12 +215,15 @@ def ring_reading(out, d):
 
 
 def _trace_circles(tab, notes):
-    """``(radius [m], std [m], n)``: the mean radius on the screen of the circles of a
-    ``stand track --trace`` table (its ``radius_mm``, ``radius_std_mm`` columns; the lab's
-    long exposures of a steady whirl, 4.3), its std (the circles' scatter over sqrt(n), or
-    one circle's own std, whichever is larger), how many; None for any other table.  A table
-    whose circles are all unresolved (no radius, an upper bound ``radius_max_mm``) gives a note
-    with the bound and None."""
+    """``(radius [m], std [m], n)`` of a ``stand track --trace`` table (its ``radius_mm``,
+    ``radius_std_mm`` columns: the lab's long exposures of a steady whirl, 4.3), read as a
+    person reads the screen once the motion has settled: the trailing frames in the last
+    frame's state -- resolved circles whose radii agree with the last one's (within 3 of
+    their stds or 2 %), or unresolved ones; None for any other table.  Their mean radius, its
+    std (the circles' scatter over sqrt(n), or one circle's own std over sqrt(n), whichever is
+    larger) and how many.  Settled on unresolved circles (radius below 3 spot sigmas: a
+    balanced rotor's still spot): a note with their upper bound (``unbalance_max_gmm``) and
+    None -- never the mean of a balancing transient's circles."""
     import pandas as pd
 
     try:
@@ -229,24 +232,30 @@ def _trace_circles(tab, notes):
         return None
     if "radius_mm" not in df:
         return None
-    r = pd.to_numeric(df["radius_mm"], errors="coerce").to_numpy(float)
-    ok = np.isfinite(r) & (r >= 0)
-    if "ok" in df:
-        ok &= df["ok"].astype(str).str.lower().isin(("true", "1"))
-    if not ok.any():
-        bound = pd.to_numeric(df.get("unbalance_max_gmm"), errors="coerce") \
-            if "unbalance_max_gmm" in df else None
-        if bound is not None and np.isfinite(bound).any():
-            notes.append(f"ring reading: no circle resolved (radius below 3 spot sigmas): the "
-                         f"unbalance is below {float(np.nanmax(bound)):.4g} g·mm")
+    col = lambda name: (pd.to_numeric(df[name], errors="coerce").to_numpy(float)  # noqa: E731
+                        if name in df else np.full(len(df), np.nan))
+    r, s, bound = col("radius_mm") * 1e-3, col("radius_std_mm") * 1e-3, col("unbalance_max_gmm")
+    ok = df["ok"].astype(str).str.lower().isin(("true", "1")).to_numpy() if "ok" in df \
+        else np.ones(len(df), bool)
+    resolved = np.isfinite(r) & (r >= 0)
+    idx = np.flatnonzero(ok & (resolved | np.isfinite(bound)))
+    if not idx.size:
         return None
-    r = r[ok] * 1e-3
-    s = pd.to_numeric(df["radius_std_mm"], errors="coerce").to_numpy(float)[ok] * 1e-3 \
-        if "radius_std_mm" in df else np.full(r.size, np.nan)
-    own = float(np.sqrt(np.nanmean(s * s) / r.size)) if np.isfinite(s).any() else 0.0
-    scatter = float(np.std(r, ddof=1) / math.sqrt(r.size)) if r.size > 1 else 0.0
-    return float(np.mean(r)), max(scatter, own), int(r.size)
-
+    last, keep = idx[-1], []
+    for i in idx[::-1]:               # the trailing frames in the last frame's state
+        if resolved[i] != resolved[last] or (resolved[i] and abs(r[i] - r[last]) > max(
+                3 * math.hypot(np.nan_to_num(s[i]), np.nan_to_num(s[last])), 0.02 * r[last])):
+            break
+        keep.append(i)
+    keep = np.array(keep[::-1])
+    if not resolved[last]:
+        notes.append(f"ring reading: the last {keep.size} circles are unresolved (radius below 3 "
+                     f"spot sigmas): the unbalance is below {float(np.nanmax(bound[keep])):.4g} g·mm")
+        return None
+    rk, sk = r[keep], s[keep]
+    own = float(np.sqrt(np.nanmean(sk * sk) / rk.size)) if np.isfinite(sk).any() else 0.0
+    scatter = float(np.std(rk, ddof=1) / math.sqrt(rk.size)) if rk.size > 1 else 0.0
+    return float(np.mean(rk)), max(scatter, own), int(rk.size)
 
 
 def _recorded_rings(out, d):
