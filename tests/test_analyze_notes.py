@@ -309,10 +309,12 @@ def test_a_trace_of_unresolved_circles_states_its_bound(tmp_path):
     frames read (the largest of ``unbalance_max_gmm``), not nothing."""
     import stand
 
-    rows = "\n".join(f"{k},{8 + 0.5 * k},0.001,-0.002,,,True,{210.0 + k}" for k in range(6))
+    rows = "\n".join(f"{k},{8 + 0.5 * k},0.001,-0.002,3.0,2.0,unresolved,,,True,{210.0 + k}"
+                     for k in range(6))
     p = tmp_path / "trace.csv"
     p.write_text("# ring_radii_m = 0.0,0.001,0.002,0.003\n# capacity_gmm = 7200.0\n"
-                 "frame,time,x_mm,y_mm,radius_mm,radius_std_mm,ok,unbalance_max_gmm\n" + rows + "\n")
+                 "frame,time,x_mm,y_mm,radius_px,spot_sigma_px,flags,radius_mm,radius_std_mm,ok,"
+                 "unbalance_max_gmm\n" + rows + "\n")
     a = stand.analyze(str(p)).to_dict()
     assert a.get("unbalance_gmm") is None
     assert any("below 215 g·mm" in n for n in a["notes"]), a["notes"]

@@ -90,3 +90,39 @@ def test_stand_track_on_stand_cameras_says_how_many_frames_are_bounds(tmp_path, 
     (note,) = [n for n in a.to_dict()["notes"] if n.startswith("ring reading")]
     assert f"the last {len(tail)} circles are unresolved" in note
     assert f"below {df.loc[tail, 'unbalance_max_gmm'].max():.4g} g·mm" in note
+
+
+def _trace_csv(path, radii_mm, stds_mm, flags=None, scale_rel=1e-3):
+    """A trace table as `stand track --trace` writes it (the columns settled_circles reads)."""
+    n = len(radii_mm)
+    flags = flags or [""] * n
+    rows = [f"{k},{0.5 * k},100,100,{r / 0.1},0.01,2.0,{f},True,0.0,0.0,{r},{s},,5,{700.0 * r},"
+            for k, (r, s, f) in enumerate(zip(radii_mm, stds_mm, flags))]
+    path.write_text("# ring_radii_m = 0.0,0.001,0.002,0.003,0.004,0.005,0.006,0.007,0.008\n"
+                    "# capacity_gmm = 7200.0\n# optical_gain = 6.0\n"
+                    f"# scale_mm_per_px = 0.1\n# scale_std_mm_per_px = {0.1 * scale_rel}\n"
+                    "frame,time,u_px,v_px,radius_px,radius_std_px,spot_sigma_px,flags,ok,x_mm,"
+                    "y_mm,radius_mm,radius_std_mm,radius_max_mm,zone,unbalance_gmm,"
+                    "unbalance_max_gmm\n" + "\n".join(rows) + "\n")
+    return path
+
+
+def test_settled_circles_count_the_ring_scale_once_and_not_a_transient(tmp_path):
+    """Four settled circles of 5 mm whose stated std is the ring scale's alone (1e-3 of the
+    radius: 5 um): the reading's radius std is that 5 um once -- not divided by sqrt(4) as if
+    it averaged out, not added twice; the shrinking frames before them are left out; a
+    last circle alone gives a note and no zero ±."""
+    import stand
+
+    radii = [9.0, 7.5, 6.0, 5.0, 5.0, 5.0, 5.0]
+    stds = [r * 1e-3 for r in radii]
+    a = stand.analyze(str(_trace_csv(tmp_path / "t.csv", radii, stds))).to_dict()
+    rr = a["ring_reading"]
+    assert rr["circles"] == 4 and rr["circle_radius_mm"] == pytest.approx(5.0)
+    assert rr["circle_radius_mm_std"] == pytest.approx(5e-3, rel=1e-6)
+    assert "ring scale's calibration" in rr["uncertainty_statement"]
+    one = stand.analyze(str(_trace_csv(tmp_path / "one.csv", [9.0, 7.0, 5.0],
+                                       [float("nan")] * 3))).to_dict()
+    assert one["ring_reading"]["circles"] == 1
+    assert any("only the last 1 circle(s) agree" in n for n in one["notes"])
+    assert one["ring_reading"]["circle_radius_mm_std"] != 0.0

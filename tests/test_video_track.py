@@ -489,6 +489,19 @@ def test_lazy_compiled_set_up_runs_once_for_threads_that_meet():
     for t in threads:
         t.join()
     assert len(calls) == 1 and len(got) == 8 and all(g is got[0] for g in got)
+    # a set-up that raised is not run again (it may have jitted half its functions): the same
+    # error on every later call
+    failed = []
+
+    @once
+    def broken():
+        failed.append(1)
+        raise RuntimeError("no compiler")
+
+    for _ in range(3):
+        with pytest.raises(RuntimeError, match="no compiler"):
+            broken()
+    assert len(failed) == 1
     for getter in (_blur_kernel.compiled_fit, _blur_kernel._compiled_kernel,
                    _blur_start._compiled_pair, _spot_front.compiled_front):
         assert getter.__wrapped__ is not None and getter() is getter()

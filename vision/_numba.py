@@ -18,10 +18,12 @@ _LOCK = threading.RLock()
 
 
 def once(setup):
-    """A module's lazy set-up ``setup()`` (it compiles the module's kernels and returns them,
-    or None) run once under one lock, its result kept: two threads whose first calls meet
-    (two trackers at once) wait for one compilation and both get the compiled kernels, never
-    the other's half-built state nor a second ``jit`` of a jitted function."""
+    """A module's lazy set-up ``setup()`` (it wraps the module's kernels with ``numba.njit``,
+    which compiles on their first call behind numba's own lock, and returns them, or None) run
+    once under one lock, its result kept: two threads whose first calls meet (two trackers at
+    once) both get the finished set-up, never the other's half-built state nor a second ``jit``
+    of a jitted function.  A set-up that raised is not run again (it may have replaced some of
+    its module's functions): every later call raises the same error."""
     done = []
 
     @functools.wraps(setup)
@@ -29,7 +31,12 @@ def once(setup):
         if not done:
             with _LOCK:
                 if not done:
-                    done.append(setup())
+                    try:
+                        done.append(setup())
+                    except BaseException as exc:
+                        done.append(exc)
+        if isinstance(done[0], BaseException):
+            raise done[0]
         return done[0]
     return wrapper
 

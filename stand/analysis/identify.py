@@ -480,7 +480,7 @@ def _stuck_weights_line(d, sl, line, f_rot, notes) -> bool:
         if bare or near:
             notes.append(f"the orbit's strongest line besides the 1X, {line.frequency_hz:.6g} Hz, is " + (
                 "the rotor's own: the recording's scene has no weights" if bare else "within the "
-                "stretch's resolution 1/T of the 1X: the 1X changing (e.g. balancing), no precession"))
+                "stretch's resolution 1/T of the 1X: not resolved from it, not identified as a precession"))
         return not (bare or near)
     wa = np.unwrap(np.asarray(w, float)[sl].reshape(t.size, -1), axis=0)
     f_w = (wa[-1] - wa[0]) / (t[-1] - t[0]) / TWO_PI           # [rev/s] per weight

@@ -165,13 +165,19 @@ def ring_reading(out, d):
     circle's radius on the screen read against the rings (the lab's laser method, 4.3)."""
     from dsp.unbalance import unbalance_from_rings
 
+    from stand.analysis.trace_reading import settled_circles
+
     tab = d.get("table")
-    circles = _trace_circles(tab, out["notes"]) if tab is not None else None
+    meta = tab.metadata if tab is not None else {}
+    try:            # the ring scale's relative std (systematic: it does not average out)
+        rel_scale = float(meta["scale_std_mm_per_px"]) / float(meta["scale_mm_per_px"])
+    except (KeyError, ValueError, ZeroDivisionError):
+        rel_scale = None
+    circles = settled_circles(tab.path, rel_scale, out["notes"]) if tab is not None else None
     if out.get("response_1x_m") is None and circles is None:
         return None
     if tab is None:
         return _recorded_rings(out, d)
-    meta = tab.metadata
     try:
         radii = [float(v) for v in str(meta["ring_radii_m"]).split(",")]
         S = float(meta["capacity_gmm"]) * 1e-6
@@ -183,17 +189,16 @@ def ring_reading(out, d):
         gain = 1.0
     else:
         r_screen, s_resp = out["response_1x_m"] * gain, out.get("response_1x_m_std")
-    # the circle radius's std: the spot's scatter (the 1X line's, or the circles') and the ring
-    # scale's calibration (systematic: common to every frame, it does not average out)
-    try:
-        rel_scale = float(meta["scale_std_mm_per_px"]) / float(meta["scale_mm_per_px"])
-    except (KeyError, ValueError, ZeroDivisionError):
-        rel_scale = None
+    if rel_scale is None:
         out["notes"].append("ring reading: the track does not state the ring scale's "
                             "uncertainty (scale_std_mm_per_px); the circle radius's std is the "
                             "spot's scatter only")
+    # the circle radius's std: the spot's scatter (the 1X line's, or the circles') and the ring
+    # scale's calibration, once
     sr = (math.hypot(gain * s_resp, r_screen * (rel_scale or 0.0))
           if s_resp is not None and math.isfinite(s_resp) else None)
+    parts = [("the settled circles' scatter or pixel noise" if circles is not None
+              else "the 1X line's scatter")] + (["the ring scale's calibration"] if rel_scale else [])
     rd = unbalance_from_rings(r_screen, radii, S, radius_std_m=sr or 0.0)
     s_int = rd.interpolated_std_kg_m * 1e6 if sr is not None else None
     out["ring_reading"] = {"circle_radius_mm": r_screen * 1e3,
@@ -201,7 +206,11 @@ def ring_reading(out, d):
                            "zone": rd.zone,
                            "unbalance_gmm": rd.unbalance_gmm, "unbalance_gmm_std": rd.unbalance_std_gmm,
                            "interpolated_gmm": rd.interpolated_kg_m * 1e6,
-                           "interpolated_gmm_std": s_int, "off_scale": rd.off_scale}
+                           "interpolated_gmm_std": s_int, "off_scale": rd.off_scale,
+                           "uncertainty_statement": None if sr is None else (
+                               "± is one standard uncertainty: " + " and ".join(parts) +
+                               ", interpolated between the rings; the rings themselves (zone i "
+                               "-> i S/16) are taken as exact")}
     if circles is not None:
         out["ring_reading"]["circles"] = n_circles
     if out.get("unbalance_gmm") is None:
@@ -212,50 +221,6 @@ def ring_reading(out, d):
                    unbalance_method=f"{what} against the calibration rings (zone i -> i S/16, "
                                     "interpolated between the rings)")
     return rd
-
-
-def _trace_circles(tab, notes):
-    """``(radius [m], std [m], n)`` of a ``stand track --trace`` table (its ``radius_mm``,
-    ``radius_std_mm`` columns: the lab's long exposures of a steady whirl, 4.3), read as a
-    person reads the screen once the motion has settled: the trailing frames in the last
-    frame's state -- resolved circles whose radii agree with the last one's (within 3 of
-    their stds or 2 %), or unresolved ones; None for any other table.  Their mean radius, its
-    std (the circles' scatter over sqrt(n), or one circle's own std over sqrt(n), whichever is
-    larger) and how many.  Settled on unresolved circles (radius below 3 spot sigmas: a
-    balanced rotor's still spot): a note with their upper bound (``unbalance_max_gmm``) and
-    None -- never the mean of a balancing transient's circles."""
-    import pandas as pd
-
-    try:
-        df = pd.read_csv(tab.path, comment="#")
-    except (OSError, ValueError, UnicodeDecodeError):
-        return None
-    if "radius_mm" not in df:
-        return None
-    col = lambda name: (pd.to_numeric(df[name], errors="coerce").to_numpy(float)  # noqa: E731
-                        if name in df else np.full(len(df), np.nan))
-    r, s, bound = col("radius_mm") * 1e-3, col("radius_std_mm") * 1e-3, col("unbalance_max_gmm")
-    ok = df["ok"].astype(str).str.lower().isin(("true", "1")).to_numpy() if "ok" in df \
-        else np.ones(len(df), bool)
-    resolved = np.isfinite(r) & (r >= 0)
-    idx = np.flatnonzero(ok & (resolved | np.isfinite(bound)))
-    if not idx.size:
-        return None
-    last, keep = idx[-1], []
-    for i in idx[::-1]:               # the trailing frames in the last frame's state
-        if resolved[i] != resolved[last] or (resolved[i] and abs(r[i] - r[last]) > max(
-                3 * math.hypot(np.nan_to_num(s[i]), np.nan_to_num(s[last])), 0.02 * r[last])):
-            break
-        keep.append(i)
-    keep = np.array(keep[::-1])
-    if not resolved[last]:
-        notes.append(f"ring reading: the last {keep.size} circles are unresolved (radius below 3 "
-                     f"spot sigmas): the unbalance is below {float(np.nanmax(bound[keep])):.4g} g·mm")
-        return None
-    rk, sk = r[keep], s[keep]
-    own = float(np.sqrt(np.nanmean(sk * sk) / rk.size)) if np.isfinite(sk).any() else 0.0
-    scatter = float(np.std(rk, ddof=1) / math.sqrt(rk.size)) if rk.size > 1 else 0.0
-    return float(np.mean(rk)), max(scatter, own), int(rk.size)
 
 
 def _recorded_rings(out, d):

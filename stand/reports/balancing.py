@@ -261,7 +261,8 @@ def _quality(a, scene, grade, header, warn) -> dict:
             "steady 1X with the scene's mass, natural frequency and damping"
             if U is not None and scene is not None else None),
         "uncertainty_statement": None if U is None else (
-            FIT_UNCERTAINTY if fit else RING_UNCERTAINTY
+            FIT_UNCERTAINTY if fit else ((a.get("ring_reading") or {}).get("uncertainty_statement")
+                                         or RING_UNCERTAINTY)
             if "calibration rings" in (a.get("unbalance_method") or "") else SCATTER_UNCERTAINTY),
         "residual_fraction_of_capacity": U * 1e-6 / S if U is not None and S > 0 else None,
         "residual_zone": zone(None if U is None else U * 1e-6, S),
