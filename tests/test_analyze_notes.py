@@ -11,6 +11,8 @@ import pytest
 
 from stand.cli.main import main
 
+from _helpers import toml_text
+
 ROOT = Path(__file__).resolve().parents[1]
 SCENES, DAQ = ROOT / "data_samples" / "scenes", ROOT / "data_samples" / "daq"
 RUNUP_COLUMNS = "time=time_ms[ms],x=disp_x_um[um],y=disp_y_um[um],keyphasor=kp_V[V]"
@@ -30,21 +32,11 @@ def _run(capsys, scene, h5, *extra):
     return h5
 
 
-FAST_BARE = """[scene]
-name = "fast_bare"
-[rotor]
-mass = 1.0
-eccentricity = 1.0e-4
-[supports]
-stiffness = 1.0e4
-damping = 10.0
-[drive]
-type = "speed"
-programme = [[0.0, 60.0], [3.0, 60.0]]   # [s, rev/s]
-[run]
-duration = 3.0
-sample_rate = 100.0
-"""
+#: 60 rev/s sampled at 100 Hz, no weights
+FAST_BARE = toml_text(scene=dict(name="fast_bare"), rotor=dict(mass=1.0, eccentricity=1.0e-4),
+                      supports=dict(stiffness=1.0e4, damping=10.0),
+                      drive=dict(type="speed", programme=[[0.0, 60.0], [3.0, 60.0]]),
+                      run=dict(duration=3.0, sample_rate=100.0))
 
 
 def test_a_rotor_faster_than_half_the_sample_rate_says_so(tmp_path, capsys):
@@ -77,28 +69,14 @@ def test_weightless_scene_counts_balls_and_bodies():
     assert body.n_weights == 0 and body.bodies and not weightless_scene(body)
 
 
-FAST_BALLS = """[scene]
-name = "fast_balls"
-[rotor]
-mass = 4.45
-eccentricity = 8.0899e-4
-[supports]
-stiffness = 1613.09
-damping = 8.5577
-[balancer]
-type = "balls"
-count = 2
-mass = 0.045
-radius = 0.08
-drag = 0.16965
-initial_angles = [150.0, 210.0]
-[drive]
-type = "speed"
-programme = [[0.0, 0.0], [4.0, 21.0]]   # [s, rev/s]: 10 rev/s (half of 20 Hz) at 1.905 s
-[run]
-duration = 6.0
-sample_rate = 20.0
-"""
+#: the universal stand's balls passing half the sample rate: 10 rev/s (half of 20 Hz) at 1.905 s
+FAST_BALLS = toml_text(
+    scene=dict(name="fast_balls"), rotor=dict(mass=4.45, eccentricity=8.0899e-4),
+    supports=dict(stiffness=1613.09, damping=8.5577),
+    balancer=dict(type="balls", count=2, mass=0.045, radius=0.08, drag=0.16965,
+                  initial_angles=[150.0, 210.0]),
+    drive=dict(type="speed", programme=[[0.0, 0.0], [4.0, 21.0]]),      # [s, rev/s]
+    run=dict(duration=6.0, sample_rate=20.0))
 
 
 def test_the_regime_is_classified_where_the_record_samples_fast_enough(tmp_path, capsys):
